@@ -1,0 +1,104 @@
+// The in-process grasp-reconstruction module: gripper states and depth
+// frames go in (from a live camera or a recording, in any interleaving),
+// the object's cloud in the gripper frame comes out.
+//
+// Per depth frame: pose at the frame's timestamp (interpolated between the
+// bracketing gripper states), crop to the workspace box in G, claw cut-out by
+// ray casting the posed claw, TSDF integration in G. Extraction is on demand.
+//
+// Single-threaded and NOT thread safe: rt/ owns the threads that feed it.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "graspfill/claw/claw_mask.hpp"
+#include "graspfill/claw/claw_model.hpp"
+#include "graspfill/core/stage_timer.hpp"
+#include "graspfill/fusion/tsdf_fusion.hpp"
+#include "graspfill/fusion/workspace_crop.hpp"
+#include "graspfill/types.hpp"
+
+namespace graspfill {
+
+struct PipelineConfig {
+  claw::ClawMaskConfig mask;
+  fusion::WorkspaceBox workspace;
+  fusion::TsdfConfig tsdf;
+  /// Two gripper states bracketing a depth frame may be at most this far
+  /// apart [us]; otherwise the frame is skipped (no trustworthy pose).
+  int64_t max_pose_gap_us{50000};
+  /// Gripper states kept for interpolation (2.5 s at 100 Hz).
+  int state_buffer_capacity{256};
+  /// Depth frames kept while waiting for a gripper state after them; the
+  /// oldest is dropped (and counted) when more arrive.
+  int max_pending_frames{8};
+  /// The claw's ray-casting scene is rebuilt when the opening moves by more
+  /// than this [m] (or any joint value by more than this [rad or m]).
+  double claw_rebuild_tolerance{0.0005};
+
+  /// Throws std::invalid_argument naming the bad field.
+  void Validate() const;
+};
+
+/// What became of a depth frame.
+enum class FrameOutcome {
+  kIntegrated,     ///< fused into the volume
+  kPending,        ///< waiting for a later gripper state
+  kSkippedNoPose,  ///< no gripper states close enough around its timestamp
+  kBadFrame,       ///< wrong size or bad intrinsics: rejected
+};
+
+struct PipelineStats {
+  int64_t frames_in{0};
+  int64_t frames_integrated{0};
+  int64_t frames_skipped_no_pose{0};
+  int64_t frames_bad{0};
+  int64_t frames_dropped{0};  ///< pending queue overflow
+  int64_t states_in{0};
+  int64_t states_rejected{0};  ///< non-finite / not newer than the last
+  int64_t claw_rebuilds{0};
+  StageTotal crop;
+  StageTotal mask;
+  StageTotal integrate;
+  StageTotal extract;
+};
+
+class Pipeline {
+ public:
+  /// Throws std::invalid_argument on a bad config.
+  Pipeline(const PipelineConfig& config, claw::ClawModel claw);
+  ~Pipeline();
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
+
+  /// Adds a gripper state (states must come in time order; older ones and
+  /// non-finite poses are rejected and counted). Integrates any pending
+  /// frames the new state brackets. Returns false if rejected.
+  bool AddGripperState(const GripperState& state);
+
+  /// Adds a depth frame. It is integrated at once if the states around its
+  /// timestamp are known, else kept pending (see max_pending_frames).
+  /// `error` (optional) receives the reason for kBadFrame.
+  FrameOutcome AddDepthFrame(const DepthFrame& frame, std::string* error = nullptr);
+
+  /// End of stream: pending frames with no later state are skipped.
+  void Flush();
+
+  /// The object cloud fused so far (points, normals, all observed), in G,
+  /// stamped with the last integrated frame's time and gripper pose.
+  ObjectCloud ExtractCloud();
+
+  /// Forgets the object (volume, states, pending frames); keeps the claw.
+  void Reset();
+
+  const PipelineStats& stats() const;
+  const PipelineConfig& config() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace graspfill

@@ -1,0 +1,49 @@
+// Measurements of closed triangle meshes and an area-weighted surface
+// sampler, used for the ground-truth cloud and by the tests.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <vector>
+
+#include "graspfill/types.hpp"
+
+namespace graspfill::synth {
+
+/// Points sampled on a surface, with the unit normals of their triangles.
+struct SurfaceSamples {
+  std::vector<Eigen::Vector3f> points;
+  std::vector<Eigen::Vector3f> normals;
+};
+
+/// Default size of the ground-truth cloud: 100k points, i.e. ~0.7 mm mean
+/// spacing on the default 7 x 7 x 14 cm cuboid (490 cm^2).
+constexpr int kDefaultGroundTruthPoints = 100000;
+
+/// `count` points drawn uniformly by area over the mesh (seeded, so the
+/// same mesh, count and seed give the same points). Points and normals are
+/// in the mesh's frame [m]. Returns nothing for a mesh of zero area.
+SurfaceSamples SampleSurface(const TriangleMesh& mesh, int count,
+                             uint64_t seed);
+
+/// Total triangle area [m^2].
+double SurfaceArea(const TriangleMesh& mesh);
+
+/// Signed enclosed volume [m^3] (divergence theorem): positive for a closed
+/// mesh whose triangles face outwards.
+double SignedVolume(const TriangleMesh& mesh);
+
+/// True if every directed edge occurs exactly once and its reverse exactly
+/// once: the mesh is closed (each edge shared by two triangles) and
+/// consistently oriented.
+bool IsClosedOriented(const TriangleMesh& mesh);
+
+/// Axis-aligned bounds of the vertices (empty box for an empty mesh).
+Eigen::AlignedBox3d Bounds(const TriangleMesh& mesh);
+
+/// Distance from `p` to the closest point of triangle (a, b, c).
+double PointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                             const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+
+}  // namespace graspfill::synth

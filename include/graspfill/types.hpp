@@ -1,0 +1,113 @@
+// Value types shared by every graspfill module: camera model, depth frames,
+// gripper states, triangle meshes and the object cloud handed to the planner.
+//
+// Frames (see DESIGN.md): C camera (optical: z forward, x right, y down),
+// G gripper (origin at the palm face centre, +z the approach direction, the
+// object is rigid in G), B robot base. `T_C_G` maps points from G to C.
+// Units: meters, seconds; timestamps are int64 microseconds (`utime`).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace graspfill {
+
+/// Pinhole intrinsics of a depth camera, in pixels. Defaults are Kinect-like
+/// (640x480, f = 525 px; the Kinect v1 figures used by the TUM RGB-D benchmark).
+struct CameraIntrinsics {
+  int width{640};
+  int height{480};
+  double fx{525.0};
+  double fy{525.0};
+  double cx{319.5};
+  double cy{239.5};
+
+  bool operator==(const CameraIntrinsics& o) const {
+    return width == o.width && height == o.height && fx == o.fx &&
+           fy == o.fy && cx == o.cx && cy == o.cy;
+  }
+  bool operator!=(const CameraIntrinsics& o) const { return !(*this == o); }
+};
+
+/// One depth image. `depth_m` is row-major, width*height values in meters;
+/// 0 marks an invalid pixel (no return, dropout or masked out).
+struct DepthFrame {
+  int64_t utime{0};
+  CameraIntrinsics intrinsics;
+  std::vector<float> depth_m;
+
+  float at(int u, int v) const { return depth_m[v * intrinsics.width + u]; }
+};
+
+/// The gripper at one instant: its pose in the camera frame and its fingers.
+struct GripperState {
+  int64_t utime{0};
+  /// Pose of the gripper in the camera frame (maps p_G to p_C).
+  Eigen::Isometry3d T_C_G{Eigen::Isometry3d::Identity()};
+  /// Claw opening; its meaning is the claw model's (for graspfill's
+  /// procedural claws: distance of each finger's inner face from the axis).
+  double opening_m{0.0};
+  /// Optional finger joint values (rad or m); empty means "from opening".
+  std::vector<double> joint_values;
+};
+
+/// A plain indexed triangle mesh (vertices in the frame its name says).
+struct TriangleMesh {
+  std::vector<Eigen::Vector3f> vertices;
+  std::vector<Eigen::Vector3i> triangles;
+
+  bool empty() const { return triangles.empty(); }
+  /// Appends `other`, re-indexing its triangles.
+  void Append(const TriangleMesh& other);
+  /// Returns this mesh with every vertex mapped by `T`.
+  TriangleMesh Transformed(const Eigen::Isometry3d& T) const;
+};
+
+/// Where an object-cloud point comes from.
+enum class Provenance : uint8_t {
+  kObserved = 0,  ///< fused from depth frames
+  kSurface = 1,   ///< repaired from a reconstructed surface (claw holes)
+  kSymmetry = 2,  ///< repaired by the object's symmetry (missing top)
+};
+
+/// Kind of a hole in the object cloud.
+enum class HoleKind : uint8_t {
+  kClaw = 0,            ///< where a finger covered the object (side)
+  kMissingSurface = 1,  ///< the top the camera never sees
+};
+
+/// Summary of one hole found (and possibly repaired) in the object cloud.
+struct HoleSummary {
+  HoleKind kind{HoleKind::kClaw};
+  int boundary_points{0};
+  Eigen::Vector3f box_min_G{0, 0, 0};  ///< axis-aligned box in G [m]
+  Eigen::Vector3f box_max_G{0, 0, 0};
+  int points_added{0};
+};
+
+/// Wall time of one pipeline stage, for reports and the status message.
+struct StageTiming {
+  std::string stage;
+  double ms{0.0};
+};
+
+/// The object's point cloud as handed to the planner, in the gripper frame.
+struct ObjectCloud {
+  int64_t utime{0};
+  int64_t seq{0};
+  std::string frame_name{"gripper"};
+  /// Pose of the gripper in the camera frame at `utime`.
+  Eigen::Isometry3d T_C_G{Eigen::Isometry3d::Identity()};
+  std::vector<Eigen::Vector3f> points_G;
+  std::vector<Eigen::Vector3f> normals_G;  ///< unit, or empty if unknown
+  std::vector<Provenance> provenance;      ///< one per point
+  std::vector<HoleSummary> holes;
+  std::vector<StageTiming> timings;
+
+  size_t size() const { return points_G.size(); }
+};
+
+}  // namespace graspfill

@@ -1,0 +1,48 @@
+// graspfill demo: the bundled default recording through `replay`, then the
+// result against the recording's ground truth through `eval`.
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "commands.hpp"
+
+namespace graspfill::cli {
+
+int RunDemo(const Args& args) {
+  std::string out_dir = std::string(GRASPFILL_BINARY_DIR) + "/demo";
+  Args replay_extra;
+  for (size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--help" || args[i] == "-h") {
+      std::printf("usage: graspfill demo [-o DIR] [--lcm-url URL] [--no-publish]\n"
+                  "  replays %s/default/recording.lcmlog, writes DIR/cloud.ply\n"
+                  "  (default DIR %s/demo, the demo's own folder, rewritten each run),\n"
+                  "  publishes the cloud over LCM and evaluates it against the ground truth\n",
+                  GRASPFILL_REPLAY_DIR, GRASPFILL_BINARY_DIR);
+      return 0;
+    }
+    if (args[i] == "-o" && i + 1 < args.size()) {
+      out_dir = args[++i];
+    } else if (args[i] == "--lcm-url" && i + 1 < args.size()) {
+      replay_extra.push_back(args[i]);
+      replay_extra.push_back(args[++i]);
+    } else if (args[i] == "--no-publish") {
+      replay_extra.push_back(args[i]);
+    } else {
+      std::fprintf(stderr, "graspfill demo: unknown option '%s'\n", args[i].c_str());
+      return 2;
+    }
+  }
+  const std::string recording = std::string(GRASPFILL_REPLAY_DIR) + "/default";
+  std::filesystem::create_directories(out_dir);
+  const std::string cloud = out_dir + "/cloud.ply";
+  Args replay = {recording + "/recording.lcmlog", "-o", cloud, "--force"};
+  replay.insert(replay.end(), replay_extra.begin(), replay_extra.end());
+  std::printf("== graspfill replay %s/recording.lcmlog\n", recording.c_str());
+  std::fflush(stdout);
+  if (const int rc = RunReplay(replay); rc != 0) return rc;
+  std::printf("== graspfill eval %s %s/gt_cloud.ply\n", cloud.c_str(), recording.c_str());
+  std::fflush(stdout);
+  return RunEval({cloud, recording + "/gt_cloud.ply"});
+}
+
+}  // namespace graspfill::cli

@@ -1,0 +1,454 @@
+// graspfill synth: writes a synthetic recording (LCM log of depth frames and
+// gripper states) and its ground truth, all from a graspfill::synth::Scene.
+//
+// DIR/recording.lcmlog  depth_image_t (ZLIB16, 1 mm units) and
+//                       gripper_state_t events in time order, each event's
+//                       log timestamp = its message utime
+// DIR/gt_mesh.ply       the object's surface in G
+// DIR/gt_cloud.ply      kDefaultGroundTruthPoints points sampled on it, in G
+// DIR/claw.ply          the posed claw (palm + fingers) in G
+// DIR/claw/claw.json    the claw as a description for `--claw` (+ meshes)
+// DIR/scene.json        every parameter of the scene and what followed
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "graspfill/io/messages.hpp"
+#include "graspfill/io/ply.hpp"
+#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/synth/renderer.hpp"
+#include "graspfill/synth/scene.hpp"
+#include "sinks/lcm_log_writer.hpp"
+
+namespace graspfill::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr const char* kUsage =
+    "usage: graspfill synth (--shape SHAPE [--size WxDxH] | --mesh FILE) -o DIR [options]\n"
+    "  --shape SHAPE     cuboid, triangular-prism, cylinder, sphere,\n"
+    "                    elliptic-cylinder, ellipsoid\n"
+    "  --size WxDxH      bounding box in meters, e.g. 0.07x0.07x0.14\n"
+    "                    (default per shape; cuboid 0.07x0.07x0.14)\n"
+    "  --mesh FILE       object mesh (.ply/.obj/.stl) in meters, +z up\n"
+    "  --claw TYPE       three-finger (default) or parallel\n"
+    "  --grasp WAY       top-straight (default), middle-straight, top-oblique\n"
+    "  --seed N          sensor noise and wobble seed (default 1)\n"
+    "  --frames N        depth frames at 30 Hz (default 90: one full turn)\n"
+    "  --ideal           noise-free sensor (no noise, quantization, dropouts)\n"
+    "  --wall-m D        background wall D m from the camera (default 1.4;\n"
+    "                    0: none, which makes the log ~5x smaller)\n"
+    "  --force           overwrite existing output files\n"
+    "  -o, --output DIR  output folder (created if missing)\n"
+    "writes DIR/recording.lcmlog, gt_mesh.ply, gt_cloud.ply, claw.ply,\n"
+    "claw/claw.json and scene.json (geometry in the gripper frame G)\n";
+
+// A usage error: printed with the usage text, exit code 2.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct SynthOptions {
+  std::optional<std::string> shape;
+  std::optional<std::string> size;
+  std::optional<std::string> mesh_path;
+  std::string claw{"three-finger"};
+  std::string grasp{"top-straight"};
+  uint64_t seed{1};
+  int frames{90};
+  bool ideal{false};
+  double wall_m{synth::EnvironmentConfig{}.wall_distance_m};
+  bool force{false};
+  std::string output_dir;
+  bool help{false};
+};
+
+Eigen::Vector3d ParseSize(const std::string& text) {
+  Eigen::Vector3d size;
+  std::stringstream in(text);
+  for (int k = 0; k < 3; ++k) {
+    std::string part;
+    if (!std::getline(in, part, 'x') || part.empty()) {
+      throw UsageError("--size '" + text + "': expected WxDxH, e.g. 0.07x0.07x0.14");
+    }
+    size_t used = 0;
+    try {
+      size[k] = std::stod(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != part.size() || !(size[k] > 0.0) || !std::isfinite(size[k])) {
+      throw UsageError("--size '" + text + "': '" + part + "' is not a positive number");
+    }
+  }
+  std::string rest;
+  if (std::getline(in, rest)) throw UsageError("--size '" + text + "': expected 3 values");
+  if (size.maxCoeff() > 1.0) {
+    throw UsageError("--size '" + text + "': sizes are in meters (e.g. 0.07 for 7 cm)");
+  }
+  return size;
+}
+
+template <typename T>
+T ParseInteger(const std::string& option, const std::string& text) {
+  size_t used = 0;
+  unsigned long long value = 0;
+  try {
+    if (!text.empty() && text[0] != '-') value = std::stoull(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size()) {
+    throw UsageError(option + " '" + text + "': expected a non-negative integer");
+  }
+  return static_cast<T>(value);
+}
+
+SynthOptions Parse(const Args& args) {
+  SynthOptions o;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
+      return args[++i];
+    };
+    if (a == "-h" || a == "--help") o.help = true;
+    else if (a == "--shape") o.shape = value();
+    else if (a == "--size") o.size = value();
+    else if (a == "--mesh") o.mesh_path = value();
+    else if (a == "--claw") o.claw = value();
+    else if (a == "--grasp") o.grasp = value();
+    else if (a == "--seed") o.seed = ParseInteger<uint64_t>(a, value());
+    else if (a == "--frames") {
+      const std::string v = value();
+      const uint64_t frames = ParseInteger<uint64_t>(a, v);
+      if (frames < 1 || frames > 100000) throw UsageError("--frames '" + v + "': expected 1..100000");
+      o.frames = static_cast<int>(frames);
+    } else if (a == "--ideal") o.ideal = true;
+    else if (a == "--wall-m") {
+      const std::string v = value();
+      size_t used = 0;
+      try {
+        o.wall_m = std::stod(v, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == 0 || used != v.size() || !(o.wall_m >= 0.0) || !std::isfinite(o.wall_m)) {
+        throw UsageError("--wall-m '" + v + "': expected a distance >= 0 in meters");
+      }
+    }
+    else if (a == "--force") o.force = true;
+    else if (a == "-o" || a == "--output") o.output_dir = value();
+    else throw UsageError("unknown argument '" + a + "'");
+  }
+  if (o.help) return o;
+  if (o.shape.has_value() == o.mesh_path.has_value()) {
+    throw UsageError("give exactly one of --shape and --mesh");
+  }
+  if (o.mesh_path && o.size) throw UsageError("--size applies to --shape only");
+  if (o.output_dir.empty()) throw UsageError("missing -o DIR");
+  return o;
+}
+
+json Vec(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+json Matrix(const Eigen::Isometry3d& T) {
+  json rows = json::array();
+  for (int r = 0; r < 4; ++r) {
+    rows.push_back(json::array({T(r, 0), T(r, 1), T(r, 2), T(r, 3)}));
+  }
+  return rows;
+}
+
+json ClawJson(const claw::ProceduralClawConfig& c) {
+  return {{"palm_radius_m", c.palm_radius_m},
+          {"palm_thickness_m", c.palm_thickness_m},
+          {"finger_length_m", c.finger_length_m},
+          {"finger_width_m", c.finger_width_m},
+          {"finger_thickness_m", c.finger_thickness_m},
+          {"min_opening_m", c.min_opening_m},
+          {"max_opening_m", c.max_opening_m}};
+}
+
+json Pose(const Eigen::Isometry3d& T) {
+  // URDF rpy: R = Rz(yaw) * Ry(pitch) * Rx(roll).
+  const Eigen::Vector3d ypr = T.linear().eulerAngles(2, 1, 0);
+  return {{"xyz", Vec(T.translation())}, {"rpy", Vec(Eigen::Vector3d(ypr[2], ypr[1], ypr[0]))}};
+}
+
+// The claw model as a description file (config/claws/README.md) with one
+// PLY per link beside it, so `--claw DIR/claw/claw.json` replays with the
+// exact claw, including lengthened fingers.
+void WriteClawDescription(const claw::ClawModel& model, const fs::path& dir) {
+  fs::create_directories(dir);
+  json links = json::array();
+  for (const claw::Link& link : model.links()) {
+    const std::string mesh_file = link.name + ".ply";
+    io::WriteMeshPly((dir / mesh_file).string(), link.mesh);
+    json j = {{"name", link.name}, {"mesh", mesh_file}, {"mesh_origin", Pose(link.T_link_mesh)}};
+    if (link.parent >= 0) j["parent"] = model.links()[link.parent].name;
+    if (link.joint.type != claw::JointType::kFixed) {
+      j["joint"] = {
+          {"type", link.joint.type == claw::JointType::kPrismatic ? "prismatic" : "revolute"},
+          {"origin", Pose(link.joint.T_parent_joint)},
+          {"axis", Vec(link.joint.axis)},
+          {"limits", {{"lower", link.joint.lower}, {"upper", link.joint.upper}}},
+          {"drive", {{"opening_gain", link.joint.gain}, {"opening_offset", link.joint.offset}}}};
+    } else if (link.parent >= 0) {
+      j["joint"] = {{"type", "fixed"}, {"origin", Pose(link.joint.T_parent_joint)}};
+    }
+    links.push_back(j);
+  }
+  const json description = {
+      {"name", model.name()},
+      {"opening_doc", "radius of the fingers' inner faces from G's z axis [m]"},
+      {"links", links}};
+  std::ofstream out(dir / "claw.json");
+  out << description.dump(2) << "\n";
+  if (!out) throw std::runtime_error((dir / "claw.json").string() + ": write failed");
+}
+
+json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::ChannelNames& ch,
+               int64_t log_bytes, size_t gripper_states) {
+  const synth::SceneConfig& c = scene.config();
+  const synth::Placement& p = scene.placement();
+  const synth::SensorModelConfig& s = c.sensor;
+  const Eigen::AlignedBox3d workspace = scene.WorkspaceBoxG(0.02);
+  json object = {{"size_m", Vec(synth::Bounds(scene.object_O()).sizes())}};
+  if (o.mesh_path) {
+    object["source"] = "mesh";
+    object["mesh_path"] = fs::absolute(*o.mesh_path).string();
+  } else {
+    object["source"] = "shape";
+    object["shape"] = synth::ShapeName(c.shape);
+    object["size_m"] = Vec(c.EffectiveSize());
+    object["segments"] = c.shape_segments;
+  }
+  return {
+      {"format", "graspfill-synth-scene/1"},
+      {"frames_doc", "geometry in the gripper frame G (origin palm face centre, +z approach); "
+                     "T_A_B maps points from B to A; meters, microseconds"},
+      {"object", object},
+      {"claw", {{"type", synth::ClawTypeName(c.claw)},
+                {"config", ClawJson(c.claw_config)},
+                {"used", ClawJson(p.claw)},
+                {"description", "claw/claw.json"}}},
+      {"grasp", synth::GraspWayName(c.grasp)},
+      {"seed", c.seed},
+      {"num_frames", c.num_frames},
+      {"depth_rate_hz", c.depth_rate_hz},
+      {"gripper_rate_hz", c.gripper_rate_hz},
+      {"gripper_offset_us", c.gripper_offset_us},
+      {"gripper_lead_s", c.gripper_lead_s},
+      {"intrinsics", {{"width", c.intrinsics.width}, {"height", c.intrinsics.height},
+                      {"fx", c.intrinsics.fx}, {"fy", c.intrinsics.fy},
+                      {"cx", c.intrinsics.cx}, {"cy", c.intrinsics.cy}}},
+      {"sensor", {{"ideal", o.ideal},
+                  {"noise", s.noise},
+                  {"sigma_base_m", s.sigma_base_m},
+                  {"sigma_quadratic_m", s.sigma_quadratic_m},
+                  {"sigma_reference_depth_m", s.sigma_reference_depth_m},
+                  {"sigma_angular_m", s.sigma_angular_m},
+                  {"quantize", s.quantize},
+                  {"baseline_m", s.baseline_m},
+                  {"disparity_steps_per_px", s.disparity_steps_per_px},
+                  {"min_range_m", s.min_range_m},
+                  {"max_range_m", s.max_range_m},
+                  {"grazing_start_deg", s.grazing_start_deg},
+                  {"grazing_full_deg", s.grazing_full_deg},
+                  {"edge_jump_m", s.edge_jump_m},
+                  {"edge_dropout_prob", s.edge_dropout_prob},
+                  {"random_dropout_prob", s.random_dropout_prob},
+                  {"model_doc", "Nguyen et al. 2012 axial noise, 1/8 px disparity "
+                                "quantization, grazing/edge/random dropouts"}}},
+      {"placement", {{"min_palm_gap_m", c.placement.min_palm_gap_m},
+                     {"top_contact_fraction", c.placement.top_contact_fraction},
+                     {"middle_contact_fraction", c.placement.middle_contact_fraction},
+                     {"finger_pad_m", c.placement.finger_pad_m},
+                     {"oblique_tilt_deg", c.placement.oblique_tilt_deg},
+                     {"finger_clearance_m", c.placement.finger_clearance_m},
+                     {"T_G_O", Matrix(p.T_G_O)},
+                     {"palm_gap_m", p.palm_gap_m},
+                     {"contact_fraction", p.contact_fraction},
+                     {"opening_m", p.opening_m},
+                     {"finger_touch_radius_m", p.finger_touch_radius_m}}},
+      {"motion", {{"camera_distance_m", c.motion.camera_distance_m},
+                  {"camera_elevation_deg", c.motion.camera_elevation_deg},
+                  {"turns", c.motion.turns},
+                  {"wobble_deg", c.motion.wobble_deg},
+                  {"wobble_translation_m", c.motion.wobble_translation_m},
+                  {"start_utime", c.motion.start_utime},
+                  {"T_W_C", Matrix(scene.T_W_C())},
+                  {"T_C_G_first_frame", Matrix(scene.T_C_G(0.0))}}},
+      {"environment", {{"wall_distance_m", c.environment.wall_distance_m},
+                       {"arm_radius_m", c.environment.arm_radius_m},
+                       {"arm_length_m", c.environment.arm_length_m}}},
+      {"workspace_box_G", {{"min", Vec(workspace.min())}, {"max", Vec(workspace.max())},
+                           {"doc", "object bounding box in G grown by 2 cm, cut at the "
+                                   "palm face z = 0"}}},
+      {"log", {{"file", "recording.lcmlog"},
+               {"bytes", log_bytes},
+               {"depth_channel", ch.depth},
+               {"gripper_state_channel", ch.gripper_state},
+               {"depth_encoding", "zlib16"},
+               {"depth_scale_m", 0.001},
+               {"depth_frames", c.num_frames},
+               {"gripper_states", gripper_states},
+               {"first_depth_utime", scene.DepthUtime(0)},
+               {"last_depth_utime", scene.DepthUtime(c.num_frames - 1)}}},
+      {"ground_truth", {{"mesh", "gt_mesh.ply"},
+                        {"cloud", "gt_cloud.ply"},
+                        {"cloud_points", synth::kDefaultGroundTruthPoints},
+                        {"cloud_seed", c.seed},
+                        {"claw_mesh", "claw.ply"}}},
+  };
+}
+
+int Run(const SynthOptions& o) {
+  synth::SceneConfig config;
+  config.claw = *synth::ParseClawType(o.claw);
+  config.grasp = *synth::ParseGraspWay(o.grasp);
+  config.seed = o.seed;
+  config.num_frames = o.frames;
+  if (o.ideal) config.sensor = synth::SensorModelConfig::Ideal();
+  config.environment.wall_distance_m = o.wall_m;
+  if (o.shape) {
+    config.shape = *synth::ParseShape(*o.shape);
+    if (o.size) config.size_m = ParseSize(*o.size);
+  } else {
+    try {
+      config.mesh = io::ReadMesh(*o.mesh_path);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "graspfill synth: cannot read mesh: %s\n", e.what());
+      return 1;
+    }
+    config.mesh_name = *o.mesh_path;
+    const Eigen::Vector3d extent = synth::Bounds(config.mesh).sizes();
+    if (extent.maxCoeff() > 0.5) {
+      std::fprintf(stderr,
+                   "graspfill synth: mesh '%s' is %.3g m across; graspfill expects meters "
+                   "and objects a claw can hold (scale the mesh)\n",
+                   o.mesh_path->c_str(), extent.maxCoeff());
+      return 1;
+    }
+  }
+
+  const fs::path dir(o.output_dir);
+  const std::vector<std::string> outputs = {"recording.lcmlog", "gt_mesh.ply", "gt_cloud.ply",
+                                            "claw.ply", "scene.json", "claw/claw.json"};
+  if (!o.force) {
+    std::vector<std::string> existing;
+    for (const std::string& name : outputs) {
+      std::error_code ec;
+      if (fs::exists(dir / name, ec)) existing.push_back((dir / name).string());
+    }
+    if (!existing.empty()) {
+      std::fprintf(stderr, "graspfill synth: refusing to overwrite existing output (use --force):\n");
+      for (const std::string& path : existing) std::fprintf(stderr, "  %s\n", path.c_str());
+      return 1;
+    }
+  }
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) {
+    std::fprintf(stderr, "graspfill synth: cannot create '%s': %s\n", dir.string().c_str(),
+                 ec.message().c_str());
+    return 1;
+  }
+
+  const synth::Scene scene(config);
+  const synth::SceneRenderer renderer(scene);
+  const io::ChannelNames channels;
+  const fs::path log_path = dir / "recording.lcmlog";
+  size_t gripper_states = 0;
+  {
+    rt::LcmLogWriter log(log_path.string(), o.force);
+    for (const synth::TimelineEvent& event : scene.Timeline()) {
+      if (event.kind == synth::TimelineEvent::Kind::kDepth) {
+        const DepthFrame frame = renderer.Render(event.index);
+        log.Write(channels.depth, event.utime,
+                  io::EncodeDepthImage(frame, io::DepthEncoding::kZlib16, 0.001));
+      } else {
+        log.Write(channels.gripper_state, event.utime,
+                  io::EncodeGripperState(scene.GripperStateAt(event.utime)));
+        ++gripper_states;
+      }
+    }
+    log.Flush();
+  }
+  const int64_t log_bytes = static_cast<int64_t>(fs::file_size(log_path));
+
+  io::WriteMeshPly((dir / "gt_mesh.ply").string(), scene.object_G());
+  const synth::SurfaceSamples samples =
+      synth::SampleSurface(scene.object_G(), synth::kDefaultGroundTruthPoints, config.seed);
+  ObjectCloud gt;
+  gt.utime = scene.DepthUtime(0);
+  gt.T_C_G = scene.T_C_G(0.0);
+  gt.points_G = samples.points;
+  gt.normals_G = samples.normals;
+  io::WriteCloudPly((dir / "gt_cloud.ply").string(), gt);
+  io::WriteMeshPly((dir / "claw.ply").string(), scene.claw_G());
+  WriteClawDescription(scene.MakeClawModel(), dir / "claw");
+
+  const json scene_json = SceneJson(scene, o, channels, log_bytes, gripper_states);
+  std::ofstream out(dir / "scene.json");
+  out << scene_json.dump(2) << "\n";
+  out.close();
+  if (!out) {
+    std::fprintf(stderr, "graspfill synth: cannot write '%s'\n",
+                 (dir / "scene.json").string().c_str());
+    return 1;
+  }
+  const Eigen::AlignedBox3d ws = scene.WorkspaceBoxG(0.02);
+  std::printf(
+      "wrote %s: %d depth frames + %zu gripper states (%lld bytes), opening %.4f m, "
+      "workspace box in G [%.3f %.3f %.3f] .. [%.3f %.3f %.3f] m\n",
+      log_path.string().c_str(), config.num_frames, gripper_states,
+      static_cast<long long>(log_bytes), scene.placement().opening_m, ws.min().x(),
+      ws.min().y(), ws.min().z(), ws.max().x(), ws.max().y(), ws.max().z());
+  return 0;
+}
+
+}  // namespace
+
+int RunSynth(const Args& args) {
+  SynthOptions options;
+  try {
+    options = Parse(args);
+    if (options.help) {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+    if (options.shape && !synth::ParseShape(*options.shape)) {
+      throw UsageError("unknown shape '" + *options.shape + "'");
+    }
+    if (!synth::ParseClawType(options.claw)) {
+      throw UsageError("unknown claw '" + options.claw + "'");
+    }
+    if (!synth::ParseGraspWay(options.grasp)) {
+      throw UsageError("unknown grasp '" + options.grasp + "'");
+    }
+    if (options.size) ParseSize(*options.size);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "graspfill synth: %s\n%s", e.what(), kUsage);
+    return 2;
+  }
+  try {
+    return Run(options);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "graspfill synth: error: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace graspfill::cli

@@ -1,0 +1,20 @@
+// Sub-commands of the `graspfill` CLI, one file each. Each takes the
+// arguments after its name and returns the process exit code: 0 on success,
+// 1 on bad input or a failed run (with a message on stderr), 2 on usage error.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace graspfill::cli {
+
+using Args = std::vector<std::string>;
+
+int RunSynth(const Args& args);   // cmd_synth.cpp
+int RunReplay(const Args& args);  // cmd_replay.cpp
+int RunEval(const Args& args);    // cmd_eval.cpp
+int RunBench(const Args& args);   // cmd_bench.cpp
+int RunDemo(const Args& args);    // cmd_demo.cpp
+int RunLive(const Args& args);    // cmd_live.cpp
+
+}  // namespace graspfill::cli

@@ -1,0 +1,135 @@
+#include "module/grasp_module.hpp"
+
+#include <stdexcept>
+#include <utility>
+
+namespace graspfill::rt {
+
+GraspModule::GraspModule(const GraspModuleConfig& config, claw::ClawModel claw,
+                         CloudCallback on_cloud)
+    : config_(config),
+      pipeline_(config.pipeline, std::move(claw)),
+      on_cloud_(std::move(on_cloud)) {
+  if (config.frame_queue_capacity < 1 || config.state_queue_capacity < 1 ||
+      config.extract_every_n_frames < 0) {
+    throw std::invalid_argument("GraspModuleConfig: queue capacities must be >= 1, "
+                                "extract_every_n_frames >= 0");
+  }
+  frames_.resize(static_cast<size_t>(config.frame_queue_capacity));
+  states_.resize(static_cast<size_t>(config.state_queue_capacity));
+  worker_ = std::thread(&GraspModule::WorkerLoop, this);
+}
+
+GraspModule::~GraspModule() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  wake_worker_.notify_all();
+  worker_.join();
+}
+
+void GraspModule::PushDepthFrame(const DepthFrame& frame) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++status_.frames_in;
+    if (frames_count_ == frames_.size()) {
+      frames_head_ = (frames_head_ + 1) % frames_.size();
+      --frames_count_;
+      ++status_.frames_dropped;
+    }
+    DepthFrame& slot = frames_[(frames_head_ + frames_count_) % frames_.size()];
+    slot.utime = frame.utime;
+    slot.intrinsics = frame.intrinsics;
+    slot.depth_m.assign(frame.depth_m.begin(), frame.depth_m.end());  // reuses capacity
+    ++frames_count_;
+  }
+  wake_worker_.notify_one();
+}
+
+void GraspModule::PushGripperState(const GripperState& state) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (states_count_ == states_.size()) {
+      states_head_ = (states_head_ + 1) % states_.size();
+      --states_count_;
+      ++status_.states_dropped;
+    }
+    states_[(states_head_ + states_count_) % states_.size()] = state;
+    ++states_count_;
+  }
+  wake_worker_.notify_one();
+}
+
+void GraspModule::WorkerLoop() {
+  DepthFrame frame;    // the worker's own copies, reused
+  GripperState state;
+  std::unique_lock<std::mutex> lock(mutex_);
+  for (;;) {
+    wake_worker_.wait(lock, [&] {
+      return stop_ || frames_count_ > 0 || states_count_ > 0 || finish_requested_;
+    });
+    if (stop_) return;
+    busy_ = true;
+    // States first: a frame's bracketing state may have arrived with it.
+    while (states_count_ > 0) {
+      state = states_[states_head_];
+      states_head_ = (states_head_ + 1) % states_.size();
+      --states_count_;
+      lock.unlock();
+      pipeline_.AddGripperState(state);
+      lock.lock();
+    }
+    if (frames_count_ > 0) {
+      std::swap(frame.depth_m, frames_[frames_head_].depth_m);  // no copy
+      frame.utime = frames_[frames_head_].utime;
+      frame.intrinsics = frames_[frames_head_].intrinsics;
+      frames_head_ = (frames_head_ + 1) % frames_.size();
+      --frames_count_;
+      lock.unlock();
+      const int64_t before = pipeline_.stats().frames_integrated;
+      pipeline_.AddDepthFrame(frame);
+      const int64_t after = pipeline_.stats().frames_integrated;
+      const int n = config_.extract_every_n_frames;
+      if (n > 0 && after > before && after % n == 0) {
+        const ObjectCloud cloud = pipeline_.ExtractCloud();
+        if (on_cloud_) on_cloud_(cloud);
+        lock.lock();
+        ++status_.clouds_published;
+      } else {
+        lock.lock();
+      }
+    }
+    status_.pipeline = pipeline_.stats();
+    if (finish_requested_ && frames_count_ == 0 && states_count_ == 0) {
+      lock.unlock();
+      pipeline_.Flush();
+      ObjectCloud cloud = pipeline_.ExtractCloud();
+      if (on_cloud_) on_cloud_(cloud);
+      lock.lock();
+      finished_cloud_ = std::move(cloud);
+      ++status_.clouds_published;
+      status_.pipeline = pipeline_.stats();
+      finish_requested_ = false;
+      finished_ = true;
+    }
+    busy_ = false;
+    idle_.notify_all();
+  }
+}
+
+ObjectCloud GraspModule::Finish() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  finished_ = false;
+  finish_requested_ = true;
+  wake_worker_.notify_one();
+  idle_.wait(lock, [&] { return finished_; });
+  return std::move(finished_cloud_);
+}
+
+GraspModuleStatus GraspModule::status() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return status_;
+}
+
+}  // namespace graspfill::rt

@@ -1,0 +1,85 @@
+// The live grasp-reconstruction module: a worker thread that owns the
+// Pipeline, fed through bounded queues by the camera driver and the robot's
+// state stream, and hands the object cloud to a callback (e.g. the LCM
+// publisher) every few frames.
+//
+// Threads: Push* and the accessors are safe from any thread and never wait
+// for the worker's processing (they take a short lock to copy the data into
+// a preallocated slot). The cloud callback runs on the worker thread.
+#pragma once
+
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "graspfill/pipeline/pipeline.hpp"
+
+namespace graspfill::rt {
+
+struct GraspModuleConfig {
+  PipelineConfig pipeline;
+  /// Depth frames waiting for the worker; when full the oldest is dropped
+  /// (and counted): a live loop wants the freshest frames, not a backlog.
+  int frame_queue_capacity{4};
+  /// Gripper states waiting for the worker (100 Hz states, 30 Hz frames).
+  int state_queue_capacity{64};
+  /// Extract and publish the cloud after every this many integrated frames;
+  /// 0 = only when ExtractNow() is called.
+  int extract_every_n_frames{30};
+};
+
+struct GraspModuleStatus {
+  int64_t frames_in{0};
+  int64_t frames_dropped{0};   ///< queue overflow (worker too slow)
+  int64_t states_dropped{0};
+  PipelineStats pipeline;      ///< snapshot from the worker
+  int64_t clouds_published{0};
+};
+
+class GraspModule {
+ public:
+  using CloudCallback = std::function<void(const ObjectCloud&)>;
+
+  /// Starts the worker. Throws std::invalid_argument on a bad config.
+  GraspModule(const GraspModuleConfig& config, claw::ClawModel claw, CloudCallback on_cloud);
+  /// Drains nothing: stops the worker after the item it is processing.
+  ~GraspModule();
+  GraspModule(const GraspModule&) = delete;
+  GraspModule& operator=(const GraspModule&) = delete;
+
+  void PushDepthFrame(const DepthFrame& frame);
+  void PushGripperState(const GripperState& state);
+
+  /// Waits until every queued item is processed, flushes pending frames
+  /// and returns the cloud (also handed to the callback).
+  ObjectCloud Finish();
+
+  GraspModuleStatus status() const;
+
+ private:
+  void WorkerLoop();
+
+  const GraspModuleConfig config_;
+  Pipeline pipeline_;  // touched by the worker only (and by Finish after idle)
+  CloudCallback on_cloud_;
+
+  mutable std::mutex mutex_;
+  std::condition_variable wake_worker_;
+  std::condition_variable idle_;
+  std::vector<DepthFrame> frames_;  // ring of reusable slots
+  size_t frames_head_{0}, frames_count_{0};
+  std::vector<GripperState> states_;  // ring
+  size_t states_head_{0}, states_count_{0};
+  bool busy_{false};
+  bool stop_{false};
+  bool finish_requested_{false};
+  ObjectCloud finished_cloud_;
+  bool finished_{false};
+  GraspModuleStatus status_;
+  std::thread worker_;  // last: starts after everything above exists
+};
+
+}  // namespace graspfill::rt

@@ -1,0 +1,57 @@
+// Publishes graspfill's messages on an LCM bus (the object cloud for the
+// motion planner, the module's status).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "graspfill/io/messages.hpp"
+#include "graspfill/types.hpp"
+
+namespace lcm {
+class LCM;
+}  // namespace lcm
+
+namespace graspfill::rt {
+
+/// Owns one lcm::LCM instance (hidden behind a Pimpl) and publishes on it.
+///
+/// Publishing is fire-and-forget: the Publish* methods are on the module's
+/// output path and report failure by returning false, never by throwing.
+/// Thread safety: not thread safe; call from one thread (the sink thread),
+/// or serialize calls.
+class LcmPublisher {
+ public:
+  /// @param url LCM provider URL: "" uses LCM's default (the LCM_DEFAULT_URL
+  ///   environment variable, else udpm://239.255.76.67:7667?ttl=0);
+  ///   "memq://" is in-process (tests: subscribe through lcm_instance()).
+  /// @throws std::runtime_error naming the URL if LCM cannot be set up
+  ///   (bad URL, no multicast route, ...).
+  explicit LcmPublisher(const std::string& url = "");
+  ~LcmPublisher();
+  LcmPublisher(const LcmPublisher&) = delete;
+  LcmPublisher& operator=(const LcmPublisher&) = delete;
+
+  /// Publishes `cloud` as object_cloud_t (see io::EncodeObjectCloud).
+  /// @return false if encoding (inconsistent cloud) or sending failed.
+  bool PublishCloud(const std::string& channel, const ObjectCloud& cloud);
+  /// Publishes `status` as module_status_t.
+  bool PublishStatus(const std::string& channel, const io::ModuleStatus& status);
+  /// Publishes already-encoded bytes (any message type).
+  bool PublishRaw(const std::string& channel, const std::vector<uint8_t>& bytes);
+
+  /// The URL this publisher was created with ("" = LCM's default).
+  const std::string& url() const;
+  /// The underlying LCM instance, for callers that also subscribe on the
+  /// same provider (with memq:// only the same instance receives). Owned by
+  /// this publisher.
+  lcm::LCM* lcm_instance();
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace graspfill::rt

@@ -1,0 +1,53 @@
+// Live input from the LCM bus: gripper states from the robot (and, where a
+// camera driver publishes them, depth images), decoded on a receive thread
+// and handed to callbacks (typically GraspModule::Push*).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "graspfill/io/messages.hpp"
+
+namespace graspfill::rt {
+
+class LcmBusSubscriber {
+ public:
+  struct Config {
+    /// LCM URL; "" = LCM's default (LCM_DEFAULT_URL, else udpm).
+    std::string url;
+    io::ChannelNames channels;
+    /// Hand-eye calibration for states given in the base frame (camera <- base).
+    Eigen::Isometry3d T_C_B{Eigen::Isometry3d::Identity()};
+  };
+  using StateCallback = std::function<void(const GripperState&)>;
+  using DepthCallback = std::function<void(const DepthFrame&)>;
+
+  /// Subscribes and starts the receive thread. `on_depth` may be empty (no
+  /// depth subscription). Callbacks run on the receive thread and must not
+  /// throw. Throws std::runtime_error if LCM cannot start on `url`.
+  LcmBusSubscriber(const Config& config, StateCallback on_state, DepthCallback on_depth = {});
+  /// Stops and joins the receive thread.
+  ~LcmBusSubscriber();
+  LcmBusSubscriber(const LcmBusSubscriber&) = delete;
+  LcmBusSubscriber& operator=(const LcmBusSubscriber&) = delete;
+
+  int64_t states_received() const { return states_received_; }
+  int64_t depth_received() const { return depth_received_; }
+  /// Messages on our channels that did not decode (counted, never thrown).
+  int64_t decode_errors() const { return decode_errors_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::atomic<int64_t> states_received_{0};
+  std::atomic<int64_t> depth_received_{0};
+  std::atomic<int64_t> decode_errors_{0};
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+}  // namespace graspfill::rt

@@ -1,0 +1,77 @@
+// Replays a recorded LCM log (lcm-logger's format) as source events: depth
+// images and gripper states on graspfill's channels, decoded as they are
+// read. Events on other channels are skipped and counted.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "graspfill/io/messages.hpp"
+#include "sources/frame_source.hpp"
+
+namespace lcm {
+class LogFile;
+}  // namespace lcm
+
+namespace graspfill::rt {
+
+/// Reads an LCM log file event by event, in file order, as fast as asked:
+/// pacing (real time or faster) is the caller's business, using the
+/// messages' utime.
+///
+/// Not thread safe: one thread calls Next() and the accessors.
+class LcmLogSource : public FrameSource {
+ public:
+  struct Config {
+    /// Path of the log file.
+    std::string path;
+    /// Channels carrying depth_image_t and gripper_state_t.
+    io::ChannelNames channels;
+    /// Hand-eye calibration (maps points from B to C), used for gripper
+    /// states recorded in the base frame.
+    Eigen::Isometry3d T_C_B{Eigen::Isometry3d::Identity()};
+  };
+
+  /// Opens the log.
+  /// @throws std::runtime_error "cannot open log '<path>': <reason>" if the
+  ///   file is missing, a directory or unreadable, and "'<path>' is not an
+  ///   LCM log ..." if it does not start with an LCM event header. An empty
+  ///   file is a log with no events.
+  explicit LcmLogSource(const Config& config);
+  ~LcmLogSource() override;
+  LcmLogSource(const LcmLogSource&) = delete;
+  LcmLogSource& operator=(const LcmLogSource&) = delete;
+
+  /// Reads events until one on the depth or gripper-state channel.
+  /// @return kOk with event->kind and the decoded member set; kBadFrame with
+  ///   event->kind and event->error when that event does not decode (the
+  ///   next call goes on with the following event); kEndOfStream at the end
+  ///   of the file or where the file stops making sense (see truncated()).
+  FrameResult Next(SourceEvent* event) override;
+
+  /// True once reading stopped before the end of the file: the last event
+  /// is cut short (a log copied while being written, a full disk) or the
+  /// bytes after an event are not an event.
+  bool truncated() const { return truncated_; }
+  /// Events read from the file so far, on every channel.
+  int64_t events_read() const { return events_read_; }
+  /// Events skipped because they were on none of our channels.
+  int64_t skipped_other_channels() const { return skipped_other_channels_; }
+  /// Every channel seen so far, in order of first appearance.
+  std::vector<std::string> channels_seen() const { return channels_seen_; }
+
+ private:
+  Config config_;
+  std::unique_ptr<lcm::LogFile> log_;
+  int64_t file_size_{0};
+  bool ended_{false};
+  bool truncated_{false};
+  int64_t events_read_{0};
+  int64_t skipped_other_channels_{0};
+  std::vector<std::string> channels_seen_;
+};
+
+}  // namespace graspfill::rt

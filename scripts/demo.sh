@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds, and replays the bundled default recording:
+# writes the object cloud (PLY), publishes it over LCM (LCM's default URL, or
+# LCM_DEFAULT_URL), and prints a summary with timings and accuracy.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install_deps.sh
+scripts/build.sh
+build/bin/graspfill demo "$@"

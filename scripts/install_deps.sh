@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs graspfill's build and test dependencies from Debian 12 packages.
+# Skips apt entirely when everything is already there.
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libeigen3-dev libopen3d-dev libembree-dev
+  liblcm-dev liblcm-bin libglib2.0-dev
+  libopenni2-dev nlohmann-json3-dev zlib1g-dev
+  libgtest-dev
+  iproute2 util-linux  # ip and unshare: the cross-process udpm test
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+echo "installing: ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+$SUDO apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,325 @@
+// ClawModel::Load: claw description files (format in config/claws/README.md).
+// Every error names the file and the JSON field it comes from, since these
+// files are written by hand for each robot.
+#include <open3d/geometry/TriangleMesh.h>
+#include <open3d/io/TriangleMeshIO.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+#include "graspfill/claw/claw_model.hpp"
+
+namespace graspfill::claw {
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+// Builds "file: field: what" messages.
+class Context {
+ public:
+  explicit Context(std::string file) : file_(std::move(file)) {}
+  [[noreturn]] void Fail(const std::string& field,
+                         const std::string& what) const {
+    throw std::runtime_error(file_ + ": " +
+                             (field.empty() ? "" : field + ": ") + what);
+  }
+  const std::string& file() const { return file_; }
+
+ private:
+  std::string file_;
+};
+
+double ReadNumber(const Context& ctx, const json& j, const std::string& field) {
+  if (!j.is_number()) ctx.Fail(field, "expected a number");
+  return j.get<double>();
+}
+
+Eigen::Vector3d ReadVector3(const Context& ctx, const json& j,
+                            const std::string& field) {
+  if (!j.is_array() || j.size() != 3) {
+    ctx.Fail(field, "expected an array of 3 numbers");
+  }
+  Eigen::Vector3d v;
+  for (int k = 0; k < 3; ++k) {
+    v[k] = ReadNumber(ctx, j[k], field + "[" + std::to_string(k) + "]");
+  }
+  return v;
+}
+
+// URDF convention: fixed-axis roll, pitch, yaw: R = Rz(yaw) Ry(pitch) Rx(roll).
+Eigen::Matrix3d RotationFromRpy(const Eigen::Vector3d& rpy) {
+  return (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+// {"xyz": [..], "rpy": [..]}, both optional (zero), like a URDF <origin>.
+Eigen::Isometry3d ReadPose(const Context& ctx, const json& j,
+                           const std::string& field) {
+  if (!j.is_object()) ctx.Fail(field, "expected an object {xyz, rpy}");
+  for (const auto& [key, value] : j.items()) {
+    if (key != "xyz" && key != "rpy") {
+      ctx.Fail(field, "unknown key '" + key + "' (expected xyz, rpy)");
+    }
+  }
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  if (j.contains("xyz")) {
+    T.translation() = ReadVector3(ctx, j["xyz"], field + ".xyz");
+  }
+  if (j.contains("rpy")) {
+    T.linear() = RotationFromRpy(ReadVector3(ctx, j["rpy"], field + ".rpy"));
+  }
+  return T;
+}
+
+// Link, joint and drive objects are checked for unknown keys: a misspelt
+// optional key ("mesh_orgin") would otherwise be silently ignored.
+void CheckKeys(const Context& ctx, const json& j, const std::string& field,
+               std::initializer_list<const char*> allowed) {
+  for (const auto& [key, value] : j.items()) {
+    if (key == "doc") continue;  // free text anywhere
+    if (std::find_if(allowed.begin(), allowed.end(), [&](const char* a) {
+          return key == a;
+        }) == allowed.end()) {
+      std::string list;
+      for (const char* a : allowed)
+        list += (list.empty() ? "" : ", ") + std::string(a);
+      ctx.Fail(field, "unknown key '" + key + "' (expected " + list + ")");
+    }
+  }
+}
+
+const json* Find(const json& j, const char* key) {
+  const auto it = j.find(key);
+  return it == j.end() ? nullptr : &*it;
+}
+
+std::string ReadString(const Context& ctx, const json& j,
+                       const std::string& field) {
+  if (!j.is_string()) ctx.Fail(field, "expected a string");
+  return j.get<std::string>();
+}
+
+Joint ReadJoint(const Context& ctx, const json& j, const std::string& field) {
+  if (!j.is_object()) ctx.Fail(field, "expected an object");
+  CheckKeys(ctx, j, field, {"type", "origin", "axis", "limits", "drive"});
+  Joint joint;
+  const json* type = Find(j, "type");
+  if (type == nullptr) ctx.Fail(field + ".type", "missing");
+  const std::string type_name = ReadString(ctx, *type, field + ".type");
+  if (type_name == "fixed") {
+    joint.type = JointType::kFixed;
+  } else if (type_name == "revolute") {
+    joint.type = JointType::kRevolute;
+  } else if (type_name == "prismatic") {
+    joint.type = JointType::kPrismatic;
+  } else {
+    ctx.Fail(field + ".type", "unknown joint type '" + type_name +
+                                  "' (expected fixed, revolute or prismatic)");
+  }
+  if (const json* origin = Find(j, "origin")) {
+    joint.T_parent_joint = ReadPose(ctx, *origin, field + ".origin");
+  }
+  if (joint.type == JointType::kFixed) return joint;
+
+  const json* axis = Find(j, "axis");
+  if (axis == nullptr) ctx.Fail(field + ".axis", "missing (movable joint)");
+  joint.axis = ReadVector3(ctx, *axis, field + ".axis");
+  if (!(joint.axis.norm() > 1e-9)) ctx.Fail(field + ".axis", "zero vector");
+  joint.axis.normalize();
+
+  const json* limits = Find(j, "limits");
+  if (limits == nullptr || !limits->is_object()) {
+    ctx.Fail(field + ".limits", "missing {lower, upper} (movable joint)");
+  }
+  const json* lower = Find(*limits, "lower");
+  const json* upper = Find(*limits, "upper");
+  if (lower == nullptr) ctx.Fail(field + ".limits.lower", "missing");
+  if (upper == nullptr) ctx.Fail(field + ".limits.upper", "missing");
+  joint.lower = ReadNumber(ctx, *lower, field + ".limits.lower");
+  joint.upper = ReadNumber(ctx, *upper, field + ".limits.upper");
+  if (joint.lower > joint.upper) {
+    ctx.Fail(field + ".limits", "lower > upper");
+  }
+
+  const json* drive = Find(j, "drive");
+  if (drive == nullptr || !drive->is_object()) {
+    ctx.Fail(field + ".drive",
+             "missing {opening_gain, opening_offset} and/or {joint_index}");
+  }
+  CheckKeys(ctx, *drive, field + ".drive",
+            {"opening_gain", "opening_offset", "joint_index"});
+  const json* gain = Find(*drive, "opening_gain");
+  const json* offset = Find(*drive, "opening_offset");
+  const json* index = Find(*drive, "joint_index");
+  if (gain == nullptr && index == nullptr) {
+    ctx.Fail(field + ".drive", "needs opening_gain or joint_index");
+  }
+  // Without an opening drive the joint rests at opening_offset (default 0,
+  // clamped to the limits) when no joint values are given.
+  joint.gain =
+      gain ? ReadNumber(ctx, *gain, field + ".drive.opening_gain") : 0.0;
+  joint.offset =
+      offset ? ReadNumber(ctx, *offset, field + ".drive.opening_offset") : 0.0;
+  if (index != nullptr) {
+    if (!index->is_number_integer() || index->get<int>() < 0) {
+      ctx.Fail(field + ".drive.joint_index", "expected an integer >= 0");
+    }
+    joint.joint_index = index->get<int>();
+  }
+  return joint;
+}
+
+TriangleMesh ReadMesh(const Context& ctx, const fs::path& path, double scale,
+                      const std::string& field) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) {
+    ctx.Fail(field, "mesh file not found: " + path.string());
+  }
+  open3d::geometry::TriangleMesh o3d_mesh;
+  if (!open3d::io::ReadTriangleMesh(path.string(), o3d_mesh)) {
+    ctx.Fail(field, "cannot read mesh file: " + path.string());
+  }
+  // STL stores three vertices per triangle: merge them so that the mesh is
+  // connected and per-frame vertex work stays small.
+  o3d_mesh.RemoveDuplicatedVertices();
+  if (o3d_mesh.triangles_.empty()) {
+    ctx.Fail(field, "mesh has no triangles: " + path.string());
+  }
+  TriangleMesh mesh;
+  mesh.vertices.reserve(o3d_mesh.vertices_.size());
+  for (const Eigen::Vector3d& v : o3d_mesh.vertices_) {
+    mesh.vertices.push_back((scale * v).cast<float>());
+  }
+  mesh.triangles.assign(o3d_mesh.triangles_.begin(), o3d_mesh.triangles_.end());
+  return mesh;
+}
+
+}  // namespace
+
+ClawModel ClawModel::Load(const std::string& description_path,
+                          const std::string& mesh_root) {
+  const Context ctx(description_path);
+  std::ifstream in(description_path);
+  if (!in) ctx.Fail("", "cannot open claw description file");
+  json doc;
+  try {
+    doc = json::parse(in);
+  } catch (const json::parse_error& e) {
+    ctx.Fail("", std::string("bad JSON: ") + e.what());
+  }
+  if (!doc.is_object()) ctx.Fail("", "bad JSON: top level must be an object");
+
+  std::string name = fs::path(description_path).stem().string();
+  if (const json* j = Find(doc, "name")) name = ReadString(ctx, *j, "name");
+  std::string opening_doc;
+  if (const json* j = Find(doc, "opening_doc")) {
+    opening_doc = ReadString(ctx, *j, "opening_doc");
+  }
+  Eigen::Isometry3d T_G_root = Eigen::Isometry3d::Identity();
+  if (const json* j = Find(doc, "T_G_root")) {
+    T_G_root = ReadPose(ctx, *j, "T_G_root");
+  }
+  const json* links_json = Find(doc, "links");
+  if (links_json == nullptr || !links_json->is_array() || links_json->empty()) {
+    ctx.Fail("links", "missing or empty (expected an array of links)");
+  }
+
+  const fs::path mesh_dir = mesh_root.empty()
+                                ? fs::path(description_path).parent_path()
+                                : fs::path(mesh_root);
+  std::vector<Link> parsed;
+  std::vector<std::string> parent_names;
+  std::map<std::string, int> index_of;
+  for (size_t i = 0; i < links_json->size(); ++i) {
+    const json& j = (*links_json)[i];
+    std::string field = "links[" + std::to_string(i) + "]";
+    if (!j.is_object()) ctx.Fail(field, "expected an object");
+    const json* name_json = Find(j, "name");
+    if (name_json == nullptr) ctx.Fail(field + ".name", "missing");
+    Link link;
+    link.name = ReadString(ctx, *name_json, field + ".name");
+    field += " (" + link.name + ")";
+    CheckKeys(ctx, j, field,
+              {"name", "parent", "joint", "mesh", "mesh_origin", "mesh_scale"});
+    if (!index_of.emplace(link.name, static_cast<int>(i)).second) {
+      ctx.Fail(field + ".name", "duplicate link name");
+    }
+    std::string parent;
+    if (const json* p = Find(j, "parent"); p != nullptr && !p->is_null()) {
+      parent = ReadString(ctx, *p, field + ".parent");
+    }
+    parent_names.push_back(parent);
+    if (const json* joint = Find(j, "joint")) {
+      link.joint = ReadJoint(ctx, *joint, field + ".joint");
+    }
+    if (const json* origin = Find(j, "mesh_origin")) {
+      link.T_link_mesh = ReadPose(ctx, *origin, field + ".mesh_origin");
+    }
+    double scale = 1.0;
+    if (const json* s = Find(j, "mesh_scale")) {
+      scale = ReadNumber(ctx, *s, field + ".mesh_scale");
+      if (!(scale > 0.0)) ctx.Fail(field + ".mesh_scale", "must be > 0");
+    }
+    if (const json* mesh = Find(j, "mesh")) {
+      const fs::path rel = ReadString(ctx, *mesh, field + ".mesh");
+      link.mesh = ReadMesh(ctx, rel.is_absolute() ? rel : mesh_dir / rel, scale,
+                           field + ".mesh");
+    }
+    parsed.push_back(std::move(link));
+  }
+
+  // Order links parents-first (the file may list them in any order) and
+  // resolve parent names to indices.
+  const int n = static_cast<int>(parsed.size());
+  std::vector<int> parent_index(n, -1);
+  for (int i = 0; i < n; ++i) {
+    if (parent_names[i].empty()) continue;
+    const auto it = index_of.find(parent_names[i]);
+    if (it == index_of.end()) {
+      ctx.Fail(
+          "links[" + std::to_string(i) + "] (" + parsed[i].name + ").parent",
+          "unknown parent link '" + parent_names[i] + "'");
+    }
+    parent_index[i] = it->second;
+  }
+  std::vector<int> order;
+  std::vector<int> new_index(n, -1);
+  std::vector<int> state(n, 0);  // 0 new, 1 on the stack, 2 placed
+  for (int start = 0; start < n; ++start) {
+    std::vector<int> chain;
+    for (int i = start; i >= 0 && state[i] != 2; i = parent_index[i]) {
+      if (state[i] == 1) {
+        ctx.Fail("links (" + parsed[i].name + ")", "parent cycle");
+      }
+      state[i] = 1;
+      chain.push_back(i);
+    }
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+      state[*it] = 2;
+      new_index[*it] = static_cast<int>(order.size());
+      order.push_back(*it);
+    }
+  }
+  std::vector<Link> links;
+  links.reserve(n);
+  for (const int i : order) {
+    Link link = std::move(parsed[i]);
+    link.parent = parent_index[i] < 0 ? -1 : new_index[parent_index[i]];
+    // Roots hang from G through the root transform.
+    if (link.parent < 0) {
+      link.joint.T_parent_joint = T_G_root * link.joint.T_parent_joint;
+    }
+    links.push_back(std::move(link));
+  }
+  return ClawModel(name, std::move(links), opening_doc);
+}
+
+}  // namespace graspfill::claw

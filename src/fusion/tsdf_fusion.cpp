@@ -1,0 +1,103 @@
+#include "graspfill/fusion/tsdf_fusion.hpp"
+
+#include <open3d/camera/PinholeCameraIntrinsic.h>
+#include <open3d/geometry/Image.h>
+#include <open3d/geometry/PointCloud.h>
+#include <open3d/geometry/RGBDImage.h>
+#include <open3d/pipelines/integration/ScalableTSDFVolume.h>
+
+#include <algorithm>
+#include <cstring>
+#include <numeric>
+#include <vector>
+#include <stdexcept>
+
+namespace graspfill::fusion {
+
+namespace integration = open3d::pipelines::integration;
+
+void TsdfConfig::Validate() const {
+  if (!(voxel_m > 0.0) || !(sdf_trunc_m > voxel_m) || block_resolution < 2 ||
+      depth_sampling_stride < 1) {
+    throw std::invalid_argument(
+        "TsdfConfig: need voxel_m > 0, sdf_trunc_m > voxel_m, "
+        "block_resolution >= 2, depth_sampling_stride >= 1");
+  }
+}
+
+struct TsdfFusion::Impl {
+  explicit Impl(const TsdfConfig& c)
+      : config(c),
+        volume(c.voxel_m, c.sdf_trunc_m, integration::TSDFVolumeColorType::NoColor,
+               c.block_resolution, c.depth_sampling_stride) {}
+  TsdfConfig config;
+  integration::ScalableTSDFVolume volume;
+  open3d::geometry::RGBDImage rgbd;  // depth_ reused across frames
+  open3d::camera::PinholeCameraIntrinsic intrinsic;
+  CameraIntrinsics intrinsics_set{0, 0, 0, 0, 0, 0};
+  int frames{0};
+};
+
+TsdfFusion::TsdfFusion(const TsdfConfig& config) {
+  config.Validate();
+  impl_ = std::make_unique<Impl>(config);
+}
+
+TsdfFusion::~TsdfFusion() = default;
+
+void TsdfFusion::Integrate(const DepthFrame& frame, const Eigen::Isometry3d& T_C_G) {
+  const CameraIntrinsics& K = frame.intrinsics;
+  if (static_cast<size_t>(K.width) * K.height != frame.depth_m.size()) {
+    throw std::invalid_argument("TsdfFusion::Integrate: depth size != width*height");
+  }
+  if (impl_->intrinsics_set != K) {
+    if (impl_->frames > 0 && (impl_->intrinsics_set.width != K.width ||
+                              impl_->intrinsics_set.height != K.height)) {
+      throw std::invalid_argument("TsdfFusion::Integrate: frame size changed");
+    }
+    impl_->intrinsic.SetIntrinsics(K.width, K.height, K.fx, K.fy, K.cx, K.cy);
+    impl_->rgbd.depth_.Prepare(K.width, K.height, 1, 4);
+    impl_->intrinsics_set = K;
+  }
+  std::memcpy(impl_->rgbd.depth_.data_.data(), frame.depth_m.data(),
+              frame.depth_m.size() * sizeof(float));
+  // Open3D's extrinsic maps world (here G) points into the camera: T_C_G.
+  impl_->volume.Integrate(impl_->rgbd, impl_->intrinsic, T_C_G.matrix());
+  ++impl_->frames;
+}
+
+void TsdfFusion::ExtractCloud(ObjectCloud* cloud) const {
+  const std::shared_ptr<open3d::geometry::PointCloud> pcd =
+      impl_->volume.ExtractPointCloud();
+  // Canonical order (lexicographic), so that the output does not depend on
+  // the iteration order of Open3D's block hash map.
+  const size_t n = pcd->points_.size();
+  std::vector<size_t> order(n);
+  std::iota(order.begin(), order.end(), size_t{0});
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    const Eigen::Vector3d& pa = pcd->points_[a];
+    const Eigen::Vector3d& pb = pcd->points_[b];
+    if (pa.x() != pb.x()) return pa.x() < pb.x();
+    if (pa.y() != pb.y()) return pa.y() < pb.y();
+    return pa.z() < pb.z();
+  });
+  cloud->points_G.resize(n);
+  cloud->normals_G.resize(pcd->HasNormals() ? n : 0);
+  cloud->provenance.assign(n, Provenance::kObserved);
+  for (size_t i = 0; i < n; ++i) {
+    cloud->points_G[i] = pcd->points_[order[i]].cast<float>();
+    if (pcd->HasNormals()) {
+      cloud->normals_G[i] = pcd->normals_[order[i]].normalized().cast<float>();
+    }
+  }
+}
+
+void TsdfFusion::Reset() {
+  impl_->volume.Reset();
+  impl_->frames = 0;
+}
+
+const TsdfConfig& TsdfFusion::config() const { return impl_->config; }
+int TsdfFusion::frames_integrated() const { return impl_->frames; }
+
+}  // namespace graspfill::fusion

@@ -1,0 +1,707 @@
+// Message conversion. Two rules shape this file:
+//  - Bytes from the bus are untrusted. The lcm-gen decoders resize their
+//    vectors to the count read from the wire *before* checking that the
+//    bytes are there (a negative or huge count throws or allocates
+//    gigabytes), so every message is first walked with WireReader, which
+//    checks each count against the bytes left, and only then decoded.
+//  - Depth images arrive at 30 Hz: they are parsed in place (no copy of the
+//    payload) and inflated with a per-thread zlib stream into per-thread
+//    scratch, so the steady state allocates nothing.
+#include "graspfill/io/messages.hpp"
+
+#include <zlib.h>
+
+#include <climits>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include <graspfill/depth_image_t.hpp>
+#include <graspfill/gripper_state_t.hpp>
+#include <graspfill/hole_t.hpp>
+#include <graspfill/module_status_t.hpp>
+#include <graspfill/object_cloud_t.hpp>
+
+namespace graspfill::io {
+namespace {
+
+// Largest depth image accepted (4096 x 4096); guards the allocation a
+// corrupt header could ask for.
+constexpr int64_t kMaxDepthPixels = int64_t{1} << 24;
+// Tolerance on |q| before a quaternion counts as not a rotation.
+constexpr double kUnitQuaternionTolerance = 1e-3;
+
+void SetError(std::string* error, const std::string& message) {
+  if (error != nullptr) *error = message;
+}
+
+// Reads LCM's wire format (big-endian, counts before arrays) with bounds
+// checks. Every accessor returns false instead of reading past the end.
+class WireReader {
+ public:
+  WireReader(const void* data, size_t size)
+      : data_(static_cast<const uint8_t*>(data)), size_(size) {}
+
+  size_t remaining() const { return size_ - pos_; }
+
+  bool Skip(size_t n) {
+    if (n > remaining()) return false;
+    pos_ += n;
+    return true;
+  }
+  bool Bytes(size_t n, const uint8_t** p) {
+    if (n > remaining()) return false;
+    *p = data_ + pos_;
+    pos_ += n;
+    return true;
+  }
+  bool I8(int8_t* v) {
+    uint64_t u;
+    if (!BigEndian(1, &u)) return false;
+    *v = static_cast<int8_t>(u);
+    return true;
+  }
+  bool I32(int32_t* v) {
+    uint64_t u;
+    if (!BigEndian(4, &u)) return false;
+    *v = static_cast<int32_t>(static_cast<uint32_t>(u));
+    return true;
+  }
+  bool I64(int64_t* v) {
+    uint64_t u;
+    if (!BigEndian(8, &u)) return false;
+    *v = static_cast<int64_t>(u);
+    return true;
+  }
+  bool F64(double* v) {
+    uint64_t u;
+    if (!BigEndian(8, &u)) return false;
+    std::memcpy(v, &u, sizeof(*v));
+    return true;
+  }
+  // An array count followed by `count` elements of `element_bytes` each:
+  // the count must be >= 0 and the elements must fit in what is left.
+  bool Count(int32_t* count, size_t element_bytes) {
+    return I32(count) && CountFits(*count, element_bytes);
+  }
+  bool CountFits(int32_t count, size_t element_bytes) const {
+    return count >= 0 && static_cast<size_t>(count) <=
+                             remaining() / (element_bytes ? element_bytes : 1);
+  }
+  // An LCM string: int32 length including the NUL, then the bytes.
+  bool SkipString() {
+    int32_t length;
+    return I32(&length) && length >= 1 && Skip(static_cast<size_t>(length));
+  }
+  bool Hash(int64_t expected) {
+    int64_t hash;
+    return I64(&hash) && hash == expected;
+  }
+
+ private:
+  bool BigEndian(size_t n, uint64_t* v) {
+    if (n > remaining()) return false;
+    uint64_t u = 0;
+    for (size_t i = 0; i < n; ++i) u = (u << 8) | data_[pos_ + i];
+    pos_ += n;
+    *v = u;
+    return true;
+  }
+
+  const uint8_t* data_;
+  size_t size_;
+  size_t pos_{0};
+};
+
+bool AllFinite(const double* v, int n) {
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(v[i])) return false;
+  }
+  return true;
+}
+
+// Builds an isometry from position + (w, x, y, z) after checking both.
+bool PoseFromWire(const char* type, const double position[3],
+                  const double orientation[4], Eigen::Isometry3d* T,
+                  std::string* error) {
+  if (!AllFinite(position, 3) || !AllFinite(orientation, 4)) {
+    SetError(error, std::string(type) + ": pose is not finite");
+    return false;
+  }
+  Eigen::Quaterniond q(orientation[0], orientation[1], orientation[2],
+                       orientation[3]);
+  const double norm = q.norm();
+  if (std::abs(norm - 1.0) > kUnitQuaternionTolerance) {
+    SetError(error, std::string(type) +
+                        ": orientation is not a unit quaternion (|q| = " +
+                        std::to_string(norm) + ")");
+    return false;
+  }
+  q.normalize();
+  T->setIdentity();
+  T->linear() = q.toRotationMatrix();
+  T->translation() = Eigen::Vector3d(position[0], position[1], position[2]);
+  return true;
+}
+
+void PoseToWire(const Eigen::Isometry3d& T, double position[3],
+                double orientation[4]) {
+  Eigen::Quaterniond q(T.rotation());
+  q.normalize();
+  for (int i = 0; i < 3; ++i) position[i] = T.translation()[i];
+  orientation[0] = q.w();
+  orientation[1] = q.x();
+  orientation[2] = q.y();
+  orientation[3] = q.z();
+}
+
+template <typename Message>
+std::vector<uint8_t> EncodeMessage(const Message& msg) {
+  std::vector<uint8_t> bytes(static_cast<size_t>(msg.getEncodedSize()));
+  const int n = msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  if (n != static_cast<int>(bytes.size())) {
+    throw std::logic_error(std::string("lcm encode failed for ") +
+                           Message::getTypeName());
+  }
+  return bytes;
+}
+
+// Runs the lcm-gen decoder on bytes that a walker has already validated.
+// The try/catch is a second line of defence (bad_alloc) since handlers on
+// the bus must not throw.
+template <typename Message>
+bool DecodeMessage(const void* data, size_t size, Message* msg,
+                   std::string* error) {
+  try {
+    const int n = msg->decode(data, 0, static_cast<int>(size));
+    if (n != static_cast<int>(size)) {
+      SetError(error, std::string(Message::getTypeName()) +
+                          ": lcm decode failed");
+      return false;
+    }
+  } catch (const std::exception& e) {
+    SetError(error, std::string(Message::getTypeName()) +
+                        ": lcm decode failed: " + e.what());
+    return false;
+  }
+  return true;
+}
+
+// Common checks before any walk: a null pointer or a message bigger than
+// lcm's int-sized decoders can address.
+bool CheckBuffer(const void* data, size_t size, const void* out,
+                 const char* type, std::string* error) {
+  if (out == nullptr) {
+    SetError(error, std::string(type) + ": null output");
+    return false;
+  }
+  if (data == nullptr && size != 0) {
+    SetError(error, std::string(type) + ": null data");
+    return false;
+  }
+  if (size > static_cast<size_t>(INT_MAX)) {
+    SetError(error, std::string(type) + ": message too large");
+    return false;
+  }
+  return true;
+}
+
+// ---- Depth -----------------------------------------------------------------
+
+// Per-thread zlib streams: inflateInit/deflateInit allocate tens to hundreds
+// of kilobytes each, so each thread pays that once, not per frame.
+struct ZlibScratch {
+  z_stream inflater{};
+  bool inflater_ready{false};
+  z_stream deflater{};
+  bool deflater_ready{false};
+  std::vector<uint8_t> raw;  // delta-coded little-endian samples
+
+  ~ZlibScratch() {
+    if (inflater_ready) inflateEnd(&inflater);
+    if (deflater_ready) deflateEnd(&deflater);
+  }
+};
+
+ZlibScratch& Scratch() {
+  thread_local ZlibScratch scratch;
+  return scratch;
+}
+
+// Inflates exactly `out_size` bytes from a complete zlib stream.
+bool Inflate(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_size,
+             std::string* error) {
+  ZlibScratch& s = Scratch();
+  if (!s.inflater_ready) {
+    if (inflateInit(&s.inflater) != Z_OK) {
+      SetError(error, "depth_image_t: zlib init failed");
+      return false;
+    }
+    s.inflater_ready = true;
+  } else {
+    inflateReset(&s.inflater);
+  }
+  z_stream& zs = s.inflater;
+  zs.next_in = const_cast<Bytef*>(in);
+  zs.avail_in = static_cast<uInt>(in_size);
+  zs.next_out = out;
+  zs.avail_out = static_cast<uInt>(out_size);
+  const int rc = inflate(&zs, Z_FINISH);
+  if (rc != Z_STREAM_END) {
+    SetError(error, std::string("depth_image_t: corrupt zlib data (") +
+                        (zs.msg ? zs.msg : "size mismatch") + ")");
+    return false;
+  }
+  if (zs.avail_out != 0 || zs.avail_in != 0) {
+    SetError(error, "depth_image_t: zlib data does not match the image size");
+    return false;
+  }
+  return true;
+}
+
+std::vector<uint8_t> Deflate(const std::vector<uint8_t>& raw) {
+  ZlibScratch& s = Scratch();
+  if (!s.deflater_ready) {
+    // Z_BEST_SPEED: ~6 ms for a 640x480 frame on one core; level 6 gains
+    // ~15% more but costs ~50 ms, too slow for 30 Hz.
+    if (deflateInit(&s.deflater, Z_BEST_SPEED) != Z_OK) {
+      throw std::runtime_error("EncodeDepthImage: zlib init failed");
+    }
+    s.deflater_ready = true;
+  } else {
+    deflateReset(&s.deflater);
+  }
+  z_stream& zs = s.deflater;
+  std::vector<uint8_t> out(deflateBound(&zs, static_cast<uLong>(raw.size())));
+  zs.next_in = const_cast<Bytef*>(raw.data());
+  zs.avail_in = static_cast<uInt>(raw.size());
+  zs.next_out = out.data();
+  zs.avail_out = static_cast<uInt>(out.size());
+  if (deflate(&zs, Z_FINISH) != Z_STREAM_END) {
+    throw std::runtime_error("EncodeDepthImage: zlib deflate failed");
+  }
+  out.resize(zs.total_out);
+  return out;
+}
+
+}  // namespace
+
+std::vector<uint8_t> EncodeDepthImage(const DepthFrame& frame,
+                                      DepthEncoding encoding,
+                                      double depth_scale_m) {
+  const CameraIntrinsics& K = frame.intrinsics;
+  if (K.width <= 0 || K.height <= 0 ||
+      int64_t{K.width} * K.height > kMaxDepthPixels) {
+    throw std::invalid_argument("EncodeDepthImage: bad image size " +
+                                std::to_string(K.width) + "x" +
+                                std::to_string(K.height));
+  }
+  const size_t num_pixels = static_cast<size_t>(K.width) * K.height;
+  if (frame.depth_m.size() != num_pixels) {
+    throw std::invalid_argument(
+        "EncodeDepthImage: depth_m has " + std::to_string(frame.depth_m.size()) +
+        " values for a " + std::to_string(K.width) + "x" +
+        std::to_string(K.height) + " image");
+  }
+  if (!std::isfinite(depth_scale_m) || depth_scale_m <= 0.0) {
+    throw std::invalid_argument("EncodeDepthImage: depth scale must be > 0");
+  }
+
+  // Quantize, delta-code along each row and lay out little-endian in one
+  // pass; the delta is only applied for kZlib16.
+  const bool delta = encoding == DepthEncoding::kZlib16;
+  std::vector<uint8_t>& raw = Scratch().raw;
+  raw.resize(2 * num_pixels);
+  for (int v = 0; v < K.height; ++v) {
+    uint16_t left = 0;
+    for (int u = 0; u < K.width; ++u) {
+      const size_t i = static_cast<size_t>(v) * K.width + u;
+      const float d = frame.depth_m[i];
+      uint16_t units = 0;
+      // d > 0 is false for NaN; +0.5 then truncation is round() for
+      // positive values, without the libm call.
+      if (d > 0.0f) {
+        const double q = d / depth_scale_m + 0.5;
+        if (q < 65536.0) units = static_cast<uint16_t>(q);
+      }
+      const uint16_t sample =
+          delta ? static_cast<uint16_t>(units - left) : units;
+      left = units;
+      raw[2 * i] = static_cast<uint8_t>(sample & 0xff);
+      raw[2 * i + 1] = static_cast<uint8_t>(sample >> 8);
+    }
+  }
+
+  graspfill::depth_image_t msg{};
+  msg.utime = frame.utime;
+  msg.width = K.width;
+  msg.height = K.height;
+  msg.fx = K.fx;
+  msg.fy = K.fy;
+  msg.cx = K.cx;
+  msg.cy = K.cy;
+  msg.depth_scale = depth_scale_m;
+  if (delta) {
+    msg.encoding = graspfill::depth_image_t::ZLIB16;
+    msg.data = Deflate(raw);
+  } else {
+    msg.encoding = graspfill::depth_image_t::RAW16;
+    msg.data = raw;
+  }
+  msg.num_bytes = static_cast<int32_t>(msg.data.size());
+  return EncodeMessage(msg);
+}
+
+bool DecodeDepthImage(const void* data, size_t size, DepthFrame* out,
+                      std::string* error) {
+  if (!CheckBuffer(data, size, out, "depth_image_t", error)) return false;
+  // Parsed in place (see the file comment); the layout is depth_image_t's.
+  WireReader r(data, size);
+  if (!r.Hash(graspfill::depth_image_t::getHash())) {
+    SetError(error, "depth_image_t: not a depth_image_t (type hash mismatch "
+                    "or truncated)");
+    return false;
+  }
+  int64_t utime;
+  int32_t width, height, num_bytes;
+  double fx, fy, cx, cy, depth_scale;
+  int8_t encoding;
+  const uint8_t* payload = nullptr;
+  if (!r.I64(&utime) || !r.I32(&width) || !r.I32(&height) || !r.F64(&fx) ||
+      !r.F64(&fy) || !r.F64(&cx) || !r.F64(&cy) || !r.F64(&depth_scale) ||
+      !r.I8(&encoding) || !r.Count(&num_bytes, 1) ||
+      !r.Bytes(static_cast<size_t>(num_bytes), &payload)) {
+    SetError(error, "depth_image_t: truncated message");
+    return false;
+  }
+  if (r.remaining() != 0) {
+    SetError(error, "depth_image_t: " + std::to_string(r.remaining()) +
+                        " trailing bytes");
+    return false;
+  }
+  if (width <= 0 || height <= 0 ||
+      int64_t{width} * height > kMaxDepthPixels) {
+    SetError(error, "depth_image_t: bad image size " + std::to_string(width) +
+                        "x" + std::to_string(height));
+    return false;
+  }
+  if (!std::isfinite(fx) || !std::isfinite(fy) || fx <= 0.0 || fy <= 0.0 ||
+      !std::isfinite(cx) || !std::isfinite(cy)) {
+    SetError(error, "depth_image_t: bad intrinsics (non-finite or "
+                    "non-positive focal length)");
+    return false;
+  }
+  if (!std::isfinite(depth_scale) || depth_scale <= 0.0) {
+    SetError(error, "depth_image_t: bad depth_scale");
+    return false;
+  }
+
+  const size_t num_pixels = static_cast<size_t>(width) * height;
+  const uint8_t* samples = nullptr;  // little-endian uint16, maybe delta-coded
+  bool delta = false;
+  if (encoding == graspfill::depth_image_t::RAW16) {
+    if (static_cast<size_t>(num_bytes) != 2 * num_pixels) {
+      SetError(error, "depth_image_t: RAW16 data has " +
+                          std::to_string(num_bytes) + " bytes, expected " +
+                          std::to_string(2 * num_pixels));
+      return false;
+    }
+    samples = payload;
+  } else if (encoding == graspfill::depth_image_t::ZLIB16) {
+    std::vector<uint8_t>& raw = Scratch().raw;
+    raw.resize(2 * num_pixels);  // grows once, then reused
+    if (!Inflate(payload, static_cast<size_t>(num_bytes), raw.data(),
+                 raw.size(), error)) {
+      return false;
+    }
+    samples = raw.data();
+    delta = true;
+  } else {
+    SetError(error, "depth_image_t: unknown encoding " +
+                        std::to_string(static_cast<int>(encoding)));
+    return false;
+  }
+
+  out->utime = utime;
+  out->intrinsics.width = width;
+  out->intrinsics.height = height;
+  out->intrinsics.fx = fx;
+  out->intrinsics.fy = fy;
+  out->intrinsics.cx = cx;
+  out->intrinsics.cy = cy;
+  out->depth_m.resize(num_pixels);
+  for (int v = 0; v < height; ++v) {
+    uint16_t left = 0;
+    const size_t row = static_cast<size_t>(v) * width;
+    for (int u = 0; u < width; ++u) {
+      const size_t i = row + u;
+      uint16_t units = static_cast<uint16_t>(samples[2 * i] |
+                                             (samples[2 * i + 1] << 8));
+      if (delta) units = static_cast<uint16_t>(units + left);
+      left = units;
+      // In double, then rounded once: 1500 units of 1 mm is exactly 1.5f.
+      out->depth_m[i] = static_cast<float>(units * depth_scale);
+    }
+  }
+  return true;
+}
+
+// ---- Gripper state -----------------------------------------------------------
+
+std::vector<uint8_t> EncodeGripperState(const GripperState& state) {
+  graspfill::gripper_state_t msg{};
+  msg.utime = state.utime;
+  msg.frame = graspfill::gripper_state_t::FRAME_CAMERA;
+  PoseToWire(state.T_C_G, msg.position, msg.orientation);
+  msg.opening_m = state.opening_m;
+  msg.num_joints = static_cast<int32_t>(state.joint_values.size());
+  msg.joint_values = state.joint_values;
+  return EncodeMessage(msg);
+}
+
+bool DecodeGripperState(const void* data, size_t size,
+                        const Eigen::Isometry3d& T_C_B, GripperState* out,
+                        std::string* error) {
+  if (!CheckBuffer(data, size, out, "gripper_state_t", error)) return false;
+  WireReader r(data, size);
+  int32_t num_joints;
+  if (!r.Hash(graspfill::gripper_state_t::getHash()) ||
+      !r.Skip(8 + 1 + 3 * 8 + 4 * 8 + 8) || !r.Count(&num_joints, 8) ||
+      !r.Skip(8 * static_cast<size_t>(num_joints)) || r.remaining() != 0) {
+    SetError(error, "gripper_state_t: malformed message");
+    return false;
+  }
+  thread_local graspfill::gripper_state_t msg{};
+  // lcm-gen skips an array whose count is 0 without resizing it: clear
+  // (keeping capacity) so nothing stale survives from the last message.
+  msg.joint_values.clear();
+  if (!DecodeMessage(data, size, &msg, error)) return false;
+
+  Eigen::Isometry3d T_F_G;
+  if (!PoseFromWire("gripper_state_t", msg.position, msg.orientation, &T_F_G,
+                    error)) {
+    return false;
+  }
+  if (!std::isfinite(msg.opening_m) ||
+      !AllFinite(msg.joint_values.data(), msg.num_joints)) {
+    SetError(error, "gripper_state_t: opening or joint values not finite");
+    return false;
+  }
+  if (msg.frame == graspfill::gripper_state_t::FRAME_CAMERA) {
+    out->T_C_G = T_F_G;
+  } else if (msg.frame == graspfill::gripper_state_t::FRAME_BASE) {
+    out->T_C_G = T_C_B * T_F_G;
+  } else {
+    SetError(error, "gripper_state_t: unknown frame " +
+                        std::to_string(static_cast<int>(msg.frame)));
+    return false;
+  }
+  out->utime = msg.utime;
+  out->opening_m = msg.opening_m;
+  out->joint_values.assign(msg.joint_values.begin(), msg.joint_values.end());
+  return true;
+}
+
+// ---- Object cloud ------------------------------------------------------------
+
+std::vector<uint8_t> EncodeObjectCloud(const ObjectCloud& cloud) {
+  const size_t n = cloud.points_G.size();
+  if (!cloud.normals_G.empty() && cloud.normals_G.size() != n) {
+    throw std::invalid_argument("EncodeObjectCloud: " +
+                                std::to_string(cloud.normals_G.size()) +
+                                " normals for " + std::to_string(n) + " points");
+  }
+  if (!cloud.provenance.empty() && cloud.provenance.size() != n) {
+    throw std::invalid_argument("EncodeObjectCloud: " +
+                                std::to_string(cloud.provenance.size()) +
+                                " provenance values for " + std::to_string(n) +
+                                " points");
+  }
+  graspfill::object_cloud_t msg{};
+  msg.utime = cloud.utime;
+  msg.seq = cloud.seq;
+  msg.frame_name = cloud.frame_name;
+  PoseToWire(cloud.T_C_G, msg.position, msg.orientation);
+  msg.num_points = static_cast<int32_t>(n);
+  msg.n3 = static_cast<int32_t>(3 * n);
+  msg.xyz.resize(3 * n);
+  for (size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) msg.xyz[3 * i + k] = cloud.points_G[i][k];
+  }
+  msg.num_normals3 = static_cast<int32_t>(3 * cloud.normals_G.size());
+  msg.normals.resize(3 * cloud.normals_G.size());
+  for (size_t i = 0; i < cloud.normals_G.size(); ++i) {
+    for (int k = 0; k < 3; ++k) msg.normals[3 * i + k] = cloud.normals_G[i][k];
+  }
+  // int8_t{...}: lcm-gen constants are declared but never defined, so they
+  // must not be bound to a reference (odr-use).
+  msg.provenance.assign(n, int8_t{graspfill::object_cloud_t::OBSERVED});
+  for (size_t i = 0; i < cloud.provenance.size(); ++i) {
+    msg.provenance[i] = static_cast<int8_t>(cloud.provenance[i]);
+  }
+  msg.num_holes = static_cast<int32_t>(cloud.holes.size());
+  msg.holes.resize(cloud.holes.size());
+  for (size_t i = 0; i < cloud.holes.size(); ++i) {
+    const HoleSummary& h = cloud.holes[i];
+    graspfill::hole_t& m = msg.holes[i];
+    m.kind = static_cast<int8_t>(h.kind);
+    m.boundary_points = h.boundary_points;
+    for (int k = 0; k < 3; ++k) {
+      m.box_min[k] = h.box_min_G[k];
+      m.box_max[k] = h.box_max_G[k];
+    }
+    m.points_added = h.points_added;
+  }
+  msg.num_timings = static_cast<int32_t>(cloud.timings.size());
+  for (const StageTiming& t : cloud.timings) {
+    msg.timing_names.push_back(t.stage);
+    msg.timing_ms.push_back(t.ms);
+  }
+  return EncodeMessage(msg);
+}
+
+bool DecodeObjectCloud(const void* data, size_t size, ObjectCloud* out,
+                       std::string* error) {
+  if (!CheckBuffer(data, size, out, "object_cloud_t", error)) return false;
+  // Walk the whole message so that every count is known to fit before the
+  // generated decoder resizes anything. Layout: object_cloud_t.lcm.
+  {
+    WireReader r(data, size);
+    int32_t num_points, n3, num_normals3, num_holes, num_timings;
+    constexpr size_t kHoleBytes = 1 + 4 + 3 * 4 + 3 * 4 + 4;
+    bool ok = r.Hash(graspfill::object_cloud_t::getHash()) && r.Skip(16) &&
+              r.SkipString() && r.Skip(7 * 8) && r.I32(&num_points) &&
+              r.Count(&n3, 4) && r.Skip(4 * static_cast<size_t>(n3)) &&
+              r.Count(&num_normals3, 4) &&
+              r.Skip(4 * static_cast<size_t>(num_normals3)) &&
+              r.CountFits(num_points, 1) &&
+              r.Skip(static_cast<size_t>(num_points)) &&
+              r.Count(&num_holes, kHoleBytes) &&
+              r.Skip(kHoleBytes * static_cast<size_t>(num_holes)) &&
+              r.Count(&num_timings, 4 + 1 + 8);
+    for (int32_t i = 0; ok && i < num_timings; ++i) ok = r.SkipString();
+    ok = ok && r.Skip(8 * static_cast<size_t>(num_timings)) &&
+         r.remaining() == 0;
+    if (!ok) {
+      SetError(error, "object_cloud_t: malformed message");
+      return false;
+    }
+    if (int64_t{n3} != 3 * int64_t{num_points} ||
+        (num_normals3 != 0 && num_normals3 != n3)) {
+      SetError(error, "object_cloud_t: inconsistent counts (num_points " +
+                          std::to_string(num_points) + ", n3 " +
+                          std::to_string(n3) + ", num_normals3 " +
+                          std::to_string(num_normals3) + ")");
+      return false;
+    }
+  }
+  thread_local graspfill::object_cloud_t msg{};
+  // As for gripper_state_t: empty arrays are not resized by lcm-gen.
+  msg.xyz.clear();
+  msg.normals.clear();
+  msg.provenance.clear();
+  msg.timing_ms.clear();
+  if (!DecodeMessage(data, size, &msg, error)) return false;
+
+  Eigen::Isometry3d T_C_G;
+  if (!PoseFromWire("object_cloud_t", msg.position, msg.orientation, &T_C_G,
+                    error)) {
+    return false;
+  }
+  const size_t n = static_cast<size_t>(msg.num_points);
+  for (float v : msg.xyz) {
+    if (!std::isfinite(v)) {
+      SetError(error, "object_cloud_t: non-finite point coordinate");
+      return false;
+    }
+  }
+  for (int8_t p : msg.provenance) {
+    if (p < graspfill::object_cloud_t::OBSERVED ||
+        p > graspfill::object_cloud_t::SYMMETRY) {
+      SetError(error, "object_cloud_t: unknown provenance " +
+                          std::to_string(static_cast<int>(p)));
+      return false;
+    }
+  }
+  for (const graspfill::hole_t& h : msg.holes) {
+    if (h.kind != graspfill::hole_t::CLAW &&
+        h.kind != graspfill::hole_t::MISSING_SURFACE) {
+      SetError(error, "object_cloud_t: unknown hole kind " +
+                          std::to_string(static_cast<int>(h.kind)));
+      return false;
+    }
+  }
+
+  out->utime = msg.utime;
+  out->seq = msg.seq;
+  out->frame_name = msg.frame_name;
+  out->T_C_G = T_C_G;
+  out->points_G.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    out->points_G[i] =
+        Eigen::Vector3f(msg.xyz[3 * i], msg.xyz[3 * i + 1], msg.xyz[3 * i + 2]);
+  }
+  out->normals_G.resize(msg.num_normals3 == 0 ? 0 : n);
+  for (size_t i = 0; i < out->normals_G.size(); ++i) {
+    out->normals_G[i] = Eigen::Vector3f(msg.normals[3 * i],
+                                        msg.normals[3 * i + 1],
+                                        msg.normals[3 * i + 2]);
+  }
+  out->provenance.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    out->provenance[i] = static_cast<Provenance>(msg.provenance[i]);
+  }
+  out->holes.resize(msg.holes.size());
+  for (size_t i = 0; i < msg.holes.size(); ++i) {
+    const graspfill::hole_t& m = msg.holes[i];
+    HoleSummary& h = out->holes[i];
+    h.kind = static_cast<HoleKind>(m.kind);
+    h.boundary_points = m.boundary_points;
+    h.box_min_G = Eigen::Vector3f(m.box_min[0], m.box_min[1], m.box_min[2]);
+    h.box_max_G = Eigen::Vector3f(m.box_max[0], m.box_max[1], m.box_max[2]);
+    h.points_added = m.points_added;
+  }
+  out->timings.resize(msg.timing_names.size());
+  for (size_t i = 0; i < msg.timing_names.size(); ++i) {
+    out->timings[i].stage = msg.timing_names[i];
+    out->timings[i].ms = msg.timing_ms[i];
+  }
+  return true;
+}
+
+// ---- Module status -----------------------------------------------------------
+
+std::vector<uint8_t> EncodeModuleStatus(const ModuleStatus& status) {
+  graspfill::module_status_t msg{};
+  msg.utime = status.utime;
+  msg.frames_in = status.frames_in;
+  msg.frames_used = status.frames_used;
+  msg.frames_skipped = status.frames_skipped;
+  msg.frames_dropped = status.frames_dropped;
+  msg.last_frame_ms = status.last_frame_ms;
+  msg.state = status.state;
+  return EncodeMessage(msg);
+}
+
+bool DecodeModuleStatus(const void* data, size_t size, ModuleStatus* out,
+                        std::string* error) {
+  if (!CheckBuffer(data, size, out, "module_status_t", error)) return false;
+  WireReader r(data, size);
+  if (!r.Hash(graspfill::module_status_t::getHash()) || !r.Skip(5 * 8 + 8) ||
+      !r.SkipString() || r.remaining() != 0) {
+    SetError(error, "module_status_t: malformed message");
+    return false;
+  }
+  graspfill::module_status_t msg{};
+  if (!DecodeMessage(data, size, &msg, error)) return false;
+  out->utime = msg.utime;
+  out->frames_in = msg.frames_in;
+  out->frames_used = msg.frames_used;
+  out->frames_skipped = msg.frames_skipped;
+  out->frames_dropped = msg.frames_dropped;
+  out->last_frame_ms = msg.last_frame_ms;
+  out->state = msg.state;
+  return true;
+}
+
+}  // namespace graspfill::io

@@ -1,0 +1,214 @@
+#include "graspfill/pipeline/pipeline.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "graspfill/core/pose_interpolation.hpp"
+
+namespace graspfill {
+
+void PipelineConfig::Validate() const {
+  workspace.Validate();
+  tsdf.Validate();
+  if (max_pose_gap_us <= 0) throw std::invalid_argument("PipelineConfig: max_pose_gap_us <= 0");
+  if (state_buffer_capacity < 2) throw std::invalid_argument("PipelineConfig: state_buffer_capacity < 2");
+  if (max_pending_frames < 1) throw std::invalid_argument("PipelineConfig: max_pending_frames < 1");
+  if (!(claw_rebuild_tolerance >= 0.0)) throw std::invalid_argument("PipelineConfig: claw_rebuild_tolerance < 0");
+  if (mask.dilation_px < 0 || mask.roi_margin_px < 0 || !(mask.front_margin_m >= 0.0)) {
+    throw std::invalid_argument("PipelineConfig: mask margins must be >= 0");
+  }
+}
+
+struct Pipeline::Impl {
+  Impl(const PipelineConfig& c, claw::ClawModel model)
+      : config(c),
+        claw(std::move(model)),
+        mask(c.mask),
+        fusion(c.tsdf),
+        states(static_cast<size_t>(c.state_buffer_capacity), c.max_pose_gap_us),
+        pending(static_cast<size_t>(c.max_pending_frames)) {}
+
+  // Rebuilds the claw scene when the fingers moved (setup-time work).
+  void UpdateClaw(const GripperState& state) {
+    bool changed = !claw_set ||
+                   std::abs(state.opening_m - claw_opening_m) > config.claw_rebuild_tolerance ||
+                   state.joint_values.size() != claw_joints.size();
+    for (size_t i = 0; !changed && i < claw_joints.size(); ++i) {
+      changed = std::abs(state.joint_values[i] - claw_joints[i]) > config.claw_rebuild_tolerance;
+    }
+    if (!changed) return;
+    mask.SetClaw(claw.Posed(state.opening_m, state.joint_values));
+    claw_opening_m = state.opening_m;
+    claw_joints = state.joint_values;
+    claw_set = true;
+    ++stats.claw_rebuilds;
+  }
+
+  // Crop, mask and fuse one frame at a known pose.
+  void Integrate(const DepthFrame& frame, const GripperState& state) {
+    UpdateClaw(state);
+    work.utime = frame.utime;
+    work.intrinsics = frame.intrinsics;
+    work.depth_m.assign(frame.depth_m.begin(), frame.depth_m.end());
+    {
+      ScopedStageTimer t(&stats.crop);
+      fusion::CropToWorkspace(config.workspace, state.T_C_G, &work);
+    }
+    {
+      ScopedStageTimer t(&stats.mask);
+      mask.Apply(state.T_C_G, &work);
+    }
+    {
+      ScopedStageTimer t(&stats.integrate);
+      fusion.Integrate(work, state.T_C_G);
+    }
+    last_utime = frame.utime;
+    last_T_C_G = state.T_C_G;
+    ++stats.frames_integrated;
+  }
+
+  // Tries the frame against the state buffer.
+  FrameOutcome TryIntegrate(const DepthFrame& frame) {
+    switch (states.Lookup(frame.utime, &pose)) {
+      case PoseLookup::kOk:
+        Integrate(frame, pose);
+        return FrameOutcome::kIntegrated;
+      case PoseLookup::kNotYet:
+        return FrameOutcome::kPending;
+      case PoseLookup::kTooEarly:
+      case PoseLookup::kGap:
+        ++stats.frames_skipped_no_pose;
+        return FrameOutcome::kSkippedNoPose;
+    }
+    return FrameOutcome::kSkippedNoPose;
+  }
+
+  // Processes pending frames in arrival order while they can be decided.
+  void DrainPending() {
+    while (num_pending > 0) {
+      const FrameOutcome outcome = TryIntegrate(pending[pending_head]);
+      if (outcome == FrameOutcome::kPending) return;
+      pending_head = (pending_head + 1) % pending.size();
+      --num_pending;
+    }
+  }
+
+  PipelineConfig config;
+  claw::ClawModel claw;
+  claw::ClawMask mask;
+  fusion::TsdfFusion fusion;
+  GripperStateBuffer states;
+  std::vector<DepthFrame> pending;  // ring, slots reused
+  size_t pending_head{0};
+  size_t num_pending{0};
+  DepthFrame work;       // the frame being cropped and masked
+  GripperState pose;     // interpolated state, reused
+  bool claw_set{false};
+  double claw_opening_m{0.0};
+  std::vector<double> claw_joints;
+  CameraIntrinsics first_intrinsics;
+  bool have_intrinsics{false};
+  int64_t last_utime{0};
+  Eigen::Isometry3d last_T_C_G{Eigen::Isometry3d::Identity()};
+  int64_t seq{0};
+  PipelineStats stats;
+};
+
+Pipeline::Pipeline(const PipelineConfig& config, claw::ClawModel claw) {
+  config.Validate();
+  impl_ = std::make_unique<Impl>(config, std::move(claw));
+}
+
+Pipeline::~Pipeline() = default;
+
+bool Pipeline::AddGripperState(const GripperState& state) {
+  ++impl_->stats.states_in;
+  if (!impl_->states.Push(state)) {
+    ++impl_->stats.states_rejected;
+    return false;
+  }
+  impl_->DrainPending();
+  return true;
+}
+
+FrameOutcome Pipeline::AddDepthFrame(const DepthFrame& frame, std::string* error) {
+  Impl& s = *impl_;
+  ++s.stats.frames_in;
+  const CameraIntrinsics& K = frame.intrinsics;
+  const char* problem = nullptr;
+  if (K.width <= 0 || K.height <= 0 ||
+      frame.depth_m.size() != static_cast<size_t>(K.width) * K.height) {
+    problem = "depth size does not match width x height";
+  } else if (!(K.fx > 0 && K.fy > 0 && std::isfinite(K.cx) && std::isfinite(K.cy))) {
+    problem = "bad intrinsics";
+  } else if (s.have_intrinsics && (K.width != s.first_intrinsics.width ||
+                                   K.height != s.first_intrinsics.height)) {
+    problem = "frame size differs from the first frame's";
+  }
+  if (problem) {
+    ++s.stats.frames_bad;
+    if (error) *error = problem;
+    return FrameOutcome::kBadFrame;
+  }
+  if (!s.have_intrinsics) {
+    s.first_intrinsics = K;
+    s.have_intrinsics = true;
+  }
+  // Keep arrival order: a frame waits behind earlier pending frames.
+  if (s.num_pending == 0) {
+    const FrameOutcome outcome = s.TryIntegrate(frame);
+    if (outcome != FrameOutcome::kPending) return outcome;
+  }
+  if (s.num_pending == s.pending.size()) {  // full: drop the oldest
+    s.pending_head = (s.pending_head + 1) % s.pending.size();
+    --s.num_pending;
+    ++s.stats.frames_dropped;
+  }
+  DepthFrame& slot = s.pending[(s.pending_head + s.num_pending) % s.pending.size()];
+  slot.utime = frame.utime;
+  slot.intrinsics = frame.intrinsics;
+  slot.depth_m.assign(frame.depth_m.begin(), frame.depth_m.end());
+  ++s.num_pending;
+  return FrameOutcome::kPending;
+}
+
+void Pipeline::Flush() {
+  Impl& s = *impl_;
+  s.DrainPending();
+  s.stats.frames_skipped_no_pose += static_cast<int64_t>(s.num_pending);
+  s.num_pending = 0;
+}
+
+ObjectCloud Pipeline::ExtractCloud() {
+  Impl& s = *impl_;
+  ObjectCloud cloud;
+  {
+    ScopedStageTimer t(&s.stats.extract);
+    s.fusion.ExtractCloud(&cloud);
+  }
+  cloud.utime = s.last_utime;
+  cloud.seq = s.seq++;
+  cloud.T_C_G = s.last_T_C_G;
+  cloud.timings = {{"crop", s.stats.crop.mean_ms()},
+                   {"mask", s.stats.mask.mean_ms()},
+                   {"integrate", s.stats.integrate.mean_ms()},
+                   {"extract", s.stats.extract.last_ms}};
+  return cloud;
+}
+
+void Pipeline::Reset() {
+  Impl& s = *impl_;
+  s.fusion.Reset();
+  s.states = GripperStateBuffer(static_cast<size_t>(s.config.state_buffer_capacity),
+                                s.config.max_pose_gap_us);
+  s.num_pending = 0;
+  s.have_intrinsics = false;
+  s.stats = PipelineStats{};
+}
+
+const PipelineStats& Pipeline::stats() const { return impl_->stats; }
+const PipelineConfig& Pipeline::config() const { return impl_->config; }
+
+}  // namespace graspfill

@@ -1,0 +1,133 @@
+#include "graspfill/synth/renderer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/synth/random.hpp"
+
+namespace graspfill::synth {
+namespace {
+
+// Pixels added around the projected bounding box (rounding, safety).
+constexpr int kRoiMarginPx = 2;
+// Corners nearer than this in C make the projection unusable: cast all.
+constexpr double kMinProjectionDepthM = 1e-3;
+
+}  // namespace
+
+DepthRenderer::DepthRenderer(const CameraIntrinsics& intrinsics,
+                             double wall_distance_m)
+    : intrinsics_(intrinsics), wall_distance_m_(wall_distance_m) {}
+
+void DepthRenderer::AddMesh(const TriangleMesh& mesh_G, SurfaceLabel label) {
+  if (mesh_G.empty()) return;
+  const unsigned id = raycaster_.AddMesh(mesh_G);
+  if (labels_.size() <= id) labels_.resize(id + 1, SurfaceLabel::kNone);
+  labels_[id] = label;
+  bounds_G_.extend(Bounds(mesh_G));
+}
+
+void DepthRenderer::Commit() { raycaster_.Commit(); }
+
+void DepthRenderer::Render(const Eigen::Isometry3d& T_C_G, IdealDepthImage* out) const {
+  const int width = intrinsics_.width;
+  const int height = intrinsics_.height;
+  const size_t n = static_cast<size_t>(width) * height;
+  out->intrinsics = intrinsics_;
+  out->depth_m.assign(n, 0.0f);
+  out->cos_incidence.assign(n, 0.0f);
+  out->label.assign(n, SurfaceLabel::kNone);
+  const double fx = intrinsics_.fx;
+  const double fy = intrinsics_.fy;
+  const double cx = intrinsics_.cx;
+  const double cy = intrinsics_.cy;
+
+  // The wall: ray (x, y, 1) meets z = D at depth D, incidence cos = 1/|ray|.
+  if (wall_distance_m_ > 0.0) {
+    for (int v = 0; v < height; ++v) {
+      const double y = (v - cy) / fy;
+      for (int u = 0; u < width; ++u) {
+        const double x = (u - cx) / fx;
+        const size_t i = static_cast<size_t>(v) * width + u;
+        out->depth_m[i] = static_cast<float>(wall_distance_m_);
+        out->cos_incidence[i] = static_cast<float>(1.0 / std::sqrt(x * x + y * y + 1.0));
+        out->label[i] = SurfaceLabel::kBackground;
+      }
+    }
+  }
+  if (bounds_G_.isEmpty()) return;
+
+  // Region of interest: the projection of the meshes' bounding box.
+  int u0 = 0, u1 = width - 1, v0 = 0, v1 = height - 1;
+  bool all_in_front = true;
+  double umin = std::numeric_limits<double>::infinity(), umax = -umin;
+  double vmin = umin, vmax = -umin;
+  for (int k = 0; k < 8; ++k) {
+    const Eigen::Vector3d p_C =
+        T_C_G * bounds_G_.corner(static_cast<Eigen::AlignedBox3d::CornerType>(k));
+    if (p_C.z() < kMinProjectionDepthM) {
+      all_in_front = false;
+      break;
+    }
+    const double u = fx * p_C.x() / p_C.z() + cx;
+    const double v = fy * p_C.y() / p_C.z() + cy;
+    umin = std::min(umin, u);
+    umax = std::max(umax, u);
+    vmin = std::min(vmin, v);
+    vmax = std::max(vmax, v);
+  }
+  if (all_in_front) {
+    if (umax < 0.0 || vmax < 0.0 || umin > width - 1 || vmin > height - 1) return;
+    u0 = std::max(0, static_cast<int>(std::floor(umin)) - kRoiMarginPx);
+    u1 = std::min(width - 1, static_cast<int>(std::ceil(umax)) + kRoiMarginPx);
+    v0 = std::max(0, static_cast<int>(std::floor(vmin)) - kRoiMarginPx);
+    v1 = std::min(height - 1, static_cast<int>(std::ceil(vmax)) + kRoiMarginPx);
+  }
+
+  // Cast in G: with the C direction (x, y, 1) rotated into G, the hit
+  // distance t is the z-depth in C.
+  const Eigen::Isometry3d T_G_C = T_C_G.inverse();
+  const Eigen::Matrix3f R_G_C = T_G_C.linear().cast<float>();
+  const Eigen::Vector3f origin_G = T_G_C.translation().cast<float>();
+  const float t_far = wall_distance_m_ > 0.0 ? static_cast<float>(wall_distance_m_)
+                                             : std::numeric_limits<float>::infinity();
+  for (int v = v0; v <= v1; ++v) {
+    const float y = static_cast<float>((v - cy) / fy);
+    for (int u = u0; u <= u1; ++u) {
+      const float x = static_cast<float>((u - cx) / fx);
+      const Eigen::Vector3f dir_G = R_G_C * Eigen::Vector3f(x, y, 1.0f);
+      const RayHit hit = raycaster_.Cast(origin_G, dir_G, 0.0f, t_far);
+      if (!hit.hit()) continue;
+      const size_t i = static_cast<size_t>(v) * width + u;
+      out->depth_m[i] = hit.t;
+      const float denom = hit.normal.norm() * dir_G.norm();
+      out->cos_incidence[i] = denom > 0.0f ? std::abs(hit.normal.dot(dir_G)) / denom : 0.0f;
+      out->label[i] = hit.geom_id < labels_.size() ? labels_[hit.geom_id] : SurfaceLabel::kNone;
+    }
+  }
+}
+
+SceneRenderer::SceneRenderer(const Scene& scene)
+    : scene_(scene),
+      renderer_(scene.config().intrinsics, scene.config().environment.wall_distance_m) {
+  renderer_.AddMesh(scene.object_G(), SurfaceLabel::kObject);
+  renderer_.AddMesh(scene.claw_G(), SurfaceLabel::kClaw);
+  renderer_.AddMesh(scene.arm_G(), SurfaceLabel::kArm);
+  renderer_.Commit();
+}
+
+IdealDepthImage SceneRenderer::RenderIdeal(int frame_index) const {
+  IdealDepthImage image;
+  renderer_.Render(scene_.T_C_G_AtUtime(scene_.DepthUtime(frame_index)), &image);
+  return image;
+}
+
+DepthFrame SceneRenderer::Render(int frame_index) const {
+  return ApplySensorModel(scene_.config().sensor, RenderIdeal(frame_index),
+                          DeriveSeed(scene_.config().seed, static_cast<uint64_t>(frame_index)),
+                          scene_.DepthUtime(frame_index));
+}
+
+}  // namespace graspfill::synth

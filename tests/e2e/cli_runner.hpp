@@ -1,0 +1,42 @@
+// Runs the graspfill CLI as a child process for the end-to-end tests.
+#pragma once
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <sys/wait.h>
+
+namespace graspfill::testing {
+
+struct CliResult {
+  int exit_code{-1};
+  std::string output;  ///< stdout and stderr together
+};
+
+/// Runs `graspfill <args>` with LCM on the in-process memq:// provider so
+/// that no test traffic leaves the process.
+inline CliResult RunCli(const std::string& args) {
+  const std::string command =
+      "LCM_DEFAULT_URL=memq:// " GRASPFILL_CLI " " + args + " 2>&1";
+  CliResult result;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return result;
+  std::array<char, 4096> buffer;
+  size_t n;
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+  const int status = pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+/// A fresh, empty scratch folder under the build tree.
+inline std::string ScratchDir(const std::string& name) {
+  const std::filesystem::path dir = std::filesystem::path(GRASPFILL_BINARY_DIR) / "test_scratch" / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
+}  // namespace graspfill::testing

@@ -1,0 +1,69 @@
+#include "graspfill/fusion/workspace_crop.hpp"
+
+#include <gtest/gtest.h>
+
+namespace graspfill::fusion {
+namespace {
+
+// Camera 0.5 m in front of G, looking along G's x axis (C's z = G's +x).
+Eigen::Isometry3d SideCamera() {
+  Eigen::Isometry3d T_G_C = Eigen::Isometry3d::Identity();
+  T_G_C.linear().col(0) = Eigen::Vector3d(0, 1, 0);   // x_C
+  T_G_C.linear().col(1) = Eigen::Vector3d(0, 0, 1);   // y_C (down = +z_G)
+  T_G_C.linear().col(2) = Eigen::Vector3d(1, 0, 0);   // z_C
+  T_G_C.translation() = Eigen::Vector3d(-0.5, 0, 0.1);
+  return T_G_C.inverse();
+}
+
+TEST(WorkspaceCrop, KeepsExactlyThePixelsInsideTheBox) {
+  WorkspaceBox box;
+  box.min_G = Eigen::Vector3d(-0.05, -0.05, 0.05);
+  box.max_G = Eigen::Vector3d(0.05, 0.05, 0.15);
+  const Eigen::Isometry3d T_C_G = SideCamera();
+  DepthFrame f;
+  // A wall through G's origin plane x = 0 (0.5 m away) and a far background.
+  f.depth_m.assign(640 * 480, 0.5f);
+  for (int u = 0; u < 640; ++u) f.depth_m[10 * 640 + u] = 2.0f;
+  PixelRect roi;
+  const int kept = CropToWorkspace(box, T_C_G, &f, &roi);
+  // The wall inside the box is a 10 x 10 cm square at 0.5 m: 105 x 105 px.
+  const double side_px = 0.10 * 525.0 / 0.5;
+  EXPECT_NEAR(kept, side_px * side_px, 4 * side_px);
+  int nonzero = 0;
+  for (int v = 0; v < 480; ++v) {
+    for (int u = 0; u < 640; ++u) {
+      if (f.depth_m[v * 640 + u] == 0.0f) continue;
+      ++nonzero;
+      EXPECT_TRUE(u >= roi.u0 && u < roi.u1 && v >= roi.v0 && v < roi.v1);
+      const Eigen::Vector3d p_C((u - 319.5) / 525.0 * 0.5, (v - 239.5) / 525.0 * 0.5, 0.5);
+      // float arithmetic in the crop: allow 1 um at the faces
+      WorkspaceBox grown = box;
+      grown.min_G.array() -= 1e-6;
+      grown.max_G.array() += 1e-6;
+      EXPECT_TRUE(grown.Contains(T_C_G.inverse() * p_C));
+    }
+  }
+  EXPECT_EQ(nonzero, kept);
+  EXPECT_EQ(f.depth_m[10 * 640 + 320], 0.0f);  // background removed
+}
+
+TEST(WorkspaceCrop, BoxBehindCameraUsesFullImageAndNaNIsCleared) {
+  WorkspaceBox box;  // default box, camera inside it
+  DepthFrame f;
+  f.depth_m.assign(640 * 480, 0.0f);
+  f.depth_m[5] = std::nanf("");
+  const PixelRect r = ProjectBox(box, Eigen::Isometry3d::Identity(), f.intrinsics);
+  EXPECT_EQ(r.area(), 640 * 480);
+  CropToWorkspace(box, Eigen::Isometry3d::Identity(), &f);
+  EXPECT_EQ(f.depth_m[5], 0.0f);
+}
+
+TEST(WorkspaceCrop, ValidateRejectsInvertedBox) {
+  WorkspaceBox box;
+  box.max_G.z() = box.min_G.z() - 0.01;
+  EXPECT_THROW(box.Validate(), std::invalid_argument);
+  EXPECT_NO_THROW(WorkspaceBox{}.Validate());
+}
+
+}  // namespace
+}  // namespace graspfill::fusion

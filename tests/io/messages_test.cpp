@@ -1,0 +1,626 @@
+// Message conversion: round trips, rejection of malformed input, and the
+// size of ZLIB16 depth on a noisy plane.
+#include "graspfill/io/messages.hpp"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <random>
+#include <stdexcept>
+
+#include <graspfill/depth_image_t.hpp>
+#include <graspfill/gripper_state_t.hpp>
+#include <graspfill/object_cloud_t.hpp>
+
+namespace graspfill::io {
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Poses go through a quaternion and back: equal up to rounding.
+constexpr double kPoseTolerance = 1e-12;
+
+template <typename Message>
+std::vector<uint8_t> Encode(const Message& msg) {
+  std::vector<uint8_t> bytes(static_cast<size_t>(msg.getEncodedSize()));
+  EXPECT_EQ(msg.encode(bytes.data(), 0, static_cast<int>(bytes.size())),
+            static_cast<int>(bytes.size()));
+  return bytes;
+}
+
+// Overwrites a big-endian int32 at `offset` (to forge bad counts).
+void PokeInt32(std::vector<uint8_t>* bytes, size_t offset, uint32_t value) {
+  for (int i = 0; i < 4; ++i) (*bytes)[offset + i] = value >> (24 - 8 * i);
+}
+
+DepthFrame SmallFrame() {
+  DepthFrame frame;
+  frame.utime = 1700000000123456;
+  frame.intrinsics = {5, 3, 4.5, 4.25, 2.0, 1.0};
+  frame.depth_m = {0.0f,   0.5f,  0.5004f, 0.4996f, 1.2345f,   //
+                   kNaN,   -1.0f, 65.535f, 70.0f,   0.0004f,   //
+                   0.001f, 2.0f,  1.999f,  0.75f,   std::numeric_limits<float>::infinity()};
+  return frame;
+}
+
+// What decoding must give back for depth d at `scale` meters per unit.
+float Quantized(float d, double scale) {
+  if (!std::isfinite(d) || d <= 0.0f) return 0.0f;
+  const double units = std::round(d / scale);
+  if (units > 65535.0) return 0.0f;
+  return static_cast<float>(units * scale);
+}
+
+void ExpectQuantizedEqual(const DepthFrame& in, const DepthFrame& out,
+                          double scale) {
+  EXPECT_EQ(out.utime, in.utime);
+  EXPECT_EQ(out.intrinsics, in.intrinsics);
+  ASSERT_EQ(out.depth_m.size(), in.depth_m.size());
+  for (size_t i = 0; i < in.depth_m.size(); ++i) {
+    EXPECT_EQ(out.depth_m[i], Quantized(in.depth_m[i], scale)) << "pixel " << i;
+  }
+}
+
+TEST(DepthImageMessage, Raw16RoundTripIsExactOnQuantizedDepth) {
+  const DepthFrame frame = SmallFrame();
+  const auto bytes = EncodeDepthImage(frame, DepthEncoding::kRaw16, 0.001);
+  DepthFrame out;
+  std::string error;
+  ASSERT_TRUE(DecodeDepthImage(bytes.data(), bytes.size(), &out, &error))
+      << error;
+  ExpectQuantizedEqual(frame, out, 0.001);
+  // Spot checks of the quantization rules themselves.
+  EXPECT_EQ(out.depth_m[2], 0.5f);          // 0.5004 -> 500 mm
+  EXPECT_EQ(out.depth_m[7], 65.535f);       // the last representable
+  EXPECT_EQ(out.depth_m[8], 0.0f);          // beyond range -> invalid
+  EXPECT_EQ(out.depth_m[5], 0.0f);          // NaN -> invalid
+  EXPECT_EQ(out.depth_m[6], 0.0f);          // negative -> invalid
+  EXPECT_EQ(out.depth_m[9], 0.0f);          // rounds to 0 units -> invalid
+}
+
+TEST(DepthImageMessage, Zlib16RoundTripEqualsRaw16) {
+  const DepthFrame frame = SmallFrame();
+  for (double scale : {0.001, 0.0001}) {
+    const auto raw = EncodeDepthImage(frame, DepthEncoding::kRaw16, scale);
+    const auto zlib = EncodeDepthImage(frame, DepthEncoding::kZlib16, scale);
+    DepthFrame from_raw, from_zlib;
+    std::string error;
+    ASSERT_TRUE(DecodeDepthImage(raw.data(), raw.size(), &from_raw, &error));
+    ASSERT_TRUE(DecodeDepthImage(zlib.data(), zlib.size(), &from_zlib, &error))
+        << error;
+    ExpectQuantizedEqual(frame, from_zlib, scale);
+    EXPECT_EQ(from_zlib.depth_m, from_raw.depth_m);
+  }
+}
+
+TEST(DepthImageMessage, WireFormatIsTheGeneratedType) {
+  const DepthFrame frame = SmallFrame();
+  const auto bytes = EncodeDepthImage(frame, DepthEncoding::kRaw16, 0.001);
+  graspfill::depth_image_t msg{};
+  ASSERT_EQ(msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())),
+            static_cast<int>(bytes.size()));
+  EXPECT_EQ(msg.width, 5);
+  EXPECT_EQ(msg.height, 3);
+  EXPECT_EQ(msg.fx, 4.5);
+  EXPECT_EQ(msg.depth_scale, 0.001);
+  EXPECT_EQ(msg.encoding, int8_t{graspfill::depth_image_t::RAW16});
+  ASSERT_EQ(msg.num_bytes, 30);
+  // Pixel 1 is 500 mm, little-endian.
+  EXPECT_EQ(msg.data[2], 500 & 0xff);
+  EXPECT_EQ(msg.data[3], 500 >> 8);
+}
+
+// A 640x480 plane 0.8..1.1 m away, tilted, with Kinect-like noise.
+DepthFrame NoisyPlane(double sigma_m, double dropout, uint32_t seed) {
+  DepthFrame frame;
+  frame.utime = 42;
+  const int w = frame.intrinsics.width, h = frame.intrinsics.height;
+  frame.depth_m.resize(static_cast<size_t>(w) * h);
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, sigma_m);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const double z = 0.8 + 0.0004 * u + 0.0002 * v + noise(rng);
+      frame.depth_m[v * w + u] =
+          uniform(rng) < dropout ? 0.0f : static_cast<float>(z);
+    }
+  }
+  return frame;
+}
+
+TEST(DepthImageMessage, Zlib16KeepsNoisyPlaneSmall) {
+  struct Case {
+    double sigma_m, dropout;
+    double max_ratio;  // of RAW16; measured ~0.30, 0.38, 0.36
+  };
+  for (const Case& c : {Case{0.0015, 0.0, 0.33}, Case{0.0015, 0.05, 0.41},
+                        Case{0.003, 0.0, 0.39}}) {
+    const DepthFrame frame = NoisyPlane(c.sigma_m, c.dropout, 7);
+    const auto raw = EncodeDepthImage(frame, DepthEncoding::kRaw16);
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto zlib = EncodeDepthImage(frame, DepthEncoding::kZlib16);
+    const auto t1 = std::chrono::steady_clock::now();
+    DepthFrame out;
+    std::string error;
+    ASSERT_TRUE(DecodeDepthImage(zlib.data(), zlib.size(), &out, &error));
+    const auto t2 = std::chrono::steady_clock::now();
+    ExpectQuantizedEqual(frame, out, 0.001);
+    const double ratio = static_cast<double>(zlib.size()) / raw.size();
+    std::printf(
+        "noisy plane sigma %.1f mm dropout %.0f%%: RAW16 %zu B, ZLIB16 %zu "
+        "B/frame (%.2f), encode %.1f ms, decode %.1f ms\n",
+        c.sigma_m * 1e3, c.dropout * 100, raw.size(), zlib.size(), ratio,
+        std::chrono::duration<double, std::milli>(t1 - t0).count(),
+        std::chrono::duration<double, std::milli>(t2 - t1).count());
+    EXPECT_LT(ratio, c.max_ratio);
+  }
+}
+
+TEST(DepthImageMessage, DecodeReusesTheOutputBuffer) {
+  const DepthFrame frame = NoisyPlane(0.0015, 0.0, 3);
+  const auto bytes = EncodeDepthImage(frame);
+  DepthFrame out;
+  std::string error;
+  ASSERT_TRUE(DecodeDepthImage(bytes.data(), bytes.size(), &out, &error));
+  const float* buffer = out.depth_m.data();
+  ASSERT_TRUE(DecodeDepthImage(bytes.data(), bytes.size(), &out, &error));
+  EXPECT_EQ(out.depth_m.data(), buffer);
+}
+
+TEST(DepthImageMessage, RejectsWrongSizes) {
+  graspfill::depth_image_t msg{};
+  msg.width = 4;
+  msg.height = 2;
+  msg.fx = msg.fy = 500.0;
+  msg.cx = 1.5;
+  msg.cy = 0.5;
+  msg.depth_scale = 0.001;
+  msg.encoding = graspfill::depth_image_t::RAW16;
+  msg.num_bytes = 15;  // one byte short of 4*2*2
+  msg.data.assign(15, 0);
+  DepthFrame out;
+  std::string error;
+  auto bytes = Encode(msg);
+  EXPECT_FALSE(DecodeDepthImage(bytes.data(), bytes.size(), &out, &error));
+  EXPECT_NE(error.find("RAW16 data has 15 bytes, expected 16"),
+            std::string::npos)
+      << error;
+
+  msg.num_bytes = 16;
+  msg.data.assign(16, 0);
+  for (auto [w, h] : {std::pair{0, 8}, std::pair{-4, -2}, std::pair{1 << 16, 1 << 16}}) {
+    msg.width = w;
+    msg.height = h;
+    bytes = Encode(msg);
+    EXPECT_FALSE(DecodeDepthImage(bytes.data(), bytes.size(), &out, &error));
+    EXPECT_NE(error.find("bad image size"), std::string::npos) << error;
+  }
+
+  // A frame whose depth does not match its intrinsics is caller misuse.
+  DepthFrame frame = SmallFrame();
+  frame.depth_m.pop_back();
+  EXPECT_THROW(EncodeDepthImage(frame), std::invalid_argument);
+  EXPECT_THROW(EncodeDepthImage(SmallFrame(), DepthEncoding::kRaw16, 0.0),
+               std::invalid_argument);
+}
+
+TEST(DepthImageMessage, RejectsBadIntrinsicsScaleAndEncoding) {
+  const auto good = EncodeDepthImage(SmallFrame(), DepthEncoding::kZlib16);
+  graspfill::depth_image_t msg{};
+  ASSERT_GT(msg.decode(good.data(), 0, static_cast<int>(good.size())), 0);
+  DepthFrame out;
+  std::string error;
+
+  auto expect_rejected = [&](graspfill::depth_image_t bad,
+                             const std::string& reason) {
+    const auto bytes = Encode(bad);
+    error.clear();
+    EXPECT_FALSE(DecodeDepthImage(bytes.data(), bytes.size(), &out, &error));
+    EXPECT_NE(error.find(reason), std::string::npos) << error;
+  };
+  auto bad = msg;
+  bad.fx = std::nan("");
+  expect_rejected(bad, "bad intrinsics");
+  bad = msg;
+  bad.cy = kInf;
+  expect_rejected(bad, "bad intrinsics");
+  bad = msg;
+  bad.fy = -1.0;
+  expect_rejected(bad, "bad intrinsics");
+  bad = msg;
+  bad.depth_scale = 0.0;
+  expect_rejected(bad, "bad depth_scale");
+  bad = msg;
+  bad.encoding = 7;
+  expect_rejected(bad, "unknown encoding 7");
+  bad = msg;
+  bad.data[bad.data.size() / 2] ^= 0x5a;  // corrupt the deflate stream
+  bad.data.back() ^= 0xff;               // and its checksum
+  expect_rejected(bad, "zlib");
+  bad = msg;
+  bad.width = 4;  // stream inflates to more bytes than 4x3 needs
+  expect_rejected(bad, "zlib");
+}
+
+TEST(DepthImageMessage, RejectsMalformedBytes) {
+  const auto bytes = EncodeDepthImage(SmallFrame(), DepthEncoding::kZlib16);
+  DepthFrame out;
+  std::string error;
+  // Every truncation.
+  for (size_t n = 0; n < bytes.size(); ++n) {
+    EXPECT_FALSE(DecodeDepthImage(bytes.data(), n, &out, &error)) << n;
+    EXPECT_FALSE(error.empty());
+  }
+  // A trailing byte.
+  auto longer = bytes;
+  longer.push_back(0);
+  EXPECT_FALSE(DecodeDepthImage(longer.data(), longer.size(), &out, &error));
+  EXPECT_NE(error.find("trailing"), std::string::npos) << error;
+  // Another message type.
+  const auto gripper = EncodeGripperState(GripperState{});
+  EXPECT_FALSE(DecodeDepthImage(gripper.data(), gripper.size(), &out, &error));
+  EXPECT_NE(error.find("type hash"), std::string::npos) << error;
+  // A num_bytes that claims more than is there (offset: hash, utime, w, h,
+  // 5 doubles, encoding).
+  auto forged = bytes;
+  PokeInt32(&forged, 8 + 8 + 4 + 4 + 5 * 8 + 1, 0x7fffffff);
+  EXPECT_FALSE(DecodeDepthImage(forged.data(), forged.size(), &out, &error));
+  PokeInt32(&forged, 8 + 8 + 4 + 4 + 5 * 8 + 1, 0xffffffff);
+  EXPECT_FALSE(DecodeDepthImage(forged.data(), forged.size(), &out, &error));
+  // Null output, null error pointer.
+  EXPECT_FALSE(DecodeDepthImage(bytes.data(), bytes.size(), nullptr, &error));
+  EXPECT_FALSE(DecodeDepthImage(bytes.data(), 3, &out, nullptr));
+}
+
+// ---- Gripper state -------------------------------------------------------------
+
+Eigen::Isometry3d SomePose() {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized())
+          .toRotationMatrix();
+  T.translation() = Eigen::Vector3d(0.12, -0.05, 0.83);
+  return T;
+}
+
+void ExpectPoseNear(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  EXPECT_TRUE(a.matrix().isApprox(b.matrix(), kPoseTolerance))
+      << a.matrix() << "\nvs\n"
+      << b.matrix();
+}
+
+TEST(GripperStateMessage, CameraFrameRoundTrip) {
+  GripperState state;
+  state.utime = 1234567;
+  state.T_C_G = SomePose();
+  state.opening_m = 0.031;
+  state.joint_values = {0.1, -0.2, 0.3};
+  const auto bytes = EncodeGripperState(state);
+  GripperState out;
+  out.joint_values = {9, 9, 9, 9, 9};
+  std::string error;
+  // T_C_B must not matter for camera-frame messages.
+  ASSERT_TRUE(DecodeGripperState(bytes.data(), bytes.size(), SomePose(), &out,
+                                 &error))
+      << error;
+  EXPECT_EQ(out.utime, state.utime);
+  ExpectPoseNear(out.T_C_G, state.T_C_G);
+  EXPECT_EQ(out.opening_m, state.opening_m);
+  EXPECT_EQ(out.joint_values, state.joint_values);
+}
+
+graspfill::gripper_state_t BaseFrameMessage() {
+  graspfill::gripper_state_t msg{};
+  msg.utime = 99;
+  msg.frame = graspfill::gripper_state_t::FRAME_BASE;
+  // T_B_G: G 0.5 m along the base's x and 0.3 m up, axes aligned.
+  msg.position[0] = 0.5;
+  msg.position[1] = 0.0;
+  msg.position[2] = 0.3;
+  msg.orientation[0] = 1.0;
+  msg.opening_m = 0.02;
+  msg.num_joints = 0;
+  return msg;
+}
+
+TEST(GripperStateMessage, BaseFrameIsConvertedWithHandEye) {
+  // T_C_B: base rotated +90 deg about the camera's x axis, origin at
+  // (0.1, -0.2, 1.0) in C.
+  Eigen::Isometry3d T_C_B = Eigen::Isometry3d::Identity();
+  T_C_B.linear() =
+      Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  T_C_B.translation() = Eigen::Vector3d(0.1, -0.2, 1.0);
+  const auto bytes = Encode(BaseFrameMessage());
+  GripperState out;
+  std::string error;
+  ASSERT_TRUE(
+      DecodeGripperState(bytes.data(), bytes.size(), T_C_B, &out, &error))
+      << error;
+  // By hand: R_x(90) (0.5, 0, 0.3) = (0.5, -0.3, 0); plus the origin.
+  EXPECT_TRUE(out.T_C_G.translation().isApprox(Eigen::Vector3d(0.6, -0.5, 1.0),
+                                               kPoseTolerance))
+      << out.T_C_G.translation().transpose();
+  // G's z axis (base up) points along -y in the camera (image up).
+  EXPECT_TRUE((out.T_C_G.linear() * Eigen::Vector3d::UnitZ())
+                  .isApprox(Eigen::Vector3d(0, -1, 0), kPoseTolerance));
+  EXPECT_EQ(out.utime, 99);
+  EXPECT_EQ(out.opening_m, 0.02);
+  EXPECT_TRUE(out.joint_values.empty());
+}
+
+TEST(GripperStateMessage, RejectsNonFiniteAndNonUnit) {
+  const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+  GripperState out;
+  std::string error;
+  auto decode = [&](const graspfill::gripper_state_t& msg) {
+    const auto bytes = Encode(msg);
+    error.clear();
+    return DecodeGripperState(bytes.data(), bytes.size(), I, &out, &error);
+  };
+  auto msg = BaseFrameMessage();
+  msg.position[1] = std::nan("");
+  EXPECT_FALSE(decode(msg));
+  EXPECT_NE(error.find("pose is not finite"), std::string::npos) << error;
+
+  msg = BaseFrameMessage();
+  msg.orientation[2] = std::nan("");
+  EXPECT_FALSE(decode(msg));
+  EXPECT_NE(error.find("pose is not finite"), std::string::npos) << error;
+
+  msg = BaseFrameMessage();
+  msg.opening_m = kInf;
+  EXPECT_FALSE(decode(msg));
+  EXPECT_NE(error.find("not finite"), std::string::npos) << error;
+
+  msg = BaseFrameMessage();
+  msg.num_joints = 2;
+  msg.joint_values = {0.1, std::nan("")};
+  EXPECT_FALSE(decode(msg));
+
+  msg = BaseFrameMessage();
+  msg.orientation[0] = 1.01;
+  EXPECT_FALSE(decode(msg));
+  EXPECT_NE(error.find("unit quaternion"), std::string::npos) << error;
+
+  msg = BaseFrameMessage();
+  msg.orientation[0] = 0.0;  // all zero
+  EXPECT_FALSE(decode(msg));
+
+  msg = BaseFrameMessage();
+  msg.frame = 5;
+  EXPECT_FALSE(decode(msg));
+  EXPECT_NE(error.find("unknown frame 5"), std::string::npos) << error;
+
+  // Within tolerance: accepted and renormalized.
+  msg = BaseFrameMessage();
+  msg.orientation[0] = 1.0005;
+  ASSERT_TRUE(decode(msg)) << error;
+  EXPECT_NEAR(Eigen::Quaterniond(out.T_C_G.rotation()).norm(), 1.0, 1e-12);
+  EXPECT_TRUE(out.T_C_G.linear().isApprox(Eigen::Matrix3d::Identity(), 1e-12));
+}
+
+TEST(GripperStateMessage, RejectsMalformedBytes) {
+  GripperState state;
+  state.joint_values = {1, 2};
+  const auto bytes = EncodeGripperState(state);
+  GripperState out;
+  std::string error;
+  const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+  for (size_t n = 0; n < bytes.size(); ++n) {
+    EXPECT_FALSE(DecodeGripperState(bytes.data(), n, I, &out, &error)) << n;
+  }
+  // num_joints sits after hash, utime, frame, 3 + 4 doubles and opening.
+  constexpr size_t kNumJointsOffset = 8 + 8 + 1 + 7 * 8 + 8;
+  for (uint32_t forged : {0xffffffffu, 0x7fffffffu, 3u}) {
+    auto bad = bytes;
+    PokeInt32(&bad, kNumJointsOffset, forged);
+    EXPECT_FALSE(DecodeGripperState(bad.data(), bad.size(), I, &out, &error));
+    EXPECT_NE(error.find("malformed"), std::string::npos) << error;
+  }
+  const auto depth = EncodeDepthImage(SmallFrame());
+  EXPECT_FALSE(
+      DecodeGripperState(depth.data(), depth.size(), I, &out, &error));
+}
+
+// ---- Object cloud ----------------------------------------------------------------
+
+ObjectCloud SomeCloud(bool normals) {
+  ObjectCloud cloud;
+  cloud.utime = 1700000000000001;
+  cloud.seq = 17;
+  cloud.frame_name = "gripper";
+  cloud.T_C_G = SomePose();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> coord(-0.05f, 0.05f);
+  for (int i = 0; i < 100; ++i) {
+    cloud.points_G.emplace_back(coord(rng), coord(rng), coord(rng));
+    if (normals) cloud.normals_G.push_back(cloud.points_G.back().normalized());
+    cloud.provenance.push_back(static_cast<Provenance>(i % 3));
+  }
+  HoleSummary claw;
+  claw.kind = HoleKind::kClaw;
+  claw.boundary_points = 40;
+  claw.box_min_G = {-0.01f, 0.02f, 0.0f};
+  claw.box_max_G = {0.01f, 0.03f, 0.05f};
+  claw.points_added = 120;
+  HoleSummary top = claw;
+  top.kind = HoleKind::kMissingSurface;
+  top.points_added = 300;
+  cloud.holes = {claw, top};
+  cloud.timings = {{"fusion", 4.5}, {"repair/poisson", 120.25}};
+  return cloud;
+}
+
+void ExpectCloudEqual(const ObjectCloud& a, const ObjectCloud& b) {
+  EXPECT_EQ(a.utime, b.utime);
+  EXPECT_EQ(a.seq, b.seq);
+  EXPECT_EQ(a.frame_name, b.frame_name);
+  ExpectPoseNear(a.T_C_G, b.T_C_G);
+  EXPECT_EQ(a.points_G, b.points_G);
+  EXPECT_EQ(a.normals_G, b.normals_G);
+  EXPECT_EQ(a.provenance, b.provenance);
+  ASSERT_EQ(a.holes.size(), b.holes.size());
+  for (size_t i = 0; i < a.holes.size(); ++i) {
+    EXPECT_EQ(a.holes[i].kind, b.holes[i].kind);
+    EXPECT_EQ(a.holes[i].boundary_points, b.holes[i].boundary_points);
+    EXPECT_EQ(a.holes[i].box_min_G, b.holes[i].box_min_G);
+    EXPECT_EQ(a.holes[i].box_max_G, b.holes[i].box_max_G);
+    EXPECT_EQ(a.holes[i].points_added, b.holes[i].points_added);
+  }
+  ASSERT_EQ(a.timings.size(), b.timings.size());
+  for (size_t i = 0; i < a.timings.size(); ++i) {
+    EXPECT_EQ(a.timings[i].stage, b.timings[i].stage);
+    EXPECT_EQ(a.timings[i].ms, b.timings[i].ms);
+  }
+}
+
+TEST(ObjectCloudMessage, RoundTripWithHolesAndTimings) {
+  for (bool normals : {true, false}) {
+    const ObjectCloud cloud = SomeCloud(normals);
+    const auto bytes = EncodeObjectCloud(cloud);
+    ObjectCloud out = SomeCloud(true);  // stale content must be replaced
+    out.timings.push_back({"stale", 1});
+    std::string error;
+    ASSERT_TRUE(DecodeObjectCloud(bytes.data(), bytes.size(), &out, &error))
+        << error;
+    ExpectCloudEqual(cloud, out);
+  }
+}
+
+TEST(ObjectCloudMessage, EmptyCloudAndDefaultProvenance) {
+  ObjectCloud empty;
+  auto bytes = EncodeObjectCloud(empty);
+  ObjectCloud out = SomeCloud(true);
+  std::string error;
+  ASSERT_TRUE(DecodeObjectCloud(bytes.data(), bytes.size(), &out, &error));
+  ExpectCloudEqual(empty, out);
+
+  ObjectCloud no_provenance = SomeCloud(false);
+  no_provenance.provenance.clear();
+  bytes = EncodeObjectCloud(no_provenance);
+  ASSERT_TRUE(DecodeObjectCloud(bytes.data(), bytes.size(), &out, &error));
+  EXPECT_EQ(out.provenance,
+            std::vector<Provenance>(100, Provenance::kObserved));
+}
+
+TEST(ObjectCloudMessage, EncodeRejectsInconsistentCloud) {
+  ObjectCloud cloud = SomeCloud(true);
+  cloud.normals_G.pop_back();
+  EXPECT_THROW(EncodeObjectCloud(cloud), std::invalid_argument);
+  cloud = SomeCloud(true);
+  cloud.provenance.pop_back();
+  EXPECT_THROW(EncodeObjectCloud(cloud), std::invalid_argument);
+}
+
+TEST(ObjectCloudMessage, RejectsBadContent) {
+  const auto good = EncodeObjectCloud(SomeCloud(true));
+  graspfill::object_cloud_t msg{};
+  ASSERT_GT(msg.decode(good.data(), 0, static_cast<int>(good.size())), 0);
+  ObjectCloud out;
+  std::string error;
+  auto expect_rejected = [&](const graspfill::object_cloud_t& bad,
+                             const std::string& reason) {
+    const auto bytes = Encode(bad);
+    error.clear();
+    EXPECT_FALSE(DecodeObjectCloud(bytes.data(), bytes.size(), &out, &error));
+    EXPECT_NE(error.find(reason), std::string::npos) << error;
+  };
+  auto bad = msg;
+  bad.provenance[3] = 5;
+  expect_rejected(bad, "unknown provenance 5");
+  bad = msg;
+  bad.holes[1].kind = 7;
+  expect_rejected(bad, "unknown hole kind 7");
+  bad = msg;
+  bad.xyz[10] = std::nanf("");
+  expect_rejected(bad, "non-finite point");
+  bad = msg;
+  bad.position[2] = std::nan("");
+  expect_rejected(bad, "pose is not finite");
+  bad = msg;
+  bad.orientation[1] += 0.1;
+  expect_rejected(bad, "unit quaternion");
+  bad = msg;
+  bad.n3 -= 3;
+  bad.xyz.resize(bad.n3);
+  expect_rejected(bad, "inconsistent counts");
+  bad = msg;
+  bad.num_normals3 = 6;
+  bad.normals.resize(6);
+  expect_rejected(bad, "inconsistent counts");
+}
+
+TEST(ObjectCloudMessage, RejectsMalformedBytes) {
+  const auto bytes = EncodeObjectCloud(SomeCloud(true));
+  ObjectCloud out;
+  std::string error;
+  for (size_t n = 0; n < bytes.size(); ++n) {
+    ASSERT_FALSE(DecodeObjectCloud(bytes.data(), n, &out, &error)) << n;
+    EXPECT_NE(error.find("malformed"), std::string::npos) << error;
+  }
+  // num_points sits after hash, utime, seq, frame_name ("gripper": 4 + 8
+  // bytes) and 7 doubles.
+  constexpr size_t kNumPointsOffset = 8 + 8 + 8 + 4 + 8 + 7 * 8;
+  for (uint32_t forged : {0xffffffffu, 0x7fffffffu, 99u}) {
+    auto bad = bytes;
+    PokeInt32(&bad, kNumPointsOffset, forged);
+    EXPECT_FALSE(DecodeObjectCloud(bad.data(), bad.size(), &out, &error));
+    PokeInt32(&bad, kNumPointsOffset + 4, forged);  // n3
+    EXPECT_FALSE(DecodeObjectCloud(bad.data(), bad.size(), &out, &error));
+  }
+  // Random corruption must never crash: either a clean decode or a reason.
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<size_t> where(0, bytes.size() - 1);
+  std::uniform_int_distribution<int> what(0, 255);
+  int accepted = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    auto bad = bytes;
+    for (int k = 0; k < 1 + trial % 4; ++k) {
+      bad[where(rng)] = static_cast<uint8_t>(what(rng));
+    }
+    error.clear();
+    if (DecodeObjectCloud(bad.data(), bad.size(), &out, &error)) {
+      ++accepted;  // e.g. a changed coordinate: still a valid cloud
+    } else {
+      EXPECT_FALSE(error.empty());
+    }
+  }
+  std::printf("random corruption: %d of 3000 still decode\n", accepted);
+}
+
+TEST(ModuleStatusMessage, RoundTrip) {
+  ModuleStatus status;
+  status.utime = 5;
+  status.frames_in = 100;
+  status.frames_used = 90;
+  status.frames_skipped = 7;
+  status.frames_dropped = 3;
+  status.last_frame_ms = 12.5;
+  status.state = "running";
+  const auto bytes = EncodeModuleStatus(status);
+  ModuleStatus out;
+  std::string error;
+  ASSERT_TRUE(DecodeModuleStatus(bytes.data(), bytes.size(), &out, &error));
+  EXPECT_EQ(out.frames_in, 100);
+  EXPECT_EQ(out.frames_used, 90);
+  EXPECT_EQ(out.frames_skipped, 7);
+  EXPECT_EQ(out.frames_dropped, 3);
+  EXPECT_EQ(out.last_frame_ms, 12.5);
+  EXPECT_EQ(out.state, "running");
+  EXPECT_FALSE(DecodeModuleStatus(bytes.data(), bytes.size() - 1, &out, &error));
+}
+
+TEST(MessageChannelNames, Defaults) {
+  const ChannelNames names;
+  EXPECT_EQ(names.depth, "GRASPFILL_DEPTH");
+  EXPECT_EQ(names.gripper_state, "GRASPFILL_GRIPPER_STATE");
+  EXPECT_EQ(names.object_cloud, "GRASPFILL_OBJECT_CLOUD");
+  EXPECT_EQ(names.status, "GRASPFILL_STATUS");
+}
+
+}  // namespace
+}  // namespace graspfill::io

@@ -1,0 +1,223 @@
+// PLY clouds and mesh files: round trips, determinism, errors naming the
+// path.
+#include "graspfill/io/ply.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <stdexcept>
+
+namespace graspfill::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+class PlyIoTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::path(GRASPFILL_BINARY_DIR) / "test_tmp" / "io_ply" /
+           info->name();
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+
+  fs::path dir_;
+};
+
+std::string ReadBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+void WriteText(const std::string& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+ObjectCloud SomeCloud(bool normals) {
+  ObjectCloud cloud;
+  cloud.utime = 1700000000000001;
+  cloud.seq = 42;
+  cloud.frame_name = "gripper";
+  cloud.T_C_G.linear() =
+      Eigen::AngleAxisd(0.3, Eigen::Vector3d(0, 1, 1).normalized())
+          .toRotationMatrix();
+  cloud.T_C_G.translation() = Eigen::Vector3d(0.01, 0.2, 0.9);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> coord(-0.1f, 0.1f);
+  for (int i = 0; i < 257; ++i) {
+    cloud.points_G.emplace_back(coord(rng), coord(rng), coord(rng));
+    if (normals) cloud.normals_G.push_back(cloud.points_G.back().normalized());
+    cloud.provenance.push_back(static_cast<Provenance>((i * 7) % 3));
+  }
+  return cloud;
+}
+
+TEST_F(PlyIoTest, CloudRoundTripKeepsPointsNormalsProvenanceAndPose) {
+  const ObjectCloud cloud = SomeCloud(true);
+  WriteCloudPly(Path("cloud.ply"), cloud);
+  const ObjectCloud back = ReadCloudPly(Path("cloud.ply"));
+  EXPECT_EQ(back.points_G, cloud.points_G);
+  EXPECT_EQ(back.normals_G, cloud.normals_G);
+  EXPECT_EQ(back.provenance, cloud.provenance);
+  EXPECT_EQ(back.utime, cloud.utime);
+  EXPECT_EQ(back.seq, cloud.seq);
+  EXPECT_EQ(back.frame_name, cloud.frame_name);
+  // %.17g round-trips doubles; the quaternion detour costs rounding only.
+  EXPECT_TRUE(back.T_C_G.matrix().isApprox(cloud.T_C_G.matrix(), 1e-12));
+
+  const std::string bytes = ReadBytes(Path("cloud.ply"));
+  EXPECT_NE(bytes.find("format binary_little_endian 1.0\n"), std::string::npos);
+  EXPECT_NE(bytes.find("property float nx\n"), std::string::npos);
+  EXPECT_NE(bytes.find("property uchar provenance\nend_header\n"),
+            std::string::npos);
+  // 257 vertices of 6 floats + 1 byte after the header.
+  const size_t header = bytes.find("end_header\n") + 11;
+  EXPECT_EQ(bytes.size() - header, 257u * 25u);
+}
+
+TEST_F(PlyIoTest, CloudWithoutNormalsOrProvenance) {
+  ObjectCloud cloud = SomeCloud(false);
+  cloud.provenance.clear();
+  WriteCloudPly(Path("bare.ply"), cloud);
+  const ObjectCloud back = ReadCloudPly(Path("bare.ply"));
+  EXPECT_EQ(back.points_G, cloud.points_G);
+  EXPECT_TRUE(back.normals_G.empty());
+  EXPECT_EQ(back.provenance,
+            std::vector<Provenance>(257, Provenance::kObserved));
+}
+
+TEST_F(PlyIoTest, SameCloudGivesSameBytes) {
+  const ObjectCloud cloud = SomeCloud(true);
+  WriteCloudPly(Path("a.ply"), cloud);
+  WriteCloudPly(Path("b.ply"), cloud);
+  EXPECT_EQ(ReadBytes(Path("a.ply")), ReadBytes(Path("b.ply")));
+}
+
+TEST_F(PlyIoTest, ZeroPointsAreWrittenAndReadBack) {
+  ObjectCloud empty;
+  WriteCloudPly(Path("empty.ply"), empty);
+  const ObjectCloud back = ReadCloudPly(Path("empty.ply"));
+  EXPECT_EQ(back.size(), 0u);
+  EXPECT_TRUE(back.provenance.empty());
+}
+
+TEST_F(PlyIoTest, ForeignPlyWithoutProvenanceIsObserved) {
+  WriteText(Path("ascii.ply"),
+            "ply\nformat ascii 1.0\nelement vertex 2\n"
+            "property double x\nproperty double y\nproperty double z\n"
+            "end_header\n0 0 0\n0.5 -0.25 1\n");
+  const ObjectCloud back = ReadCloudPly(Path("ascii.ply"));
+  ASSERT_EQ(back.size(), 2u);
+  EXPECT_EQ(back.points_G[1], Eigen::Vector3f(0.5f, -0.25f, 1.0f));
+  EXPECT_EQ(back.provenance,
+            std::vector<Provenance>(2, Provenance::kObserved));
+  EXPECT_EQ(back.frame_name, "gripper");  // ObjectCloud's default
+}
+
+TEST_F(PlyIoTest, ReadErrorsNameThePath) {
+  const std::string missing = Path("missing.ply");
+  try {
+    ReadCloudPly(missing);
+    FAIL() << "no throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(missing), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("no such file"), std::string::npos);
+  }
+  WriteText(Path("garbage.ply"), "this is not a ply file\n");
+  try {
+    ReadCloudPly(Path("garbage.ply"));
+    FAIL() << "no throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(Path("garbage.ply")),
+              std::string::npos)
+        << e.what();
+  }
+  WriteText(Path("badprov.ply"),
+            "ply\nformat ascii 1.0\nelement vertex 1\n"
+            "property float x\nproperty float y\nproperty float z\n"
+            "property uchar provenance\nend_header\n0 0 0 3\n");
+  EXPECT_THROW(ReadCloudPly(Path("badprov.ply")), std::runtime_error);
+}
+
+TEST_F(PlyIoTest, WriteErrorsNameThePath) {
+  const std::string bad = Path("no/such/dir/cloud.ply");
+  try {
+    WriteCloudPly(bad, SomeCloud(true));
+    FAIL() << "no throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+  }
+  ObjectCloud inconsistent = SomeCloud(true);
+  inconsistent.normals_G.pop_back();
+  EXPECT_THROW(WriteCloudPly(Path("x.ply"), inconsistent), std::runtime_error);
+}
+
+TriangleMesh Tetrahedron() {
+  TriangleMesh mesh;
+  mesh.vertices = {{0, 0, 0}, {0.1f, 0, 0}, {0, 0.1f, 0}, {0, 0, 0.1f}};
+  mesh.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  return mesh;
+}
+
+TEST_F(PlyIoTest, MeshRoundTrip) {
+  const TriangleMesh mesh = Tetrahedron();
+  WriteMeshPly(Path("tet.ply"), mesh);
+  const TriangleMesh back = ReadMesh(Path("tet.ply"));
+  EXPECT_EQ(back.vertices, mesh.vertices);
+  EXPECT_EQ(back.triangles, mesh.triangles);
+  WriteMeshPly(Path("tet2.ply"), mesh);
+  EXPECT_EQ(ReadBytes(Path("tet.ply")), ReadBytes(Path("tet2.ply")));
+
+  TriangleMesh bad = mesh;
+  bad.triangles.push_back({0, 1, 4});
+  EXPECT_THROW(WriteMeshPly(Path("bad.ply"), bad), std::runtime_error);
+}
+
+TEST_F(PlyIoTest, ReadsObjAndStl) {
+  WriteText(Path("quad.obj"),
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n");
+  const TriangleMesh obj = ReadMesh(Path("quad.obj"));
+  EXPECT_EQ(obj.triangles.size(), 2u);
+  EXPECT_GE(obj.vertices.size(), 4u);
+
+  WriteText(Path("tri.stl"),
+            "solid t\n facet normal 0 0 1\n  outer loop\n"
+            "   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 1 0\n"
+            "  endloop\n endfacet\nendsolid t\n");
+  const TriangleMesh stl = ReadMesh(Path("tri.stl"));
+  ASSERT_EQ(stl.triangles.size(), 1u);
+  // Whatever the reader's vertex order, the triangle spans these corners.
+  Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+  for (int k = 0; k < 3; ++k) sum += stl.vertices[stl.triangles[0][k]];
+  EXPECT_TRUE(sum.isApprox(Eigen::Vector3f(1, 1, 0)));
+}
+
+TEST_F(PlyIoTest, ReadMeshErrors) {
+  const std::string missing = Path("missing.stl");
+  try {
+    ReadMesh(missing);
+    FAIL() << "no throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(missing), std::string::npos)
+        << e.what();
+  }
+  WriteMeshPly(Path("empty.ply"), TriangleMesh{});
+  try {
+    ReadMesh(Path("empty.ply"));
+    FAIL() << "no throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(Path("empty.ply")), std::string::npos)
+        << e.what();
+  }
+  WriteText(Path("garbage.obj"), "\x01\x02 not a mesh");
+  EXPECT_THROW(ReadMesh(Path("garbage.obj")), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace graspfill::io

@@ -1,0 +1,255 @@
+// LCM log round trips: LcmLogWriter -> LcmLogSource, channel filtering,
+// truncation and open errors.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <functional>
+#include <fstream>
+#include <stdexcept>
+
+#include "graspfill/io/messages.hpp"
+#include "sinks/lcm_log_writer.hpp"
+#include "sources/lcm_log_source.hpp"
+
+namespace graspfill::rt {
+namespace {
+
+namespace fs = std::filesystem;
+
+class LcmLogTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::path(GRASPFILL_BINARY_DIR) / "test_tmp" / "rt_lcm_log" /
+           info->name();
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  std::string Path(const std::string& name) const {
+    return (dir_ / name).string();
+  }
+
+  fs::path dir_;
+};
+
+DepthFrame SmallDepth(int64_t utime, float depth_m) {
+  DepthFrame frame;
+  frame.utime = utime;
+  frame.intrinsics = {8, 6, 10.0, 10.0, 3.5, 2.5};
+  frame.depth_m.assign(48, depth_m);
+  frame.depth_m[5] = 0.0f;
+  return frame;
+}
+
+GripperState SomeGripper(int64_t utime, double x) {
+  GripperState state;
+  state.utime = utime;
+  state.T_C_G.translation() = Eigen::Vector3d(x, 0.0, 0.5);
+  state.opening_m = 0.03;
+  return state;
+}
+
+// depth(1.0 m), gripper, other channel, depth(1.5 m): 4 events. Returns
+// the size of the last event in the file [bytes].
+uintmax_t WriteSampleLog(const std::string& path) {
+  const io::ChannelNames channels;
+  LcmLogWriter writer(path);
+  writer.Write(channels.depth, 100,
+               io::EncodeDepthImage(SmallDepth(100, 1.0f)));
+  writer.Write(channels.gripper_state, 110,
+               io::EncodeGripperState(SomeGripper(110, 0.2)));
+  writer.Write("SOMEONE_ELSES_CHANNEL", 115, {1, 2, 3, 4});
+  const auto last = io::EncodeDepthImage(SmallDepth(133, 1.5f),
+                                         io::DepthEncoding::kRaw16);
+  writer.Write(channels.depth, 133, last);
+  EXPECT_EQ(writer.events_written(), 4);
+  // Sync word, event number, timestamp, channel and data lengths, channel.
+  return 4 + 8 + 8 + 4 + 4 + channels.depth.size() + last.size();
+}
+
+LcmLogSource::Config SourceConfig(const std::string& path) {
+  LcmLogSource::Config config;
+  config.path = path;
+  return config;
+}
+
+TEST_F(LcmLogTest, EventsComeBackInOrderAndOtherChannelsAreSkipped) {
+  WriteSampleLog(Path("sample.lcmlog"));
+  LcmLogSource source(SourceConfig(Path("sample.lcmlog")));
+  SourceEvent event;
+
+  ASSERT_EQ(source.Next(&event), FrameResult::kOk) << event.error;
+  EXPECT_EQ(event.kind, SourceEvent::Kind::kDepth);
+  EXPECT_EQ(event.depth.utime, 100);
+  EXPECT_EQ(event.depth.intrinsics, SmallDepth(0, 0).intrinsics);
+  EXPECT_EQ(event.depth.depth_m[0], 1.0f);
+  EXPECT_EQ(event.depth.depth_m[5], 0.0f);
+
+  ASSERT_EQ(source.Next(&event), FrameResult::kOk) << event.error;
+  EXPECT_EQ(event.kind, SourceEvent::Kind::kGripperState);
+  EXPECT_EQ(event.gripper.utime, 110);
+  EXPECT_TRUE(event.gripper.T_C_G.translation().isApprox(
+      Eigen::Vector3d(0.2, 0.0, 0.5)));
+  EXPECT_EQ(event.gripper.opening_m, 0.03);
+
+  ASSERT_EQ(source.Next(&event), FrameResult::kOk) << event.error;
+  EXPECT_EQ(event.kind, SourceEvent::Kind::kDepth);
+  EXPECT_EQ(event.depth.utime, 133);
+  EXPECT_EQ(event.depth.depth_m[1], 1.5f);
+
+  EXPECT_EQ(source.Next(&event), FrameResult::kEndOfStream);
+  EXPECT_EQ(source.Next(&event), FrameResult::kEndOfStream);
+  EXPECT_EQ(source.events_read(), 4);
+  EXPECT_EQ(source.skipped_other_channels(), 1);
+  EXPECT_FALSE(source.truncated());
+  const std::vector<std::string> expected = {
+      "GRASPFILL_DEPTH", "GRASPFILL_GRIPPER_STATE", "SOMEONE_ELSES_CHANNEL"};
+  EXPECT_EQ(source.channels_seen(), expected);
+}
+
+TEST_F(LcmLogTest, RenamedChannelsAndBaseFrameStates) {
+  graspfill::rt::LcmLogSource::Config config = SourceConfig(Path("b.lcmlog"));
+  config.channels.depth = "CAM";
+  config.channels.gripper_state = "ARM";
+  config.T_C_B.translation() = Eigen::Vector3d(0.0, 0.0, 1.0);
+  {
+    LcmLogWriter writer(config.path);
+    writer.Write("GRASPFILL_DEPTH", 1, io::EncodeDepthImage(SmallDepth(1, 1)));
+    writer.Write("CAM", 2, io::EncodeDepthImage(SmallDepth(2, 2)));
+    // Forge a base-frame state by flipping the encoded frame byte (after
+    // the 8-byte hash and 8-byte utime).
+    auto bytes = io::EncodeGripperState(SomeGripper(3, 0.1));
+    bytes[16] = 1;  // FRAME_BASE
+    writer.Write("ARM", 3, bytes);
+  }
+  LcmLogSource source(config);
+  SourceEvent event;
+  ASSERT_EQ(source.Next(&event), FrameResult::kOk);
+  EXPECT_EQ(event.depth.utime, 2);
+  ASSERT_EQ(source.Next(&event), FrameResult::kOk);
+  ASSERT_EQ(event.kind, SourceEvent::Kind::kGripperState);
+  // T_C_G = T_C_B * T_B_G: shifted 1 m along the camera's z.
+  EXPECT_TRUE(event.gripper.T_C_G.translation().isApprox(
+      Eigen::Vector3d(0.1, 0.0, 1.5)));
+  EXPECT_EQ(source.Next(&event), FrameResult::kEndOfStream);
+  EXPECT_EQ(source.skipped_other_channels(), 1);
+}
+
+TEST_F(LcmLogTest, UndecodableEventIsABadFrameAndReadingGoesOn) {
+  {
+    LcmLogWriter writer(Path("bad.lcmlog"));
+    writer.Write("GRASPFILL_DEPTH", 1, {0xde, 0xad, 0xbe, 0xef});
+    auto gripper = io::EncodeGripperState(SomeGripper(2, 0.0));
+    gripper.pop_back();
+    writer.Write("GRASPFILL_GRIPPER_STATE", 2, gripper);
+    writer.Write("GRASPFILL_DEPTH", 3, io::EncodeDepthImage(SmallDepth(3, 1)));
+  }
+  LcmLogSource source(SourceConfig(Path("bad.lcmlog")));
+  SourceEvent event;
+  EXPECT_EQ(source.Next(&event), FrameResult::kBadFrame);
+  EXPECT_EQ(event.kind, SourceEvent::Kind::kDepth);
+  EXPECT_NE(event.error.find("depth_image_t"), std::string::npos)
+      << event.error;
+  EXPECT_EQ(source.Next(&event), FrameResult::kBadFrame);
+  EXPECT_EQ(event.kind, SourceEvent::Kind::kGripperState);
+  EXPECT_NE(event.error.find("gripper_state_t"), std::string::npos)
+      << event.error;
+  ASSERT_EQ(source.Next(&event), FrameResult::kOk);
+  EXPECT_EQ(event.depth.utime, 3);
+  EXPECT_EQ(source.Next(&event), FrameResult::kEndOfStream);
+  EXPECT_FALSE(source.truncated());
+}
+
+TEST_F(LcmLogTest, TruncatedLogIsDetected) {
+  const uintmax_t last = WriteSampleLog(Path("full.lcmlog"));
+  const auto full_size = fs::file_size(Path("full.lcmlog"));
+  // Cut inside the last event's data, channel name, header fields and sync
+  // word (1 to 3 of its 4 bytes left), from the end of the file.
+  const uintmax_t data = last - 28 - 15;
+  for (uintmax_t cut : {uintmax_t{1}, uintmax_t{2}, uintmax_t{10}, data,
+                        data + 5, data + 15 + 2, data + 15 + 6, last - 20,
+                        last - 3, last - 2, last - 1}) {
+    SCOPED_TRACE("cut " + std::to_string(cut));
+    const std::string path = Path("cut" + std::to_string(cut) + ".lcmlog");
+    fs::copy_file(Path("full.lcmlog"), path);
+    fs::resize_file(path, full_size - cut);
+    LcmLogSource source(SourceConfig(path));
+    SourceEvent event;
+    int ok = 0;
+    while (source.Next(&event) != FrameResult::kEndOfStream) ++ok;
+    EXPECT_EQ(ok, 2);  // the cut depth image is lost, the others survive
+    EXPECT_TRUE(source.truncated());
+    EXPECT_EQ(source.events_read(), 3);
+  }
+}
+
+TEST_F(LcmLogTest, LogCutAtAnEventBoundaryIsNotTruncated) {
+  {
+    LcmLogWriter writer(Path("one.lcmlog"));
+    writer.Write("GRASPFILL_DEPTH", 1, io::EncodeDepthImage(SmallDepth(1, 1)));
+  }
+  const auto one_event = fs::file_size(Path("one.lcmlog"));
+  WriteSampleLog(Path("full.lcmlog"));
+  fs::resize_file(Path("full.lcmlog"), one_event);
+  LcmLogSource source(SourceConfig(Path("full.lcmlog")));
+  SourceEvent event;
+  EXPECT_EQ(source.Next(&event), FrameResult::kOk);
+  EXPECT_EQ(source.Next(&event), FrameResult::kEndOfStream);
+  EXPECT_FALSE(source.truncated());
+}
+
+TEST_F(LcmLogTest, EmptyFileIsAnEmptyLog) {
+  std::ofstream(Path("empty.lcmlog")).close();
+  LcmLogSource source(SourceConfig(Path("empty.lcmlog")));
+  SourceEvent event;
+  EXPECT_EQ(source.Next(&event), FrameResult::kEndOfStream);
+  EXPECT_FALSE(source.truncated());
+  EXPECT_EQ(source.events_read(), 0);
+}
+
+void ExpectThrowsWith(const std::function<void()>& f,
+                      const std::string& expected) {
+  try {
+    f();
+    ADD_FAILURE() << "no exception, expected '" << expected << "'";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST_F(LcmLogTest, OpenErrorsNameTheFile) {
+  const std::string missing = Path("missing.lcmlog");
+  ExpectThrowsWith([&] { LcmLogSource source(SourceConfig(missing)); },
+                   "cannot open log '" + missing + "': no such file");
+  ExpectThrowsWith([&] { LcmLogSource source(SourceConfig(Path(""))); },
+                   "is a directory");
+  std::ofstream(Path("text.lcmlog")) << "hello, not a log\n";
+  ExpectThrowsWith(
+      [&] { LcmLogSource source(SourceConfig(Path("text.lcmlog"))); },
+      "'" + Path("text.lcmlog") + "' is not an LCM log");
+}
+
+TEST_F(LcmLogTest, WriterRefusesToClobber) {
+  WriteSampleLog(Path("log.lcmlog"));
+  ExpectThrowsWith([&] { LcmLogWriter writer(Path("log.lcmlog")); },
+                   "cannot create log '" + Path("log.lcmlog") +
+                       "': file exists");
+  {
+    LcmLogWriter writer(Path("log.lcmlog"), /*overwrite=*/true);
+    writer.Write("X", 1, {});
+  }
+  LcmLogSource source(SourceConfig(Path("log.lcmlog")));
+  SourceEvent event;
+  EXPECT_EQ(source.Next(&event), FrameResult::kEndOfStream);
+  EXPECT_EQ(source.events_read(), 1);
+  EXPECT_EQ(source.channels_seen(), std::vector<std::string>{"X"});
+
+  ExpectThrowsWith([&] { LcmLogWriter writer(Path("no/dir/x.lcmlog")); },
+                   "cannot create log '" + Path("no/dir/x.lcmlog") + "'");
+  LcmLogWriter writer(Path("w.lcmlog"));
+  ExpectThrowsWith([&] { writer.Write("", 1, {}); }, "bad channel name");
+}
+
+}  // namespace
+}  // namespace graspfill::rt

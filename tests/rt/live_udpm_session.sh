@@ -1,0 +1,59 @@
+#!/bin/sh
+# A grasp-and-model session across real processes on LCM's UDP multicast,
+# confined to a private network namespace (loopback only): lcm-logplayer
+# plays the bundled recording (depth + gripper states), `graspfill live`
+# fuses it and publishes the object cloud, a separate subscriber receives it.
+# usage: live_udpm_session.sh <graspfill> <cloud_subscriber> <recording.lcmlog>
+# Exit: 0 pass, 1 fail, 77 skipped (no network namespaces here).
+set -u
+GRASPFILL=$1
+SUB=$2
+LOG=$3
+SKIP=77
+
+if ! command -v unshare >/dev/null 2>&1 || ! command -v ip >/dev/null 2>&1 ||
+   ! command -v lcm-logplayer >/dev/null 2>&1; then
+  echo "SKIP: needs unshare (util-linux), ip (iproute2) and lcm-logplayer (liblcm-bin)"
+  exit $SKIP
+fi
+if ! unshare -n true 2>/dev/null; then
+  echo "SKIP: cannot create a network namespace; multicast is never tried on the host network"
+  exit $SKIP
+fi
+
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+export GRASPFILL SUB LOG TMP
+export URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608'
+
+unshare -n sh -c '
+  ip link set lo up || exit 90
+  ip route add 224.0.0.0/4 dev lo || exit 91
+  "$SUB" "$URL" GRASPFILL_OBJECT_CLOUD 30000 >"$TMP/sub.out" 2>"$TMP/sub.err" &
+  sub=$!
+  "$GRASPFILL" live --depth-from-lcm --lcm-url "$URL" --publish-every 0 \
+      --idle-exit-s 1.5 --duration-s 25 >"$TMP/live.out" 2>"$TMP/live.err" &
+  live=$!
+  sleep 1
+  lcm-logplayer --lcm-url="$URL" "$LOG" >"$TMP/player.out" 2>&1 || exit 92
+  wait $live || exit 93
+  wait $sub || exit 94
+'
+rc=$?
+for f in live.out live.err sub.out sub.err; do
+  [ -s "$TMP/$f" ] && { echo "--- $f"; cat "$TMP/$f"; }
+done
+if [ $rc -ne 0 ]; then
+  echo "FAIL: namespace script exited $rc"
+  exit 1
+fi
+points=$(sed -n 's/.*points=\([0-9]*\).*/\1/p' "$TMP/sub.out")
+if [ -z "$points" ] || [ "$points" -lt 5000 ]; then
+  echo "FAIL: expected an object cloud of >= 5000 points, got '${points}'"
+  exit 1
+fi
+if ! grep -q "fused" "$TMP/live.out"; then
+  echo "FAIL: live printed no summary"
+  exit 1
+fi
+echo "PASS: the subscriber received a cloud of $points points"

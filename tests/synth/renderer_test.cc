@@ -1,0 +1,365 @@
+#include "graspfill/synth/renderer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/synth/shapes.hpp"
+
+namespace graspfill::synth {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// Embree's float hit distance on a plane: a few ulp at 1 m.
+constexpr double kPlaneTolM = 1e-5;
+// A 256-segment sphere is inscribed in the true one: < 10 um radially,
+// < 25 um along rays at least 26 deg off grazing.
+constexpr double kSphereTolM = 5e-5;
+
+Eigen::Vector3d RayC(const CameraIntrinsics& k, int u, int v) {
+  return Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+}
+
+TEST(DepthRendererTest, WallIsAnalytic) {
+  DepthRenderer renderer(CameraIntrinsics{}, 1.3);
+  renderer.Commit();
+  IdealDepthImage image;
+  renderer.Render(Eigen::Isometry3d::Identity(), &image);
+  const CameraIntrinsics& k = image.intrinsics;
+  ASSERT_EQ(image.depth_m.size(), static_cast<size_t>(k.width * k.height));
+  for (int v = 0; v < k.height; v += 7) {
+    for (int u = 0; u < k.width; u += 7) {
+      const size_t i = static_cast<size_t>(v) * k.width + u;
+      EXPECT_FLOAT_EQ(image.depth_m[i], 1.3f);
+      EXPECT_NEAR(image.cos_incidence[i], 1.0 / RayC(k, u, v).norm(), 1e-6);
+      EXPECT_EQ(image.label[i], SurfaceLabel::kBackground);
+    }
+  }
+}
+
+TEST(DepthRendererTest, BoxFaceIsAnalyticPlane) {
+  // A box whose -z face is the plane z = 0.6 in C, with G = C.
+  TriangleMesh box = MakeShape(Shape::kCuboid, Eigen::Vector3d(0.2, 0.2, 0.1));
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation().z() = 0.6;
+  DepthRenderer renderer(CameraIntrinsics{}, 0.0);
+  renderer.AddMesh(box.Transformed(T), SurfaceLabel::kObject);
+  renderer.Commit();
+  IdealDepthImage image;
+  renderer.Render(Eigen::Isometry3d::Identity(), &image);
+  const CameraIntrinsics& k = image.intrinsics;
+  int checked = 0;
+  for (int v = 0; v < k.height; ++v) {
+    for (int u = 0; u < k.width; ++u) {
+      const Eigen::Vector3d hit = 0.6 * RayC(k, u, v);
+      const size_t i = static_cast<size_t>(v) * k.width + u;
+      if (std::abs(hit.x()) < 0.098 && std::abs(hit.y()) < 0.098) {
+        ASSERT_NEAR(image.depth_m[i], 0.6, kPlaneTolM) << u << "," << v;
+        EXPECT_NEAR(image.cos_incidence[i], 1.0 / RayC(k, u, v).norm(), 1e-5);
+        EXPECT_EQ(image.label[i], SurfaceLabel::kObject);
+        ++checked;
+      } else if (std::abs(hit.x()) > 0.102 || std::abs(hit.y()) > 0.102) {
+        EXPECT_EQ(image.depth_m[i], 0.0f) << "no wall: nothing beyond the box";
+        EXPECT_EQ(image.label[i], SurfaceLabel::kNone);
+      }
+    }
+  }
+  EXPECT_GT(checked, 10000);
+}
+
+TEST(DepthRendererTest, SphereIsAnalyticThroughAPose) {
+  const double radius = 0.05;
+  // Sphere centred at c_G in G; the camera sees G through a rotated pose.
+  const Eigen::Vector3d c_G(0.01, -0.02, 0.03);
+  TriangleMesh sphere = MakeShape(Shape::kSphere, Eigen::Vector3d::Constant(2 * radius), 256);
+  Eigen::Isometry3d T_G_O = Eigen::Isometry3d::Identity();
+  T_G_O.translation() = c_G - Eigen::Vector3d(0, 0, radius);
+  Eigen::Isometry3d T_C_G = Eigen::Isometry3d::Identity();
+  T_C_G.linear() = (Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()))
+                       .toRotationMatrix();
+  T_C_G.translation() = Eigen::Vector3d(0.03, 0.02, 0.7) - T_C_G.linear() * c_G;
+  const Eigen::Vector3d c_C = T_C_G * c_G;
+
+  DepthRenderer renderer(CameraIntrinsics{}, 1.5);
+  renderer.AddMesh(sphere.Transformed(T_G_O), SurfaceLabel::kObject);
+  renderer.Commit();
+  IdealDepthImage image;
+  renderer.Render(T_C_G, &image);
+  const CameraIntrinsics& k = image.intrinsics;
+  int checked = 0;
+  for (int v = 0; v < k.height; ++v) {
+    for (int u = 0; u < k.width; ++u) {
+      const Eigen::Vector3d d = RayC(k, u, v);
+      const size_t i = static_cast<size_t>(v) * k.width + u;
+      // Distance of the ray (through the origin) from the centre.
+      const double miss = d.normalized().cross(c_C).norm();
+      if (miss < 0.9 * radius) {
+        const double b = d.dot(c_C);
+        const double t = (b - std::sqrt(b * b - d.squaredNorm() * (c_C.squaredNorm() -
+                                                                   radius * radius))) /
+                         d.squaredNorm();
+        ASSERT_NEAR(image.depth_m[i], t * d.z(), kSphereTolM) << u << "," << v;
+        ++checked;
+      } else if (miss > 1.01 * radius) {
+        EXPECT_FLOAT_EQ(image.depth_m[i], 1.5f);
+      }
+    }
+  }
+  EXPECT_GT(checked, 1000);
+}
+
+SceneConfig IdealScene(Shape shape, GraspWay grasp) {
+  SceneConfig config;
+  config.shape = shape;
+  config.grasp = grasp;
+  config.sensor = SensorModelConfig::Ideal();
+  return config;
+}
+
+// Back-projects every valid pixel of every frame into the object frame and
+// counts points on the top (facing the palm) and on the bottom.
+struct TopBottomCounts {
+  int top{0};
+  int bottom{0};
+  int min_object_pixels{1 << 30};
+};
+
+template <typename OnTop, typename OnBottom>
+TopBottomCounts CountTopBottom(const Scene& scene, OnTop on_top, OnBottom on_bottom) {
+  const SceneRenderer renderer(scene);
+  TopBottomCounts counts;
+  const Eigen::Isometry3d T_O_G = scene.placement().T_G_O.inverse();
+  for (int f = 0; f < scene.num_frames(); ++f) {
+    const DepthFrame frame = renderer.Render(f);
+    const CameraIntrinsics& k = frame.intrinsics;
+    const Eigen::Isometry3d T_O_C = T_O_G * scene.T_C_G_AtUtime(frame.utime).inverse();
+    int object_pixels = 0;
+    for (int v = 0; v < k.height; ++v) {
+      for (int u = 0; u < k.width; ++u) {
+        const float z = frame.at(u, v);
+        if (z <= 0.0f) continue;
+        const Eigen::Vector3d p_O = T_O_C * (z * RayC(k, u, v));
+        if (std::abs(p_O.x()) < 0.2 && std::abs(p_O.y()) < 0.2 && p_O.z() > -0.01 &&
+            p_O.z() < 0.3) {
+          ++object_pixels;
+        }
+        counts.top += on_top(p_O);
+        counts.bottom += on_bottom(p_O);
+      }
+    }
+    counts.min_object_pixels = std::min(counts.min_object_pixels, object_pixels);
+  }
+  return counts;
+}
+
+// Back-projected points within 1 mm of a face and 2 mm inside its rim.
+constexpr double kFaceTolM = 0.001;
+constexpr double kRimM = 0.002;
+
+TEST(SceneRendererTest, CuboidTopIsNeverSeen) {
+  for (GraspWay grasp : {GraspWay::kTopStraight, GraspWay::kTopOblique,
+                         GraspWay::kMiddleStraight}) {
+    const Scene scene(IdealScene(Shape::kCuboid, grasp));
+    const Eigen::Vector3d s = DefaultSize(Shape::kCuboid);
+    auto inside = [&](const Eigen::Vector3d& p) {
+      return std::abs(p.x()) < 0.5 * s.x() - kRimM && std::abs(p.y()) < 0.5 * s.y() - kRimM;
+    };
+    const TopBottomCounts counts = CountTopBottom(
+        scene, [&](const Eigen::Vector3d& p) { return inside(p) && std::abs(p.z() - s.z()) < kFaceTolM; },
+        [&](const Eigen::Vector3d& p) { return inside(p) && std::abs(p.z()) < kFaceTolM; });
+    EXPECT_EQ(counts.top, 0) << GraspWayName(grasp);
+    EXPECT_GT(counts.bottom, 1000) << GraspWayName(grasp);
+    EXPECT_GT(counts.min_object_pixels, 3000) << GraspWayName(grasp);
+  }
+}
+
+TEST(SceneRendererTest, CylinderTopIsNeverSeen) {
+  const Scene scene(IdealScene(Shape::kCylinder, GraspWay::kTopOblique));
+  const Eigen::Vector3d s = DefaultSize(Shape::kCylinder);
+  auto inside = [&](const Eigen::Vector3d& p) {
+    return std::hypot(p.x(), p.y()) < 0.5 * s.x() - kRimM;
+  };
+  const TopBottomCounts counts = CountTopBottom(
+      scene, [&](const Eigen::Vector3d& p) { return inside(p) && std::abs(p.z() - s.z()) < kFaceTolM; },
+      [&](const Eigen::Vector3d& p) { return inside(p) && std::abs(p.z()) < kFaceTolM; });
+  EXPECT_EQ(counts.top, 0);
+  EXPECT_GT(counts.bottom, 1000);
+}
+
+TEST(SceneRendererTest, SphereTopCapIsNeverSeen) {
+  const Scene scene(IdealScene(Shape::kSphere, GraspWay::kTopStraight));
+  const double r = 0.5 * DefaultSize(Shape::kSphere).x();
+  // Cap within 20 deg of the pole: the camera, 25 deg below, sees at most
+  // ~61 deg of latitude over the top.
+  const double cos_cap = std::cos(20.0 * kPi / 180.0);
+  auto latitude_cos = [&](const Eigen::Vector3d& p) {
+    const Eigen::Vector3d q = p - Eigen::Vector3d(0, 0, r);
+    return std::abs(q.norm() - r) < kFaceTolM ? q.z() / q.norm() : 0.0;
+  };
+  const TopBottomCounts counts = CountTopBottom(
+      scene, [&](const Eigen::Vector3d& p) { return latitude_cos(p) > cos_cap; },
+      [&](const Eigen::Vector3d& p) { return latitude_cos(p) < -cos_cap; });
+  EXPECT_EQ(counts.top, 0);
+  EXPECT_GT(counts.bottom, 1000);
+}
+
+TEST(SceneRendererTest, FramesAreDeterministic) {
+  const SceneConfig config;
+  const Scene scene_a(config);
+  const Scene scene_b(config);
+  const SceneRenderer a(scene_a);
+  const SceneRenderer b(scene_b);
+  for (int f : {0, 7, 89}) {
+    const DepthFrame fa = a.Render(f);
+    const DepthFrame fb = b.Render(f);
+    const DepthFrame fa2 = a.Render(f);
+    ASSERT_EQ(fa.depth_m.size(), fb.depth_m.size());
+    EXPECT_EQ(fa.utime, fb.utime);
+    EXPECT_EQ(0, std::memcmp(fa.depth_m.data(), fb.depth_m.data(),
+                             fa.depth_m.size() * sizeof(float)));
+    EXPECT_EQ(0, std::memcmp(fa.depth_m.data(), fa2.depth_m.data(),
+                             fa.depth_m.size() * sizeof(float)));
+  }
+  SceneConfig other = config;
+  other.seed = 2;
+  const Scene scene_c(other);
+  EXPECT_NE(SceneRenderer(scene_c).Render(7).depth_m, a.Render(7).depth_m);
+  EXPECT_NE(a.Render(8).depth_m, a.Render(7).depth_m);
+}
+
+TEST(SceneRendererTest, SeesObjectClawArmAndWall) {
+  const Scene scene(SceneConfig{});
+  const SceneRenderer renderer(scene);
+  const IdealDepthImage ideal = renderer.RenderIdeal(0);
+  int counts[5] = {0, 0, 0, 0, 0};
+  for (SurfaceLabel label : ideal.label) ++counts[static_cast<int>(label)];
+  EXPECT_EQ(counts[static_cast<int>(SurfaceLabel::kNone)], 0);
+  EXPECT_GT(counts[static_cast<int>(SurfaceLabel::kObject)], 5000);
+  EXPECT_GT(counts[static_cast<int>(SurfaceLabel::kClaw)], 500);
+  EXPECT_GT(counts[static_cast<int>(SurfaceLabel::kArm)], 500);
+  EXPECT_GT(counts[static_cast<int>(SurfaceLabel::kBackground)], 200000);
+  // The noisy frame stays within 5 sigma (+ quantization) of the truth.
+  const DepthFrame frame = renderer.Render(0);
+  const SensorModelConfig& sensor = scene.config().sensor;
+  int valid = 0;
+  for (size_t i = 0; i < frame.depth_m.size(); ++i) {
+    if (frame.depth_m[i] <= 0.0f) continue;
+    ++valid;
+    const double z = ideal.depth_m[i];
+    const double sigma = AxialNoiseSigma(sensor, z, std::acos(ideal.cos_incidence[i]));
+    ASSERT_NEAR(frame.depth_m[i], z, 5.0 * sigma + z * z / (8.0 * 0.075 * 525.0));
+  }
+  EXPECT_GT(valid, 0.95 * frame.depth_m.size());
+}
+
+TEST(SceneRendererTest, RenderTimePerFrame) {
+  const Scene scene(SceneConfig{});
+  const SceneRenderer renderer(scene);
+  renderer.Render(0);  // warm-up
+  const int frames = 10;
+  const auto start = std::chrono::steady_clock::now();
+  for (int f = 0; f < frames; ++f) renderer.Render(f * 9);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+          .count() / frames;
+  std::printf("render + sensor model, 640x480: %.1f ms/frame\n", ms);
+  RecordProperty("render_ms_per_frame", std::to_string(ms));
+  EXPECT_LT(ms, 500.0);  // generous: loaded CI machines, debug builds
+}
+
+IdealDepthImage FlatImage(double z, double cos_incidence) {
+  IdealDepthImage image;
+  const size_t n = static_cast<size_t>(image.intrinsics.width) * image.intrinsics.height;
+  image.depth_m.assign(n, static_cast<float>(z));
+  image.cos_incidence.assign(n, static_cast<float>(cos_incidence));
+  image.label.assign(n, SurfaceLabel::kObject);
+  return image;
+}
+
+void MeanStd(const DepthFrame& frame, double z, double* mean, double* std, double* valid) {
+  double sum = 0.0, sum2 = 0.0;
+  int n = 0;
+  for (float d : frame.depth_m) {
+    if (d <= 0.0f) continue;
+    sum += d - z;
+    sum2 += (d - z) * (d - z);
+    ++n;
+  }
+  *mean = sum / n;
+  *std = std::sqrt(sum2 / n - *mean * *mean);
+  *valid = static_cast<double>(n) / frame.depth_m.size();
+}
+
+TEST(SensorModelTest, AxialNoiseMatchesNguyen) {
+  const double z = 0.8;
+  EXPECT_NEAR(AxialNoiseSigma(SensorModelConfig{}, z, 0.0), 0.0012 + 0.0019 * 0.16, 1e-12);
+  SensorModelConfig config = SensorModelConfig::Ideal();
+  config.noise = true;
+  double mean, std, valid;
+  MeanStd(ApplySensorModel(config, FlatImage(z, 1.0), 5, 0), z, &mean, &std, &valid);
+  const double sigma = 0.0012 + 0.0019 * (z - 0.4) * (z - 0.4);
+  EXPECT_NEAR(std, sigma, 0.02 * sigma);  // 307k samples: ~0.2 % std error
+  EXPECT_NEAR(mean, 0.0, 2e-5);
+  EXPECT_EQ(valid, 1.0);
+
+  // Kinect defaults: noise plus 1/8-px disparity steps (uniform rounding
+  // adds step^2 / 12 to the variance), 0.5 % random loss.
+  MeanStd(ApplySensorModel(SensorModelConfig{}, FlatImage(z, 1.0), 5, 0), z, &mean, &std,
+          &valid);
+  const double step = z * z / (0.075 * 525.0 * 8.0);
+  EXPECT_NEAR(std, std::sqrt(sigma * sigma + step * step / 12.0), 0.1 * sigma);
+  EXPECT_NEAR(valid, 0.995, 0.001);
+}
+
+TEST(SensorModelTest, QuantizationSteps) {
+  const SensorModelConfig config;
+  const double z = QuantizeDepth(config, 525.0, 1.0);
+  EXPECT_NEAR(z, 1.0, 0.5 * 1.0 / (0.075 * 525.0 * 8.0) + 1e-9);
+  EXPECT_DOUBLE_EQ(QuantizeDepth(config, 525.0, z), z);
+  const DepthFrame frame = ApplySensorModel(config, FlatImage(1.0, 1.0), 9, 0);
+  for (size_t i = 0; i < frame.depth_m.size(); i += 101) {
+    if (frame.depth_m[i] <= 0.0f) continue;
+    const double d = 0.075 * 525.0 / frame.depth_m[i] * 8.0;
+    ASSERT_NEAR(d, std::round(d), 1e-3);  // an integer number of 1/8 px
+  }
+}
+
+TEST(SensorModelTest, DropoutsAtGrazingAnglesEdgesAndRange) {
+  const SensorModelConfig config;
+  double mean, std, valid;
+  MeanStd(ApplySensorModel(config, FlatImage(0.8, std::cos(85.0 * kPi / 180.0)), 1, 0), 0.8,
+          &mean, &std, &valid);
+  EXPECT_EQ(valid, 0.0);  // all lost past 82 deg
+  MeanStd(ApplySensorModel(config, FlatImage(0.8, std::cos(60.0 * kPi / 180.0)), 1, 0), 0.8,
+          &mean, &std, &valid);
+  EXPECT_NEAR(valid, 0.995, 0.001);  // only random loss at 60 deg
+  MeanStd(ApplySensorModel(config, FlatImage(0.2, 1.0), 1, 0), 0.2, &mean, &std, &valid);
+  EXPECT_EQ(std::isnan(mean) || valid == 0.0, true);  // nearer than 0.3 m
+  MeanStd(ApplySensorModel(config, FlatImage(3.5, 1.0), 1, 0), 3.5, &mean, &std, &valid);
+  EXPECT_EQ(std::isnan(mean) || valid == 0.0, true);  // beyond 3 m
+
+  // A step edge between columns 319 and 320: those two columns lose ~half.
+  IdealDepthImage step = FlatImage(0.6, 1.0);
+  const int w = step.intrinsics.width;
+  for (size_t i = 0; i < step.depth_m.size(); ++i) {
+    if (static_cast<int>(i % w) >= 320) step.depth_m[i] = 1.0f;
+  }
+  const DepthFrame frame = ApplySensorModel(config, step, 3, 0);
+  int edge_valid = 0, edge_total = 0, inner_valid = 0, inner_total = 0;
+  for (int v = 0; v < step.intrinsics.height; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const bool edge = u == 319 || u == 320;
+      (edge ? edge_total : inner_total) += 1;
+      (edge ? edge_valid : inner_valid) += frame.at(u, v) > 0.0f;
+    }
+  }
+  EXPECT_NEAR(static_cast<double>(edge_valid) / edge_total, 0.5 * 0.995, 0.06);
+  EXPECT_NEAR(static_cast<double>(inner_valid) / inner_total, 0.995, 0.002);
+}
+
+}  // namespace
+}  // namespace graspfill::synth
