@@ -1,0 +1,40 @@
+// k-nearest-neighbour queries over one cloud, built once and shared by the
+// repair steps (normals, outliers, boundary detection, linking, densities),
+// so that no step builds its own tree. Open3D's KDTreeFlann underneath.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "graspfill/repair/repair_types.hpp"
+
+namespace graspfill::repair {
+
+class NeighborIndex {
+ public:
+  /// Builds the tree over `points` (kept by reference: they must outlive
+  /// the index and stay unchanged). Throws std::invalid_argument if empty.
+  explicit NeighborIndex(const PointList& points);
+  ~NeighborIndex();
+  NeighborIndex(const NeighborIndex&) = delete;
+  NeighborIndex& operator=(const NeighborIndex&) = delete;
+
+  /// The k nearest points of `query` (itself included when it is a cloud
+  /// point), nearest first; squared distances [m^2] optional.
+  void Knn(const Eigen::Vector3f& query, int k, std::vector<int>* indices,
+           std::vector<double>* squared_distances = nullptr) const;
+  /// All points within `radius_m` of `query`.
+  void Radius(const Eigen::Vector3f& query, double radius_m,
+              std::vector<int>* indices,
+              std::vector<double>* squared_distances = nullptr) const;
+
+  const PointList& points() const { return points_; }
+  size_t size() const { return points_.size(); }
+
+ private:
+  const PointList& points_;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace graspfill::repair
