@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <cstdio>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
@@ -16,6 +17,7 @@
 #include "graspfill/core/pose_interpolation.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "sources/lcm_log_source.hpp"
+#include "sources/prefetching_source.hpp"
 
 namespace graspfill::cli {
 namespace {
@@ -63,7 +65,7 @@ double ReplayFps(const std::string& path, const claw::ClawModel& claw, int64_t* 
   const Clock::time_point start = Clock::now();
   rt::LcmLogSource::Config config;
   config.path = path;
-  rt::LcmLogSource source(config);
+  rt::PrefetchingSource source(std::make_unique<rt::LcmLogSource>(config));  // as replay does
   Pipeline pipeline(PipelineConfig{}, claw);
   rt::SourceEvent event;
   for (rt::FrameResult r; (r = source.Next(&event)) != rt::FrameResult::kEndOfStream;) {

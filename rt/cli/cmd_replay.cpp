@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
@@ -15,6 +16,7 @@
 #include "graspfill/pipeline/pipeline.hpp"
 #include "sinks/lcm_publisher.hpp"
 #include "sources/lcm_log_source.hpp"
+#include "sources/prefetching_source.hpp"
 
 namespace graspfill::cli {
 namespace {
@@ -115,7 +117,10 @@ int RunReplay(const Args& args) {
   rt::LcmLogSource::Config source_config;
   source_config.path = o.log_path;
   source_config.channels = o.channels;
-  rt::LcmLogSource source(source_config);  // throws on a missing/bad file
+  auto log_source = std::make_unique<rt::LcmLogSource>(source_config);  // throws on a bad file
+  const rt::LcmLogSource& log = *log_source;  // for its counters, once at the end
+  // Decoding runs ahead on a second thread, overlapping the pipeline.
+  rt::PrefetchingSource source(std::move(log_source));
   Pipeline pipeline(o.pipeline, MakeClaw(o.claw, o.claw_mesh_root));
 
   const auto t_start = std::chrono::steady_clock::now();
@@ -150,14 +155,14 @@ int RunReplay(const Args& args) {
       return 1;
     }
   }
-  if (source.truncated()) {
+  if (log.truncated()) {
     std::fprintf(stderr, "graspfill replay: log '%s' is truncated after %lld events\n",
-                 o.log_path.c_str(), static_cast<long long>(source.events_read()));
+                 o.log_path.c_str(), static_cast<long long>(log.events_read()));
     return 1;
   }
   if (depth_events == 0) {
     std::string seen;
-    for (const std::string& c : source.channels_seen()) seen += (seen.empty() ? "" : ", ") + c;
+    for (const std::string& c : log.channels_seen()) seen += (seen.empty() ? "" : ", ") + c;
     std::fprintf(stderr, "graspfill replay: no depth frames on channel '%s' in '%s' (channels: %s)\n",
                  o.channels.depth.c_str(), o.log_path.c_str(), seen.empty() ? "none" : seen.c_str());
     return 1;
