@@ -81,6 +81,7 @@ double ReplayFps(const std::string& path, const claw::ClawModel& claw, int64_t* 
 }  // namespace
 
 int RunBench(const Args& args) {
+  if (!args.empty() && args[0] == "repair") return RunBenchRepair(Args(args.begin() + 1, args.end()));
   std::string log = std::string(GRASPFILL_REPLAY_DIR) + "/default/recording.lcmlog";
   std::string claw_spec = "three-finger";
   int repeat = 3;

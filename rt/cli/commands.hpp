@@ -16,5 +16,7 @@ int RunEval(const Args& args);    // cmd_eval.cpp
 int RunBench(const Args& args);   // cmd_bench.cpp
 int RunDemo(const Args& args);    // cmd_demo.cpp
 int RunLive(const Args& args);    // cmd_live.cpp
+int RunRepair(const Args& args);  // cmd_repair.cpp
+int RunBenchRepair(const Args& args);  // cmd_bench_repair.cpp
 
 }  // namespace graspfill::cli

@@ -1,1 +1,191 @@
-// placeholder: being written
+#include "graspfill/repair/boundary_detection.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace graspfill::repair {
+
+void BoundaryConfig::Validate() const {
+  if (k < 3) {
+    throw std::invalid_argument("BoundaryConfig: k must be >= 3, got " + std::to_string(k));
+  }
+  if (confirm_k != 0 && confirm_k <= k) {
+    throw std::invalid_argument("BoundaryConfig: confirm_k must be 0 or > k, got " +
+                                std::to_string(confirm_k));
+  }
+  if (!(angle_threshold_rad > 0.0 && angle_threshold_rad < 2.0 * M_PI)) {
+    throw std::invalid_argument("BoundaryConfig: angle_threshold_rad must be in (0, 2*pi), got " +
+                                std::to_string(angle_threshold_rad));
+  }
+}
+
+namespace {
+
+// Unit normal of the least-squares plane of `points[nn]`, or zero when they
+// all coincide. Offsets from `origin` (a point of the set) keep the float
+// sums well conditioned; the 3x3 solve is in double because the smallest
+// eigenvalue of a near-planar set is tiny next to the others.
+Eigen::Vector3f PlaneNormal(const PointList& points, const std::vector<int>& nn,
+                            const Eigen::Vector3f& origin) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d sum_sq = Eigen::Matrix3d::Zero();
+  for (const int j : nn) {
+    const Eigen::Vector3d d = (points[static_cast<size_t>(j)] - origin).cast<double>();
+    sum += d;
+    sum_sq.noalias() += d * d.transpose();
+  }
+  const double n = static_cast<double>(nn.size());
+  const Eigen::Vector3d mean = sum / n;
+  const Eigen::Matrix3d cov = sum_sq / n - mean * mean.transpose();
+  if (!(cov.trace() > 0.0)) return Eigen::Vector3f::Zero();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+  solver.computeDirect(cov, Eigen::ComputeEigenvectors);
+  // Eigenvalues come in increasing order: column 0 is the plane normal.
+  return solver.eigenvectors().col(0).normalized().cast<float>();
+}
+
+// A direction's "diamond angle" in [0, 4): monotone in its polar angle
+// in [0, 2*pi) (0, 1, 2, 3 at 0, 90, 180, 270 degrees), one division
+// instead of an atan2. (x, y) must not be (0, 0).
+float DiamondAngle(float x, float y) {
+  if (y >= 0.0f) return x >= 0.0f ? y / (x + y) : 1.0f - x / (y - x);
+  return x < 0.0f ? 2.0f - y / (-x - y) : 3.0f + x / (x - y);
+}
+
+// One projected neighbour direction: its (u, v) coordinates and key.
+struct Direction2 {
+  float key;  // DiamondAngle(x, y)
+  float x, y;
+};
+
+struct Gap {
+  float angle_rad{0.0f};
+  Eigen::Vector3f direction{Eigen::Vector3f::Zero()};
+};
+
+// The maximum-angle criterion at P: true when the directions from P to its
+// neighbours `nn`, projected on the plane of `normal`, leave an angular gap
+// wider than the threshold (given as `threshold_key`, the DiamondAngle of
+// its cosine and sine); then `gap` gets that widest gap [rad] and its unit
+// bisector, in the plane. `dirs` is scratch space.
+bool HasWideGap(const PointList& points, const std::vector<int>& nn, const Eigen::Vector3f& p,
+                const Eigen::Vector3f& normal, float threshold_key, std::vector<Direction2>* dirs,
+                Gap* gap) {
+  // Any orthonormal basis (u, v) of the tangent plane will do: the
+  // criterion only looks at differences of angles.
+  const Eigen::Vector3f u = normal.unitOrthogonal();
+  const Eigen::Vector3f v = normal.cross(u);
+  dirs->clear();
+  for (const int j : nn) {
+    // P'Q' is the projection of PQ on the plane: its (u, v) coordinates.
+    const Eigen::Vector3f d = points[static_cast<size_t>(j)] - p;
+    const float x = d.dot(u);
+    const float y = d.dot(v);
+    // Skips P itself, its duplicates and neighbours straight along the
+    // normal, whose direction in the plane is meaningless.
+    if (x * x + y * y <= 1e-8f * d.squaredNorm()) continue;
+    const Direction2 dir{DiamondAngle(x, y), x, y};
+    // Insertion sort: a few dozen directions, mostly short moves.
+    auto it = dirs->end();
+    dirs->push_back(dir);
+    while (it != dirs->begin() && (it - 1)->key > dir.key) {
+      *it = *(it - 1);
+      --it;
+    }
+    *it = dir;
+  }
+  if (dirs->empty()) return false;
+  // The gap between consecutive directions a, b (counterclockwise) is the
+  // polar angle of (a.b, a x b): compare those by their diamond angles too,
+  // the wrap-around pair (last, first) included. A single direction leaves
+  // a full turn.
+  const size_t n = dirs->size();
+  size_t widest = n - 1;  // the gap from dirs[widest] to the next one
+  float widest_key = 4.0f;
+  if (n > 1) {
+    widest_key = -1.0f;
+    for (size_t a = 0; a < n; ++a) {
+      const Direction2& d0 = (*dirs)[a];
+      const Direction2& d1 = (*dirs)[(a + 1) % n];
+      const float key = DiamondAngle(d0.x * d1.x + d0.y * d1.y, d0.x * d1.y - d0.y * d1.x);
+      if (key > widest_key) {
+        widest_key = key;
+        widest = a;
+      }
+    }
+  }
+  if (widest_key <= threshold_key) return false;
+  // Only now the true angles, for the few boundary points.
+  const Direction2& d0 = (*dirs)[widest];
+  const Direction2& d1 = (*dirs)[(widest + 1) % n];
+  float angle = n > 1 ? std::atan2(d0.x * d1.y - d0.y * d1.x, d0.x * d1.x + d0.y * d1.y)
+                      : static_cast<float>(2.0 * M_PI);
+  if (angle <= 0.0f) angle += static_cast<float>(2.0 * M_PI);  // beyond pi
+  const float mid = std::atan2(d0.y, d0.x) + 0.5f * angle;
+  gap->angle_rad = angle;
+  gap->direction = std::cos(mid) * u + std::sin(mid) * v;
+  return true;
+}
+
+}  // namespace
+
+std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const BoundaryConfig& config,
+                                      std::vector<Eigen::Vector3f>* normals,
+                                      std::vector<BoundaryPointInfo>* info) {
+  config.Validate();
+  const PointList& points = index.points();
+  const size_t n = points.size();
+  if (normals != nullptr) normals->assign(n, Eigen::Vector3f::Zero());
+  if (info != nullptr) info->clear();
+
+  const float threshold_key =
+      DiamondAngle(static_cast<float>(std::cos(config.angle_threshold_rad)),
+                   static_cast<float>(std::sin(config.angle_threshold_rad)));
+  const size_t max_k = static_cast<size_t>(std::max(config.k, config.confirm_k)) + 1;
+  // Buffers reused across points: no allocation in the loop once they have
+  // grown to max_k.
+  std::vector<int> nn;
+  std::vector<double> d2;
+  std::vector<Direction2> dirs;
+  nn.reserve(max_k);
+  d2.reserve(max_k);
+  dirs.reserve(max_k);
+  std::vector<int> boundary;
+
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3f& p = points[i];
+    index.Knn(p, config.k + 1, &nn, &d2);
+    const Eigen::Vector3f normal = PlaneNormal(points, nn, p);
+    if (normals != nullptr) (*normals)[i] = normal;
+    Gap gap;
+    if (normal.isZero() || !HasWideGap(points, nn, p, normal, threshold_key, &dirs, &gap)) {
+      continue;
+    }
+    if (config.confirm_k > 0) {
+      // The wider look, only for the few points the first one flagged; its
+      // gap direction is the steadier one.
+      index.Knn(p, config.confirm_k + 1, &nn, &d2);
+      const Eigen::Vector3f wide_normal = PlaneNormal(points, nn, p);
+      if (wide_normal.isZero() ||
+          !HasWideGap(points, nn, p, wide_normal, threshold_key, &dirs, &gap)) {
+        continue;
+      }
+    }
+    boundary.push_back(static_cast<int>(i));
+    if (info != nullptr && nn.size() > 1) {
+      // Density from the neighbourhood: its nn.size() - 1 neighbours fill
+      // the covered part (2*pi - gap) of the disc out to the farthest one.
+      const double covered = 1.0 - gap.angle_rad / (2.0 * M_PI);
+      const double neighbours = static_cast<double>(nn.size() - 1);
+      const double spacing = std::sqrt(d2.back() * M_PI * covered / neighbours);
+      info->push_back({gap.direction, static_cast<float>(spacing)});
+    } else if (info != nullptr) {
+      info->push_back({gap.direction, 0.0f});
+    }
+  }
+  return boundary;
+}
+
+}  // namespace graspfill::repair

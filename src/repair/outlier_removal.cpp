@@ -1,1 +1,90 @@
-// placeholder: being written
+#include "graspfill/repair/outlier_removal.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace graspfill::repair {
+
+void OutlierConfig::Validate() const {
+  if (nb_neighbors < 1) {
+    throw std::invalid_argument("OutlierConfig: nb_neighbors must be >= 1, got " +
+                                std::to_string(nb_neighbors));
+  }
+  if (!std::isfinite(std_ratio) || std_ratio <= 0.0) {
+    throw std::invalid_argument("OutlierConfig: std_ratio must be finite and > 0, got " +
+                                std::to_string(std_ratio));
+  }
+}
+
+std::vector<int> RemoveOutliers(const NeighborIndex& index, const OutlierConfig& config) {
+  config.Validate();
+  const PointList& points = index.points();
+  const int n = static_cast<int>(points.size());
+  std::vector<int> kept;
+  if (n <= config.nb_neighbors) {
+    // Fewer points than the statistic needs: nothing can be judged.
+    kept.resize(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) kept[static_cast<size_t>(i)] = i;
+    return kept;
+  }
+
+  // Mean distance to the k nearest other points (PCL: query k + 1 and skip
+  // the point itself, which comes first at distance 0).
+  const int k = config.nb_neighbors;
+  std::vector<double> mean_distance(static_cast<size_t>(n));
+  std::vector<int> nn;
+  std::vector<double> d2;
+  nn.reserve(static_cast<size_t>(k) + 1);
+  d2.reserve(static_cast<size_t>(k) + 1);
+  double sum = 0.0;
+  double sum_sq = 0.0;
+  for (int i = 0; i < n; ++i) {
+    index.Knn(points[static_cast<size_t>(i)], k + 1, &nn, &d2);
+    double s = 0.0;
+    // Skipping slot 0 rather than the index i: with duplicate points the
+    // point itself need not come first, but some point at distance 0 does.
+    for (size_t j = 1; j < d2.size(); ++j) s += std::sqrt(d2[j]);
+    const double mean = d2.size() > 1 ? s / static_cast<double>(d2.size() - 1) : 0.0;
+    mean_distance[static_cast<size_t>(i)] = mean;
+    sum += mean;
+    sum_sq += mean * mean;
+  }
+  const double count = static_cast<double>(n);
+  const double cloud_mean = sum / count;
+  // Sample variance, as PCL (Bessel's correction); clamp the rounding.
+  const double variance = std::max(0.0, (sum_sq - sum * sum / count) / (count - 1.0));
+  const double threshold = cloud_mean + config.std_ratio * std::sqrt(variance);
+
+  kept.reserve(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    if (mean_distance[static_cast<size_t>(i)] <= threshold) kept.push_back(i);
+  }
+  return kept;
+}
+
+std::vector<int> RemoveOutliers(const PointList& points, const OutlierConfig& config) {
+  config.Validate();
+  // Non-finite points would poison the tree and the statistics: filter them
+  // first, copying only when there are any.
+  std::vector<int> finite;
+  finite.reserve(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (points[i].allFinite()) finite.push_back(static_cast<int>(i));
+  }
+  if (finite.empty()) return {};
+  if (finite.size() == points.size()) {
+    const NeighborIndex index(points);
+    return RemoveOutliers(index, config);
+  }
+  PointList compact;
+  compact.reserve(finite.size());
+  for (const int i : finite) compact.push_back(points[static_cast<size_t>(i)]);
+  const NeighborIndex index(compact);
+  std::vector<int> kept = RemoveOutliers(index, config);
+  for (int& i : kept) i = finite[static_cast<size_t>(i)];
+  return kept;
+}
+
+}  // namespace graspfill::repair

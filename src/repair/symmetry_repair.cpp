@@ -1,1 +1,568 @@
-// placeholder: being written
+#include "graspfill/repair/symmetry_repair.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace graspfill::repair {
+namespace {
+
+using Point2 = Eigen::Vector2d;
+using Polygon = std::vector<Point2>;  // convex, counter-clockwise
+
+void Require(bool ok, const std::string& message) {
+  if (!ok) throw std::invalid_argument(message);
+}
+
+void CheckFinite(const PointList& points, const char* what) {
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!points[i].allFinite()) {
+      throw std::invalid_argument(std::string("RepairMissingSurface: non-finite coordinate in ") +
+                                  what + " at index " + std::to_string(i));
+    }
+  }
+}
+
+std::string Mm(double m) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.1f mm", m * 1e3);
+  return buf;
+}
+
+double Cross(const Point2& o, const Point2& a, const Point2& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+// Andrew's monotone chain; sorts `pts` in place. Collinear points dropped.
+Polygon ConvexHull(std::vector<Point2>* pts) {
+  std::vector<Point2>& p = *pts;
+  std::sort(p.begin(), p.end(), [](const Point2& a, const Point2& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  if (p.size() < 3) return {};
+  Polygon hull(2 * p.size());
+  size_t k = 0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    while (k >= 2 && Cross(hull[k - 2], hull[k - 1], p[i]) <= 0.0) --k;
+    hull[k++] = p[i];
+  }
+  for (size_t i = p.size() - 1, lower = k + 1; i > 0; --i) {
+    while (k >= lower && Cross(hull[k - 2], hull[k - 1], p[i - 1]) <= 0.0) --k;
+    hull[k++] = p[i - 1];
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+Point2 AreaCentroid(const Polygon& poly) {
+  double a = 0.0;
+  Point2 c(0, 0);
+  for (size_t i = 0; i < poly.size(); ++i) {
+    const Point2& p = poly[i];
+    const Point2& q = poly[(i + 1) % poly.size()];
+    const double w = p.x() * q.y() - q.x() * p.y();
+    a += w;
+    c += w * (p + q);
+  }
+  return std::abs(a) > 0.0 ? Point2(c / (3.0 * a)) : poly.front();
+}
+
+// The outline of a cross-section, described by the support function of
+// its convex hull, h(theta) = max over the hull of (v - centre) . u(theta),
+// at kDirections directions. A claw hole dents h only over the ~40 degrees
+// it faces, so statistics over the directions (a median, the upper part)
+// see the object, not its holes; the hull's area would lose a few percent.
+constexpr int kDirections = 72;
+using Support = std::array<double, kDirections>;
+
+const std::array<Point2, kDirections>& Directions() {
+  static const std::array<Point2, kDirections> dirs = [] {
+    std::array<Point2, kDirections> d;
+    for (int j = 0; j < kDirections; ++j) {
+      const double a = 2.0 * M_PI * j / kDirections;
+      d[j] = Point2(std::cos(a), std::sin(a));
+    }
+    return d;
+  }();
+  return dirs;
+}
+
+// The hull is convex and counter-clockwise, so the vertex extreme in a
+// direction moves forward as the direction turns: one pass around it.
+Support SupportFunction(const Polygon& hull, const Point2& centre) {
+  const std::array<Point2, kDirections>& dirs = Directions();
+  const size_t n = hull.size();
+  size_t k = 0;
+  for (size_t i = 1; i < n; ++i) {
+    if (hull[i].dot(dirs[0]) > hull[k].dot(dirs[0])) k = i;
+  }
+  Support h;
+  size_t steps = 0;
+  for (int j = 0; j < kDirections; ++j) {
+    while (steps < 2 * n && hull[(k + 1) % n].dot(dirs[j]) > hull[k].dot(dirs[j])) {
+      k = (k + 1) % n;
+      ++steps;
+    }
+    h[j] = (hull[k] - centre).dot(dirs[j]);
+  }
+  return h;
+}
+
+// Size of a cross-section relative to a reference outline: the squared
+// median, over the directions, of the ratio of their support functions
+// (each about its own centroid). For sections of one shape at different
+// scales (a sphere, an ellipsoid, a cone) it is the squared scale, so it
+// tracks the area; a claw hole dents some directions, and up to half of
+// them leave the median unchanged (the hull's area, by contrast, loses a
+// few percent, which moved the plane of an ellipsoid by ~1.3 mm).
+double SectionSize(const Polygon& hull, const Support& reference) {
+  if (hull.size() < 3) return 0.0;
+  const Support h = SupportFunction(hull, AreaCentroid(hull));
+  std::array<double, kDirections> ratio;
+  for (int j = 0; j < kDirections; ++j) {
+    ratio[j] = reference[j] > 0.0 ? h[j] / reference[j] : 0.0;
+  }
+  std::nth_element(ratio.begin(), ratio.begin() + kDirections / 2, ratio.end());
+  const double r = ratio[kDirections / 2];
+  return r * r;
+}
+
+// How much two outlines differ: the median over the directions of the
+// difference of their support functions about their common centre,
+// relative to their mean support. 0 for identical outlines; ~0.17 for a
+// square and the same square turned by 45 degrees; a lateral shift counts.
+double OutlineMismatch(const Polygon& a, const Polygon& b) {
+  if (a.size() < 3 || b.size() < 3) return 1.0;
+  const Point2 centre = 0.5 * (AreaCentroid(a) + AreaCentroid(b));
+  const Support ha = SupportFunction(a, centre), hb = SupportFunction(b, centre);
+  std::array<double, kDirections> diff;
+  double mean = 0.0;
+  for (int j = 0; j < kDirections; ++j) {
+    diff[j] = std::abs(ha[j] - hb[j]);
+    mean += 0.5 * (ha[j] + hb[j]) / kDirections;
+  }
+  std::nth_element(diff.begin(), diff.begin() + kDirections / 2, diff.end());
+  return mean > 0.0 ? diff[kDirections / 2] / mean : 1.0;
+}
+
+// The cloud cut into K horizontal slabs of thickness h from z0 up.
+class SlabProfile {
+ public:
+  SlabProfile(const PointList& points, double z0, double h, int count)
+      : points_(points), z0_(z0), h_(h), slabs_(count) {
+    for (size_t i = 0; i < points.size(); ++i) {
+      const double k = std::floor((points[i].z() - z0) / h);
+      if (k >= 0.0 && k < count) slabs_[static_cast<size_t>(k)].push_back(static_cast<int>(i));
+    }
+  }
+  int count() const { return static_cast<int>(slabs_.size()); }
+  double Centre(int k) const { return z0_ + (k + 0.5) * h_; }
+  // Convex hull (xOy) of the points with |z - zc| < h / 2; empty when fewer
+  // than `min_points` fall there.
+  Polygon HullAt(double zc, int min_points) const {
+    const int k0 = std::max(0, static_cast<int>(std::floor((zc - 0.5 * h_ - z0_) / h_)));
+    const int k1 = std::min(count() - 1, static_cast<int>(std::floor((zc + 0.5 * h_ - z0_) / h_)));
+    std::vector<Point2> pts;
+    for (int k = k0; k <= k1; ++k) {
+      for (int i : slabs_[k]) {
+        const Eigen::Vector3f& p = points_[i];
+        if (std::abs(p.z() - zc) < 0.5 * h_) pts.emplace_back(p.x(), p.y());
+      }
+    }
+    if (static_cast<int>(pts.size()) < min_points) return {};
+    // A thin-walled slab has all its points on the hull; 512 of them place
+    // its outline to ~r (1 - cos(pi / 512)), far below the sampling noise.
+    if (pts.size() > 1024) {
+      const size_t stride = pts.size() / 512;
+      size_t m = 0;
+      for (size_t i = 0; i < pts.size(); i += stride) pts[m++] = pts[i];
+      pts.resize(m);
+    }
+    return ConvexHull(&pts);
+  }
+  Polygon Hull(int k, int min_points) const { return HullAt(Centre(k), min_points); }
+
+ private:
+  const PointList& points_;
+  double z0_, h_;
+  std::vector<std::vector<int>> slabs_;
+};
+
+// The points of a box, bucketed on an xy grid of cell `gap`, to ask "is
+// any within `gap` of q?" (q inside the box) in nine cell lookups instead
+// of a KD-tree query.
+class GapGrid {
+ public:
+  GapGrid(const PointList& points, const Eigen::AlignedBox3f& box, double gap)
+      : box_(box), gap_(gap) {
+    if (!(gap > 0.0)) return;
+    const Eigen::Vector3f size = box.sizes();
+    const double cells = std::ceil(size.x() / gap) * std::ceil(size.y() / gap);
+    if (!(cells > 0.0) || cells > 4e6) {  // an absurd box: one cell
+      cell_ = std::max<double>(size.x(), size.y()) + 1.0;
+    } else {
+      cell_ = gap;
+      nx_ = std::max(1, static_cast<int>(std::ceil(size.x() / gap)));
+      ny_ = std::max(1, static_cast<int>(std::ceil(size.y() / gap)));
+    }
+    std::vector<std::pair<int, Eigen::Vector3f>> binned;
+    for (const Eigen::Vector3f& p : points) {
+      if (box.contains(p)) binned.emplace_back(Cell(p), p);
+    }
+    start_.assign(static_cast<size_t>(nx_) * ny_ + 1, 0);
+    for (const auto& b : binned) ++start_[b.first + 1];
+    for (size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
+    pts_.resize(binned.size());
+    std::vector<int> fill(start_.begin(), start_.end() - 1);
+    for (const auto& b : binned) pts_[fill[b.first]++] = b.second;
+  }
+  bool AnyWithin(const Eigen::Vector3f& q) const {
+    if (start_.empty()) return false;
+    const int ix = CellX(q), iy = CellY(q);
+    const float r2 = static_cast<float>(gap_ * gap_);
+    for (int y = std::max(0, iy - 1); y <= std::min(ny_ - 1, iy + 1); ++y) {
+      for (int x = std::max(0, ix - 1); x <= std::min(nx_ - 1, ix + 1); ++x) {
+        const int c = y * nx_ + x;
+        for (int k = start_[c]; k < start_[c + 1]; ++k) {
+          if ((pts_[k] - q).squaredNorm() <= r2) return true;
+        }
+      }
+    }
+    return false;
+  }
+
+ private:
+  int CellX(const Eigen::Vector3f& p) const {
+    return std::clamp(static_cast<int>((p.x() - box_.min().x()) / cell_), 0, nx_ - 1);
+  }
+  int CellY(const Eigen::Vector3f& p) const {
+    return std::clamp(static_cast<int>((p.y() - box_.min().y()) / cell_), 0, ny_ - 1);
+  }
+  int Cell(const Eigen::Vector3f& p) const { return CellY(p) * nx_ + CellX(p); }
+
+  Eigen::AlignedBox3f box_;
+  double gap_;
+  double cell_{1.0};
+  int nx_{1}, ny_{1};
+  std::vector<int> start_;
+  PointList pts_;
+};
+
+double MeanNearestDistance(const NeighborIndex& index, int samples) {
+  const size_t n = index.size();
+  const size_t stride = std::max<size_t>(1, n / static_cast<size_t>(samples));
+  std::vector<int> nn;
+  std::vector<double> d2;
+  double sum = 0.0;
+  int count = 0;
+  for (size_t i = 0; i < n; i += stride) {
+    index.Knn(index.points()[i], 2, &nn, &d2);
+    if (d2.size() < 2) continue;
+    sum += std::sqrt(d2[1]);
+    ++count;
+  }
+  return count > 0 ? sum / count : 0.0;
+}
+
+// The size profile (slab k centred at z0 + (k + 0.5) h; 0 = no data) at
+// height z, linearly interpolated; NaN outside the data.
+double SizeAt(const std::vector<double>& size, double z0, double h, double z) {
+  const double x = (z - z0) / h - 0.5;
+  const int k = static_cast<int>(std::floor(x));
+  if (k < 0 || k + 1 >= static_cast<int>(size.size())) return std::nan("");
+  if (size[k] <= 0.0 || size[k + 1] <= 0.0) return std::nan("");
+  const double f = x - k;
+  return (1.0 - f) * size[k] + f * size[k + 1];
+}
+
+// The plane within `half_width` of `z_guess` about which the size profile
+// is most symmetric: least mean squared difference between the sizes at
+// z_s + t and z_s - t over every t (in slab steps) observed on both sides;
+// searched in quarter slabs, then refined by a parabola through the best
+// three.
+double RefinePlane(const std::vector<double>& size, double z0, double h, double z_guess,
+                   double half_width) {
+  const auto cost = [&](double zs) {
+    double sum = 0.0;
+    int n = 0;
+    for (double t = h; ; t += h) {
+      const double up = SizeAt(size, z0, h, zs + t), dn = SizeAt(size, z0, h, zs - t);
+      if (std::isnan(up) || std::isnan(dn)) break;
+      sum += (up - dn) * (up - dn);
+      ++n;
+    }
+    return n >= 3 ? sum / n : std::numeric_limits<double>::infinity();
+  };
+  const double step = 0.25 * h;
+  const int steps = static_cast<int>(std::ceil(half_width / step));
+  double best_z = z_guess, best = cost(z_guess);
+  for (int i = -steps; i <= steps; ++i) {
+    const double zs = z_guess + i * step;
+    const double c = cost(zs);
+    if (c < best) best = c, best_z = zs;
+  }
+  if (!std::isfinite(best)) return z_guess;
+  const double cm = cost(best_z - step), cp = cost(best_z + step);
+  const double denom = cm - 2.0 * best + cp;
+  if (std::isfinite(cm) && std::isfinite(cp) && denom > 0.0) {
+    best_z += 0.5 * step * (cm - cp) / denom;
+  }
+  return best_z;
+}
+
+SymmetryResult NotSymmetric(std::string reason, double plane_z) {
+  SymmetryResult r;
+  r.symmetric = false;
+  r.reason = std::move(reason);
+  r.symmetry_plane_z = plane_z;
+  return r;
+}
+
+}  // namespace
+
+SymmetryConfig SymmetryConfig::Paper() {
+  SymmetryConfig config;
+  config.plateau_search = false;
+  config.check_symmetry = false;
+  return config;
+}
+
+void SymmetryConfig::Validate() const {
+  const std::string p = "SymmetryConfig.";
+  Require(slab_thickness_d > 0.0 && slab_thickness_d <= 1000.0,
+          p + "slab_thickness_d must be in (0, 1000]");
+  Require(min_slab_thickness_m > 0.0 && min_slab_thickness_m < 1.0,
+          p + "min_slab_thickness_m must be in (0, 1) m");
+  Require(min_slab_points >= 3, p + "min_slab_points must be >= 3");
+  Require(plateau_tolerance >= 0.0 && plateau_tolerance < 1.0,
+          p + "plateau_tolerance must be in [0, 1)");
+  Require(max_outline_mismatch >= 0.0 && max_outline_mismatch <= 10.0,
+          p + "max_outline_mismatch must be in [0, 10]");
+  Require(outline_checks >= 1 && outline_checks <= 1000, p + "outline_checks must be in [1, 1000]");
+  Require(max_added_height_fraction > 0.0 && std::isfinite(max_added_height_fraction),
+          p + "max_added_height_fraction must be > 0");
+  Require(range_tolerance_slabs >= 0.0 && range_tolerance_slabs <= 1000.0,
+          p + "range_tolerance_slabs must be in [0, 1000]");
+  Require(box_pad_d >= 0.0 && box_pad_d <= 100.0, p + "box_pad_d must be in [0, 100]");
+  Require(min_gap_d >= 0.0 && min_gap_d <= 100.0, p + "min_gap_d must be in [0, 100]");
+  Require(spacing_samples >= 10, p + "spacing_samples must be >= 10");
+}
+
+SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundary& missing_surface,
+                                    const SymmetryConfig& config, const NeighborIndex* index_V,
+                                    const PointList* added_before_V) {
+  config.Validate();
+  CheckFinite(points_V, "the cloud");
+  CheckFinite(missing_surface.points_V, "the missing-surface boundary");
+  if (added_before_V != nullptr) CheckFinite(*added_before_V, "the points added before");
+  if (index_V != nullptr) {
+    Require(&index_V->points() == &points_V,
+            "RepairMissingSurface: the neighbour index must be built over the same cloud");
+  }
+  const double kNaN = std::numeric_limits<double>::quiet_NaN();
+  if (points_V.size() < static_cast<size_t>(3 * config.min_slab_points)) {
+    return NotSymmetric("too few points (" + std::to_string(points_V.size()) + ")", kNaN);
+  }
+  if (missing_surface.points_V.size() < 3) {
+    return NotSymmetric("missing-surface boundary has fewer than 3 points", kNaN);
+  }
+
+  std::unique_ptr<NeighborIndex> own_index;
+  if (index_V == nullptr) {
+    own_index = std::make_unique<NeighborIndex>(points_V);
+    index_V = own_index.get();
+  }
+  const double d = MeanNearestDistance(*index_V, config.spacing_samples);
+  if (!(d > 0.0)) return NotSymmetric("the points coincide (no spacing)", kNaN);
+  // The cloud and the earlier fills, used alike from here on.
+  PointList merged;
+  if (added_before_V != nullptr && !added_before_V->empty()) {
+    merged.reserve(points_V.size() + added_before_V->size());
+    merged = points_V;
+    merged.insert(merged.end(), added_before_V->begin(), added_before_V->end());
+  }
+  const PointList& all = merged.empty() ? points_V : merged;
+
+  // The boundary's height: a high quantile of its points' z (the rim is
+  // the top of the observed surface; a boundary band's median would sit
+  // half its width lower), robust to a stray point of the completion.
+  std::vector<double> boundary_z;
+  Eigen::AlignedBox3f boundary_box;
+  boundary_box.setEmpty();
+  for (const Eigen::Vector3f& p : missing_surface.points_V) {
+    boundary_z.push_back(p.z());
+    boundary_box.extend(p);
+  }
+  const size_t q90 = (boundary_z.size() - 1) * 9 / 10;
+  std::nth_element(boundary_z.begin(), boundary_z.begin() + static_cast<long>(q90),
+                   boundary_z.end());
+  const double z_b = boundary_z[q90];
+  double z_min = std::numeric_limits<double>::infinity();
+  std::vector<double> zs(all.size());
+  for (size_t i = 0; i < all.size(); ++i) {
+    zs[i] = all[i].z();
+    z_min = std::min(z_min, zs[i]);
+  }
+  std::nth_element(zs.begin(), zs.begin() + static_cast<long>(zs.size() / 2), zs.end());
+  const double z_median = zs[zs.size() / 2];
+
+  // Cross-section profile between the bottom and the boundary.
+  const double h = std::max(config.slab_thickness_d * d, config.min_slab_thickness_m);
+  const int slabs = static_cast<int>(std::floor((z_b - z_min) / h));
+  if (slabs < 3) {
+    return NotSymmetric("the boundary is only " + Mm(z_b - z_min) +
+                            " above the lowest point: no cross-sections to compare",
+                        kNaN);
+  }
+  const SlabProfile profile(all, z_min, h, slabs);
+  const int median_slab =
+      std::clamp(static_cast<int>(std::floor((z_median - z_min) / h)), 0, slabs - 1);
+  // Sizes relative to the outline at the median height (or the nearest
+  // slab with enough points).
+  std::vector<Polygon> hulls(slabs);
+  for (int k = 0; k < slabs; ++k) hulls[k] = profile.Hull(k, config.min_slab_points);
+  int ref = -1;
+  for (int off = 0; off < slabs && ref < 0; ++off) {
+    if (median_slab + off < slabs && hulls[median_slab + off].size() >= 3) ref = median_slab + off;
+    else if (median_slab - off >= 0 && hulls[median_slab - off].size() >= 3) ref = median_slab - off;
+  }
+  if (ref < 0) return NotSymmetric("no cross-section has enough points", kNaN);
+  const Support reference = SupportFunction(hulls[ref], AreaCentroid(hulls[ref]));
+  std::vector<double> size(slabs, 0.0);
+  int first_valid = -1, last_valid = -1;
+  for (int k = 0; k < slabs; ++k) {
+    size[k] = SectionSize(hulls[k], reference);
+    if (size[k] > 0.0) {
+      if (first_valid < 0) first_valid = k;
+      last_valid = k;
+    }
+  }
+
+  double z_s = 0.0;
+  std::string how;
+  if (config.plateau_search) {
+    const double s_max = *std::max_element(size.begin(), size.end());
+    const double s_min = (1.0 - config.plateau_tolerance) * s_max;
+    // Runs of near-largest slabs; the one nearest the median slab wins.
+    int best_first = -1, best_last = -1, best_dist = std::numeric_limits<int>::max();
+    for (int k = 0; k < slabs;) {
+      if (size[k] < s_min) {
+        ++k;
+        continue;
+      }
+      int e = k;
+      while (e + 1 < slabs && size[e + 1] >= s_min) ++e;
+      const int dist = median_slab < k ? k - median_slab : (median_slab > e ? median_slab - e : 0);
+      if (dist < best_dist) best_first = k, best_last = e, best_dist = dist;
+      k = e + 1;
+    }
+    if (best_first == first_valid && best_last == last_valid) {
+      // Constant section over the whole observed height (prism-like): the
+      // middle of the observed height, i.e. the mirror closes the object at
+      // the boundary.
+      z_s = 0.5 * (z_min + z_b);
+      how = "constant cross-section from bottom to boundary: plane at mid-height";
+    } else {
+      // The run's middle, refined to the plane about which the size profile
+      // is most symmetric: the run's ends are where the profile is flat, so
+      // a 1% dent moves them by ~1 mm on an ellipsoid, while the steep
+      // flanks of the profile pin the plane down.
+      z_s = RefinePlane(size, z_min, h, z_min + 0.5 * (best_first + best_last + 1) * h,
+                        0.5 * (best_last - best_first + 1) * h);
+      how = "largest cross-section from " + Mm(z_min + best_first * h) + " to " +
+            Mm(z_min + (best_last + 1) * h) + ", profile symmetric about " + Mm(z_s);
+    }
+  } else {
+    // The paper: from the median slab to the nearest local maximum.
+    int k = median_slab;
+    for (;;) {
+      const double left = k > 0 ? size[k - 1] : -1.0;
+      const double right = k + 1 < slabs ? size[k + 1] : -1.0;
+      if (std::max(left, right) <= size[k]) break;
+      k = right >= left ? k + 1 : k - 1;
+    }
+    z_s = profile.Centre(k);
+    how = "largest cross-section uphill from the median";
+  }
+
+  SymmetryResult result;
+  result.symmetry_plane_z = z_s;
+  if (config.check_symmetry) {
+    const double above = z_b - z_s, below = z_s - z_min;
+    if (above > below + config.range_tolerance_slabs * h) {
+      return NotSymmetric("the largest cross-section (z = " + Mm(z_s) + ") lies " + Mm(above) +
+                              " below the missing surface but only " + Mm(below) +
+                              " above the bottom: the mirrored top would not match the object "
+                              "(no horizontal symmetry plane)",
+                          z_s);
+    }
+    const double added_height = (2.0 * z_s - z_min) - z_b;
+    if (added_height > config.max_added_height_fraction * (z_b - z_min)) {
+      return NotSymmetric("a symmetry plane at z = " + Mm(z_s) + " would add " +
+                              Mm(added_height) + " above the boundary, more than " +
+                              std::to_string(static_cast<int>(
+                                  std::lround(100.0 * config.max_added_height_fraction))) +
+                              "% of the observed height " + Mm(z_b - z_min),
+                          z_s);
+    }
+    // Outlines above the plane against their mirror images below; the
+    // mirror slab may shift by one slab (the plane is known to about that).
+    double worst = 0.0, worst_z = z_s;
+    const double top = z_b - 0.5 * h;  // the highest full slab
+    for (int i = 0; i < config.outline_checks && top - z_s > h; ++i) {
+      const double z_up = z_s + h + (top - z_s - h) * (i + 0.5) / config.outline_checks;
+      const Polygon up = profile.HullAt(z_up, config.min_slab_points);
+      if (up.empty()) continue;
+      double best = std::numeric_limits<double>::infinity();
+      for (int shift = -1; shift <= 1; ++shift) {
+        const double z_dn = 2.0 * z_s - z_up + shift * h;
+        if (z_dn - 0.5 * h < z_min) continue;
+        const Polygon dn = profile.HullAt(z_dn, config.min_slab_points);
+        if (!dn.empty()) best = std::min(best, OutlineMismatch(up, dn));
+      }
+      if (std::isfinite(best) && best > worst) worst = best, worst_z = z_up;
+    }
+    result.outline_mismatch = worst;
+    if (worst > config.max_outline_mismatch) {
+      char buf[32];
+      std::snprintf(buf, sizeof(buf), "%.0f%%", 100.0 * worst);
+      SymmetryResult r = NotSymmetric("the outline at z = " + Mm(worst_z) +
+                                          " differs from its mirror image at z = " +
+                                          Mm(2.0 * z_s - worst_z) + " by " + buf +
+                                          " (plane at z = " + Mm(z_s) + ")",
+                                      z_s);
+      r.outline_mismatch = worst;
+      return r;
+    }
+  }
+
+  // The missing surface's box and the mirrored points that land in it.
+  const float pad = static_cast<float>(config.box_pad_d * d);
+  const Eigen::Vector3f box_min(boundary_box.min().x() - pad, boundary_box.min().y() - pad,
+                                boundary_box.min().z() - pad);
+  const Eigen::Vector3f box_max(boundary_box.max().x() + pad, boundary_box.max().y() + pad,
+                                static_cast<float>(2.0 * z_s - z_min) + pad);
+  result.box_min_V = box_min;
+  result.box_max_V = box_max;
+  const Eigen::AlignedBox3f box(box_min, box_max);
+  const double gap = config.min_gap_d * d;
+  const Eigen::Vector3f g = Eigen::Vector3f::Constant(static_cast<float>(gap));
+  // The original points a mirrored one could overlap, on an xy grid of
+  // cell `gap` over the box (a few cell lookups instead of a KD query).
+  const GapGrid near(all, Eigen::AlignedBox3f(box_min - g, box_max + g), gap);
+  for (const Eigen::Vector3f& p : all) {
+    const Eigen::Vector3f q(p.x(), p.y(), static_cast<float>(2.0 * z_s - p.z()));
+    if (box.contains(q) && !near.AnyWithin(q)) result.added_V.push_back(q);
+  }
+  result.symmetric = true;
+  result.reason = how;
+  return result;
+}
+
+}  // namespace graspfill::repair

@@ -1,0 +1,76 @@
+// The hole repair, chained: outliers, boundary points, boundary lines, the
+// virtual frame V, classification into the missing surface and the claw
+// holes, boundary completion, then the fills (claw holes from a local
+// Poisson surface, the missing top by symmetry). Cui, Zhang & Wang, Sensors
+// 2021, section 2; `kPaper` is the method as written (the tangent-plane
+// eigenvector slip corrected), `kBest` is graspfill's default.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "graspfill/repair/boundary_classification.hpp"
+#include "graspfill/repair/boundary_completion.hpp"
+#include "graspfill/repair/boundary_detection.hpp"
+#include "graspfill/repair/boundary_linking.hpp"
+#include "graspfill/repair/claw_hole_repair.hpp"
+#include "graspfill/repair/outlier_removal.hpp"
+#include "graspfill/repair/symmetry_repair.hpp"
+#include "graspfill/repair/virtual_frame.hpp"
+#include "graspfill/types.hpp"
+
+namespace graspfill::repair {
+
+enum class RepairMode {
+  kPaper,  ///< section 2 as written
+  kBest,   ///< graspfill's default (see repairer.cpp for what differs)
+};
+
+struct RepairConfig {
+  RepairMode mode{RepairMode::kBest};
+  OutlierConfig outliers;
+  BoundaryConfig boundary;
+  LinkConfig link;
+  VirtualFrameConfig frame;
+  ClassifyConfig classify;
+  CompletionConfig completion;
+  ClawRepairConfig claw;
+  SymmetryConfig symmetry;
+  /// Optional hint of the object's "up" (towards the missing top) in the
+  /// input frame; never required.
+  std::optional<Eigen::Vector3d> up_hint;
+
+  /// Throws std::invalid_argument naming the bad field.
+  void Validate() const;
+};
+
+struct RepairReport {
+  /// "repaired", "no holes found" (the cloud comes back unchanged), or why
+  /// nothing could be repaired ("too few points", "no virtual frame: ...").
+  std::string status;
+  bool symmetric{false};        ///< a symmetry plane was found and used
+  std::string symmetry_reason;  ///< why not, when !symmetric
+  int outliers_ignored{0};      ///< kept in the output, not used to repair
+  int boundary_points{0};
+  int boundary_lines{0};
+  VirtualFrame frame;           ///< valid when status == "repaired"
+  std::vector<HoleSummary> holes;  ///< boxes in the input frame
+  std::vector<StageTiming> timings;
+};
+
+struct RepairResult {
+  /// Every input point unchanged (same order, provenance as given), then
+  /// the added points with their provenance (surface / symmetry).
+  ObjectCloud cloud;
+  RepairReport report;
+};
+
+/// Repairs an unorganized cloud (meters, any pose, normals optional: used
+/// when given). Throws std::invalid_argument on non-finite coordinates or a
+/// bad config; a cloud too small or without holes comes back unchanged
+/// with the reason in report.status.
+RepairResult Repair(const ObjectCloud& input, const RepairConfig& config = {});
+
+}  // namespace graspfill::repair

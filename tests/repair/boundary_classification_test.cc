@@ -1,0 +1,225 @@
+#include "graspfill/repair/boundary_classification.hpp"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+
+#include "boundary_fixtures.hpp"
+#include "graspfill/repair/virtual_frame.hpp"
+#include "graspfill/synth/paper_protocol.hpp"
+#include "graspfill/synth/shapes.hpp"
+
+namespace graspfill::repair {
+namespace {
+
+using synth::GraspWay;
+using synth::PaperProtocolConfig;
+using synth::Shape;
+
+// A claw boundary's centroid lies within this of its hole's centre marker
+// (the marker sits on the bounding box at mid-hole; the U-shaped boundary
+// of a top-grasp hole is centred a few mm lower and inside the box).
+constexpr double kClawCentreTolM = 0.02;
+
+struct Fixture {
+  synth::PaperProtocolCloud cloud;
+  testing::ProtocolHoles holes;
+  PointList points_O;               // the cloud in the object frame
+  std::vector<BoundaryLine> lines;  // indices into points_O
+  std::vector<Eigen::Vector3d> hole_centres_O;
+};
+
+Fixture Make(Shape shape, GraspWay grasp, bool random_pose = false, uint64_t seed = 1) {
+  PaperProtocolConfig config;
+  config.shape = shape;
+  config.grasp = grasp;
+  config.random_pose = random_pose;
+  config.seed = seed;
+  Fixture f;
+  f.cloud = synth::MakePaperProtocolCloud(config);
+  f.holes = testing::HolesOf(config, f.cloud.size_m);
+  f.points_O = testing::Transformed(f.cloud.holey, f.cloud.T_cloud_object.inverse());
+  f.lines =
+      testing::OrderedLines(f.points_O, testing::OracleBoundary(f.points_O, f.holes), f.holes);
+  for (const Eigen::Vector3d& c : f.cloud.claw_hole_centres) {
+    f.hole_centres_O.push_back(f.cloud.T_cloud_object.inverse() * c);
+  }
+  return f;
+}
+
+Eigen::Vector3d Centroid(const HoleBoundary& b) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3f& p : b.points_V) c += p.cast<double>();
+  return c / static_cast<double>(b.points_V.size());
+}
+
+// One missing surface first, then one claw boundary per hole, each near a
+// different hole centre (centres given in V), with its sides' z span.
+void ExpectOnePerHole(const std::vector<HoleBoundary>& out,
+                      const std::vector<Eigen::Vector3d>& centres_V, double top_z,
+                      const std::string& what) {
+  ASSERT_EQ(out.size(), 1 + centres_V.size()) << what;
+  EXPECT_EQ(out[0].kind, HoleKind::kMissingSurface) << what;
+  for (const Eigen::Vector3f& p : out[0].points_V) {
+    EXPECT_GT(p.z(), top_z - 0.004) << what << ": missing-surface point below the rim";
+    if (::testing::Test::HasFailure()) return;
+  }
+  std::vector<bool> used(centres_V.size(), false);
+  for (size_t k = 1; k < out.size(); ++k) {
+    EXPECT_EQ(out[k].kind, HoleKind::kClaw) << what;
+    const Eigen::Vector3d c = Centroid(out[k]);
+    size_t nearest = 0;
+    for (size_t h = 1; h < centres_V.size(); ++h) {
+      if ((centres_V[h] - c).norm() < (centres_V[nearest] - c).norm()) nearest = h;
+    }
+    EXPECT_LT((centres_V[nearest] - c).norm(), kClawCentreTolM) << what << ": claw " << k;
+    EXPECT_FALSE(used[nearest]) << what << ": two claw boundaries at hole " << nearest;
+    used[nearest] = true;
+    EXPECT_EQ(out[k].source_indices.size(), out[k].points_V.size());
+  }
+}
+
+TEST(ClassifyConfig, DefaultsAreValidAndBadValuesThrow) {
+  ClassifyConfig config;
+  EXPECT_NO_THROW(config.Validate());
+  EXPECT_EQ(config.min_segment_points, 6);  // "more than 5 points"
+  config.monotone_tolerance_m = -1;
+  EXPECT_THROW(config.Validate(), std::invalid_argument);
+  config = ClassifyConfig();
+  config.min_line_points = 1;
+  EXPECT_THROW(config.Validate(), std::invalid_argument);
+}
+
+// The case: a cylinder with three top claw holes and a missing top.
+TEST(ClassifyBoundaries, CylinderTopGraspOneMissingSurfaceThreeClaws) {
+  const Fixture f = Make(Shape::kCylinder, GraspWay::kTopStraight);
+  ASSERT_EQ(f.lines.size(), 1u);
+  const auto out = ClassifyBoundaries(f.points_O, f.lines, ClassifyConfig());
+  ExpectOnePerHole(out, f.hole_centres_O, f.holes.top_z, "cylinder");
+  // Every boundary point is used once, and each claw's points lie in or at
+  // its hole: down one side, along the bottom, up the other.
+  size_t total = 0;
+  for (const HoleBoundary& b : out) total += b.points_V.size();
+  EXPECT_EQ(total, f.lines[0].indices.size());
+  for (size_t k = 1; k < out.size(); ++k) {
+    float z_lo = 1, z_hi = -1;
+    for (const Eigen::Vector3f& p : out[k].points_V)
+      z_lo = std::min(z_lo, p.z()), z_hi = std::max(z_hi, p.z());
+    EXPECT_GT(z_hi - z_lo, 0.035) << "claw " << k;  // the holes are 41 mm deep below the cut
+    EXPECT_FALSE(out[k].closed);
+  }
+  EXPECT_FALSE(out[0].closed);
+}
+
+// A linker zig-zagging across the two-point-wide band.
+TEST(ClassifyBoundaries, ToleratesAZigZaggingOrder) {
+  Fixture f = Make(Shape::kCylinder, GraspWay::kTopStraight);
+  testing::JitterOrder(&f.lines[0].indices, 0.4, 7);
+  ExpectOnePerHole(ClassifyBoundaries(f.points_O, f.lines, ClassifyConfig()), f.hole_centres_O,
+                   f.holes.top_z, "jittered");
+}
+
+// The paper's middle grasp: three closed claw holes that do not reach the
+// top, and the complete rim.
+TEST(ClassifyBoundaries, MiddleGraspThreeIsolatedClawsAndMissingSurface) {
+  const Fixture f = Make(Shape::kCylinder, GraspWay::kMiddleStraight);
+  ASSERT_EQ(f.lines.size(), 4u);
+  const auto out = ClassifyBoundaries(f.points_O, f.lines, ClassifyConfig());
+  ExpectOnePerHole(out, f.hole_centres_O, f.holes.top_z, "middle");
+  ASSERT_EQ(out.size(), 4u);
+  EXPECT_TRUE(out[0].closed);
+  for (size_t k = 1; k < out.size(); ++k) EXPECT_TRUE(out[k].closed);
+}
+
+// Top grasps of every shape (object frame = V).
+TEST(ClassifyBoundaries, EveryShapeTopGrasp) {
+  for (Shape shape : synth::AllShapes()) {
+    const Fixture f = Make(shape, GraspWay::kTopStraight);
+    ExpectOnePerHole(ClassifyBoundaries(f.points_O, f.lines, ClassifyConfig()), f.hole_centres_O,
+                     f.holes.top_z, synth::ShapeName(shape));
+  }
+}
+
+// A line broken at the bottom of a claw hole: the two open halves join.
+TEST(ClassifyBoundaries, JoinsAClawHoleSplitAcrossTwoLines) {
+  const Fixture f = Make(Shape::kCylinder, GraspWay::kTopStraight);
+  const std::vector<int>& all = f.lines[0].indices;
+  // Split at the lowest point near hole 1 (the one at 120 degrees).
+  const Eigen::Vector3d c1 = f.hole_centres_O[1];
+  size_t cut = 0;
+  double best = 1e9;
+  for (size_t k = 0; k < all.size(); ++k) {
+    const Eigen::Vector3f& p = f.points_O[static_cast<size_t>(all[k])];
+    const double d = std::hypot(p.x() - c1.x(), p.y() - c1.y()) + p.z();
+    if (d < best) best = d, cut = k;
+  }
+  std::vector<BoundaryLine> split(2);
+  split[0].indices.assign(all.begin(), all.begin() + static_cast<long>(cut));
+  split[1].indices.assign(all.begin() + static_cast<long>(cut), all.end());
+  ExpectOnePerHole(ClassifyBoundaries(f.points_O, split, ClassifyConfig()), f.hole_centres_O,
+                   f.holes.top_z, "split");
+}
+
+// Short lines and flat loops (e.g. a flagged bottom outline) are noise.
+TEST(ClassifyBoundaries, DropsNoiseLines) {
+  Fixture f = Make(Shape::kCylinder, GraspWay::kTopStraight);
+  BoundaryLine tiny;
+  tiny.indices = {0, 1, 2, 3, 4};
+  BoundaryLine flat;
+  flat.closed = true;
+  for (size_t i = 0; i < f.points_O.size() && flat.indices.size() < 200; ++i) {
+    if (f.points_O[i].z() < 0.001) flat.indices.push_back(static_cast<int>(i));
+  }
+  ASSERT_GT(flat.indices.size(), 50u);
+  f.lines.push_back(tiny);
+  f.lines.push_back(flat);
+  ExpectOnePerHole(ClassifyBoundaries(f.points_O, f.lines, ClassifyConfig()), f.hole_centres_O,
+                   f.holes.top_z, "noise");
+}
+
+// With V estimated by step 4 from the cloud in a random pose.
+TEST(ClassifyBoundaries, WithTheEstimatedVirtualFrame) {
+  for (Shape shape : {Shape::kCylinder, Shape::kCuboid, Shape::kEllipticCylinder}) {
+    for (uint64_t seed : {3, 4}) {
+      const Fixture f = Make(shape, GraspWay::kTopStraight, /*random_pose=*/true, seed);
+      std::vector<int> boundary;
+      for (const BoundaryLine& line : f.lines)
+        boundary.insert(boundary.end(), line.indices.begin(), line.indices.end());
+      const auto frame = EstimateVirtualFrame(
+          f.cloud.holey, testing::Gather(f.cloud.holey, boundary), VirtualFrameConfig());
+      ASSERT_TRUE(frame.has_value());
+      const PointList points_V = ToVirtualFrame(f.cloud.holey, *frame);
+      std::vector<Eigen::Vector3d> centres_V;
+      for (const Eigen::Vector3d& c : f.cloud.claw_hole_centres)
+        centres_V.push_back(frame->T_in_V.inverse() * c);
+      const std::string what = synth::ShapeName(shape) + " seed " + std::to_string(seed);
+      ExpectOnePerHole(ClassifyBoundaries(points_V, f.lines, ClassifyConfig()), centres_V,
+                       frame->max_V.z(), what);
+    }
+  }
+}
+
+TEST(ClassifyBoundaries, EmptyInputAndBadIndices) {
+  EXPECT_TRUE(ClassifyBoundaries({}, {}, ClassifyConfig()).empty());
+  const PointList points = {Eigen::Vector3f::Zero()};
+  BoundaryLine line;
+  line.indices = {0, 1};
+  EXPECT_THROW(ClassifyBoundaries(points, {line}, ClassifyConfig()), std::invalid_argument);
+}
+
+TEST(ClassifyBoundaries, Timing) {
+  const Fixture f = Make(Shape::kCylinder, GraspWay::kTopStraight);
+  constexpr int kRuns = 20;
+  const std::clock_t c0 = std::clock();
+  for (int i = 0; i < kRuns; ++i)
+    ASSERT_EQ(ClassifyBoundaries(f.points_O, f.lines, ClassifyConfig()).size(), 4u);
+  const double cpu_ms = 1000.0 * static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC / kRuns;
+  std::printf("ClassifyBoundaries: %.3f ms CPU (%zu boundary points)\n", cpu_ms,
+              f.lines[0].indices.size());
+}
+
+}  // namespace
+}  // namespace graspfill::repair
