@@ -63,21 +63,38 @@ double Chamfer(const std::vector<Eigen::Vector3f>& pred, const std::vector<Eigen
   return eval::Compare(pred, gt).chamfer_mm2;
 }
 
+void PrintReport(const std::string& label, const repair::RepairReport& r) {
+  std::fprintf(stderr, "%s: %s; %d boundary points, %d lines; %s%s\n", label.c_str(),
+               r.status.c_str(), r.boundary_points, r.boundary_lines,
+               r.symmetric ? "symmetric" : "not symmetric: ", r.symmetry_reason.c_str());
+  for (const HoleSummary& h : r.holes) {
+    std::fprintf(stderr, "  %-7s boundary %4d, added %5d\n",
+                 h.kind == HoleKind::kClaw ? "claw" : "missing", h.boundary_points, h.points_added);
+  }
+}
+
 }  // namespace
 
 int RunBenchRepair(const Args& args) {
   int num_points = 50000;
   uint64_t seed = 1;
-  bool json = false;
+  bool json = false, verbose = false;
+  std::string only;
   for (size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--help" || args[i] == "-h") {
-      std::printf("usage: graspfill bench repair [--points N] [--seed S] [--json]\n"
-                  "  the paper's Tables 1-3 next to graspfill's numbers on the same protocol\n");
+      std::printf("usage: graspfill bench repair [--points N] [--seed S] [--case TEXT] [--verbose] [--json]\n"
+                  "  the paper's Tables 1-3 next to graspfill's numbers on the same protocol\n"
+                  "  --case TEXT  only the rows whose label contains TEXT\n"
+                  "  --verbose    each repair's status, holes and symmetry finding\n");
       return 0;
     } else if (args[i] == "--points" && i + 1 < args.size()) {
       num_points = std::stoi(args[++i]);
     } else if (args[i] == "--seed" && i + 1 < args.size()) {
       seed = std::stoull(args[++i]);
+    } else if (args[i] == "--case" && i + 1 < args.size()) {
+      only = args[++i];
+    } else if (args[i] == "--verbose") {
+      verbose = true;
     } else if (args[i] == "--json") {
       json = true;
     } else {
@@ -88,6 +105,7 @@ int RunBenchRepair(const Args& args) {
   nlohmann::ordered_json rows = nlohmann::json::array();
   std::string table;
   for (const Row& row : PaperRows()) {
+    if (!only.empty() && row.label.find(only) == std::string::npos) continue;
     synth::PaperProtocolConfig pc;
     pc.shape = row.shape;
     pc.size_m = row.size_m;
@@ -110,6 +128,7 @@ int RunBenchRepair(const Args& args) {
       const repair::RepairResult r = repair::Repair(AsCloud(c.holey), config);
       ms[m] = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
       after[m] = Chamfer(r.cloud.points_G, c.ground_truth);
+      if (verbose) PrintReport(row.label + (m == 0 ? " [paper]" : " [best]"), r.report);
     }
     std::vector<Eigen::Vector3f> poisson_only = c.holey;
     const repair::PointList fill = repair::PoissonFillAll(c.holey, repair::PoissonFillConfig{});

@@ -9,6 +9,9 @@
 // DIR/claw.ply          the posed claw (palm + fingers) in G
 // DIR/claw/claw.json    the claw as a description for `--claw` (+ meshes)
 // DIR/scene.json        every parameter of the scene and what followed
+//
+// With --protocol paper it writes the paper's simulated test cloud instead
+// (cmd_synth_protocol.cpp); this file parses the arguments of both modes.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -20,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "cmd_synth_protocol.hpp"
 #include "commands.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
@@ -36,6 +40,8 @@ using nlohmann::json;
 
 constexpr const char* kUsage =
     "usage: graspfill synth (--shape SHAPE [--size WxDxH] | --mesh FILE) -o DIR [options]\n"
+    "       graspfill synth --protocol paper --shape SHAPE -o DIR [--size WxDxH]\n"
+    "                       [--grasp WAY] [--seed N] [--points N] [--force]\n"
     "  --shape SHAPE     cuboid, triangular-prism, cylinder, sphere,\n"
     "                    elliptic-cylinder, ellipsoid\n"
     "  --size WxDxH      bounding box in meters, e.g. 0.07x0.07x0.14\n"
@@ -51,7 +57,18 @@ constexpr const char* kUsage =
     "  --force           overwrite existing output files\n"
     "  -o, --output DIR  output folder (created if missing)\n"
     "writes DIR/recording.lcmlog, gt_mesh.ply, gt_cloud.ply, claw.ply,\n"
-    "claw/claw.json and scene.json (geometry in the gripper frame G)\n";
+    "claw/claw.json and scene.json (geometry in the gripper frame G)\n"
+    "\n"
+    "--protocol paper: the simulated protocol of Cui et al. 2021, section 3.1,\n"
+    "instead of a recording: a dense sample of the shape, the top cut off,\n"
+    "three claw-sized holes dug out of the side, a random rigid pose\n"
+    "  --grasp WAY       where the claw holes are (default top-straight)\n"
+    "  --seed N          sample and pose seed (default 1)\n"
+    "  --points N        points sampled on the whole surface, 1000..5000000\n"
+    "                    (default 50000); the ground truth has as many\n"
+    "writes DIR/holey.ply (the input to `graspfill repair`), gt_cloud.ply\n"
+    "(ground truth, same pose) and protocol.json (pose, claw hole centres);\n"
+    "--mesh, --claw, --frames, --ideal and --wall-m apply to recordings only\n";
 
 // A usage error: printed with the usage text, exit code 2.
 struct UsageError : std::runtime_error {
@@ -59,6 +76,7 @@ struct UsageError : std::runtime_error {
 };
 
 struct SynthOptions {
+  std::optional<std::string> protocol;
   std::optional<std::string> shape;
   std::optional<std::string> size;
   std::optional<std::string> mesh_path;
@@ -71,6 +89,10 @@ struct SynthOptions {
   bool force{false};
   std::string output_dir;
   bool help{false};
+  std::optional<int> points;  ///< --protocol only
+  /// Options given that only a recording uses, to refuse them in protocol
+  /// mode rather than silently ignore them.
+  std::vector<std::string> recording_only_given;
 };
 
 Eigen::Vector3d ParseSize(const std::string& text) {
@@ -122,7 +144,11 @@ SynthOptions Parse(const Args& args) {
       if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
       return args[++i];
     };
+    const bool recording_only = a == "--mesh" || a == "--claw" || a == "--frames" ||
+                                a == "--ideal" || a == "--wall-m";
+    if (recording_only) o.recording_only_given.push_back(a);
     if (a == "-h" || a == "--help") o.help = true;
+    else if (a == "--protocol") o.protocol = value();
     else if (a == "--shape") o.shape = value();
     else if (a == "--size") o.size = value();
     else if (a == "--mesh") o.mesh_path = value();
@@ -147,11 +173,33 @@ SynthOptions Parse(const Args& args) {
         throw UsageError("--wall-m '" + v + "': expected a distance >= 0 in meters");
       }
     }
+    else if (a == "--points") {
+      const std::string v = value();
+      const uint64_t points = ParseInteger<uint64_t>(a, v);
+      if (points < static_cast<uint64_t>(kMinProtocolPoints) ||
+          points > static_cast<uint64_t>(kMaxProtocolPoints)) {
+        throw UsageError("--points '" + v + "': expected " + std::to_string(kMinProtocolPoints) +
+                         ".." + std::to_string(kMaxProtocolPoints));
+      }
+      o.points = static_cast<int>(points);
+    }
     else if (a == "--force") o.force = true;
     else if (a == "-o" || a == "--output") o.output_dir = value();
     else throw UsageError("unknown argument '" + a + "'");
   }
   if (o.help) return o;
+  if (o.protocol) {
+    if (*o.protocol != "paper") {
+      throw UsageError("unknown --protocol '" + *o.protocol + "' (the only one is 'paper')");
+    }
+    if (!o.recording_only_given.empty()) {
+      throw UsageError(o.recording_only_given.front() +
+                       " applies to recordings only, not to --protocol paper");
+    }
+    if (!o.shape) throw UsageError("--protocol paper needs --shape");
+  } else if (o.points) {
+    throw UsageError("--points applies to --protocol paper only");
+  }
   if (o.shape.has_value() == o.mesh_path.has_value()) {
     throw UsageError("give exactly one of --shape and --mesh");
   }
@@ -419,10 +467,24 @@ int Run(const SynthOptions& o) {
   return 0;
 }
 
+// The checked options of protocol mode, converted for cmd_synth_protocol.cpp.
+SynthProtocolOptions ProtocolOptions(const SynthOptions& o) {
+  SynthProtocolOptions p;
+  p.shape = *synth::ParseShape(*o.shape);
+  if (o.size) p.size_m = ParseSize(*o.size);
+  p.grasp = *synth::ParseGraspWay(o.grasp);
+  p.seed = o.seed;
+  if (o.points) p.points = *o.points;
+  p.force = o.force;
+  p.output_dir = o.output_dir;
+  return p;
+}
+
 }  // namespace
 
 int RunSynth(const Args& args) {
   SynthOptions options;
+  std::optional<SynthProtocolOptions> protocol_options;
   try {
     options = Parse(args);
     if (options.help) {
@@ -439,12 +501,13 @@ int RunSynth(const Args& args) {
       throw UsageError("unknown grasp '" + options.grasp + "'");
     }
     if (options.size) ParseSize(*options.size);
+    if (options.protocol) protocol_options = ProtocolOptions(options);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "graspfill synth: %s\n%s", e.what(), kUsage);
     return 2;
   }
   try {
-    return Run(options);
+    return protocol_options ? RunSynthProtocol(*protocol_options) : Run(options);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "graspfill synth: error: %s\n", e.what());
     return 1;

@@ -41,19 +41,29 @@ struct ClawPatch {
   }
 };
 
+bool HasFlatTop(Shape shape) { return shape != Shape::kSphere && shape != Shape::kEllipsoid; }
+
 }  // namespace
+
+double TopCutZ(const PaperProtocolConfig& config, double height_m) {
+  // 10 um below a flat top: the face's samples go, the walls' stay.
+  return HasFlatTop(config.shape) ? height_m - 1e-5
+                                  : height_m * (1.0 - config.round_top_cut_fraction);
+}
 
 PaperProtocolCloud MakePaperProtocolCloud(const PaperProtocolConfig& config) {
   Eigen::Vector3d size = config.size_m;
   if (size.isZero()) size = DefaultSize(config.shape);
-  if (!(size.array() > 0).all() || config.num_points <= 0 || config.num_claw_holes < 0) {
-    throw std::invalid_argument("paper protocol: size and point count must be positive");
+  if (!(size.array() > 0).all() || config.num_points <= 0 || config.num_claw_holes < 0 ||
+      !(config.round_top_cut_fraction >= 0.0 && config.round_top_cut_fraction < 1.0)) {
+    throw std::invalid_argument(
+        "paper protocol: size and point count must be positive, the cut fraction in [0, 1)");
   }
   const TriangleMesh mesh = MakeShape(config.shape, size);
   const SurfaceSamples sample = SampleSurface(mesh, config.num_points, DeriveSeed(config.seed, 1));
   const SurfaceSamples truth = SampleSurface(mesh, config.num_points, DeriveSeed(config.seed, 2));
   const double height = size.z();
-  const double top_z = height * (1.0 - config.top_cut_fraction);
+  const double top_z = TopCutZ(config, height);
 
   // Fingers come down from the top (top grasps: the holes reach the cut)
   // or hold the middle; evenly spread around the axis, the first on +x.

@@ -56,7 +56,7 @@ double RectDistance(double t, double z, double hw, double z0, double z1) {
 // nearest rim: the cut top or one of the claw holes (top grasp, no tilt).
 double CylinderRimDistance(const Eigen::Vector3f& p, const synth::PaperProtocolConfig& c,
                            double height) {
-  const double top_z = height * (1.0 - c.top_cut_fraction);
+  const double top_z = synth::TopCutZ(c, height);
   double d = std::abs(top_z - p.z());
   const double z_centre = top_z - 0.5 * c.claw_hole_height_m + 0.004;
   for (int i = 0; i < c.num_claw_holes; ++i) {

@@ -30,7 +30,7 @@ struct ProtocolHoles {
 inline ProtocolHoles HolesOf(const synth::PaperProtocolConfig& config,
                              const Eigen::Vector3d& size) {
   ProtocolHoles h;
-  h.top_z = size.z() * (1.0 - config.top_cut_fraction);
+  h.top_z = synth::TopCutZ(config, size.z());
   h.top_grasp = config.grasp != synth::GraspWay::kMiddleStraight;
   h.z_centre = h.top_grasp ? h.top_z - 0.5 * config.claw_hole_height_m + 0.004 : 0.5 * size.z();
   h.tilt = config.grasp == synth::GraspWay::kTopOblique ? config.oblique_tilt_rad : 0.0;

@@ -97,7 +97,7 @@ double RectDistance(double t, double z, double hw, double z0, double z1) {
 // cut top's rim (-1: to the claw holes') and, in *hole, the nearest hole.
 double CylinderRimDistance(const Eigen::Vector3f& p, const synth::PaperProtocolConfig& c,
                            double height, int* hole) {
-  const double top_z = height * (1.0 - c.top_cut_fraction);
+  const double top_z = synth::TopCutZ(c, height);
   double d = std::abs(top_z - p.z());
   *hole = -1;
   const double z_centre = top_z - 0.5 * c.claw_hole_height_m + 0.004;
@@ -278,7 +278,7 @@ TEST(LinkBoundaryPoints, PaperCylinderLinesFollowTheRims) {
   // Every linked point lies on a rim; the top rim is covered all round
   // (apart from where the claw holes cut into it) and each claw hole's rim
   // is visited (its bottom edge, the farthest from the top).
-  const double top_z = height * (1.0 - config.top_cut_fraction);
+  const double top_z = synth::TopCutZ(config, height);
   std::vector<int> top_sectors(36, 0);
   std::vector<int> hole_bottom_hits(3, 0);
   size_t total = 0;
@@ -320,7 +320,7 @@ TEST(LinkBoundaryPoints, EveryPaperShapeGivesOneClosedLine) {
     const std::vector<BoundaryLine> lines = DetectAndLink(cloud.holey);
     ASSERT_EQ(lines.size(), 1u) << synth::ShapeName(shape);
     EXPECT_TRUE(lines[0].closed);
-    const double top_z = cloud.size_m.z() * (1.0 - config.top_cut_fraction);
+    const double top_z = synth::TopCutZ(config, cloud.size_m.z());
     const double hole_bottom_z = top_z - config.claw_hole_height_m + 0.004;
     const Eigen::Isometry3f T_object_cloud = cloud.T_cloud_object.inverse().cast<float>();
     float z_min = 1e9f, z_max = -1e9f;

@@ -93,7 +93,7 @@ Scene MakeScene(Shape shape, GraspWay grasp, int num_points = 50000,
   s.config.num_points = num_points;
   s.cloud = synth::MakePaperProtocolCloud(s.config);
   const double height = s.cloud.size_m.z();
-  s.top_z = height * (1.0 - s.config.top_cut_fraction);
+  s.top_z = synth::TopCutZ(s.config, height);
   const bool top = grasp != GraspWay::kMiddleStraight;
   const double zc = top ? s.top_z - 0.5 * s.config.claw_hole_height_m + 0.004 : 0.5 * height;
   const double tilt = grasp == GraspWay::kTopOblique ? s.config.oblique_tilt_rad : 0.0;
@@ -259,7 +259,7 @@ TEST(ClawHoleRepair, CylinderMiddleGraspHolesFilledOnTheSurface) {
   const double density = s.cloud.holey.size() /
                          (synth::SurfaceArea(synth::MakeShape(Shape::kCylinder, s.cloud.size_m)) -
                           3 * 0.025 * 0.045 - M_PI * 0.035 * 0.035 -
-                          2 * M_PI * 0.035 * 0.14 * s.config.top_cut_fraction);
+                          2 * M_PI * 0.035 * (0.14 - s.top_z));
   const double expected = density * 3 * 0.025 * 0.045;
   EXPECT_GT(added.size(), 0.7 * expected);
   EXPECT_LT(added.size(), 1.2 * expected);
@@ -373,7 +373,9 @@ TEST(ClawHoleRepair, PaperSettingsFillTheHolesCoarsely) {
   // One Poisson surface of all the side points, depth 6, scale 4.0: cells
   // of ~9 mm on this 14 cm object, so the fill is smooth but a few mm off
   // the faces (rounded towards the edges): it covers the holes within
-  // 5 mm, not within 3 D like the local surface.
+  // 5 mm, not within 3 D like the local surface. With the top face cut off
+  // (the protocol's cut) the surface is open there and sags most near the
+  // top: ~85% of the holes' interior within 5 mm, p95 ~5 mm.
   const Scene s = MakeScene(Shape::kCuboid, GraspWay::kMiddleStraight);
   const NeighborIndex index(s.cloud.holey);
   const auto t0 = std::chrono::steady_clock::now();
@@ -382,8 +384,8 @@ TEST(ClawHoleRepair, PaperSettingsFillTheHolesCoarsely) {
   const double ms = Ms(t0);
   const FillStats st = Evaluate(s, added, 0.005);
   Print("cuboid middle (paper, cover@5mm)", s, added, st, ms);
-  EXPECT_GE(st.interior_cover, kCoverFraction);
-  EXPECT_LT(st.p95_mm, 5.0);
+  EXPECT_GE(st.interior_cover, 0.8);
+  EXPECT_LT(st.p95_mm, 5.5);
 }
 
 TEST(ClawHoleRepair, PoissonOnlyBaselineFillsEveryHole) {
@@ -401,7 +403,9 @@ TEST(ClawHoleRepair, PoissonOnlyBaselineFillsEveryHole) {
               added.size(), ms, before.chamfer_mm2, after.chamfer_mm2, before.p95_gt_to_pred_mm,
               after.p95_gt_to_pred_mm);
   ASSERT_FALSE(added.empty());
-  EXPECT_LT(after.chamfer_mm2, 0.5 * before.chamfer_mm2);
+  // One smooth surface closes the flat top as a dome, so the whole-cloud
+  // chamfer drops by only ~40% (26.2 -> 16.0 mm^2 when written).
+  EXPECT_LT(after.chamfer_mm2, 0.75 * before.chamfer_mm2);
   EXPECT_LT(after.p95_gt_to_pred_mm, before.p95_gt_to_pred_mm);
   // Nothing where the cloud already is.
   const std::vector<double> to_cloud = eval::NearestDistances(added, s.cloud.holey);

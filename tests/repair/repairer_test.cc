@@ -44,15 +44,19 @@ TEST(Repairer, KeepsEveryInputPointAndLabelsTheAddedOnes) {
   EXPECT_FALSE(r.report.timings.empty());
 }
 
-// Fails today: random-sample density gaps on a closed sphere still link into
-// boundary lines that the chain treats as holes (issue 3, open). Enable once
-// the boundary steps reject them.
-TEST(Repairer, DISABLED_ClosedSurfaceComesBackUnchanged) {
-  const TriangleMesh sphere = synth::MakeShape(synth::Shape::kSphere, synth::DefaultSize(synth::Shape::kSphere));
-  const synth::SurfaceSamples s = synth::SampleSurface(sphere, 20000, 3);
-  const RepairResult r = Repair(Cloud(s.points));
-  EXPECT_EQ(r.cloud.size(), s.points.size());
-  EXPECT_NE(r.report.status, "repaired") << r.report.status;
+// A closed surface has no holes: random-sample density gaps and sharp
+// edges must not be taken for hole boundaries.
+TEST(Repairer, ClosedSurfaceComesBackUnchanged) {
+  for (const synth::Shape shape : {synth::Shape::kSphere, synth::Shape::kCuboid, synth::Shape::kCylinder}) {
+    for (const int points : {20000, 50000}) {
+      const TriangleMesh mesh = synth::MakeShape(shape, synth::DefaultSize(shape));
+      const synth::SurfaceSamples s = synth::SampleSurface(mesh, points, 3);
+      const RepairResult r = Repair(Cloud(s.points));
+      SCOPED_TRACE(synth::ShapeName(shape) + ", " + std::to_string(points) + " points");
+      EXPECT_EQ(r.cloud.size(), s.points.size());
+      EXPECT_EQ(r.report.status, "no holes found");
+    }
+  }
 }
 
 TEST(Repairer, TinyCloudIsANoOpWithAReason) {

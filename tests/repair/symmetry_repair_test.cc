@@ -84,17 +84,22 @@ struct Case {
   HoleBoundary top;  // of the cloud before any fill
 };
 
-Case ProtocolCase(Shape shape, double top_cut_fraction, int num_claw_holes) {
+// The protocol's cloud with the top band above (1 - band_fraction) H cut
+// off (0: the protocol's own cut, the top face of a flat-topped shape).
+Case ProtocolCase(Shape shape, double band_fraction, int num_claw_holes) {
   PaperProtocolConfig config;
   config.shape = shape;
   config.random_pose = false;
-  config.top_cut_fraction = top_cut_fraction;
+  if (band_fraction > 0.0) config.round_top_cut_fraction = band_fraction;
   config.num_claw_holes = num_claw_holes;
   const synth::PaperProtocolCloud pc = synth::MakePaperProtocolCloud(config);
   Case c;
-  c.cloud = pc.holey;
   c.height = pc.size_m.z();
-  c.top_z = c.height * (1.0 - top_cut_fraction);
+  const double face_cut_z = synth::TopCutZ(config, c.height);
+  c.top_z = std::min(face_cut_z, c.height * (1.0 - band_fraction));
+  for (const Eigen::Vector3f& p : pc.holey) {
+    if (p.z() <= c.top_z) c.cloud.push_back(p);
+  }
   c.dense_truth = synth::SampleSurface(synth::MakeShape(shape, pc.size_m), 300000, 99).points;
   c.d = MeanNn(c.cloud);
   // The completed missing-surface boundary (step 6 closes it across the
@@ -106,7 +111,7 @@ Case ProtocolCase(Shape shape, double top_cut_fraction, int num_claw_holes) {
   }
   // The claw holes' rims (top-straight grasp, as paper_protocol.cpp digs
   // them): the cloud points within 1.5 mm outside each finger patch.
-  const double zc = c.top_z - 0.5 * config.claw_hole_height_m + 0.004;
+  const double zc = face_cut_z - 0.5 * config.claw_hole_height_m + 0.004;
   for (int i = 0; i < num_claw_holes; ++i) {
     const double a = 2.0 * M_PI * i / num_claw_holes;
     const Eigen::Vector2d dir(std::cos(a), std::sin(a));
@@ -237,15 +242,15 @@ TEST(SymmetryRepair, BadInputThrowsAndDegenerateInputAddsNothing) {
   EXPECT_THROW(RepairMissingSurface(flat, ring, config, &index), std::invalid_argument);
 }
 
-// Only the top cap cut off (0.5 mm of the height): the mirror image of the
+// Only the top face cut off (the protocol's cut): the mirror image of the
 // bottom is the true top, so every mirrored point lies on the surface.
-TEST(SymmetryRepair, CylinderAndCuboidWithTheirCapCutAreClosedExactly) {
+TEST(SymmetryRepair, CylinderAndCuboidWithTheirTopFaceCutAreClosedExactly) {
   for (Shape shape : {Shape::kCylinder, Shape::kCuboid}) {
-    const Case c = ProtocolCase(shape, 0.0036, 3);
+    const Case c = ProtocolCase(shape, 0.0, 3);
     double ms = 0.0;
     const SymmetryResult r = RunRepair(c, SymmetryConfig{}, &ms);
     const MirrorStats st = Evaluate(c, r.added_V);
-    Print((synth::ShapeName(shape) + ", cap cut").c_str(), c, r, st, ms);
+    Print((synth::ShapeName(shape) + ", top face cut").c_str(), c, r, st, ms);
     SCOPED_TRACE(synth::ShapeName(shape));
     ASSERT_TRUE(r.symmetric) << r.reason;
     EXPECT_NEAR(r.symmetry_plane_z, 0.5 * c.height, 1e-3);

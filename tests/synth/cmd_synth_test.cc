@@ -1,11 +1,17 @@
 // `graspfill synth` end to end: arguments, the files it writes, and the
-// recording read back with LCM's own log reader and graspfill's decoders.
+// recording read back with LCM's own log reader and graspfill's decoders;
+// and `--protocol paper`, its clouds checked against the exact shape.
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
 #include <unistd.h>
 
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -168,6 +174,177 @@ TEST_F(SynthCliTest, SynthesizesFromAMeshFile) {
   for (Eigen::Vector3f& v : mm.vertices) v *= 1000.0f;
   io::WriteMeshPly(mm_path, mm);
   EXPECT_EQ(RunSynth({"--mesh", mm_path, "-o", (dir_ / "mm").string()}), 1);
+}
+
+// ---- --protocol paper ----
+
+std::string FileBytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+nlohmann::json ReadJson(const fs::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+Eigen::Isometry3d PoseFromRows(const nlohmann::json& rows) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 4; ++c) T.matrix()(r, c) = rows.at(r).at(c).get<double>();
+  }
+  return T;
+}
+
+// Signed distance to the cuboid of size W x D x H in the object frame
+// (x, y centred, base at z = 0): zero on its surface.
+double CuboidSignedDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& size) {
+  const Eigen::Vector3d centre(0, 0, 0.5 * size.z());
+  const Eigen::Vector3d q = (p - centre).cwiseAbs() - 0.5 * size;
+  return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+}
+
+TEST_F(SynthCliTest, ProtocolUsageErrorsExitTwo) {
+  const std::string out = dir_.string();
+  const Args paper = {"--protocol", "paper", "--shape", "cuboid", "-o", out};
+  auto with = [&](std::initializer_list<std::string> extra) {
+    Args args = paper;
+    args.insert(args.end(), extra);
+    return args;
+  };
+  EXPECT_EQ(RunSynth({"--protocol", "foo", "--shape", "cuboid", "-o", out}), 2);
+  EXPECT_EQ(RunSynth({"--shape", "cuboid", "-o", out, "--protocol"}), 2);  // no value
+  // Options of recordings are refused, not silently ignored.
+  EXPECT_EQ(RunSynth(with({"--claw", "parallel"})), 2);
+  EXPECT_EQ(RunSynth(with({"--frames", "4"})), 2);
+  EXPECT_EQ(RunSynth(with({"--ideal"})), 2);
+  EXPECT_EQ(RunSynth(with({"--wall-m", "0"})), 2);
+  EXPECT_EQ(RunSynth({"--protocol", "paper", "--mesh", "a.ply", "-o", out}), 2);
+  // --points: protocol only, 1000..5000000.
+  EXPECT_EQ(RunSynth({"--shape", "cuboid", "--points", "20000", "-o", out}), 2);
+  EXPECT_EQ(RunSynth(with({"--points", "999"})), 2);
+  EXPECT_EQ(RunSynth(with({"--points", "5000001"})), 2);
+  EXPECT_EQ(RunSynth(with({"--points", "2e4"})), 2);
+  EXPECT_EQ(RunSynth(with({"--points", "-5000"})), 2);
+  EXPECT_EQ(RunSynth({"--protocol", "paper", "--shape", "cuboid"}), 2);  // no -o
+  EXPECT_EQ(RunSynth({"--protocol", "paper", "-o", out}), 2);            // no --shape
+  EXPECT_EQ(RunSynth({"--protocol", "paper", "--shape", "cube", "-o", out}), 2);
+  EXPECT_EQ(RunSynth(with({"--size", "0.07x0.07"})), 2);
+  EXPECT_EQ(RunSynth(with({"--size", "70x70x140"})), 2);
+  EXPECT_EQ(RunSynth(with({"--grasp", "bottom"})), 2);
+  EXPECT_FALSE(fs::exists(dir_));
+}
+
+TEST_F(SynthCliTest, ProtocolWritesAHoleyCloudOnTheShapeAndItsTruth) {
+  const std::string out = dir_.string();
+  ASSERT_EQ(RunSynth({"--protocol", "paper", "--shape", "cuboid", "--seed", "3", "--points",
+                      "20000", "-o", out}),
+            0);
+  for (const char* name : {"holey.ply", "gt_cloud.ply", "protocol.json"}) {
+    EXPECT_TRUE(fs::is_regular_file(dir_ / name)) << name;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "recording.lcmlog"));
+
+  const ObjectCloud holey = io::ReadCloudPly((dir_ / "holey.ply").string());
+  const ObjectCloud truth = io::ReadCloudPly((dir_ / "gt_cloud.ply").string());
+  const nlohmann::json protocol = ReadJson(dir_ / "protocol.json");
+  EXPECT_NE(protocol["doc"].get<std::string>().find("Cui et al. 2021, section 3.1"),
+            std::string::npos);
+  EXPECT_EQ(protocol["shape"], "cuboid");
+  EXPECT_EQ(protocol["grasp"], "top-straight");
+  EXPECT_EQ(protocol["seed"], 3);
+  EXPECT_EQ(protocol["points"], 20000);
+  EXPECT_EQ(protocol["holey"]["points"], holey.size());
+  EXPECT_EQ(protocol["ground_truth"]["points"], truth.size());
+  const Eigen::Vector3d size(protocol["size_m"][0], protocol["size_m"][1], protocol["size_m"][2]);
+  EXPECT_TRUE(size.isApprox(Eigen::Vector3d(0.07, 0.07, 0.14), 1e-12));
+  ASSERT_EQ(protocol["claw_hole_centres"].size(), 3u);
+
+  // The repair's input: observed points only, no normals; the truth is the
+  // whole surface, so it has more points.
+  EXPECT_TRUE(holey.normals_G.empty());
+  for (Provenance p : holey.provenance) ASSERT_EQ(p, Provenance::kObserved);
+  EXPECT_EQ(truth.size(), 20000u);
+  EXPECT_LT(holey.size(), truth.size());
+  EXPECT_GT(holey.size(), truth.size() / 2);
+
+  // Both clouds, moved back into the object frame with the recorded pose,
+  // lie on the cuboid: the pose is rigid and shared, and holes only remove.
+  const Eigen::Isometry3d T_cloud_object = PoseFromRows(protocol["T_cloud_object"]);
+  EXPECT_FALSE(T_cloud_object.isApprox(Eigen::Isometry3d::Identity()));  // a random pose
+  const Eigen::Isometry3d T_object_cloud = T_cloud_object.inverse();
+  auto to_object = [&](const Eigen::Vector3f& p) { return T_object_cloud * p.cast<double>(); };
+  // Inside the top face, away from its rim (where the walls end).
+  auto on_top_face = [&](const Eigen::Vector3d& p) {
+    return p.z() > size.z() - 1e-4 && std::abs(p.x()) < 0.5 * size.x() - 2e-3 &&
+           std::abs(p.y()) < 0.5 * size.y() - 2e-3;
+  };
+  int holey_on_top = 0, truth_on_top = 0;
+  for (const Eigen::Vector3f& p : holey.points_G) {
+    const Eigen::Vector3d q = to_object(p);
+    ASSERT_NEAR(CuboidSignedDistance(q, size), 0.0, 1e-4) << q.transpose();
+    holey_on_top += on_top_face(q);
+  }
+  for (const Eigen::Vector3f& p : truth.points_G) {
+    const Eigen::Vector3d q = to_object(p);
+    ASSERT_NEAR(CuboidSignedDistance(q, size), 0.0, 1e-4) << q.transpose();
+    truth_on_top += on_top_face(q);
+  }
+  EXPECT_EQ(holey_on_top, 0);  // the top is cut off
+  EXPECT_GT(truth_on_top, 100);
+
+  // The claw hole centres are in the clouds' frame: the holey cloud is
+  // empty around each, the truth is not around the first (on the +x face).
+  for (size_t i = 0; i < protocol["claw_hole_centres"].size(); ++i) {
+    const nlohmann::json& c = protocol["claw_hole_centres"][i];
+    const Eigen::Vector3d centre(c[0], c[1], c[2]);
+    int holey_near = 0, truth_near = 0;
+    auto near = [&](const Eigen::Vector3f& p) {
+      return (p.cast<double>() - centre).norm() < 0.008;
+    };
+    for (const Eigen::Vector3f& p : holey.points_G) holey_near += near(p);
+    for (const Eigen::Vector3f& p : truth.points_G) truth_near += near(p);
+    EXPECT_EQ(holey_near, 0) << "hole " << i;
+    if (i == 0) {
+      EXPECT_GT(truth_near, 20);
+    }
+  }
+}
+
+TEST_F(SynthCliTest, ProtocolIsDeterministic) {
+  auto run_into = [](const fs::path& out, const std::string& seed) {
+    return RunSynth({"--protocol", "paper", "--shape", "cylinder", "--size", "0.06x0.06x0.1",
+                     "--grasp", "top-oblique", "--seed", seed, "--points", "5000", "-o",
+                     out.string()});
+  };
+  ASSERT_EQ(run_into(dir_ / "a", "7"), 0);
+  ASSERT_EQ(run_into(dir_ / "b", "7"), 0);
+  ASSERT_EQ(run_into(dir_ / "c", "8"), 0);
+  for (const char* name : {"holey.ply", "gt_cloud.ply", "protocol.json"}) {
+    const std::string a = FileBytes(dir_ / "a" / name);
+    EXPECT_FALSE(a.empty()) << name;
+    EXPECT_EQ(a, FileBytes(dir_ / "b" / name)) << name;
+    EXPECT_NE(a, FileBytes(dir_ / "c" / name)) << name;
+  }
+  const nlohmann::json protocol = ReadJson(dir_ / "a" / "protocol.json");
+  EXPECT_EQ(protocol["shape"], "cylinder");
+  EXPECT_EQ(protocol["grasp"], "top-oblique");
+  EXPECT_NEAR(protocol["size_m"][0].get<double>(), 0.06, 1e-12);
+  EXPECT_NEAR(protocol["size_m"][2].get<double>(), 0.1, 1e-12);
+}
+
+TEST_F(SynthCliTest, ProtocolRefusesToOverwriteWithoutForce) {
+  const std::string out = dir_.string();
+  const Args first = {"--protocol", "paper", "--shape", "sphere", "--points", "2000", "-o", out};
+  ASSERT_EQ(RunSynth(first), 0);
+  const std::string holey = FileBytes(dir_ / "holey.ply");
+  const Args second = {"--protocol", "paper", "--shape", "sphere", "--points", "3000", "-o", out};
+  EXPECT_EQ(RunSynth(second), 1);
+  EXPECT_EQ(FileBytes(dir_ / "holey.ply"), holey);
+  Args forced = second;
+  forced.push_back("--force");
+  EXPECT_EQ(RunSynth(forced), 0);
+  EXPECT_GT(FileBytes(dir_ / "holey.ply").size(), holey.size());
 }
 
 }  // namespace

@@ -11,7 +11,7 @@ TEST(PaperProtocol, CutsTheTopAndThreeClawHolesOnly) {
   config.random_pose = false;
   const PaperProtocolCloud c = MakePaperProtocolCloud(config);
   ASSERT_EQ(c.ground_truth.size(), static_cast<size_t>(config.num_points));
-  const double top_z = c.size_m.z() * (1.0 - config.top_cut_fraction);
+  const double top_z = TopCutZ(config, c.size_m.z());
   int above = 0;
   for (const Eigen::Vector3f& p : c.holey) above += p.z() > top_z;
   EXPECT_EQ(above, 0);

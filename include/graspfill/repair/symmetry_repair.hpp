@@ -74,6 +74,10 @@ struct SymmetryConfig {
   /// Slabs with a size of at least (1 - this) x the largest belong to the
   /// largest cross-section (sampling noise, residual dents).
   double plateau_tolerance{0.05};
+  /// A run of the largest cross-section that reaches within this many
+  /// slabs of the lowest and of the highest slab spans the whole observed
+  /// height (a prism-like shape).
+  int end_slack_slabs{2};
   /// false: the paper as written, from the median slab uphill to the
   /// nearest local maximum of the size (on a flat profile it stays at the
   /// median, which the bottom face pulls low: 45.7 mm instead of 70 on the

@@ -21,8 +21,12 @@ struct PaperProtocolConfig {
   /// Points of the complete surface before cutting (the ground truth has
   /// as many). 50k is ~1 mm spacing on the paper's 10 x 10 x 20 cm cuboid.
   int num_points{50000};
-  /// Height of the cut-off top band, as a fraction of the height.
-  double top_cut_fraction{0.08};
+  /// The unseen top: a shape with a flat top (cuboid, prisms, cylinders)
+  /// loses that face only, since a camera beside it sees the side walls up
+  /// to the rim (cutting a band of wall off too would make the height
+  /// unobservable, a different problem from the paper's); a round top
+  /// (sphere, ellipsoid) loses the cap above (1 - this) x its height.
+  double round_top_cut_fraction{0.08};
   /// Claw holes: the paper keeps them the same size for every object.
   int num_claw_holes{3};
   double claw_hole_width_m{0.025};   ///< along the surface, across the finger
@@ -43,6 +47,10 @@ struct PaperProtocolCloud {
   /// Centres of the claw holes on the surface, in the cloud frame.
   std::vector<Eigen::Vector3d> claw_hole_centres;
 };
+
+/// Height [m] in the object frame (base at z = 0) above which the protocol
+/// cuts the top off (see PaperProtocolConfig::round_top_cut_fraction).
+double TopCutZ(const PaperProtocolConfig& config, double height_m);
 
 /// Deterministic for a given config. Throws std::invalid_argument on a
 /// non-positive size or point count.
