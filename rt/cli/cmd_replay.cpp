@@ -1,19 +1,26 @@
 // graspfill replay LOG -o cloud.ply: the recorded depth log through the same
-// Pipeline the live loop uses, then the object cloud to PLY and LCM.
+// Pipeline the live loop uses, then the hole repair (claw holes and the
+// unseen top, unless --no-repair), then the object cloud to PLY and LCM.
+// The fused points come first, unchanged and in order (provenance
+// observed); the repair's points follow (provenance surface / symmetry), and
+// its holes and stage timings ride along in the LCM message.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "claw_option.hpp"
 #include "commands.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
+#include "graspfill/repair/repairer.hpp"
 #include "sinks/lcm_publisher.hpp"
 #include "sources/lcm_log_source.hpp"
 #include "sources/prefetching_source.hpp"
@@ -23,8 +30,12 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: graspfill replay LOG -o CLOUD.ply [options]\n"
-    "  -o, --output PATH        object cloud in the gripper frame (PLY)\n"
-    "  --json                   print the report as JSON\n"
+    "  -o, --output PATH        object cloud in the gripper frame (PLY): the fused points,\n"
+    "                           then the points the repair added (property provenance:\n"
+    "                           0 observed, 1 surface, 2 symmetry)\n"
+    "  --no-repair              write and publish the fused cloud only\n"
+    "  --repair-mode MODE       paper: the repair as published; best (default): graspfill's\n"
+    "  --json                   print the report as JSON (\"repair\" is null with --no-repair)\n"
     "  --force                  overwrite the output if it exists\n"
     "  --claw SPEC              three-finger (default), parallel, or a claw description .json\n"
     "  --claw-mesh-root DIR     where the description's meshes are (default: beside it)\n"
@@ -46,8 +57,10 @@ struct ReplayOptions {
   std::string lcm_url;
   bool publish{true};
   bool skip_bad_frames{false};
+  bool repair{true};
   io::ChannelNames channels;
   PipelineConfig pipeline;
+  repair::RepairConfig repair_config;
 };
 
 // Returns false (after printing why) on a usage error.
@@ -67,6 +80,13 @@ bool Parse(const Args& args, ReplayOptions* o) {
     else if (a == "--lcm-url") value(&o->lcm_url);
     else if (a == "--no-publish") o->publish = false;
     else if (a == "--skip-bad-frames") o->skip_bad_frames = true;
+    else if (a == "--no-repair") o->repair = false;
+    else if (a == "--repair-mode") {
+      value(&v);
+      if (v == "paper") o->repair_config.mode = repair::RepairMode::kPaper;
+      else if (v == "best") o->repair_config.mode = repair::RepairMode::kBest;
+      else throw std::invalid_argument("--repair-mode must be paper or best, not '" + v + "'");
+    }
     else if (a == "--depth-channel") value(&o->channels.depth);
     else if (a == "--gripper-channel") value(&o->channels.gripper_state);
     else if (a == "--cloud-channel") value(&o->channels.object_cloud);
@@ -90,6 +110,25 @@ bool Parse(const Args& args, ReplayOptions* o) {
 
 double Ms(std::chrono::steady_clock::duration d) {
   return std::chrono::duration<double, std::milli>(d).count();
+}
+
+const char* HoleKindName(HoleKind kind) {
+  return kind == HoleKind::kClaw ? "claw" : "missing_surface";
+}
+
+// Repairs `cloud` in place: the fused points stay first and unchanged
+// (normals included), the added ones follow (with normals estimated by the
+// repair); the holes and the repair's timings ("repair_" + step) go into the cloud so
+// that LCM subscribers see them. Throws what Repair throws.
+repair::RepairReport RepairCloud(const repair::RepairConfig& config, ObjectCloud* cloud) {
+  repair::RepairResult result = repair::Repair(*cloud, config);
+  ObjectCloud& repaired = result.cloud;
+  repaired.holes = result.report.holes;
+  for (const StageTiming& t : result.report.timings) {
+    repaired.timings.push_back({"repair_" + t.stage, t.ms});
+  }
+  *cloud = std::move(repaired);
+  return std::move(result.report);
 }
 
 }  // namespace
@@ -178,6 +217,23 @@ int RunReplay(const Args& args) {
                  static_cast<long long>(stats.frames_in), static_cast<long long>(stats.states_in));
     return 1;
   }
+  const size_t fused_points = cloud.size();
+  std::optional<repair::RepairReport> repair_report;
+  if (o.repair) {
+    repair::RepairConfig config = o.repair_config;
+    // In G the palm is at z = 0 and the object at z > 0, so the top the
+    // camera never sees faces the palm. A hint: it fixes the sign of the
+    // repair's frame and narrows its search, it does not replace it.
+    config.up_hint = Eigen::Vector3d(0, 0, -1);
+    try {
+      repair_report = RepairCloud(config, &cloud);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "graspfill replay: hole repair failed on the fused cloud (%zu points): %s\n"
+                   "(pass --no-repair to write the fused cloud as is)\n", fused_points, e.what());
+      return 1;
+    }
+  }
+  const auto t_repaired = std::chrono::steady_clock::now();
   io::WriteCloudPly(o.output_path, cloud);
   const auto t_written = std::chrono::steady_clock::now();
   if (o.publish) {
@@ -201,13 +257,32 @@ int RunReplay(const Args& args) {
   report["gripper_states_rejected"] = stats.states_rejected;
   report["points"] = cloud.size();
   report["published"] = o.publish ? o.channels.object_cloud : "";
+  const double repair_ms = Ms(t_repaired - t_extracted);
+  const size_t points_added = cloud.size() - fused_points;
+  if (repair_report) {
+    nlohmann::ordered_json holes = nlohmann::json::array();
+    for (const HoleSummary& h : repair_report->holes) {
+      holes.push_back({{"kind", HoleKindName(h.kind)},
+                       {"boundary_points", h.boundary_points},
+                       {"points_added", h.points_added}});
+    }
+    report["repair"] = {{"status", repair_report->status},
+                        {"points_added", points_added},
+                        {"symmetric", repair_report->symmetric},
+                        {"symmetry_reason", repair_report->symmetry_reason},
+                        {"holes", holes},
+                        {"ms", repair_ms}};
+  } else {
+    report["repair"] = nullptr;
+  }
   report["timings_ms"] = {
       {"crop_per_frame", stats.crop.mean_ms()},
       {"mask_per_frame", stats.mask.mean_ms()},
       {"integrate_per_frame", stats.integrate.mean_ms()},
       {"replay_total", replay_ms},
       {"extract", Ms(t_extracted - t_fused)},
-      {"write_ply", Ms(t_written - t_extracted)},
+      {"repair", repair_ms},
+      {"write_ply", Ms(t_written - t_repaired)},
       {"publish", Ms(t_end - t_written)}};
   report["replay_fps"] = fps;
   if (o.json) {
@@ -224,6 +299,23 @@ int RunReplay(const Args& args) {
                 "replay %.1f fps; extract %.1f ms\n",
                 stats.crop.mean_ms(), stats.mask.mean_ms(), stats.integrate.mean_ms(), fps,
                 Ms(t_extracted - t_fused));
+    if (!repair_report) {
+      std::printf("repair: off (--no-repair)\n");
+    } else if (repair_report->status != "repaired") {
+      std::printf("repair: %s (%.1f ms)\n", repair_report->status.c_str(), repair_ms);
+    } else {
+      int claw_holes = 0, missing_surfaces = 0;
+      for (const HoleSummary& h : repair_report->holes) {
+        ++(h.kind == HoleKind::kClaw ? claw_holes : missing_surfaces);
+      }
+      std::string symmetry = repair_report->symmetric ? ", top by symmetry" : "";
+      if (!repair_report->symmetric && !repair_report->symmetry_reason.empty()) {
+        symmetry = "; no symmetry: " + repair_report->symmetry_reason;
+      }
+      std::printf("repair: %s; %zu points added (%d claw holes, %d missing top%s) in %.1f ms\n",
+                  repair_report->status.c_str(), points_added, claw_holes, missing_surfaces,
+                  symmetry.c_str(), repair_ms);
+    }
   }
   return 0;
 }

@@ -25,7 +25,7 @@ void PrintUsage() {
       "usage: graspfill <command> [options]\n"
       "commands:\n"
       "  synth   write a synthetic recording (LCM log) and its ground truth\n"
-      "  replay  replay a recording through the pipeline, write the cloud\n"
+      "  replay  replay a recording through the pipeline, repair and write the cloud\n"
       "  eval    compare a predicted cloud with the ground truth\n"
       "  bench   per-frame timings against Open3D's bare integration; `bench repair`: Tables 1-3\n"
       "  demo    replay the bundled recording and evaluate it\n"

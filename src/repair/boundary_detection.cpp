@@ -133,7 +133,8 @@ bool HasWideGap(const PointList& points, const std::vector<int>& nn, const Eigen
 
 std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const BoundaryConfig& config,
                                       std::vector<Eigen::Vector3f>* normals,
-                                      std::vector<BoundaryPointInfo>* info) {
+                                      std::vector<BoundaryPointInfo>* info,
+                                      const KnnTable* table) {
   config.Validate();
   const PointList& points = index.points();
   const size_t n = points.size();
@@ -154,9 +155,19 @@ std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const Boundary
   dirs.reserve(max_k);
   std::vector<int> boundary;
 
+  const size_t first_k = static_cast<size_t>(config.k) + 1;
+  if (table != nullptr && (table->size() != n || table->k < static_cast<int>(std::min(first_k, n)))) {
+    throw std::invalid_argument("DetectBoundaryPoints: the kNN table does not match the index");
+  }
   for (size_t i = 0; i < n; ++i) {
     const Eigen::Vector3f& p = points[i];
-    index.Knn(p, config.k + 1, &nn, &d2);
+    if (table != nullptr) {
+      const size_t cols = std::min(first_k, static_cast<size_t>(table->k));
+      nn.assign(table->Row(i), table->Row(i) + cols);
+      d2.assign(table->RowDistances(i), table->RowDistances(i) + cols);
+    } else {
+      index.Knn(p, config.k + 1, &nn, &d2);
+    }
     const Eigen::Vector3f normal = PlaneNormal(points, nn, p);
     if (normals != nullptr) (*normals)[i] = normal;
     Gap gap;

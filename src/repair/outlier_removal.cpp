@@ -24,8 +24,12 @@ void OutlierConfig::Validate() const {
 
 std::vector<int> RemoveOutliers(const NeighborIndex& index, const OutlierConfig& config) {
   config.Validate();
-  const PointList& points = index.points();
-  const int n = static_cast<int>(points.size());
+  return RemoveOutliers(index.AllKnn(config.nb_neighbors + 1), config);
+}
+
+std::vector<int> RemoveOutliers(const KnnTable& table, const OutlierConfig& config) {
+  config.Validate();
+  const int n = static_cast<int>(table.size());
   std::vector<int> kept;
   if (n <= config.nb_neighbors) {
     // Fewer points than the statistic needs: nothing can be judged.
@@ -33,24 +37,24 @@ std::vector<int> RemoveOutliers(const NeighborIndex& index, const OutlierConfig&
     for (int i = 0; i < n; ++i) kept[static_cast<size_t>(i)] = i;
     return kept;
   }
+  if (table.k < config.nb_neighbors + 1) {
+    throw std::invalid_argument("RemoveOutliers: the kNN table has " + std::to_string(table.k) +
+                                " columns, the filter needs nb_neighbors + 1 = " +
+                                std::to_string(config.nb_neighbors + 1));
+  }
 
-  // Mean distance to the k nearest other points (PCL: query k + 1 and skip
-  // the point itself, which comes first at distance 0).
+  // Mean distance to the k nearest other points (PCL: k + 1 nearest and
+  // skip the point itself, which comes first at distance 0; with duplicate
+  // points some point at distance 0 does).
   const int k = config.nb_neighbors;
   std::vector<double> mean_distance(static_cast<size_t>(n));
-  std::vector<int> nn;
-  std::vector<double> d2;
-  nn.reserve(static_cast<size_t>(k) + 1);
-  d2.reserve(static_cast<size_t>(k) + 1);
   double sum = 0.0;
   double sum_sq = 0.0;
   for (int i = 0; i < n; ++i) {
-    index.Knn(points[static_cast<size_t>(i)], k + 1, &nn, &d2);
+    const double* d2 = table.RowDistances(static_cast<size_t>(i));
     double s = 0.0;
-    // Skipping slot 0 rather than the index i: with duplicate points the
-    // point itself need not come first, but some point at distance 0 does.
-    for (size_t j = 1; j < d2.size(); ++j) s += std::sqrt(d2[j]);
-    const double mean = d2.size() > 1 ? s / static_cast<double>(d2.size() - 1) : 0.0;
+    for (int j = 1; j <= k; ++j) s += std::sqrt(d2[j]);
+    const double mean = s / k;
     mean_distance[static_cast<size_t>(i)] = mean;
     sum += mean;
     sum_sq += mean * mean;

@@ -1,5 +1,7 @@
 #include "graspfill/repair/repairer.hpp"
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 #include <string>
@@ -37,6 +39,36 @@ void BoxInInput(const PointList& points_V, const VirtualFrame& frame, HoleSummar
   if (box.isEmpty()) return;
   hole->box_min_G = box.min();
   hole->box_max_G = box.max();
+}
+
+// Normals for the points after the first `first_added`: the plane through
+// each one's nearest neighbours among all points (so a small patch borrows
+// its rim's), turned away from the centroid, since a held object is
+// roughly convex about it.
+void AppendAddedNormals(size_t first_added, ObjectCloud* cloud) {
+  constexpr int kNeighbors = 16;  // a few spacings: stable, yet follows a curve
+  const PointList& points = cloud->points_G;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3f& p : points) centroid += p.cast<double>();
+  centroid /= static_cast<double>(points.size());
+  const NeighborIndex index(points);
+  std::vector<int> nn;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+  for (size_t i = first_added; i < points.size(); ++i) {
+    index.Knn(points[i], kNeighbors, &nn);
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (int j : nn) mean += points[j].cast<double>();
+    mean /= static_cast<double>(nn.size());
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+    for (int j : nn) {
+      const Eigen::Vector3d d = points[j].cast<double>() - mean;
+      covariance += d * d.transpose();
+    }
+    solver.computeDirect(covariance);
+    Eigen::Vector3d n = solver.eigenvectors().col(0).normalized();  // smallest eigenvalue
+    if (n.dot(points[i].cast<double>() - centroid) < 0.0) n = -n;
+    cloud->normals_G.push_back(n.cast<float>());
+  }
 }
 
 }  // namespace
@@ -80,15 +112,20 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
   }
 
   // 1. Outliers are kept in the output but not used to find or fill holes.
+  // One kNN table serves the filter and, when it removes nothing (a clean
+  // cloud, the usual case), the boundary detection too.
+  const NeighborIndex all(input.points_G);
+  std::optional<KnnTable> table;
   PointList points;
   {
     StepTimer t(&report, "outliers");
-    const NeighborIndex all(input.points_G);
-    const std::vector<int> kept = RemoveOutliers(all, config.outliers);
+    table = all.AllKnn(std::max(config.outliers.nb_neighbors, config.boundary.k) + 1);
+    const std::vector<int> kept = RemoveOutliers(*table, config.outliers);
     points.reserve(kept.size());
     for (int i : kept) points.push_back(input.points_G[i]);
     report.outliers_ignored = static_cast<int>(input.points_G.size() - kept.size());
   }
+  if (report.outliers_ignored > 0) table.reset();  // rows of the other cloud
   // 2-3. Boundary points, then closed boundary lines.
   const NeighborIndex index(points);
   std::vector<int> boundary;
@@ -96,7 +133,8 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
   std::vector<BoundaryLine> lines;
   {
     StepTimer t(&report, "boundary_points");
-    boundary = DetectBoundaryPoints(index, config.boundary, nullptr, &boundary_info);
+    boundary = DetectBoundaryPoints(index, config.boundary, nullptr, &boundary_info,
+                                    table ? &*table : nullptr);
   }
   {
     StepTimer t(&report, "boundary_lines");
@@ -175,8 +213,14 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
     result.cloud.points_G.push_back(T_in_V * p);
     result.cloud.provenance.push_back(Provenance::kSymmetry);
   }
-  // Added points have no normals: keep the arrays consistent.
-  if (result.cloud.normals_G.size() != result.cloud.points_G.size()) result.cloud.normals_G.clear();
+  // Normals: the input's are kept; the added points get estimated ones
+  // when the input had them (a planner wants one per point), else none.
+  if (input.normals_G.size() == input.points_G.size() && !input.normals_G.empty()) {
+    StepTimer t(&report, "normals");
+    AppendAddedNormals(input.points_G.size(), &result.cloud);
+  } else {
+    result.cloud.normals_G.clear();
+  }
 
   for (const HoleBoundary& h : holes) {
     HoleSummary s;

@@ -1,13 +1,17 @@
-// Replay of the bundled recordings (regression, determinism) and of bad logs
+// Replay of the bundled recordings (regression of the fusion, determinism
+// of the repaired output, the repaired cloud's layout) and of bad logs
 // (clear error, non-zero exit, never a crash).
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "cli_runner.hpp"
+#include "cloud_parts.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
@@ -16,6 +20,7 @@
 namespace graspfill {
 namespace {
 
+using testing::ObservedPoints;
 using testing::RunCli;
 using testing::ScratchDir;
 
@@ -31,13 +36,15 @@ TEST(ReplayE2E, BundledRecordingMatchesItsRecordedOutput) {
   const auto r = RunCli("replay " + kReplayDir + "/default/recording.lcmlog -o " + dir +
                         "/cloud.ply --json --lcm-url memq://");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const ObjectCloud now = io::ReadCloudPly(dir + "/cloud.ply");
+  // The expected cloud holds the fused points only (written with
+  // --no-repair): this pins the fusion, whatever the repair adds.
+  const std::vector<Eigen::Vector3f> now = ObservedPoints(io::ReadCloudPly(dir + "/cloud.ply"));
   const ObjectCloud expected = io::ReadCloudPly(kReplayDir + "/default/expected_cloud.ply");
   // Same build: identical. Another compiler/Open3D build may round a voxel
   // crossing differently, so compare geometry with a 0.1 mm tolerance.
   ASSERT_NEAR(static_cast<double>(now.size()), static_cast<double>(expected.size()),
               0.01 * expected.size());
-  const eval::CloudMetrics m = eval::Compare(now.points_G, expected.points_G);
+  const eval::CloudMetrics m = eval::Compare(now, expected.points_G);
   EXPECT_LT(m.p95_pred_to_gt_mm, 0.1);
   EXPECT_LT(m.p95_gt_to_pred_mm, 0.1);
 }
@@ -50,6 +57,60 @@ TEST(ReplayE2E, SameLogTwiceGivesIdenticalBytes) {
   const std::string a = ReadBytes(dir + "/a.ply"), b = ReadBytes(dir + "/b.ply");
   ASSERT_GT(a.size(), 1000u);
   EXPECT_TRUE(a == b);
+  // The bytes compared include the repair's points, not only the fusion's.
+  const ObjectCloud cloud = io::ReadCloudPly(dir + "/a.ply");
+  EXPECT_LT(ObservedPoints(cloud).size(), cloud.size());
+}
+
+// The JSON report from the CLI's output (stderr is mixed in: take the
+// outermost braces); discarded (not an object) if it does not parse.
+nlohmann::json ParseReport(const std::string& output) {
+  const size_t first = output.find('{'), last = output.rfind('}');
+  if (first == std::string::npos || last == std::string::npos || last < first) return {};
+  return nlohmann::json::parse(output.substr(first, last - first + 1), nullptr, false);
+}
+
+TEST(ReplayE2E, RepairAppendsToTheFusedCloudUnchanged) {
+  const std::string dir = ScratchDir("repair_layout");
+  const std::string log = kReplayDir + "/default/recording.lcmlog";
+  const auto repaired_run = RunCli("replay " + log + " -o " + dir + "/repaired.ply --no-publish --json");
+  ASSERT_EQ(repaired_run.exit_code, 0) << repaired_run.output;
+  const auto fused_run = RunCli("replay " + log + " -o " + dir + "/fused.ply --no-publish --json --no-repair");
+  ASSERT_EQ(fused_run.exit_code, 0) << fused_run.output;
+  const ObjectCloud repaired = io::ReadCloudPly(dir + "/repaired.ply");
+  const ObjectCloud fused = io::ReadCloudPly(dir + "/fused.ply");
+
+  // The fused points first, point for point (normals included), observed.
+  ASSERT_GT(fused.size(), 1000u);
+  ASSERT_GT(repaired.size(), fused.size()) << "the repair added nothing";
+  ASSERT_EQ(fused.normals_G.size(), fused.size());
+  ASSERT_EQ(repaired.normals_G.size(), repaired.size()) << "normals dropped";
+  for (size_t i = 0; i < fused.size(); ++i) {
+    ASSERT_EQ(repaired.points_G[i], fused.points_G[i]) << "point " << i;
+    ASSERT_EQ(repaired.normals_G[i], fused.normals_G[i]) << "point " << i;
+    ASSERT_EQ(repaired.provenance[i], Provenance::kObserved) << "point " << i;
+    ASSERT_EQ(fused.provenance[i], Provenance::kObserved) << "point " << i;
+  }
+  // Then only added points, each with a unit normal.
+  for (size_t i = fused.size(); i < repaired.size(); ++i) {
+    ASSERT_TRUE(repaired.provenance[i] == Provenance::kSurface ||
+                repaired.provenance[i] == Provenance::kSymmetry)
+        << "point " << i << " provenance " << static_cast<int>(repaired.provenance[i]);
+    ASSERT_NEAR(repaired.normals_G[i].norm(), 1.0f, 1e-3f) << "point " << i;
+  }
+
+  // The report counts what was added; --no-repair reports no repair.
+  nlohmann::json report = ParseReport(repaired_run.output);
+  ASSERT_TRUE(report.is_object()) << repaired_run.output;
+  EXPECT_EQ(report.value("points", size_t{0}), repaired.size());
+  ASSERT_TRUE(report["repair"].is_object()) << repaired_run.output;
+  EXPECT_EQ(report["repair"].value("status", ""), "repaired");
+  EXPECT_EQ(report["repair"].value("points_added", size_t{0}), repaired.size() - fused.size());
+  EXPECT_FALSE(report["repair"]["holes"].empty()) << repaired_run.output;
+  nlohmann::json fused_report = ParseReport(fused_run.output);
+  ASSERT_TRUE(fused_report.is_object()) << fused_run.output;
+  EXPECT_TRUE(fused_report["repair"].is_null()) << fused_run.output;
+  EXPECT_EQ(fused_report.value("points", size_t{0}), fused.size());
 }
 
 TEST(ReplayE2E, RefusesToOverwriteWithoutForce) {

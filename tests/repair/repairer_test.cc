@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "graspfill/synth/mesh_sampling.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
@@ -74,6 +75,109 @@ TEST(Repairer, NonFiniteInputThrowsNamingThePoint) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("point 17"), std::string::npos) << e.what();
   }
+}
+
+// A protocol cylinder (object frame) with its true outward normals: the
+// input's normals come back unchanged, the added points get normals that
+// match the surface there and point out.
+TEST(Repairer, KeepsInputNormalsAndEstimatesTheAddedOnes) {
+  synth::PaperProtocolConfig pc;
+  pc.shape = synth::Shape::kCylinder;
+  pc.num_points = 30000;
+  pc.random_pose = false;
+  const synth::PaperProtocolCloud c = synth::MakePaperProtocolCloud(pc);
+  const double height = c.size_m.z();
+  const auto true_normal = [&](const Eigen::Vector3f& p) -> Eigen::Vector3f {
+    if (p.z() < 1e-4) return {0, 0, -1};
+    if (p.z() > height - 1e-4) return {0, 0, 1};
+    return Eigen::Vector3f(p.x(), p.y(), 0).normalized();
+  };
+  ObjectCloud in = Cloud(c.holey);
+  for (const Eigen::Vector3f& p : c.holey) in.normals_G.push_back(true_normal(p));
+  const RepairResult r = Repair(in);
+  ASSERT_EQ(r.report.status, "repaired");
+  ASSERT_EQ(r.cloud.normals_G.size(), r.cloud.size());
+  ASSERT_GT(r.cloud.size(), in.size());
+  for (size_t i = 0; i < in.size(); ++i) ASSERT_EQ(r.cloud.normals_G[i], in.normals_G[i]) << i;
+  // Away from the edges (3 mm) the estimate follows the surface and points
+  // out; the mirrored top lies within a spacing of z = H.
+  const double radius = 0.5 * c.size_m.x();
+  size_t good = 0, judged = 0;
+  for (size_t i = in.size(); i < r.cloud.size(); ++i) {
+    const Eigen::Vector3f& n = r.cloud.normals_G[i];
+    EXPECT_NEAR(n.norm(), 1.0f, 1e-4f);
+    const Eigen::Vector3f& p = r.cloud.points_G[i];
+    const double r_xy = std::hypot(p.x(), p.y());
+    const bool cap = p.z() < 0.003 || p.z() > height - 0.003;
+    const bool side = r_xy > radius - 0.003;
+    if (cap == side) continue;  // near an edge
+    const Eigen::Vector3f truth = cap ? Eigen::Vector3f(0, 0, p.z() < 0.003 ? -1 : 1)
+                                      : Eigen::Vector3f(p.x(), p.y(), 0).normalized();
+    ++judged;
+    good += n.dot(truth) > 0.9f;
+  }
+  EXPECT_GT(judged, 0.5 * static_cast<double>(r.cloud.size() - in.size()));
+  EXPECT_GT(good, 0.95 * static_cast<double>(judged));
+  // Without input normals the output has none.
+  EXPECT_TRUE(Repair(Cloud(c.holey)).cloud.normals_G.empty());
+}
+
+TEST(Repairer, EmptyCloudIsANoOp) {
+  const RepairResult r = Repair(Cloud({}));
+  EXPECT_EQ(r.cloud.size(), 0u);
+  EXPECT_NE(r.report.status.find("too few points"), std::string::npos);
+}
+
+// A flat square patch: its outer edge is a boundary, but there is no
+// object to close. Nothing is invented, the input comes back whole.
+TEST(Repairer, FlatPatchAddsNoSymmetryAndKeepsTheInput) {
+  std::vector<Eigen::Vector3f> patch;
+  for (int i = 0; i < 120; ++i) {
+    for (int j = 0; j < 120; ++j) patch.emplace_back(0.0008f * i, 0.0008f * j, 0.0f);
+  }
+  const RepairResult r = Repair(Cloud(patch));
+  ASSERT_GE(r.cloud.size(), patch.size());
+  for (size_t i = 0; i < patch.size(); ++i) ASSERT_EQ(r.cloud.points_G[i], patch[i]);
+  for (size_t i = patch.size(); i < r.cloud.size(); ++i) {
+    EXPECT_NE(r.cloud.provenance[i], Provenance::kSymmetry);
+  }
+  EXPECT_FALSE(r.report.symmetric);
+  EXPECT_FALSE(r.report.status.empty());
+}
+
+// A frustum (radius halving towards the top) with its top face cut off and
+// one finger-sized hole in its side: no horizontal symmetry plane exists.
+// The claw hole is still filled, nothing is mirrored, and the report says
+// why.
+TEST(Repairer, AsymmetricFrustumGetsItsClawHoleFilledAndNoMirror) {
+  TriangleMesh mesh = synth::MakeShape(synth::Shape::kCylinder, {0.08, 0.08, 0.12});
+  for (Eigen::Vector3f& v : mesh.vertices) {
+    const float scale = 1.0f - 0.5f * v.z() / 0.12f;
+    v.x() *= scale;
+    v.y() *= scale;
+  }
+  const synth::SurfaceSamples s = synth::SampleSurface(mesh, 40000, 5);
+  std::vector<Eigen::Vector3f> holey;
+  for (const Eigen::Vector3f& p : s.points) {
+    const bool top = p.z() > 0.12f - 1e-5f;
+    const bool claw = p.x() > 0.0f && std::abs(p.y()) < 0.0125f && p.z() > 0.05f && p.z() < 0.09f;
+    if (!top && !claw) holey.push_back(p);
+  }
+  const RepairResult r = Repair(Cloud(holey));
+  ASSERT_EQ(r.report.status, "repaired");
+  EXPECT_FALSE(r.report.symmetric);
+  EXPECT_FALSE(r.report.symmetry_reason.empty());
+  int claw_holes = 0, surface = 0, symmetry = 0;
+  for (const HoleSummary& h : r.report.holes) claw_holes += h.kind == HoleKind::kClaw;
+  for (size_t i = holey.size(); i < r.cloud.size(); ++i) {
+    surface += r.cloud.provenance[i] == Provenance::kSurface;
+    symmetry += r.cloud.provenance[i] == Provenance::kSymmetry;
+  }
+  std::printf("frustum: %d claw holes, %d surface points, %d mirrored; %s\n", claw_holes, surface,
+              symmetry, r.report.symmetry_reason.c_str());
+  EXPECT_EQ(claw_holes, 1);
+  EXPECT_GT(surface, 0);
+  EXPECT_EQ(symmetry, 0);
 }
 
 TEST(RepairConfig, DefaultsValidateAndBadHintIsRejected) {

@@ -102,8 +102,11 @@ struct BoundaryPointInfo {
 /// query per point that passes the first test; no allocation per point here
 /// (Open3D's KDTreeFlann allocates one small vector inside each query).
 /// Throws std::invalid_argument on an invalid config.
+/// `table`, if given, is index.AllKnn(>= k + 1) (shared with the outlier
+/// filter): the first pass reads it instead of querying (same answers).
 std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const BoundaryConfig& config,
                                       std::vector<Eigen::Vector3f>* normals = nullptr,
-                                      std::vector<BoundaryPointInfo>* info = nullptr);
+                                      std::vector<BoundaryPointInfo>* info = nullptr,
+                                      const KnnTable* table = nullptr);
 
 }  // namespace graspfill::repair

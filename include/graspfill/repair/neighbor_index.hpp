@@ -10,6 +10,18 @@
 
 namespace graspfill::repair {
 
+/// The k nearest neighbours of every point of a cloud, row by row.
+struct KnnTable {
+  int k{0};
+  std::vector<int> indices;             ///< size() * k; row i: point i's,
+  std::vector<double> squared_distances;  ///< nearest first (itself first)
+  size_t size() const { return k > 0 ? indices.size() / static_cast<size_t>(k) : 0; }
+  const int* Row(size_t i) const { return indices.data() + i * static_cast<size_t>(k); }
+  const double* RowDistances(size_t i) const {
+    return squared_distances.data() + i * static_cast<size_t>(k);
+  }
+};
+
 class NeighborIndex {
  public:
   /// Builds the tree over `points` (kept by reference: they must outlive
@@ -27,6 +39,11 @@ class NeighborIndex {
   void Radius(const Eigen::Vector3f& query, double radius_m,
               std::vector<int>* indices,
               std::vector<double>* squared_distances = nullptr) const;
+
+  /// Knn(p, k) for every cloud point p at once (k capped at the cloud's
+  /// size): the points of one grid cell share their candidates, several
+  /// times faster than one query per point. Same answers as Knn.
+  KnnTable AllKnn(int k) const;
 
   const PointList& points() const { return points_; }
   size_t size() const { return points_.size(); }

@@ -66,4 +66,9 @@ std::vector<int> RemoveOutliers(const PointList& points, const OutlierConfig& co
 /// finite). Indices refer to index.points().
 std::vector<int> RemoveOutliers(const NeighborIndex& index, const OutlierConfig& config);
 
+/// Same, from the cloud's kNN table (NeighborIndex::AllKnn with at least
+/// nb_neighbors + 1 columns, e.g. shared with the boundary detection).
+/// Throws std::invalid_argument on a table with too few columns.
+std::vector<int> RemoveOutliers(const KnnTable& table, const OutlierConfig& config);
+
 }  // namespace graspfill::repair

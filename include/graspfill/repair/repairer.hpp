@@ -67,8 +67,9 @@ struct RepairResult {
   RepairReport report;
 };
 
-/// Repairs an unorganized cloud (meters, any pose, normals optional: used
-/// when given). Throws std::invalid_argument on non-finite coordinates or a
+/// Repairs an unorganized cloud (meters, any pose, normals optional: when
+/// given they are kept and the added points get estimated ones, oriented
+/// away from the centroid; otherwise the output has none). Throws std::invalid_argument on non-finite coordinates or a
 /// bad config; a cloud too small or without holes comes back unchanged
 /// with the reason in report.status.
 RepairResult Repair(const ObjectCloud& input, const RepairConfig& config = {});
