@@ -38,6 +38,11 @@ nlohmann::ordered_json RepairReportJson(const repair::RepairReport& r, size_t po
   j["points_out"] = points_out;
   j["symmetric"] = r.symmetric;
   if (!r.symmetric) j["symmetry_reason"] = r.symmetry_reason;
+  if (r.status == "repaired") {
+    // The virtual frame's +z (towards the missing top) in the input frame.
+    const Eigen::Vector3d z = r.frame.T_in_V.linear().col(2);
+    j["up_axis"] = {z.x(), z.y(), z.z()};
+  }
   j["outliers_ignored"] = r.outliers_ignored;
   j["boundary_points"] = r.boundary_points;
   j["boundary_lines"] = r.boundary_lines;

@@ -82,6 +82,9 @@ void RepairConfig::Validate() const {
   completion.Validate();
   claw.Validate();
   symmetry.Validate();
+  if (!(top_rim_band_m >= 0.0 && top_rim_band_m < 1.0)) {
+    throw std::invalid_argument("RepairConfig: top_rim_band_m must be in [0, 1) m");
+  }
   if (up_hint && (!up_hint->allFinite() || up_hint->norm() < 1e-9)) {
     throw std::invalid_argument("RepairConfig: up_hint must be a finite non-zero vector");
   }
@@ -94,6 +97,8 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
     // plain cross-section search), not graspfill's refinements.
     config.claw = ClawRepairConfig::Paper();
     config.symmetry = SymmetryConfig::Paper();
+    config.axis.enabled = false;
+    config.top_rim_band_m = 0.0;
   }
   config.Validate();
   for (size_t i = 0; i < input.points_G.size(); ++i) {
@@ -130,10 +135,11 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
   const NeighborIndex index(points);
   std::vector<int> boundary;
   std::vector<BoundaryPointInfo> boundary_info;  // which side the hole is on
+  std::vector<Eigen::Vector3f> normals;  // unoriented, of every point
   std::vector<BoundaryLine> lines;
   {
     StepTimer t(&report, "boundary_points");
-    boundary = DetectBoundaryPoints(index, config.boundary, nullptr, &boundary_info,
+    boundary = DetectBoundaryPoints(index, config.boundary, &normals, &boundary_info,
                                     table ? &*table : nullptr);
   }
   {
@@ -162,6 +168,12 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
       return result;
     }
   }
+  if (config.axis.enabled) {
+    StepTimer t(&report, "axis");
+    const AxisRefinement axis =
+        RefineAxis(normals, frame->T_in_V.linear().col(2), config.axis);
+    if (axis.refined) frame = WithAxis(*frame, axis.axis, points);
+  }
   report.frame = *frame;
   const PointList points_V = ToVirtualFrame(points, *frame);
   // 5-6. Missing surface vs claw holes, then closed boundaries.
@@ -181,6 +193,30 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
   for (const HoleBoundary& h : holes) {
     if (h.kind == HoleKind::kClaw) claw_holes.push_back(h);
     else if (!missing) missing = &h;
+  }
+  // Best mode: the rim is also every boundary point near the top of V.
+  // On a fused cloud the linking can break the rim into pieces (a ragged
+  // TSDF edge, claw slits), and step 5 then finds a few points of it or
+  // none; steps 7-8 need only the rim's height and extent, not its order.
+  HoleBoundary rim;
+  if (config.top_rim_band_m > 0.0) {
+    rim.kind = HoleKind::kMissingSurface;
+    rim.closed = true;
+    for (int i : boundary) {
+      if (points_V[i].z() >= frame->max_V.z() - config.top_rim_band_m) {
+        rim.points_V.push_back(points_V[i]);
+        rim.source_indices.push_back(i);
+      }
+    }
+    if (rim.points_V.size() >= 3 && (!missing || rim.points_V.size() > missing->points_V.size())) {
+      // Keep the completed line's points too (they close the claw mouths).
+      if (missing) {
+        rim.points_V.insert(rim.points_V.end(), missing->points_V.begin(), missing->points_V.end());
+        rim.source_indices.insert(rim.source_indices.end(), missing->source_indices.begin(),
+                                  missing->source_indices.end());
+      }
+      missing = &rim;
+    }
   }
   PointList surface_V;
   {
@@ -223,11 +259,19 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
   }
 
   for (const HoleBoundary& h : holes) {
+    if (h.kind == HoleKind::kMissingSurface && missing == &rim) continue;  // reported as the rim
     HoleSummary s;
     s.kind = h.kind;
     s.boundary_points = static_cast<int>(h.points_V.size());
     BoxInInput(h.points_V, *frame, &s);
     report.holes.push_back(s);
+  }
+  if (missing == &rim) {
+    HoleSummary s;
+    s.kind = HoleKind::kMissingSurface;
+    s.boundary_points = static_cast<int>(rim.points_V.size());
+    BoxInInput(rim.points_V, *frame, &s);
+    report.holes.insert(report.holes.begin(), s);
   }
   // Attribute each surface point to the claw hole whose box centre is nearest.
   for (const Eigen::Vector3f& p : surface_V) {

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -346,6 +347,9 @@ void SymmetryConfig::Validate() const {
   Require(max_outline_mismatch >= 0.0 && max_outline_mismatch <= 10.0,
           p + "max_outline_mismatch must be in [0, 10]");
   Require(outline_checks >= 1 && outline_checks <= 1000, p + "outline_checks must be in [1, 1000]");
+  Require(outlier_checks >= 0 && outlier_checks < outline_checks,
+          p + "outlier_checks must be in [0, outline_checks)");
+  Require(prism_fraction > 0.0 && prism_fraction <= 1.0, p + "prism_fraction must be in (0, 1]");
   Require(max_added_height_fraction > 0.0 && std::isfinite(max_added_height_fraction),
           p + "max_added_height_fraction must be > 0");
   Require(range_tolerance_slabs >= 0.0 && range_tolerance_slabs <= 1000.0,
@@ -447,7 +451,26 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
 
   double z_s = 0.0;
   std::string how;
-  if (config.plateau_search) {
+  // Prism-like (cuboid, prisms, cylinders): nearly every slab has the
+  // median slab's size. The largest section can then be anywhere (a fused
+  // cloud's claw fills bulge the top slabs by 15%), and the middle of the
+  // observed height is the plane: the mirror closes the object at the rim.
+  int near_median = 0, valid = 0;
+  {
+    std::vector<double> sizes;
+    for (double v : size) if (v > 0.0) sizes.push_back(v);
+    std::nth_element(sizes.begin(), sizes.begin() + static_cast<long>(sizes.size() / 2), sizes.end());
+    const double median_size = sizes[sizes.size() / 2];
+    for (double v : sizes) near_median += std::abs(v - median_size) <= config.plateau_tolerance * median_size;
+    valid = static_cast<int>(sizes.size());
+  }
+  const bool prism_like = config.plateau_search && near_median >= config.prism_fraction * valid;
+  if (prism_like) {
+    z_s = 0.5 * (z_min + z_b);
+    how = "constant cross-section (" + std::to_string(near_median) + " of " + std::to_string(valid) +
+          " slabs within " + std::to_string(static_cast<int>(std::lround(100 * config.plateau_tolerance))) +
+          "% of the median): plane at mid-height";
+  } else if (config.plateau_search) {
     const double s_max = *std::max_element(size.begin(), size.end());
     const double s_min = (1.0 - config.plateau_tolerance) * s_max;
     // Runs of near-largest slabs; the one nearest the median slab wins.
@@ -518,7 +541,11 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
     }
     // Outlines above the plane against their mirror images below; the
     // mirror slab may shift by one slab (the plane is known to about that).
-    double worst = 0.0, worst_z = z_s;
+    // (mismatch, z) of every check; the verdict goes by the
+    // (outlier_checks + 1)-th worst, so that a fused cloud's rounded bottom
+    // edge or a ragged slab by the claw holes does not sink a symmetric
+    // object, while a real asymmetry (it spans many slabs) still does.
+    std::vector<std::pair<double, double>> mismatches;
     const double top = z_b - 0.5 * h;  // the highest full slab
     for (int i = 0; i < config.outline_checks && top - z_s > h; ++i) {
       const double z_up = z_s + h + (top - z_s - h) * (i + 0.5) / config.outline_checks;
@@ -531,7 +558,14 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
         const Polygon dn = profile.HullAt(z_dn, config.min_slab_points);
         if (!dn.empty()) best = std::min(best, OutlineMismatch(up, dn));
       }
-      if (std::isfinite(best) && best > worst) worst = best, worst_z = z_up;
+      if (std::isfinite(best)) mismatches.emplace_back(best, z_up);
+    }
+    std::sort(mismatches.begin(), mismatches.end(), std::greater<>());
+    double worst = 0.0, worst_z = z_s;
+    if (!mismatches.empty()) {
+      const size_t pick = std::min(mismatches.size() - 1, static_cast<size_t>(config.outlier_checks));
+      worst = mismatches[pick].first;
+      worst_z = mismatches[pick].second;
     }
     result.outline_mismatch = worst;
     if (worst > config.max_outline_mismatch) {

@@ -175,8 +175,8 @@ TEST(NeighborIndex, FlatCloudsAndFarQueries) {
   const NeighborIndex index(flat);
   std::vector<int> nn;
   std::vector<double> d2;
-  for (const Eigen::Vector3f q : {Eigen::Vector3f(0.02f, 0.02f, 0.0f), Eigen::Vector3f(5.0f, -3.0f, 2.0f),
-                                  Eigen::Vector3f(0.02f, 0.02f, 0.5f)}) {
+  const PointList queries{{0.02f, 0.02f, 0.0f}, {5.0f, -3.0f, 2.0f}, {0.02f, 0.02f, 0.5f}};
+  for (const Eigen::Vector3f& q : queries) {
     index.Knn(q, 9, &nn, &d2);
     const auto truth = BruteForce(flat, q);
     ASSERT_EQ(nn.size(), 9u);

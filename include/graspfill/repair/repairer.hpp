@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "graspfill/repair/axis_refinement.hpp"
 #include "graspfill/repair/boundary_classification.hpp"
 #include "graspfill/repair/boundary_completion.hpp"
 #include "graspfill/repair/boundary_detection.hpp"
@@ -34,10 +35,15 @@ struct RepairConfig {
   BoundaryConfig boundary;
   LinkConfig link;
   VirtualFrameConfig frame;
+  AxisRefineConfig axis;  ///< best mode only (the paper has no such step)
   ClassifyConfig classify;
   CompletionConfig completion;
   ClawRepairConfig claw;
   SymmetryConfig symmetry;
+  /// Best mode: boundary points within this of the top of V [m] form the
+  /// missing surface's rim when step 5's is smaller (0: step 5's only; the
+  /// paper). 4 mm: a fused cloud's rim band, ~3 voxels.
+  double top_rim_band_m{0.004};
   /// Optional hint of the object's "up" (towards the missing top) in the
   /// input frame; never required.
   std::optional<Eigen::Vector3d> up_hint;

@@ -74,6 +74,11 @@ struct SymmetryConfig {
   /// Slabs with a size of at least (1 - this) x the largest belong to the
   /// largest cross-section (sampling noise, residual dents).
   double plateau_tolerance{0.05};
+  /// Prism-like when at least this fraction of the slabs are within
+  /// plateau_tolerance of the median slab's size: plane at mid-height.
+  /// (A cuboid with a 3 cm bump on 13 cm: 77%; fused clouds of prisms and
+  /// cylinders: 95% and more.)
+  double prism_fraction{0.85};
   /// A run of the largest cross-section that reaches within this many
   /// slabs of the lowest and of the highest slab spans the whole observed
   /// height (a prism-like shape).
@@ -91,8 +96,11 @@ struct SymmetryConfig {
   /// degrees).
   double max_outline_mismatch{0.05};
   /// Slab pairs compared by the outline check (spread over the observed
-  /// part above z_s).
+  /// part above z_s) ...
   int outline_checks{8};
+  /// ... of which this many may mismatch (a fused cloud's rounded bottom
+  /// edge, a ragged slab by the claw holes: 11-12% on one pair each).
+  int outlier_checks{2};
   /// Largest height the mirror may add above the boundary, as a fraction
   /// of the observed height (boundary z - min z): the camera misses a top,
   /// not most of the object.
