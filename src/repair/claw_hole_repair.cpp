@@ -130,6 +130,22 @@ Spacing EstimateSpacing(const NeighborIndex& index, const std::vector<int>& subs
   return out;
 }
 
+// Least-squares plane of `pts` (PCA): its normal, the eigenvector of the
+// covariance's smallest eigenvalue; also the mean and the eigenvalues
+// (increasing).
+Eigen::Vector3d PlaneOf(const std::vector<Eigen::Vector3d>& pts, Eigen::Vector3d* mean,
+                        Eigen::Vector3d* eigenvalues) {
+  *mean = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : pts) *mean += p;
+  *mean /= static_cast<double>(std::max<size_t>(1, pts.size()));
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& p : pts) cov += (p - *mean) * (p - *mean).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(cov);
+  *eigenvalues = eig.eigenvalues();
+  return eig.eigenvectors().col(0);
+}
+
 // PCA normals of `subset` (knn over the whole cloud), oriented away from
 // `centre`: right for the convex-ish objects a claw holds, and cheap, where
 // Open3D's consistent tangent-plane orientation takes seconds.
@@ -140,20 +156,14 @@ std::vector<Eigen::Vector3f> EstimateNormals(const NeighborIndex& index,
   std::vector<Eigen::Vector3f> normals(subset.size());
   std::vector<int> nn;
   std::vector<double> d2;
+  std::vector<Eigen::Vector3d> near;
+  Eigen::Vector3d mean, eigenvalues;
   for (size_t i = 0; i < subset.size(); ++i) {
     const Eigen::Vector3f& p = points[subset[i]];
     index.Knn(p, k, &nn, &d2);
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (int j : nn) mean += points[j].cast<double>();
-    mean /= static_cast<double>(std::max<size_t>(1, nn.size()));
-    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (int j : nn) {
-      const Eigen::Vector3d d = points[j].cast<double>() - mean;
-      cov += d * d.transpose();
-    }
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-    eig.computeDirect(cov);
-    Eigen::Vector3f n = eig.eigenvectors().col(0).cast<float>();
+    near.clear();
+    for (int j : nn) near.push_back(points[j].cast<double>());
+    Eigen::Vector3f n = PlaneOf(near, &mean, &eigenvalues).cast<float>();
     if (n.dot(p - centre) < 0.0f) n = -n;
     normals[i] = n;
   }
@@ -227,19 +237,6 @@ struct HoleFrame {
   }
 };
 
-Eigen::Vector3d PlaneOf(const std::vector<Eigen::Vector3d>& pts, Eigen::Vector3d* mean,
-                        Eigen::Vector3d* eigenvalues) {
-  *mean = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : pts) *mean += p;
-  *mean /= static_cast<double>(std::max<size_t>(1, pts.size()));
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3d& p : pts) cov += (p - *mean) * (p - *mean).transpose();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-  eig.computeDirect(cov);
-  *eigenvalues = eig.eigenvalues();
-  return eig.eigenvectors().col(0);
-}
-
 HoleFrame MakeHoleFrame(const PointList& rim, const PointList& points,
                         const std::vector<int>& support, const Eigen::Vector3d& outward_hint) {
   std::vector<Eigen::Vector3d> pts;
@@ -278,6 +275,25 @@ struct FillRegion {
   }
   bool InZ(double z) const { return z >= z_lo && z <= z_hi; }
 };
+
+// The rim's box in f's local coordinates, padded by `pad` in u and v, with
+// V's z range [z_lo, z_hi].
+FillRegion RimRegion(const PointList& rim, const HoleFrame& f, double pad, double z_lo,
+                     double z_hi) {
+  FillRegion r;
+  r.lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  r.hi = -r.lo;
+  for (const Eigen::Vector3f& p : rim) {
+    const Eigen::Vector3d l = f.Local(p.cast<double>());
+    r.lo = r.lo.cwiseMin(l);
+    r.hi = r.hi.cwiseMax(l);
+  }
+  r.lo.head<2>().array() -= pad;
+  r.hi.head<2>().array() += pad;
+  r.z_lo = z_lo;
+  r.z_hi = z_hi;
+  return r;
+}
 
 // Decides whether a candidate is new: no cloud point and no point added
 // for an earlier hole within `gap_m`. Samples of the same surface are not
@@ -1051,19 +1067,8 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
     }
     if (outward.norm() < 1e-9) outward = (box.center() - centroid).cast<double>();
     const HoleFrame frame = MakeHoleFrame(rim, points_V, support, outward);
-    FillRegion region;
-    region.lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-    region.hi = -region.lo;
-    for (const Eigen::Vector3f& p : rim) {
-      const Eigen::Vector3d l = frame.Local(p.cast<double>());
-      region.lo = region.lo.cwiseMin(l);
-      region.hi = region.hi.cwiseMax(l);
-    }
     const double pad = config.box_pad_d * d;
-    region.lo.head<2>().array() -= pad;
-    region.hi.head<2>().array() += pad;
-    region.z_lo = box.min().z() - pad;
-    region.z_hi = box.max().z() + pad;
+    FillRegion region = RimRegion(rim, frame, pad, box.min().z() - pad, box.max().z() + pad);
     // The grid spans the support box's shadow, so that the samples of a
     // second sheet (an edge hole), too, are tested on it.
     Eigen::Vector2d grid_lo = region.lo.head<2>(), grid_hi = region.hi.head<2>();
@@ -1088,17 +1093,7 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
       const double max_snap = std::max(0.003, 10.0 * d);
       // Each sheet over the rim's shadow in its own frame.
       const auto region_of = [&](const HoleFrame& f) {
-        FillRegion r = region;
-        r.lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-        r.hi = -r.lo;
-        for (const Eigen::Vector3f& p : rim) {
-          const Eigen::Vector3d l = f.Local(p.cast<double>());
-          r.lo = r.lo.cwiseMin(l);
-          r.hi = r.hi.cwiseMax(l);
-        }
-        r.lo.head<2>().array() -= pad;
-        r.hi.head<2>().array() += pad;
-        return r;
+        return RimRegion(rim, f, pad, region.z_lo, region.z_hi);
       };
       SampleHeightField(sheets.a, region_of(sheets.a.frame), density,
                         sheets.two ? &sheets.b : nullptr, clip_tol,

@@ -5,71 +5,25 @@
 #include <open3d/t/geometry/PointCloud.h>
 
 #include <algorithm>
-#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <tuple>
 #include <utility>
 
+#include "boundary_fixtures.hpp"
+#include "cpu_time.hpp"
 #include "graspfill/repair/neighbor_index.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
-#include "graspfill/synth/random.hpp"
 #include "graspfill/synth/shapes.hpp"
 
 namespace graspfill::repair {
 namespace {
 
-// Process CPU time [ms]: steadier than wall time on a shared machine; with
-// OMP_THREAD_LIMIT=1 (as ctest runs the tests) it is one core's time.
-double CpuMs() { return 1e3 * static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
-
-struct Disc {
-  Eigen::Vector2f centre;
-  float radius_m;
-};
-
-// Uniform random sample of the square [-half, half]^2 at z = 0 with `n`
-// points before the discs are cut out of it.
-PointList PlaneWithHoles(int n, float half_m, const std::vector<Disc>& holes, uint64_t seed) {
-  synth::Rng rng(seed);
-  PointList points;
-  for (int i = 0; i < n; ++i) {
-    const Eigen::Vector2f xy(static_cast<float>((2 * rng.Uniform() - 1) * half_m),
-                             static_cast<float>((2 * rng.Uniform() - 1) * half_m));
-    bool in_hole = false;
-    for (const Disc& d : holes) in_hole = in_hole || (xy - d.centre).norm() < d.radius_m;
-    if (!in_hole) points.emplace_back(xy.x(), xy.y(), 0.0f);
-  }
-  return points;
-}
-
-// Distance from (t, z) to the rectangle [-hw, hw] x [z0, z1] (0 inside).
-double RectDistance(double t, double z, double hw, double z0, double z1) {
-  const double dt = std::max(std::abs(t) - hw, 0.0);
-  const double dz = std::max({z0 - z, z - z1, 0.0});
-  return std::hypot(dt, dz);
-}
-
-// Distance of a point of the paper-protocol cylinder (object frame) to the
-// nearest rim: the cut top or one of the claw holes (top grasp, no tilt).
-double CylinderRimDistance(const Eigen::Vector3f& p, const synth::PaperProtocolConfig& c,
-                           double height) {
-  const double top_z = synth::TopCutZ(c, height);
-  double d = std::abs(top_z - p.z());
-  const double z_centre = top_z - 0.5 * c.claw_hole_height_m + 0.004;
-  for (int i = 0; i < c.num_claw_holes; ++i) {
-    const double a = 2.0 * M_PI * i / c.num_claw_holes;
-    const double along = std::cos(a) * p.x() + std::sin(a) * p.y();
-    if (along <= 0.0) continue;
-    const double t = std::cos(a) * p.y() - std::sin(a) * p.x();
-    d = std::min(d, RectDistance(t, p.z(), 0.5 * c.claw_hole_width_m,
-                                 z_centre - 0.5 * c.claw_hole_height_m,
-                                 z_centre + 0.5 * c.claw_hole_height_m));
-  }
-  return d;
-}
+using testing::BestOf3CpuMs;
+using testing::Disc;
+using testing::PlaneWithHoles;
 
 TEST(BoundaryConfig, DefaultsAreThePapersAndValidate) {
   const BoundaryConfig config;
@@ -187,12 +141,13 @@ TEST(DetectBoundaryPoints, PaperCylinderRimsOnly) {
   const double height = cloud.size_m.z();
   const double area = M_PI * cloud.size_m.x() * height + 0.5 * M_PI * std::pow(cloud.size_m.x(), 2);
   const double spacing = std::sqrt(area / config.num_points);
+  const testing::ProtocolHoles holes = testing::HolesOf(config, cloud.size_m);
   const NeighborIndex index(cloud.holey);
   const std::vector<int> boundary = DetectBoundaryPoints(index, BoundaryConfig{});
   int far = 0;
   double worst = 0.0;
   for (const int i : boundary) {
-    const double d = CylinderRimDistance(cloud.holey[static_cast<size_t>(i)], config, height);
+    const double d = testing::RimDistance(cloud.holey[static_cast<size_t>(i)], holes);
     worst = std::max(worst, d);
     far += d > 3.5 * spacing;
   }
@@ -237,6 +192,7 @@ TEST(DetectBoundaryPoints, OwnVsOpen3dOn50k) {
                       0.5 * M_PI * std::pow(cloud.size_m.x(), 2);
   const double spacing = std::sqrt(area / config.num_points);
   const Eigen::Isometry3f T_object_cloud = cloud.T_cloud_object.inverse().cast<float>();
+  const testing::ProtocolHoles holes = testing::HolesOf(config, cloud.size_m);
   const auto n = static_cast<int64_t>(points.size());
   // Fraction of flagged points within 3.5 spacings of a true rim.
   auto precision = [&](const std::vector<char>& flags) {
@@ -244,8 +200,8 @@ TEST(DetectBoundaryPoints, OwnVsOpen3dOn50k) {
     for (int64_t i = 0; i < n; ++i) {
       if (!flags[static_cast<size_t>(i)]) continue;
       ++flagged;
-      near += CylinderRimDistance(T_object_cloud * points[static_cast<size_t>(i)], config,
-                                  cloud.size_m.z()) < 3.5 * spacing;
+      near += testing::RimDistance(T_object_cloud * points[static_cast<size_t>(i)], holes) <
+              3.5 * spacing;
     }
     return std::make_pair(flagged, flagged > 0 ? static_cast<double>(near) / flagged : 1.0);
   };
@@ -262,32 +218,23 @@ TEST(DetectBoundaryPoints, OwnVsOpen3dOn50k) {
     }
     return either > 0 ? static_cast<double>(both) / static_cast<double>(either) : 1.0;
   };
-  auto best_of_3 = [](const auto& fn) {
-    double best = 1e30;
-    for (int r = 0; r < 3; ++r) {
-      const double t0 = CpuMs();
-      fn();
-      best = std::min(best, CpuMs() - t0);
-    }
-    return best;
-  };
 
   std::unique_ptr<NeighborIndex> index;
-  const double build_ms = best_of_3([&] { index = std::make_unique<NeighborIndex>(points); });
+  const double build_ms = BestOf3CpuMs([&] { index = std::make_unique<NeighborIndex>(points); });
   std::vector<int> nn;
   std::vector<double> d2;
-  const double knn_ms = best_of_3([&] {
+  const double knn_ms = BestOf3CpuMs([&] {
     for (const Eigen::Vector3f& p : points) index->Knn(p, 21, &nn, &d2);
   });
   std::vector<Eigen::Vector3f> normals;
   std::vector<int> own;
   const double own_ms =
-      best_of_3([&] { own = DetectBoundaryPoints(*index, BoundaryConfig{}, &normals); });
+      BestOf3CpuMs([&] { own = DetectBoundaryPoints(*index, BoundaryConfig{}, &normals); });
   BoundaryConfig paper;
   paper.confirm_k = 0;
   std::vector<int> own_paper;
   const double own_paper_ms =
-      best_of_3([&] { own_paper = DetectBoundaryPoints(*index, paper, &normals); });
+      BestOf3CpuMs([&] { own_paper = DetectBoundaryPoints(*index, paper, &normals); });
 
   namespace o3c = open3d::core;
   o3c::Tensor positions({n, 3}, o3c::Float32);
@@ -309,12 +256,12 @@ TEST(DetectBoundaryPoints, OwnVsOpen3dOn50k) {
     return std::vector<char>(data, data + n);
   };
   o3c::Tensor mask, mask_own_normals;
-  const double o3d_ms = best_of_3([&] {
+  const double o3d_ms = BestOf3CpuMs([&] {
     open3d::t::geometry::PointCloud pcd(positions);
     pcd.SetPointNormals(normal_tensor);
     mask = std::get<1>(pcd.ComputeBoundaryPoints(radius, 21, 90.0));
   });
-  const double o3d_full_ms = best_of_3([&] {
+  const double o3d_full_ms = BestOf3CpuMs([&] {
     open3d::t::geometry::PointCloud pcd(positions);
     pcd.EstimateNormals(21, radius);
     mask_own_normals = std::get<1>(pcd.ComputeBoundaryPoints(radius, 21, 90.0));

@@ -1,11 +1,13 @@
-// Test-only boundary inputs for the virtual frame, classification and
-// completion tests, built from the paper protocol's known geometry so that
-// these steps are tested without steps 2-3 (boundary detection, linking).
+// Test-only inputs for the repair tests: planes with round holes, and the
+// paper protocol's known hole geometry, from which the virtual frame,
+// classification and completion tests build their boundaries (so that those
+// steps are tested without steps 2-3, boundary detection and linking).
 #pragma once
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -14,6 +16,27 @@
 #include "graspfill/synth/random.hpp"
 
 namespace graspfill::repair::testing {
+
+struct Disc {
+  Eigen::Vector2f centre;
+  float radius_m;
+};
+
+/// Uniform random sample of the square [-half, half]^2 at z = 0 with `n`
+/// points before the discs are cut out of it.
+inline PointList PlaneWithHoles(int n, float half_m, const std::vector<Disc>& holes,
+                                uint64_t seed) {
+  synth::Rng rng(seed);
+  PointList points;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2f xy(static_cast<float>((2 * rng.Uniform() - 1) * half_m),
+                             static_cast<float>((2 * rng.Uniform() - 1) * half_m));
+    bool in_hole = false;
+    for (const Disc& d : holes) in_hole = in_hole || (xy - d.centre).norm() < d.radius_m;
+    if (!in_hole) points.emplace_back(xy.x(), xy.y(), 0.0f);
+  }
+  return points;
+}
 
 /// The protocol's holes in the object frame O, mirroring the rules of
 /// src/synth/paper_protocol.cpp (top cut, finger patches).
@@ -62,6 +85,41 @@ inline PatchCoords InPatch(const ProtocolHoles& h, size_t i, const Eigen::Vector
   return c;
 }
 
+/// Whether p_O lies on hole i's finger patch grown by `grow` [m] all round.
+inline bool WithinPatch(const ProtocolHoles& h, size_t i, const Eigen::Vector3f& p,
+                        double grow) {
+  const PatchCoords c = InPatch(h, i, p);
+  return c.front && std::abs(c.a) <= h.half_width + grow && std::abs(c.b) <= h.half_height + grow;
+}
+
+/// Distance from (t, z) to the rectangle [-hw, hw] x [z0, z1] (0 inside).
+inline double RectDistance(double t, double z, double hw, double z0, double z1) {
+  const double dt = std::max(std::abs(t) - hw, 0.0);
+  const double dz = std::max({z0 - z, z - z1, 0.0});
+  return std::hypot(dt, dz);
+}
+
+/// Distance of p_O to the nearest rim of a straight grasp's holes (the tilt
+/// is not applied): the cut top's or a claw hole's; in *hole, when given,
+/// that claw hole or -1 for the top.
+inline double RimDistance(const Eigen::Vector3f& p, const ProtocolHoles& h,
+                          int* hole = nullptr) {
+  double d = std::abs(h.top_z - p.z());
+  if (hole != nullptr) *hole = -1;
+  for (size_t i = 0; i < h.dirs.size(); ++i) {
+    const Eigen::Vector2d& dir = h.dirs[i];
+    if (dir.x() * p.x() + dir.y() * p.y() <= 0.0) continue;
+    const double t = dir.x() * p.y() - dir.y() * p.x();
+    const double dh = RectDistance(t, p.z(), h.half_width, h.z_centre - h.half_height,
+                                   h.z_centre + h.half_height);
+    if (dh < d) {
+      d = dh;
+      if (hole != nullptr) *hole = static_cast<int>(i);
+    }
+  }
+  return d;
+}
+
 /// The hole-boundary points a perfect detector would give: indices of the
 /// cloud points (given in O) within `width_m` of the cut top or of a claw
 /// patch.
@@ -71,11 +129,7 @@ inline std::vector<int> OracleBoundary(const PointList& points_O, const Protocol
   for (size_t k = 0; k < points_O.size(); ++k) {
     const Eigen::Vector3f& p = points_O[k];
     bool near = p.z() > h.top_z - width_m;
-    for (size_t i = 0; i < h.dirs.size() && !near; ++i) {
-      const PatchCoords c = InPatch(h, i, p);
-      near = c.front && std::abs(c.a) <= h.half_width + width_m &&
-             std::abs(c.b) <= h.half_height + width_m;
-    }
+    for (size_t i = 0; i < h.dirs.size() && !near; ++i) near = WithinPatch(h, i, p, width_m);
     if (near) out.push_back(static_cast<int>(k));
   }
   return out;

@@ -3,43 +3,23 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <ctime>
 #include <cmath>
 #include <cstdio>
 
+#include "boundary_fixtures.hpp"
+#include "cpu_time.hpp"
 #include "graspfill/repair/boundary_detection.hpp"
 #include "graspfill/repair/neighbor_index.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
-#include "graspfill/synth/random.hpp"
 #include "graspfill/synth/shapes.hpp"
 
 namespace graspfill::repair {
 namespace {
 
-// Process CPU time [ms]: steadier than wall time on a shared machine; with
-// OMP_THREAD_LIMIT=1 (as ctest runs the tests) it is one core's time.
-double CpuMs() { return 1e3 * static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
-
-struct Disc {
-  Eigen::Vector2f centre;
-  float radius_m;
-};
-
-// Uniform random sample of the square [-half, half]^2 at z = 0 with `n`
-// points before the discs are cut out of it.
-PointList PlaneWithHoles(int n, float half_m, const std::vector<Disc>& holes, uint64_t seed) {
-  synth::Rng rng(seed);
-  PointList points;
-  for (int i = 0; i < n; ++i) {
-    const Eigen::Vector2f xy(static_cast<float>((2 * rng.Uniform() - 1) * half_m),
-                             static_cast<float>((2 * rng.Uniform() - 1) * half_m));
-    bool in_hole = false;
-    for (const Disc& d : holes) in_hole = in_hole || (xy - d.centre).norm() < d.radius_m;
-    if (!in_hole) points.emplace_back(xy.x(), xy.y(), 0.0f);
-  }
-  return points;
-}
+using testing::BestOf3CpuMs;
+using testing::Disc;
+using testing::PlaneWithHoles;
 
 // Detection then linking, with the detector's info unless `use_info` is
 // false (the paper's Eq. 3 alone).
@@ -84,36 +64,6 @@ bool GoesAround(const PointList& points, const BoundaryLine& line, const Disc& d
     longest = std::max(longest, (a - b).norm());
   }
   return longest <= max_link_m && std::abs(std::abs(winding) - 2 * M_PI) < 0.1;
-}
-
-// Distance from (t, z) to the rectangle [-hw, hw] x [z0, z1] (0 inside).
-double RectDistance(double t, double z, double hw, double z0, double z1) {
-  const double dt = std::max(std::abs(t) - hw, 0.0);
-  const double dz = std::max({z0 - z, z - z1, 0.0});
-  return std::hypot(dt, dz);
-}
-
-// Distance of a point of the paper-protocol cylinder (object frame) to the
-// cut top's rim (-1: to the claw holes') and, in *hole, the nearest hole.
-double CylinderRimDistance(const Eigen::Vector3f& p, const synth::PaperProtocolConfig& c,
-                           double height, int* hole) {
-  const double top_z = synth::TopCutZ(c, height);
-  double d = std::abs(top_z - p.z());
-  *hole = -1;
-  const double z_centre = top_z - 0.5 * c.claw_hole_height_m + 0.004;
-  for (int i = 0; i < c.num_claw_holes; ++i) {
-    const double a = 2.0 * M_PI * i / c.num_claw_holes;
-    if (std::cos(a) * p.x() + std::sin(a) * p.y() <= 0.0) continue;
-    const double t = std::cos(a) * p.y() - std::sin(a) * p.x();
-    const double dh = RectDistance(t, p.z(), 0.5 * c.claw_hole_width_m,
-                                   z_centre - 0.5 * c.claw_hole_height_m,
-                                   z_centre + 0.5 * c.claw_hole_height_m);
-    if (dh < d) {
-      d = dh;
-      *hole = i;
-    }
-  }
-  return d;
 }
 
 // No link may be longer than a bridge over a gap: 2 x the reach of 3 local
@@ -273,6 +223,7 @@ TEST(LinkBoundaryPoints, PaperCylinderLinesFollowTheRims) {
   const double area =
       M_PI * cloud.size_m.x() * height + 0.5 * M_PI * std::pow(cloud.size_m.x(), 2);
   const double spacing = std::sqrt(area / config.num_points);
+  const testing::ProtocolHoles holes = testing::HolesOf(config, cloud.size_m);
   const std::vector<BoundaryLine> lines = DetectAndLink(cloud.holey);
   ASSERT_FALSE(lines.empty());
   // Every linked point lies on a rim; the top rim is covered all round
@@ -288,7 +239,7 @@ TEST(LinkBoundaryPoints, PaperCylinderLinesFollowTheRims) {
     for (const int i : line.indices) {
       const Eigen::Vector3f& p = cloud.holey[static_cast<size_t>(i)];
       int hole = -1;
-      const double d = CylinderRimDistance(p, config, height, &hole);
+      const double d = testing::RimDistance(p, holes, &hole);
       EXPECT_LT(d, 3.5 * spacing) << "(" << p.transpose() << ")";
       if (hole < 0) {
         const double a = std::atan2(p.y(), p.x()) + M_PI;
@@ -348,13 +299,9 @@ TEST(LinkBoundaryPoints, TimingOn50k) {
   const NeighborIndex index(cloud.holey);
   std::vector<BoundaryPointInfo> info;
   const std::vector<int> boundary = DetectBoundaryPoints(index, BoundaryConfig{}, nullptr, &info);
-  double best = 1e30;
   std::vector<BoundaryLine> lines;
-  for (int r = 0; r < 3; ++r) {
-    const double t0 = CpuMs();
-    lines = LinkBoundaryPoints(cloud.holey, boundary, LinkConfig{}, &info);
-    best = std::min(best, CpuMs() - t0);
-  }
+  const double best = BestOf3CpuMs(
+      [&] { lines = LinkBoundaryPoints(cloud.holey, boundary, LinkConfig{}, &info); });
   size_t linked = 0;
   for (const BoundaryLine& line : lines) linked += line.indices.size();
   std::printf("linking, %zu points, %zu boundary points: %.2f ms (best of 3, CPU), %zu lines, "

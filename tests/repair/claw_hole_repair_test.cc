@@ -13,7 +13,9 @@
 #include <ctime>
 #include <cstdio>
 #include <limits>
+#include <string>
 
+#include "boundary_fixtures.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/repair/neighbor_index.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
@@ -43,27 +45,11 @@ double Ms(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// The protocol's finger patch: mirrors paper_protocol.cpp (tangential and
-// vertical offsets from the finger's centre, turned by its tilt).
-struct Patch {
-  Eigen::Vector2d dir;
-  double z_centre, half_width, half_height, tilt;
-  bool Within(const Eigen::Vector3f& p, double grow) const {
-    const Eigen::Vector2d xy(p.x(), p.y());
-    if (xy.dot(dir) <= 0.0) return false;
-    const double t = dir.x() * xy.y() - dir.y() * xy.x();
-    const double z = p.z() - z_centre;
-    const double a = std::cos(tilt) * t - std::sin(tilt) * z;
-    const double b = std::sin(tilt) * t + std::cos(tilt) * z;
-    return std::abs(a) <= half_width + grow && std::abs(b) <= half_height + grow;
-  }
-};
-
 struct Scene {
   PaperProtocolConfig config;
   synth::PaperProtocolCloud cloud;
   double top_z{0.0};
-  std::vector<Patch> patches;
+  testing::ProtocolHoles patches;  // the fingers' patches
   std::vector<HoleBoundary> holes;
   PointList dense_truth;  // ~300k points of the true surface
   double d{0.0};          // mean NN distance of the holey cloud
@@ -92,25 +78,16 @@ Scene MakeScene(Shape shape, GraspWay grasp, int num_points = 50000,
   s.config.random_pose = false;
   s.config.num_points = num_points;
   s.cloud = synth::MakePaperProtocolCloud(s.config);
-  const double height = s.cloud.size_m.z();
-  s.top_z = synth::TopCutZ(s.config, height);
-  const bool top = grasp != GraspWay::kMiddleStraight;
-  const double zc = top ? s.top_z - 0.5 * s.config.claw_hole_height_m + 0.004 : 0.5 * height;
-  const double tilt = grasp == GraspWay::kTopOblique ? s.config.oblique_tilt_rad : 0.0;
-  for (int i = 0; i < s.config.num_claw_holes; ++i) {
-    const double a = 2.0 * M_PI * i / s.config.num_claw_holes;
-    s.patches.push_back({Eigen::Vector2d(std::cos(a), std::sin(a)), zc,
-                         0.5 * s.config.claw_hole_width_m, 0.5 * s.config.claw_hole_height_m,
-                         tilt});
-  }
+  s.patches = testing::HolesOf(s.config, s.cloud.size_m);
+  s.top_z = s.patches.top_z;
   // Each hole's boundary: the cloud points within 1.5 mm outside its patch
   // (what steps 2-6 deliver, up to order and the completion's points).
-  for (const Patch& patch : s.patches) {
+  for (size_t i = 0; i < s.patches.dirs.size(); ++i) {
     HoleBoundary hole;
     hole.kind = HoleKind::kClaw;
     hole.closed = true;
     for (const Eigen::Vector3f& p : s.cloud.holey) {
-      if (patch.Within(p, 0.0015)) {
+      if (testing::WithinPatch(s.patches, i, p, 0.0015)) {
         hole.points_V.push_back(p);
         hole.source_indices.push_back(-1);
       }
@@ -138,10 +115,10 @@ FillStats Evaluate(const Scene& s, const PointList& added, double cover_m = 0.0)
   st.p95_mm = 1e3 * eval::Percentile(dist, 95.0);
   PointList both = s.cloud.holey;
   both.insert(both.end(), added.begin(), added.end());
-  for (const Patch& patch : s.patches) {
+  for (size_t i = 0; i < s.patches.dirs.size(); ++i) {
     PointList in_hole;
     for (const Eigen::Vector3f& p : s.cloud.ground_truth) {
-      if (patch.Within(p, 0.0) && p.z() <= s.top_z) in_hole.push_back(p);
+      if (testing::WithinPatch(s.patches, i, p, 0.0) && p.z() <= s.top_z) in_hole.push_back(p);
     }
     if (in_hole.empty()) continue;
     const std::vector<double> to_cloud = eval::NearestDistances(in_hole, s.cloud.holey);
@@ -167,6 +144,25 @@ void Print(const char* label, const Scene& s, const PointList& added, const Fill
               "(p95 %.2f mm), interior cover %.3f, union cover %.3f\n",
               label, s.cloud.holey.size(), 1e3 * s.d, added.size(), ms, st.on_surface, st.p95_mm,
               st.interior_cover, st.union_cover);
+}
+
+struct Fill {
+  PointList added;
+  FillStats st;
+};
+
+// Fills s's holes with `config` (and an index shared by the fill's
+// steps), then evaluates the fill and prints it under `label`.
+Fill FillHoles(const Scene& s, const std::string& label,
+               const ClawRepairConfig& config = ClawRepairConfig{}, double cover_m = 0.0) {
+  const NeighborIndex index(s.cloud.holey);
+  const auto t0 = std::chrono::steady_clock::now();
+  Fill fill;
+  fill.added = RepairClawHoles(s.cloud.holey, s.holes, config, nullptr, &index);
+  const double ms = Ms(t0);
+  fill.st = Evaluate(s, fill.added, cover_m);
+  Print(label.c_str(), s, fill.added, fill.st, ms);
+  return fill;
 }
 
 void ExpectGoodFill(const FillStats& st) {
@@ -247,12 +243,7 @@ TEST(ClawHoleRepair, TimingOnTheProtocolCloud) {
 
 TEST(ClawHoleRepair, CylinderMiddleGraspHolesFilledOnTheSurface) {
   const Scene s = MakeScene(Shape::kCylinder, GraspWay::kMiddleStraight);
-  const NeighborIndex index(s.cloud.holey);
-  const auto t0 = std::chrono::steady_clock::now();
-  const PointList added = RepairClawHoles(s.cloud.holey, s.holes, ClawRepairConfig{}, nullptr, &index);
-  const double ms = Ms(t0);
-  const FillStats st = Evaluate(s, added);
-  Print("cylinder middle-straight (local fit)", s, added, st, ms);
+  const auto [added, st] = FillHoles(s, "cylinder middle-straight (local fit)");
   ExpectGoodFill(st);
   // About the hole area times the input density: 3 holes of 25 x 45 mm,
   // less the empty band of D kept along the rims.
@@ -267,12 +258,7 @@ TEST(ClawHoleRepair, CylinderMiddleGraspHolesFilledOnTheSurface) {
 
 TEST(ClawHoleRepair, CuboidTopGraspHolesOpenIntoTheTopAreFilled) {
   const Scene s = MakeScene(Shape::kCuboid, GraspWay::kTopStraight);
-  const NeighborIndex index(s.cloud.holey);
-  const auto t0 = std::chrono::steady_clock::now();
-  const PointList added = RepairClawHoles(s.cloud.holey, s.holes, ClawRepairConfig{}, nullptr, &index);
-  const double ms = Ms(t0);
-  const FillStats st = Evaluate(s, added);
-  Print("cuboid top-straight (local fit)", s, added, st, ms);
+  const auto [added, st] = FillHoles(s, "cuboid top-straight (local fit)");
   ExpectGoodFill(st);
   // Nothing above the boundary's box: the top is the symmetry step's.
   for (const Eigen::Vector3f& p : added) EXPECT_LE(p.z(), s.top_z + 3 * s.d);
@@ -283,19 +269,13 @@ TEST(ClawHoleRepair, EveryProtocolShapeAndGraspIsFilled) {
     for (GraspWay grasp :
          {GraspWay::kTopStraight, GraspWay::kMiddleStraight, GraspWay::kTopOblique}) {
       const Scene s = MakeScene(shape, grasp);
-      const NeighborIndex index(s.cloud.holey);
-      const auto t0 = std::chrono::steady_clock::now();
-      const PointList added =
-          RepairClawHoles(s.cloud.holey, s.holes, ClawRepairConfig{}, nullptr, &index);
-      const double ms = Ms(t0);
-      const FillStats st = Evaluate(s, added);
       const std::string label =
           synth::ShapeName(shape) +
           (grasp == GraspWay::kTopStraight
                ? " top"
                : (grasp == GraspWay::kMiddleStraight ? " middle" : " oblique")) +
           " (local fit)";
-      Print(label.c_str(), s, added, st, ms);
+      const FillStats st = FillHoles(s, label).st;
       SCOPED_TRACE(label);
       ExpectGoodFill(st);
     }
@@ -309,17 +289,11 @@ TEST(ClawHoleRepair, CuboidsOfThePapersSizesAreFilled) {
                                      Eigen::Vector3d(0.10, 0.10, 0.20)}) {
     for (GraspWay grasp : {GraspWay::kTopStraight, GraspWay::kTopOblique}) {
       const Scene s = MakeScene(Shape::kCuboid, grasp, 50000, size);
-      const NeighborIndex index(s.cloud.holey);
-      const auto t0 = std::chrono::steady_clock::now();
-      const PointList added =
-          RepairClawHoles(s.cloud.holey, s.holes, ClawRepairConfig{}, nullptr, &index);
-      const double ms = Ms(t0);
-      const FillStats st = Evaluate(s, added);
       char label[64];
       std::snprintf(label, sizeof(label), "cuboid %.0fx%.0fx%.0f cm %s (local fit)", 100 * size.x(),
                     100 * size.y(), 100 * size.z(),
                     grasp == GraspWay::kTopStraight ? "top" : "oblique");
-      Print(label, s, added, st, ms);
+      const FillStats st = FillHoles(s, label).st;
       SCOPED_TRACE(label);
       ExpectGoodFill(st);
     }
@@ -377,13 +351,8 @@ TEST(ClawHoleRepair, PaperSettingsFillTheHolesCoarsely) {
   // (the protocol's cut) the surface is open there and sags most near the
   // top: ~85% of the holes' interior within 5 mm, p95 ~5 mm.
   const Scene s = MakeScene(Shape::kCuboid, GraspWay::kMiddleStraight);
-  const NeighborIndex index(s.cloud.holey);
-  const auto t0 = std::chrono::steady_clock::now();
-  const PointList added =
-      RepairClawHoles(s.cloud.holey, s.holes, ClawRepairConfig::Paper(), nullptr, &index);
-  const double ms = Ms(t0);
-  const FillStats st = Evaluate(s, added, 0.005);
-  Print("cuboid middle (paper, cover@5mm)", s, added, st, ms);
+  const FillStats st =
+      FillHoles(s, "cuboid middle (paper, cover@5mm)", ClawRepairConfig::Paper(), 0.005).st;
   EXPECT_GE(st.interior_cover, 0.8);
   EXPECT_LT(st.p95_mm, 5.5);
 }

@@ -8,15 +8,14 @@
 #include <cstdio>
 #include <utility>
 
+#include "cpu_time.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
 #include "graspfill/synth/random.hpp"
 
 namespace graspfill::repair {
 namespace {
 
-// Process CPU time [ms]: steadier than wall time on a shared machine; with
-// OMP_THREAD_LIMIT=1 (as ctest runs the tests) it is one core's time.
-double CpuMs() { return 1e3 * static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+using testing::CpuMs;
 
 PointList RandomCloud(int n, uint64_t seed) {
   synth::Rng rng(seed);

@@ -4,12 +4,12 @@
 #include <open3d/geometry/PointCloud.h>
 
 #include <algorithm>
-#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <memory>
 
+#include "cpu_time.hpp"
 #include "graspfill/repair/neighbor_index.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
@@ -19,9 +19,7 @@
 namespace graspfill::repair {
 namespace {
 
-// Process CPU time [ms]: steadier than wall time on a shared machine; with
-// OMP_THREAD_LIMIT=1 (as ctest runs the tests) it is one core's time.
-double CpuMs() { return 1e3 * static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+using testing::BestOf3CpuMs;
 
 // A sphere sample (surface) followed by `num_far` points scattered off the
 // surface, 1-5 cm out or 1-3 cm in: the injected outliers.
@@ -171,25 +169,16 @@ TEST(RemoveOutliers, MatchesOpen3dAndTiming) {
   OutlierConfig config_sor;
   config_sor.min_median_ratio = 0.0;  // PCL's test alone, as Open3D's
 
-  auto best_of_3 = [](const auto& fn) {
-    double best = 1e30;
-    for (int r = 0; r < 3; ++r) {
-      const double t0 = CpuMs();
-      fn();
-      best = std::min(best, CpuMs() - t0);
-    }
-    return best;
-  };
   std::vector<int> own;
-  const double own_ms = best_of_3([&] { own = RemoveOutliers(points, config_sor); });
+  const double own_ms = BestOf3CpuMs([&] { own = RemoveOutliers(points, config_sor); });
   std::unique_ptr<NeighborIndex> index;
-  const double build_ms = best_of_3([&] { index = std::make_unique<NeighborIndex>(points); });
+  const double build_ms = BestOf3CpuMs([&] { index = std::make_unique<NeighborIndex>(points); });
   std::vector<int> own_shared;
-  const double shared_ms = best_of_3([&] { own_shared = RemoveOutliers(*index, config_sor); });
+  const double shared_ms = BestOf3CpuMs([&] { own_shared = RemoveOutliers(*index, config_sor); });
   EXPECT_EQ(own, own_shared);
 
   std::vector<size_t> o3d;
-  const double o3d_ms = best_of_3([&] {
+  const double o3d_ms = BestOf3CpuMs([&] {
     open3d::geometry::PointCloud pcd;
     pcd.points_.reserve(points.size());
     for (const Eigen::Vector3f& p : points) pcd.points_.push_back(p.cast<double>());

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <string>
 
 #include "boundary_fixtures.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
@@ -70,6 +71,19 @@ void ExpectFrameMatches(const Case& c, const VirtualFrame& frame, const std::str
   EXPECT_NEAR(frame.max_V.z(), c.holes.top_z, 0.004) << what;
 }
 
+// Estimates c's frame from its boundary and expects it to match the truth;
+// prints the planes found when it does not.
+void ExpectFrameFound(const Case& c, const VirtualFrameConfig& config, const std::string& what) {
+  std::string reason;
+  std::vector<BoundaryPlane> planes;
+  const auto frame =
+      EstimateVirtualFrame(c.cloud.holey, c.boundary, config, nullptr, &reason, &planes);
+  if (!frame) PrintPlanes(c, planes);
+  ASSERT_TRUE(frame.has_value()) << what << ": " << reason;
+  ExpectFrameMatches(c, *frame, what);
+  if (::testing::Test::HasFailure()) PrintPlanes(c, planes);
+}
+
 TEST(VirtualFrameConfig, DefaultsAreValidAndBadValuesThrow) {
   VirtualFrameConfig config;
   EXPECT_NO_THROW(config.Validate());
@@ -93,13 +107,8 @@ TEST(VirtualFrame, EveryShapeInRandomPosesTopGrasp) {
     for (uint64_t seed : {1, 2, 3, 4}) {
       const Case c = MakeCase(shape, GraspWay::kTopStraight, seed);
       const std::string what = synth::ShapeName(shape) + " seed " + std::to_string(seed);
-      std::string reason;
-      std::vector<BoundaryPlane> planes;
-      const auto frame =
-          EstimateVirtualFrame(c.cloud.holey, c.boundary, config, nullptr, &reason, &planes);
-      ASSERT_TRUE(frame.has_value()) << what << ": " << reason;
-      ExpectFrameMatches(c, *frame, what);
-      if (HasFailure()) return PrintPlanes(c, planes);
+      ExpectFrameFound(c, config, what);
+      if (HasFailure()) return;
     }
   }
 }
@@ -112,13 +121,8 @@ TEST(VirtualFrame, EveryShapeMiddleAndObliqueGrasps) {
         const Case c = MakeCase(shape, grasp, seed);
         const std::string what = synth::ShapeName(shape) + " " + synth::GraspWayName(grasp) +
                                  " seed " + std::to_string(seed);
-        std::string reason;
-        std::vector<BoundaryPlane> planes;
-        const auto frame =
-            EstimateVirtualFrame(c.cloud.holey, c.boundary, config, nullptr, &reason, &planes);
-        ASSERT_TRUE(frame.has_value()) << what << ": " << reason;
-        ExpectFrameMatches(c, *frame, what);
-        if (HasFailure()) return PrintPlanes(c, planes);
+        ExpectFrameFound(c, config, what);
+        if (HasFailure()) return;
       }
     }
   }
@@ -156,14 +160,8 @@ TEST(VirtualFrame, RobustToSharpEdgeFalseBoundariesAndStrays) {
     }
     const std::string what = "seed " + std::to_string(seed) + " (+" + std::to_string(added) +
                              " edge points, " + std::to_string(strays) + " strays)";
-    std::string reason;
-    std::vector<BoundaryPlane> planes;
-    const auto frame =
-        EstimateVirtualFrame(c.cloud.holey, c.boundary, config, nullptr, &reason, &planes);
-    if (!frame) PrintPlanes(c, planes);
-    ASSERT_TRUE(frame.has_value()) << what << ": " << reason;
-    ExpectFrameMatches(c, *frame, what);
-    if (HasFailure()) return PrintPlanes(c, planes);
+    ExpectFrameFound(c, config, what);
+    if (HasFailure()) return;
   }
 }
 
