@@ -289,4 +289,39 @@ void NeighborIndex::Radius(const Eigen::Vector3f& query, double radius_m,
   }
 }
 
+KnnTable RestrictTable(const KnnTable& table, const std::vector<int>& kept,
+                       const NeighborIndex& kept_index) {
+  if (kept.size() != kept_index.size()) {
+    throw std::invalid_argument("RestrictTable: the index is not over the kept points");
+  }
+  std::vector<int> renumber(table.size(), -1);
+  for (size_t i = 0; i < kept.size(); ++i) renumber.at(static_cast<size_t>(kept[i])) = static_cast<int>(i);
+  KnnTable out;
+  out.k = std::min(table.k, static_cast<int>(kept.size()));
+  const size_t k = static_cast<size_t>(out.k);
+  out.indices.resize(kept.size() * k);
+  out.squared_distances.resize(kept.size() * k);
+  std::vector<int> nn;
+  std::vector<double> d2;
+  for (size_t i = 0; i < kept.size(); ++i) {
+    const size_t old_row = static_cast<size_t>(kept[i]);
+    int* row = out.indices.data() + i * k;
+    double* row_d2 = out.squared_distances.data() + i * k;
+    size_t filled = 0;
+    for (int j = 0; j < table.k && filled < k; ++j) {
+      const int neighbour = renumber[static_cast<size_t>(table.Row(old_row)[j])];
+      if (neighbour < 0) break;  // a removed point: the rest of the row is not the k nearest
+      row[filled] = neighbour;
+      row_d2[filled] = table.RowDistances(old_row)[j];
+      ++filled;
+    }
+    if (filled < k) {
+      kept_index.Knn(kept_index.points()[i], out.k, &nn, &d2);
+      std::copy(nn.begin(), nn.end(), row);
+      std::copy(d2.begin(), d2.end(), row_d2);
+    }
+  }
+  return out;
+}
+
 }  // namespace graspfill::repair

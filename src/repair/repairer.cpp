@@ -117,22 +117,24 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
   }
 
   // 1. Outliers are kept in the output but not used to find or fill holes.
-  // One kNN table serves the filter and, when it removes nothing (a clean
-  // cloud, the usual case), the boundary detection too.
+  // One kNN table serves the filter and then, restricted to the points it
+  // keeps (the rows that lost a neighbour are queried afresh), the
+  // boundary detection.
   const NeighborIndex all(input.points_G);
   std::optional<KnnTable> table;
+  std::vector<int> kept;
   PointList points;
   {
     StepTimer t(&report, "outliers");
     table = all.AllKnn(std::max(config.outliers.nb_neighbors, config.boundary.k) + 1);
-    const std::vector<int> kept = RemoveOutliers(*table, config.outliers);
+    kept = RemoveOutliers(*table, config.outliers);
     points.reserve(kept.size());
     for (int i : kept) points.push_back(input.points_G[i]);
     report.outliers_ignored = static_cast<int>(input.points_G.size() - kept.size());
   }
-  if (report.outliers_ignored > 0) table.reset();  // rows of the other cloud
   // 2-3. Boundary points, then closed boundary lines.
   const NeighborIndex index(points);
+  if (report.outliers_ignored > 0) table = RestrictTable(*table, kept, index);
   std::vector<int> boundary;
   std::vector<BoundaryPointInfo> boundary_info;  // which side the hole is on
   std::vector<Eigen::Vector3f> normals;  // unoriented, of every point

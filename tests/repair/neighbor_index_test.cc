@@ -165,6 +165,28 @@ TEST(NeighborIndex, MatchesKdTreeFlannOn50kAndTiming) {
   EXPECT_EQ(mismatches, 0u);
 }
 
+// Dropping a few points (as the outlier filter does) and restricting the
+// table gives exactly the table of the kept points.
+TEST(NeighborIndex, RestrictedTableEqualsTheKeptPointsTable) {
+  const PointList points = RandomCloud(4000, 8);
+  const NeighborIndex index(points);
+  const KnnTable table = index.AllKnn(21);
+  std::vector<int> kept;
+  PointList kept_points;
+  for (int i = 0; i < static_cast<int>(points.size()); ++i) {
+    if (i % 97 == 5) continue;
+    kept.push_back(i);
+    kept_points.push_back(points[static_cast<size_t>(i)]);
+  }
+  const NeighborIndex kept_index(kept_points);
+  const KnnTable restricted = RestrictTable(table, kept, kept_index);
+  const KnnTable direct = kept_index.AllKnn(21);
+  EXPECT_EQ(restricted.k, direct.k);
+  EXPECT_EQ(restricted.indices, direct.indices);
+  EXPECT_EQ(restricted.squared_distances, direct.squared_distances);
+  EXPECT_THROW(RestrictTable(table, {0, 1}, kept_index), std::invalid_argument);
+}
+
 // Flat, single-point and far-away queries: the grid's degenerate cases.
 TEST(NeighborIndex, FlatCloudsAndFarQueries) {
   PointList flat;

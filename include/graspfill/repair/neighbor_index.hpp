@@ -64,4 +64,11 @@ class NeighborIndex {
   std::unique_ptr<Impl> impl_;
 };
 
+/// `table` (over some cloud) restricted to the points `kept` (increasing
+/// indices into that cloud), over `kept_index` built on exactly those
+/// points: rows renumbered, removed neighbours skipped, and a row that
+/// lost any queried afresh. Cheap when few points were removed.
+KnnTable RestrictTable(const KnnTable& table, const std::vector<int>& kept,
+                       const NeighborIndex& kept_index);
+
 }  // namespace graspfill::repair
