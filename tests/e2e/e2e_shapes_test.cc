@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <ostream>
 #include <string>
 
@@ -95,6 +96,21 @@ TEST_P(ShapesE2E, CloudIsOnSurfaceClawFreeAndMissesOnlyClawAndTop) {
   }
   EXPECT_LT(unexplained, 0.01 * gt.size()) << unexplained << " of " << gt.size()
                                            << " ground-truth points missed elsewhere";
+
+  // The repair: never worse than the fused cloud, and where the fused cloud
+  // misses a lot (the top, the claw holes: chamfer above 3 mm^2) it closes
+  // most of the gap (measured 0.05-0.14 of the fused chamfer at seed 7).
+  const eval::CloudMetrics before = eval::Compare(fused, gt.points_G);
+  const eval::CloudMetrics after = eval::Compare(replayed.points_G, gt.points_G);
+  RecordProperty("chamfer_fused_mm2", std::to_string(before.chamfer_mm2));
+  RecordProperty("chamfer_repaired_mm2", std::to_string(after.chamfer_mm2));
+  std::printf("%s/%s/%s: chamfer fused %.2f -> repaired %.2f mm^2 (+%zu points)\n",
+              c.shape.c_str(), c.claw.c_str(), c.grasp.c_str(), before.chamfer_mm2,
+              after.chamfer_mm2, replayed.size() - fused.size());
+  EXPECT_LE(after.chamfer_mm2, before.chamfer_mm2 + 1e-9);
+  if (before.chamfer_mm2 > 3.0) {
+    EXPECT_LT(after.chamfer_mm2, 0.25 * before.chamfer_mm2);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(
