@@ -124,7 +124,7 @@ int RunRepair(const Args& args) {
     std::printf("  %-16s boundary %4d points, %5d points added\n", KindName(h.kind),
                 h.boundary_points, h.points_added);
   }
-  if (!result.report.symmetric) {
+  if (result.report.status == "repaired" && !result.report.symmetric) {
     std::printf("  no symmetry used: %s\n", result.report.symmetry_reason.c_str());
   }
   double total = 0.0;
