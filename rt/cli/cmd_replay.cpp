@@ -21,6 +21,7 @@
 #include "graspfill/io/ply.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "graspfill/repair/repairer.hpp"
+#include "module/cloud_repair.hpp"
 #include "sinks/lcm_publisher.hpp"
 #include "sources/lcm_log_source.hpp"
 #include "sources/prefetching_source.hpp"
@@ -116,21 +117,6 @@ const char* HoleKindName(HoleKind kind) {
   return kind == HoleKind::kClaw ? "claw" : "missing_surface";
 }
 
-// Repairs `cloud` in place: the fused points stay first and unchanged
-// (normals included), the added ones follow (with normals estimated by the
-// repair); the holes and the repair's timings ("repair_" + step) go into the cloud so
-// that LCM subscribers see them. Throws what Repair throws.
-repair::RepairReport RepairCloud(const repair::RepairConfig& config, ObjectCloud* cloud) {
-  repair::RepairResult result = repair::Repair(*cloud, config);
-  ObjectCloud& repaired = result.cloud;
-  repaired.holes = result.report.holes;
-  for (const StageTiming& t : result.report.timings) {
-    repaired.timings.push_back({"repair_" + t.stage, t.ms});
-  }
-  *cloud = std::move(repaired);
-  return std::move(result.report);
-}
-
 }  // namespace
 
 int RunReplay(const Args& args) {
@@ -220,13 +206,8 @@ int RunReplay(const Args& args) {
   const size_t fused_points = cloud.size();
   std::optional<repair::RepairReport> repair_report;
   if (o.repair) {
-    repair::RepairConfig config = o.repair_config;
-    // In G the palm is at z = 0 and the object at z > 0, so the top the
-    // camera never sees faces the palm. A hint: it fixes the sign of the
-    // repair's frame and narrows its search, it does not replace it.
-    config.up_hint = Eigen::Vector3d(0, 0, -1);
     try {
-      repair_report = RepairCloud(config, &cloud);
+      repair_report = rt::RepairObjectCloud(rt::GripperFrameRepairConfig(o.repair_config), &cloud);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "graspfill replay: hole repair failed on the fused cloud (%zu points): %s\n"
                    "(pass --no-repair to write the fused cloud as is)\n", fused_points, e.what());

@@ -61,6 +61,19 @@ void GraspModule::PushGripperState(const GripperState& state) {
   wake_worker_.notify_one();
 }
 
+bool GraspModule::PublishIfDue() {
+  // A frame pends until the state after it arrives, so it is fused by
+  // AddGripperState as often as by AddDepthFrame, and one call can fuse
+  // several: a cloud whenever the count crosses a multiple of n.
+  const int n = config_.extract_every_n_frames;
+  const int64_t integrated = pipeline_.stats().frames_integrated;
+  if (n <= 0 || integrated / n <= integrated_at_last_cloud_ / n) return false;
+  integrated_at_last_cloud_ = integrated;
+  const ObjectCloud cloud = pipeline_.ExtractCloud();
+  if (on_cloud_) on_cloud_(cloud);
+  return true;
+}
+
 void GraspModule::WorkerLoop() {
   DepthFrame frame;    // the worker's own copies, reused
   GripperState state;
@@ -78,7 +91,9 @@ void GraspModule::WorkerLoop() {
       --states_count_;
       lock.unlock();
       pipeline_.AddGripperState(state);
+      const bool published = PublishIfDue();
       lock.lock();
+      status_.clouds_published += published;
     }
     if (frames_count_ > 0) {
       std::swap(frame.depth_m, frames_[frames_head_].depth_m);  // no copy
@@ -87,18 +102,10 @@ void GraspModule::WorkerLoop() {
       frames_head_ = (frames_head_ + 1) % frames_.size();
       --frames_count_;
       lock.unlock();
-      const int64_t before = pipeline_.stats().frames_integrated;
       pipeline_.AddDepthFrame(frame);
-      const int64_t after = pipeline_.stats().frames_integrated;
-      const int n = config_.extract_every_n_frames;
-      if (n > 0 && after > before && after % n == 0) {
-        const ObjectCloud cloud = pipeline_.ExtractCloud();
-        if (on_cloud_) on_cloud_(cloud);
-        lock.lock();
-        ++status_.clouds_published;
-      } else {
-        lock.lock();
-      }
+      const bool published = PublishIfDue();
+      lock.lock();
+      status_.clouds_published += published;
     }
     status_.pipeline = pipeline_.stats();
     if (finish_requested_ && frames_count_ == 0 && states_count_ == 0) {

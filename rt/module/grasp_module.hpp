@@ -61,6 +61,9 @@ class GraspModule {
 
  private:
   void WorkerLoop();
+  // Worker thread, lock not held: extracts and hands out a cloud when
+  // another extract_every_n_frames frames have been fused; true if it did.
+  bool PublishIfDue();
 
   const GraspModuleConfig config_;
   Pipeline pipeline_;  // touched by the worker only (and by Finish after idle)
@@ -73,6 +76,7 @@ class GraspModule {
   size_t frames_head_{0}, frames_count_{0};
   std::vector<GripperState> states_;  // ring
   size_t states_head_{0}, states_count_{0};
+  int64_t integrated_at_last_cloud_{0};  // worker only
   bool busy_{false};
   bool stop_{false};
   bool finish_requested_{false};

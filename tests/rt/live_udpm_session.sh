@@ -2,7 +2,8 @@
 # A grasp-and-model session across real processes on LCM's UDP multicast,
 # confined to a private network namespace (loopback only): lcm-logplayer
 # plays the bundled recording (depth + gripper states), `graspfill live`
-# fuses it and publishes the object cloud, a separate subscriber receives it.
+# fuses and repairs it and publishes the object cloud, a separate subscriber
+# receives it (with the repair's added points and holes).
 # usage: live_udpm_session.sh <graspfill> <cloud_subscriber> <recording.lcmlog>
 # Exit: 0 pass, 1 fail, 77 skipped (no network namespaces here).
 set -u
@@ -56,4 +57,11 @@ if ! grep -q "fused" "$TMP/live.out"; then
   echo "FAIL: live printed no summary"
   exit 1
 fi
-echo "PASS: the subscriber received a cloud of $points points"
+# The planner gets the repaired cloud: added points (provenance) and holes.
+added=$(sed -n 's/.*added=\([0-9]*\).*/\1/p' "$TMP/sub.out")
+holes=$(sed -n 's/.*holes=\([0-9]*\).*/\1/p' "$TMP/sub.out")
+if [ -z "$added" ] || [ "$added" -lt 1 ] || [ -z "$holes" ] || [ "$holes" -lt 1 ]; then
+  echo "FAIL: expected a repaired cloud (added points and holes), got added='${added}' holes='${holes}'"
+  exit 1
+fi
+echo "PASS: the subscriber received a cloud of $points points, $added added by the repair, $holes holes"

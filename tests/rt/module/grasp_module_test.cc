@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <thread>
 #include <vector>
 
 #include "sources/lcm_log_source.hpp"
@@ -52,6 +53,36 @@ TEST(GraspModule, ThreadedModuleGivesThePipelinesCloud) {
   EXPECT_TRUE(cloud.points_G == expected.points_G);
   // One callback per 10 fused frames, plus the final one.
   EXPECT_EQ(callbacks.load(), direct.stats().frames_integrated / 10 + 1);
+  EXPECT_EQ(status.clouds_published, callbacks.load());
+}
+
+// As on a live bus: events one at a time, in time order, each handled
+// before the next arrives. A depth frame then waits for the gripper state
+// after it, so AddGripperState fuses it; a cloud must still come every 10
+// fused frames.
+TEST(GraspModule, CloudsComeEveryNFusedFramesWhenStatesFuseThem) {
+  const std::vector<SourceEvent> events = LoadEvents();
+  GraspModuleConfig config;
+  config.extract_every_n_frames = 10;
+  std::atomic<int> callbacks{0};
+  GraspModule module(config, claw::ClawModel::ThreeFinger(),
+                     [&](const ObjectCloud&) { ++callbacks; });
+  int64_t pushed = 0;
+  for (const SourceEvent& e : events) {
+    if (e.kind == SourceEvent::Kind::kDepth) module.PushDepthFrame(e.depth);
+    else module.PushGripperState(e.gripper);
+    ++pushed;
+    // Wait (no time limit) until the worker has taken this event in.
+    for (;;) {
+      const PipelineStats s = module.status().pipeline;
+      if (s.frames_in + s.states_in >= pushed) break;
+      std::this_thread::yield();
+    }
+  }
+  module.Finish();
+  const GraspModuleStatus status = module.status();
+  ASSERT_GE(status.pipeline.frames_integrated, 30);
+  EXPECT_EQ(callbacks.load(), status.pipeline.frames_integrated / 10 + 1);
   EXPECT_EQ(status.clouds_published, callbacks.load());
 }
 
