@@ -134,7 +134,8 @@ bool HasWideGap(const PointList& points, const std::vector<int>& nn, const Eigen
 std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const BoundaryConfig& config,
                                       std::vector<Eigen::Vector3f>* normals,
                                       std::vector<BoundaryPointInfo>* info,
-                                      const KnnTable* table) {
+                                      const KnnTable* table,
+                                      const std::vector<int>* candidates) {
   config.Validate();
   const PointList& points = index.points();
   const size_t n = points.size();
@@ -159,7 +160,10 @@ std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const Boundary
   if (table != nullptr && (table->size() != n || table->k < static_cast<int>(std::min(first_k, n)))) {
     throw std::invalid_argument("DetectBoundaryPoints: the kNN table does not match the index");
   }
-  for (size_t i = 0; i < n; ++i) {
+  const size_t count = candidates != nullptr ? candidates->size() : n;
+  for (size_t c = 0; c < count; ++c) {
+    const size_t i = candidates != nullptr ? static_cast<size_t>((*candidates)[c]) : c;
+    if (i >= n) throw std::invalid_argument("DetectBoundaryPoints: candidate out of range");
     const Eigen::Vector3f& p = points[i];
     if (table != nullptr) {
       const size_t cols = std::min(first_k, static_cast<size_t>(table->k));

@@ -14,6 +14,11 @@ namespace {
 // Below this the neighbourhood statistics of every step are meaningless.
 constexpr size_t kMinPoints = 200;
 
+// Best mode on a reduced cloud: the full-resolution boundary test covers
+// the voxels of the centroids flagged and of their nearest neighbours
+// (itself and 8: the band along a rim, ~2 voxels wide; with 4 the top-oblique row lost its claw holes).
+constexpr int kNearVoxels = 9;
+
 // Times one step into the report.
 class StepTimer {
  public:
@@ -74,6 +79,7 @@ void AppendAddedNormals(size_t first_added, ObjectCloud* cloud) {
 }  // namespace
 
 void RepairConfig::Validate() const {
+  analysis.Validate();
   outliers.Validate();
   boundary.Validate();
   link.Validate();
@@ -99,6 +105,7 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
     config.symmetry = SymmetryConfig::Paper();
     config.axis.enabled = false;
     config.top_rim_band_m = 0.0;
+    config.analysis.target_points = 0;
   }
   config.Validate();
   for (size_t i = 0; i < input.points_G.size(); ++i) {
@@ -116,20 +123,50 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
     return result;
   }
 
+  // 0. Best mode looks for the holes on the voxel centroids (~12k points);
+  // the fills (7-8) read every input point.
+  std::optional<NeighborIndex> all;
+  AnalysisCloud analysis;
+  {
+    StepTimer t(&report, "analysis_cloud");
+    all.emplace(input.points_G);
+    analysis = MakeAnalysisCloud(*all, config.analysis);
+  }
+  std::optional<NeighborIndex> analysis_index;
+  if (analysis.reduced()) analysis_index.emplace(analysis.points);
+  const NeighborIndex& work_index = analysis.reduced() ? *analysis_index : *all;
+  const PointList& work = work_index.points();
+
   // 1. Outliers are kept in the output but not used to find or fill holes.
   // One kNN table serves the filter and then, restricted to the points it
   // keeps (the rows that lost a neighbour are queried afresh), the
   // boundary detection.
-  const NeighborIndex all(input.points_G);
   std::optional<KnnTable> table;
   std::vector<int> kept;
   PointList points;
+  std::vector<char> work_kept(work.size(), 0);
   {
     StepTimer t(&report, "outliers");
-    table = all.AllKnn(std::max(config.outliers.nb_neighbors, config.boundary.k) + 1);
+    table = work_index.AllKnn(std::max(config.outliers.nb_neighbors, config.boundary.k) + 1);
     kept = RemoveOutliers(*table, config.outliers);
     points.reserve(kept.size());
-    for (int i : kept) points.push_back(input.points_G[i]);
+    for (int i : kept) {
+      points.push_back(work[i]);
+      work_kept[i] = 1;
+    }
+  }
+  // The input points the later steps read: those of the kept centroids.
+  PointList fill_points;
+  std::vector<int> fill_of_input;  // input index -> fill_points index, or -1
+  if (analysis.reduced()) {
+    fill_of_input.assign(input.points_G.size(), -1);
+    for (size_t i = 0; i < input.points_G.size(); ++i) {
+      if (!work_kept[analysis.voxel_of[i]]) continue;
+      fill_of_input[i] = static_cast<int>(fill_points.size());
+      fill_points.push_back(input.points_G[i]);
+    }
+    report.outliers_ignored = static_cast<int>(input.points_G.size() - fill_points.size());
+  } else {
     report.outliers_ignored = static_cast<int>(input.points_G.size() - kept.size());
   }
   // 2-3. Boundary points, then closed boundary lines.
@@ -143,6 +180,29 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
     StepTimer t(&report, "boundary_points");
     boundary = DetectBoundaryPoints(index, config.boundary, &normals, &boundary_info,
                                     table ? &*table : nullptr);
+  }
+  std::optional<NeighborIndex> full_index;
+  if (analysis.reduced()) {
+    // Again at full resolution, but only around the boundary the centroids
+    // show (their voxels and their neighbours'): the rims come out as the
+    // input samples them, for a tenth of the cost of testing every point.
+    StepTimer t(&report, "boundary_points_full");
+    std::vector<char> near(work.size(), 0);
+    for (int b : boundary) {
+      const int* row = table->Row(static_cast<size_t>(b));
+      for (int j = 0; j < std::min(table->k, kNearVoxels); ++j) near[kept[row[j]]] = 1;
+    }
+    std::vector<int> candidates;
+    for (size_t i = 0; i < input.points_G.size(); ++i) {
+      if (fill_of_input[i] >= 0 && near[analysis.voxel_of[i]]) candidates.push_back(fill_of_input[i]);
+    }
+    points = std::move(fill_points);
+    // Without outliers the kept points are the input: its index serves.
+    const NeighborIndex* full = &*all;
+    if (report.outliers_ignored > 0) full = &full_index.emplace(points);
+    boundary_info.clear();
+    boundary = DetectBoundaryPoints(*full, config.boundary, nullptr, &boundary_info, nullptr,
+                                    &candidates);
   }
   {
     StepTimer t(&report, "boundary_lines");
@@ -176,6 +236,9 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
         RefineAxis(normals, frame->T_in_V.linear().col(2), config.axis);
     if (axis.refined) frame = WithAxis(*frame, axis.axis, points);
   }
+  if (analysis.reduced()) {
+    frame = WithAxis(*frame, frame->T_in_V.linear().col(2), points);  // origin, box: all points
+  }
   report.frame = *frame;
   const PointList points_V = ToVirtualFrame(points, *frame);
   // 5-6. Missing surface vs claw holes, then closed boundaries.
@@ -189,7 +252,7 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
     CompleteBoundaries(&holes, config.completion);
   }
   // 7. Claw holes from a reconstructed surface.
-  const NeighborIndex index_V(points_V);
+  std::optional<NeighborIndex> index_V;  // built in the claw step's time
   std::vector<HoleBoundary> claw_holes;
   const HoleBoundary* missing = nullptr;
   for (const HoleBoundary& h : holes) {
@@ -223,8 +286,9 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
   PointList surface_V;
   {
     StepTimer t(&report, "claw_holes");
+    index_V.emplace(points_V);
     if (!claw_holes.empty()) {
-      surface_V = RepairClawHoles(points_V, claw_holes, config.claw, nullptr, &index_V);
+      surface_V = RepairClawHoles(points_V, claw_holes, config.claw, nullptr, &*index_V);
     }
   }
   // 8. The missing top by symmetry, from the observed and surface points.
@@ -233,7 +297,7 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
     StepTimer t(&report, "symmetry");
     if (missing) {
       // The claw fills first take the holes' dents out of the cross-sections.
-      symmetry = RepairMissingSurface(points_V, *missing, config.symmetry, &index_V, &surface_V);
+      symmetry = RepairMissingSurface(points_V, *missing, config.symmetry, &*index_V, &surface_V);
     } else {
       symmetry.reason = "no missing surface found";
     }

@@ -104,9 +104,13 @@ struct BoundaryPointInfo {
 /// Throws std::invalid_argument on an invalid config.
 /// `table`, if given, is index.AllKnn(>= k + 1) (shared with the outlier
 /// filter): the first pass reads it instead of querying (same answers).
+/// `candidates`, if given (increasing indices), are the only points tested
+/// (e.g. those near the boundary found on a coarser copy); the result is
+/// in their order and `normals` is set for them only.
 std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const BoundaryConfig& config,
                                       std::vector<Eigen::Vector3f>* normals = nullptr,
                                       std::vector<BoundaryPointInfo>* info = nullptr,
-                                      const KnnTable* table = nullptr);
+                                      const KnnTable* table = nullptr,
+                                      const std::vector<int>* candidates = nullptr);
 
 }  // namespace graspfill::repair

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "graspfill/repair/analysis_cloud.hpp"
 #include "graspfill/repair/axis_refinement.hpp"
 #include "graspfill/repair/boundary_classification.hpp"
 #include "graspfill/repair/boundary_completion.hpp"
@@ -31,6 +32,7 @@ enum class RepairMode {
 
 struct RepairConfig {
   RepairMode mode{RepairMode::kBest};
+  AnalysisConfig analysis;  ///< best mode only: the paper works on the input
   OutlierConfig outliers;
   BoundaryConfig boundary;
   LinkConfig link;
