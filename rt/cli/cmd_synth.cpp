@@ -25,6 +25,7 @@
 
 #include "cmd_synth_protocol.hpp"
 #include "commands.hpp"
+#include "output_dir.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
@@ -406,13 +407,7 @@ int Run(const SynthOptions& o) {
       return 1;
     }
   }
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) {
-    std::fprintf(stderr, "graspfill synth: cannot create '%s': %s\n", dir.string().c_str(),
-                 ec.message().c_str());
-    return 1;
-  }
+  if (!CreateOutputDir(dir, "synth")) return 1;
 
   const synth::Scene scene(config);
   const synth::SceneRenderer renderer(scene);

@@ -18,6 +18,7 @@
 
 #include "graspfill/io/ply.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
+#include "output_dir.hpp"
 
 namespace graspfill::cli {
 namespace {
@@ -107,13 +108,7 @@ int RunSynthProtocol(const SynthProtocolOptions& o) {
   // Generated before the folder is made, so a failure leaves nothing behind.
   const synth::PaperProtocolCloud cloud = synth::MakePaperProtocolCloud(config);
 
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) {
-    std::fprintf(stderr, "graspfill synth: cannot create '%s': %s\n", dir.string().c_str(),
-                 ec.message().c_str());
-    return 1;
-  }
+  if (!CreateOutputDir(dir, "synth")) return 1;
   io::WriteCloudPly(holey_path.string(), MakeCloud(cloud.holey));
   io::WriteCloudPly(truth_path.string(), MakeCloud(cloud.ground_truth));
   std::ofstream out(json_path);

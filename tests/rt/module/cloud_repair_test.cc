@@ -19,15 +19,7 @@ TEST(CloudRepair, AppendsTheRepairAndItsFindingsToTheFusedCloud) {
   ObjectCloud cloud = fused;
   const repair::RepairReport report = RepairObjectCloud(repair::RepairConfig{}, &cloud);
   ASSERT_EQ(report.status, "repaired");
-  ASSERT_GT(cloud.size(), fused.size());
-  ASSERT_EQ(cloud.provenance.size(), cloud.size());
-  for (size_t i = 0; i < fused.size(); ++i) {
-    ASSERT_EQ(cloud.points_G[i], fused.points_G[i]) << i;
-    ASSERT_EQ(cloud.provenance[i], Provenance::kObserved) << i;
-  }
-  for (size_t i = fused.size(); i < cloud.size(); ++i) {
-    ASSERT_NE(cloud.provenance[i], Provenance::kObserved) << i;
-  }
+  ASSERT_TRUE(testing::FusedThenAdded(fused, cloud));
   EXPECT_EQ(cloud.seq, fused.seq);
   EXPECT_EQ(cloud.utime, fused.utime);
   ASSERT_EQ(cloud.holes.size(), report.holes.size());

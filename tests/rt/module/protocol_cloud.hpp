@@ -3,6 +3,8 @@
 // observed, stamped like a cloud from Pipeline::ExtractCloud.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstdint>
 
 #include "graspfill/synth/paper_protocol.hpp"
@@ -23,6 +25,29 @@ inline ObjectCloud MakeProtocolObjectCloud(int64_t seq, int num_points = 15000) 
   cloud.provenance.assign(cloud.points_G.size(), Provenance::kObserved);
   cloud.timings = {{"extract", 2.5}};
   return cloud;
+}
+
+/// The repair's contract on `repaired`: more points than `fused`, the
+/// fused ones first and unchanged (observed), then only added ones
+/// (surface or symmetry).
+inline ::testing::AssertionResult FusedThenAdded(const ObjectCloud& fused,
+                                                 const ObjectCloud& repaired) {
+  if (repaired.size() <= fused.size()) return ::testing::AssertionFailure() << "nothing added";
+  if (repaired.provenance.size() != repaired.size()) {
+    return ::testing::AssertionFailure() << "provenance not one per point";
+  }
+  for (size_t i = 0; i < fused.size(); ++i) {
+    if (repaired.points_G[i] != fused.points_G[i] || repaired.provenance[i] != Provenance::kObserved) {
+      return ::testing::AssertionFailure() << "fused point " << i << " changed";
+    }
+  }
+  for (size_t i = fused.size(); i < repaired.size(); ++i) {
+    const Provenance p = repaired.provenance[i];
+    if (p != Provenance::kSurface && p != Provenance::kSymmetry) {
+      return ::testing::AssertionFailure() << "added point " << i << " has provenance observed";
+    }
+  }
+  return ::testing::AssertionSuccess();
 }
 
 }  // namespace graspfill::rt::testing

@@ -84,16 +84,7 @@ TEST(RepairStage, PublishesTheRepairedCloudFromItsOwnThread) {
   EXPECT_NE(out.thread, std::this_thread::get_id());
   const ObjectCloud& cloud = out.clouds[0];
   EXPECT_EQ(cloud.seq, 1);
-  ASSERT_GT(cloud.size(), fused.size());
-  ASSERT_EQ(cloud.provenance.size(), cloud.size());
-  for (size_t i = 0; i < fused.size(); ++i) {
-    ASSERT_EQ(cloud.points_G[i], fused.points_G[i]) << i;
-    ASSERT_EQ(cloud.provenance[i], Provenance::kObserved) << i;
-  }
-  for (size_t i = fused.size(); i < cloud.size(); ++i) {
-    const Provenance p = cloud.provenance[i];
-    ASSERT_TRUE(p == Provenance::kSurface || p == Provenance::kSymmetry) << i;
-  }
+  ASSERT_TRUE(testing::FusedThenAdded(fused, cloud));
   EXPECT_FALSE(cloud.holes.empty());
 
   const RepairStageStatus s = stage.status();
