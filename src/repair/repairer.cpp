@@ -123,8 +123,8 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
     return result;
   }
 
-  // 0. Best mode looks for the holes on the voxel centroids (~12k points);
-  // the fills (7-8) read every input point.
+  // 0. Best mode looks for the holes on ~8k voxel centroids of a large
+  // cloud; the fills (7-8) read every input point.
   std::optional<NeighborIndex> all;
   AnalysisCloud analysis;
   {
@@ -170,16 +170,20 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
     report.outliers_ignored = static_cast<int>(input.points_G.size() - kept.size());
   }
   // 2-3. Boundary points, then closed boundary lines.
-  const NeighborIndex index(points);
-  if (report.outliers_ignored > 0) table = RestrictTable(*table, kept, index);
   std::vector<int> boundary;
   std::vector<BoundaryPointInfo> boundary_info;  // which side the hole is on
   std::vector<Eigen::Vector3f> normals;  // unoriented, of every point
   std::vector<BoundaryLine> lines;
   {
     StepTimer t(&report, "boundary_points");
-    boundary = DetectBoundaryPoints(index, config.boundary, &normals, &boundary_info,
-                                    table ? &*table : nullptr);
+    // Over the kept points; when the filter kept all, work's index is theirs.
+    std::optional<NeighborIndex> kept_index;
+    const NeighborIndex* index = &work_index;
+    if (kept.size() < work.size()) {
+      index = &kept_index.emplace(points);
+      table = RestrictTable(*table, kept, *index);
+    }
+    boundary = DetectBoundaryPoints(*index, config.boundary, &normals, &boundary_info, &*table);
   }
   std::optional<NeighborIndex> full_index;
   if (analysis.reduced()) {
