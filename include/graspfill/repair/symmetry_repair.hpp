@@ -17,8 +17,11 @@
 // plane of the protocol's ellipsoid by 1.3 mm). Best of all, pass step 7's
 // claw-hole fills along (`added_before_V`).
 //
-// Symmetry plane: the slabs within `plateau_tolerance` of the largest size
-// form runs; the run nearest the median z (the paper starts there) is the
+// Symmetry plane: when at least `prism_fraction` of the slabs are within
+// `plateau_tolerance` of the median slab's size (a prism-like shape, even
+// with a few odd slabs by the claw holes), the middle of the observed
+// height. Otherwise the slabs within `plateau_tolerance` of the largest
+// size form runs; the run nearest the median z (the paper starts there) is the
 // largest cross-section. z_s is then refined, within the run, to the
 // height about which the size profile is most symmetric (least squared
 // difference of the sizes at z_s + t and z_s - t): on a sphere or an
@@ -42,8 +45,9 @@
 //  - the mirror would add more than `max_added_height_fraction` of the
 //    observed height above the boundary (the largest section is low: e.g. a
 //    bump or a step near the bottom),
-//  - or a slab above z_s and its mirror image below have outlines that
-//    differ by more than `max_outline_mismatch` (median over the directions
+//  - or more than `outlier_checks` of the slabs above z_s and their mirror
+//    images below have outlines that differ by more than
+//    `max_outline_mismatch` (median over the directions
 //    of the difference of their support functions about their common
 //    centre, relative to the mean support: robust to the claw holes' dents;
 //    a lateral shift counts).
