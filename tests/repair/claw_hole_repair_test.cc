@@ -16,6 +16,7 @@
 #include <string>
 
 #include "boundary_fixtures.hpp"
+#include "fill_checks.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/repair/neighbor_index.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
@@ -28,22 +29,12 @@ namespace {
 using synth::GraspWay;
 using synth::PaperProtocolConfig;
 using synth::Shape;
-
-// 95% of the added points within 1 mm of the true surface (the dense
-// ground truth has ~0.35 mm spacing, so its NN distance overstates the
-// surface distance by < 0.2 mm).
-constexpr double kSurfaceTolM = 1e-3;
-constexpr double kSurfaceFraction = 0.95;
-// Coverage: hole points with an added point within 3 D. (A random sampling
-// at density rho has D ~ 0.5 / sqrt(rho), so a disc of radius 2 D is empty
-// with probability exp(-pi) ~ 4%, for the input cloud itself as well; at
-// 3 D that is 0.1%.)
-constexpr double kCoverD = 3.0;
-constexpr double kCoverFraction = 0.95;
-
-double Ms(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
+using testing::kCoverD;
+using testing::kCoverFraction;
+using testing::kSurfaceFraction;
+using testing::kSurfaceTolM;
+using testing::MeanNn;
+using testing::Ms;
 
 struct Scene {
   PaperProtocolConfig config;
@@ -54,20 +45,6 @@ struct Scene {
   PointList dense_truth;  // ~300k points of the true surface
   double d{0.0};          // mean NN distance of the holey cloud
 };
-
-double MeanNn(const PointList& points) {
-  NeighborIndex index(points);
-  std::vector<int> nn;
-  std::vector<double> d2;
-  double sum = 0.0;
-  int n = 0;
-  for (size_t i = 0; i < points.size(); i += 17) {
-    index.Knn(points[i], 2, &nn, &d2);
-    sum += std::sqrt(d2[1]);
-    ++n;
-  }
-  return sum / n;
-}
 
 Scene MakeScene(Shape shape, GraspWay grasp, int num_points = 50000,
                 const Eigen::Vector3d& size_m = Eigen::Vector3d::Zero()) {

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "fill_checks.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/repair/claw_hole_repair.hpp"
 #include "graspfill/repair/neighbor_index.hpp"
@@ -27,34 +28,12 @@ namespace {
 using synth::GraspWay;
 using synth::PaperProtocolConfig;
 using synth::Shape;
-
-// 95% of the mirrored points within 1 mm of the true surface (the dense
-// ground truth's ~0.35 mm spacing adds < 0.2 mm).
-constexpr double kSurfaceTolM = 1e-3;
-constexpr double kSurfaceFraction = 0.95;
-// Coverage of the missing top: truth points with an added point within
-// 3 D (a random sampling leaves a 2 D disc empty 4% of the time, a 3 D
-// one 0.1%).
-constexpr double kCoverD = 3.0;
-constexpr double kCoverFraction = 0.95;
-
-double Ms(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-double MeanNn(const PointList& points) {
-  const NeighborIndex index(points);
-  std::vector<int> nn;
-  std::vector<double> d2;
-  double sum = 0.0;
-  int n = 0;
-  for (size_t i = 0; i < points.size(); i += 17) {
-    index.Knn(points[i], 2, &nn, &d2);
-    sum += std::sqrt(d2[1]);
-    ++n;
-  }
-  return sum / n;
-}
+using testing::kCoverD;
+using testing::kCoverFraction;
+using testing::kSurfaceFraction;
+using testing::kSurfaceTolM;
+using testing::MeanNn;
+using testing::Ms;
 
 // The missing surface's boundary of a cloud without claw holes: its points
 // within 1.5 mm of its top (what steps 2-6 deliver, up to order).
