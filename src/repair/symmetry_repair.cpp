@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "convex_hull.hpp"
+
 namespace graspfill::repair {
 namespace {
 
@@ -36,28 +38,10 @@ std::string Mm(double m) {
   return buf;
 }
 
-double Cross(const Point2& o, const Point2& a, const Point2& b) {
-  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-}
-
-// Andrew's monotone chain; sorts `pts` in place. Collinear points dropped.
+// The outline of a slab: its hull, or nothing for fewer than 3 points.
 Polygon ConvexHull(std::vector<Point2>* pts) {
-  std::vector<Point2>& p = *pts;
-  std::sort(p.begin(), p.end(), [](const Point2& a, const Point2& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  if (p.size() < 3) return {};
-  Polygon hull(2 * p.size());
-  size_t k = 0;
-  for (size_t i = 0; i < p.size(); ++i) {
-    while (k >= 2 && Cross(hull[k - 2], hull[k - 1], p[i]) <= 0.0) --k;
-    hull[k++] = p[i];
-  }
-  for (size_t i = p.size() - 1, lower = k + 1; i > 0; --i) {
-    while (k >= lower && Cross(hull[k - 2], hull[k - 1], p[i - 1]) <= 0.0) --k;
-    hull[k++] = p[i - 1];
-  }
-  hull.resize(k - 1);
+  Polygon hull = ConvexHull2d(pts);
+  if (hull.size() < 3) hull.clear();
   return hull;
 }
 

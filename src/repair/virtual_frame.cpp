@@ -10,6 +10,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "convex_hull.hpp"
+
 namespace graspfill::repair {
 namespace {
 
@@ -611,10 +613,6 @@ double Quantile(std::vector<double> values, double q) {
   return values[k];
 }
 
-double Cross2(const Vec2& o, const Vec2& a, const Vec2& b) {
-  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-}
-
 // Convex hull (counter-clockwise, Andrew's monotone chain) of the lowest and
 // highest point of each of `columns` x-columns plus the x extremes: O(n)
 // instead of sorting every point, exact to within a column's width.
@@ -642,23 +640,7 @@ std::vector<Vec2> ApproxHull(const std::vector<Vec2>& q, int columns) {
     if (highest[static_cast<size_t>(c)] >= 0)
       pts.push_back(q[static_cast<size_t>(highest[static_cast<size_t>(c)])]);
   }
-  std::sort(pts.begin(), pts.end(), [](const Vec2& a, const Vec2& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
-  if (pts.size() < 3) return pts;
-  std::vector<Vec2> hull(2 * pts.size());
-  size_t k = 0;
-  for (size_t i = 0; i < pts.size(); ++i) {
-    while (k >= 2 && Cross2(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
-    hull[k++] = pts[i];
-  }
-  for (size_t i = pts.size() - 1, t = k + 1; i > 0; --i) {
-    while (k >= t && Cross2(hull[k - 2], hull[k - 1], pts[i - 1]) <= 0) --k;
-    hull[k++] = pts[i - 1];
-  }
-  hull.resize(k - 1);
-  return hull;
+  return ConvexHull2d(&pts);
 }
 
 struct Rect2 {
