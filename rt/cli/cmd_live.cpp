@@ -4,7 +4,7 @@
 // hole repair (claw holes and the unseen top, unless --no-repair) on a
 // repair stage's thread of its own, and the object cloud published over LCM.
 //
-// A repair takes 150-400 ms, a depth frame must be fused within ~33 ms: the
+// A repair takes ~100-200 ms, a depth frame must be fused within ~33 ms: the
 // fusion worker only hands each extracted cloud to the repair stage's
 // one-slot mailbox and goes on. When clouds come faster than repairs, the
 // one waiting is replaced by the newer (counted as superseded), so the

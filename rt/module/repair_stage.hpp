@@ -1,5 +1,5 @@
 // The live loop's hole repair, off the fusion thread: a repair takes
-// 150-400 ms on a fused cloud while a depth frame must be fused within
+// 100-200 ms on a fused cloud while a depth frame must be fused within
 // ~33 ms, so the repair gets a thread of its own, fed through a one-slot
 // mailbox holding the latest cloud. A cloud still waiting when a newer one
 // arrives is replaced (and counted as superseded): the planner wants the
