@@ -94,6 +94,29 @@ struct StageTiming {
   double ms{0.0};
 };
 
+/// The planner's safe bound: the space that may still hold the object, a
+/// dense bit grid in G (evidence/safe_bound.hpp computes it from what the
+/// camera saw). Voxel (i, j, k) spans origin_G + voxel_m * [i, i+1) x
+/// [j, j+1) x [k, k+1); bit i + nx * (j + ny * k) set (LSB first) = may
+/// hold the object. Empty (no bits) when no evidence was kept.
+struct SafeBound {
+  Eigen::Vector3f origin_G{0, 0, 0};
+  float voxel_m{0.0f};
+  int nx{0}, ny{0}, nz{0};
+  std::vector<uint8_t> bits;
+
+  bool empty() const { return bits.empty(); }
+  bool Occupied(int i, int j, int k) const {
+    const size_t b = static_cast<size_t>(i) +
+                     static_cast<size_t>(nx) * (static_cast<size_t>(j) + static_cast<size_t>(ny) * k);
+    return (bits[b >> 3] >> (b & 7)) & 1;
+  }
+  /// Whether the voxel holding `p_G` is set; false outside the grid.
+  bool Contains(const Eigen::Vector3f& p_G) const;
+  /// Voxels set.
+  size_t count() const;
+};
+
 /// The object's point cloud as handed to the planner, in the gripper frame.
 struct ObjectCloud {
   int64_t utime{0};
@@ -104,7 +127,14 @@ struct ObjectCloud {
   std::vector<Eigen::Vector3f> points_G;
   std::vector<Eigen::Vector3f> normals_G;  ///< unit, or empty if unknown
   std::vector<Provenance> provenance;      ///< one per point
+  /// How much to trust each point, in [0, 1], or empty (all observed: 1).
+  /// Observed points are 1; added points get the repair's prior for their
+  /// source, raised where the camera's evidence says the spot was hidden
+  /// (repair/repairer.hpp documents the values).
+  std::vector<float> confidence;
   std::vector<HoleSummary> holes;
+  /// Where the object may still be (empty unless the repair had evidence).
+  SafeBound safe_bound;
   std::vector<StageTiming> timings;
 
   size_t size() const { return points_G.size(); }

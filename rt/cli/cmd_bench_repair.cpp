@@ -77,6 +77,7 @@ void PrintReport(const std::string& label, const repair::RepairReport& r) {
 }  // namespace
 
 int RunBenchRepair(const Args& args) {
+  if (std::find(args.begin(), args.end(), "--pipeline") != args.end()) return RunBenchRepairPipeline(args);
   int num_points = 50000;
   uint64_t seed = 1;
   bool json = false, verbose = false;
@@ -84,6 +85,8 @@ int RunBenchRepair(const Args& args) {
   for (size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--help" || args[i] == "-h") {
       std::printf("usage: graspfill bench repair [--points N] [--seed S] [--case TEXT] [--verbose] [--json]\n"
+                  "       graspfill bench repair --pipeline [--frames N] [--case TEXT] [--verbose] [--json]\n"
+                  "  --pipeline   the shape zoo through the whole pipeline, cloud-only vs with evidence\n"
                   "  the paper's Tables 1-3 next to graspfill's numbers on the same protocol\n"
                   "  --case TEXT  only the rows whose label contains TEXT\n"
                   "  --verbose    each repair's status, holes and symmetry finding\n");

@@ -114,8 +114,8 @@ int RunLive(const Args& args) {
   // Declared after the stage, so destroyed before it: no cloud is submitted
   // to a stage that is gone.
   rt::GraspModule module(module_config, MakeClaw(claw_spec, mesh_root),
-                         [&](const ObjectCloud& cloud) {
-                           if (repair_stage) repair_stage->Submit(cloud);  // never waits
+                         [&](const ObjectCloud& cloud, const evidence::VisibilityRecord& seen) {
+                           if (repair_stage) repair_stage->Submit(cloud, &seen);  // never waits
                            else publish_cloud(cloud);
                          });
   using Clock = std::chrono::steady_clock;

@@ -17,6 +17,7 @@
 
 #include "claw_option.hpp"
 #include "commands.hpp"
+#include "evidence_json.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
@@ -36,6 +37,7 @@ constexpr const char* kUsage =
     "                           0 observed, 1 surface, 2 symmetry)\n"
     "  --no-repair              write and publish the fused cloud only\n"
     "  --repair-mode MODE       paper: the repair as published; best (default): graspfill's\n"
+    "  --no-evidence            repair from the cloud alone (without what the camera saw)\n"
     "  --json                   print the report as JSON (\"repair\" is null with --no-repair)\n"
     "  --force                  overwrite the output if it exists\n"
     "  --claw SPEC              three-finger (default), parallel, or a claw description .json\n"
@@ -59,6 +61,7 @@ struct ReplayOptions {
   bool publish{true};
   bool skip_bad_frames{false};
   bool repair{true};
+  bool evidence{true};
   io::ChannelNames channels;
   PipelineConfig pipeline;
   repair::RepairConfig repair_config;
@@ -82,6 +85,7 @@ bool Parse(const Args& args, ReplayOptions* o) {
     else if (a == "--no-publish") o->publish = false;
     else if (a == "--skip-bad-frames") o->skip_bad_frames = true;
     else if (a == "--no-repair") o->repair = false;
+    else if (a == "--no-evidence") o->evidence = false;
     else if (a == "--repair-mode") {
       value(&v);
       if (v == "paper") o->repair_config.mode = repair::RepairMode::kPaper;
@@ -207,7 +211,8 @@ int RunReplay(const Args& args) {
   std::optional<repair::RepairReport> repair_report;
   if (o.repair) {
     try {
-      repair_report = rt::RepairObjectCloud(rt::GripperFrameRepairConfig(o.repair_config), &cloud);
+      repair_report = rt::RepairObjectCloud(rt::GripperFrameRepairConfig(o.repair_config), &cloud,
+                                            o.evidence ? &pipeline.visibility() : nullptr);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "graspfill replay: hole repair failed on the fused cloud (%zu points): %s\n"
                    "(pass --no-repair to write the fused cloud as is)\n", fused_points, e.what());
@@ -252,6 +257,7 @@ int RunReplay(const Args& args) {
                         {"symmetric", repair_report->symmetric},
                         {"symmetry_reason", repair_report->symmetry_reason},
                         {"holes", holes},
+                        {"evidence", EvidenceJson(repair_report->evidence)},
                         {"ms", repair_ms}};
   } else {
     report["repair"] = nullptr;
@@ -260,6 +266,7 @@ int RunReplay(const Args& args) {
       {"crop_per_frame", stats.crop.mean_ms()},
       {"mask_per_frame", stats.mask.mean_ms()},
       {"integrate_per_frame", stats.integrate.mean_ms()},
+      {"visibility_per_frame", stats.visibility.mean_ms()},
       {"replay_total", replay_ms},
       {"extract", Ms(t_extracted - t_fused)},
       {"repair", repair_ms},

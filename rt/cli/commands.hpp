@@ -18,5 +18,6 @@ int RunDemo(const Args& args);    // cmd_demo.cpp
 int RunLive(const Args& args);    // cmd_live.cpp
 int RunRepair(const Args& args);  // cmd_repair.cpp
 int RunBenchRepair(const Args& args);  // cmd_bench_repair.cpp
+int RunBenchRepairPipeline(const Args& args);  // cmd_bench_pipeline.cpp
 
 }  // namespace graspfill::cli

@@ -9,8 +9,9 @@ repair::RepairConfig GripperFrameRepairConfig(repair::RepairConfig config) {
   return config;
 }
 
-repair::RepairReport RepairObjectCloud(const repair::RepairConfig& config, ObjectCloud* cloud) {
-  repair::RepairResult result = repair::Repair(*cloud, config);
+repair::RepairReport RepairObjectCloud(const repair::RepairConfig& config, ObjectCloud* cloud,
+                                       const evidence::VisibilityRecord* record) {
+  repair::RepairResult result = repair::Repair(*cloud, config, record);
   // Repair copies the input's fields (stamp, pose, fusion timings) into its
   // output, so only the repair's own findings need adding.
   ObjectCloud& repaired = result.cloud;

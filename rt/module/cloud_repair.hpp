@@ -21,6 +21,8 @@ repair::RepairConfig GripperFrameRepairConfig(repair::RepairConfig config = {});
 /// as "repair_" + step, so that LCM subscribers see both. Returns the
 /// report. Throws what repair::Repair throws (std::invalid_argument on a
 /// non-finite point or a bad config), leaving `*cloud` untouched.
-repair::RepairReport RepairObjectCloud(const repair::RepairConfig& config, ObjectCloud* cloud);
+/// `record` (optional): what the camera saw, in G (Pipeline::visibility()).
+repair::RepairReport RepairObjectCloud(const repair::RepairConfig& config, ObjectCloud* cloud,
+                                       const evidence::VisibilityRecord* record = nullptr);
 
 }  // namespace graspfill::rt

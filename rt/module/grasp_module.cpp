@@ -70,7 +70,7 @@ bool GraspModule::PublishIfDue() {
   if (n <= 0 || integrated / n <= integrated_at_last_cloud_ / n) return false;
   integrated_at_last_cloud_ = integrated;
   const ObjectCloud cloud = pipeline_.ExtractCloud();
-  if (on_cloud_) on_cloud_(cloud);
+  if (on_cloud_) on_cloud_(cloud, pipeline_.visibility());
   return true;
 }
 
@@ -112,7 +112,7 @@ void GraspModule::WorkerLoop() {
       lock.unlock();
       pipeline_.Flush();
       ObjectCloud cloud = pipeline_.ExtractCloud();
-      if (on_cloud_) on_cloud_(cloud);
+      if (on_cloud_) on_cloud_(cloud, pipeline_.visibility());
       lock.lock();
       finished_cloud_ = std::move(cloud);
       ++status_.clouds_published;

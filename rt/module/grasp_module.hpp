@@ -41,7 +41,10 @@ struct GraspModuleStatus {
 
 class GraspModule {
  public:
-  using CloudCallback = std::function<void(const ObjectCloud&)>;
+  /// The cloud and what the camera saw so far (a snapshot: the record is
+  /// cheap to copy and stays valid after the module resets).
+  using CloudCallback =
+      std::function<void(const ObjectCloud&, const evidence::VisibilityRecord&)>;
 
   /// Starts the worker. Throws std::invalid_argument on a bad config.
   GraspModule(const GraspModuleConfig& config, claw::ClawModel claw, CloudCallback on_cloud);

@@ -25,7 +25,7 @@ RepairStage::~RepairStage() {
   worker_.join();
 }
 
-void RepairStage::Submit(const ObjectCloud& cloud) {
+void RepairStage::Submit(const ObjectCloud& cloud, const evidence::VisibilityRecord* record) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     ++status_.submitted;
@@ -33,6 +33,7 @@ void RepairStage::Submit(const ObjectCloud& cloud) {
     // Copy-assignment keeps the slot's buffers when they are big enough,
     // and they are after the first few clouds (they cycle with working_).
     mailbox_ = cloud;
+    mailbox_record_ = record ? *record : evidence::VisibilityRecord();
     has_mail_ = true;
   }
   wake_worker_.notify_one();
@@ -54,6 +55,7 @@ void RepairStage::WorkerLoop() {
     wake_worker_.wait(lock, [&] { return stop_ || has_mail_; });
     if (stop_) return;
     std::swap(working_, mailbox_);  // moves buffers, no copy
+    std::swap(working_record_, mailbox_record_);
     has_mail_ = false;
     busy_ = true;  // in the same critical section: Drain never sees a gap
     lock.unlock();
@@ -63,7 +65,9 @@ void RepairStage::WorkerLoop() {
     bool failed = false;
     const auto start = std::chrono::steady_clock::now();
     try {
-      verdict = RepairObjectCloud(config_, &working_).status;
+      verdict = RepairObjectCloud(config_, &working_,
+                                  working_record_.empty() ? nullptr : &working_record_)
+                    .status;
     } catch (const std::exception& e) {
       failed = true;
       verdict = std::string("failed: ") + e.what();

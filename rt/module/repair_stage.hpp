@@ -55,9 +55,10 @@ class RepairStage {
   RepairStage(const RepairStage&) = delete;
   RepairStage& operator=(const RepairStage&) = delete;
 
-  /// Puts a copy of `cloud` in the mailbox, replacing any cloud still
-  /// waiting there. Never waits for a repair.
-  void Submit(const ObjectCloud& cloud);
+  /// Puts a copy of `cloud` (and of `record`, what the camera saw of it:
+  /// pointers to shared key frames) in the mailbox, replacing any cloud
+  /// still waiting there. Never waits for a repair.
+  void Submit(const ObjectCloud& cloud, const evidence::VisibilityRecord* record = nullptr);
 
   /// Waits until the mailbox is empty and the last cloud taken from it has
   /// been handed to the callback (end of session, tests). Not from the
@@ -76,8 +77,10 @@ class RepairStage {
   std::condition_variable wake_worker_;
   std::condition_variable idle_;
   ObjectCloud mailbox_;        // the latest cloud, valid while has_mail_
+  evidence::VisibilityRecord mailbox_record_;  // empty when none was given
   bool has_mail_{false};
   ObjectCloud working_;        // the worker's; swapped with mailbox_, never copied
+  evidence::VisibilityRecord working_record_;
   bool busy_{false};
   bool stop_{false};
   RepairStageStatus status_;

@@ -20,4 +20,18 @@ TriangleMesh TriangleMesh::Transformed(const Eigen::Isometry3d& T) const {
   return out;
 }
 
+bool SafeBound::Contains(const Eigen::Vector3f& p_G) const {
+  if (empty() || !(voxel_m > 0.0f)) return false;
+  const Eigen::Vector3f q = (p_G - origin_G) / voxel_m;
+  if (!q.allFinite() || (q.array() < 0.0f).any()) return false;
+  if (q.x() >= nx || q.y() >= ny || q.z() >= nz) return false;
+  return Occupied(static_cast<int>(q.x()), static_cast<int>(q.y()), static_cast<int>(q.z()));
+}
+
+size_t SafeBound::count() const {
+  size_t n = 0;
+  for (uint8_t b : bits) n += static_cast<size_t>(__builtin_popcount(b));
+  return n;
+}
+
 }  // namespace graspfill

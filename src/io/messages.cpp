@@ -11,6 +11,7 @@
 
 #include <zlib.h>
 
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <cstring>
@@ -539,6 +540,23 @@ std::vector<uint8_t> EncodeObjectCloud(const ObjectCloud& cloud) {
   for (size_t i = 0; i < cloud.provenance.size(); ++i) {
     msg.provenance[i] = static_cast<int8_t>(cloud.provenance[i]);
   }
+  if (!cloud.confidence.empty() && cloud.confidence.size() != n) {
+    throw std::invalid_argument("EncodeObjectCloud: " + std::to_string(cloud.confidence.size()) +
+                                " confidence values for " + std::to_string(n) + " points");
+  }
+  msg.confidence.assign(n, 1.0f);
+  std::copy(cloud.confidence.begin(), cloud.confidence.end(), msg.confidence.begin());
+  const SafeBound& bound = cloud.safe_bound;
+  if (!bound.empty() && static_cast<size_t>(bound.nx) * bound.ny * bound.nz > 8 * bound.bits.size()) {
+    throw std::invalid_argument("EncodeObjectCloud: the safe bound's bits do not cover its grid");
+  }
+  for (int k = 0; k < 3; ++k) msg.bound_origin[k] = bound.origin_G[k];
+  msg.bound_voxel_m = bound.voxel_m;
+  msg.bound_nx = bound.nx;
+  msg.bound_ny = bound.ny;
+  msg.bound_nz = bound.nz;
+  msg.bound_num_bytes = static_cast<int32_t>(bound.bits.size());
+  msg.bound_bits.assign(bound.bits.begin(), bound.bits.end());
   msg.num_holes = static_cast<int32_t>(cloud.holes.size());
   msg.holes.resize(cloud.holes.size());
   for (size_t i = 0; i < cloud.holes.size(); ++i) {
@@ -567,7 +585,7 @@ bool DecodeObjectCloud(const void* data, size_t size, ObjectCloud* out,
   // generated decoder resizes anything. Layout: object_cloud_t.lcm.
   {
     WireReader r(data, size);
-    int32_t num_points, n3, num_normals3, num_holes, num_timings;
+    int32_t num_points, n3, num_normals3, num_holes, num_timings, bound_num_bytes;
     constexpr size_t kHoleBytes = 1 + 4 + 3 * 4 + 3 * 4 + 4;
     bool ok = r.Hash(graspfill::object_cloud_t::getHash()) && r.Skip(16) &&
               r.SkipString() && r.Skip(7 * 8) && r.I32(&num_points) &&
@@ -576,8 +594,11 @@ bool DecodeObjectCloud(const void* data, size_t size, ObjectCloud* out,
               r.Skip(4 * static_cast<size_t>(num_normals3)) &&
               r.CountFits(num_points, 1) &&
               r.Skip(static_cast<size_t>(num_points)) &&
+              r.Skip(4 * static_cast<size_t>(num_points)) &&  // confidence
               r.Count(&num_holes, kHoleBytes) &&
               r.Skip(kHoleBytes * static_cast<size_t>(num_holes)) &&
+              r.Skip(4 * 4 + 3 * 4) && r.Count(&bound_num_bytes, 1) &&  // the safe bound
+              r.Skip(static_cast<size_t>(bound_num_bytes)) &&
               r.Count(&num_timings, 4 + 1 + 8);
     for (int32_t i = 0; ok && i < num_timings; ++i) ok = r.SkipString();
     ok = ok && r.Skip(8 * static_cast<size_t>(num_timings)) &&
@@ -600,6 +621,8 @@ bool DecodeObjectCloud(const void* data, size_t size, ObjectCloud* out,
   msg.xyz.clear();
   msg.normals.clear();
   msg.provenance.clear();
+  msg.confidence.clear();
+  msg.bound_bits.clear();
   msg.timing_ms.clear();
   if (!DecodeMessage(data, size, &msg, error)) return false;
 
@@ -620,6 +643,24 @@ bool DecodeObjectCloud(const void* data, size_t size, ObjectCloud* out,
         p > graspfill::object_cloud_t::SYMMETRY) {
       SetError(error, "object_cloud_t: unknown provenance " +
                           std::to_string(static_cast<int>(p)));
+      return false;
+    }
+  }
+  for (float c : msg.confidence) {
+    if (!(c >= 0.0f && c <= 1.0f)) {
+      SetError(error, "object_cloud_t: confidence outside [0, 1]");
+      return false;
+    }
+  }
+  if (msg.bound_num_bytes > 0) {
+    const int64_t voxels = int64_t{msg.bound_nx} * msg.bound_ny * msg.bound_nz;
+    if (msg.bound_nx <= 0 || msg.bound_ny <= 0 || msg.bound_nz <= 0 ||
+        !(msg.bound_voxel_m > 0.0f) || !std::isfinite(msg.bound_origin[0]) ||
+        !std::isfinite(msg.bound_origin[1]) || !std::isfinite(msg.bound_origin[2]) ||
+        (voxels + 7) / 8 != msg.bound_num_bytes) {
+      SetError(error, "object_cloud_t: inconsistent safe bound (" + std::to_string(msg.bound_nx) +
+                          " x " + std::to_string(msg.bound_ny) + " x " + std::to_string(msg.bound_nz) +
+                          " voxels, " + std::to_string(msg.bound_num_bytes) + " bytes)");
       return false;
     }
   }
@@ -650,6 +691,17 @@ bool DecodeObjectCloud(const void* data, size_t size, ObjectCloud* out,
   out->provenance.resize(n);
   for (size_t i = 0; i < n; ++i) {
     out->provenance[i] = static_cast<Provenance>(msg.provenance[i]);
+  }
+  out->confidence.assign(msg.confidence.begin(), msg.confidence.end());
+  SafeBound& bound = out->safe_bound;
+  bound = SafeBound{};
+  if (msg.bound_num_bytes > 0) {
+    bound.origin_G = Eigen::Vector3f(msg.bound_origin[0], msg.bound_origin[1], msg.bound_origin[2]);
+    bound.voxel_m = msg.bound_voxel_m;
+    bound.nx = msg.bound_nx;
+    bound.ny = msg.bound_ny;
+    bound.nz = msg.bound_nz;
+    bound.bits.assign(msg.bound_bits.begin(), msg.bound_bits.end());
   }
   out->holes.resize(msg.holes.size());
   for (size_t i = 0; i < msg.holes.size(); ++i) {

@@ -129,6 +129,10 @@ void WriteCloudPly(const std::string& path, const ObjectCloud& cloud) {
   if (!cloud.provenance.empty() && cloud.provenance.size() != n) {
     Fail("cannot write PLY", path, "provenance is not one per point");
   }
+  const bool has_confidence = !cloud.confidence.empty();
+  if (has_confidence && cloud.confidence.size() != n) {
+    Fail("cannot write PLY", path, "confidence is not one per point");
+  }
   // Header comments must stay on one line each.
   std::string frame_name = cloud.frame_name;
   for (char& c : frame_name) {
@@ -155,7 +159,9 @@ void WriteCloudPly(const std::string& path, const ObjectCloud& cloud) {
   if (has_normals) {
     bytes += "property float nx\nproperty float ny\nproperty float nz\n";
   }
-  bytes += "property uchar provenance\nend_header\n";
+  bytes += "property uchar provenance\n";
+  if (has_confidence) bytes += "property float confidence\n";
+  bytes += "end_header\n";
   for (size_t i = 0; i < n; ++i) {
     for (int k = 0; k < 3; ++k) AppendFloat(&bytes, cloud.points_G[i][k]);
     if (has_normals) {
@@ -164,6 +170,7 @@ void WriteCloudPly(const std::string& path, const ObjectCloud& cloud) {
     const Provenance p =
         cloud.provenance.empty() ? Provenance::kObserved : cloud.provenance[i];
     bytes.push_back(static_cast<char>(p));
+    if (has_confidence) AppendFloat(&bytes, cloud.confidence[i]);
   }
   WriteFile("cannot write PLY", path, bytes);
 }
@@ -206,6 +213,22 @@ ObjectCloud ReadCloudPly(const std::string& path) {
                  std::to_string(i) + " is not 0, 1 or 2");
       }
       cloud.provenance[i] = static_cast<Provenance>(static_cast<int>(v));
+    }
+  }
+  if (pcd.HasPointAttr("confidence")) {
+    const open3d::core::Tensor c =
+        pcd.GetPointAttr("confidence").To(open3d::core::Float32).Contiguous();
+    if (static_cast<size_t>(c.NumElements()) != n) {
+      Fail("cannot read PLY", path, "confidence is not one per point");
+    }
+    const float* values = c.GetDataPtr<float>();
+    cloud.confidence.assign(values, values + n);
+    for (size_t i = 0; i < n; ++i) {
+      if (!(values[i] >= 0.0f && values[i] <= 1.0f)) {
+        Fail("cannot read PLY", path,
+             "confidence value " + FormatDouble(values[i]) + " at vertex " + std::to_string(i) +
+                 " is not in [0, 1]");
+      }
     }
   }
   return cloud;

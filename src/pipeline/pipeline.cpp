@@ -12,6 +12,7 @@ namespace graspfill {
 void PipelineConfig::Validate() const {
   workspace.Validate();
   tsdf.Validate();
+  visibility.Validate();
   if (max_pose_gap_us <= 0) throw std::invalid_argument("PipelineConfig: max_pose_gap_us <= 0");
   if (state_buffer_capacity < 2) throw std::invalid_argument("PipelineConfig: state_buffer_capacity < 2");
   if (max_pending_frames < 1) throw std::invalid_argument("PipelineConfig: max_pending_frames < 1");
@@ -27,6 +28,7 @@ struct Pipeline::Impl {
         claw(std::move(model)),
         mask(c.mask),
         fusion(c.tsdf),
+        visibility(c.visibility, c.workspace),
         states(static_cast<size_t>(c.state_buffer_capacity), c.max_pose_gap_us),
         pending(static_cast<size_t>(c.max_pending_frames)) {}
 
@@ -64,6 +66,10 @@ struct Pipeline::Impl {
       ScopedStageTimer t(&stats.integrate);
       fusion.Integrate(work, state.T_C_G);
     }
+    {
+      ScopedStageTimer t(&stats.visibility);
+      visibility.Offer(frame, mask.claw_depth_m(), state.T_C_G);
+    }
     last_utime = frame.utime;
     last_T_C_G = state.T_C_G;
     ++stats.frames_integrated;
@@ -99,6 +105,7 @@ struct Pipeline::Impl {
   claw::ClawModel claw;
   claw::ClawMask mask;
   fusion::TsdfFusion fusion;
+  evidence::VisibilityRecord visibility;
   GripperStateBuffer states;
   std::vector<DepthFrame> pending;  // ring, slots reused
   size_t pending_head{0};
@@ -194,6 +201,7 @@ ObjectCloud Pipeline::ExtractCloud() {
   cloud.timings = {{"crop", s.stats.crop.mean_ms()},
                    {"mask", s.stats.mask.mean_ms()},
                    {"integrate", s.stats.integrate.mean_ms()},
+                   {"visibility", s.stats.visibility.mean_ms()},
                    {"extract", s.stats.extract.last_ms}};
   return cloud;
 }
@@ -201,6 +209,7 @@ ObjectCloud Pipeline::ExtractCloud() {
 void Pipeline::Reset() {
   Impl& s = *impl_;
   s.fusion.Reset();
+  s.visibility.Reset();
   s.states = GripperStateBuffer(static_cast<size_t>(s.config.state_buffer_capacity),
                                 s.config.max_pose_gap_us);
   s.num_pending = 0;
@@ -208,6 +217,7 @@ void Pipeline::Reset() {
   s.stats = PipelineStats{};
 }
 
+const evidence::VisibilityRecord& Pipeline::visibility() const { return impl_->visibility; }
 const PipelineStats& Pipeline::stats() const { return impl_->stats; }
 const PipelineConfig& Pipeline::config() const { return impl_->config; }
 

@@ -324,4 +324,20 @@ KnnTable RestrictTable(const KnnTable& table, const std::vector<int>& kept,
   return out;
 }
 
+double MeanNearestDistance(const NeighborIndex& index, int samples) {
+  const size_t n = index.size();
+  const size_t stride = std::max<size_t>(1, n / static_cast<size_t>(std::max(1, samples)));
+  std::vector<int> nn;
+  std::vector<double> d2;
+  double sum = 0.0;
+  int count = 0;
+  for (size_t i = 0; i < n; i += stride) {
+    index.Knn(index.points()[i], 2, &nn, &d2);
+    if (d2.size() < 2) continue;
+    sum += std::sqrt(d2[1]);
+    ++count;
+  }
+  return count > 0 ? sum / count : 0.0;
+}
+
 }  // namespace graspfill::repair

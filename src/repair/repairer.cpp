@@ -3,9 +3,11 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
+#include "graspfill/evidence/safe_bound.hpp"
 #include "graspfill/repair/neighbor_index.hpp"
 
 namespace graspfill::repair {
@@ -76,6 +78,93 @@ void AppendAddedNormals(size_t first_added, ObjectCloud* cloud) {
   }
 }
 
+// Observed points tested to tell whether a record matches the cloud.
+constexpr size_t kRecordCheckPoints = 2000;
+
+// The record, if it is given, non-empty and of this cloud (its observed
+// points are not in its free space); else null with the reason reported.
+const evidence::VisibilityRecord* UsableRecord(const ObjectCloud& input,
+                                               const evidence::VisibilityRecord* record,
+                                               const RepairConfig& config, EvidenceReport* report) {
+  if (!record) return nullptr;
+  report->key_frames = static_cast<int>(record->size());
+  if (config.mode == RepairMode::kPaper) {
+    report->ignored_reason = "paper mode repairs from the cloud alone";
+    return nullptr;
+  }
+  if (record->empty()) {
+    report->ignored_reason = "the record holds no key frame";
+    return nullptr;
+  }
+  const size_t n = input.points_G.size();
+  const size_t stride = std::max<size_t>(1, n / kRecordCheckPoints);
+  size_t tested = 0, free = 0;
+  for (size_t i = 0; i < n; i += stride) {
+    if (!input.provenance.empty() && input.provenance[i] != Provenance::kObserved) continue;
+    ++tested;
+    free += record->SeenFree(input.points_G[i]);
+  }
+  report->observed_free_share = tested ? static_cast<double>(free) / tested : 0.0;
+  if (report->observed_free_share > config.evidence.max_observed_free_share) {
+    report->ignored_reason = "the record does not match the cloud: " +
+                             std::to_string(static_cast<int>(100.0 * report->observed_free_share + 0.5)) +
+                             "% of the observed points lie in its seen-free space (another frame or object?)";
+    return nullptr;
+  }
+  report->used = true;
+  return record;
+}
+
+// The evidence's part of steps 7-8 (evidence_repair.hpp): fills in seen-
+// free space dropped, a contradicted mirror refused, and the top closed at
+// the height the rays give unless the mirror's top holds. Returns the top's
+// points (V) and sets *top_confidence.
+PointList ApplyEvidence(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
+                        const Eigen::Isometry3f& T_in_V, const PointList& points_V,
+                        double spacing_m, PointList* surface_V, SymmetryResult* symmetry,
+                        EvidenceReport* report, float* top_confidence) {
+  report->rejected_free += DropSeenFree(record, T_in_V, surface_V);
+  report->mirror_free_share = std::numeric_limits<double>::quiet_NaN();
+  if (symmetry->symmetric) {
+    report->mirror_free_share = SeenFreeShare(record, symmetry->added_V, T_in_V);
+    if (report->mirror_free_share > config.max_mirror_free_share) {
+      symmetry->symmetric = false;
+      symmetry->reason = "the mirror image contradicts what the camera saw: " +
+                         std::to_string(static_cast<int>(100.0 * report->mirror_free_share + 0.5)) +
+                         "% of its points lie in seen-free space (not symmetric: a handle, a spout?)";
+      symmetry->added_V.clear();
+    } else {
+      report->rejected_free += DropSeenFree(record, T_in_V, &symmetry->added_V);
+    }
+  }
+  PointList existing = points_V;
+  existing.insert(existing.end(), surface_V->begin(), surface_V->end());
+  EvidenceTop top = CloseTopFromEvidence(points_V, existing, record, T_in_V, spacing_m, config);
+  if (symmetry->symmetric) {
+    float mirror_top = -std::numeric_limits<float>::infinity();
+    for (const Eigen::Vector3f& p : symmetry->added_V) mirror_top = std::max(mirror_top, p.z());
+    if (top.outcome != TopEvidence::kHeightFound ||
+        mirror_top >= top.top_z_V - static_cast<float>(config.mirror_low_m)) {
+      return {};  // the mirror's top holds
+    }
+    // The mirror closes low (the walls are seen only up to a few mm below
+    // the top): its cap gives way to the evidence's.
+    const float cut = top.wall_top_z_V - static_cast<float>(config.top_band_m);
+    PointList& m = symmetry->added_V;
+    m.erase(std::remove_if(m.begin(), m.end(), [&](const Eigen::Vector3f& p) { return p.z() > cut; }),
+            m.end());
+    symmetry->reason += "; its top closed " + std::to_string(static_cast<int>(
+                            1000.0f * (top.top_z_V - mirror_top) + 0.5f)) +
+                        " mm below the evidence's and was replaced";
+  }
+  report->top = TopEvidenceName(top.outcome);
+  report->top_above_wall_m = top.top_z_V - top.wall_top_z_V;
+  report->top_points_added = static_cast<int>(top.added_V.size());
+  report->rejected_free += top.rejected_free;
+  *top_confidence = top.outcome == TopEvidence::kHeightFound ? 0.7f : 0.3f;
+  return std::move(top.added_V);
+}
+
 }  // namespace
 
 void RepairConfig::Validate() const {
@@ -88,6 +177,10 @@ void RepairConfig::Validate() const {
   completion.Validate();
   claw.Validate();
   symmetry.Validate();
+  evidence.Validate();
+  if (!(safe_bound_voxel_m == 0.0 || (safe_bound_voxel_m >= 0.0005 && safe_bound_voxel_m <= 0.1))) {
+    throw std::invalid_argument("RepairConfig: safe_bound_voxel_m must be 0 or in [0.0005, 0.1] m");
+  }
   if (!(top_rim_band_m >= 0.0 && top_rim_band_m < 1.0)) {
     throw std::invalid_argument("RepairConfig: top_rim_band_m must be in [0, 1) m");
   }
@@ -96,7 +189,8 @@ void RepairConfig::Validate() const {
   }
 }
 
-RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
+RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
+                    const evidence::VisibilityRecord* record_in) {
   RepairConfig config = config_in;
   if (config.mode == RepairMode::kPaper) {
     // The published parameters (Poisson depth 6 over the side points, the
@@ -117,6 +211,20 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
   result.cloud = input;
   result.cloud.provenance.resize(input.points_G.size(), Provenance::kObserved);
   RepairReport& report = result.report;
+  result.cloud.confidence.clear();
+  if (!input.confidence.empty() && input.confidence.size() == input.points_G.size()) {
+    result.cloud.confidence = input.confidence;
+  } else {
+    result.cloud.confidence.assign(input.points_G.size(), 1.0f);
+  }
+  const evidence::VisibilityRecord* record = UsableRecord(input, record_in, config, &report.evidence);
+  if (record && config.safe_bound_voxel_m > 0.0) {
+    StepTimer t(&report, "safe_bound");
+    evidence::SafeBoundConfig bound;
+    bound.voxel_m = config.safe_bound_voxel_m;
+    result.cloud.safe_bound = evidence::ComputeSafeBound(*record, bound);
+    report.evidence.safe_bound_voxels = static_cast<int>(result.cloud.safe_bound.count());
+  }
   if (input.points_G.size() < kMinPoints) {
     report.status = "too few points (" + std::to_string(input.points_G.size()) + " < " +
                     std::to_string(kMinPoints) + "): nothing repaired";
@@ -214,13 +322,18 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
   }
   report.boundary_points = static_cast<int>(boundary.size());
   report.boundary_lines = static_cast<int>(lines.size());
-  if (lines.empty()) {
+  // With evidence a cloud whose holes the boundary test misses (a can's
+  // whole lid, a clean cut) still gets its top: V from the up hint.
+  const bool evidence_frame = record && config.up_hint;
+  if (lines.empty() && !evidence_frame) {
     report.status = "no holes found";
     return result;
   }
   // 4. The virtual frame V from the lines' points.
   std::optional<VirtualFrame> frame;
-  {
+  if (lines.empty()) {
+    frame = WithAxis(VirtualFrame{}, config.up_hint->normalized(), points);
+  } else {
     StepTimer t(&report, "virtual_frame");
     // All detected boundary points, not only the linked ones: measured 54/54
     // correct frames against 47/54 (6 shapes x 3 grasps x 3 seeds).
@@ -229,12 +342,15 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
     std::string reason;
     frame = EstimateVirtualFrame(points, boundary_points, config.frame,
                                  config.up_hint ? &*config.up_hint : nullptr, &reason);
+    if (!frame && evidence_frame) {
+      frame = WithAxis(VirtualFrame{}, config.up_hint->normalized(), points);
+    }
     if (!frame) {
       report.status = "no virtual frame: " + reason;
       return result;
     }
   }
-  if (config.axis.enabled) {
+  if (config.axis.enabled && !lines.empty()) {
     StepTimer t(&report, "axis");
     const AxisRefinement axis =
         RefineAxis(normals, frame->T_in_V.linear().col(2), config.axis);
@@ -306,18 +422,38 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
       symmetry.reason = "no missing surface found";
     }
   }
+  // The camera's evidence: nothing in seen-free space, no contradicted
+  // mirror, the top at the rays' height.
+  const Eigen::Isometry3f T_in_V = frame->T_in_V.cast<float>();
+  PointList top_V;
+  float top_confidence = 0.0f;
+  if (record) {
+    StepTimer t(&report, "evidence");
+    const double spacing_m = MeanNearestDistance(*index_V, config.symmetry.spacing_samples);
+    top_V = ApplyEvidence(*record, config.evidence, T_in_V, points_V, spacing_m, &surface_V,
+                          &symmetry, &report.evidence, &top_confidence);
+  }
   report.symmetric = symmetry.symmetric;
   report.symmetry_reason = symmetry.reason;
 
   // Back to the input frame, appended after the input points.
-  const Eigen::Isometry3f T_in_V = frame->T_in_V.cast<float>();
+  ObjectCloud& out = result.cloud;
   for (const Eigen::Vector3f& p : surface_V) {
-    result.cloud.points_G.push_back(T_in_V * p);
-    result.cloud.provenance.push_back(Provenance::kSurface);
+    out.points_G.push_back(T_in_V * p);
+    out.provenance.push_back(Provenance::kSurface);
+    const bool hidden_by_claw =
+        record && record->Classify(out.points_G.back()) == evidence::Visibility::kBehindClaw;
+    out.confidence.push_back(hidden_by_claw ? 0.8f : 0.6f);
   }
   for (const Eigen::Vector3f& p : symmetry.added_V) {
-    result.cloud.points_G.push_back(T_in_V * p);
-    result.cloud.provenance.push_back(Provenance::kSymmetry);
+    out.points_G.push_back(T_in_V * p);
+    out.provenance.push_back(Provenance::kSymmetry);
+    out.confidence.push_back(record ? 0.6f : 0.5f);
+  }
+  for (const Eigen::Vector3f& p : top_V) {
+    out.points_G.push_back(T_in_V * p);
+    out.provenance.push_back(Provenance::kSurface);
+    out.confidence.push_back(top_confidence);
   }
   // Normals: the input's are kept; the added points get estimated ones
   // when the input had them (a planner wants one per point), else none.
@@ -355,10 +491,21 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in) {
     }
     if (best >= 0) ++report.holes[best].points_added;
   }
-  for (HoleSummary& s : report.holes) {
-    if (s.kind == HoleKind::kMissingSurface) s.points_added = static_cast<int>(symmetry.added_V.size());
+  const auto missing_hole = std::find_if(report.holes.begin(), report.holes.end(), [](const HoleSummary& h) {
+    return h.kind == HoleKind::kMissingSurface;
+  });
+  if (missing_hole != report.holes.end()) {
+    missing_hole->points_added = static_cast<int>(symmetry.added_V.size() + top_V.size());
+  } else if (!top_V.empty()) {
+    // The evidence found the top the cloud's boundaries did not show.
+    HoleSummary s;
+    s.kind = HoleKind::kMissingSurface;
+    BoxInInput(top_V, *frame, &s);
+    s.points_added = static_cast<int>(top_V.size());
+    report.holes.insert(report.holes.begin(), s);
   }
-  report.status = "repaired";
+  report.status = out.points_G.size() > input.points_G.size() || !lines.empty() ? "repaired"
+                                                                                 : "no holes found";
   return result;
 }
 

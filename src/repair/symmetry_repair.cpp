@@ -239,22 +239,6 @@ class GapGrid {
   PointList pts_;
 };
 
-double MeanNearestDistance(const NeighborIndex& index, int samples) {
-  const size_t n = index.size();
-  const size_t stride = std::max<size_t>(1, n / static_cast<size_t>(samples));
-  std::vector<int> nn;
-  std::vector<double> d2;
-  double sum = 0.0;
-  int count = 0;
-  for (size_t i = 0; i < n; i += stride) {
-    index.Knn(index.points()[i], 2, &nn, &d2);
-    if (d2.size() < 2) continue;
-    sum += std::sqrt(d2[1]);
-    ++count;
-  }
-  return count > 0 ? sum / count : 0.0;
-}
-
 // The size profile (slab k centred at z0 + (k + 0.5) h; 0 = no data) at
 // height z, linearly interpolated; NaN outside the data.
 double SizeAt(const std::vector<double>& size, double z0, double h, double z) {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "graspfill/synth/internal/zoo_shapes.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
 
 namespace graspfill::synth {
@@ -92,6 +93,12 @@ const std::vector<Shape>& AllShapes() {
   return kAll;
 }
 
+const std::vector<Shape>& ZooShapes() {
+  static const std::vector<Shape> kZoo = {Shape::kRoundedBox, Shape::kBottle, Shape::kBlob,
+                                          Shape::kMug, Shape::kBowl};
+  return kZoo;
+}
+
 std::string ShapeName(Shape shape) {
   switch (shape) {
     case Shape::kCuboid: return "cuboid";
@@ -100,13 +107,20 @@ std::string ShapeName(Shape shape) {
     case Shape::kSphere: return "sphere";
     case Shape::kEllipticCylinder: return "elliptic-cylinder";
     case Shape::kEllipsoid: return "ellipsoid";
+    case Shape::kRoundedBox: return "rounded-box";
+    case Shape::kBottle: return "bottle";
+    case Shape::kBlob: return "blob";
+    case Shape::kMug: return "mug";
+    case Shape::kBowl: return "bowl";
   }
   return "unknown";
 }
 
 std::optional<Shape> ParseShape(const std::string& name) {
-  for (Shape shape : AllShapes()) {
-    if (ShapeName(shape) == name) return shape;
+  for (const std::vector<Shape>* shapes : {&AllShapes(), &ZooShapes()}) {
+    for (Shape shape : *shapes) {
+      if (ShapeName(shape) == name) return shape;
+    }
   }
   return std::nullopt;
 }
@@ -119,6 +133,11 @@ Eigen::Vector3d DefaultSize(Shape shape) {
     case Shape::kSphere: return {0.08, 0.08, 0.08};
     case Shape::kEllipticCylinder: return {0.09, 0.06, 0.14};
     case Shape::kEllipsoid: return {0.08, 0.06, 0.12};
+    case Shape::kRoundedBox: return {0.09, 0.05, 0.16};
+    case Shape::kBottle: return {0.07, 0.07, 0.20};
+    case Shape::kBlob: return {0.075, 0.07, 0.08};
+    case Shape::kMug: return {0.11, 0.08, 0.095};
+    case Shape::kBowl: return {0.12, 0.12, 0.06};
   }
   return {0.07, 0.07, 0.14};
 }
@@ -149,6 +168,11 @@ TriangleMesh MakeShape(Shape shape, const Eigen::Vector3d& size_m, int segments)
     case Shape::kSphere:
     case Shape::kEllipsoid:
       return MakeEllipsoid(w / 2, d / 2, h / 2, segments);
+    case Shape::kRoundedBox: return internal::MakeRoundedBox(size_m, segments);
+    case Shape::kBottle: return internal::MakeBottle(size_m, segments);
+    case Shape::kBlob: return internal::MakeBlob(size_m, segments);
+    case Shape::kMug: return internal::MakeMug(size_m, segments);
+    case Shape::kBowl: return internal::MakeBowl(size_m, segments);
   }
   throw std::invalid_argument("MakeShape: unknown shape");
 }
@@ -164,6 +188,11 @@ double AnalyticVolume(Shape shape, const Eigen::Vector3d& size_m) {
     case Shape::kEllipticCylinder: return kPi * (w / 2) * (d / 2) * h;
     case Shape::kSphere:
     case Shape::kEllipsoid: return 4.0 / 3.0 * kPi * (w / 2) * (d / 2) * (h / 2);
+    case Shape::kRoundedBox: return internal::RoundedBoxVolume(size_m);
+    case Shape::kBottle: return internal::BottleVolume(size_m);
+    case Shape::kBlob: return internal::BlobVolume(size_m);
+    case Shape::kMug: return internal::MugVolume(size_m);
+    case Shape::kBowl: return internal::BowlVolume(size_m);
   }
   return 0.0;
 }

@@ -624,3 +624,43 @@ TEST(MessageChannelNames, Defaults) {
 
 }  // namespace
 }  // namespace graspfill::io
+
+namespace graspfill::io {
+namespace {
+
+TEST(ObjectCloudMessage, CarriesConfidenceAndTheSafeBound) {
+  ObjectCloud cloud;
+  cloud.points_G = {{0, 0, 0.1f}, {0.01f, 0, 0.1f}, {0, 0.01f, 0.1f}};
+  cloud.confidence = {1.0f, 0.6f, 0.3f};
+  SafeBound& bound = cloud.safe_bound;
+  bound.origin_G = {-0.1f, -0.1f, 0.0f};
+  bound.voxel_m = 0.005f;
+  bound.nx = 3, bound.ny = 2, bound.nz = 2;  // 12 voxels: 2 bytes
+  bound.bits = {0x81, 0x0a};
+  const auto bytes = EncodeObjectCloud(cloud);
+  ObjectCloud out;
+  std::string error;
+  ASSERT_TRUE(DecodeObjectCloud(bytes.data(), bytes.size(), &out, &error)) << error;
+  EXPECT_EQ(out.confidence, cloud.confidence);
+  EXPECT_EQ(out.safe_bound.bits, bound.bits);
+  EXPECT_EQ(out.safe_bound.nx, 3);
+  EXPECT_EQ(out.safe_bound.count(), 4u);
+  EXPECT_TRUE(out.safe_bound.Occupied(0, 0, 0));   // bit 0
+  EXPECT_TRUE(out.safe_bound.Occupied(1, 0, 1));   // bit 7: 1 + 3 * (0 + 2 * 1)
+  EXPECT_FALSE(out.safe_bound.Occupied(1, 0, 0));  // bit 1
+  EXPECT_TRUE(out.safe_bound.Contains({-0.1f + 0.006f, -0.1f + 0.001f, 0.007f}));
+  EXPECT_FALSE(out.safe_bound.Contains({1, 1, 1}));
+
+  // A grid the bits do not cover is refused at both ends.
+  cloud.safe_bound.nz = 3;
+  EXPECT_THROW(EncodeObjectCloud(cloud), std::invalid_argument);
+  // Confidence outside [0, 1] does not decode.
+  cloud.safe_bound.nz = 2;
+  cloud.confidence[1] = 1.5f;
+  const auto bad = EncodeObjectCloud(cloud);
+  EXPECT_FALSE(DecodeObjectCloud(bad.data(), bad.size(), &out, &error));
+  EXPECT_NE(error.find("confidence"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace graspfill::io

@@ -91,6 +91,23 @@ TEST_F(PlyIoTest, CloudWithoutNormalsOrProvenance) {
             std::vector<Provenance>(257, Provenance::kObserved));
 }
 
+TEST_F(PlyIoTest, ConfidenceRoundTripsAndIsChecked) {
+  ObjectCloud cloud = SomeCloud(false);
+  for (size_t i = 0; i < cloud.size(); ++i) cloud.confidence.push_back(static_cast<float>(i % 11) / 10.0f);
+  WriteCloudPly(Path("conf.ply"), cloud);
+  EXPECT_NE(ReadBytes(Path("conf.ply")).find("property uchar provenance\nproperty float confidence\n"),
+            std::string::npos);
+  const ObjectCloud back = ReadCloudPly(Path("conf.ply"));
+  EXPECT_EQ(back.confidence, cloud.confidence);
+  EXPECT_EQ(back.provenance, cloud.provenance);
+  cloud.confidence.pop_back();
+  EXPECT_THROW(WriteCloudPly(Path("short.ply"), cloud), std::runtime_error);
+  // Without the property the cloud has none.
+  cloud.confidence.clear();
+  WriteCloudPly(Path("none.ply"), cloud);
+  EXPECT_TRUE(ReadCloudPly(Path("none.ply")).confidence.empty());
+}
+
 TEST_F(PlyIoTest, SameCloudGivesSameBytes) {
   const ObjectCloud cloud = SomeCloud(true);
   WriteCloudPly(Path("a.ply"), cloud);

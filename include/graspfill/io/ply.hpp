@@ -16,7 +16,8 @@ namespace graspfill::io {
 ///
 /// Vertex properties, in this order: float x y z (gripper frame G, meters),
 /// float nx ny nz (only if cloud.normals_G is non-empty), uchar provenance
-/// (Provenance values; all kObserved if cloud.provenance is empty). The
+/// (Provenance values; all kObserved if cloud.provenance is empty), float
+/// confidence (only if cloud.confidence is non-empty). The
 /// header carries the cloud's frame_name, utime, seq and T_C_G as comments,
 /// read back by ReadCloudPly. The same cloud always gives the same bytes.
 /// A cloud with zero points is written (a valid, empty PLY).
@@ -33,7 +34,8 @@ void WriteCloudPly(const std::string& path, const ObjectCloud& cloud);
 ///
 /// Normals are read if present. Provenance comes from a `provenance`
 /// property if present (values must be 0..2), else every point is
-/// kObserved. frame_name, utime, seq and T_C_G come from WriteCloudPly's
+/// kObserved; confidence from a `confidence` property (values in [0, 1]),
+/// else empty. frame_name, utime, seq and T_C_G come from WriteCloudPly's
 /// header comments if present, else keep ObjectCloud's defaults. Holes and
 /// timings are not stored in PLY and come back empty.
 /// @throws std::runtime_error (with the path) on a missing or malformed

@@ -4,7 +4,8 @@
 //
 // Per depth frame: pose at the frame's timestamp (interpolated between the
 // bracketing gripper states), crop to the workspace box in G, claw cut-out by
-// ray casting the posed claw, TSDF integration in G. Extraction is on demand.
+// ray casting the posed claw, TSDF integration in G, and the frame offered
+// to the visibility record (evidence/). Extraction is on demand.
 //
 // Single-threaded and NOT thread safe: rt/ owns the threads that feed it.
 #pragma once
@@ -16,6 +17,7 @@
 #include "graspfill/claw/claw_mask.hpp"
 #include "graspfill/claw/claw_model.hpp"
 #include "graspfill/core/stage_timer.hpp"
+#include "graspfill/evidence/visibility_record.hpp"
 #include "graspfill/fusion/tsdf_fusion.hpp"
 #include "graspfill/fusion/workspace_crop.hpp"
 #include "graspfill/types.hpp"
@@ -26,6 +28,9 @@ struct PipelineConfig {
   claw::ClawMaskConfig mask;
   fusion::WorkspaceBox workspace;
   fusion::TsdfConfig tsdf;
+  /// The key frames the repair tests its proposals against (over the
+  /// workspace box above).
+  evidence::VisibilityConfig visibility;
   /// Two gripper states bracketing a depth frame may be at most this far
   /// apart [us]; otherwise the frame is skipped (no trustworthy pose).
   int64_t max_pose_gap_us{50000};
@@ -62,6 +67,7 @@ struct PipelineStats {
   StageTotal crop;
   StageTotal mask;
   StageTotal integrate;
+  StageTotal visibility;  ///< the key-frame test (and copy, for a new one)
   StageTotal extract;
 };
 
@@ -90,7 +96,12 @@ class Pipeline {
   /// stamped with the last integrated frame's time and gripper pose.
   ObjectCloud ExtractCloud();
 
-  /// Forgets the object (volume, states, pending frames); keeps the claw.
+  /// What the camera saw of the object so far, in G (key frames; copying
+  /// it is cheap and the copy stays valid after Reset).
+  const evidence::VisibilityRecord& visibility() const;
+
+  /// Forgets the object (volume, visibility, states, pending frames);
+  /// keeps the claw.
   void Reset();
 
   const PipelineStats& stats() const;

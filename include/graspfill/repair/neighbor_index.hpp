@@ -71,4 +71,8 @@ class NeighborIndex {
 KnnTable RestrictTable(const KnnTable& table, const std::vector<int>& kept,
                        const NeighborIndex& kept_index);
 
+/// Mean distance of about `samples` points (evenly strided) to their
+/// nearest other point: the cloud's spacing [m]; 0 when none has one.
+double MeanNearestDistance(const NeighborIndex& index, int samples);
+
 }  // namespace graspfill::repair

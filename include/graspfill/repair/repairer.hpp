@@ -30,6 +30,7 @@
 #include "graspfill/repair/boundary_detection.hpp"
 #include "graspfill/repair/boundary_linking.hpp"
 #include "graspfill/repair/claw_hole_repair.hpp"
+#include "graspfill/repair/evidence_repair.hpp"
 #include "graspfill/repair/outlier_removal.hpp"
 #include "graspfill/repair/symmetry_repair.hpp"
 #include "graspfill/repair/virtual_frame.hpp"
@@ -54,6 +55,12 @@ struct RepairConfig {
   CompletionConfig completion;
   ClawRepairConfig claw;
   SymmetryConfig symmetry;
+  /// With a visibility record (best mode): the mirror test, the free-space
+  /// filter and the top's height (evidence_repair.hpp).
+  EvidenceConfig evidence;
+  /// With a visibility record: the planner's safe bound's voxel edge [m]
+  /// (0: no bound).
+  double safe_bound_voxel_m{0.005};
   /// Best mode: boundary points within this of the top of V [m] form the
   /// missing surface's rim when step 5's is smaller (0: step 5's only; the
   /// paper). 4 mm: a fused cloud's rim band, ~3 voxels.
@@ -64,6 +71,29 @@ struct RepairConfig {
 
   /// Throws std::invalid_argument naming the bad field.
   void Validate() const;
+};
+
+/// What the camera's evidence did (all zero / empty without a record).
+struct EvidenceReport {
+  /// The record was given, matched the cloud and was used.
+  bool used{false};
+  /// Why it was not used, when given ("empty", "does not match ...").
+  std::string ignored_reason;
+  int key_frames{0};
+  /// Share of the observed points the record sees free (a matching
+  /// record: < 1%).
+  double observed_free_share{0.0};
+  /// Share of the mirror image in seen-free space (NaN when no mirror).
+  double mirror_free_share{0.0};
+  /// Proposed points dropped as seen free, over all fills.
+  int rejected_free{0};
+  /// The top: "height found", "not observable", "no outline", or "" when
+  /// not tried (no record, or the mirror's top held).
+  std::string top;
+  float top_above_wall_m{0.0f};  ///< the top's height over the highest wall
+  int top_points_added{0};
+  /// Voxels in the safe bound and its grid.
+  int safe_bound_voxels{0};
 };
 
 struct RepairReport {
@@ -77,6 +107,7 @@ struct RepairReport {
   int boundary_lines{0};
   VirtualFrame frame;           ///< valid when status == "repaired"
   std::vector<HoleSummary> holes;  ///< boxes in the input frame
+  EvidenceReport evidence;
   std::vector<StageTiming> timings;
 };
 
@@ -92,6 +123,20 @@ struct RepairResult {
 /// away from the centroid; otherwise the output has none). Throws std::invalid_argument on non-finite coordinates or a
 /// bad config; a cloud too small or without holes comes back unchanged
 /// with the reason in report.status.
-RepairResult Repair(const ObjectCloud& input, const RepairConfig& config = {});
+///
+/// `record` (optional, best mode): what the camera saw, in the input's
+/// frame (Pipeline::visibility() for a fused cloud in G). With it no added
+/// point lies in seen-free space, a mirror image that contradicts it is
+/// refused, the top closes at the height the evidence gives (also when the
+/// cloud shows no hole), and the output carries the safe bound. A record
+/// that does not match the cloud (most observed points in its free space)
+/// or is empty is ignored and the report says why.
+///
+/// Confidence of the output points: observed 1; claw-hole fills 0.6
+/// (0.8 where the record says the claw hid the spot); mirrored points 0.5
+/// (0.6 with a record); the evidence top 0.7 at a height the rays fixed,
+/// 0.3 closed at the rim when they could not.
+RepairResult Repair(const ObjectCloud& input, const RepairConfig& config = {},
+                    const evidence::VisibilityRecord* record = nullptr);
 
 }  // namespace graspfill::repair

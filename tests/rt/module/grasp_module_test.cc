@@ -41,7 +41,7 @@ TEST(GraspModule, ThreadedModuleGivesThePipelinesCloud) {
   config.extract_every_n_frames = 10;
   std::atomic<int> callbacks{0};
   GraspModule module(config, claw::ClawModel::ThreeFinger(),
-                     [&](const ObjectCloud&) { ++callbacks; });
+                     [&](const ObjectCloud&, const evidence::VisibilityRecord&) { ++callbacks; });
   for (const SourceEvent& e : events) {
     if (e.kind == SourceEvent::Kind::kDepth) module.PushDepthFrame(e.depth);
     else module.PushGripperState(e.gripper);
@@ -66,7 +66,7 @@ TEST(GraspModule, CloudsComeEveryNFusedFramesWhenStatesFuseThem) {
   config.extract_every_n_frames = 10;
   std::atomic<int> callbacks{0};
   GraspModule module(config, claw::ClawModel::ThreeFinger(),
-                     [&](const ObjectCloud&) { ++callbacks; });
+                     [&](const ObjectCloud&, const evidence::VisibilityRecord&) { ++callbacks; });
   int64_t pushed = 0;
   for (const SourceEvent& e : events) {
     if (e.kind == SourceEvent::Kind::kDepth) module.PushDepthFrame(e.depth);

@@ -1,0 +1,101 @@
+// The repair with the camera's evidence (the pipeline path; not in the
+// paper, which has the cloud alone). The visibility record (evidence/)
+// says for any point whether a ray passed it; the repair uses that to
+//  - refuse a mirror image that lies where the camera saw nothing (a mug's
+//    handle, a nozzle): Bohg et al. 2011 ("Mind the gap") score symmetry
+//    hypotheses against the free space the same way;
+//  - drop every proposed point in seen-free space (none is ever added);
+//  - find the height of a flat top: its outline, extruded up from the
+//    highest observed wall, stays unseen until it passes the top, where the
+//    rays that graze over the top edge carve it. The top lands between the
+//    highest wall and the lowest carved ring (the walls are measured only
+//    up to 3-4 mm below the top: the views are grazing under the palm).
+//
+// Pure and single-threaded. Points of the repair are in V; the record is in
+// the input frame (G for the pipeline), T_in_V maps between them.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+#include "graspfill/evidence/visibility_record.hpp"
+#include "graspfill/repair/repair_types.hpp"
+
+namespace graspfill::repair {
+
+struct EvidenceConfig {
+  /// The record is ignored, and the report says so, when more than this
+  /// share of the observed points lie in its seen-free space: it is of
+  /// another frame or object (a matching record: < 1%).
+  double max_observed_free_share{0.10};
+  /// A mirror image with more than this share of its points in seen-free
+  /// space is refused (symmetric objects: < 2%; a mug: ~30%).
+  double max_mirror_free_share{0.05};
+  /// The top's outline is the 2D hull of the observed points within this
+  /// of the highest one [m].
+  double top_band_m{0.005};
+  /// The search for the top starts this far below the highest observed
+  /// point, and the wall's baseline below that [m]: a fused cloud can hold
+  /// a phantom layer up to ~3 mm over a top edge the rays pass over (the
+  /// TSDF's truncation band behind the wall, 6 mm x sin 25 deg).
+  double phantom_m{0.004};
+  /// Ring heights are tested in steps of this [m].
+  double top_step_m{0.0005};
+  /// ... up to this far above the highest observed point [m].
+  double top_search_m{0.03};
+  /// The top is where a ring's free share first exceeds the share of the
+  /// rings on the observed wall by this much.
+  double top_free_jump{0.15};
+  /// A flat cap needs walls that rise straight to the top: the outline of
+  /// the top band must keep at least this share of the area of the outline
+  /// `taper_drop_m` lower (cans, boxes, a bottle's neck: ~1; a round top
+  /// such as fruit: < 0.8, which a flat cap would cut through).
+  double min_flat_area_ratio{0.85};
+  double taper_drop_m{0.01};
+  /// A mirrored top closing more than this below the evidence's top is
+  /// replaced by the evidence's (flat) top [m].
+  double mirror_low_m{0.001};
+
+  /// Throws std::invalid_argument naming the bad field.
+  void Validate() const;
+};
+
+/// How the evidence top came out.
+enum class TopEvidence {
+  kHeightFound,     ///< a carved ring above the wall fixed the height
+  kNotObservable,   ///< no ring was carved: closed at the highest wall
+  kNoOutline,       ///< too few points near the top for an outline
+  kTapered,         ///< the walls close in towards the top: no flat cap
+};
+
+struct EvidenceTop {
+  TopEvidence outcome{TopEvidence::kNoOutline};
+  float wall_top_z_V{0.0f};  ///< highest observed point [m]
+  float top_z_V{0.0f};       ///< the top's height used [m]
+  PointList added_V;         ///< band and cap, none in seen-free space
+  int rejected_free{0};      ///< candidates dropped as seen free
+};
+
+/// Share of `points_V` the record sees free (0 for an empty list).
+double SeenFreeShare(const evidence::VisibilityRecord& record, const PointList& points_V,
+                     const Eigen::Isometry3f& T_in_V);
+
+/// Removes the points the record sees free; returns how many.
+int DropSeenFree(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
+                 PointList* points_V);
+
+/// Closes the top of the cloud (`points_V`: observed, +z up in V) at the
+/// height the evidence gives: a wall band on the top outline from the
+/// highest observed point up to that height, and a cap there, sampled at
+/// `spacing_m`, skipping places within 0.75 spacing of `existing_V` (the
+/// cloud and earlier fills) and any point the record sees free.
+EvidenceTop CloseTopFromEvidence(const PointList& points_V, const PointList& existing_V,
+                                 const evidence::VisibilityRecord& record,
+                                 const Eigen::Isometry3f& T_in_V, double spacing_m,
+                                 const EvidenceConfig& config);
+
+/// "height found", "not observable", "no outline", "tapered top".
+std::string TopEvidenceName(TopEvidence outcome);
+
+}  // namespace graspfill::repair

@@ -1,0 +1,184 @@
+#include "graspfill/evidence/visibility_record.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace graspfill::evidence {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Nearer than this to the camera plane a point is not projected [m].
+constexpr float kMinZ = 0.01f;
+
+// Where `p_G` falls in key frame `k`: false if out of its rectangle.
+bool Project(const KeyFrame& k, const Eigen::Vector3f& p_G, size_t* index, float* z) {
+  const Eigen::Vector3f p = k.T_C_G * p_G;
+  if (!(p.z() > kMinZ)) return false;
+  const CameraIntrinsics& K = k.intrinsics;
+  const float u = static_cast<float>(K.fx) * p.x() / p.z() + static_cast<float>(K.cx);
+  const float v = static_cast<float>(K.fy) * p.y() / p.z() + static_cast<float>(K.cy);
+  // Pixel centres are at integer coordinates (the renderer's and the crop's convention).
+  const float uf = std::floor(u + 0.5f), vf = std::floor(v + 0.5f);
+  if (!(uf >= static_cast<float>(k.roi.u0) && uf < static_cast<float>(k.roi.u1) &&
+        vf >= static_cast<float>(k.roi.v0) && vf < static_cast<float>(k.roi.v1))) {
+    return false;
+  }
+  const int width = k.roi.u1 - k.roi.u0;
+  *index = static_cast<size_t>(static_cast<int>(vf) - k.roi.v0) * width +
+           static_cast<size_t>(static_cast<int>(uf) - k.roi.u0);
+  *z = p.z();
+  return true;
+}
+
+// Separable window minimum of `in` (w x h) with radius r; any 0 in the
+// window gives 0, since valid depths are positive.
+void WindowMin(const std::vector<float>& in, int w, int h, int r, std::vector<float>* out) {
+  std::vector<float> rows(in.size());
+  for (int v = 0; v < h; ++v) {
+    const float* src = &in[static_cast<size_t>(v) * w];
+    float* dst = &rows[static_cast<size_t>(v) * w];
+    for (int u = 0; u < w; ++u) {
+      float m = src[u];
+      for (int d = std::max(0, u - r); d <= std::min(w - 1, u + r); ++d) m = std::min(m, src[d]);
+      dst[u] = m;
+    }
+  }
+  out->assign(in.size(), 0.0f);
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      float m = rows[static_cast<size_t>(v) * w + u];
+      for (int d = std::max(0, v - r); d <= std::min(h - 1, v + r); ++d) {
+        m = std::min(m, rows[static_cast<size_t>(d) * w + u]);
+      }
+      (*out)[static_cast<size_t>(v) * w + u] = m;
+    }
+  }
+}
+
+}  // namespace
+
+Visibility VisibilityVotes::Verdict() const {
+  if (free > 0) return Visibility::kSeenFree;
+  if (surface > 0) return Visibility::kSurface;
+  if (behind_claw > 0) return Visibility::kBehindClaw;
+  return Visibility::kNeverSeen;
+}
+
+void VisibilityConfig::Validate() const {
+  if (max_key_frames < 1 || max_key_frames > 1000) {
+    throw std::invalid_argument("VisibilityConfig: max_key_frames must be in [1, 1000]");
+  }
+  if (!(min_view_angle_deg >= 0.0 && min_view_angle_deg <= 180.0)) {
+    throw std::invalid_argument("VisibilityConfig: min_view_angle_deg must be in [0, 180]");
+  }
+  if (!(free_margin_m > 0.0 && free_margin_m < 1.0)) {
+    throw std::invalid_argument("VisibilityConfig: free_margin_m must be in (0, 1) m");
+  }
+  if (!(surface_margin_m > 0.0 && surface_margin_m < 1.0)) {
+    throw std::invalid_argument("VisibilityConfig: surface_margin_m must be in (0, 1) m");
+  }
+  if (erode_px < 0 || erode_px > 8) {
+    throw std::invalid_argument("VisibilityConfig: erode_px must be in [0, 8]");
+  }
+  if (coarse_erode_px < erode_px || coarse_erode_px > 32) {
+    throw std::invalid_argument("VisibilityConfig: coarse_erode_px must be in [erode_px, 32]");
+  }
+}
+
+VisibilityRecord::VisibilityRecord(const VisibilityConfig& config,
+                                   const fusion::WorkspaceBox& workspace)
+    : config_(config), workspace_(workspace) {
+  config_.Validate();
+  workspace_.Validate();
+}
+
+bool VisibilityRecord::Offer(const DepthFrame& raw, const std::vector<float>& claw_depth_m,
+                             const Eigen::Isometry3d& T_C_G) {
+  if (static_cast<int>(key_frames_.size()) >= config_.max_key_frames) return false;
+  const Eigen::Vector3d centre = 0.5 * (workspace_.min_G + workspace_.max_G);
+  const Eigen::Vector3d camera_G = T_C_G.inverse().translation();
+  const Eigen::Vector3d dir = camera_G - centre;
+  if (!(dir.norm() > 1e-6)) return false;
+  const Eigen::Vector3f view = dir.normalized().cast<float>();
+  const float cos_min = static_cast<float>(std::cos(config_.min_view_angle_deg * kPi / 180.0));
+  for (const auto& k : key_frames_) {
+    if (k->view_dir_G.dot(view) > cos_min) return false;  // too close to a key frame
+  }
+  const CameraIntrinsics& K = raw.intrinsics;
+  const size_t n = static_cast<size_t>(K.width) * K.height;
+  if (raw.depth_m.size() != n || claw_depth_m.size() != n) return false;
+  const fusion::PixelRect roi = fusion::ProjectBox(workspace_, T_C_G, K, config_.coarse_erode_px + 1);
+  if (roi.empty()) return false;
+
+  auto k = std::make_shared<KeyFrame>();
+  k->utime = raw.utime;
+  k->T_C_G = T_C_G.cast<float>();
+  k->intrinsics = K;
+  k->roi = roi;
+  k->view_dir_G = view;
+  const int w = roi.u1 - roi.u0, h = roi.v1 - roi.v0;
+  k->depth_m.resize(static_cast<size_t>(w) * h);
+  k->claw_depth_m.resize(static_cast<size_t>(w) * h);
+  for (int v = 0; v < h; ++v) {
+    const size_t src = static_cast<size_t>(v + roi.v0) * K.width + roi.u0;
+    std::copy_n(&raw.depth_m[src], w, &k->depth_m[static_cast<size_t>(v) * w]);
+    std::copy_n(&claw_depth_m[src], w, &k->claw_depth_m[static_cast<size_t>(v) * w]);
+  }
+  for (float& d : k->depth_m) {
+    if (!std::isfinite(d) || d < 0.0f) d = 0.0f;  // unusable samples are "no return"
+  }
+  WindowMin(k->depth_m, w, h, config_.erode_px, &k->free_depth_m);
+  WindowMin(k->depth_m, w, h, config_.coarse_erode_px, &k->coarse_free_depth_m);
+  key_frames_.push_back(std::move(k));
+  return true;
+}
+
+VisibilityVotes VisibilityRecord::Votes(const Eigen::Vector3f& p_G) const {
+  VisibilityVotes votes;
+  const float free_margin = static_cast<float>(config_.free_margin_m);
+  const float surface_margin = static_cast<float>(config_.surface_margin_m);
+  for (const auto& kp : key_frames_) {
+    const KeyFrame& k = *kp;
+    size_t i = 0;
+    float z = 0.0f;
+    if (!Project(k, p_G, &i, &z)) continue;
+    const float d_free = k.free_depth_m[i];
+    if (d_free > 0.0f && d_free > z + free_margin) {
+      ++votes.free;
+      continue;
+    }
+    const float claw = k.claw_depth_m[i];
+    if (claw > 0.0f && claw < z - surface_margin) {
+      ++votes.behind_claw;  // the claw stood between the camera and the point
+      continue;
+    }
+    const float d = k.depth_m[i];
+    if (d > 0.0f && std::abs(d - z) <= surface_margin) ++votes.surface;
+  }
+  return votes;
+}
+
+bool VisibilityRecord::SeenFree(const Eigen::Vector3f& p_G, float extra_m, bool coarse) const {
+  const float margin = static_cast<float>(config_.free_margin_m) + extra_m;
+  for (const auto& kp : key_frames_) {
+    size_t i = 0;
+    float z = 0.0f;
+    if (!Project(*kp, p_G, &i, &z)) continue;
+    const float d_free = coarse ? kp->coarse_free_depth_m[i] : kp->free_depth_m[i];
+    if (d_free > 0.0f && d_free > z + margin) return true;
+  }
+  return false;
+}
+
+size_t VisibilityRecord::memory_bytes() const {
+  size_t bytes = 0;
+  for (const auto& k : key_frames_) {
+    bytes += sizeof(float) * (k->depth_m.size() + k->free_depth_m.size() +
+                              k->coarse_free_depth_m.size() + k->claw_depth_m.size());
+  }
+  return bytes;
+}
+
+}  // namespace graspfill::evidence

@@ -1,0 +1,184 @@
+#include "graspfill/repair/evidence_repair.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "convex_hull.hpp"
+#include "graspfill/repair/neighbor_index.hpp"
+
+namespace graspfill::repair {
+namespace {
+
+using Ring = std::vector<Eigen::Vector2d>;
+
+// Points along the closed polygon `hull`, about `spacing` apart.
+Ring SampleOutline(const Ring& hull, double spacing) {
+  Ring ring;
+  for (size_t i = 0; i < hull.size(); ++i) {
+    const Eigen::Vector2d a = hull[i], b = hull[(i + 1) % hull.size()];
+    const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / spacing)));
+    for (int s = 0; s < n; ++s) ring.push_back(a + (b - a) * (static_cast<double>(s) / n));
+  }
+  return ring;
+}
+
+// Area of a simple polygon (shoelace).
+double Area(const Ring& polygon) {
+  double twice = 0.0;
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    const Eigen::Vector2d a = polygon[i], b = polygon[(i + 1) % polygon.size()];
+    twice += a.x() * b.y() - a.y() * b.x();
+  }
+  return 0.5 * std::abs(twice);
+}
+
+// Inside the counter-clockwise convex polygon `hull` (or on it).
+bool InsideConvex(const Ring& hull, const Eigen::Vector2d& p) {
+  for (size_t i = 0; i < hull.size(); ++i) {
+    const Eigen::Vector2d a = hull[i], b = hull[(i + 1) % hull.size()];
+    if ((b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x()) < 0.0) return false;
+  }
+  return true;
+}
+
+Eigen::Vector3f At(const Eigen::Vector2d& xy, double z) {
+  return Eigen::Vector3f(static_cast<float>(xy.x()), static_cast<float>(xy.y()), static_cast<float>(z));
+}
+
+}  // namespace
+
+void EvidenceConfig::Validate() const {
+  auto share = [](double v, const char* name) {
+    if (!(v >= 0.0 && v <= 1.0)) throw std::invalid_argument(std::string("EvidenceConfig: ") + name + " must be in [0, 1]");
+  };
+  share(max_observed_free_share, "max_observed_free_share");
+  share(max_mirror_free_share, "max_mirror_free_share");
+  share(top_free_jump, "top_free_jump");
+  if (!(phantom_m >= 0.0 && phantom_m < 0.05)) throw std::invalid_argument("EvidenceConfig: phantom_m must be in [0, 0.05) m");
+  if (!(top_band_m > 0.0 && top_band_m < 0.1)) throw std::invalid_argument("EvidenceConfig: top_band_m must be in (0, 0.1) m");
+  if (!(top_step_m > 0.0 && top_step_m <= top_band_m)) {
+    throw std::invalid_argument("EvidenceConfig: top_step_m must be in (0, top_band_m]");
+  }
+  if (!(top_search_m >= top_step_m && top_search_m < 0.5)) {
+    throw std::invalid_argument("EvidenceConfig: top_search_m must be in [top_step_m, 0.5) m");
+  }
+  share(min_flat_area_ratio, "min_flat_area_ratio");
+  if (!(taper_drop_m > 0.0 && taper_drop_m < 0.2)) throw std::invalid_argument("EvidenceConfig: taper_drop_m must be in (0, 0.2) m");
+  if (!(mirror_low_m >= 0.0 && mirror_low_m < 0.1)) throw std::invalid_argument("EvidenceConfig: mirror_low_m must be in [0, 0.1) m");
+}
+
+std::string TopEvidenceName(TopEvidence outcome) {
+  switch (outcome) {
+    case TopEvidence::kHeightFound: return "height found";
+    case TopEvidence::kNotObservable: return "not observable";
+    case TopEvidence::kNoOutline: return "no outline";
+    case TopEvidence::kTapered: return "tapered top";
+  }
+  return "no outline";
+}
+
+double SeenFreeShare(const evidence::VisibilityRecord& record, const PointList& points_V,
+                     const Eigen::Isometry3f& T_in_V) {
+  if (points_V.empty()) return 0.0;
+  size_t n = 0;
+  for (const Eigen::Vector3f& p : points_V) n += record.SeenFree(T_in_V * p);
+  return static_cast<double>(n) / static_cast<double>(points_V.size());
+}
+
+int DropSeenFree(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
+                 PointList* points_V) {
+  const size_t before = points_V->size();
+  points_V->erase(std::remove_if(points_V->begin(), points_V->end(),
+                                 [&](const Eigen::Vector3f& p) { return record.SeenFree(T_in_V * p); }),
+                  points_V->end());
+  return static_cast<int>(before - points_V->size());
+}
+
+EvidenceTop CloseTopFromEvidence(const PointList& points_V, const PointList& existing_V,
+                                 const evidence::VisibilityRecord& record,
+                                 const Eigen::Isometry3f& T_in_V, double spacing_m,
+                                 const EvidenceConfig& config) {
+  config.Validate();
+  EvidenceTop top;
+  if (points_V.empty() || !(spacing_m > 0.0)) return top;
+  float z_wall = -std::numeric_limits<float>::infinity();
+  for (const Eigen::Vector3f& p : points_V) z_wall = std::max(z_wall, p.z());
+  top.wall_top_z_V = top.top_z_V = z_wall;
+  Ring band;
+  for (const Eigen::Vector3f& p : points_V) {
+    if (p.z() >= z_wall - config.top_band_m) band.emplace_back(p.x(), p.y());
+  }
+  const Ring hull = ConvexHull2d(&band);
+  if (hull.size() < 3) return top;
+  Ring lower_band;
+  const double lower_top = z_wall - config.taper_drop_m;
+  for (const Eigen::Vector3f& p : points_V) {
+    if (p.z() <= lower_top && p.z() >= lower_top - config.top_band_m) lower_band.emplace_back(p.x(), p.y());
+  }
+  const Ring lower = ConvexHull2d(&lower_band);
+  if (lower.size() >= 3 && Area(hull) < config.min_flat_area_ratio * Area(lower)) {
+    top.outcome = TopEvidence::kTapered;
+    return top;
+  }
+  const Ring ring = SampleOutline(hull, spacing_m);
+
+  // The free share of the outline at height z: ~constant along the
+  // observed wall (where the hull cuts across concave parts), jumping up
+  // once the rings pass the top and the grazing rays carve them.
+  const auto free_share = [&](double z) {
+    int n = 0;
+    for (const Eigen::Vector2d& r : ring) n += record.SeenFree(T_in_V * At(r, z));
+    return static_cast<double>(n) / static_cast<double>(ring.size());
+  };
+  // The baseline comes from well below the highest point and the search
+  // starts below it too: the TSDF's truncation band behind the wall spills
+  // up to ~3 mm over a top edge that rays pass over (sdf_trunc * sin of
+  // the view's elevation), leaving a phantom layer above the true top.
+  const double below = config.phantom_m;
+  double base = 0.0;
+  int rings = 0;
+  for (double z = z_wall - below - config.top_band_m; z <= z_wall - below + 1e-9;
+       z += config.top_step_m, ++rings) {
+    base += free_share(z);
+  }
+  base /= std::max(1, rings);
+  top.outcome = TopEvidence::kNotObservable;
+  for (double z = z_wall - below + config.top_step_m; z <= z_wall + config.top_search_m + 1e-9;
+       z += config.top_step_m) {
+    if (free_share(z) >= base + config.top_free_jump) {
+      top.outcome = TopEvidence::kHeightFound;
+      top.top_z_V = static_cast<float>(z - config.top_step_m);  // the highest ring not carved
+      break;
+    }
+  }
+
+  // Candidates: the outline from the wall's top up to the top, then the cap.
+  PointList candidates;
+  for (double z = z_wall + spacing_m; z < top.top_z_V - 0.5 * spacing_m; z += spacing_m) {
+    for (const Eigen::Vector2d& r : ring) candidates.push_back(At(r, z));
+  }
+  for (const Eigen::Vector2d& r : ring) candidates.push_back(At(r, top.top_z_V));
+  Eigen::AlignedBox2d box;
+  for (const Eigen::Vector2d& h : hull) box.extend(h);
+  for (double x = box.min().x() + 0.5 * spacing_m; x < box.max().x(); x += spacing_m) {
+    for (double y = box.min().y() + 0.5 * spacing_m; y < box.max().y(); y += spacing_m) {
+      if (InsideConvex(hull, {x, y})) candidates.push_back(At({x, y}, top.top_z_V));
+    }
+  }
+  const NeighborIndex index(existing_V.empty() ? points_V : existing_V);
+  std::vector<int> near;
+  for (const Eigen::Vector3f& c : candidates) {
+    index.Radius(c, 0.75 * spacing_m, &near);
+    if (!near.empty()) continue;
+    if (record.SeenFree(T_in_V * c)) {
+      ++top.rejected_free;
+      continue;
+    }
+    top.added_V.push_back(c);
+  }
+  return top;
+}
+
+}  // namespace graspfill::repair

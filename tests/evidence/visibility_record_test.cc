@@ -1,0 +1,136 @@
+#include "graspfill/evidence/visibility_record.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "evidence_fixtures.hpp"
+
+namespace graspfill::evidence {
+namespace {
+
+using testing::PlateFrame;
+using testing::PointAt;
+using testing::TestBox;
+
+VisibilityRecord RecordOfPlate() {
+  VisibilityRecord record(VisibilityConfig{}, TestBox());
+  const auto f = PlateFrame();
+  EXPECT_TRUE(record.Offer(f.raw, f.claw_depth, Eigen::Isometry3d::Identity()));
+  return record;
+}
+
+TEST(VisibilityRecord, ClassifiesFreeSurfaceOccludedAndBehindClaw) {
+  const VisibilityRecord record = RecordOfPlate();
+  // In front of the plate: the ray passed it.
+  EXPECT_EQ(record.Classify(PointAt(250, 300, 0.40f)), Visibility::kSeenFree);
+  // On the plate, within the margin either way.
+  EXPECT_EQ(record.Classify(PointAt(250, 300, 0.502f)), Visibility::kSurface);
+  EXPECT_EQ(record.Classify(PointAt(250, 300, 0.498f)), Visibility::kSurface);
+  // Behind the plate: hidden by the object itself.
+  EXPECT_EQ(record.Classify(PointAt(250, 300, 0.60f)), Visibility::kNeverSeen);
+  // Behind the claw block (on the plate's pixels): the claw hid it.
+  EXPECT_EQ(record.Classify(PointAt(320, 220, 0.45f)), Visibility::kBehindClaw);
+  // In front of the claw the ray passed.
+  EXPECT_EQ(record.Classify(PointAt(320, 220, 0.20f)), Visibility::kSeenFree);
+  // Beside the plate, the wall behind: free up to the wall.
+  EXPECT_EQ(record.Classify(PointAt(100, 100, 0.90f)), Visibility::kSeenFree);
+  // Outside the image: never seen.
+  EXPECT_EQ(record.Classify(PointAt(-60, 300, 0.40f)), Visibility::kNeverSeen);
+}
+
+TEST(VisibilityRecord, SilhouettePixelsDoNotCarveTheEdgeTheyGraze) {
+  const VisibilityRecord record = RecordOfPlate();
+  // Just outside the plate's left edge (pixel 199 sees the wall, 200 the
+  // plate): a point there at 0.7 m is within the erosion window.
+  EXPECT_NE(record.Classify(PointAt(199, 300, 0.70f)), Visibility::kSeenFree);
+  // Five pixels out it is carved.
+  EXPECT_EQ(record.Classify(PointAt(194, 300, 0.70f)), Visibility::kSeenFree);
+}
+
+TEST(VisibilityRecord, NoReturnNeverCarves) {
+  VisibilityRecord record(VisibilityConfig{}, TestBox());
+  auto f = PlateFrame();
+  for (float& d : f.raw.depth_m) {
+    if (d == testing::kWallDepth) d = 0.0f;  // no return beside the plate
+  }
+  ASSERT_TRUE(record.Offer(f.raw, f.claw_depth, Eigen::Isometry3d::Identity()));
+  EXPECT_EQ(record.Classify(PointAt(100, 100, 0.90f)), Visibility::kNeverSeen);
+  EXPECT_EQ(record.Classify(PointAt(250, 300, 0.40f)), Visibility::kSeenFree);
+}
+
+// G turned about the box centre by `deg` about y: the camera sees it from
+// another direction.
+Eigen::Isometry3d Turned(double deg) {
+  const Eigen::Vector3d c = 0.5 * (TestBox().min_G + TestBox().max_G);
+  return Eigen::Translation3d(c) * Eigen::AngleAxisd(deg * M_PI / 180.0, Eigen::Vector3d::UnitY()) *
+         Eigen::Translation3d(-c);
+}
+
+TEST(VisibilityRecord, KeyFramesAreSpreadByViewDirectionAndBounded) {
+  VisibilityConfig config;
+  config.max_key_frames = 3;
+  config.min_view_angle_deg = 10.0;
+  VisibilityRecord record(config, TestBox());
+  const auto f = PlateFrame();
+  EXPECT_TRUE(record.Offer(f.raw, f.claw_depth, Turned(0)));
+  EXPECT_FALSE(record.Offer(f.raw, f.claw_depth, Turned(5)));  // too close
+  EXPECT_TRUE(record.Offer(f.raw, f.claw_depth, Turned(12)));
+  EXPECT_TRUE(record.Offer(f.raw, f.claw_depth, Turned(-12)));
+  EXPECT_FALSE(record.Offer(f.raw, f.claw_depth, Turned(40)));  // full
+  EXPECT_EQ(record.size(), 3u);
+  EXPECT_GT(record.memory_bytes(), 0u);
+}
+
+TEST(VisibilityRecord, QueriesFollowTheKeyFramePose) {
+  VisibilityRecord record(VisibilityConfig{}, TestBox());
+  const auto f = PlateFrame();
+  const Eigen::Isometry3d T_C_G = Turned(30);
+  ASSERT_TRUE(record.Offer(f.raw, f.claw_depth, T_C_G));
+  // The point that frame saw free / on the plate, expressed in G.
+  const Eigen::Isometry3f T_G_C = T_C_G.inverse().cast<float>();
+  EXPECT_EQ(record.Classify(T_G_C * PointAt(250, 300, 0.40f)), Visibility::kSeenFree);
+  EXPECT_EQ(record.Classify(T_G_C * PointAt(250, 300, 0.50f)), Visibility::kSurface);
+  EXPECT_EQ(record.Classify(T_G_C * PointAt(250, 300, 0.60f)), Visibility::kNeverSeen);
+  // The frame's pose matters: untransformed, the plate point is not on it.
+  EXPECT_NE(record.Classify(PointAt(250, 300, 0.50f)), Visibility::kSurface);
+}
+
+TEST(VisibilityRecord, VotesCountEveryKeyFrame) {
+  VisibilityRecord record(VisibilityConfig{}, TestBox());
+  const auto f = PlateFrame();
+  ASSERT_TRUE(record.Offer(f.raw, f.claw_depth, Turned(0)));
+  ASSERT_TRUE(record.Offer(f.raw, f.claw_depth, Turned(15)));
+  // The box centre at 0.7 m: behind the plate in both frames.
+  const VisibilityVotes centre = record.Votes(Eigen::Vector3f(0, 0, 0.7f));
+  EXPECT_EQ(centre.free + centre.surface + centre.behind_claw, 0);
+  // A point near the camera in front of the plate: free in both.
+  EXPECT_EQ(record.Votes(PointAt(320, 300, 0.35f)).free, 2);
+}
+
+TEST(VisibilityRecord, ResetForgetsButSnapshotsStay) {
+  VisibilityRecord record = RecordOfPlate();
+  const VisibilityRecord snapshot = record;
+  record.Reset();
+  EXPECT_TRUE(record.empty());
+  EXPECT_EQ(record.Classify(PointAt(250, 300, 0.40f)), Visibility::kNeverSeen);
+  EXPECT_EQ(snapshot.Classify(PointAt(250, 300, 0.40f)), Visibility::kSeenFree);
+}
+
+TEST(VisibilityRecord, RejectsBadConfigAndMismatchedFrames) {
+  VisibilityConfig bad;
+  bad.free_margin_m = 0.0;
+  EXPECT_THROW(VisibilityRecord(bad, TestBox()), std::invalid_argument);
+  bad = VisibilityConfig{};
+  bad.max_key_frames = 0;
+  EXPECT_THROW(VisibilityRecord(bad, TestBox()), std::invalid_argument);
+  VisibilityRecord record(VisibilityConfig{}, TestBox());
+  auto f = PlateFrame();
+  f.claw_depth.resize(10);
+  EXPECT_FALSE(record.Offer(f.raw, f.claw_depth, Eigen::Isometry3d::Identity()));
+  EXPECT_TRUE(record.empty());
+}
+
+}  // namespace
+}  // namespace graspfill::evidence

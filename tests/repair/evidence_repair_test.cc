@@ -1,0 +1,173 @@
+// The repair with the camera's evidence, on a fused cloud of a synthetic
+// grasp (synth -> pipeline -> repair in-process): a can held by the
+// three-finger claw, whose top the camera never sees.
+#include "graspfill/repair/evidence_repair.hpp"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+#include "graspfill/eval/metrics.hpp"
+#include "graspfill/io/messages.hpp"
+#include "graspfill/pipeline/pipeline.hpp"
+#include "graspfill/repair/repairer.hpp"
+#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/synth/renderer.hpp"
+#include "graspfill/synth/scene.hpp"
+
+namespace graspfill::repair {
+namespace {
+
+struct Fused {
+  ObjectCloud cloud;
+  evidence::VisibilityRecord record;
+  std::vector<Eigen::Vector3f> truth;
+};
+
+// One turn of a can (not the e2e suite's size) fused as a replay would.
+const Fused& Can() {
+  static const Fused fused = [] {
+    synth::SceneConfig sc;
+    sc.shape = synth::Shape::kCylinder;
+    sc.size_m = Eigen::Vector3d(0.06, 0.06, 0.11);
+    sc.num_frames = 45;
+    sc.seed = 5;
+    const synth::Scene scene(sc);
+    const synth::SceneRenderer renderer(scene);
+    Pipeline pipeline(PipelineConfig{}, scene.MakeClawModel());
+    DepthFrame frame;
+    std::string error;
+    for (const synth::TimelineEvent& e : scene.Timeline()) {
+      if (e.kind == synth::TimelineEvent::Kind::kDepth) {
+        const auto bytes = io::EncodeDepthImage(renderer.Render(e.index), io::DepthEncoding::kZlib16, 0.001);
+        EXPECT_TRUE(io::DecodeDepthImage(bytes.data(), bytes.size(), &frame, &error)) << error;
+        pipeline.AddDepthFrame(frame);
+      } else {
+        pipeline.AddGripperState(scene.GripperStateAt(e.utime));
+      }
+    }
+    pipeline.Flush();
+    Fused f;
+    f.cloud = pipeline.ExtractCloud();
+    f.record = pipeline.visibility();
+    f.truth = synth::SampleSurface(scene.object_G(), 100000, 3).points;
+    return f;
+  }();
+  return fused;
+}
+
+RepairConfig InG() {
+  RepairConfig config;
+  config.up_hint = Eigen::Vector3d(0, 0, -1);  // in G the unseen top faces the palm
+  return config;
+}
+
+double Coverage(const ObjectCloud& cloud, const std::vector<Eigen::Vector3f>& truth) {
+  return eval::FractionWithin(eval::NearestDistances(truth, cloud.points_G), 0.002);
+}
+
+TEST(EvidenceRepair, ClosesTheCansTopAndAddsNothingInSeenFreeSpace) {
+  const Fused& can = Can();
+  ASSERT_GE(can.record.size(), 12u);
+  const RepairResult plain = Repair(can.cloud, InG());
+  const RepairResult seen = Repair(can.cloud, InG(), &can.record);
+  const EvidenceReport& e = seen.report.evidence;
+  ASSERT_TRUE(e.used) << e.ignored_reason;
+  EXPECT_LT(e.observed_free_share, 0.01);
+  ASSERT_GT(seen.cloud.size(), can.cloud.size());
+  int in_free = 0;
+  for (size_t i = can.cloud.size(); i < seen.cloud.size(); ++i) in_free += can.record.SeenFree(seen.cloud.points_G[i]);
+  EXPECT_EQ(in_free, 0);
+  // The fused points come first, unchanged.
+  for (size_t i = 0; i < can.cloud.size(); ++i) ASSERT_EQ(seen.cloud.points_G[i], can.cloud.points_G[i]);
+  const double fused = Coverage(can.cloud, can.truth), with = Coverage(seen.cloud, can.truth);
+  EXPECT_LT(fused, 0.9);  // the top and the claw holes are missing
+  EXPECT_GE(with, 0.97);
+  EXPECT_GE(with, Coverage(plain.cloud, can.truth) - 0.005);
+  // Every added point is near the true surface.
+  const std::vector<Eigen::Vector3f> added(seen.cloud.points_G.begin() + static_cast<long>(can.cloud.size()),
+                                           seen.cloud.points_G.end());
+  EXPECT_LE(eval::Percentile(eval::NearestDistances(added, can.truth), 95.0), 0.002);
+  // Confidence: one per point, observed 1, added below.
+  ASSERT_EQ(seen.cloud.confidence.size(), seen.cloud.size());
+  EXPECT_EQ(seen.cloud.confidence.front(), 1.0f);
+  EXPECT_LT(seen.cloud.confidence.back(), 1.0f);
+  EXPECT_GT(seen.cloud.confidence.back(), 0.0f);
+}
+
+TEST(EvidenceRepair, SafeBoundHoldsTheWholeObjectAndLittleElse) {
+  const Fused& can = Can();
+  const RepairResult seen = Repair(can.cloud, InG(), &can.record);
+  const SafeBound& bound = seen.cloud.safe_bound;
+  ASSERT_FALSE(bound.empty());
+  int outside = 0;
+  for (const Eigen::Vector3f& p : can.truth) outside += !bound.Contains(p);
+  EXPECT_EQ(outside, 0);
+  // The can's bounding cylinder is ~0.3 L; the bound is a few times that
+  // (the space behind the fingers and above the top), far below the box.
+  const double bound_litres = bound.count() * std::pow(bound.voxel_m, 3) * 1000.0;
+  const double box_litres = bound.nx * bound.ny * bound.nz * std::pow(bound.voxel_m, 3) * 1000.0;
+  EXPECT_GT(bound_litres, 0.3);
+  EXPECT_LT(bound_litres, 0.2 * box_litres);
+  EXPECT_EQ(seen.report.evidence.safe_bound_voxels, static_cast<int>(bound.count()));
+}
+
+TEST(EvidenceRepair, ARecordOfAnotherFrameOrNoneIsIgnoredWithTheReason) {
+  const Fused& can = Can();
+  ObjectCloud moved = can.cloud;
+  for (Eigen::Vector3f& p : moved.points_G) p += Eigen::Vector3f(0.0f, 0.06f, 0.0f);
+  const RepairResult r = Repair(moved, InG(), &can.record);
+  EXPECT_FALSE(r.report.evidence.used);
+  EXPECT_NE(r.report.evidence.ignored_reason.find("does not match"), std::string::npos)
+      << r.report.evidence.ignored_reason;
+  EXPECT_TRUE(r.cloud.safe_bound.empty());
+
+  const evidence::VisibilityRecord empty(evidence::VisibilityConfig{}, fusion::WorkspaceBox{});
+  const RepairResult e = Repair(can.cloud, InG(), &empty);
+  EXPECT_FALSE(e.report.evidence.used);
+  EXPECT_NE(e.report.evidence.ignored_reason.find("no key frame"), std::string::npos);
+  // Ignored evidence gives the cloud-only repair.
+  EXPECT_EQ(e.cloud.points_G, Repair(can.cloud, InG()).cloud.points_G);
+}
+
+TEST(EvidenceRepair, DeterministicAndPaperModeIgnoresTheRecord) {
+  const Fused& can = Can();
+  const RepairResult a = Repair(can.cloud, InG(), &can.record);
+  const RepairResult b = Repair(can.cloud, InG(), &can.record);
+  EXPECT_EQ(a.cloud.points_G, b.cloud.points_G);
+  EXPECT_EQ(a.cloud.confidence, b.cloud.confidence);
+  RepairConfig paper = InG();
+  paper.mode = RepairMode::kPaper;
+  EXPECT_FALSE(Repair(can.cloud, paper, &can.record).report.evidence.used);
+}
+
+TEST(EvidenceRepair, SeenFreePointsAreCountedAndDropped) {
+  const Fused& can = Can();
+  // Points far in front of the object, between it and the camera's orbit,
+  // and points on the fused surface.
+  PointList points;
+  for (int i = 0; i < 50; ++i) points.emplace_back(0.06f + 0.0005f * i, 0.0f, 0.06f);
+  const size_t n_free = points.size();
+  for (size_t i = 0; i < 50; ++i) points.push_back(can.cloud.points_G[i * 97]);
+  const Eigen::Isometry3f identity = Eigen::Isometry3f::Identity();
+  EXPECT_NEAR(SeenFreeShare(can.record, points, identity), 0.5, 0.05);
+  const int dropped = DropSeenFree(can.record, identity, &points);
+  EXPECT_NEAR(dropped, static_cast<int>(n_free), 3);
+  EXPECT_EQ(SeenFreeShare(can.record, points, identity), 0.0);
+}
+
+TEST(EvidenceRepair, TopWithoutOutlineAndBadConfig) {
+  const Fused& can = Can();
+  const EvidenceTop none = CloseTopFromEvidence({}, {}, can.record, Eigen::Isometry3f::Identity(), 0.001, {});
+  EXPECT_EQ(none.outcome, TopEvidence::kNoOutline);
+  EXPECT_TRUE(none.added_V.empty());
+  EvidenceConfig bad;
+  bad.top_step_m = 0.0;
+  EXPECT_THROW(bad.Validate(), std::invalid_argument);
+  bad = EvidenceConfig{};
+  bad.max_mirror_free_share = 2.0;
+  EXPECT_THROW(bad.Validate(), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace graspfill::repair
