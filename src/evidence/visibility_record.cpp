@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace graspfill::evidence {
@@ -32,28 +33,65 @@ bool Project(const KeyFrame& k, const Eigen::Vector3f& p_G, size_t* index, float
   return true;
 }
 
-// Separable window minimum of `in` (w x h) with radius r; any 0 in the
-// window gives 0, since valid depths are positive.
+// Sliding minimum of n samples over windows of 2r+1, clipped at the ends:
+// van Herk / Gil-Werman, three comparisons a sample whatever r. `g` and
+// `h` are scratch of n + 2r.
+void SlidingMin(const float* in, size_t stride, int n, int r, float* out, size_t out_stride,
+                std::vector<float>* g, std::vector<float>* h) {
+  const int w = 2 * r + 1, m = n + 2 * r;
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  g->resize(m);
+  h->resize(m);
+  // Padded index j holds sample j - r (+inf outside).
+  const auto at = [&](int j) { return j < r || j >= n + r ? kInf : in[static_cast<size_t>(j - r) * stride]; };
+  for (int j = 0; j < m; ++j) (*g)[j] = j % w == 0 ? at(j) : std::min((*g)[j - 1], at(j));
+  for (int j = m - 1; j >= 0; --j) {
+    (*h)[j] = (j % w == w - 1 || j == m - 1) ? at(j) : std::min((*h)[j + 1], at(j));
+  }
+  for (int i = 0; i < n; ++i) out[static_cast<size_t>(i) * out_stride] = std::min((*h)[i], (*g)[i + 2 * r]);
+}
+
+// Window minimum of `in` (w x h) with radius r: rows by SlidingMin, then
+// the columns by the same scheme run on whole rows at a time (contiguous,
+// so the compiler vectorizes it and the cache is not strided through). Any
+// 0 in the window gives 0, since valid depths are positive.
 void WindowMin(const std::vector<float>& in, int w, int h, int r, std::vector<float>* out) {
-  std::vector<float> rows(in.size());
+  std::vector<float> rows(in.size()), g, hs;
   for (int v = 0; v < h; ++v) {
-    const float* src = &in[static_cast<size_t>(v) * w];
-    float* dst = &rows[static_cast<size_t>(v) * w];
-    for (int u = 0; u < w; ++u) {
-      float m = src[u];
-      for (int d = std::max(0, u - r); d <= std::min(w - 1, u + r); ++d) m = std::min(m, src[d]);
-      dst[u] = m;
+    const size_t row = static_cast<size_t>(v) * w;
+    SlidingMin(&in[row], 1, w, r, &rows[row], 1, &g, &hs);
+  }
+  const int win = 2 * r + 1, m = h + 2 * r;
+  const size_t W = static_cast<size_t>(w);
+  std::vector<float> G(static_cast<size_t>(m) * W), H(static_cast<size_t>(m) * W);
+  std::vector<float> pad(W, std::numeric_limits<float>::infinity());
+  const auto at = [&](int j) { return j < r || j >= h + r ? pad.data() : &rows[static_cast<size_t>(j - r) * W]; };
+  for (int j = 0; j < m; ++j) {
+    const float* x = at(j);
+    float* gj = &G[static_cast<size_t>(j) * W];
+    if (j % win == 0) {
+      std::copy_n(x, W, gj);
+    } else {
+      const float* prev = gj - W;
+      for (size_t u = 0; u < W; ++u) gj[u] = std::min(prev[u], x[u]);
     }
   }
-  out->assign(in.size(), 0.0f);
-  for (int v = 0; v < h; ++v) {
-    for (int u = 0; u < w; ++u) {
-      float m = rows[static_cast<size_t>(v) * w + u];
-      for (int d = std::max(0, v - r); d <= std::min(h - 1, v + r); ++d) {
-        m = std::min(m, rows[static_cast<size_t>(d) * w + u]);
-      }
-      (*out)[static_cast<size_t>(v) * w + u] = m;
+  for (int j = m - 1; j >= 0; --j) {
+    const float* x = at(j);
+    float* hj = &H[static_cast<size_t>(j) * W];
+    if (j % win == win - 1 || j == m - 1) {
+      std::copy_n(x, W, hj);
+    } else {
+      const float* next = hj + W;
+      for (size_t u = 0; u < W; ++u) hj[u] = std::min(next[u], x[u]);
     }
+  }
+  out->resize(in.size());
+  for (int v = 0; v < h; ++v) {
+    const float* hv = &H[static_cast<size_t>(v) * W];
+    const float* gv = &G[static_cast<size_t>(v + 2 * r) * W];
+    float* o = &(*out)[static_cast<size_t>(v) * W];
+    for (size_t u = 0; u < W; ++u) o[u] = std::min(hv[u], gv[u]);
   }
 }
 

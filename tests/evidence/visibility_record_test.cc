@@ -49,6 +49,18 @@ TEST(VisibilityRecord, SilhouettePixelsDoNotCarveTheEdgeTheyGraze) {
   EXPECT_EQ(record.Classify(PointAt(194, 300, 0.70f)), Visibility::kSeenFree);
 }
 
+TEST(VisibilityRecord, TheCoarseTestKeepsAWiderBandAroundSilhouettes) {
+  const VisibilityRecord record = RecordOfPlate();
+  // 4 px left of the plate: free for a point, not for a whole voxel (6 px window).
+  EXPECT_TRUE(record.SeenFree(PointAt(196, 300, 0.70f)));
+  EXPECT_FALSE(record.SeenFree(PointAt(196, 300, 0.70f), 0.0f, /*coarse=*/true));
+  EXPECT_TRUE(record.SeenFree(PointAt(192, 300, 0.70f), 0.0f, /*coarse=*/true));
+  // The extra margin is along the ray: 0.25 m in front of the wall is not
+  // free by 0.3 m more, 0.1 m more is.
+  EXPECT_FALSE(record.SeenFree(PointAt(100, 100, 0.75f), 0.3f));
+  EXPECT_TRUE(record.SeenFree(PointAt(100, 100, 0.75f), 0.1f));
+}
+
 TEST(VisibilityRecord, NoReturnNeverCarves) {
   VisibilityRecord record(VisibilityConfig{}, TestBox());
   auto f = PlateFrame();
