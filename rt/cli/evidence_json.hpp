@@ -17,6 +17,8 @@ inline nlohmann::ordered_json EvidenceJson(const repair::EvidenceReport& e) {
   j["mirror_free_share"] = std::isnan(e.mirror_free_share) ? nlohmann::ordered_json(nullptr)
                                                            : nlohmann::ordered_json(e.mirror_free_share);
   j["rejected_free"] = e.rejected_free;
+  j["moved_out_of_claw"] = e.moved_out_of_claw;
+  j["rejected_in_claw"] = e.rejected_in_claw;
   j["top"] = e.top;
   j["top_above_wall_mm"] = 1000.0 * e.top_above_wall_m;
   j["top_points_added"] = e.top_points_added;

@@ -5,6 +5,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "graspfill/core/raycaster.hpp"
+
 namespace graspfill::evidence {
 namespace {
 
@@ -208,6 +210,27 @@ bool VisibilityRecord::SeenFree(const Eigen::Vector3f& p_G, float extra_m, bool 
     if (d_free > 0.0f && d_free > z + margin) return true;
   }
   return false;
+}
+
+struct VisibilityRecord::ClawSolid {
+  Raycaster scene;
+};
+
+void VisibilityRecord::SetClaw(const TriangleMesh& claw_G) {
+  auto solid = std::make_shared<ClawSolid>();
+  solid->scene.AddMesh(claw_G);
+  solid->scene.Commit();
+  claw_ = std::move(solid);
+}
+
+std::optional<Eigen::Vector3f> VisibilityRecord::ExitClaw(const Eigen::Vector3f& p_G,
+                                                          const Eigen::Vector3f& dir_G) const {
+  if (!claw_ || !(dir_G.norm() > 0.0f)) return std::nullopt;
+  const Eigen::Vector3f dir = dir_G.normalized();
+  const RayHit hit = claw_->scene.Cast(p_G, dir);
+  // Leaving through a face means hitting it from behind.
+  if (!hit.hit() || !(hit.normal.dot(dir) > 0.0f)) return std::nullopt;
+  return p_G + hit.t * dir;
 }
 
 size_t VisibilityRecord::memory_bytes() const {

@@ -41,7 +41,9 @@ struct Pipeline::Impl {
       changed = std::abs(state.joint_values[i] - claw_joints[i]) > config.claw_rebuild_tolerance;
     }
     if (!changed) return;
-    mask.SetClaw(claw.Posed(state.opening_m, state.joint_values));
+    const TriangleMesh posed = claw.Posed(state.opening_m, state.joint_values);
+    mask.SetClaw(posed);
+    visibility.SetClaw(posed);
     claw_opening_m = state.opening_m;
     claw_joints = state.joint_values;
     claw_set = true;
@@ -210,6 +212,7 @@ void Pipeline::Reset() {
   Impl& s = *impl_;
   s.fusion.Reset();
   s.visibility.Reset();
+  s.claw_set = false;  // the next state gives the record its claw again
   s.states = GripperStateBuffer(static_cast<size_t>(s.config.state_buffer_capacity),
                                 s.config.max_pose_gap_us);
   s.num_pending = 0;

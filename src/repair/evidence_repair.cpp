@@ -96,6 +96,43 @@ int DropSeenFree(const evidence::VisibilityRecord& record, const Eigen::Isometry
   return static_cast<int>(before - points_V->size());
 }
 
+namespace {
+
+// Towards V's axis (x = y = 0), in the input frame; +x when on the axis.
+Eigen::Vector3f Inward(const Eigen::Isometry3f& T_in_V, const Eigen::Vector3f& p_V) {
+  Eigen::Vector3f d(-p_V.x(), -p_V.y(), 0.0f);
+  if (!(d.norm() > 1e-6f)) d = Eigen::Vector3f::UnitX();
+  return T_in_V.linear() * d;
+}
+
+}  // namespace
+
+int PushOutOfClaw(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
+                  PointList* points_V) {
+  if (!record.has_claw()) return 0;
+  const Eigen::Isometry3f T_V_in = T_in_V.inverse();
+  int moved = 0;
+  for (Eigen::Vector3f& p : *points_V) {
+    if (const auto exit = record.ExitClaw(T_in_V * p, Inward(T_in_V, p))) {
+      p = T_V_in * *exit;
+      ++moved;
+    }
+  }
+  return moved;
+}
+
+int DropInsideClaw(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
+                   PointList* points_V) {
+  if (!record.has_claw()) return 0;
+  const size_t before = points_V->size();
+  points_V->erase(std::remove_if(points_V->begin(), points_V->end(),
+                                 [&](const Eigen::Vector3f& p) {
+                                   return record.ExitClaw(T_in_V * p, Inward(T_in_V, p)).has_value();
+                                 }),
+                  points_V->end());
+  return static_cast<int>(before - points_V->size());
+}
+
 EvidenceTop CloseTopFromEvidence(const PointList& points_V, const PointList& existing_V,
                                  const evidence::VisibilityRecord& record,
                                  const Eigen::Isometry3f& T_in_V, double spacing_m,

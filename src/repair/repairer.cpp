@@ -124,6 +124,7 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
                         double spacing_m, PointList* surface_V, SymmetryResult* symmetry,
                         EvidenceReport* report, float* top_confidence) {
   report->rejected_free += DropSeenFree(record, T_in_V, surface_V);
+  report->moved_out_of_claw += PushOutOfClaw(record, T_in_V, surface_V);
   report->mirror_free_share = std::numeric_limits<double>::quiet_NaN();
   if (symmetry->symmetric) {
     report->mirror_free_share = SeenFreeShare(record, symmetry->added_V, T_in_V);
@@ -135,6 +136,7 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
       symmetry->added_V.clear();
     } else {
       report->rejected_free += DropSeenFree(record, T_in_V, &symmetry->added_V);
+      report->rejected_in_claw += DropInsideClaw(record, T_in_V, &symmetry->added_V);
     }
   }
   PointList existing = points_V;
@@ -161,6 +163,8 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
   report->top_above_wall_m = top.top_z_V - top.wall_top_z_V;
   report->top_points_added = static_cast<int>(top.added_V.size());
   report->rejected_free += top.rejected_free;
+  report->rejected_in_claw += DropInsideClaw(record, T_in_V, &top.added_V);
+  report->top_points_added = static_cast<int>(top.added_V.size());
   *top_confidence = top.outcome == TopEvidence::kHeightFound ? 0.7f : 0.3f;
   return std::move(top.added_V);
 }

@@ -19,6 +19,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "graspfill/fusion/workspace_crop.hpp"
@@ -110,13 +111,28 @@ class VisibilityRecord {
   /// Bytes held by the key frames' arrays.
   size_t memory_bytes() const;
 
-  /// Forgets every key frame (a new object).
-  void Reset() { key_frames_.clear(); }
+  /// Keeps the posed claw (G) as a solid: no part of the object can be
+  /// inside it. Setup-time work (an Embree scene): call when the opening
+  /// changes, as the mask does. Throws std::invalid_argument on a bad mesh.
+  void SetClaw(const TriangleMesh& claw_G);
+  bool has_claw() const { return claw_ != nullptr; }
+  /// If `p_G` is inside the claw (the ray from it along `dir_G` leaves the
+  /// claw through a face before hitting any other), where that ray leaves
+  /// it; nullopt otherwise. For closed, outward-facing claw meshes.
+  std::optional<Eigen::Vector3f> ExitClaw(const Eigen::Vector3f& p_G, const Eigen::Vector3f& dir_G) const;
+
+  /// Forgets every key frame and the claw (a new object).
+  void Reset() {
+    key_frames_.clear();
+    claw_.reset();
+  }
 
  private:
   VisibilityConfig config_;
   fusion::WorkspaceBox workspace_;
   std::vector<std::shared_ptr<const KeyFrame>> key_frames_;
+  struct ClawSolid;
+  std::shared_ptr<const ClawSolid> claw_;
 };
 
 }  // namespace graspfill::evidence

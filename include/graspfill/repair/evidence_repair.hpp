@@ -85,6 +85,16 @@ double SeenFreeShare(const evidence::VisibilityRecord& record, const PointList& 
 int DropSeenFree(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
                  PointList* points_V);
 
+/// Moves each point inside the record's claw to where the ray from it
+/// towards V's axis leaves the claw: a fill that bulged into a finger lands
+/// on the finger's face, where the object touches it. Returns how many.
+int PushOutOfClaw(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
+                  PointList* points_V);
+
+/// Removes the points inside the record's claw; returns how many.
+int DropInsideClaw(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
+                   PointList* points_V);
+
 /// Closes the top of the cloud (`points_V`: observed, +z up in V) at the
 /// height the evidence gives: a wall band on the top outline from the
 /// highest observed point up to that height, and a cap there, sampled at

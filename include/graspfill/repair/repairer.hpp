@@ -87,6 +87,11 @@ struct EvidenceReport {
   double mirror_free_share{0.0};
   /// Proposed points dropped as seen free, over all fills.
   int rejected_free{0};
+  /// Claw-hole fill points that lay inside the claw, moved onto its face
+  /// (the finger touches the object there); other fills' points inside
+  /// the claw, dropped.
+  int moved_out_of_claw{0};
+  int rejected_in_claw{0};
   /// The top: "height found", "not observable", "no outline", or "" when
   /// not tried (no record, or the mirror's top held).
   std::string top;
