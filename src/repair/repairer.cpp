@@ -437,6 +437,26 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
     top_V = ApplyEvidence(*record, config.evidence, T_in_V, points_V, spacing_m, &surface_V,
                           &symmetry, &report.evidence, &top_confidence);
   }
+  if (!record && config.mode == RepairMode::kBest && config.close_unknown_top && missing &&
+      !symmetry.symmetric) {
+    // The cloud alone cannot tell a flat top's height: close it at the rim
+    // it sees (walls rising straight to it only) rather than leave it open.
+    StepTimer t(&report, "rim_cap");
+    static const evidence::VisibilityRecord kNothingSeen;
+    PointList existing = points_V;
+    existing.insert(existing.end(), surface_V.begin(), surface_V.end());
+    EvidenceTop top = CloseTopFromEvidence(
+        points_V, existing, kNothingSeen, T_in_V,
+        MeanNearestDistance(*index_V, config.symmetry.spacing_samples), config.evidence);
+    report.evidence.top = top.outcome == TopEvidence::kNotObservable ? "closed at the rim"
+                                                                     : TopEvidenceName(top.outcome);
+    if (top.outcome == TopEvidence::kNotObservable && !top.added_V.empty()) {
+      top_V = std::move(top.added_V);
+      top_confidence = 0.3f;
+      report.evidence.top_points_added = static_cast<int>(top_V.size());
+      symmetry.reason += "; the cloud cannot tell the top's height: closed flat at the rim it sees";
+    }
+  }
   report.symmetric = symmetry.symmetric;
   report.symmetry_reason = symmetry.reason;
 

@@ -46,6 +46,7 @@ bool HasFlatTop(Shape shape) { return shape != Shape::kSphere && shape != Shape:
 }  // namespace
 
 double TopCutZ(const PaperProtocolConfig& config, double height_m) {
+  if (config.top_cut_fraction > 0.0) return height_m * (1.0 - config.top_cut_fraction);
   // 10 um below a flat top: the face's samples go, the walls' stay.
   return HasFlatTop(config.shape) ? height_m - 1e-5
                                   : height_m * (1.0 - config.round_top_cut_fraction);
@@ -55,7 +56,8 @@ PaperProtocolCloud MakePaperProtocolCloud(const PaperProtocolConfig& config) {
   Eigen::Vector3d size = config.size_m;
   if (size.isZero()) size = DefaultSize(config.shape);
   if (!(size.array() > 0).all() || config.num_points <= 0 || config.num_claw_holes < 0 ||
-      !(config.round_top_cut_fraction >= 0.0 && config.round_top_cut_fraction < 1.0)) {
+      !(config.round_top_cut_fraction >= 0.0 && config.round_top_cut_fraction < 1.0) ||
+      !(config.top_cut_fraction >= 0.0 && config.top_cut_fraction < 0.5)) {
     throw std::invalid_argument(
         "paper protocol: size and point count must be positive, the cut fraction in [0, 1)");
   }

@@ -58,6 +58,9 @@ struct RepairConfig {
   /// With a visibility record (best mode): the mirror test, the free-space
   /// filter and the top's height (evidence_repair.hpp).
   EvidenceConfig evidence;
+  /// Best mode, no record, no symmetry: close a straight-walled top flat at
+  /// the rim the cloud shows (its height is unknown), confidence 0.3.
+  bool close_unknown_top{true};
   /// With a visibility record: the planner's safe bound's voxel edge [m]
   /// (0: no bound).
   double safe_bound_voxel_m{0.005};

@@ -27,6 +27,10 @@ struct PaperProtocolConfig {
   /// unobservable, a different problem from the paper's); a round top
   /// (sphere, ellipsoid) loses the cap above (1 - this) x its height.
   double round_top_cut_fraction{0.08};
+  /// When > 0, every shape loses the band above (1 - this) x its height
+  /// instead (a cut through the walls: the top's height is then not in the
+  /// cloud; `graspfill bench repair --top-cut` measures 0.02 and 0.15).
+  double top_cut_fraction{0.0};
   /// Claw holes: the paper keeps them the same size for every object.
   int num_claw_holes{3};
   double claw_hole_width_m{0.025};   ///< along the surface, across the finger
