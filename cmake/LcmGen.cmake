@@ -1,6 +1,7 @@
 # Debian's liblcm-dev ships no CMake config, so lcm-gen is driven here directly.
 # lcm_gen_cpp(<target> <dir> <files...>) generates C++ headers for the .lcm files
-# into the build tree and exposes them through an INTERFACE target.
+# into the build tree and exposes them through an INTERFACE target; installed
+# beside the public headers (<prefix>/include/graspfill/<type>.hpp).
 find_program(LCM_GEN_EXECUTABLE lcm-gen REQUIRED)
 
 function(lcm_gen_cpp target)
@@ -22,5 +23,10 @@ function(lcm_gen_cpp target)
   add_custom_target(${target}_gen DEPENDS ${headers})
   add_library(${target} INTERFACE)
   add_dependencies(${target} ${target}_gen)
-  target_include_directories(${target} INTERFACE $<BUILD_INTERFACE:${out_dir}>)
+  target_include_directories(${target} INTERFACE
+    $<BUILD_INTERFACE:${out_dir}>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  if(GRASPFILL_INSTALL)
+    install(FILES ${headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/graspfill)
+  endif()
 endfunction()

@@ -1,10 +1,26 @@
-// The --claw option shared by the commands: a built-in claw name or a claw
-// description file.
+// The --claw option shared by the commands (a built-in claw name or a claw
+// description file), and the claw of a session description: how `synth`
+// describes the claw it rendered, how `replay` and `live` build the claw a
+// recording or a bus says it was made with, and whether two claws are the
+// same.
 #pragma once
 
+#include <unistd.h>
+
+#include <Eigen/Geometry>
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "graspfill/claw/claw_model.hpp"
+#include "graspfill/io/messages.hpp"
 
 namespace graspfill::cli {
 
@@ -15,6 +31,206 @@ inline claw::ClawModel MakeClaw(const std::string& spec, const std::string& mesh
   if (spec == "three-finger") return claw::ClawModel::ThreeFinger();
   if (spec == "parallel") return claw::ClawModel::Parallel();
   return claw::ClawModel::Load(spec, mesh_root);
+}
+
+namespace internal {
+
+// The procedural dimensions by name, in the order scene.json writes them.
+struct ProceduralField {
+  const char* name;
+  double claw::ProceduralClawConfig::*member;
+};
+inline const std::vector<ProceduralField>& ProceduralFields() {
+  using C = claw::ProceduralClawConfig;
+  static const std::vector<ProceduralField> fields = {
+      {"palm_radius_m", &C::palm_radius_m},
+      {"palm_thickness_m", &C::palm_thickness_m},
+      {"finger_length_m", &C::finger_length_m},
+      {"finger_width_m", &C::finger_width_m},
+      {"finger_thickness_m", &C::finger_thickness_m},
+      {"min_opening_m", &C::min_opening_m},
+      {"max_opening_m", &C::max_opening_m}};
+  return fields;
+}
+
+// Surface area and bounds of one mesh mapped by T.
+struct MeshShape {
+  Eigen::AlignedBox3d box;
+  double area{0.0};
+};
+inline MeshShape ShapeOf(const TriangleMesh& mesh, const Eigen::Isometry3d& T) {
+  MeshShape s;
+  std::vector<Eigen::Vector3d> v;
+  v.reserve(mesh.vertices.size());
+  for (const Eigen::Vector3f& p : mesh.vertices) {
+    v.push_back(T * p.cast<double>());
+    s.box.extend(v.back());
+  }
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    s.area += 0.5 * (v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]).norm();
+  }
+  return s;
+}
+
+}  // namespace internal
+
+/// The JSON text of a procedural claw's dimensions, as session descriptions
+/// carry it (the keys of scene.json's "claw.used").
+inline std::string ProceduralClawText(const claw::ProceduralClawConfig& config) {
+  nlohmann::ordered_json j;
+  for (const internal::ProceduralField& f : internal::ProceduralFields()) {
+    j[f.name] = config.*(f.member);
+  }
+  return j.dump();
+}
+
+/// Parses ProceduralClawText's format: every field present, a finite
+/// number, nothing else. Throws std::runtime_error naming the field.
+inline claw::ProceduralClawConfig ParseProceduralClawText(const std::string& text) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(std::string("claw dimensions: bad JSON: ") + e.what());
+  }
+  if (!j.is_object()) throw std::runtime_error("claw dimensions: not a JSON object");
+  claw::ProceduralClawConfig config;
+  for (const internal::ProceduralField& f : internal::ProceduralFields()) {
+    if (!j.contains(f.name) || !j[f.name].is_number() ||
+        !std::isfinite(j[f.name].get<double>())) {
+      throw std::runtime_error(std::string("claw dimensions: ") + f.name +
+                               ": missing or not a finite number");
+    }
+    config.*(f.member) = j[f.name].get<double>();
+  }
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    bool known = false;
+    for (const internal::ProceduralField& f : internal::ProceduralFields()) known |= it.key() == f.name;
+    if (!known) throw std::runtime_error("claw dimensions: unknown key '" + it.key() + "'");
+  }
+  return config;
+}
+
+/// Sets the claw of *session to the built-in `name` with these dimensions.
+inline void DescribeBuiltinClaw(const std::string& name, const claw::ProceduralClawConfig& config,
+                                io::SessionDescription* session) {
+  session->claw_kind = io::SessionClawKind::kBuiltin;
+  session->claw_name = name;
+  session->claw_text = ProceduralClawText(config);
+  session->claw_source.clear();
+  session->claw_mesh_root.clear();
+}
+
+/// How a message names a session's claw: "parallel", "parallel (as recorded:
+/// finger_length_m 0.12)" when its dimensions are not the built-in's,
+/// "description 'franka_hand' (config/claws/franka_hand.json)", "URDF 'x'".
+inline std::string SessionClawLabel(const io::SessionDescription& session) {
+  switch (session.claw_kind) {
+    case io::SessionClawKind::kBuiltin: {
+      std::string changed;
+      try {
+        const claw::ProceduralClawConfig used = ParseProceduralClawText(session.claw_text);
+        const claw::ProceduralClawConfig defaults;
+        for (const internal::ProceduralField& f : internal::ProceduralFields()) {
+          if (used.*(f.member) == defaults.*(f.member)) continue;
+          std::ostringstream value;
+          value << used.*(f.member);
+          changed += (changed.empty() ? "" : ", ") + std::string(f.name) + " " + value.str();
+        }
+      } catch (const std::exception&) {
+        changed = "unreadable dimensions";
+      }
+      return changed.empty() ? session.claw_name
+                             : session.claw_name + " (as recorded: " + changed + ")";
+    }
+    case io::SessionClawKind::kDescription:
+      return "description '" + session.claw_name + "'" +
+             (session.claw_source.empty() ? "" : " (" + session.claw_source + ")");
+    case io::SessionClawKind::kUrdf:
+      return "URDF '" + session.claw_name + "'" +
+             (session.claw_source.empty() ? "" : " (" + session.claw_source + ")");
+  }
+  return session.claw_name;
+}
+
+/// Builds the claw a session description gives. A description's meshes are
+/// looked up under `mesh_root` if given, else the session's claw_mesh_root,
+/// else beside its claw_source. Throws std::runtime_error naming the claw
+/// (URDF claws are not read yet).
+inline claw::ClawModel MakeSessionClaw(const io::SessionDescription& session,
+                                       const std::string& mesh_root = "") {
+  const std::string label = SessionClawLabel(session);
+  try {
+    switch (session.claw_kind) {
+      case io::SessionClawKind::kBuiltin: {
+        const claw::ProceduralClawConfig config = ParseProceduralClawText(session.claw_text);
+        if (session.claw_name == "three-finger") return claw::ClawModel::ThreeFinger(config);
+        if (session.claw_name == "parallel") return claw::ClawModel::Parallel(config);
+        throw std::runtime_error("unknown built-in claw");
+      }
+      case io::SessionClawKind::kDescription: {
+        std::string root = mesh_root;
+        if (root.empty()) root = session.claw_mesh_root;
+        if (root.empty() && !session.claw_source.empty()) {
+          root = std::filesystem::path(session.claw_source).parent_path().string();
+        }
+        // ClawModel::Load reads files: the text goes to a private folder of
+        // its own for the time of the call.
+        static std::atomic<int> counter{0};
+        const std::filesystem::path dir =
+            std::filesystem::temp_directory_path() /
+            ("graspfill_session_claw_" + std::to_string(::getpid()) + "_" +
+             std::to_string(counter++));
+        std::filesystem::remove_all(dir);
+        std::filesystem::create_directories(dir);
+        const std::filesystem::path file = dir / (session.claw_name + ".json");
+        std::ofstream(file) << session.claw_text;
+        try {
+          claw::ClawModel model = claw::ClawModel::Load(file.string(), root.empty() ? dir.string() : root);
+          std::filesystem::remove_all(dir);
+          return model;
+        } catch (...) {
+          std::error_code ec;
+          std::filesystem::remove_all(dir, ec);
+          throw;
+        }
+      }
+      case io::SessionClawKind::kUrdf:
+        throw std::runtime_error("URDF claws are not read yet");
+    }
+    throw std::runtime_error("unknown claw kind");
+  } catch (const std::exception& e) {
+    throw std::runtime_error("the session description's claw " + label + ": " + e.what() +
+                             " (pass --claw SPEC, or --claw-mesh-root DIR for its meshes)");
+  }
+}
+
+/// True when the two claws have the same links, posed alike with the same
+/// surfaces (bounds within 10 um, areas within 0.01%) at openings across
+/// the usual range: the same claw, whichever way it was given (a built-in
+/// and the description `synth` wrote of it compare equal).
+inline bool SameClaw(const claw::ClawModel& a, const claw::ClawModel& b) {
+  if (a.links().size() != b.links().size()) return false;
+  constexpr double kBoundsTolerance = 1e-5;  // m: PLY floats, rpy round trips
+  constexpr double kAreaTolerance = 1e-4;    // relative
+  for (double opening : {0.0, 0.01, 0.03, 0.06, 0.5, 1.0}) {
+    const std::vector<Eigen::Isometry3d> pa = a.LinkPoses(opening);
+    const std::vector<Eigen::Isometry3d> pb = b.LinkPoses(opening);
+    for (size_t i = 0; i < pa.size(); ++i) {
+      const claw::Link& la = a.links()[i];
+      const claw::Link& lb = b.links()[i];
+      if (la.mesh.empty() != lb.mesh.empty()) return false;
+      if (la.mesh.empty()) continue;
+      const internal::MeshShape sa = internal::ShapeOf(la.mesh, pa[i] * la.T_link_mesh);
+      const internal::MeshShape sb = internal::ShapeOf(lb.mesh, pb[i] * lb.T_link_mesh);
+      if ((sa.box.min() - sb.box.min()).cwiseAbs().maxCoeff() > kBoundsTolerance ||
+          (sa.box.max() - sb.box.max()).cwiseAbs().maxCoeff() > kBoundsTolerance ||
+          std::abs(sa.area - sb.area) > kAreaTolerance * std::max(sa.area, sb.area)) {
+        return false;
+      }
+    }
+  }
+  return true;
 }
 
 }  // namespace graspfill::cli

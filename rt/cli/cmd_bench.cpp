@@ -14,6 +14,8 @@
 
 #include "claw_option.hpp"
 #include "commands.hpp"
+#include "number_parsing.hpp"
+#include "data_paths.hpp"
 #include "graspfill/core/pose_interpolation.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "sources/lcm_log_source.hpp"
@@ -22,11 +24,14 @@
 namespace graspfill::cli {
 namespace {
 
-constexpr const char* kUsage =
-    "usage: graspfill bench [LOG] [--claw SPEC] [--repeat N] [--json]\n"
-    "  LOG defaults to the bundled recording " GRASPFILL_REPLAY_DIR "/default/recording.lcmlog\n"
-    "  --repeat N   replay passes for the throughput figure (default 3; the best is kept)\n"
-    "The reference integrates the unmasked frames in the camera frame (see the source).\n";
+std::string Usage() {
+  return "usage: graspfill bench [LOG] [--claw SPEC] [--repeat N] [--json]\n"
+         "  LOG defaults to the bundled recording " +
+         (DataDir() / "replay" / "default" / "recording.lcmlog").string() +
+         "\n"
+         "  --repeat N   replay passes for the throughput figure (default 3; the best is kept)\n"
+         "The reference integrates the unmasked frames in the camera frame (see the source).\n";
+}
 
 using Clock = std::chrono::steady_clock;
 double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
@@ -82,27 +87,34 @@ double ReplayFps(const std::string& path, const claw::ClawModel& claw, int64_t* 
 
 int RunBench(const Args& args) {
   if (!args.empty() && args[0] == "repair") return RunBenchRepair(Args(args.begin() + 1, args.end()));
-  std::string log = std::string(GRASPFILL_REPLAY_DIR) + "/default/recording.lcmlog";
+  std::string log;  // the bundled recording unless given
   std::string claw_spec = "three-finger";
   int repeat = 3;
   bool json = false;
   for (size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--help" || args[i] == "-h") {
-      std::fputs(kUsage, stdout);
+      std::fputs(Usage().c_str(), stdout);
       return 0;
     } else if (args[i] == "--json") {
       json = true;
     } else if (args[i] == "--claw" && i + 1 < args.size()) {
       claw_spec = args[++i];
     } else if (args[i] == "--repeat" && i + 1 < args.size()) {
-      repeat = std::max(1, std::atoi(args[++i].c_str()));
+      try {
+        repeat = ParseInteger<int>("--repeat", args[++i], 1, 1000);
+      } catch (const UsageError& e) {
+        std::fprintf(stderr, "graspfill bench: %s\n", e.what());
+        return 2;
+      }
     } else if (!args[i].empty() && args[i][0] != '-') {
       log = args[i];
     } else {
-      std::fprintf(stderr, "graspfill bench: bad option '%s'\n%s", args[i].c_str(), kUsage);
+      std::fprintf(stderr, "graspfill bench: bad option '%s'\n%s", args[i].c_str(),
+                   Usage().c_str());
       return 2;
     }
   }
+  if (log.empty()) log = (BundledRecordingDir() / "recording.lcmlog").string();
   const claw::ClawModel claw = MakeClaw(claw_spec);
   const std::vector<PosedFrame> frames = LoadPosedFrames(log);
   const PipelineConfig config;

@@ -5,19 +5,24 @@
 #include <string>
 
 #include "commands.hpp"
+#include "data_paths.hpp"
 
 namespace graspfill::cli {
 
 int RunDemo(const Args& args) {
-  std::string out_dir = std::string(GRASPFILL_BINARY_DIR) + "/demo";
+  std::string out_dir = DefaultDemoDir().string();
   Args replay_extra;
   for (size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--help" || args[i] == "-h") {
       std::printf("usage: graspfill demo [-o DIR] [--lcm-url URL] [--no-publish]\n"
-                  "  replays %s/default/recording.lcmlog, writes DIR/cloud.ply\n"
-                  "  (default DIR %s/demo, the demo's own folder, rewritten each run),\n"
-                  "  publishes the cloud over LCM and evaluates it against the ground truth\n",
-                  GRASPFILL_REPLAY_DIR, GRASPFILL_BINARY_DIR);
+                  "  replays the bundled recording, writes DIR/cloud.ply, publishes the cloud\n"
+                  "  over LCM and evaluates it against the ground truth\n"
+                  "  recording: %s/replay/default/recording.lcmlog\n"
+                  "             (the data folder: $GRASPFILL_DATA_DIR, else the executable's\n"
+                  "             ../share/graspfill)\n"
+                  "  DIR:       default %s\n"
+                  "             (the demo's own folder, rewritten each run)\n",
+                  DataDir().c_str(), out_dir.c_str());
       return 0;
     }
     if (args[i] == "-o" && i + 1 < args.size()) {
@@ -32,7 +37,7 @@ int RunDemo(const Args& args) {
       return 2;
     }
   }
-  const std::string recording = std::string(GRASPFILL_REPLAY_DIR) + "/default";
+  const std::string recording = BundledRecordingDir().string();
   std::filesystem::create_directories(out_dir);
   const std::string cloud = out_dir + "/cloud.ply";
   Args replay = {recording + "/recording.lcmlog", "-o", cloud, "--force"};

@@ -4,6 +4,12 @@
 // The fused points come first, unchanged and in order (provenance
 // observed); the repair's points follow (provenance surface / symmetry), and
 // its holes and stage timings ride along in the LCM message.
+//
+// The recording's session description (session_description_t, at its head)
+// gives the claw, the hand-eye calibration, the intrinsics override, the
+// workspace box and the voxel size; --claw and --voxel-m override it, and a
+// --claw that is not the recording's claw is warned about. Without one the
+// defaults apply (the three-finger claw).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +24,7 @@
 #include "claw_option.hpp"
 #include "commands.hpp"
 #include "evidence_json.hpp"
+#include "number_parsing.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
@@ -40,14 +47,17 @@ constexpr const char* kUsage =
     "  --no-evidence            repair from the cloud alone (without what the camera saw)\n"
     "  --json                   print the report as JSON (\"repair\" is null with --no-repair)\n"
     "  --force                  overwrite the output if it exists\n"
-    "  --claw SPEC              three-finger (default), parallel, or a claw description .json\n"
+    "  --claw SPEC              three-finger, parallel, or a claw description .json (default:\n"
+    "                           the recording's claw, from its session description, else\n"
+    "                           three-finger); one that differs from the recording's is warned about\n"
     "  --claw-mesh-root DIR     where the description's meshes are (default: beside it)\n"
     "  --lcm-url URL            publish here (default: LCM's default, LCM_DEFAULT_URL or udpm)\n"
     "  --no-publish             do not publish the cloud over LCM\n"
     "  --depth-channel NAME     default GRASPFILL_DEPTH\n"
     "  --gripper-channel NAME   default GRASPFILL_GRIPPER_STATE\n"
     "  --cloud-channel NAME     default GRASPFILL_OBJECT_CLOUD\n"
-    "  --voxel-m V              TSDF voxel size (default 0.0015)\n"
+    "  --session-channel NAME   default GRASPFILL_SESSION\n"
+    "  --voxel-m V              TSDF voxel size, 0.0005..0.01 m (default: the recording's, else 0.0015)\n"
     "  --skip-bad-frames        skip malformed events instead of failing\n";
 
 struct ReplayOptions {
@@ -55,8 +65,9 @@ struct ReplayOptions {
   std::string output_path;
   bool json{false};
   bool force{false};
-  std::string claw{"three-finger"};
+  std::optional<std::string> claw;  ///< --claw; none = the recording's
   std::string claw_mesh_root;
+  bool voxel_given{false};
   std::string lcm_url;
   bool publish{true};
   bool skip_bad_frames{false};
@@ -67,19 +78,28 @@ struct ReplayOptions {
   repair::RepairConfig repair_config;
 };
 
-// Returns false (after printing why) on a usage error.
+// The voxel edge, with the truncation distance at its default 4 voxels.
+void SetVoxel(double voxel_m, PipelineConfig* config) {
+  config->tsdf.voxel_m = voxel_m;
+  config->tsdf.sdf_trunc_m = 4.0 * voxel_m;
+}
+
+// Throws UsageError (printed with the usage text, exit code 2).
 bool Parse(const Args& args, ReplayOptions* o) {
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&](std::string* out) {
-      if (i + 1 >= args.size()) throw std::invalid_argument(a + " needs a value");
+      if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
       *out = args[++i];
     };
     std::string v;
     if (a == "-o" || a == "--output") value(&o->output_path);
     else if (a == "--json") o->json = true;
     else if (a == "--force") o->force = true;
-    else if (a == "--claw") value(&o->claw);
+    else if (a == "--claw") {
+      value(&v);
+      o->claw = v;
+    }
     else if (a == "--claw-mesh-root") value(&o->claw_mesh_root);
     else if (a == "--lcm-url") value(&o->lcm_url);
     else if (a == "--no-publish") o->publish = false;
@@ -90,27 +110,90 @@ bool Parse(const Args& args, ReplayOptions* o) {
       value(&v);
       if (v == "paper") o->repair_config.mode = repair::RepairMode::kPaper;
       else if (v == "best") o->repair_config.mode = repair::RepairMode::kBest;
-      else throw std::invalid_argument("--repair-mode must be paper or best, not '" + v + "'");
+      else throw UsageError("--repair-mode must be paper or best, not '" + v + "'");
     }
     else if (a == "--depth-channel") value(&o->channels.depth);
     else if (a == "--gripper-channel") value(&o->channels.gripper_state);
     else if (a == "--cloud-channel") value(&o->channels.object_cloud);
+    else if (a == "--session-channel") value(&o->channels.session);
     else if (a == "--voxel-m") {
       value(&v);
-      o->pipeline.tsdf.voxel_m = std::stod(v);
-      o->pipeline.tsdf.sdf_trunc_m = 4.0 * o->pipeline.tsdf.voxel_m;
+      SetVoxel(ParseDouble(a, v, kMinVoxelM, kMaxVoxelM, "m"), &o->pipeline);
+      o->voxel_given = true;
     } else if (!a.empty() && a[0] == '-') {
-      throw std::invalid_argument("unknown option " + a);
+      throw UsageError("unknown option " + a);
     } else if (o->log_path.empty()) {
       o->log_path = a;
     } else {
-      throw std::invalid_argument("unexpected argument " + a);
+      throw UsageError("unexpected argument " + a);
     }
   }
   if (o->log_path.empty() || o->output_path.empty()) {
-    throw std::invalid_argument("need LOG and -o CLOUD.ply");
+    throw UsageError("need LOG and -o CLOUD.ply");
   }
   return true;
+}
+
+// The claw the replay uses and where it came from.
+struct ClawUse {
+  std::string label;  ///< how messages name it
+  std::string from;   ///< "command line", "session description" or "default"
+};
+
+// Builds the pipeline once the events before the first depth or gripper
+// event are known: the claw and config from `session` (the recording's
+// first session description, if it has one) unless the command line says
+// otherwise. Prints the warning when --claw is not the recording's claw.
+// Throws std::runtime_error on a claw that cannot be built or a session
+// voxel out of range.
+std::unique_ptr<Pipeline> MakeReplayPipeline(const ReplayOptions& o,
+                                             const std::optional<io::SessionDescription>& session,
+                                             ClawUse* use) {
+  PipelineConfig config = o.pipeline;
+  if (session && session->workspace_G) {
+    config.workspace.min_G = session->workspace_G->min();
+    config.workspace.max_G = session->workspace_G->max();
+  }
+  if (session && session->voxel_m > 0.0 && !o.voxel_given) {
+    if (session->voxel_m < kMinVoxelM || session->voxel_m > kMaxVoxelM) {
+      char message[160];
+      std::snprintf(message, sizeof(message),
+                    "the recording's session description asks for a voxel of %g m, outside "
+                    "%g..%g m (pass --voxel-m)", session->voxel_m, kMinVoxelM, kMaxVoxelM);
+      throw std::runtime_error(message);
+    }
+    SetVoxel(session->voxel_m, &config);
+  }
+  if (o.claw) {
+    claw::ClawModel model = MakeClaw(*o.claw, o.claw_mesh_root);
+    use->label = *o.claw;
+    use->from = "command line";
+    if (session) {
+      // The recording's claw as it was; one that cannot be built (a URDF,
+      // meshes not here) is compared by name.
+      bool same = false;
+      try {
+        same = SameClaw(model, MakeSessionClaw(*session, o.claw_mesh_root));
+      } catch (const std::exception&) {
+        same = model.name() == session->claw_name;
+      }
+      if (!same) {
+        std::fprintf(stderr,
+                     "graspfill replay: warning: --claw %s differs from the claw this recording "
+                     "was made with (%s, from its session description); using %s\n",
+                     o.claw->c_str(), SessionClawLabel(*session).c_str(), o.claw->c_str());
+      }
+    }
+    return std::make_unique<Pipeline>(config, std::move(model));
+  }
+  if (session) {
+    use->label = SessionClawLabel(*session);
+    use->from = "session description";
+    return std::make_unique<Pipeline>(config, MakeSessionClaw(*session, o.claw_mesh_root));
+  }
+  use->label = "three-finger";
+  use->from = "default";
+  return std::make_unique<Pipeline>(config, claw::ClawModel::ThreeFinger());
 }
 
 double Ms(std::chrono::steady_clock::duration d) {
@@ -133,7 +216,7 @@ int RunReplay(const Args& args) {
   ReplayOptions o;
   try {
     Parse(args, &o);
-  } catch (const std::exception& e) {
+  } catch (const UsageError& e) {
     std::fprintf(stderr, "graspfill replay: %s\n%s", e.what(), kUsage);
     return 2;
   }
@@ -146,11 +229,18 @@ int RunReplay(const Args& args) {
   rt::LcmLogSource::Config source_config;
   source_config.path = o.log_path;
   source_config.channels = o.channels;
+  source_config.session_events = true;
   auto log_source = std::make_unique<rt::LcmLogSource>(source_config);  // throws on a bad file
   const rt::LcmLogSource& log = *log_source;  // for its counters, once at the end
   // Decoding runs ahead on a second thread, overlapping the pipeline.
   rt::PrefetchingSource source(std::move(log_source));
-  Pipeline pipeline(o.pipeline, MakeClaw(o.claw, o.claw_mesh_root));
+  // Made at the first depth or gripper event, once the session description
+  // at the head of the recording (if any) has been read.
+  std::unique_ptr<Pipeline> pipeline_ptr;
+  std::optional<io::SessionDescription> session;
+  ClawUse claw_use;
+  int64_t sessions = 0;
+  bool late_session_warned = false;
 
   const auto t_start = std::chrono::steady_clock::now();
   rt::SourceEvent event;
@@ -159,8 +249,25 @@ int RunReplay(const Args& args) {
   for (;;) {
     const rt::FrameResult result = source.Next(&event);
     if (result == rt::FrameResult::kEndOfStream) break;
+    if (result == rt::FrameResult::kOk && event.kind == rt::SourceEvent::Kind::kSession) {
+      ++sessions;
+      if (!pipeline_ptr && !session) {
+        session = event.session;
+      } else if (!late_session_warned) {
+        std::fprintf(stderr, "graspfill replay: warning: the session description at utime %lld "
+                     "comes after the recording's first one or its first events; its claw, "
+                     "workspace box and voxel are ignored\n",
+                     static_cast<long long>(event.session.utime));
+        late_session_warned = true;
+      }
+      continue;
+    }
+    if (!pipeline_ptr && result == rt::FrameResult::kOk) {
+      pipeline_ptr = MakeReplayPipeline(o, session, &claw_use);
+    }
     std::string error;
     if (result == rt::FrameResult::kOk) {
+      Pipeline& pipeline = *pipeline_ptr;
       if (event.kind == rt::SourceEvent::Kind::kDepth) {
         ++depth_events;
         if (pipeline.AddDepthFrame(event.depth, &error) != FrameOutcome::kBadFrame) continue;
@@ -196,6 +303,7 @@ int RunReplay(const Args& args) {
                  o.channels.depth.c_str(), o.log_path.c_str(), seen.empty() ? "none" : seen.c_str());
     return 1;
   }
+  Pipeline& pipeline = *pipeline_ptr;  // made: there was a depth event
   pipeline.Flush();
   const auto t_fused = std::chrono::steady_clock::now();
   ObjectCloud cloud = pipeline.ExtractCloud();
@@ -241,6 +349,15 @@ int RunReplay(const Args& args) {
   report["bad_events_skipped"] = bad_events;
   report["gripper_states"] = stats.states_in;
   report["gripper_states_rejected"] = stats.states_rejected;
+  report["claw"] = {{"name", claw_use.label}, {"from", claw_use.from}};
+  if (session) {
+    report["session"] = {{"software_version", session->software_version},
+                         {"utime", session->utime},
+                         {"claw", SessionClawLabel(*session)},
+                         {"descriptions", sessions}};
+  } else {
+    report["session"] = nullptr;
+  }
   report["points"] = cloud.size();
   report["published"] = o.publish ? o.channels.object_cloud : "";
   const double repair_ms = Ms(t_repaired - t_extracted);
@@ -281,6 +398,10 @@ int RunReplay(const Args& args) {
                 static_cast<long long>(stats.frames_integrated),
                 static_cast<long long>(stats.frames_skipped_no_pose),
                 static_cast<long long>(stats.frames_bad + bad_events));
+    const std::string claw_from = claw_use.from == "default"
+                                      ? "default: the recording has no session description"
+                                      : "from the " + claw_use.from;
+    std::printf("claw: %s (%s)\n", claw_use.label.c_str(), claw_from.c_str());
     std::printf("object cloud: %zu points -> %s%s%s\n", cloud.size(), o.output_path.c_str(),
                 o.publish ? ", published on " : "", o.publish ? o.channels.object_cloud.c_str() : "");
     std::printf("per frame: crop %.3f ms, claw mask %.3f ms, integrate %.3f ms; "

@@ -1,9 +1,10 @@
 // graspfill synth: writes a synthetic recording (LCM log of depth frames and
 // gripper states) and its ground truth, all from a graspfill::synth::Scene.
 //
-// DIR/recording.lcmlog  depth_image_t (ZLIB16, 1 mm units) and
-//                       gripper_state_t events in time order, each event's
-//                       log timestamp = its message utime
+// DIR/recording.lcmlog  a session_description_t first (the claw exactly as
+//                       rendered), then depth_image_t (ZLIB16, 1 mm units)
+//                       and gripper_state_t events in time order, each
+//                       event's log timestamp = its message utime
 // DIR/gt_mesh.ply       the object's surface in G
 // DIR/gt_cloud.ply      kDefaultGroundTruthPoints points sampled on it, in G
 // DIR/claw.ply          the posed claw (palm + fingers) in G
@@ -16,6 +17,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
@@ -23,8 +25,10 @@
 #include <string>
 #include <vector>
 
+#include "claw_option.hpp"
 #include "cmd_synth_protocol.hpp"
 #include "commands.hpp"
+#include "number_parsing.hpp"
 #include "output_dir.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
@@ -72,11 +76,6 @@ constexpr const char* kUsage =
     "(ground truth, same pose) and protocol.json (pose, claw hole centres);\n"
     "--mesh, --claw, --frames, --ideal and --wall-m apply to recordings only\n";
 
-// A usage error: printed with the usage text, exit code 2.
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
 struct SynthOptions {
   std::optional<std::string> protocol;
   std::optional<std::string> shape;
@@ -105,13 +104,12 @@ Eigen::Vector3d ParseSize(const std::string& text) {
     if (!std::getline(in, part, 'x') || part.empty()) {
       throw UsageError("--size '" + text + "': expected WxDxH, e.g. 0.07x0.07x0.14");
     }
-    size_t used = 0;
     try {
-      size[k] = std::stod(part, &used);
-    } catch (const std::exception&) {
-      used = 0;
+      size[k] = ParseDouble("--size", part, 0.0, std::numeric_limits<double>::max(), "m");
+    } catch (const UsageError&) {
+      size[k] = 0.0;
     }
-    if (used != part.size() || !(size[k] > 0.0) || !std::isfinite(size[k])) {
+    if (!(size[k] > 0.0)) {
       throw UsageError("--size '" + text + "': '" + part + "' is not a positive number");
     }
   }
@@ -121,21 +119,6 @@ Eigen::Vector3d ParseSize(const std::string& text) {
     throw UsageError("--size '" + text + "': sizes are in meters (e.g. 0.07 for 7 cm)");
   }
   return size;
-}
-
-template <typename T>
-T ParseInteger(const std::string& option, const std::string& text) {
-  size_t used = 0;
-  unsigned long long value = 0;
-  try {
-    if (!text.empty() && text[0] != '-') value = std::stoull(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != text.size()) {
-    throw UsageError(option + " '" + text + "': expected a non-negative integer");
-  }
-  return static_cast<T>(value);
 }
 
 SynthOptions Parse(const Args& args) {
@@ -156,34 +139,13 @@ SynthOptions Parse(const Args& args) {
     else if (a == "--mesh") o.mesh_path = value();
     else if (a == "--claw") o.claw = value();
     else if (a == "--grasp") o.grasp = value();
-    else if (a == "--seed") o.seed = ParseInteger<uint64_t>(a, value());
-    else if (a == "--frames") {
-      const std::string v = value();
-      const uint64_t frames = ParseInteger<uint64_t>(a, v);
-      if (frames < 1 || frames > 100000) throw UsageError("--frames '" + v + "': expected 1..100000");
-      o.frames = static_cast<int>(frames);
-    } else if (a == "--ideal") o.ideal = true;
-    else if (a == "--wall-m") {
-      const std::string v = value();
-      size_t used = 0;
-      try {
-        o.wall_m = std::stod(v, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used == 0 || used != v.size() || !(o.wall_m >= 0.0) || !std::isfinite(o.wall_m)) {
-        throw UsageError("--wall-m '" + v + "': expected a distance >= 0 in meters");
-      }
-    }
+    else if (a == "--seed") {
+      o.seed = ParseInteger<uint64_t>(a, value(), 0, std::numeric_limits<uint64_t>::max());
+    } else if (a == "--frames") o.frames = ParseInteger<int>(a, value(), 1, 100000);
+    else if (a == "--ideal") o.ideal = true;
+    else if (a == "--wall-m") o.wall_m = ParseDouble(a, value(), 0.0, 100.0, "m");
     else if (a == "--points") {
-      const std::string v = value();
-      const uint64_t points = ParseInteger<uint64_t>(a, v);
-      if (points < static_cast<uint64_t>(kMinProtocolPoints) ||
-          points > static_cast<uint64_t>(kMaxProtocolPoints)) {
-        throw UsageError("--points '" + v + "': expected " + std::to_string(kMinProtocolPoints) +
-                         ".." + std::to_string(kMaxProtocolPoints));
-      }
-      o.points = static_cast<int>(points);
+      o.points = ParseInteger<int>(a, value(), kMinProtocolPoints, kMaxProtocolPoints);
     }
     else if (a == "--force") o.force = true;
     else if (a == "-o" || a == "--output") o.output_dir = value();
@@ -364,6 +326,19 @@ json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::Chann
   };
 }
 
+// What the recording was made with: the claw exactly as rendered (the
+// built-in with the dimensions the placement used, e.g. lengthened
+// fingers), identity hand-eye (the poses are in the camera frame), no
+// intrinsics override, and the pipeline's default workspace box and voxel
+// (the recording does not ask for any other).
+io::SessionDescription SessionOf(const synth::Scene& scene, int64_t utime) {
+  io::SessionDescription session;
+  session.utime = utime;
+  session.software_version = io::SoftwareVersion();
+  DescribeBuiltinClaw(synth::ClawTypeName(scene.config().claw), scene.placement().claw, &session);
+  return session;
+}
+
 int Run(const SynthOptions& o) {
   synth::SceneConfig config;
   config.claw = *synth::ParseClawType(o.claw);
@@ -417,7 +392,13 @@ int Run(const SynthOptions& o) {
   size_t gripper_states = 0;
   {
     rt::LcmLogWriter log(log_path.string(), o.force);
-    for (const synth::TimelineEvent& event : scene.Timeline()) {
+    // The session description first, stamped with the first event's time
+    // (so that lcm-logplayer does not wait before the recording starts).
+    const std::vector<synth::TimelineEvent> timeline = scene.Timeline();
+    const int64_t start_utime = timeline.empty() ? config.motion.start_utime : timeline.front().utime;
+    log.Write(channels.session, start_utime,
+              io::EncodeSessionDescription(SessionOf(scene, start_utime)));
+    for (const synth::TimelineEvent& event : timeline) {
       if (event.kind == synth::TimelineEvent::Kind::kDepth) {
         const DepthFrame frame = renderer.Render(event.index);
         log.Write(channels.depth, event.utime,

@@ -1,9 +1,11 @@
 // What every input of the module hands to the runtime: depth frames and
-// gripper states, one event at a time, from a live device or a recording.
+// gripper states (and, from recordings, the session description), one event
+// at a time, from a live device or a recording.
 #pragma once
 
 #include <string>
 
+#include "graspfill/io/messages.hpp"
 #include "graspfill/types.hpp"
 
 namespace graspfill::rt {
@@ -17,13 +19,17 @@ enum class FrameResult {
 };
 
 /// One event from a source. Only the member named by `kind` is meaningful;
-/// the other keeps whatever it held, so that a caller reusing one
-/// SourceEvent keeps both buffers' capacity (no per-frame allocation).
+/// the others keep whatever they held, so that a caller reusing one
+/// SourceEvent keeps the buffers' capacity (no per-frame allocation).
 struct SourceEvent {
-  enum class Kind { kDepth, kGripperState };
+  /// kSession comes only from sources asked for it (see
+  /// LcmLogSource::Config::session_events), so callers that know depth and
+  /// gripper states only never see it.
+  enum class Kind { kDepth, kGripperState, kSession };
   Kind kind{Kind::kDepth};
   DepthFrame depth;      ///< valid when kind == kDepth and the result is kOk
   GripperState gripper;  ///< valid when kind == kGripperState and kOk
+  io::SessionDescription session;  ///< valid when kind == kSession and kOk
   std::string error;     ///< why, when the result is kBadFrame
 };
 

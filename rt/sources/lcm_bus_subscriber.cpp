@@ -2,6 +2,8 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "sources/session_overrides.hpp"
+
 #include <stdexcept>
 #include <utility>
 
@@ -13,13 +15,18 @@ struct LcmBusSubscriber::Impl {
   Config config;
   StateCallback on_state;
   DepthCallback on_depth;
+  SessionCallback on_session;
   GripperState state;  // decode targets, reused
   DepthFrame depth;
+  io::SessionDescription session;
+  // What the last session description set (receive thread only).
+  Eigen::Isometry3d T_C_B{Eigen::Isometry3d::Identity()};
+  std::optional<CameraIntrinsics> intrinsics;
   std::string error;
 };
 
 LcmBusSubscriber::LcmBusSubscriber(const Config& config, StateCallback on_state,
-                                   DepthCallback on_depth)
+                                   DepthCallback on_depth, SessionCallback on_session)
     : impl_(std::make_unique<Impl>(config.url)) {
   if (!impl_->lcm.good()) {
     throw std::runtime_error("cannot start LCM on '" +
@@ -28,12 +35,14 @@ LcmBusSubscriber::LcmBusSubscriber(const Config& config, StateCallback on_state,
   impl_->config = config;
   impl_->on_state = std::move(on_state);
   impl_->on_depth = std::move(on_depth);
+  impl_->on_session = std::move(on_session);
+  impl_->T_C_B = config.T_C_B;
   // Handlers are called from LCM's C code: they count errors, never throw.
   impl_->lcm.subscribeFunction(
       config.channels.gripper_state,
       +[](const lcm::ReceiveBuffer* rbuf, const std::string&, LcmBusSubscriber* self) {
         Impl& s = *self->impl_;
-        if (!io::DecodeGripperState(rbuf->data, rbuf->data_size, s.config.T_C_B, &s.state, &s.error)) {
+        if (!io::DecodeGripperState(rbuf->data, rbuf->data_size, s.T_C_B, &s.state, &s.error)) {
           ++self->decode_errors_;
           return;
         }
@@ -46,7 +55,8 @@ LcmBusSubscriber::LcmBusSubscriber(const Config& config, StateCallback on_state,
         config.channels.depth,
         +[](const lcm::ReceiveBuffer* rbuf, const std::string&, LcmBusSubscriber* self) {
           Impl& s = *self->impl_;
-          if (!io::DecodeDepthImage(rbuf->data, rbuf->data_size, &s.depth, &s.error)) {
+          if (!io::DecodeDepthImage(rbuf->data, rbuf->data_size, &s.depth, &s.error) ||
+              !ApplyIntrinsicsOverride(s.intrinsics, &s.depth, &s.error)) {
             ++self->decode_errors_;
             return;
           }
@@ -55,6 +65,20 @@ LcmBusSubscriber::LcmBusSubscriber(const Config& config, StateCallback on_state,
         },
         this);
   }
+  impl_->lcm.subscribeFunction(
+      config.channels.session,
+      +[](const lcm::ReceiveBuffer* rbuf, const std::string&, LcmBusSubscriber* self) {
+        Impl& s = *self->impl_;
+        if (!io::DecodeSessionDescription(rbuf->data, rbuf->data_size, &s.session, &s.error)) {
+          ++self->decode_errors_;
+          return;
+        }
+        ++self->sessions_received_;
+        if (s.config.T_C_B_from_session) s.T_C_B = s.session.T_C_B;
+        if (s.config.intrinsics_from_session) s.intrinsics = s.session.intrinsics;
+        if (s.on_session) s.on_session(s.session);
+      },
+      this);
   thread_ = std::thread([this] {
     // Bounded waits so that the destructor is noticed promptly.
     while (!stop_) impl_->lcm.handleTimeout(50);

@@ -1,12 +1,15 @@
 // Live input from the LCM bus: gripper states from the robot (and, where a
 // camera driver publishes them, depth images), decoded on a receive thread
-// and handed to callbacks (typically GraspModule::Push*).
+// and handed to callbacks (typically GraspModule::Push*). Session
+// descriptions on the bus set the hand-eye calibration and the intrinsics
+// override for what follows them, and go to their own callback.
 #pragma once
 
 #include <Eigen/Geometry>
 #include <atomic>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -22,14 +25,24 @@ class LcmBusSubscriber {
     io::ChannelNames channels;
     /// Hand-eye calibration for states given in the base frame (camera <- base).
     Eigen::Isometry3d T_C_B{Eigen::Isometry3d::Identity()};
+    /// A session description's T_C_B replaces T_C_B above for the states
+    /// received after it (false: T_C_B above always).
+    bool T_C_B_from_session{true};
+    /// A session description's intrinsics override applies to the depth
+    /// images received after it; an image of another size is counted as a
+    /// decode error (false: the images' own intrinsics always).
+    bool intrinsics_from_session{true};
   };
   using StateCallback = std::function<void(const GripperState&)>;
   using DepthCallback = std::function<void(const DepthFrame&)>;
+  using SessionCallback = std::function<void(const io::SessionDescription&)>;
 
   /// Subscribes and starts the receive thread. `on_depth` may be empty (no
-  /// depth subscription). Callbacks run on the receive thread and must not
-  /// throw. Throws std::runtime_error if LCM cannot start on `url`.
-  LcmBusSubscriber(const Config& config, StateCallback on_state, DepthCallback on_depth = {});
+  /// depth subscription), and so may `on_session` (session descriptions are
+  /// still applied, see Config). Callbacks run on the receive thread and must
+  /// not throw. Throws std::runtime_error if LCM cannot start on `url`.
+  LcmBusSubscriber(const Config& config, StateCallback on_state, DepthCallback on_depth = {},
+                   SessionCallback on_session = {});
   /// Stops and joins the receive thread.
   ~LcmBusSubscriber();
   LcmBusSubscriber(const LcmBusSubscriber&) = delete;
@@ -37,6 +50,7 @@ class LcmBusSubscriber {
 
   int64_t states_received() const { return states_received_; }
   int64_t depth_received() const { return depth_received_; }
+  int64_t sessions_received() const { return sessions_received_; }
   /// Messages on our channels that did not decode (counted, never thrown).
   int64_t decode_errors() const { return decode_errors_; }
 
@@ -45,6 +59,7 @@ class LcmBusSubscriber {
   std::unique_ptr<Impl> impl_;
   std::atomic<int64_t> states_received_{0};
   std::atomic<int64_t> depth_received_{0};
+  std::atomic<int64_t> sessions_received_{0};
   std::atomic<int64_t> decode_errors_{0};
   std::atomic<bool> stop_{false};
   std::thread thread_;

@@ -2,6 +2,8 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "sources/session_overrides.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
@@ -25,7 +27,7 @@ constexpr int64_t kEventHeaderBytes = 4 + 8 + 8 + 4 + 4;
 
 }  // namespace
 
-LcmLogSource::LcmLogSource(const Config& config) : config_(config) {
+LcmLogSource::LcmLogSource(const Config& config) : config_(config), T_C_B_(config.T_C_B) {
   const std::string& path = config_.path;
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) CannotOpen(path, "no such file");
@@ -87,18 +89,31 @@ FrameResult LcmLogSource::Next(SourceEvent* event) {
     if (channel == config_.channels.depth) {
       event->kind = SourceEvent::Kind::kDepth;
       if (!io::DecodeDepthImage(log_event->data, size, &event->depth,
-                                &event->error)) {
+                                &event->error) ||
+          !ApplyIntrinsicsOverride(intrinsics_, &event->depth, &event->error)) {
         return FrameResult::kBadFrame;
       }
       return FrameResult::kOk;
     }
     if (channel == config_.channels.gripper_state) {
       event->kind = SourceEvent::Kind::kGripperState;
-      if (!io::DecodeGripperState(log_event->data, size, config_.T_C_B,
+      if (!io::DecodeGripperState(log_event->data, size, T_C_B_,
                                   &event->gripper, &event->error)) {
         return FrameResult::kBadFrame;
       }
       return FrameResult::kOk;
+    }
+    if (channel == config_.channels.session) {
+      event->kind = SourceEvent::Kind::kSession;
+      if (!io::DecodeSessionDescription(log_event->data, size, &event->session,
+                                        &event->error)) {
+        return FrameResult::kBadFrame;
+      }
+      ++sessions_read_;
+      if (config_.T_C_B_from_session) T_C_B_ = event->session.T_C_B;
+      if (config_.intrinsics_from_session) intrinsics_ = event->session.intrinsics;
+      if (config_.session_events) return FrameResult::kOk;
+      continue;
     }
     ++skipped_other_channels_;
   }

@@ -1,11 +1,15 @@
 // Replays a recorded LCM log (lcm-logger's format) as source events: depth
 // images and gripper states on graspfill's channels, decoded as they are
-// read. Events on other channels are skipped and counted.
+// read, and the session description (session_description_t, at the head of
+// the recordings graspfill writes), which also sets the hand-eye calibration
+// and the intrinsics override for the events after it. Events on other
+// channels are skipped and counted.
 #pragma once
 
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,11 +32,21 @@ class LcmLogSource : public FrameSource {
   struct Config {
     /// Path of the log file.
     std::string path;
-    /// Channels carrying depth_image_t and gripper_state_t.
+    /// Channels carrying depth_image_t, gripper_state_t and
+    /// session_description_t.
     io::ChannelNames channels;
     /// Hand-eye calibration (maps points from B to C), used for gripper
     /// states recorded in the base frame.
     Eigen::Isometry3d T_C_B{Eigen::Isometry3d::Identity()};
+    /// A session description's T_C_B replaces T_C_B above for the events
+    /// after it (false: T_C_B above always, e.g. given on the command line).
+    bool T_C_B_from_session{true};
+    /// A session description's intrinsics override applies to the depth
+    /// images after it (false: the images' own intrinsics always).
+    bool intrinsics_from_session{true};
+    /// Hand session descriptions to the caller as SourceEvent::Kind::kSession
+    /// events (false: they are read and applied as above, not returned).
+    bool session_events{false};
   };
 
   /// Opens the log.
@@ -45,11 +59,14 @@ class LcmLogSource : public FrameSource {
   LcmLogSource(const LcmLogSource&) = delete;
   LcmLogSource& operator=(const LcmLogSource&) = delete;
 
-  /// Reads events until one on the depth or gripper-state channel.
+  /// Reads events until one on the depth or gripper-state channel (or the
+  /// session channel, with Config::session_events).
   /// @return kOk with event->kind and the decoded member set; kBadFrame with
-  ///   event->kind and event->error when that event does not decode (the
-  ///   next call goes on with the following event); kEndOfStream at the end
-  ///   of the file or where the file stops making sense (see truncated()).
+  ///   event->kind and event->error when that event does not decode (a
+  ///   session description too, even without session_events; a depth image
+  ///   whose size differs from the session's intrinsics override) (the next
+  ///   call goes on with the following event); kEndOfStream at the end of
+  ///   the file or where the file stops making sense (see truncated()).
   FrameResult Next(SourceEvent* event) override;
 
   /// True once reading stopped before the end of the file: the last event
@@ -62,6 +79,8 @@ class LcmLogSource : public FrameSource {
   int64_t skipped_other_channels() const { return skipped_other_channels_; }
   /// Every channel seen so far, in order of first appearance.
   std::vector<std::string> channels_seen() const { return channels_seen_; }
+  /// Session descriptions decoded so far.
+  int64_t sessions_read() const { return sessions_read_; }
 
  private:
   Config config_;
@@ -72,6 +91,10 @@ class LcmLogSource : public FrameSource {
   int64_t events_read_{0};
   int64_t skipped_other_channels_{0};
   std::vector<std::string> channels_seen_;
+  int64_t sessions_read_{0};
+  // What the last session description set (see Config).
+  Eigen::Isometry3d T_C_B_{Eigen::Isometry3d::Identity()};
+  std::optional<CameraIntrinsics> intrinsics_;
 };
 
 }  // namespace graspfill::rt

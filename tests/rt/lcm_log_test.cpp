@@ -251,5 +251,137 @@ TEST_F(LcmLogTest, WriterRefusesToClobber) {
   ExpectThrowsWith([&] { writer.Write("", 1, {}); }, "bad channel name");
 }
 
+// ---- Session descriptions ---------------------------------------------------------
+
+io::SessionDescription SomeSession() {
+  io::SessionDescription session;
+  session.claw_name = "parallel";
+  session.claw_text = "{}";
+  return session;
+}
+
+// A gripper state in the base frame B, as a robot publishes it: the
+// encoder writes camera-frame poses, so flip the frame byte (after the
+// 8-byte hash and the 8-byte utime).
+std::vector<uint8_t> BaseFrameState(int64_t utime, double x) {
+  auto bytes = io::EncodeGripperState(SomeGripper(utime, x));
+  bytes[16] = 1;  // FRAME_BASE
+  return bytes;
+}
+
+// session(T_C_B = 1 m along z, intrinsics override), base-frame state,
+// depth; then a second session (identity, no override), state, depth.
+void WriteSessionLog(const std::string& path) {
+  const io::ChannelNames ch;
+  LcmLogWriter writer(path);
+  writer.Write(ch.gripper_state, 1, BaseFrameState(1, 0.1));  // before any session
+  io::SessionDescription first = SomeSession();
+  first.utime = 2;
+  first.T_C_B.translation() = Eigen::Vector3d(0.0, 0.0, 1.0);
+  first.intrinsics = CameraIntrinsics{8, 6, 20.0, 21.0, 4.0, 3.0};
+  writer.Write(ch.session, 2, io::EncodeSessionDescription(first));
+  writer.Write(ch.gripper_state, 3, BaseFrameState(3, 0.1));
+  writer.Write(ch.depth, 4, io::EncodeDepthImage(SmallDepth(4, 1.0f)));
+  io::SessionDescription second = SomeSession();
+  second.utime = 5;
+  second.claw_name = "three-finger";
+  writer.Write(ch.session, 5, io::EncodeSessionDescription(second));
+  writer.Write(ch.gripper_state, 6, BaseFrameState(6, 0.1));
+  writer.Write(ch.depth, 7, io::EncodeDepthImage(SmallDepth(7, 1.0f)));
+}
+
+TEST_F(LcmLogTest, SessionDescriptionsAreEventsWhenAskedFor) {
+  WriteSessionLog(Path("s.lcmlog"));
+  LcmLogSource::Config config = SourceConfig(Path("s.lcmlog"));
+  config.session_events = true;
+  LcmLogSource source(config);
+  std::vector<SourceEvent::Kind> kinds;
+  std::vector<std::string> claws;
+  SourceEvent event;
+  for (FrameResult r; (r = source.Next(&event)) != FrameResult::kEndOfStream;) {
+    ASSERT_EQ(r, FrameResult::kOk) << event.error;
+    kinds.push_back(event.kind);
+    if (event.kind == SourceEvent::Kind::kSession) claws.push_back(event.session.claw_name);
+  }
+  using K = SourceEvent::Kind;
+  const std::vector<K> expected = {K::kGripperState, K::kSession, K::kGripperState, K::kDepth,
+                                   K::kSession, K::kGripperState, K::kDepth};
+  EXPECT_EQ(kinds, expected);
+  EXPECT_EQ(claws, (std::vector<std::string>{"parallel", "three-finger"}));
+  EXPECT_EQ(source.sessions_read(), 2);
+  EXPECT_EQ(source.skipped_other_channels(), 0);
+}
+
+TEST_F(LcmLogTest, SessionSetsHandEyeAndIntrinsicsForWhatFollows) {
+  WriteSessionLog(Path("s.lcmlog"));
+  LcmLogSource source(SourceConfig(Path("s.lcmlog")));  // sessions not returned
+  SourceEvent event;
+  // Before the session: identity T_C_B.
+  ASSERT_EQ(source.Next(&event), FrameResult::kOk) << event.error;
+  ASSERT_EQ(event.kind, SourceEvent::Kind::kGripperState);
+  EXPECT_TRUE(event.gripper.T_C_G.translation().isApprox(Eigen::Vector3d(0.1, 0.0, 0.5)));
+  // After it: T_C_G = T_C_B * T_B_G, 1 m further along the camera's z, and
+  // the depth image with the session's intrinsics.
+  ASSERT_EQ(source.Next(&event), FrameResult::kOk) << event.error;
+  ASSERT_EQ(event.kind, SourceEvent::Kind::kGripperState);
+  EXPECT_TRUE(event.gripper.T_C_G.translation().isApprox(Eigen::Vector3d(0.1, 0.0, 1.5)));
+  ASSERT_EQ(source.Next(&event), FrameResult::kOk) << event.error;
+  ASSERT_EQ(event.kind, SourceEvent::Kind::kDepth);
+  EXPECT_EQ(event.depth.intrinsics, (CameraIntrinsics{8, 6, 20.0, 21.0, 4.0, 3.0}));
+  EXPECT_EQ(event.depth.depth_m[0], 1.0f);
+  // The second session resets both.
+  ASSERT_EQ(source.Next(&event), FrameResult::kOk) << event.error;
+  EXPECT_TRUE(event.gripper.T_C_G.translation().isApprox(Eigen::Vector3d(0.1, 0.0, 0.5)));
+  ASSERT_EQ(source.Next(&event), FrameResult::kOk) << event.error;
+  EXPECT_EQ(event.depth.intrinsics, SmallDepth(0, 0).intrinsics);
+  EXPECT_EQ(source.Next(&event), FrameResult::kEndOfStream);
+  EXPECT_EQ(source.sessions_read(), 2);
+}
+
+TEST_F(LcmLogTest, ConfigCanIgnoreTheSessionsHandEyeAndIntrinsics) {
+  WriteSessionLog(Path("s.lcmlog"));
+  LcmLogSource::Config config = SourceConfig(Path("s.lcmlog"));
+  config.T_C_B.translation() = Eigen::Vector3d(0.0, 0.2, 0.0);  // e.g. from the command line
+  config.T_C_B_from_session = false;
+  config.intrinsics_from_session = false;
+  LcmLogSource source(config);
+  SourceEvent event;
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_EQ(source.Next(&event), FrameResult::kOk) << event.error;
+    if (event.kind == SourceEvent::Kind::kGripperState) {
+      EXPECT_TRUE(event.gripper.T_C_G.translation().isApprox(Eigen::Vector3d(0.1, 0.2, 0.5)));
+    } else {
+      EXPECT_EQ(event.depth.intrinsics, SmallDepth(0, 0).intrinsics);
+    }
+  }
+}
+
+TEST_F(LcmLogTest, DepthOfAnotherSizeThanTheOverrideAndBadSessionsAreBadFrames) {
+  const io::ChannelNames ch;
+  {
+    LcmLogWriter writer(Path("s.lcmlog"));
+    auto bad = io::EncodeSessionDescription(SomeSession());
+    bad.pop_back();
+    writer.Write(ch.session, 1, bad);
+    io::SessionDescription session = SomeSession();
+    session.intrinsics = CameraIntrinsics{640, 480, 500.0, 500.0, 320.0, 240.0};
+    writer.Write(ch.session, 2, io::EncodeSessionDescription(session));
+    writer.Write(ch.depth, 3, io::EncodeDepthImage(SmallDepth(3, 1.0f)));  // 8 x 6
+  }
+  LcmLogSource source(SourceConfig(Path("s.lcmlog")));
+  SourceEvent event;
+  EXPECT_EQ(source.Next(&event), FrameResult::kBadFrame);
+  EXPECT_EQ(event.kind, SourceEvent::Kind::kSession);
+  EXPECT_NE(event.error.find("session_description_t"), std::string::npos) << event.error;
+  EXPECT_EQ(source.Next(&event), FrameResult::kBadFrame);
+  EXPECT_EQ(event.kind, SourceEvent::Kind::kDepth);
+  EXPECT_NE(event.error.find("depth image of 8x6 pixels, but the session description overrides "
+                             "the intrinsics of 640x480 images"),
+            std::string::npos)
+      << event.error;
+  EXPECT_EQ(source.Next(&event), FrameResult::kEndOfStream);
+  EXPECT_EQ(source.sessions_read(), 1);
+}
+
 }  // namespace
 }  // namespace graspfill::rt

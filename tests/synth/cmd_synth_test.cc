@@ -14,6 +14,7 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "commands.hpp"
 #include "graspfill/claw/claw_model.hpp"
@@ -71,19 +72,28 @@ TEST_F(SynthCliTest, WritesARecordingAndItsGroundTruth) {
     EXPECT_TRUE(fs::is_regular_file(dir_ / name)) << name;
   }
 
-  // The log: depth and gripper events in time order, stamped with utime.
+  // The log: the session description first, then depth and gripper
+  // events in time order, stamped with utime.
   const io::ChannelNames channels;
   lcm::LogFile log((dir_ / "recording.lcmlog").string(), "r");
   ASSERT_TRUE(log.good());
-  int depth_events = 0, gripper_events = 0;
+  int depth_events = 0, gripper_events = 0, session_events = 0, events = 0;
   int64_t last_timestamp = 0;
   DepthFrame frame;
   GripperState state;
+  io::SessionDescription session;
   std::string error;
   while (const lcm::LogEvent* event = log.readNextEvent()) {
     EXPECT_GE(event->timestamp, last_timestamp);
     last_timestamp = event->timestamp;
-    if (event->channel == channels.depth) {
+    ++events;
+    if (event->channel == channels.session) {
+      EXPECT_EQ(events, 1) << "the session description is not at the head of the log";
+      ASSERT_TRUE(io::DecodeSessionDescription(event->data, event->datalen, &session, &error))
+          << error;
+      EXPECT_EQ(session.utime, event->timestamp);
+      ++session_events;
+    } else if (event->channel == channels.depth) {
       ASSERT_TRUE(io::DecodeDepthImage(event->data, event->datalen, &frame, &error)) << error;
       EXPECT_EQ(frame.utime, event->timestamp);
       EXPECT_EQ(frame.intrinsics, CameraIntrinsics{});
@@ -102,6 +112,7 @@ TEST_F(SynthCliTest, WritesARecordingAndItsGroundTruth) {
       ADD_FAILURE() << "unexpected channel " << event->channel;
     }
   }
+  EXPECT_EQ(session_events, 1);
   EXPECT_EQ(depth_events, 4);
   // 4 frames span 0.1 s, plus 0.1 s of states either side at 100 Hz.
   EXPECT_GE(gripper_events, 29);
@@ -140,6 +151,51 @@ TEST_F(SynthCliTest, WritesARecordingAndItsGroundTruth) {
   const TriangleMesh claw_ply = io::ReadMesh((dir_ / "claw.ply").string());
   EXPECT_TRUE(synth::Bounds(posed).isApprox(synth::Bounds(claw_ply), 1e-5));
   EXPECT_NEAR(synth::SurfaceArea(posed), synth::SurfaceArea(claw_ply), 1e-6);
+
+  // The session description: the claw as rendered (scene.json's claw.used),
+  // nothing else asked of the receiver.
+  EXPECT_EQ(session.software_version, io::SoftwareVersion());
+  EXPECT_EQ(session.claw_kind, io::SessionClawKind::kBuiltin);
+  EXPECT_EQ(session.claw_name, "three-finger");
+  EXPECT_EQ(nlohmann::json::parse(session.claw_text), scene["claw"]["used"]);
+  EXPECT_TRUE(session.T_C_B.matrix().isIdentity(0.0));
+  EXPECT_FALSE(session.intrinsics.has_value());
+  EXPECT_FALSE(session.workspace_G.has_value());
+  EXPECT_EQ(session.voxel_m, 0.0);
+}
+
+// The 10x10x20 cm cuboid held in the middle needs longer fingers than the
+// built-in parallel claw's: the session description carries them.
+TEST_F(SynthCliTest, SessionDescriptionCarriesTheClawAsUsed) {
+  const std::string out = dir_.string();
+  ASSERT_EQ(RunSynth({"--shape", "cuboid", "--size", "0.10x0.10x0.20", "--claw", "parallel",
+                      "--grasp", "middle-straight", "--frames", "1", "--wall-m", "0", "-o", out}),
+            0);
+  std::ifstream in(dir_ / "scene.json");
+  const nlohmann::json scene = nlohmann::json::parse(in);
+  ASSERT_NE(scene["claw"]["used"], scene["claw"]["config"]);  // the premise
+  lcm::LogFile log((dir_ / "recording.lcmlog").string(), "r");
+  const lcm::LogEvent* event = log.readNextEvent();
+  ASSERT_NE(event, nullptr);
+  ASSERT_EQ(event->channel, io::ChannelNames{}.session);
+  io::SessionDescription session;
+  std::string error;
+  ASSERT_TRUE(io::DecodeSessionDescription(event->data, event->datalen, &session, &error)) << error;
+  EXPECT_EQ(session.claw_name, "parallel");
+  EXPECT_EQ(nlohmann::json::parse(session.claw_text), scene["claw"]["used"]);
+}
+
+TEST_F(SynthCliTest, NumbersAreParsedStrictly) {
+  const std::string out = dir_.string();
+  for (const std::vector<std::string>& bad :
+       {std::vector<std::string>{"--frames", "12x"}, {"--frames", "1e3"}, {"--frames", "0"},
+        {"--seed", "1.5"}, {"--seed", " 1"}, {"--wall-m", "nan"}, {"--wall-m", "abc"},
+        {"--wall-m", "-1"}, {"--size", "0.07x0.07x0.14cm"}}) {
+    Args args = {"--shape", "cuboid", "-o", out};
+    args.insert(args.end(), bad.begin(), bad.end());
+    EXPECT_EQ(RunSynth(args), 2) << bad[0] << " " << bad[1];
+  }
+  EXPECT_FALSE(fs::exists(dir_));
 }
 
 TEST_F(SynthCliTest, RefusesToOverwriteWithoutForce) {

@@ -20,6 +20,7 @@
 #include <Eigen/Geometry>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,9 @@ struct ChannelNames {
   std::string object_cloud{"GRASPFILL_OBJECT_CLOUD"};
   /// module_status_t, the module's health.
   std::string status{"GRASPFILL_STATUS"};
+  /// session_description_t: what the session was set up with (published
+  /// when a session starts, written at the head of every recording).
+  std::string session{"GRASPFILL_SESSION"};
 };
 
 /// How depth_image_t carries its pixels.
@@ -133,5 +137,63 @@ std::vector<uint8_t> EncodeModuleStatus(const ModuleStatus& status);
 /// Decodes a module_status_t; false + *error on malformed bytes.
 bool DecodeModuleStatus(const void* data, size_t size, ModuleStatus* out,
                         std::string* error);
+
+/// How a session description gives its claw (session_description_t's
+/// claw_kind).
+enum class SessionClawKind {
+  /// A procedural claw of graspfill's ("three-finger", "parallel"); the text
+  /// is a JSON object of its dimensions (claw::ProceduralClawConfig's
+  /// fields, meters).
+  kBuiltin,
+  /// A claw description file's text (config/claws/README.md).
+  kDescription,
+  /// A URDF's text (not read by graspfill yet).
+  kUrdf,
+};
+
+/// What a session was set up with, as carried by session_description_t:
+/// the claw, the hand-eye calibration, an intrinsics override, the
+/// workspace box and the voxel size. Receivers use it by default; their own
+/// flags override it.
+struct SessionDescription {
+  int64_t utime{0};              ///< when the session started [us]
+  std::string software_version;  ///< e.g. "graspfill 0.1.0"
+  SessionClawKind claw_kind{SessionClawKind::kBuiltin};
+  std::string claw_name;       ///< the built-in's or the description's name
+  std::string claw_text;       ///< see SessionClawKind
+  std::string claw_source;     ///< path it was read from, "" if none
+  std::string claw_mesh_root;  ///< folder of its meshes, "" if none
+  /// Hand-eye calibration: maps points from the robot base B to the camera
+  /// C (identity when unknown).
+  Eigen::Isometry3d T_C_B{Eigen::Isometry3d::Identity()};
+  /// Used instead of the depth images' own intrinsics for images of this
+  /// width x height; none = the images' own.
+  std::optional<CameraIntrinsics> intrinsics;
+  /// The workspace box in G [m]; none = the receiver's default.
+  std::optional<Eigen::AlignedBox3d> workspace_G;
+  /// TSDF voxel edge [m]; 0 = the receiver's default.
+  double voxel_m{0.0};
+};
+
+/// "graspfill <version>", the software_version graspfill writes.
+std::string SoftwareVersion();
+
+/// Encodes a session description as session_description_t.
+/// @throws std::invalid_argument if a field would not decode (non-finite
+///   T_C_B, bad intrinsics, an empty or inverted box, voxel_m < 0 or NaN,
+///   an empty claw_name).
+std::vector<uint8_t> EncodeSessionDescription(const SessionDescription& session);
+
+/// Decodes a session_description_t into *out.
+///
+/// Rejects malformed bytes (wrong type hash, truncated, bad string lengths,
+/// trailing bytes), unknown claw kinds, an empty claw name, a non-finite or
+/// non-unit T_C_B (as DecodeGripperState), flags other than 0/1, a bad
+/// intrinsics override (size <= 0 or over 2^24 pixels, focal lengths not
+/// finite and > 0, centre not finite), a workspace box that is not finite
+/// with min < max on every axis, and a voxel size not finite and >= 0.
+/// @param error  if not null, set to a one-line reason on failure.
+bool DecodeSessionDescription(const void* data, size_t size, SessionDescription* out,
+                              std::string* error);
 
 }  // namespace graspfill::io

@@ -1,0 +1,146 @@
+#!/bin/sh
+# graspfill used as its users use it (tests/install/CMakeLists.txt registers
+# one CTest test per step):
+#   install        a fresh `cmake --install` into PREFIX; the package files,
+#                  headers, libraries, CLI and data are there and name no
+#                  path of this source or build tree
+#   find_package   tests/install/downstream configured against PREFIX
+#                  (find_package(graspfill)), built, and its grasp_loop run
+#                  on the installed bundled recording
+#   pkg_config     grasp_loop.cpp compiled with `pkg-config --cflags --libs
+#                  graspfill` alone, and run
+#   subdirectory   tests/install/downstream with add_subdirectory(graspfill),
+#                  OpenNI2 off: targets, no tests, pose_check built and run
+#   subdirectory_full  the same with grasp_loop (opt-in: minutes)
+#   cli            the installed CLI copied elsewhere, its demo run from
+#                  another directory (data found relative to the executable)
+# usage: package_test.sh STEP SOURCE_DIR BUILD_DIR WORK_DIR CMAKE CXX CONFIG
+# WORK_DIR/prefix is the install prefix (made by `install`, used by the others).
+set -u
+STEP=$1
+SRC=$2
+BUILD=$3
+WORK=$4
+CMAKE=$5
+CXX=$6
+CONFIG=$7
+PREFIX=$WORK/prefix
+DOWNSTREAM=$SRC/tests/install/downstream
+RECORDING=$PREFIX/share/graspfill/replay/default/recording.lcmlog
+JOBS=${GRASPFILL_PACKAGE_TEST_JOBS:-2}
+
+fail() {
+  echo "FAIL: $*"
+  exit 1
+}
+run() {
+  echo "+ $*"
+  "$@" || fail "$1 exited with $?"
+}
+
+case $STEP in
+install)
+  rm -rf "$PREFIX"
+  run "$CMAKE" --install "$BUILD" --prefix "$PREFIX" --config "$CONFIG" >"$WORK/install.log" 2>&1 \
+    || { cat "$WORK/install.log"; exit 1; }
+  libdir=$(sed -n 's/^libdir=${prefix}\///p' "$BUILD/graspfill.pc")
+  for f in \
+      "$libdir/cmake/graspfill/graspfillConfig.cmake" \
+      "$libdir/cmake/graspfill/graspfillConfigVersion.cmake" \
+      "$libdir/cmake/graspfill/graspfillTargets.cmake" \
+      "$libdir/pkgconfig/graspfill.pc" \
+      "$libdir/libgraspfill_core.a" "$libdir/libgraspfill_pipeline.a" "$libdir/libgraspfill_repair.a" \
+      "$libdir/libgraspfill_rt_sources.a" "$libdir/libgraspfill_rt_sinks.a" "$libdir/libgraspfill_rt_module.a" \
+      include/graspfill/types.hpp include/graspfill/pipeline/pipeline.hpp \
+      include/graspfill/repair/repairer.hpp \
+      include/graspfill/object_cloud_t.hpp include/graspfill/depth_image_t.hpp \
+      include/graspfill/rt/sources/lcm_log_source.hpp include/graspfill/rt/module/grasp_module.hpp \
+      include/graspfill/rt/sinks/lcm_publisher.hpp \
+      bin/graspfill \
+      share/graspfill/replay/default/recording.lcmlog share/graspfill/replay/default/gt_cloud.ply \
+      share/graspfill/claws/robotiq_3f.json; do
+    [ -f "$PREFIX/$f" ] || fail "not installed: $f"
+  done
+  [ -L "$PREFIX/share/graspfill/replay" ] && fail "share/graspfill/replay is a link, not the data"
+  # Relocatable: the package files name no folder of this checkout.
+  if grep -rlF -e "$SRC/" -e "$BUILD/" "$PREFIX/$libdir/cmake" "$PREFIX/$libdir/pkgconfig"; then
+    fail "package files name the source or build tree (above)"
+  fi
+  echo "installed to $PREFIX"
+  ;;
+
+find_package)
+  B=$WORK/find-package
+  rm -rf "$B"
+  run "$CMAKE" -S "$DOWNSTREAM" -B "$B" -DCMAKE_BUILD_TYPE="$CONFIG" -DCMAKE_CXX_COMPILER="$CXX" \
+    -DCMAKE_PREFIX_PATH="$PREFIX"
+  grep -q "graspfill_DIR:PATH=$PREFIX/" "$B/CMakeCache.txt" || fail "graspfill not found in $PREFIX"
+  run "$CMAKE" --build "$B" --config "$CONFIG" -j "$JOBS"
+  run "$B/grasp_loop" "$RECORDING"
+  ;;
+
+pkg_config)
+  B=$WORK/pkg-config
+  rm -rf "$B"
+  mkdir -p "$B"
+  PKG_CONFIG_PATH=$(dirname "$(find "$PREFIX" -name graspfill.pc)")
+  export PKG_CONFIG_PATH
+  version=$(pkg-config --modversion graspfill) || fail "pkg-config finds no graspfill"
+  echo "pkg-config graspfill $version"
+  flags=$(pkg-config --cflags --libs graspfill) || fail "pkg-config --cflags --libs graspfill"
+  echo "pkg-config --cflags --libs graspfill: $flags"
+  # Word splitting of $flags is intended.
+  # shellcheck disable=SC2086
+  run "$CXX" -std=c++17 -O1 -o "$B/grasp_loop" "$DOWNSTREAM/grasp_loop.cpp" $flags
+  run "$B/grasp_loop" "$RECORDING"
+  ;;
+
+subdirectory)
+  B=$WORK/subdirectory
+  rm -rf "$B"
+  run "$CMAKE" -S "$DOWNSTREAM" -B "$B" -DCMAKE_BUILD_TYPE="$CONFIG" -DCMAKE_CXX_COMPILER="$CXX" \
+    -DGRASPFILL_SOURCE_DIR="$SRC" -DGRASPFILL_WITH_OPENNI2=OFF
+  run "$CMAKE" --build "$B" --config "$CONFIG" -j "$JOBS" --target pose_check
+  run "$B/pose_check" "$SRC/replay/default/recording.lcmlog" --expect-no-openni2
+  ;;
+
+subdirectory_full)
+  # As above, OpenNI2 as found, and grasp_loop built (all of graspfill from
+  # source: ~5 min at -j1) and run.
+  B=$WORK/subdirectory-full
+  rm -rf "$B"
+  run "$CMAKE" -S "$DOWNSTREAM" -B "$B" -DCMAKE_BUILD_TYPE="$CONFIG" -DCMAKE_CXX_COMPILER="$CXX" \
+    -DGRASPFILL_SOURCE_DIR="$SRC" -DDOWNSTREAM_FULL_BUILD=ON
+  run "$CMAKE" --build "$B" --config "$CONFIG" -j "$JOBS" --target grasp_loop
+  run "$B/grasp_loop" "$SRC/replay/default/recording.lcmlog"
+  ;;
+
+cli)
+  # A copy of the installed tree elsewhere, run from a third directory: no
+  # path of this checkout or of PREFIX is used.
+  MOVED=$WORK/cli/moved-prefix
+  RUNDIR=$WORK/cli/elsewhere
+  rm -rf "$WORK/cli"
+  mkdir -p "$RUNDIR"
+  cp -a "$PREFIX" "$MOVED" || fail "cannot copy $PREFIX"
+  if strings "$MOVED/bin/graspfill" | grep -F -e "$SRC/replay" -e "$SRC/config" -e "$BUILD"; then
+    fail "the CLI has this checkout's paths compiled in (above)"
+  fi
+  "$MOVED/bin/graspfill" bench --help >"$WORK/cli/bench-help.txt" || fail "bench --help"
+  grep -qF "$MOVED/share/graspfill/replay/default/recording.lcmlog" "$WORK/cli/bench-help.txt" \
+    || { cat "$WORK/cli/bench-help.txt"; fail "bench's default log is not the moved copy's"; }
+  cd "$RUNDIR" || fail "cd $RUNDIR"
+  env -u GRASPFILL_DATA_DIR "$MOVED/bin/graspfill" demo --no-publish >"$WORK/cli/demo.txt" 2>&1 \
+    || { cat "$WORK/cli/demo.txt"; fail "graspfill demo exited with $?"; }
+  cat "$WORK/cli/demo.txt"
+  grep -qF "$MOVED/share/graspfill/replay/default" "$WORK/cli/demo.txt" \
+    || fail "the demo did not replay the moved copy's recording"
+  [ -s "$RUNDIR/graspfill-demo/cloud.ply" ] || fail "no graspfill-demo/cloud.ply in the current directory"
+  ;;
+
+*)
+  echo "unknown step '$STEP'"
+  exit 2
+  ;;
+esac
+echo "PASSED: $STEP"
