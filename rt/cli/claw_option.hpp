@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "graspfill/claw/claw_model.hpp"
+#include "graspfill/io/atomic_file.hpp"
 #include "graspfill/io/messages.hpp"
 
 namespace graspfill::cli {
@@ -184,7 +185,7 @@ inline claw::ClawModel MakeSessionClaw(const io::SessionDescription& session,
         std::filesystem::remove_all(dir);
         std::filesystem::create_directories(dir);
         const std::filesystem::path file = dir / (session.claw_name + ".json");
-        std::ofstream(file) << session.claw_text;
+        io::WriteFileAtomically(file.string(), session.claw_text);  // throws with strerror
         try {
           claw::ClawModel model = claw::ClawModel::Load(file.string(), root.empty() ? dir.string() : root);
           std::filesystem::remove_all(dir);

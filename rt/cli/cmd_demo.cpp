@@ -1,32 +1,40 @@
 // graspfill demo: the bundled default recording through `replay`, then the
 // result against the recording's ground truth through `eval`.
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <string>
 
 #include "commands.hpp"
 #include "data_paths.hpp"
+#include "graspfill/io/output_path.hpp"
 
 namespace graspfill::cli {
 
 int RunDemo(const Args& args) {
   std::string out_dir = DefaultDemoDir().string();
+  bool own_dir = true;  // the demo's own folder is rewritten each run
+  bool force = false;
   Args replay_extra;
   for (size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--help" || args[i] == "-h") {
-      std::printf("usage: graspfill demo [-o DIR] [--lcm-url URL] [--no-publish]\n"
+      std::printf("usage: graspfill demo [-o DIR] [--force] [--lcm-url URL] [--no-publish]\n"
                   "  replays the bundled recording, writes DIR/cloud.ply, publishes the cloud\n"
                   "  over LCM and evaluates it against the ground truth\n"
                   "  recording: %s/replay/default/recording.lcmlog\n"
                   "             (the data folder: $GRASPFILL_DATA_DIR, else the executable's\n"
                   "             ../share/graspfill)\n"
                   "  DIR:       default %s\n"
-                  "             (the demo's own folder, rewritten each run)\n",
+                  "             (the demo's own folder, rewritten each run); a DIR\n"
+                  "             given with -o is not overwritten without --force\n",
                   DataDir().c_str(), out_dir.c_str());
       return 0;
     }
     if (args[i] == "-o" && i + 1 < args.size()) {
       out_dir = args[++i];
+      own_dir = false;
+    } else if (args[i] == "--force") {
+      force = true;
     } else if (args[i] == "--lcm-url" && i + 1 < args.size()) {
       replay_extra.push_back(args[i]);
       replay_extra.push_back(args[++i]);
@@ -38,9 +46,17 @@ int RunDemo(const Args& args) {
     }
   }
   const std::string recording = BundledRecordingDir().string();
-  std::filesystem::create_directories(out_dir);
   const std::string cloud = out_dir + "/cloud.ply";
-  Args replay = {recording + "/recording.lcmlog", "-o", cloud, "--force"};
+  const bool overwrite = force || own_dir;
+  try {
+    io::PrepareOutputDir(out_dir);
+    io::CheckOutputFile(cloud, overwrite);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "graspfill demo: %s\n", e.what());
+    return 1;
+  }
+  Args replay = {recording + "/recording.lcmlog", "-o", cloud};
+  if (overwrite) replay.push_back("--force");
   replay.insert(replay.end(), replay_extra.begin(), replay_extra.end());
   std::printf("== graspfill replay %s/recording.lcmlog\n", recording.c_str());
   std::fflush(stdout);

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "graspfill/io/output_path.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/repair/repairer.hpp"
 
@@ -107,8 +108,10 @@ int RunRepair(const Args& args) {
     std::fprintf(stderr, "graspfill repair: need IN.ply and -o OUT.ply\n%s", kUsage);
     return 2;
   }
-  if (std::filesystem::exists(out) && !force) {
-    std::fprintf(stderr, "graspfill repair: '%s' exists; pass --force to overwrite it\n", out.c_str());
+  try {
+    io::CheckOutputFile(out, force);  // before the repair, not after it
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "graspfill repair: %s\n", e.what());
     return 1;
   }
   const ObjectCloud input = io::ReadCloudPly(in);  // throws with the path

@@ -26,6 +26,7 @@
 #include "evidence_json.hpp"
 #include "number_parsing.hpp"
 #include "graspfill/io/messages.hpp"
+#include "graspfill/io/output_path.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "graspfill/repair/repairer.hpp"
@@ -220,9 +221,13 @@ int RunReplay(const Args& args) {
     std::fprintf(stderr, "graspfill replay: %s\n%s", e.what(), kUsage);
     return 2;
   }
-  if (std::filesystem::exists(o.output_path) && !o.force) {
-    std::fprintf(stderr, "graspfill replay: '%s' exists; pass --force to overwrite it\n",
-                 o.output_path.c_str());
+  // Before the log is read: an output that cannot be written (its folder
+  // missing or read-only, a folder, a link or an existing file without
+  // --force) is found now, not after the whole replay.
+  try {
+    io::CheckOutputFile(o.output_path, o.force);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "graspfill replay: %s\n", e.what());
     return 1;
   }
 

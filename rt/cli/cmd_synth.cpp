@@ -30,6 +30,7 @@
 #include "commands.hpp"
 #include "number_parsing.hpp"
 #include "output_dir.hpp"
+#include "graspfill/io/atomic_file.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
@@ -225,9 +226,7 @@ void WriteClawDescription(const claw::ClawModel& model, const fs::path& dir) {
       {"name", model.name()},
       {"opening_doc", "radius of the fingers' inner faces from G's z axis [m]"},
       {"links", links}};
-  std::ofstream out(dir / "claw.json");
-  out << description.dump(2) << "\n";
-  if (!out) throw std::runtime_error((dir / "claw.json").string() + ": write failed");
+  io::WriteFileAtomically((dir / "claw.json").string(), description.dump(2) + "\n");
 }
 
 json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::ChannelNames& ch,
@@ -369,23 +368,15 @@ int Run(const SynthOptions& o) {
   }
 
   const fs::path dir(o.output_dir);
-  const std::vector<std::string> outputs = {"recording.lcmlog", "gt_mesh.ply", "gt_cloud.ply",
-                                            "claw.ply", "scene.json", "claw/claw.json"};
-  if (!o.force) {
-    std::vector<std::string> existing;
-    for (const std::string& name : outputs) {
-      std::error_code ec;
-      if (fs::exists(dir / name, ec)) existing.push_back((dir / name).string());
-    }
-    if (!existing.empty()) {
-      std::fprintf(stderr, "graspfill synth: refusing to overwrite existing output (use --force):\n");
-      for (const std::string& path : existing) std::fprintf(stderr, "  %s\n", path.c_str());
-      return 1;
-    }
-  }
-  if (!CreateOutputDir(dir, "synth")) return 1;
-
+  // Every file this run writes, the claw's link meshes included, checked
+  // (and refused without --force) before any frame is rendered.
   const synth::Scene scene(config);
+  const claw::ClawModel claw_model = scene.MakeClawModel();
+  std::vector<std::string> outputs = {"recording.lcmlog", "gt_mesh.ply", "gt_cloud.ply",
+                                      "claw.ply", "scene.json", "claw/claw.json"};
+  for (const claw::Link& link : claw_model.links()) outputs.push_back("claw/" + link.name + ".ply");
+  if (!PrepareOutputs(dir, outputs, o.force, "synth")) return 1;
+
   const synth::SceneRenderer renderer(scene);
   const io::ChannelNames channels;
   const fs::path log_path = dir / "recording.lcmlog";
@@ -409,7 +400,7 @@ int Run(const SynthOptions& o) {
         ++gripper_states;
       }
     }
-    log.Flush();
+    log.Close();  // renamed into place only now, complete
   }
   const int64_t log_bytes = static_cast<int64_t>(fs::file_size(log_path));
 
@@ -423,17 +414,10 @@ int Run(const SynthOptions& o) {
   gt.normals_G = samples.normals;
   io::WriteCloudPly((dir / "gt_cloud.ply").string(), gt);
   io::WriteMeshPly((dir / "claw.ply").string(), scene.claw_G());
-  WriteClawDescription(scene.MakeClawModel(), dir / "claw");
+  WriteClawDescription(claw_model, dir / "claw");
 
   const json scene_json = SceneJson(scene, o, channels, log_bytes, gripper_states);
-  std::ofstream out(dir / "scene.json");
-  out << scene_json.dump(2) << "\n";
-  out.close();
-  if (!out) {
-    std::fprintf(stderr, "graspfill synth: cannot write '%s'\n",
-                 (dir / "scene.json").string().c_str());
-    return 1;
-  }
+  io::WriteFileAtomically((dir / "scene.json").string(), scene_json.dump(2) + "\n");
   const Eigen::AlignedBox3d ws = scene.WorkspaceBoxG(0.02);
   std::printf(
       "wrote %s: %d depth frames + %zu gripper states (%lld bytes), opening %.4f m, "

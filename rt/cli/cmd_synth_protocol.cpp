@@ -10,12 +10,12 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <system_error>
 #include <vector>
 
+#include "graspfill/io/atomic_file.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
 #include "output_dir.hpp"
@@ -85,11 +85,13 @@ int RunSynthProtocol(const SynthProtocolOptions& o) {
   const fs::path holey_path = dir / kHoleyFile;
   const fs::path truth_path = dir / kTruthFile;
   const fs::path json_path = dir / kProtocolFile;
+  // Refused without --force before anything is generated: an existing or
+  // linked output, or one that cannot be written.
   if (!o.force) {
     std::vector<std::string> existing;
     for (const fs::path& path : {holey_path, truth_path, json_path}) {
       std::error_code ec;
-      if (fs::exists(path, ec)) existing.push_back(path.string());
+      if (fs::exists(fs::symlink_status(path, ec))) existing.push_back(path.string());
     }
     if (!existing.empty()) {
       std::fprintf(stderr,
@@ -108,16 +110,10 @@ int RunSynthProtocol(const SynthProtocolOptions& o) {
   // Generated before the folder is made, so a failure leaves nothing behind.
   const synth::PaperProtocolCloud cloud = synth::MakePaperProtocolCloud(config);
 
-  if (!CreateOutputDir(dir, "synth")) return 1;
+  if (!PrepareOutputs(dir, {kHoleyFile, kTruthFile, kProtocolFile}, o.force, "synth")) return 1;
   io::WriteCloudPly(holey_path.string(), MakeCloud(cloud.holey));
   io::WriteCloudPly(truth_path.string(), MakeCloud(cloud.ground_truth));
-  std::ofstream out(json_path);
-  out << ProtocolJson(o, cloud).dump(2) << "\n";
-  out.close();
-  if (!out) {
-    std::fprintf(stderr, "graspfill synth: cannot write '%s'\n", json_path.string().c_str());
-    return 1;
-  }
+  io::WriteFileAtomically(json_path.string(), ProtocolJson(o, cloud).dump(2) + "\n");
   std::printf("wrote %s: %zu points (%s, top cut, %zu claw holes); truth %s: %zu points; %s\n",
               holey_path.string().c_str(), cloud.holey.size(),
               synth::ShapeName(o.shape).c_str(), cloud.claw_hole_centres.size(),

@@ -1,9 +1,15 @@
-// The output folder of a CLI command, created on demand.
+// The output folder of a CLI command and the files it writes there,
+// checked before the command starts its work.
 #pragma once
 
 #include <cstdio>
+#include <exception>
 #include <filesystem>
+#include <string>
 #include <system_error>
+#include <vector>
+
+#include "graspfill/io/output_path.hpp"
 
 namespace graspfill::cli {
 
@@ -16,6 +22,44 @@ inline bool CreateOutputDir(const std::filesystem::path& dir, const char* comman
   std::fprintf(stderr, "graspfill %s: cannot create '%s': %s\n", command, dir.string().c_str(),
                ec.message().c_str());
   return false;
+}
+
+/// Readies the files `names` (relative to `dir`, e.g. "claw/palm.ply") for
+/// writing, before any work: without `force` none of them may exist or be
+/// a symbolic link (all that do are listed); then `dir` and the folders
+/// the names need are created and each file is checked
+/// (io::CheckOutputFile: not a folder, its folder writable). False, after
+/// printing why as "graspfill <command>: ...", when a file cannot be
+/// written.
+inline bool PrepareOutputs(const std::filesystem::path& dir, const std::vector<std::string>& names,
+                           bool force, const char* command) {
+  namespace fs = std::filesystem;
+  if (!force) {
+    std::vector<std::string> existing;
+    for (const std::string& name : names) {
+      std::error_code ec;
+      const fs::file_status status = fs::symlink_status(dir / name, ec);
+      if (fs::exists(status)) existing.push_back((dir / name).string());
+    }
+    if (!existing.empty()) {
+      std::fprintf(stderr, "graspfill %s: refusing to overwrite existing output (use --force):\n",
+                   command);
+      for (const std::string& path : existing) std::fprintf(stderr, "  %s\n", path.c_str());
+      return false;
+    }
+  }
+  try {
+    io::PrepareOutputDir(dir.string());
+    for (const std::string& name : names) {
+      const fs::path parent = (dir / name).parent_path();
+      if (parent != dir) io::PrepareOutputDir(parent.string());
+      io::CheckOutputFile((dir / name).string(), force);
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "graspfill %s: %s\n", command, e.what());
+    return false;
+  }
+  return true;
 }
 
 }  // namespace graspfill::cli

@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "graspfill/io/atomic_file.hpp"
+
 namespace graspfill::rt {
 namespace {
 
@@ -24,24 +26,54 @@ LcmLogWriter::LcmLogWriter(const std::string& path, bool overwrite)
     throw std::runtime_error("cannot create log '" + path +
                              "': is a directory");
   }
-  if (!overwrite && std::filesystem::exists(path, ec)) {
+  if (!overwrite && (std::filesystem::exists(path, ec) ||
+                     std::filesystem::is_symlink(path, ec))) {
     throw std::runtime_error("cannot create log '" + path +
                              "': file exists (pass overwrite to replace it)");
   }
-  log_ = std::make_unique<lcm::LogFile>(path, "w");
+  file_ = std::make_unique<io::AtomicFile>(path, "cannot create log");
+  // lcm opens the file by name: the temporary file, truncated (it is new).
+  log_ = std::make_unique<lcm::LogFile>(file_->temp_path(), "w");
   if (!log_->good()) {
+    const int error = errno;
+    log_.reset();
+    file_->Abandon();
     throw std::runtime_error("cannot create log '" + path +
-                             "': " + std::strerror(errno));
+                             "': " + std::strerror(error));
   }
 }
 
-LcmLogWriter::~LcmLogWriter() = default;
+LcmLogWriter::~LcmLogWriter() {
+  if (!log_) return;
+  if (std::uncaught_exceptions() > uncaught_at_start_) {
+    log_.reset();
+    file_->Abandon();
+    return;
+  }
+  try {
+    Close();
+  } catch (const std::exception& e) {
+    // A destructor cannot throw; the temporary file is gone and the path
+    // untouched. Callers that must know call Close().
+    std::fprintf(stderr, "graspfill: %s\n", e.what());
+  }
+}
+
+void LcmLogWriter::Fail(const std::string& why) {
+  log_.reset();
+  if (file_) file_->Abandon();
+  throw std::runtime_error("cannot write log '" + path_ + "': " + why);
+}
 
 void LcmLogWriter::Write(const std::string& channel, int64_t utime,
                          const std::vector<uint8_t>& bytes) {
   if (channel.empty() || channel.size() > kMaxChannelBytes) {
     throw std::runtime_error("cannot write log '" + path_ +
                              "': bad channel name '" + channel + "'");
+  }
+  if (!log_) {
+    throw std::runtime_error("cannot write log '" + path_ +
+                             "': closed (or an earlier write failed)");
   }
   lcm::LogEvent event;
   event.eventnum = 0;  // numbered by lcm
@@ -50,18 +82,32 @@ void LcmLogWriter::Write(const std::string& channel, int64_t utime,
   event.datalen = static_cast<int32_t>(bytes.size());
   // lcm's event struct is not const-correct; writeEvent only reads it.
   event.data = const_cast<uint8_t*>(bytes.data());
+  errno = 0;
   if (log_->writeEvent(&event) != 0) {
-    throw std::runtime_error("cannot write log '" + path_ +
-                             "': " + std::strerror(errno));
+    Fail(errno != 0 ? std::strerror(errno) : "write error");
   }
   ++events_written_;
 }
 
 void LcmLogWriter::Flush() {
-  if (std::fflush(log_->getFilePtr()) != 0) {
+  if (!log_) {
     throw std::runtime_error("cannot write log '" + path_ +
-                             "': " + std::strerror(errno));
+                             "': closed (or an earlier write failed)");
   }
+  errno = 0;
+  if (std::fflush(log_->getFilePtr()) != 0 || std::ferror(log_->getFilePtr())) {
+    Fail(errno != 0 ? std::strerror(errno) : "write error");
+  }
+}
+
+void LcmLogWriter::Close() {
+  if (!log_) {
+    throw std::runtime_error("cannot write log '" + path_ +
+                             "': closed (or an earlier write failed)");
+  }
+  Flush();
+  log_.reset();     // fclose: nothing is buffered after the flush
+  file_->Commit();  // fsync, rename; throws naming the path
 }
 
 }  // namespace graspfill::rt

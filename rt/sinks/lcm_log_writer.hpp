@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <exception>
 #include <memory>
 #include <string>
 #include <vector>
@@ -11,10 +12,17 @@ namespace lcm {
 class LogFile;
 }  // namespace lcm
 
+namespace graspfill::io {
+class AtomicFile;
+}  // namespace graspfill::io
+
 namespace graspfill::rt {
 
-/// Appends events to a new LCM log file; the file is complete once the
-/// writer is destroyed (or after Flush()).
+/// Appends events to a new LCM log file, written atomically: the events go
+/// to a temporary file `DIR/.NAME.tmp-XXXXXX` beside the log, renamed into
+/// place by Close() (or the destructor). A write error, or an exception
+/// that unwinds past the writer, removes the temporary file and leaves any
+/// existing file at the path as it was.
 ///
 /// Not thread safe: one thread writes.
 class LcmLogWriter {
@@ -39,17 +47,30 @@ class LcmLogWriter {
   void Write(const std::string& channel, int64_t utime,
              const std::vector<uint8_t>& bytes);
 
-  /// Pushes buffered events to the file.
-  /// @throws std::runtime_error naming the path on failure.
+  /// Pushes buffered events to the temporary file.
+  /// @throws std::runtime_error naming the path on failure (the temporary
+  ///   file is then removed and later calls throw).
   void Flush();
+
+  /// Flushes, closes and renames the log into place; later writes throw.
+  /// The destructor does this too, unless an exception is unwinding past
+  /// the writer or a write failed (then the log is abandoned).
+  /// @throws std::runtime_error naming the path (and strerror) on failure.
+  void Close();
 
   /// Events written so far.
   int64_t events_written() const { return events_written_; }
 
  private:
+  [[noreturn]] void Fail(const std::string& why);
+
   std::string path_;
+  std::unique_ptr<io::AtomicFile> file_;
   std::unique_ptr<lcm::LogFile> log_;
   int64_t events_written_{0};
+  /// std::uncaught_exceptions() at construction: more at destruction means
+  /// the writer is being unwound and the log is incomplete.
+  int uncaught_at_start_{std::uncaught_exceptions()};
 };
 
 }  // namespace graspfill::rt

@@ -3,6 +3,8 @@
 // Readers go through Open3D, which handles every PLY flavour in the wild.
 #include "graspfill/io/ply.hpp"
 
+#include "graspfill/io/atomic_file.hpp"
+
 #include <open3d/core/Tensor.h>
 #include <open3d/geometry/TriangleMesh.h>
 #include <open3d/io/TriangleMeshIO.h>
@@ -47,13 +49,10 @@ std::string FormatDouble(double v) {
   return buf;
 }
 
+// Atomically: a failed write (full disk) never replaces a good file.
 void WriteFile(const std::string& what, const std::string& path,
                const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) Fail(what, path, std::strerror(errno));
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  out.close();
-  if (!out) Fail(what, path, "write failed");
+  WriteFileAtomically(path, bytes, what);
 }
 
 void CheckReadable(const std::string& what, const std::string& path) {

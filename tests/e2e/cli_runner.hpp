@@ -16,10 +16,12 @@ struct CliResult {
 };
 
 /// Runs `graspfill <args>` with LCM on the in-process memq:// provider so
-/// that no test traffic leaves the process.
-inline CliResult RunCli(const std::string& args) {
+/// that no test traffic leaves the process. `shell_prefix`, if given, runs
+/// first in the same shell (e.g. "trap '' XFSZ; ulimit -f 16; " for a
+/// full disk).
+inline CliResult RunCli(const std::string& args, const std::string& shell_prefix = "") {
   const std::string command =
-      "LCM_DEFAULT_URL=memq:// " GRASPFILL_CLI " " + args + " 2>&1";
+      shell_prefix + "LCM_DEFAULT_URL=memq:// " GRASPFILL_CLI " " + args + " 2>&1";
   CliResult result;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return result;

@@ -123,6 +123,65 @@ TEST(ReplayE2E, RefusesToOverwriteWithoutForce) {
   EXPECT_EQ(ReadBytes(dir + "/cloud.ply"), "precious");
 }
 
+// Data safety: the output is checked before the log is read, never
+// written through a symlink without --force, and a failed write (a full
+// disk: the shell's `ulimit -f`, with SIGXFSZ ignored, works for root too)
+// keeps the previous file and says why.
+bool HasTemporaryFile(const std::string& dir) {
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().filename().string().find(".tmp-") != std::string::npos) return true;
+  }
+  return false;
+}
+
+TEST(ReplayE2E, UnwritableOutputIsFoundBeforeTheLogIsRead) {
+  const std::string dir = ScratchDir("unwritable");
+  // The log does not exist: the output's error comes first.
+  for (const std::string& out : {dir + "/no/such/folder/c.ply", std::string("/proc/c.ply")}) {
+    SCOPED_TRACE(out);
+    const auto r = RunCli("replay " + dir + "/nope.lcmlog -o " + out + " --no-publish");
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("'" + out + "' cannot be written"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("nope.lcmlog"), std::string::npos) << r.output;
+  }
+}
+
+TEST(ReplayE2E, DanglingSymlinkAsOutputIsRefusedWithoutForce) {
+  const std::string dir = ScratchDir("symlink");
+  std::filesystem::create_symlink(dir + "/target.ply", dir + "/link.ply");
+  const auto r = RunCli("replay " + kReplayDir + "/default/recording.lcmlog -o " + dir +
+                        "/link.ply --no-repair --no-publish");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("is a symbolic link"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/target.ply"));
+}
+
+TEST(ReplayE2E, FullDiskKeepsThePreviousCloud) {
+  const std::string dir = ScratchDir("full_disk");
+  std::ofstream(dir + "/cloud.ply") << "the previous good cloud";
+  const auto r = RunCli("replay " + kReplayDir + "/default/recording.lcmlog -o " + dir +
+                            "/cloud.ply --force --no-repair --no-publish",
+                        "trap '' XFSZ; ulimit -f 16; ");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("'" + dir + "/cloud.ply': File too large"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(ReadBytes(dir + "/cloud.ply"), "the previous good cloud");
+  EXPECT_FALSE(HasTemporaryFile(dir));
+}
+
+TEST(DemoE2E, OutputFolderIsNotOverwrittenWithoutForce) {
+  const std::string dir = ScratchDir("demo");
+  std::ofstream(dir + "/cloud.ply") << "precious";
+  const auto r = RunCli("demo -o " + dir + " --no-publish");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("--force"), std::string::npos) << r.output;
+  EXPECT_EQ(ReadBytes(dir + "/cloud.ply"), "precious");
+  const auto forced = RunCli("demo -o " + dir + " --force --no-publish");
+  EXPECT_EQ(forced.exit_code, 0) << forced.output;
+  EXPECT_NE(ReadBytes(dir + "/cloud.ply"), "precious");
+  EXPECT_FALSE(HasTemporaryFile(dir));
+}
+
 TEST(ReplayE2E, MissingLogIsAClearError) {
   const std::string dir = ScratchDir("missing");
   const auto r = RunCli("replay " + dir + "/nope.lcmlog -o " + dir + "/c.ply --no-publish");

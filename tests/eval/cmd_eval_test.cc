@@ -33,7 +33,10 @@ open3d::geometry::PointCloud Grid(double z) {
 class CmdEvalTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::path(GRASPFILL_BINARY_DIR) / "test_tmp" / "cmd_eval";
+    // One folder per test: ctest runs the tests of this file in parallel
+    // processes, and one's fixture must not rewrite another's input.
+    dir_ = fs::path(GRASPFILL_BINARY_DIR) / "test_tmp" / "cmd_eval" /
+           ::testing::UnitTest::GetInstance()->current_test_info()->name();
     fs::create_directories(dir_);
     gt_ = (dir_ / "gt.ply").string();
     pred_ = (dir_ / "pred.ply").string();

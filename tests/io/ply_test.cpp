@@ -4,11 +4,15 @@
 
 #include <gtest/gtest.h>
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <random>
 #include <stdexcept>
+
+#include "file_size_limit.hpp"
 
 namespace graspfill::io {
 namespace {
@@ -173,6 +177,32 @@ TEST_F(PlyIoTest, WriteErrorsNameThePath) {
   ObjectCloud inconsistent = SomeCloud(true);
   inconsistent.normals_G.pop_back();
   EXPECT_THROW(WriteCloudPly(Path("x.ply"), inconsistent), std::runtime_error);
+}
+
+// A full disk while writing (RLIMIT_FSIZE, see file_size_limit.hpp) used
+// to truncate the good file and say only "write failed".
+TEST_F(PlyIoTest, FullDiskKeepsThePreviousFileAndNamesTheReason) {
+  WriteText(Path("cloud.ply"), "the previous good cloud");
+  std::string error;
+  {
+    testing::FileSizeLimit full(1024);  // the cloud is ~6 KB
+    ASSERT_TRUE(full.ok());
+    try {
+      WriteCloudPly(Path("cloud.ply"), SomeCloud(true));
+      ADD_FAILURE() << "no throw";
+    } catch (const std::runtime_error& e) {
+      error = e.what();
+    }
+  }
+  EXPECT_NE(error.find("cannot write PLY '" + Path("cloud.ply") + "'"), std::string::npos)
+      << error;
+  EXPECT_NE(error.find(std::strerror(EFBIG)), std::string::npos) << error;
+  EXPECT_EQ(ReadBytes(Path("cloud.ply")), "the previous good cloud");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1)
+      << "a temporary file was left behind";
+  // With room, the same write replaces it.
+  WriteCloudPly(Path("cloud.ply"), SomeCloud(true));
+  EXPECT_EQ(ReadCloudPly(Path("cloud.ply")).size(), SomeCloud(true).size());
 }
 
 TriangleMesh Tetrahedron() {

@@ -2,10 +2,16 @@
 // truncation and open errors.
 #include <gtest/gtest.h>
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
+#include <vector>
+
+#include "../io/file_size_limit.hpp"
 
 #include "graspfill/io/messages.hpp"
 #include "sinks/lcm_log_writer.hpp"
@@ -249,6 +255,65 @@ TEST_F(LcmLogTest, WriterRefusesToClobber) {
                    "cannot create log '" + Path("no/dir/x.lcmlog") + "'");
   LcmLogWriter writer(Path("w.lcmlog"));
   ExpectThrowsWith([&] { writer.Write("", 1, {}); }, "bad channel name");
+}
+
+// Atomic logs: the events go to a temporary file renamed into place on
+// Close() (or destruction); a full disk (RLIMIT_FSIZE, see
+// file_size_limit.hpp) or an exception unwinding past the writer leaves the
+// previous log and no temporary file.
+size_t FilesIn(const std::string& dir) {
+  return static_cast<size_t>(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
+}
+
+TEST_F(LcmLogTest, LogAppearsWhenClosedAndFailuresKeepThePreviousOne) {
+  const std::string path = Path("atomic.lcmlog");
+  const std::string dir = fs::path(path).parent_path().string();
+  {
+    LcmLogWriter writer(path);
+    writer.Write("X", 1, {1, 2, 3});
+    writer.Flush();
+    EXPECT_FALSE(fs::exists(path));  // not yet: only the temporary file
+    writer.Close();
+    EXPECT_TRUE(fs::exists(path));
+    ExpectThrowsWith([&] { writer.Write("X", 2, {}); }, "closed");
+  }
+  const auto good_size = fs::file_size(path);
+  const size_t files = FilesIn(dir);
+
+  // Full disk: the write fails with the system's reason, the old log stays.
+  {
+    testing::FileSizeLimit full(4096);
+    ASSERT_TRUE(full.ok());
+    ExpectThrowsWith(
+        [&] {
+          LcmLogWriter writer(path, /*overwrite=*/true);
+          for (int i = 0; i < 100; ++i) writer.Write("X", i, std::vector<uint8_t>(1000, 7));
+          writer.Close();
+        },
+        "cannot write log '" + path + "': " + std::strerror(EFBIG));
+  }
+  EXPECT_EQ(fs::file_size(path), good_size);
+  EXPECT_EQ(FilesIn(dir), files);
+
+  // An exception from elsewhere while the log is being written.
+  try {
+    LcmLogWriter writer(path, /*overwrite=*/true);
+    writer.Write("X", 1, std::vector<uint8_t>(100, 1));
+    throw std::runtime_error("rendering failed");
+  } catch (const std::runtime_error&) {
+  }
+  EXPECT_EQ(fs::file_size(path), good_size);
+  EXPECT_EQ(FilesIn(dir), files);
+  LcmLogSource source(SourceConfig(path));
+  SourceEvent event;
+  EXPECT_EQ(source.Next(&event), FrameResult::kEndOfStream);
+  EXPECT_EQ(source.events_read(), 1);
+}
+
+TEST_F(LcmLogTest, WriterRefusesADanglingSymlinkWithoutOverwrite) {
+  fs::create_symlink(Path("elsewhere.lcmlog"), Path("link.lcmlog"));
+  ExpectThrowsWith([&] { LcmLogWriter writer(Path("link.lcmlog")); }, "file exists");
+  EXPECT_FALSE(fs::exists(Path("elsewhere.lcmlog")));
 }
 
 // ---- Session descriptions ---------------------------------------------------------

@@ -389,6 +389,41 @@ TEST_F(SynthCliTest, ProtocolIsDeterministic) {
   EXPECT_NEAR(protocol["size_m"][2].get<double>(), 0.1, 1e-12);
 }
 
+// Every file synth writes is refused without --force, the claw's link
+// meshes included (DIR/claw/palm.ply used to be overwritten), and before
+// anything is written.
+TEST_F(SynthCliTest, RefusesToOverwriteAClawMeshWithoutForce) {
+  fs::create_directories(dir_ / "claw");
+  std::ofstream(dir_ / "claw" / "palm.ply") << "precious";
+  EXPECT_EQ(RunSynth({"--shape", "sphere", "--frames", "1", "-o", dir_.string()}), 1);
+  EXPECT_EQ(FileBytes(dir_ / "claw" / "palm.ply"), "precious");
+  EXPECT_FALSE(fs::exists(dir_ / "recording.lcmlog"));
+  EXPECT_FALSE(fs::exists(dir_ / "claw" / "claw.json"));
+  EXPECT_EQ(RunSynth({"--shape", "sphere", "--frames", "1", "--force", "-o", dir_.string()}), 0);
+  EXPECT_NE(FileBytes(dir_ / "claw" / "palm.ply"), "precious");
+  EXPECT_NO_THROW(io::ReadMesh((dir_ / "claw" / "palm.ply").string()));
+}
+
+// A dangling symlink as an output used to be followed; it is refused
+// without --force, and no temporary file is left anywhere.
+TEST_F(SynthCliTest, RefusesASymlinkAsAnOutputWithoutForce) {
+  fs::create_directories(dir_ / "elsewhere");
+  fs::create_symlink(dir_ / "elsewhere" / "scene.json", dir_ / "scene.json");
+  EXPECT_EQ(RunSynth({"--shape", "sphere", "--frames", "1", "-o", dir_.string()}), 1);
+  EXPECT_FALSE(fs::exists(dir_ / "elsewhere" / "scene.json"));
+  EXPECT_FALSE(fs::exists(dir_ / "recording.lcmlog"));
+  const Args protocol = {"--protocol", "paper", "--shape", "sphere", "--points", "2000",
+                         "-o", (dir_ / "p").string()};
+  fs::create_directories(dir_ / "p");
+  fs::create_symlink(dir_ / "elsewhere" / "holey.ply", dir_ / "p" / "holey.ply");
+  EXPECT_EQ(RunSynth(protocol), 1);
+  EXPECT_FALSE(fs::exists(dir_ / "elsewhere" / "holey.ply"));
+  for (const auto& entry : fs::recursive_directory_iterator(dir_)) {
+    EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos)
+        << entry.path();
+  }
+}
+
 TEST_F(SynthCliTest, ProtocolRefusesToOverwriteWithoutForce) {
   const std::string out = dir_.string();
   const Args first = {"--protocol", "paper", "--shape", "sphere", "--points", "2000", "-o", out};

@@ -2,7 +2,9 @@
 // Open3D) and triangle meshes (claw models, ground-truth objects).
 //
 // All functions are file I/O at the API boundary: they throw
-// std::runtime_error naming the path on any failure. They are reentrant
+// std::runtime_error naming the path (and strerror) on any failure. Writers
+// write atomically (io/atomic_file.hpp): a failed write leaves an existing
+// file as it was. They are reentrant
 // (no shared state) and may be called from any thread.
 #pragma once
 
