@@ -100,7 +100,7 @@ Outcome Measure(const ObjectCloud& cloud, size_t fused, const std::vector<Eigen:
 }
 
 std::string Note(const repair::RepairReport& r) {
-  std::string note = r.status;
+  std::string note = r.StatusText();
   if (!r.symmetric && !r.symmetry_reason.empty()) note += "; " + r.symmetry_reason;
   if (!r.evidence.top.empty()) note += "; top: " + r.evidence.top;
   return note;

@@ -66,7 +66,7 @@ double Chamfer(const std::vector<Eigen::Vector3f>& pred, const std::vector<Eigen
 
 void PrintReport(const std::string& label, const repair::RepairReport& r) {
   std::fprintf(stderr, "%s: %s; %d boundary points, %d lines; %s%s\n", label.c_str(),
-               r.status.c_str(), r.boundary_points, r.boundary_lines,
+               r.StatusText().c_str(), r.boundary_points, r.boundary_lines,
                r.symmetric ? "symmetric" : "not symmetric: ", r.symmetry_reason.c_str());
   for (const HoleSummary& h : r.holes) {
     std::fprintf(stderr, "  %-7s boundary %4d, added %5d\n",

@@ -34,12 +34,12 @@ namespace {
 nlohmann::ordered_json RepairReportJson(const repair::RepairReport& r, size_t points_in,
                                         size_t points_out) {
   nlohmann::ordered_json j;
-  j["status"] = r.status;
+  j["status"] = r.StatusText();
   j["points_in"] = points_in;
   j["points_out"] = points_out;
   j["symmetric"] = r.symmetric;
   if (!r.symmetric) j["symmetry_reason"] = r.symmetry_reason;
-  if (r.status == "repaired") {
+  if (r.status == repair::RepairStatus::kRepaired) {
     // The virtual frame's +z (towards the missing top) in the input frame.
     const Eigen::Vector3d z = r.frame.T_in_V.linear().col(2);
     j["up_axis"] = {z.x(), z.y(), z.z()};
@@ -122,12 +122,12 @@ int RunRepair(const Args& args) {
     return 0;
   }
   std::printf("%s: %zu points in, %zu out (%s)\n", in.c_str(), input.size(), result.cloud.size(),
-              result.report.status.c_str());
+              result.report.StatusText().c_str());
   for (const HoleSummary& h : result.report.holes) {
     std::printf("  %-16s boundary %4d points, %5d points added\n", KindName(h.kind),
                 h.boundary_points, h.points_added);
   }
-  if (result.report.status == "repaired" && !result.report.symmetric) {
+  if (result.report.status == repair::RepairStatus::kRepaired && !result.report.symmetric) {
     std::printf("  no symmetry used: %s\n", result.report.symmetry_reason.c_str());
   }
   double total = 0.0;

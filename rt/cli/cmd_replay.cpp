@@ -374,7 +374,7 @@ int RunReplay(const Args& args) {
                        {"boundary_points", h.boundary_points},
                        {"points_added", h.points_added}});
     }
-    report["repair"] = {{"status", repair_report->status},
+    report["repair"] = {{"status", repair_report->StatusText()},
                         {"points_added", points_added},
                         {"symmetric", repair_report->symmetric},
                         {"symmetry_reason", repair_report->symmetry_reason},
@@ -415,8 +415,8 @@ int RunReplay(const Args& args) {
                 Ms(t_extracted - t_fused));
     if (!repair_report) {
       std::printf("repair: off (--no-repair)\n");
-    } else if (repair_report->status != "repaired") {
-      std::printf("repair: %s (%.1f ms)\n", repair_report->status.c_str(), repair_ms);
+    } else if (repair_report->status != repair::RepairStatus::kRepaired) {
+      std::printf("repair: %s (%.1f ms)\n", repair_report->StatusText().c_str(), repair_ms);
     } else {
       int claw_holes = 0, missing_surfaces = 0;
       for (const HoleSummary& h : repair_report->holes) {
@@ -427,7 +427,7 @@ int RunReplay(const Args& args) {
         symmetry = "; no symmetry: " + repair_report->symmetry_reason;
       }
       std::printf("repair: %s; %zu points added (%d claw holes, %d missing top%s) in %.1f ms\n",
-                  repair_report->status.c_str(), points_added, claw_holes, missing_surfaces,
+                  repair_report->StatusText().c_str(), points_added, claw_holes, missing_surfaces,
                   symmetry.c_str(), repair_ms);
     }
   }

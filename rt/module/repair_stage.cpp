@@ -67,7 +67,7 @@ void RepairStage::WorkerLoop() {
     try {
       verdict = RepairObjectCloud(config_, &working_,
                                   working_record_.empty() ? nullptr : &working_record_)
-                    .status;
+                    .StatusText();
     } catch (const std::exception& e) {
       failed = true;
       verdict = std::string("failed: ") + e.what();

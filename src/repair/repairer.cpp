@@ -171,6 +171,21 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
 
 }  // namespace
 
+std::string RepairStatusName(RepairStatus status) {
+  switch (status) {
+    case RepairStatus::kRepaired: return "repaired";
+    case RepairStatus::kNoHoles: return "no holes found";
+    case RepairStatus::kTooFewPoints: return "too few points";
+    case RepairStatus::kNoFrame: return "no virtual frame";
+  }
+  return "no holes found";
+}
+
+std::string RepairReport::StatusText() const {
+  return status_detail.empty() ? RepairStatusName(status)
+                               : RepairStatusName(status) + ": " + status_detail;
+}
+
 void RepairConfig::Validate() const {
   analysis.Validate();
   outliers.Validate();
@@ -230,8 +245,9 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
     report.evidence.safe_bound_voxels = static_cast<int>(result.cloud.safe_bound.count());
   }
   if (input.points_G.size() < kMinPoints) {
-    report.status = "too few points (" + std::to_string(input.points_G.size()) + " < " +
-                    std::to_string(kMinPoints) + "): nothing repaired";
+    report.status = RepairStatus::kTooFewPoints;
+    report.status_detail = std::to_string(input.points_G.size()) + " of at least " +
+                           std::to_string(kMinPoints) + ", nothing repaired";
     return result;
   }
 
@@ -330,7 +346,7 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
   // whole lid, a clean cut) still gets its top: V from the up hint.
   const bool evidence_frame = record && config.up_hint;
   if (lines.empty() && !evidence_frame) {
-    report.status = "no holes found";
+    report.status = RepairStatus::kNoHoles;
     return result;
   }
   // 4. The virtual frame V from the lines' points.
@@ -350,7 +366,8 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
       frame = WithAxis(VirtualFrame{}, config.up_hint->normalized(), points);
     }
     if (!frame) {
-      report.status = "no virtual frame: " + reason;
+      report.status = RepairStatus::kNoFrame;
+      report.status_detail = reason;
       return result;
     }
   }
@@ -528,8 +545,9 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
     s.points_added = static_cast<int>(top_V.size());
     report.holes.insert(report.holes.begin(), s);
   }
-  report.status = out.points_G.size() > input.points_G.size() || !lines.empty() ? "repaired"
-                                                                                 : "no holes found";
+  report.status = out.points_G.size() > input.points_G.size() || !lines.empty()
+                      ? RepairStatus::kRepaired
+                      : RepairStatus::kNoHoles;
   return result;
 }
 

@@ -55,7 +55,8 @@ TEST(Repairer, ClosedSurfaceComesBackUnchanged) {
       const RepairResult r = Repair(Cloud(s.points));
       SCOPED_TRACE(synth::ShapeName(shape) + ", " + std::to_string(points) + " points");
       EXPECT_EQ(r.cloud.size(), s.points.size());
-      EXPECT_EQ(r.report.status, "no holes found");
+      EXPECT_EQ(r.report.status, RepairStatus::kNoHoles);
+      EXPECT_EQ(r.report.StatusText(), "no holes found");
     }
   }
 }
@@ -63,7 +64,8 @@ TEST(Repairer, ClosedSurfaceComesBackUnchanged) {
 TEST(Repairer, TinyCloudIsANoOpWithAReason) {
   const RepairResult r = Repair(Cloud({{0, 0, 0}, {0.01f, 0, 0}, {0, 0.01f, 0}}));
   EXPECT_EQ(r.cloud.size(), 3u);
-  EXPECT_NE(r.report.status.find("too few points"), std::string::npos);
+  EXPECT_EQ(r.report.status, RepairStatus::kTooFewPoints);
+  EXPECT_NE(r.report.StatusText().find("too few points: "), std::string::npos);
 }
 
 TEST(Repairer, NonFiniteInputThrowsNamingThePoint) {
@@ -95,7 +97,7 @@ TEST(Repairer, KeepsInputNormalsAndEstimatesTheAddedOnes) {
   ObjectCloud in = Cloud(c.holey);
   for (const Eigen::Vector3f& p : c.holey) in.normals_G.push_back(true_normal(p));
   const RepairResult r = Repair(in);
-  ASSERT_EQ(r.report.status, "repaired");
+  ASSERT_EQ(r.report.status, RepairStatus::kRepaired);
   ASSERT_EQ(r.cloud.normals_G.size(), r.cloud.size());
   ASSERT_GT(r.cloud.size(), in.size());
   for (size_t i = 0; i < in.size(); ++i) ASSERT_EQ(r.cloud.normals_G[i], in.normals_G[i]) << i;
@@ -125,7 +127,8 @@ TEST(Repairer, KeepsInputNormalsAndEstimatesTheAddedOnes) {
 TEST(Repairer, EmptyCloudIsANoOp) {
   const RepairResult r = Repair(Cloud({}));
   EXPECT_EQ(r.cloud.size(), 0u);
-  EXPECT_NE(r.report.status.find("too few points"), std::string::npos);
+  EXPECT_EQ(r.report.status, RepairStatus::kTooFewPoints);
+  EXPECT_NE(r.report.StatusText().find("too few points: "), std::string::npos);
 }
 
 // A flat square patch: its outer edge is a boundary, but there is no
@@ -142,7 +145,7 @@ TEST(Repairer, FlatPatchAddsNoSymmetryAndKeepsTheInput) {
     EXPECT_NE(r.cloud.provenance[i], Provenance::kSymmetry);
   }
   EXPECT_FALSE(r.report.symmetric);
-  EXPECT_FALSE(r.report.status.empty());
+  EXPECT_FALSE(r.report.StatusText().empty());
 }
 
 // A frustum (radius halving towards the top) with its top face cut off and
@@ -164,7 +167,7 @@ TEST(Repairer, AsymmetricFrustumGetsItsClawHoleFilledAndNoMirror) {
     if (!top && !claw) holey.push_back(p);
   }
   const RepairResult r = Repair(Cloud(holey));
-  ASSERT_EQ(r.report.status, "repaired");
+  ASSERT_EQ(r.report.status, RepairStatus::kRepaired);
   EXPECT_FALSE(r.report.symmetric);
   EXPECT_FALSE(r.report.symmetry_reason.empty());
   int claw_holes = 0, surface = 0, symmetry = 0;

@@ -104,16 +104,30 @@ struct EvidenceReport {
   int safe_bound_voxels{0};
 };
 
+/// How a repair ended.
+enum class RepairStatus {
+  kRepaired,      ///< holes found (or the evidence's top closed) and filled
+  kNoHoles,       ///< nothing to repair: the cloud comes back unchanged
+  kTooFewPoints,  ///< below the steps' minimum: unchanged
+  kNoFrame,       ///< no virtual frame could be found: unchanged
+};
+
+/// "repaired", "no holes found", "too few points", "no virtual frame".
+std::string RepairStatusName(RepairStatus status);
+
 struct RepairReport {
-  /// "repaired", "no holes found" (the cloud comes back unchanged), or why
-  /// nothing could be repaired ("too few points", "no virtual frame: ...").
-  std::string status;
+  RepairStatus status{RepairStatus::kNoHoles};
+  /// Why, for kTooFewPoints and kNoFrame (empty otherwise).
+  std::string status_detail;
+  /// The status's name, then the detail after ": " when there is one (what
+  /// the CLI prints and `--json` gives as "status").
+  std::string StatusText() const;
   bool symmetric{false};        ///< a symmetry plane was found and used
   std::string symmetry_reason;  ///< why not, when !symmetric
   int outliers_ignored{0};      ///< kept in the output, not used to repair
   int boundary_points{0};
   int boundary_lines{0};
-  VirtualFrame frame;           ///< valid when status == "repaired"
+  VirtualFrame frame;           ///< valid when status == kRepaired
   std::vector<HoleSummary> holes;  ///< boxes in the input frame
   EvidenceReport evidence;
   std::vector<StageTiming> timings;
@@ -130,7 +144,7 @@ struct RepairResult {
 /// given they are kept and the added points get estimated ones, oriented
 /// away from the centroid; otherwise the output has none). Throws std::invalid_argument on non-finite coordinates or a
 /// bad config; a cloud too small or without holes comes back unchanged
-/// with the reason in report.status.
+/// with the reason in report.status and report.status_detail.
 ///
 /// `record` (optional, best mode): what the camera saw, in the input's
 /// frame (Pipeline::visibility() for a fused cloud in G). With it no added

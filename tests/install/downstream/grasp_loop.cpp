@@ -69,9 +69,9 @@ int main(int argc, char** argv) {
   graspfill::repair::RepairConfig repair;
   repair.up_hint = Eigen::Vector3d(0, 0, -1);
   const graspfill::repair::RepairResult r = graspfill::repair::Repair(cloud, repair);
-  std::printf("repair: %s, %zu -> %zu points\n", r.report.status.c_str(), cloud.size(),
+  std::printf("repair: %s, %zu -> %zu points\n", r.report.StatusText().c_str(), cloud.size(),
               r.cloud.size());
-  Check(r.report.status == "repaired", "the repair ran");
+  Check(r.report.status == graspfill::repair::RepairStatus::kRepaired, "the repair ran");
   Check(r.cloud.size() > cloud.size(), "the repair added points");
   bool unchanged = r.cloud.size() >= cloud.size();
   for (size_t i = 0; unchanged && i < cloud.size(); ++i) {

@@ -18,7 +18,7 @@ TEST(CloudRepair, AppendsTheRepairAndItsFindingsToTheFusedCloud) {
   const ObjectCloud fused = testing::MakeProtocolObjectCloud(7);
   ObjectCloud cloud = fused;
   const repair::RepairReport report = RepairObjectCloud(repair::RepairConfig{}, &cloud);
-  ASSERT_EQ(report.status, "repaired");
+  ASSERT_EQ(report.status, repair::RepairStatus::kRepaired);
   ASSERT_TRUE(testing::FusedThenAdded(fused, cloud));
   EXPECT_EQ(cloud.seq, fused.seq);
   EXPECT_EQ(cloud.utime, fused.utime);
