@@ -2,6 +2,7 @@
 // the points the hole repair added after them.
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include "graspfill/types.hpp"
@@ -18,6 +19,23 @@ inline std::vector<Eigen::Vector3f> ObservedPoints(const ObjectCloud& cloud) {
     }
   }
   return observed;
+}
+
+/// Dense points on a mesh's triangles, about `spacing_m` apart (a few per
+/// mm^2 is plenty to tell claw points from object points).
+inline std::vector<Eigen::Vector3f> SampleSurface(const TriangleMesh& mesh, float spacing_m) {
+  std::vector<Eigen::Vector3f> points;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    const Eigen::Vector3f a = mesh.vertices[t[0]], b = mesh.vertices[t[1]], c = mesh.vertices[t[2]];
+    const int n = std::max(1, static_cast<int>(std::max((b - a).norm(), (c - a).norm()) / spacing_m));
+    for (int i = 0; i <= n; ++i) {
+      for (int j = 0; i + j <= n; ++j) {
+        const float u = static_cast<float>(i) / n, v = static_cast<float>(j) / n;
+        points.push_back(a + u * (b - a) + v * (c - a));
+      }
+    }
+  }
+  return points;
 }
 
 }  // namespace graspfill::testing

@@ -26,6 +26,7 @@ namespace graspfill {
 namespace {
 
 using testing::ObservedPoints;
+using testing::SampleSurface;
 using testing::RunCli;
 using testing::ScratchDir;
 
@@ -40,22 +41,6 @@ nlohmann::json ParseReport(const std::string& output) {
   const size_t first = output.find('{'), last = output.rfind('}');
   if (first == std::string::npos || last == std::string::npos || last < first) return {};
   return nlohmann::json::parse(output.substr(first, last - first + 1), nullptr, false);
-}
-
-// Dense points on a mesh's triangles (1 mm apart).
-std::vector<Eigen::Vector3f> SampleSurface(const TriangleMesh& mesh, float spacing_m) {
-  std::vector<Eigen::Vector3f> points;
-  for (const Eigen::Vector3i& t : mesh.triangles) {
-    const Eigen::Vector3f a = mesh.vertices[t[0]], b = mesh.vertices[t[1]], c = mesh.vertices[t[2]];
-    const int n = std::max(1, static_cast<int>(std::max((b - a).norm(), (c - a).norm()) / spacing_m));
-    for (int i = 0; i <= n; ++i) {
-      for (int j = 0; i + j <= n; ++j) {
-        const float u = static_cast<float>(i) / n, v = static_cast<float>(j) / n;
-        points.push_back(a + u * (b - a) + v * (c - a));
-      }
-    }
-  }
-  return points;
 }
 
 struct ClawCount {
