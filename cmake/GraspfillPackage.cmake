@@ -47,12 +47,12 @@ endfunction()
 # into the consumer's flags (no public graspfill header includes either).
 function(graspfill_write_pkg_config)
   set(libs)
-  foreach(name rt_module rt_sources rt_sinks synth eval io pipeline repair
+  foreach(name rt_module rt_sources rt_sinks synth eval io pipeline refine repair
                evidence fusion claw core)
     string(APPEND libs " -lgraspfill_${name}")
   endforeach()
   set(GRASPFILL_PC_LIBS "${libs}")
-  set(GRASPFILL_PC_REQUIRES "eigen3 lcm nlohmann_json zlib fmt")
+  set(GRASPFILL_PC_REQUIRES "eigen3 lcm nlohmann_json zlib fmt urdfdom assimp")
   if(GRASPFILL_WITH_OPENNI2)
     string(APPEND GRASPFILL_PC_REQUIRES " libopenni2")
   endif()

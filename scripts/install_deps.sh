@@ -9,6 +9,7 @@ packages=(
   liblcm-dev liblcm-bin libglib2.0-dev
   libopenni2-dev nlohmann-json3-dev zlib1g-dev
   libgtest-dev
+  liburdfdom-dev libassimp-dev libyaml-cpp-dev  # URDF claws, DAE meshes, the rig config
   iproute2 util-linux  # ip and unshare: the cross-process udpm test
 )
 

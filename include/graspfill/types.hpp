@@ -52,6 +52,9 @@ struct GripperState {
   double opening_m{0.0};
   /// Optional finger joint values (rad or m); empty means "from opening".
   std::vector<double> joint_values;
+  /// The robot's number of the grasp the claw is in; 0 = not numbered, or
+  /// released (README "Grasp after grasp").
+  int64_t grasp_id{0};
 };
 
 /// A plain indexed triangle mesh (vertices in the frame its name says).
@@ -136,6 +139,10 @@ struct ObjectCloud {
   /// Where the object may still be (empty unless the repair had evidence).
   SafeBound safe_bound;
   std::vector<StageTiming> timings;
+  /// The grasp this is a model of (GripperState::grasp_id).
+  int64_t grasp_id{0};
+  /// The grasp's final model (it ended, or the session stopped).
+  bool is_final{false};
 
   size_t size() const { return points_G.size(); }
 };

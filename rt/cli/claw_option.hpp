@@ -20,13 +20,15 @@
 #include <vector>
 
 #include "graspfill/claw/claw_model.hpp"
+#include "graspfill/claw/urdf_claw.hpp"
 #include "graspfill/io/atomic_file.hpp"
 #include "graspfill/io/messages.hpp"
 
 namespace graspfill::cli {
 
 /// "three-finger", "parallel", or a path to a description (.json) whose
-/// meshes are found under `mesh_root` (default: beside the file).
+/// meshes are found under `mesh_root` (default: beside the file), a URDF
+/// (.urdf) or a URDF claw config (.json naming a URDF; urdf_claw.hpp).
 /// Throws std::runtime_error with the spec on failure.
 inline claw::ClawModel MakeClaw(const std::string& spec, const std::string& mesh_root = "") {
   if (spec == "three-finger") return claw::ClawModel::ThreeFinger();
@@ -122,6 +124,38 @@ inline void DescribeBuiltinClaw(const std::string& name, const claw::ProceduralC
   session->claw_mesh_root.clear();
 }
 
+/// True for the built-in claw names (the others are files).
+inline bool IsBuiltinClaw(const std::string& spec) {
+  return spec == "three-finger" || spec == "parallel";
+}
+
+/// Sets the claw of *session to the file claw `spec` (MakeClaw's): a
+/// description as its file's text, a URDF claw as UrdfClawBundle's text
+/// (the config with the URDF inside), with the path given and the mesh
+/// root used (absolute: `mesh_root`, else the description's folder; a URDF
+/// claw without one keeps its URDF's folder in its text), so that a replay
+/// elsewhere on this machine finds the meshes.
+inline void DescribeFileClaw(const std::string& spec, const std::string& mesh_root,
+                             const claw::ClawModel& model, io::SessionDescription* session) {
+  namespace fs = std::filesystem;
+  session->claw_name = model.name();
+  session->claw_source = spec;
+  const auto absolute = [](const fs::path& p) { return fs::absolute(p).lexically_normal().string(); };
+  if (claw::IsUrdfClaw(spec)) {
+    session->claw_kind = io::SessionClawKind::kUrdf;
+    session->claw_text = claw::UrdfClawBundle(spec, mesh_root);
+    session->claw_mesh_root = mesh_root.empty() ? "" : absolute(mesh_root);
+  } else {
+    session->claw_mesh_root = absolute(mesh_root.empty() ? fs::path(spec).parent_path() : fs::path(mesh_root));
+    session->claw_kind = io::SessionClawKind::kDescription;
+    std::ifstream in(spec, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (!in) throw std::runtime_error(spec + ": cannot read the claw description");
+    session->claw_text = text.str();
+  }
+}
+
 /// How a message names a session's claw: "parallel", "parallel (as recorded:
 /// finger_length_m 0.12)" when its dimensions are not the built-in's,
 /// "description 'franka_hand' (config/claws/franka_hand.json)", "URDF 'x'".
@@ -156,8 +190,9 @@ inline std::string SessionClawLabel(const io::SessionDescription& session) {
 
 /// Builds the claw a session description gives. A description's meshes are
 /// looked up under `mesh_root` if given, else the session's claw_mesh_root,
-/// else beside its claw_source. Throws std::runtime_error naming the claw
-/// (URDF claws are not read yet).
+/// else beside its claw_source (a URDF claw's relative meshes, without a
+/// mesh root, beside the URDF it was made from). Throws std::runtime_error
+/// naming the claw.
 inline claw::ClawModel MakeSessionClaw(const io::SessionDescription& session,
                                        const std::string& mesh_root = "") {
   const std::string label = SessionClawLabel(session);
@@ -196,8 +231,11 @@ inline claw::ClawModel MakeSessionClaw(const io::SessionDescription& session,
           throw;
         }
       }
-      case io::SessionClawKind::kUrdf:
-        throw std::runtime_error("URDF claws are not read yet");
+      case io::SessionClawKind::kUrdf: {
+        const std::string root = mesh_root.empty() ? session.claw_mesh_root : mesh_root;
+        return claw::LoadUrdfClawText(session.claw_text, "URDF claw '" + session.claw_name + "'",
+                                      root);
+      }
     }
     throw std::runtime_error("unknown claw kind");
   } catch (const std::exception& e) {

@@ -22,26 +22,27 @@
 // session description is not waited for (the claw is --claw or the
 // default). Every session description's hand-eye T_C_B and intrinsics
 // override apply to the gripper states and depth images received after it.
+//
+// The session itself is rt::LiveSession (rt/module/live_session.hpp): this
+// file parses the flags, picks the claw and wires the camera to it.
 #include <atomic>
-#include <chrono>
 #include <csignal>
 #include <cstdio>
-#include <deque>
+#include <exception>
+#include <fstream>
 #include <memory>
-#include <mutex>
 #include <optional>
+#include <sstream>
 #include <string>
-#include <thread>
 
+#include "camera_options.hpp"
 #include "claw_option.hpp"
 #include "commands.hpp"
 #include "number_parsing.hpp"
+#include "graspfill/io/output_path.hpp"
 #include "graspfill/repair/repairer.hpp"
 #include "module/cloud_repair.hpp"
-#include "module/grasp_module.hpp"
-#include "module/repair_stage.hpp"
-#include "sinks/lcm_publisher.hpp"
-#include "sources/lcm_bus_subscriber.hpp"
+#include "module/live_session.hpp"
 #include "sources/openni2_source.hpp"
 
 namespace graspfill::cli {
@@ -59,162 +60,133 @@ constexpr const char* kUsage =
     "                        the bus before the first depth frame, else three-finger)\n"
     "  --claw-mesh-root DIR  where the description's meshes are\n"
     "  --publish-every N     publish the cloud every N fused frames, 0..100000 (default 30;\n"
-    "                        0: only at the end)\n"
+    "                        0: only at the end of each grasp)\n"
     "  --no-repair           publish the fused cloud as is (no hole repair)\n"
     "  --repair-mode MODE    paper: the repair as published; best (default): graspfill's.\n"
     "                        The repair runs beside fusion; a cloud that comes while one\n"
-    "                        is repaired waits, and a newer one replaces it\n"
+    "                        is repaired waits, and a newer one replaces it (a grasp's\n"
+    "                        final model is never replaced)\n"
+    "  --record LOG          write what the session receives (session description, depth,\n"
+    "                        gripper states) as an LCM log that `graspfill replay` and\n"
+    "                        lcm-logplayer play\n"
+    "  --force               overwrite the --record LOG if it exists\n"
     "  --duration-s S        stop after S seconds (default: until Ctrl-C or end of .oni)\n"
     "  --depth-channel C / --gripper-channel C / --cloud-channel C / --status-channel C /\n"
     "  --session-channel C\n";
 
 std::atomic<bool> g_interrupted{false};
 
-// What the bus delivers before the module exists (it waits for its claw),
-// and the first session description received. Callbacks run on the bus
-// thread; the module's Push* never wait, so the lock is held only briefly.
-struct Intake {
-  static constexpr size_t kMaxEarlyStates = 64;  // as the module's state queue
-  static constexpr size_t kMaxEarlyFrames = 4;   // as the module's frame queue
-
-  std::mutex mutex;
-  rt::GraspModule* module{nullptr};
-  std::deque<GripperState> states;
-  std::deque<DepthFrame> frames;
-  std::optional<io::SessionDescription> first_session;
-};
+// What heads the recording when the claw is not the bus's session
+// description's: the claw as given, identity hand-eye, the defaults.
+io::SessionDescription DescribeClaw(const std::string& spec, const std::string& mesh_root,
+                                    const claw::ClawModel& model) {
+  io::SessionDescription session;
+  session.software_version = io::SoftwareVersion();
+  if (spec == "three-finger" || spec == "parallel") {
+    DescribeBuiltinClaw(spec, claw::ProceduralClawConfig{}, &session);
+  } else {
+    session.claw_kind = io::SessionClawKind::kDescription;
+    session.claw_name = model.name();
+    std::ifstream in(spec, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    session.claw_text = text.str();  // MakeClaw read it a moment ago
+    session.claw_source = spec;
+    session.claw_mesh_root = mesh_root;
+  }
+  return session;
+}
 
 }  // namespace
 
 int RunLive(const Args& args) {
-  rt::OpenNI2Source::Config camera;
-  rt::LcmBusSubscriber::Config bus;
-  rt::GraspModuleConfig module_config;
+  rt::CameraSource::Config camera;  // camera_options.hpp
+  rt::LiveSessionConfig session_config;
+  io::ChannelNames& channels = session_config.channels;
+  rt::GraspModuleConfig& module_config = session_config.module;
   std::optional<std::string> claw_spec;
   std::string mesh_root;
-  double duration_s = 0.0;
-  double idle_exit_s = 0.0;
   bool depth_from_lcm = false;
-  bool repair_enabled = true;
+  bool force = false;
   repair::RepairConfig repair_config;
   constexpr double kMaxSeconds = 7 * 24 * 3600.0;  // a week
   try {
     for (size_t i = 0; i < args.size(); ++i) {
       const std::string& a = args[i];
       const bool has_value = i + 1 < args.size();
-      if (a == "--help" || a == "-h") { std::fputs(kUsage, stdout); return 0; }
-      else if (a == "--device" && has_value) camera.uri = args[++i];
+      if (a == "--help" || a == "-h") { std::fputs(kUsage, stdout); std::fputs(kCameraUsage, stdout); return 0; }
+      else if (a == "--device" && has_value) camera.device.uri = args[++i];
+      else if (ParseCameraOption(args, &i, &camera)) {}
       else if (a == "--depth-from-lcm") depth_from_lcm = true;
-      else if (a == "--idle-exit-s" && has_value) idle_exit_s = ParseDouble(a, args[++i], 0.0, kMaxSeconds, "s");
-      else if (a == "--depth-channel" && has_value) bus.channels.depth = args[++i];
-      else if (a == "--lcm-url" && has_value) bus.url = args[++i];
+      else if (a == "--idle-exit-s" && has_value) {
+        session_config.limits.idle_exit_s = ParseDouble(a, args[++i], 0.0, kMaxSeconds, "s");
+      }
+      else if (a == "--depth-channel" && has_value) channels.depth = args[++i];
+      else if (a == "--lcm-url" && has_value) session_config.lcm_url = args[++i];
       else if (a == "--claw" && has_value) claw_spec = args[++i];
       else if (a == "--claw-mesh-root" && has_value) mesh_root = args[++i];
       else if (a == "--publish-every" && has_value) {
         module_config.extract_every_n_frames = ParseInteger<int>(a, args[++i], 0, 100000);
       }
-      else if (a == "--no-repair") repair_enabled = false;
+      else if (a == "--no-repair") session_config.repair = false;
       else if (a == "--repair-mode" && has_value) {
         const std::string mode = args[++i];
         if (mode == "paper") repair_config.mode = repair::RepairMode::kPaper;
         else if (mode == "best") repair_config.mode = repair::RepairMode::kBest;
         else throw UsageError("--repair-mode must be paper or best, not '" + mode + "'");
       }
-      else if (a == "--duration-s" && has_value) duration_s = ParseDouble(a, args[++i], 0.0, kMaxSeconds, "s");
-      else if (a == "--gripper-channel" && has_value) bus.channels.gripper_state = args[++i];
-      else if (a == "--cloud-channel" && has_value) bus.channels.object_cloud = args[++i];
-      else if (a == "--status-channel" && has_value) bus.channels.status = args[++i];
-      else if (a == "--session-channel" && has_value) bus.channels.session = args[++i];
+      else if (a == "--record" && has_value) session_config.record.path = args[++i];
+      else if (a == "--force") force = true;
+      else if (a == "--duration-s" && has_value) {
+        session_config.limits.duration_s = ParseDouble(a, args[++i], 0.0, kMaxSeconds, "s");
+      }
+      else if (a == "--gripper-channel" && has_value) channels.gripper_state = args[++i];
+      else if (a == "--cloud-channel" && has_value) channels.object_cloud = args[++i];
+      else if (a == "--status-channel" && has_value) channels.status = args[++i];
+      else if (a == "--session-channel" && has_value) channels.session = args[++i];
       else throw UsageError("bad option '" + a + "'");
     }
   } catch (const UsageError& e) {
     std::fprintf(stderr, "graspfill live: %s\n%s", e.what(), kUsage);
     return 2;
   }
-  std::unique_ptr<rt::OpenNI2Source> camera_source;
-  if (!depth_from_lcm) camera_source = std::make_unique<rt::OpenNI2Source>(camera);  // throws if none
-  rt::LcmPublisher publisher(bus.url);
-  // Clouds go out from the repair stage's (or the fusion worker's) thread,
-  // status from this one; the publisher wants its calls serialized.
-  std::mutex publisher_mutex;
-  auto publish_cloud = [&](const ObjectCloud& cloud) {
-    std::lock_guard<std::mutex> lock(publisher_mutex);
-    publisher.PublishCloud(bus.channels.object_cloud, cloud);
-  };
-  std::unique_ptr<rt::RepairStage> repair_stage;
-  if (repair_enabled) {
-    repair_stage = std::make_unique<rt::RepairStage>(rt::GripperFrameRepairConfig(repair_config),
-                                                     publish_cloud);
+  session_config.depth_from_bus = depth_from_lcm;
+  session_config.repair_config = rt::GripperFrameRepairConfig(repair_config);
+  session_config.record.overwrite = force;
+  session_config.limits.interrupted = &g_interrupted;
+  if (!session_config.record.path.empty()) {
+    try {
+      io::CheckOutputFile(session_config.record.path, force);  // before the session starts
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "graspfill live: --record: %s\n", e.what());
+      return 1;
+    }
   }
-  // Declared after the stage, so destroyed before it: no cloud is submitted
-  // to a stage that is gone; made once its claw is known (see the file
-  // comment), and declared before the subscriber, which feeds it.
-  std::unique_ptr<rt::GraspModule> module;
-  Intake intake;
-  using Clock = std::chrono::steady_clock;
-  std::atomic<int64_t> last_depth_ns{0};  // steady clock of the last depth frame
-  auto push_state = [&](const GripperState& s) {
-    std::lock_guard<std::mutex> lock(intake.mutex);
-    if (intake.module != nullptr) {
-      intake.module->PushGripperState(s);
-      return;
-    }
-    if (intake.states.size() == Intake::kMaxEarlyStates) intake.states.pop_front();
-    intake.states.push_back(s);
-  };
-  auto push_depth = [&](const DepthFrame& f) {
-    {
-      std::lock_guard<std::mutex> lock(intake.mutex);
-      if (intake.module != nullptr) {
-        intake.module->PushDepthFrame(f);
-      } else {
-        if (intake.frames.size() == Intake::kMaxEarlyFrames) intake.frames.pop_front();
-        intake.frames.push_back(f);
-      }
-    }
-    last_depth_ns = Clock::now().time_since_epoch().count();
-  };
-  auto on_session = [&](const io::SessionDescription& session) {
-    std::lock_guard<std::mutex> lock(intake.mutex);
-    if (!intake.first_session) intake.first_session = session;
-  };
-  rt::LcmBusSubscriber subscriber(
-      bus, push_state, depth_from_lcm ? rt::LcmBusSubscriber::DepthCallback(push_depth) : nullptr,
-      on_session);
+  camera.channels = channels;
+  std::unique_ptr<rt::CameraSource> camera_source;
+  if (!depth_from_lcm) camera_source = std::make_unique<rt::CameraSource>(camera);  // throws if none
+  rt::LiveSession live(session_config);
+  if (camera_source) GateFramesOnRoom(camera_source.get(), live, module_config.frame_queue_capacity);
   std::signal(SIGINT, [](int) { g_interrupted = true; });
   std::signal(SIGTERM, [](int) { g_interrupted = true; });
 
-  const auto start = Clock::now();
-  auto out_of_time = [&] {
-    return duration_s > 0 &&
-           std::chrono::duration<double>(Clock::now() - start).count() > duration_s;
-  };
-  // Without --claw, depth from the bus: wait for the session description
-  // or the first depth frame, whichever comes first.
-  if (!claw_spec && depth_from_lcm) {
-    for (;;) {
-      {
-        std::lock_guard<std::mutex> lock(intake.mutex);
-        if (intake.first_session || !intake.frames.empty()) break;
-      }
-      if (g_interrupted || out_of_time()) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-  }
-  std::optional<io::SessionDescription> session;  // the one the module was made with
-  {
-    std::lock_guard<std::mutex> lock(intake.mutex);
-    if (!claw_spec && depth_from_lcm) session = intake.first_session;
-  }
+  // Without --claw, depth from the bus: the session description or the
+  // first depth frame, whichever comes first.
+  std::optional<io::SessionDescription> session;  // the one the module is made with
+  if (!claw_spec && depth_from_lcm) session = live.WaitForFirstEvent();
+  if (!claw_spec && camera_source) session = camera_source->session();  // a log alongside
   claw::ClawModel claw_model = claw::ClawModel::ThreeFinger();
   std::string claw_label = "three-finger";
+  io::SessionDescription description;  // heads the recording
   if (claw_spec) {
     claw_model = MakeClaw(*claw_spec, mesh_root);
     claw_label = *claw_spec;
+    description = DescribeClaw(*claw_spec, mesh_root, claw_model);
     std::printf("live: claw %s (from the command line)\n", claw_label.c_str());
   } else if (session) {
     claw_model = MakeSessionClaw(*session, mesh_root);
     claw_label = SessionClawLabel(*session);
+    description = *session;
     if (session->workspace_G) {
       module_config.pipeline.workspace.min_G = session->workspace_G->min();
       module_config.pipeline.workspace.max_G = session->workspace_G->max();
@@ -229,36 +201,25 @@ int RunLive(const Args& args) {
       module_config.pipeline.tsdf.sdf_trunc_m = 4.0 * session->voxel_m;
     }
     std::printf("live: claw %s (from the session description on %s)\n", claw_label.c_str(),
-                bus.channels.session.c_str());
+                channels.session.c_str());
   } else {
+    description = DescribeClaw("three-finger", "", claw_model);
     std::printf("live: claw three-finger (default%s)\n",
                 depth_from_lcm ? ": no session description before the first depth frame" : "");
   }
   std::fflush(stdout);
-  module = std::make_unique<rt::GraspModule>(
-      module_config, claw_model,
-      [&](const ObjectCloud& cloud, const evidence::VisibilityRecord& seen) {
-        if (repair_stage) repair_stage->Submit(cloud, &seen);  // never waits
-        else publish_cloud(cloud);
-      });
-  {
-    std::lock_guard<std::mutex> lock(intake.mutex);
-    for (const GripperState& s : intake.states) module->PushGripperState(s);
-    for (const DepthFrame& f : intake.frames) module->PushDepthFrame(f);
-    intake.states.clear();
-    intake.frames.clear();
-    intake.module = module.get();
-  }
+  // The recording's description tells a replay the box and voxel in use.
+  description.workspace_G = Eigen::AlignedBox3d(module_config.pipeline.workspace.min_G,
+                                                module_config.pipeline.workspace.max_G);
+  description.voxel_m = module_config.pipeline.tsdf.voxel_m;
+  live.Begin(claw_model, description);
+
   // Session descriptions other than the one the module was made with: a
   // claw that differs from the one in use is warned about, once.
   bool session_checked = session.has_value();
   auto check_session = [&] {
     if (session_checked) return;
-    std::optional<io::SessionDescription> received;
-    {
-      std::lock_guard<std::mutex> lock(intake.mutex);
-      received = intake.first_session;
-    }
+    const std::optional<io::SessionDescription> received = live.first_session();
     if (!received) return;
     session_checked = true;
     bool same = false;
@@ -271,68 +232,51 @@ int RunLive(const Args& args) {
     if (claw_spec) {
       std::fprintf(stderr, "graspfill live: warning: --claw %s differs from the claw of the "
                    "session description on %s (%s); using %s\n", claw_spec->c_str(),
-                   bus.channels.session.c_str(), SessionClawLabel(*received).c_str(),
+                   channels.session.c_str(), SessionClawLabel(*received).c_str(),
                    claw_spec->c_str());
     } else {
       std::fprintf(stderr, "graspfill live: warning: the session description on %s came after "
                    "the first depth frame; its claw %s is ignored, using %s\n",
-                   bus.channels.session.c_str(), SessionClawLabel(*received).c_str(),
+                   channels.session.c_str(), SessionClawLabel(*received).c_str(),
                    claw_label.c_str());
     }
   };
-
-  auto last_status = start;
-  DepthFrame frame;
-  while (!g_interrupted) {
-    const auto now = Clock::now();
-    if (out_of_time()) break;
-    const int64_t last_ns = last_depth_ns;
-    if (idle_exit_s > 0 && last_ns != 0 &&
-        (now.time_since_epoch().count() - last_ns) * 1e-9 > idle_exit_s) {
-      break;
-    }
-    if (camera_source) {
-      const rt::FrameResult r = camera_source->Next(&frame);
-      if (r == rt::FrameResult::kEndOfStream) break;
-      if (r == rt::FrameResult::kOk) push_depth(frame);
-    } else {
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));  // the bus thread pushes
-    }
-    check_session();
-    if (now - last_status > std::chrono::seconds(1)) {
-      const rt::GraspModuleStatus s = module->status();
-      io::ModuleStatus status;
-      status.utime = frame.utime;
-      status.frames_in = s.frames_in;
-      status.frames_used = s.pipeline.frames_integrated;
-      status.frames_skipped = s.pipeline.frames_skipped_no_pose + s.pipeline.frames_bad;
-      status.frames_dropped = s.frames_dropped + s.pipeline.frames_dropped;
-      status.last_frame_ms = s.pipeline.crop.last_ms + s.pipeline.mask.last_ms +
-                             s.pipeline.integrate.last_ms;
-      status.state = "running";
-      std::lock_guard<std::mutex> lock(publisher_mutex);
-      publisher.PublishStatus(bus.channels.status, status);
-      last_status = now;
-    }
+  rt::LiveSessionSummary summary;
+  try {
+    summary = live.Run(camera_source.get(), check_session);
+  } catch (const std::exception& e) {  // the recording could not be completed
+    std::fprintf(stderr, "graspfill live: %s\n", e.what());
+    return 1;
   }
-  const ObjectCloud fused = module->Finish();
-  size_t published_points = fused.size();
-  if (repair_stage) {
-    repair_stage->Drain();  // the last cloud out repaired, not dropped
-    published_points = repair_stage->status().last_points_out;
-  }
-  const rt::GraspModuleStatus s = module->status();
+  check_session();
+  const rt::GraspModuleStatus& s = summary.module;
   std::printf("live: %lld frames in, %lld fused, %lld dropped; %lld gripper states; "
               "cloud of %zu points published on %s\n",
               static_cast<long long>(s.frames_in),
               static_cast<long long>(s.pipeline.frames_integrated),
               static_cast<long long>(s.frames_dropped),
-              static_cast<long long>(subscriber.states_received()), published_points,
-              bus.channels.object_cloud.c_str());
-  if (repair_stage && repair_stage->status().submitted == 0) {
+              static_cast<long long>(summary.states_received), summary.final_points,
+              channels.object_cloud.c_str());
+  const io::ModuleStatus& st = summary.status;
+  std::printf("live: skipped %lld (no pose %lld, clock jump %lld, bad %lld, claw empty %lld); "
+              "%lld decode errors; %lld clock jumps; %lld grasps completed; state %s\n",
+              static_cast<long long>(st.frames_skipped),
+              static_cast<long long>(st.frames_skipped_no_pose),
+              static_cast<long long>(st.frames_skipped_clock_jump),
+              static_cast<long long>(st.frames_bad),
+              static_cast<long long>(s.session.frames_released),
+              static_cast<long long>(st.decode_errors), static_cast<long long>(st.clock_jumps),
+              static_cast<long long>(st.grasps_completed), st.state.c_str());
+  if (!session_config.record.path.empty()) {
+    std::printf("record: %lld events written to %s, %lld dropped\n",
+                static_cast<long long>(summary.records_written),
+                session_config.record.path.c_str(),
+                static_cast<long long>(summary.records_dropped));
+  }
+  if (summary.repair && summary.repair->submitted == 0) {
     std::printf("repair: no cloud to repair\n");
-  } else if (repair_stage) {
-    const rt::RepairStageStatus r = repair_stage->status();
+  } else if (summary.repair) {
+    const rt::RepairStageStatus& r = *summary.repair;
     std::printf("repair: %lld clouds submitted, %lld repaired, %lld superseded, %lld failed; "
                 "last: %s, %zu -> %zu points in %.1f ms\n",
                 static_cast<long long>(r.submitted), static_cast<long long>(r.repaired),

@@ -25,12 +25,16 @@
 #include "commands.hpp"
 #include "evidence_json.hpp"
 #include "number_parsing.hpp"
+#include "refine_json.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/output_path.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "graspfill/repair/repairer.hpp"
 #include "module/cloud_repair.hpp"
+#include "module/grasp_sequencer.hpp"
+#include "module/sequencer_feed.hpp"
+#include "module/session_loop.hpp"
 #include "sinks/lcm_publisher.hpp"
 #include "sources/lcm_log_source.hpp"
 #include "sources/prefetching_source.hpp"
@@ -59,7 +63,10 @@ constexpr const char* kUsage =
     "  --cloud-channel NAME     default GRASPFILL_OBJECT_CLOUD\n"
     "  --session-channel NAME   default GRASPFILL_SESSION\n"
     "  --voxel-m V              TSDF voxel size, 0.0005..0.01 m (default: the recording's, else 0.0015)\n"
-    "  --skip-bad-frames        skip malformed events instead of failing\n";
+    "  --skip-bad-frames        skip malformed events instead of failing\n"
+    "  --refine                 correct each frame's gripper pose by registering the claw\n"
+    "                           model to the depth (for rigs whose poses are off; default off)\n"
+    "  --no-refine              fuse at the logged gripper poses (the default)\n";
 
 struct ReplayOptions {
   std::string log_path;
@@ -107,6 +114,8 @@ bool Parse(const Args& args, ReplayOptions* o) {
     else if (a == "--skip-bad-frames") o->skip_bad_frames = true;
     else if (a == "--no-repair") o->repair = false;
     else if (a == "--no-evidence") o->evidence = false;
+    else if (a == "--no-refine") o->pipeline.refine.enabled = false;
+    else if (a == "--refine") o->pipeline.refine.enabled = true;
     else if (a == "--repair-mode") {
       value(&v);
       if (v == "paper") o->repair_config.mode = repair::RepairMode::kPaper;
@@ -147,9 +156,13 @@ struct ClawUse {
 // otherwise. Prints the warning when --claw is not the recording's claw.
 // Throws std::runtime_error on a claw that cannot be built or a session
 // voxel out of range.
-std::unique_ptr<Pipeline> MakeReplayPipeline(const ReplayOptions& o,
-                                             const std::optional<io::SessionDescription>& session,
-                                             ClawUse* use) {
+std::unique_ptr<rt::GraspSequencer> MakeReplayPipeline(
+    const ReplayOptions& o, const std::optional<io::SessionDescription>& session, ClawUse* use,
+    rt::GraspSequencer::GraspEndCallback on_grasp_end) {
+  auto make = [&](claw::ClawModel model, const PipelineConfig& config) {
+    return std::make_unique<rt::GraspSequencer>(config, std::move(model),
+                                                rt::GraspSequencerConfig{}, on_grasp_end);
+  };
   PipelineConfig config = o.pipeline;
   if (session && session->workspace_G) {
     config.workspace.min_G = session->workspace_G->min();
@@ -185,16 +198,16 @@ std::unique_ptr<Pipeline> MakeReplayPipeline(const ReplayOptions& o,
                      o.claw->c_str(), SessionClawLabel(*session).c_str(), o.claw->c_str());
       }
     }
-    return std::make_unique<Pipeline>(config, std::move(model));
+    return make(std::move(model), config);
   }
   if (session) {
     use->label = SessionClawLabel(*session);
     use->from = "session description";
-    return std::make_unique<Pipeline>(config, MakeSessionClaw(*session, o.claw_mesh_root));
+    return make(MakeSessionClaw(*session, o.claw_mesh_root), config);
   }
   use->label = "three-finger";
   use->from = "default";
-  return std::make_unique<Pipeline>(config, claw::ClawModel::ThreeFinger());
+  return make(claw::ClawModel::ThreeFinger(), config);
 }
 
 double Ms(std::chrono::steady_clock::duration d) {
@@ -239,93 +252,116 @@ int RunReplay(const Args& args) {
   const rt::LcmLogSource& log = *log_source;  // for its counters, once at the end
   // Decoding runs ahead on a second thread, overlapping the pipeline.
   rt::PrefetchingSource source(std::move(log_source));
-  // Made at the first depth or gripper event, once the session description
-  // at the head of the recording (if any) has been read.
-  std::unique_ptr<Pipeline> pipeline_ptr;
-  std::optional<io::SessionDescription> session;
+  // The grasps' final models as they end (a log of several grasps), with
+  // what the camera saw of each; the last one comes from Finish below.
+  struct GraspModel {
+    ObjectCloud cloud;
+    evidence::VisibilityRecord seen;
+  };
+  std::vector<GraspModel> ended;
   ClawUse claw_use;
-  int64_t sessions = 0;
-  bool late_session_warned = false;
-
+  // The sequencer is made at the first depth or gripper event, once the
+  // session description at the head of the recording (if any) is read.
+  rt::SequencerFeed feed(
+      [&](const std::optional<io::SessionDescription>& s) {
+        return MakeReplayPipeline(o, s, &claw_use,
+                                  [&](const ObjectCloud& c, const evidence::VisibilityRecord& r) {
+                                    ended.push_back(GraspModel{c, r});
+                                  });
+      },
+      o.skip_bad_frames);
   const auto t_start = std::chrono::steady_clock::now();
-  rt::SourceEvent event;
-  int64_t bad_events = 0, depth_events = 0;
-  std::string first_error;
-  for (;;) {
-    const rt::FrameResult result = source.Next(&event);
-    if (result == rt::FrameResult::kEndOfStream) break;
-    if (result == rt::FrameResult::kOk && event.kind == rt::SourceEvent::Kind::kSession) {
-      ++sessions;
-      if (!pipeline_ptr && !session) {
-        session = event.session;
-      } else if (!late_session_warned) {
-        std::fprintf(stderr, "graspfill replay: warning: the session description at utime %lld "
-                     "comes after the recording's first one or its first events; its claw, "
-                     "workspace box and voxel are ignored\n",
-                     static_cast<long long>(event.session.utime));
-        late_session_warned = true;
-      }
-      continue;
-    }
-    if (!pipeline_ptr && result == rt::FrameResult::kOk) {
-      pipeline_ptr = MakeReplayPipeline(o, session, &claw_use);
-    }
-    std::string error;
-    if (result == rt::FrameResult::kOk) {
-      Pipeline& pipeline = *pipeline_ptr;
-      if (event.kind == rt::SourceEvent::Kind::kDepth) {
-        ++depth_events;
-        if (pipeline.AddDepthFrame(event.depth, &error) != FrameOutcome::kBadFrame) continue;
-        error = "depth frame at utime " + std::to_string(event.depth.utime) + ": " + error;
-      } else {
-        if (pipeline.AddGripperState(event.gripper)) continue;
-        // Out-of-order states are benign; non-finite poses are bad input.
-        if (event.gripper.T_C_G.matrix().allFinite() && std::isfinite(event.gripper.opening_m)) continue;
-        error = "gripper state at utime " + std::to_string(event.gripper.utime) +
-                ": non-finite pose or opening";
-      }
-    } else {
-      error = event.error;
-    }
-    ++bad_events;
-    if (first_error.empty()) first_error = error;
-    if (!o.skip_bad_frames) {
-      std::fprintf(stderr, "graspfill replay: bad event in '%s': %s\n"
-                   "(pass --skip-bad-frames to skip such events)\n",
-                   o.log_path.c_str(), error.c_str());
-      return 1;
-    }
+  rt::SessionLoop loop(rt::SessionLoopLimits{});
+  const rt::LoopEnd end = loop.Run(&source, &feed);
+  if (feed.late_sessions() > 0) {
+    std::fprintf(stderr, "graspfill replay: warning: the session description at utime %lld "
+                 "comes after the recording's first one or its first events; its claw, "
+                 "workspace box and voxel are ignored\n",
+                 static_cast<long long>(feed.late_session_utime()));
   }
+  if (end == rt::LoopEnd::kSinkStopped) {
+    std::fprintf(stderr, "graspfill replay: bad event in '%s': %s\n"
+                 "(pass --skip-bad-frames to skip such events)\n",
+                 o.log_path.c_str(), feed.first_error().c_str());
+    return 1;
+  }
+  const std::optional<io::SessionDescription>& session = feed.session();
+  const int64_t sessions = feed.sessions();
+  const int64_t bad_events = feed.bad_events();
   if (log.truncated()) {
     std::fprintf(stderr, "graspfill replay: log '%s' is truncated after %lld events\n",
                  o.log_path.c_str(), static_cast<long long>(log.events_read()));
     return 1;
   }
-  if (depth_events == 0) {
+  if (feed.depth_events() == 0) {
     std::string seen;
     for (const std::string& c : log.channels_seen()) seen += (seen.empty() ? "" : ", ") + c;
     std::fprintf(stderr, "graspfill replay: no depth frames on channel '%s' in '%s' (channels: %s)\n",
                  o.channels.depth.c_str(), o.log_path.c_str(), seen.empty() ? "none" : seen.c_str());
     return 1;
   }
-  Pipeline& pipeline = *pipeline_ptr;  // made: there was a depth event
-  pipeline.Flush();
+  rt::GraspSequencer& sequencer = *feed.sequencer();  // made: there was a depth event
   const auto t_fused = std::chrono::steady_clock::now();
-  ObjectCloud cloud = pipeline.ExtractCloud();
+  sequencer.Finish();  // the last grasp's model, to the callback like the others
+  ObjectCloud cloud = std::move(ended.back().cloud);
+  const evidence::VisibilityRecord& last_seen = ended.back().seen;
   const auto t_extracted = std::chrono::steady_clock::now();
-  const PipelineStats& stats = pipeline.stats();
+  const PipelineStats stats = sequencer.stats();
+  if (stats.frames_integrated == 0 && stats.frames_skipped_refine > 0) {
+    std::fprintf(stderr, "graspfill replay: pose refinement rejected every posed frame (%s)\n"
+                 "(pass --no-refine to fuse at the logged poses)\n", RefineSummary(sequencer.pipeline()).c_str());
+    return 1;
+  }
   if (stats.frames_integrated == 0) {
     std::fprintf(stderr, "graspfill replay: no depth frame had a gripper pose within %.1f ms "
                  "(%lld frames, %lld gripper states)\n", o.pipeline.max_pose_gap_us / 1000.0,
                  static_cast<long long>(stats.frames_in), static_cast<long long>(stats.states_in));
     return 1;
   }
+  // A log of several grasps: every grasp's model but the last beside the
+  // output, as STEM.grasp<ID>.ply (the last is the output itself).
+  nlohmann::ordered_json grasps_json = nlohmann::json::array();
+  for (size_t g = 0; g + 1 < ended.size(); ++g) {
+    ObjectCloud& model = ended[g].cloud;
+    const std::filesystem::path out(o.output_path);
+    const std::string path =
+        (out.parent_path() / (out.stem().string() + ".grasp" + std::to_string(model.grasp_id) +
+                              out.extension().string())).string();
+    std::string status = "off";
+    if (o.repair) {
+      try {
+        status = rt::RepairObjectCloud(rt::GripperFrameRepairConfig(o.repair_config), &model,
+                                       o.evidence ? &ended[g].seen : nullptr).StatusText();
+      } catch (const std::exception& e) {
+        status = std::string("failed: ") + e.what();
+      }
+    }
+    try {
+      io::CheckOutputFile(path, o.force);
+      io::WriteCloudPly(path, model);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "graspfill replay: grasp %lld: %s\n",
+                   static_cast<long long>(model.grasp_id), e.what());
+      return 1;
+    }
+    if (o.publish) {
+      rt::LcmPublisher publisher(o.lcm_url);
+      publisher.PublishCloud(o.channels.object_cloud, model);
+    }
+    grasps_json.push_back({{"grasp_id", model.grasp_id}, {"points", model.size()},
+                           {"repair", status}, {"output", path}});
+    if (!o.json) {
+      std::printf("grasp %lld: %zu points -> %s (repair: %s)\n",
+                  static_cast<long long>(model.grasp_id), model.size(), path.c_str(),
+                  status.c_str());
+    }
+  }
   const size_t fused_points = cloud.size();
   std::optional<repair::RepairReport> repair_report;
   if (o.repair) {
     try {
       repair_report = rt::RepairObjectCloud(rt::GripperFrameRepairConfig(o.repair_config), &cloud,
-                                            o.evidence ? &pipeline.visibility() : nullptr);
+                                            o.evidence ? &last_seen : nullptr);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "graspfill replay: hole repair failed on the fused cloud (%zu points): %s\n"
                    "(pass --no-repair to write the fused cloud as is)\n", fused_points, e.what());
@@ -363,7 +399,14 @@ int RunReplay(const Args& args) {
   } else {
     report["session"] = nullptr;
   }
+  report["refine"] = RefineJson(sequencer.pipeline());
   report["points"] = cloud.size();
+  report["grasp_id"] = cloud.grasp_id;
+  grasps_json.push_back({{"grasp_id", cloud.grasp_id}, {"points", cloud.size()},
+                         {"output", o.output_path}});
+  report["grasps"] = grasps_json;
+  report["clock_jumps"] = sequencer.counters().clock_jumps;
+  report["frames_skipped_clock_jump"] = sequencer.counters().skipped_clock_jump;
   report["published"] = o.publish ? o.channels.object_cloud : "";
   const double repair_ms = Ms(t_repaired - t_extracted);
   const size_t points_added = cloud.size() - fused_points;
@@ -407,6 +450,7 @@ int RunReplay(const Args& args) {
                                       ? "default: the recording has no session description"
                                       : "from the " + claw_use.from;
     std::printf("claw: %s (%s)\n", claw_use.label.c_str(), claw_from.c_str());
+    std::printf("%s\n", RefineSummary(sequencer.pipeline()).c_str());
     std::printf("object cloud: %zu points -> %s%s%s\n", cloud.size(), o.output_path.c_str(),
                 o.publish ? ", published on " : "", o.publish ? o.channels.object_cloud.c_str() : "");
     std::printf("per frame: crop %.3f ms, claw mask %.3f ms, integrate %.3f ms; "

@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
@@ -26,6 +27,7 @@
 #include <vector>
 
 #include "claw_option.hpp"
+#include "cmd_synth_grasps.hpp"
 #include "cmd_synth_protocol.hpp"
 #include "commands.hpp"
 #include "number_parsing.hpp"
@@ -35,6 +37,7 @@
 #include "graspfill/io/ply.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
 #include "graspfill/synth/renderer.hpp"
+#include "graspfill/synth/rig_errors.hpp"
 #include "graspfill/synth/scene.hpp"
 #include "sinks/lcm_log_writer.hpp"
 
@@ -54,13 +57,23 @@ constexpr const char* kUsage =
     "  --size WxDxH      bounding box in meters, e.g. 0.07x0.07x0.14\n"
     "                    (default per shape; cuboid 0.07x0.07x0.14)\n"
     "  --mesh FILE       object mesh (.ply/.obj/.stl) in meters, +z up\n"
-    "  --claw TYPE       three-finger (default) or parallel\n"
+    "  --claw SPEC       three-finger (default), parallel, or a claw file: a description\n"
+    "                    (.json), a URDF or a URDF claw config (README \"Claws from URDF\")\n"
+    "  --claw-mesh-root DIR  where a claw file's meshes (and a config's URDF) are\n"
     "  --grasp WAY       top-straight (default), middle-straight, top-oblique\n"
+    "  --grasps S1,S2,.. instead of --shape: one recording of several grasps in turn,\n"
+    "                    grasp k holding shape k (gripper states with grasp_id k),\n"
+    "                    --frames each; truth in DIR/grasp<k>/ (README \"Grasp after grasp\")\n"
     "  --seed N          sensor noise and wobble seed (default 1)\n"
     "  --frames N        depth frames at 30 Hz (default 90: one full turn)\n"
     "  --ideal           noise-free sensor (no noise, quantization, dropouts)\n"
     "  --wall-m D        background wall D m from the camera (default 1.4;\n"
     "                    0: none, which makes the log ~5x smaller)\n"
+    "  --hand-eye-error MM,DEG  logged poses off by a constant camera-frame error\n"
+    "                    (MM mm in a random direction, DEG deg about a random axis)\n"
+    "  --pose-noise MM,DEG  per gripper state noise in G (RMS), e.g. 0.5,0.2\n"
+    "  --clock-offset-ms T  logged gripper stamps run T ms behind the frames\n"
+    "                    (all three seeded, recorded in scene.json, off by default)\n"
     "  --force           overwrite existing output files\n"
     "  -o, --output DIR  output folder (created if missing)\n"
     "writes DIR/recording.lcmlog, gt_mesh.ply, gt_cloud.ply, claw.ply,\n"
@@ -82,7 +95,9 @@ struct SynthOptions {
   std::optional<std::string> shape;
   std::optional<std::string> size;
   std::optional<std::string> mesh_path;
+  std::optional<std::string> grasps;  ///< --grasps S1,S2,...
   std::string claw{"three-finger"};
+  std::string claw_mesh_root;  ///< --claw-mesh-root, for a claw file
   std::string grasp{"top-straight"};
   uint64_t seed{1};
   int frames{90};
@@ -92,6 +107,7 @@ struct SynthOptions {
   std::string output_dir;
   bool help{false};
   std::optional<int> points;  ///< --protocol only
+  synth::RigErrorConfig rig_errors;  ///< logged-pose errors (all off)
   /// Options given that only a recording uses, to refuse them in protocol
   /// mode rather than silently ignore them.
   std::vector<std::string> recording_only_given;
@@ -122,6 +138,16 @@ Eigen::Vector3d ParseSize(const std::string& text) {
   return size;
 }
 
+// "MM,DEG" of --hand-eye-error / --pose-noise, into meters and degrees.
+void ParseMmDeg(const std::string& option, const std::string& text, double* m, double* deg) {
+  const size_t comma = text.find(',');
+  if (comma == std::string::npos) {
+    throw UsageError(option + " '" + text + "': expected MM,DEG, e.g. 3,1");
+  }
+  *m = 0.001 * ParseDouble(option, text.substr(0, comma), 0.0, 50.0, "mm");
+  *deg = ParseDouble(option, text.substr(comma + 1), 0.0, 10.0, "deg");
+}
+
 SynthOptions Parse(const Args& args) {
   SynthOptions o;
   for (size_t i = 0; i < args.size(); ++i) {
@@ -131,14 +157,21 @@ SynthOptions Parse(const Args& args) {
       return args[++i];
     };
     const bool recording_only = a == "--mesh" || a == "--claw" || a == "--frames" ||
-                                a == "--ideal" || a == "--wall-m";
+                                a == "--ideal" || a == "--wall-m" ||
+                                a == "--hand-eye-error" || a == "--pose-noise" ||
+                                a == "--clock-offset-ms";
     if (recording_only) o.recording_only_given.push_back(a);
     if (a == "-h" || a == "--help") o.help = true;
     else if (a == "--protocol") o.protocol = value();
     else if (a == "--shape") o.shape = value();
     else if (a == "--size") o.size = value();
     else if (a == "--mesh") o.mesh_path = value();
+    else if (a == "--grasps") o.grasps = value();
     else if (a == "--claw") o.claw = value();
+    else if (a == "--claw-mesh-root") {
+      o.recording_only_given.push_back(a);
+      o.claw_mesh_root = value();
+    }
     else if (a == "--grasp") o.grasp = value();
     else if (a == "--seed") {
       o.seed = ParseInteger<uint64_t>(a, value(), 0, std::numeric_limits<uint64_t>::max());
@@ -147,6 +180,13 @@ SynthOptions Parse(const Args& args) {
     else if (a == "--wall-m") o.wall_m = ParseDouble(a, value(), 0.0, 100.0, "m");
     else if (a == "--points") {
       o.points = ParseInteger<int>(a, value(), kMinProtocolPoints, kMaxProtocolPoints);
+    }
+    else if (a == "--hand-eye-error") {
+      ParseMmDeg(a, value(), &o.rig_errors.hand_eye_m, &o.rig_errors.hand_eye_deg);
+    } else if (a == "--pose-noise") {
+      ParseMmDeg(a, value(), &o.rig_errors.pose_noise_m, &o.rig_errors.pose_noise_deg);
+    } else if (a == "--clock-offset-ms") {
+      o.rig_errors.clock_offset_us = std::llround(1000.0 * ParseDouble(a, value(), -90.0, 90.0, "ms"));
     }
     else if (a == "--force") o.force = true;
     else if (a == "-o" || a == "--output") o.output_dir = value();
@@ -165,7 +205,12 @@ SynthOptions Parse(const Args& args) {
   } else if (o.points) {
     throw UsageError("--points applies to --protocol paper only");
   }
-  if (o.shape.has_value() == o.mesh_path.has_value()) {
+  if (o.grasps) {
+    if (o.protocol || o.shape || o.mesh_path || o.size) {
+      throw UsageError("--grasps replaces --shape (no --mesh, --size, --protocol)");
+    }
+    ParseGraspShapes(*o.grasps);
+  } else if (o.shape.has_value() == o.mesh_path.has_value()) {
     throw UsageError("give exactly one of --shape and --mesh");
   }
   if (o.mesh_path && o.size) throw UsageError("--size applies to --shape only");
@@ -217,7 +262,8 @@ void WriteClawDescription(const claw::ClawModel& model, const fs::path& dir) {
           {"axis", Vec(link.joint.axis)},
           {"limits", {{"lower", link.joint.lower}, {"upper", link.joint.upper}}},
           {"drive", {{"opening_gain", link.joint.gain}, {"opening_offset", link.joint.offset}}}};
-    } else if (link.parent >= 0) {
+      if (link.joint.joint_index >= 0) j["joint"]["drive"]["joint_index"] = link.joint.joint_index;
+    } else {  // a root's too: a description or URDF claw's root is placed in G
       j["joint"] = {{"type", "fixed"}, {"origin", Pose(link.joint.T_parent_joint)}};
     }
     links.push_back(j);
@@ -229,8 +275,22 @@ void WriteClawDescription(const claw::ClawModel& model, const fs::path& dir) {
   io::WriteFileAtomically((dir / "claw.json").string(), description.dump(2) + "\n");
 }
 
+json RigErrorsJson(const synth::RigErrors& rig) {
+  const synth::RigErrorConfig& c = rig.config();
+  const Eigen::AngleAxisd error(rig.hand_eye_error().linear());
+  return {{"doc", "a state stamped t logs E_C * T_C_G_true(t + clock_offset) * N_k; frames and "
+                  "ground truth in the true G"},
+          {"hand_eye_error_m", c.hand_eye_m},
+          {"hand_eye_error_deg", c.hand_eye_deg},
+          {"E_C", Matrix(rig.hand_eye_error())},
+          {"E_C_angle_deg", error.angle() * 180.0 / 3.14159265358979323846},
+          {"pose_noise_rms_m", c.pose_noise_m},
+          {"pose_noise_rms_deg", c.pose_noise_deg},
+          {"clock_offset_us", c.clock_offset_us}};
+}
+
 json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::ChannelNames& ch,
-               int64_t log_bytes, size_t gripper_states) {
+               int64_t log_bytes, size_t gripper_states, const synth::RigErrors& rig) {
   const synth::SceneConfig& c = scene.config();
   const synth::Placement& p = scene.placement();
   const synth::SensorModelConfig& s = c.sensor;
@@ -250,7 +310,7 @@ json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::Chann
       {"frames_doc", "geometry in the gripper frame G (origin palm face centre, +z approach); "
                      "T_A_B maps points from B to A; meters, microseconds"},
       {"object", object},
-      {"claw", {{"type", synth::ClawTypeName(c.claw)},
+      {"claw", {{"type", c.claw_model ? c.claw_model->name() : synth::ClawTypeName(c.claw)},
                 {"config", ClawJson(c.claw_config)},
                 {"used", ClawJson(p.claw)},
                 {"description", "claw/claw.json"}}},
@@ -317,6 +377,7 @@ json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::Chann
                {"gripper_states", gripper_states},
                {"first_depth_utime", scene.DepthUtime(0)},
                {"last_depth_utime", scene.DepthUtime(c.num_frames - 1)}}},
+      {"rig_errors", RigErrorsJson(rig)},
       {"ground_truth", {{"mesh", "gt_mesh.ply"},
                         {"cloud", "gt_cloud.ply"},
                         {"cloud_points", synth::kDefaultGroundTruthPoints},
@@ -330,17 +391,25 @@ json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::Chann
 // fingers), identity hand-eye (the poses are in the camera frame), no
 // intrinsics override, and the pipeline's default workspace box and voxel
 // (the recording does not ask for any other).
-io::SessionDescription SessionOf(const synth::Scene& scene, int64_t utime) {
+io::SessionDescription SessionOf(const synth::Scene& scene, int64_t utime, const SynthOptions& o) {
   io::SessionDescription session;
   session.utime = utime;
   session.software_version = io::SoftwareVersion();
-  DescribeBuiltinClaw(synth::ClawTypeName(scene.config().claw), scene.placement().claw, &session);
+  if (scene.config().claw_model) {
+    DescribeFileClaw(o.claw, o.claw_mesh_root, *scene.config().claw_model, &session);
+  } else {
+    DescribeBuiltinClaw(synth::ClawTypeName(scene.config().claw), scene.placement().claw, &session);
+  }
   return session;
 }
 
 int Run(const SynthOptions& o) {
   synth::SceneConfig config;
-  config.claw = *synth::ParseClawType(o.claw);
+  if (IsBuiltinClaw(o.claw)) {
+    config.claw = *synth::ParseClawType(o.claw);
+  } else {
+    config.claw_model = std::make_shared<const claw::ClawModel>(MakeClaw(o.claw, o.claw_mesh_root));
+  }
   config.grasp = *synth::ParseGraspWay(o.grasp);
   config.seed = o.seed;
   config.num_frames = o.frames;
@@ -378,6 +447,7 @@ int Run(const SynthOptions& o) {
   if (!PrepareOutputs(dir, outputs, o.force, "synth")) return 1;
 
   const synth::SceneRenderer renderer(scene);
+  const synth::RigErrors rig(o.rig_errors, config.seed);
   const io::ChannelNames channels;
   const fs::path log_path = dir / "recording.lcmlog";
   size_t gripper_states = 0;
@@ -388,15 +458,19 @@ int Run(const SynthOptions& o) {
     const std::vector<synth::TimelineEvent> timeline = scene.Timeline();
     const int64_t start_utime = timeline.empty() ? config.motion.start_utime : timeline.front().utime;
     log.Write(channels.session, start_utime,
-              io::EncodeSessionDescription(SessionOf(scene, start_utime)));
+              io::EncodeSessionDescription(SessionOf(scene, start_utime, o)));
     for (const synth::TimelineEvent& event : timeline) {
       if (event.kind == synth::TimelineEvent::Kind::kDepth) {
         const DepthFrame frame = renderer.Render(event.index);
         log.Write(channels.depth, event.utime,
                   io::EncodeDepthImage(frame, io::DepthEncoding::kZlib16, 0.001));
       } else {
-        log.Write(channels.gripper_state, event.utime,
-                  io::EncodeGripperState(scene.GripperStateAt(event.utime)));
+        // The rig's errors: the true pose at the robot's clock, then the
+        // hand-eye error and this state's noise (identity by default).
+        GripperState state = scene.GripperStateAt(rig.TrueUtime(event.utime));
+        state.utime = event.utime;
+        state.T_C_G = rig.Logged(state.T_C_G, event.index);
+        log.Write(channels.gripper_state, event.utime, io::EncodeGripperState(state));
         ++gripper_states;
       }
     }
@@ -416,7 +490,7 @@ int Run(const SynthOptions& o) {
   io::WriteMeshPly((dir / "claw.ply").string(), scene.claw_G());
   WriteClawDescription(claw_model, dir / "claw");
 
-  const json scene_json = SceneJson(scene, o, channels, log_bytes, gripper_states);
+  const json scene_json = SceneJson(scene, o, channels, log_bytes, gripper_states, rig);
   io::WriteFileAtomically((dir / "scene.json").string(), scene_json.dump(2) + "\n");
   const Eigen::AlignedBox3d ws = scene.WorkspaceBoxG(0.02);
   std::printf(
@@ -455,8 +529,12 @@ int RunSynth(const Args& args) {
     if (options.shape && !synth::ParseShape(*options.shape)) {
       throw UsageError("unknown shape '" + *options.shape + "'");
     }
-    if (!synth::ParseClawType(options.claw)) {
-      throw UsageError("unknown claw '" + options.claw + "'");
+    if (!IsBuiltinClaw(options.claw) && !fs::is_regular_file(options.claw)) {
+      throw UsageError("unknown claw '" + options.claw +
+                       "' (three-finger, parallel, or a claw description or URDF file)");
+    }
+    if (options.grasps && !IsBuiltinClaw(options.claw)) {
+      throw UsageError("--grasps takes a built-in --claw (three-finger or parallel)");
     }
     if (!synth::ParseGraspWay(options.grasp)) {
       throw UsageError("unknown grasp '" + options.grasp + "'");
@@ -468,6 +546,19 @@ int RunSynth(const Args& args) {
     return 2;
   }
   try {
+    if (options.grasps) {
+      SynthGraspsOptions g;
+      g.shapes = ParseGraspShapes(*options.grasps);
+      g.claw = options.claw;
+      g.grasp = options.grasp;
+      g.seed = options.seed;
+      g.frames = options.frames;
+      g.ideal = options.ideal;
+      g.wall_m = options.wall_m;
+      g.force = options.force;
+      g.output_dir = options.output_dir;
+      return RunSynthGrasps(g);
+    }
     return protocol_options ? RunSynthProtocol(*protocol_options) : Run(options);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "graspfill synth: error: %s\n", e.what());

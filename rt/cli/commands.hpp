@@ -16,8 +16,10 @@ int RunEval(const Args& args);    // cmd_eval.cpp
 int RunBench(const Args& args);   // cmd_bench.cpp
 int RunDemo(const Args& args);    // cmd_demo.cpp
 int RunLive(const Args& args);    // cmd_live.cpp
+int RunOniRecord(const Args& args);  // cmd_oni_record.cpp
 int RunRepair(const Args& args);  // cmd_repair.cpp
 int RunBenchRepair(const Args& args);  // cmd_bench_repair.cpp
 int RunBenchRepairPipeline(const Args& args);  // cmd_bench_pipeline.cpp
+int RunClaw(const Args& args);    // cmd_claw.cpp
 
 }  // namespace graspfill::cli

@@ -30,7 +30,9 @@ void PrintUsage() {
       "  bench   per-frame timings against Open3D's bare integration; `bench repair`: Tables 1-3\n"
       "  demo    replay the bundled recording and evaluate it\n"
       "  live    OpenNI2 camera + gripper states over LCM -> object cloud over LCM\n"
+      "  oni-record  an OpenNI2 device's depth into an .oni file (OpenNI2's recorder)\n"
       "  repair  fill the claw holes and the unseen top of an object cloud\n"
+      "  claw    write a claw (built-in, description or URDF) posed at an opening as PLY\n"
       "run `graspfill <command> --help` for the command's options\n");
 }
 
@@ -51,7 +53,9 @@ int main(int argc, char** argv) {
     if (command == "bench") return graspfill::cli::RunBench(args);
     if (command == "demo") return graspfill::cli::RunDemo(args);
     if (command == "live") return graspfill::cli::RunLive(args);
+    if (command == "oni-record") return graspfill::cli::RunOniRecord(args);
     if (command == "repair") return graspfill::cli::RunRepair(args);
+    if (command == "claw") return graspfill::cli::RunClaw(args);
     if (command == "--help" || command == "-h" || command == "help") {
       PrintUsage();
       return 0;

@@ -5,11 +5,20 @@
 
 namespace graspfill::rt {
 
+namespace {
+// A frame or two waits for its pose normally; more is worth a reason.
+constexpr int64_t kStallTextAfterFrames = 3;
+}  // namespace
+
 GraspModule::GraspModule(const GraspModuleConfig& config, claw::ClawModel claw,
                          CloudCallback on_cloud)
     : config_(config),
-      pipeline_(config.pipeline, std::move(claw)),
-      on_cloud_(std::move(on_cloud)) {
+      on_cloud_(std::move(on_cloud)),
+      sequencer_(config.pipeline, std::move(claw), config.grasps,
+                 [this](const ObjectCloud& cloud, const evidence::VisibilityRecord& seen) {
+                   ++clouds_out_;
+                   if (on_cloud_) on_cloud_(cloud, seen);
+                 }) {
   if (config.frame_queue_capacity < 1 || config.state_queue_capacity < 1 ||
       config.extract_every_n_frames < 0) {
     throw std::invalid_argument("GraspModuleConfig: queue capacities must be >= 1, "
@@ -66,11 +75,11 @@ bool GraspModule::PublishIfDue() {
   // AddGripperState as often as by AddDepthFrame, and one call can fuse
   // several: a cloud whenever the count crosses a multiple of n.
   const int n = config_.extract_every_n_frames;
-  const int64_t integrated = pipeline_.stats().frames_integrated;
+  const int64_t integrated = sequencer_.stats().frames_integrated;
   if (n <= 0 || integrated / n <= integrated_at_last_cloud_ / n) return false;
   integrated_at_last_cloud_ = integrated;
-  const ObjectCloud cloud = pipeline_.ExtractCloud();
-  if (on_cloud_) on_cloud_(cloud, pipeline_.visibility());
+  const ObjectCloud cloud = sequencer_.ExtractCloud();
+  if (on_cloud_) on_cloud_(cloud, sequencer_.pipeline().visibility());
   return true;
 }
 
@@ -85,12 +94,18 @@ void GraspModule::WorkerLoop() {
     if (stop_) return;
     busy_ = true;
     // States first: a frame's bracketing state may have arrived with it.
+    // But a state that ends the grasp waits for the frames taken before it.
     while (states_count_ > 0) {
-      state = states_[states_head_];
+      const GripperState& next = states_[states_head_];
+      if (frames_count_ > 0 && sequencer_.EndsGrasp(next) &&
+          frames_[frames_head_].utime < next.utime) {
+        break;
+      }
+      state = next;
       states_head_ = (states_head_ + 1) % states_.size();
       --states_count_;
       lock.unlock();
-      pipeline_.AddGripperState(state);
+      sequencer_.AddGripperState(state);
       const bool published = PublishIfDue();
       lock.lock();
       status_.clouds_published += published;
@@ -102,21 +117,18 @@ void GraspModule::WorkerLoop() {
       frames_head_ = (frames_head_ + 1) % frames_.size();
       --frames_count_;
       lock.unlock();
-      pipeline_.AddDepthFrame(frame);
+      sequencer_.AddDepthFrame(frame);
       const bool published = PublishIfDue();
       lock.lock();
       status_.clouds_published += published;
     }
-    status_.pipeline = pipeline_.stats();
+    UpdateStatusLocked();
     if (finish_requested_ && frames_count_ == 0 && states_count_ == 0) {
       lock.unlock();
-      pipeline_.Flush();
-      ObjectCloud cloud = pipeline_.ExtractCloud();
-      if (on_cloud_) on_cloud_(cloud, pipeline_.visibility());
+      ObjectCloud cloud = sequencer_.Finish();
       lock.lock();
       finished_cloud_ = std::move(cloud);
-      ++status_.clouds_published;
-      status_.pipeline = pipeline_.stats();
+      UpdateStatusLocked();
       finish_requested_ = false;
       finished_ = true;
     }
@@ -132,6 +144,19 @@ ObjectCloud GraspModule::Finish() {
   wake_worker_.notify_one();
   idle_.wait(lock, [&] { return finished_; });
   return std::move(finished_cloud_);
+}
+
+void GraspModule::UpdateStatusLocked() {
+  status_.clouds_published += clouds_out_;
+  clouds_out_ = 0;
+  status_.pipeline = sequencer_.stats();
+  status_.session = sequencer_.counters();
+  // Text only once frames go unfused (no allocation while fusion runs).
+  if (status_.session.frames_since_fused >= kStallTextAfterFrames) {
+    status_.stall_reason = sequencer_.StallReason();
+  } else {
+    status_.stall_reason.clear();
+  }
 }
 
 GraspModuleStatus GraspModule::status() const {

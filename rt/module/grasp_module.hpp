@@ -1,7 +1,9 @@
 // The live grasp-reconstruction module: a worker thread that owns the
-// Pipeline, fed through bounded queues by the camera driver and the robot's
-// state stream, and hands the object cloud to a callback (e.g. the LCM
-// publisher) every few frames.
+// Pipeline (through a GraspSequencer: grasp after grasp, clock jumps), fed
+// through bounded queues by the camera driver and the robot's state stream,
+// and hands the object cloud to a callback (e.g. the repair stage) every few
+// frames, and each grasp's final model (ObjectCloud::is_final) when the
+// grasp ends.
 //
 // Threads: Push* and the accessors are safe from any thread and never wait
 // for the worker's processing (they take a short lock to copy the data into
@@ -12,10 +14,12 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
 #include "graspfill/pipeline/pipeline.hpp"
+#include "module/grasp_sequencer.hpp"
 
 namespace graspfill::rt {
 
@@ -29,20 +33,25 @@ struct GraspModuleConfig {
   /// Extract and publish the cloud after every this many integrated frames;
   /// 0 = only when ExtractNow() is called.
   int extract_every_n_frames{30};
+  /// Grasp and clock-jump rules (grasp_sequencer.hpp).
+  GraspSequencerConfig grasps;
 };
 
 struct GraspModuleStatus {
   int64_t frames_in{0};
   int64_t frames_dropped{0};   ///< queue overflow (worker too slow)
   int64_t states_dropped{0};
-  PipelineStats pipeline;      ///< snapshot from the worker
+  PipelineStats pipeline;      ///< snapshot from the worker, summed over grasps
+  SessionCounters session;     ///< grasps, clock jumps, skips by reason
+  std::string stall_reason;    ///< why the last frames were not fused
   int64_t clouds_published{0};
 };
 
 class GraspModule {
  public:
   /// The cloud and what the camera saw so far (a snapshot: the record is
-  /// cheap to copy and stays valid after the module resets).
+  /// cheap to copy and stays valid after the module resets). A grasp's
+  /// final model has is_final set.
   using CloudCallback =
       std::function<void(const ObjectCloud&, const evidence::VisibilityRecord&)>;
 
@@ -57,7 +66,9 @@ class GraspModule {
   void PushGripperState(const GripperState& state);
 
   /// Waits until every queued item is processed, flushes pending frames
-  /// and returns the cloud (also handed to the callback).
+  /// and returns the last grasp's final model (also handed to the callback;
+  /// empty, and not handed, when that grasp fused nothing after an earlier
+  /// grasp's model went out).
   ObjectCloud Finish();
 
   GraspModuleStatus status() const;
@@ -67,10 +78,14 @@ class GraspModule {
   // Worker thread, lock not held: extracts and hands out a cloud when
   // another extract_every_n_frames frames have been fused; true if it did.
   bool PublishIfDue();
+  // Worker, lock held: the status from the sequencer (not touched by
+  // another thread while the worker holds the lock).
+  void UpdateStatusLocked();
 
   const GraspModuleConfig config_;
-  Pipeline pipeline_;  // touched by the worker only (and by Finish after idle)
   CloudCallback on_cloud_;
+  int64_t clouds_out_{0};  // worker only: callbacks since the last merge
+  GraspSequencer sequencer_;  // touched by the worker only
 
   mutable std::mutex mutex_;
   std::condition_variable wake_worker_;

@@ -29,6 +29,16 @@ void RepairStage::Submit(const ObjectCloud& cloud, const evidence::VisibilityRec
   {
     std::lock_guard<std::mutex> lock(mutex_);
     ++status_.submitted;
+    if (cloud.is_final) {
+      if (has_mail_ && mailbox_.grasp_id == cloud.grasp_id) {
+        has_mail_ = false;  // older than the final of its grasp
+        ++status_.superseded;
+      }
+      finals_.push_back(Final{cloud, record ? *record : evidence::VisibilityRecord()});
+      ++status_.finals_pending;
+      wake_worker_.notify_one();
+      return;
+    }
     if (has_mail_) ++status_.superseded;
     // Copy-assignment keeps the slot's buffers when they are big enough,
     // and they are after the first few clouds (they cycle with working_).
@@ -41,7 +51,7 @@ void RepairStage::Submit(const ObjectCloud& cloud, const evidence::VisibilityRec
 
 void RepairStage::Drain() {
   std::unique_lock<std::mutex> lock(mutex_);
-  idle_.wait(lock, [&] { return stop_ || (!has_mail_ && !busy_); });
+  idle_.wait(lock, [&] { return stop_ || (!has_mail_ && finals_.empty() && !busy_); });
 }
 
 RepairStageStatus RepairStage::status() const {
@@ -52,11 +62,18 @@ RepairStageStatus RepairStage::status() const {
 void RepairStage::WorkerLoop() {
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
-    wake_worker_.wait(lock, [&] { return stop_ || has_mail_; });
+    wake_worker_.wait(lock, [&] { return stop_ || has_mail_ || !finals_.empty(); });
     if (stop_) return;
-    std::swap(working_, mailbox_);  // moves buffers, no copy
-    std::swap(working_record_, mailbox_record_);
-    has_mail_ = false;
+    working_final_ = !finals_.empty();
+    if (working_final_) {
+      std::swap(working_, finals_.front().cloud);
+      std::swap(working_record_, finals_.front().record);
+      finals_.pop_front();
+    } else {
+      std::swap(working_, mailbox_);  // moves buffers, no copy
+      std::swap(working_record_, mailbox_record_);
+      has_mail_ = false;
+    }
     busy_ = true;  // in the same critical section: Drain never sees a gap
     lock.unlock();
 
@@ -110,6 +127,7 @@ void RepairStage::WorkerLoop() {
 
     lock.lock();
     if (published) ++status_.published;
+    if (working_final_) --status_.finals_pending;
     busy_ = false;
     idle_.notify_all();
   }

@@ -3,7 +3,10 @@
 // ~33 ms, so the repair gets a thread of its own, fed through a one-slot
 // mailbox holding the latest cloud. A cloud still waiting when a newer one
 // arrives is replaced (and counted as superseded): the planner wants the
-// freshest model, not a backlog of stale ones.
+// freshest model, not a backlog of stale ones. A grasp's final model
+// (ObjectCloud::is_final) is never replaced: finals wait in a queue of
+// their own, are repaired first, in order, and a cloud of the same grasp
+// waiting in the mailbox when its final comes is superseded by it.
 //
 // Threads: Submit and status() are safe from any thread and never wait for
 // a repair (they take a short lock; Submit copies the cloud into a slot
@@ -14,6 +17,7 @@
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <mutex>
 #include <string>
@@ -39,6 +43,8 @@ struct RepairStageStatus {
   size_t last_points_in{0};
   size_t last_points_out{0};
   std::string last_status;
+  /// Final models waiting or being repaired now (status "repairing").
+  int64_t finals_pending{0};
 };
 
 class RepairStage {
@@ -79,6 +85,12 @@ class RepairStage {
   ObjectCloud mailbox_;        // the latest cloud, valid while has_mail_
   evidence::VisibilityRecord mailbox_record_;  // empty when none was given
   bool has_mail_{false};
+  struct Final {
+    ObjectCloud cloud;
+    evidence::VisibilityRecord record;
+  };
+  std::deque<Final> finals_;   // once per grasp: allocation is fine here
+  bool working_final_{false};
   ObjectCloud working_;        // the worker's; swapped with mailbox_, never copied
   evidence::VisibilityRecord working_record_;
   bool busy_{false};

@@ -23,7 +23,39 @@ struct LcmBusSubscriber::Impl {
   Eigen::Isometry3d T_C_B{Eigen::Isometry3d::Identity()};
   std::optional<CameraIntrinsics> intrinsics;
   std::string error;
+  io::MessageError reason{io::MessageError::kNone};
+  // Time base per channel (receive thread only), see kNonMonotonicTime.
+  struct Clock {
+    int64_t last_utime{-1};
+    int rejected_in_a_row{0};
+  };
+  Clock state_clock, depth_clock;
 };
+
+namespace {
+// True if `utime` may follow what `clock` took last (strictly newer when
+// `strict`); updates the clock.
+template <typename ClockT>
+bool TakeTime(ClockT* clock, int64_t utime, bool strict, int resync_after) {
+  const bool in_order =
+      clock->last_utime < 0 || (strict ? utime > clock->last_utime : utime >= clock->last_utime);
+  if (!in_order && ++clock->rejected_in_a_row <= resync_after) return false;
+  clock->last_utime = utime;
+  clock->rejected_in_a_row = 0;
+  return true;
+}
+}  // namespace
+
+void LcmBusSubscriber::CountBad(io::MessageError reason) {
+  ++decode_errors_;
+  ++bad_by_reason_[static_cast<size_t>(reason)];
+}
+
+BadMessageCounts LcmBusSubscriber::bad_messages() const {
+  BadMessageCounts counts;
+  for (size_t i = 0; i < counts.by_reason.size(); ++i) counts.by_reason[i] = bad_by_reason_[i];
+  return counts;
+}
 
 LcmBusSubscriber::LcmBusSubscriber(const Config& config, StateCallback on_state,
                                    DepthCallback on_depth, SessionCallback on_session)
@@ -42,8 +74,13 @@ LcmBusSubscriber::LcmBusSubscriber(const Config& config, StateCallback on_state,
       config.channels.gripper_state,
       +[](const lcm::ReceiveBuffer* rbuf, const std::string&, LcmBusSubscriber* self) {
         Impl& s = *self->impl_;
-        if (!io::DecodeGripperState(rbuf->data, rbuf->data_size, s.T_C_B, &s.state, &s.error)) {
-          ++self->decode_errors_;
+        if (!io::DecodeGripperState(rbuf->data, rbuf->data_size, s.T_C_B, &s.state, &s.error,
+                                    &s.reason)) {
+          self->CountBad(s.reason);
+          return;
+        }
+        if (!TakeTime(&s.state_clock, s.state.utime, true, kResyncAfterNonMonotonic)) {
+          self->CountBad(io::MessageError::kNonMonotonicTime);
           return;
         }
         ++self->states_received_;
@@ -55,9 +92,16 @@ LcmBusSubscriber::LcmBusSubscriber(const Config& config, StateCallback on_state,
         config.channels.depth,
         +[](const lcm::ReceiveBuffer* rbuf, const std::string&, LcmBusSubscriber* self) {
           Impl& s = *self->impl_;
-          if (!io::DecodeDepthImage(rbuf->data, rbuf->data_size, &s.depth, &s.error) ||
-              !ApplyIntrinsicsOverride(s.intrinsics, &s.depth, &s.error)) {
-            ++self->decode_errors_;
+          if (!io::DecodeDepthImage(rbuf->data, rbuf->data_size, &s.depth, &s.error, &s.reason)) {
+            self->CountBad(s.reason);
+            return;
+          }
+          if (!ApplyIntrinsicsOverride(s.intrinsics, &s.depth, &s.error)) {
+            self->CountBad(io::MessageError::kIntrinsicsMismatch);
+            return;
+          }
+          if (!TakeTime(&s.depth_clock, s.depth.utime, false, kResyncAfterNonMonotonic)) {
+            self->CountBad(io::MessageError::kNonMonotonicTime);
             return;
           }
           ++self->depth_received_;
@@ -69,8 +113,9 @@ LcmBusSubscriber::LcmBusSubscriber(const Config& config, StateCallback on_state,
       config.channels.session,
       +[](const lcm::ReceiveBuffer* rbuf, const std::string&, LcmBusSubscriber* self) {
         Impl& s = *self->impl_;
-        if (!io::DecodeSessionDescription(rbuf->data, rbuf->data_size, &s.session, &s.error)) {
-          ++self->decode_errors_;
+        if (!io::DecodeSessionDescription(rbuf->data, rbuf->data_size, &s.session, &s.error,
+                                          &s.reason)) {
+          self->CountBad(s.reason);
           return;
         }
         ++self->sessions_received_;

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <array>
 #include <atomic>
 #include <functional>
 #include <memory>
@@ -16,6 +17,23 @@
 #include "graspfill/io/messages.hpp"
 
 namespace graspfill::rt {
+
+/// Bad messages received on our channels, per reason, cumulative since the
+/// subscriber started: for the module's status (a bad message is counted
+/// and dropped, never fatal).
+struct BadMessageCounts {
+  static constexpr size_t kNumReasons = static_cast<size_t>(io::MessageError::kCount);
+  /// Indexed by io::MessageError (kNone stays 0).
+  std::array<int64_t, kNumReasons> by_reason{};
+  int64_t operator[](io::MessageError reason) const {
+    return by_reason[static_cast<size_t>(reason)];
+  }
+  int64_t total() const {
+    int64_t sum = 0;
+    for (int64_t n : by_reason) sum += n;
+    return sum;
+  }
+};
 
 class LcmBusSubscriber {
  public:
@@ -51,8 +69,19 @@ class LcmBusSubscriber {
   int64_t states_received() const { return states_received_; }
   int64_t depth_received() const { return depth_received_; }
   int64_t sessions_received() const { return sessions_received_; }
-  /// Messages on our channels that did not decode (counted, never thrown).
+  /// Messages on our channels that did not decode or were dropped
+  /// (counted, never thrown): bad_messages().total().
   int64_t decode_errors() const { return decode_errors_; }
+  /// The same, per reason (a snapshot; safe from any thread). Besides the
+  /// decoders' reasons (io::MessageError): kIntrinsicsMismatch, a depth
+  /// image of another size than the session's intrinsics override, and
+  /// kNonMonotonicTime, a gripper state not newer than the last one taken
+  /// or a depth image older than the last one (after
+  /// kResyncAfterNonMonotonic such messages in a row on one channel the
+  /// next is taken as a new time base: a restarted publisher, or one bogus
+  /// stamp far in the future, must not silence the channel).
+  BadMessageCounts bad_messages() const;
+  static constexpr int kResyncAfterNonMonotonic = 10;
 
  private:
   struct Impl;
@@ -61,6 +90,8 @@ class LcmBusSubscriber {
   std::atomic<int64_t> depth_received_{0};
   std::atomic<int64_t> sessions_received_{0};
   std::atomic<int64_t> decode_errors_{0};
+  std::array<std::atomic<int64_t>, BadMessageCounts::kNumReasons> bad_by_reason_{};
+  void CountBad(io::MessageError reason);
   std::atomic<bool> stop_{false};
   std::thread thread_;
 };

@@ -13,12 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "graspfill/io/lcm_log_reader.hpp"
 #include "graspfill/io/messages.hpp"
 #include "sources/frame_source.hpp"
-
-namespace lcm {
-class LogFile;
-}  // namespace lcm
 
 namespace graspfill::rt {
 
@@ -51,7 +48,8 @@ class LcmLogSource : public FrameSource {
 
   /// Opens the log.
   /// @throws std::runtime_error "cannot open log '<path>': <reason>" if the
-  ///   file is missing, a directory or unreadable, and "'<path>' is not an
+  ///   file is missing, a directory, not a regular file (a FIFO) or
+  ///   unreadable, and "'<path>' is not an
   ///   LCM log ..." if it does not start with an LCM event header. An empty
   ///   file is a log with no events.
   explicit LcmLogSource(const Config& config);
@@ -73,6 +71,9 @@ class LcmLogSource : public FrameSource {
   /// is cut short (a log copied while being written, a full disk) or the
   /// bytes after an event are not an event.
   bool truncated() const { return truncated_; }
+  /// Why reading stopped early (see truncated()), naming the file, the
+  /// byte offset and the field; "" otherwise.
+  const std::string& stop_reason() const { return reader_->error(); }
   /// Events read from the file so far, on every channel.
   int64_t events_read() const { return events_read_; }
   /// Events skipped because they were on none of our channels.
@@ -84,8 +85,8 @@ class LcmLogSource : public FrameSource {
 
  private:
   Config config_;
-  std::unique_ptr<lcm::LogFile> log_;
-  int64_t file_size_{0};
+  std::unique_ptr<io::LcmLogReader> reader_;  // bounded: never trusts a declared length
+  io::LogEvent log_event_;                    // reused
   bool ended_{false};
   bool truncated_{false};
   int64_t events_read_{0};

@@ -6,6 +6,10 @@
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include "drivers/openni2_replay/graspfill_replay_properties.hpp"
 
 namespace graspfill::rt {
 namespace {
@@ -40,6 +44,14 @@ double MetersPerUnit(openni::PixelFormat format) {
       return 0.0;
   }
 }
+
+std::string ModeText(const openni::VideoMode& m) {
+  return std::to_string(m.getResolutionX()) + "x" + std::to_string(m.getResolutionY()) + "@" +
+         std::to_string(m.getFps()) +
+         (m.getPixelFormat() == openni::PIXEL_FORMAT_DEPTH_1_MM ? "/1mm" : "/100um");
+}
+
+constexpr double kPi = 3.14159265358979323846;
 
 int64_t WallClockMicros() {
   return std::chrono::duration_cast<std::chrono::microseconds>(
@@ -76,6 +88,15 @@ class OpenNI2Source::Impl {
       ended_ = true;
       return FrameResult::kEndOfStream;
     }
+    if (replay_device_) {  // every frame served was read by an earlier call
+      int frames_left = 1;
+      if (device_.getProperty(openni2_replay::kDevicePropertyFramesLeft, &frames_left) ==
+              openni::STATUS_OK &&
+          frames_left == 0) {
+        ended_ = true;
+        return FrameResult::kEndOfStream;
+      }
+    }
     openni::VideoStream* streams[] = {&stream_};
     int ready = -1;
     const openni::Status wait = openni::OpenNI::waitForAnyStream(
@@ -106,19 +127,17 @@ class OpenNI2Source::Impl {
       return Bad("frame has inconsistent size");
     }
 
-    frame->utime = recording_ ? static_cast<int64_t>(frame_.getTimestamp())
-                              : received_utime;
-    CameraIntrinsics& K = frame->intrinsics;
-    K.width = width;
-    K.height = height;
-    // Pinhole focal lengths from the field of view: tan(fov/2) = (w/2)/f.
-    K.fx = 0.5 * width / std::tan(0.5 * horizontal_fov_rad_);
-    K.fy = 0.5 * height / std::tan(0.5 * vertical_fov_rad_);
-    K.cx = 0.5 * (width - 1);
-    K.cy = 0.5 * (height - 1);
+    frame->utime = recording_ || replay_device_ ? static_cast<int64_t>(frame_.getTimestamp())
+                                                : received_utime;
+    if (width != intrinsics_.width || height != intrinsics_.height) {
+      return Bad("frame of " + std::to_string(width) + "x" + std::to_string(height) +
+                 " pixels in a " + std::to_string(intrinsics_.width) + "x" +
+                 std::to_string(intrinsics_.height) + " mode");
+    }
+    frame->intrinsics = intrinsics_;
     frame->depth_m.resize(static_cast<size_t>(width) * height);
     const auto* bytes = static_cast<const uint8_t*>(frame_.getData());
-    const float scale = static_cast<float>(meters_per_unit);
+    const std::vector<float>& meters = meters_per_unit == 0.001 ? meters_1mm_ : meters_100um_;
     // Rows may be padded (stride); pixels are host-endian uint16, copied
     // with memcpy since the buffer need not be aligned.
     for (int v = 0; v < height; ++v) {
@@ -127,7 +146,7 @@ class OpenNI2Source::Impl {
       for (int u = 0; u < width; ++u) {
         uint16_t units;
         std::memcpy(&units, src + 2 * u, sizeof(units));
-        dst[u] = static_cast<float>(units) * scale;
+        dst[u] = meters[units];
       }
     }
     return FrameResult::kOk;
@@ -135,6 +154,23 @@ class OpenNI2Source::Impl {
 
   const std::string& last_error() const { return last_error_; }
   bool recording() const { return recording_; }
+  bool paced_by_reader() const {
+    return (recording_ && !config_.realtime_playback) ||
+           (replay_device_ && config_.replay_speed == 0.0f);
+  }
+  std::string mode_text() const { return ModeText(stream_.getVideoMode()); }
+
+  void StartRecording(const std::string& path) {
+    if (recorder_.create(path.c_str()) != openni::STATUS_OK ||
+        recorder_.attach(stream_) != openni::STATUS_OK ||
+        recorder_.start() != openni::STATUS_OK) {
+      recorder_.destroy();
+      throw std::runtime_error("OpenNI2: cannot record into '" + path + "': " + OpenNIError());
+    }
+    // The recorder's own thread takes the start asynchronously and refuses
+    // frames until then: give it time, so that the first frame is kept.
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
 
  private:
   void Open(const std::string& name) {
@@ -144,6 +180,13 @@ class OpenNI2Source::Impl {
     if (device_.open(uri) != openni::STATUS_OK) {
       throw std::runtime_error("OpenNI2: cannot open " + name + ": " +
                                OpenNIError());
+    }
+    replay_device_ = device_.isPropertySupported(openni2_replay::kDevicePropertyFramesLeft);
+    if (replay_device_ &&
+        device_.setProperty(openni2_replay::kDevicePropertySpeed, config_.replay_speed) !=
+            openni::STATUS_OK) {
+      throw std::runtime_error("OpenNI2: " + name + " refuses the replay speed " +
+                               std::to_string(config_.replay_speed));
     }
     if (!device_.hasSensor(openni::SENSOR_DEPTH)) {
       throw std::runtime_error("OpenNI2: " + name + " has no depth sensor");
@@ -171,13 +214,61 @@ class OpenNI2Source::Impl {
                                name + ": " + OpenNIError());
     }
     started_ = true;
-    horizontal_fov_rad_ = stream_.getHorizontalFieldOfView();
-    vertical_fov_rad_ = stream_.getVerticalFieldOfView();
-    if (!(horizontal_fov_rad_ > 0.0f && horizontal_fov_rad_ < 3.1f &&
-          vertical_fov_rad_ > 0.0f && vertical_fov_rad_ < 3.1f)) {
-      throw std::runtime_error("OpenNI2: " + name +
-                               " reports no usable field of view");
+    SetIntrinsics(name);
+    // Meters per unit value, rounded once to float as depth_image_t's
+    // decoding does, so that a replayed recording gives the same floats.
+    meters_1mm_.resize(65536);
+    meters_100um_.resize(65536);
+    for (int u = 0; u < 65536; ++u) {
+      meters_1mm_[u] = static_cast<float>(u * 0.001);
+      meters_100um_[u] = static_cast<float>(u * 0.0001);
     }
+  }
+
+  // The stream's pinhole model, then Config::intrinsics.
+  void SetIntrinsics(const std::string& name) {
+    const openni::VideoMode mode = stream_.getVideoMode();
+    CameraIntrinsics& K = intrinsics_;
+    K.width = mode.getResolutionX();
+    K.height = mode.getResolutionY();
+    double exact[4];
+    int size = sizeof(exact);
+    if (stream_.isPropertySupported(openni2_replay::kStreamPropertyIntrinsics) &&
+        stream_.getProperty(openni2_replay::kStreamPropertyIntrinsics, exact, &size) ==
+            openni::STATUS_OK &&
+        size == sizeof(exact)) {
+      K.fx = exact[0];
+      K.fy = exact[1];
+      K.cx = exact[2];
+      K.cy = exact[3];
+    } else {
+      const float hfov = stream_.getHorizontalFieldOfView();
+      const float vfov = stream_.getVerticalFieldOfView();
+      const bool fov_given = config_.intrinsics.hfov_deg && config_.intrinsics.vfov_deg;
+      if (!fov_given && !(hfov > 0.0f && hfov < 3.1f && vfov > 0.0f && vfov < 3.1f)) {
+        throw std::runtime_error("OpenNI2: " + name +
+                                 " reports no usable field of view (give --fov-deg)");
+      }
+      // Pinhole focal lengths from the field of view: tan(fov/2) = (w/2)/f.
+      K.fx = 0.5 * K.width / std::tan(0.5 * hfov);
+      K.fy = 0.5 * K.height / std::tan(0.5 * vfov);
+      K.cx = 0.5 * (K.width - 1);
+      K.cy = 0.5 * (K.height - 1);
+    }
+    const IntrinsicsOverride& o = config_.intrinsics;
+    if (o.hfov_deg) K.fx = 0.5 * K.width / std::tan(0.5 * *o.hfov_deg * kPi / 180.0);
+    if (o.vfov_deg) K.fy = 0.5 * K.height / std::tan(0.5 * *o.vfov_deg * kPi / 180.0);
+    if (o.fx) K.fx = *o.fx;
+    if (o.fy) K.fy = *o.fy;
+    if (o.cx) K.cx = *o.cx;
+    if (o.cy) K.cy = *o.cy;
+  }
+
+  bool Fits(const openni::VideoMode& m, openni::PixelFormat format) const {
+    return m.getPixelFormat() == format &&
+           (config_.width == 0 || m.getResolutionX() == config_.width) &&
+           (config_.height == 0 || m.getResolutionY() == config_.height) &&
+           (config_.fps == 0 || m.getFps() == config_.fps);
   }
 
   void SetVideoMode(const std::string& name) {
@@ -185,38 +276,35 @@ class OpenNI2Source::Impl {
         config_.depth_mode == DepthMode::k100um
             ? openni::PIXEL_FORMAT_DEPTH_100_UM
             : openni::PIXEL_FORMAT_DEPTH_1_MM;
+    if (Fits(stream_.getVideoMode(), wanted)) return;  // the device's own
     const openni::SensorInfo& info = stream_.getSensorInfo();
     const openni::Array<openni::VideoMode>& modes =
         info.getSupportedVideoModes();
     std::string available;
     for (int i = 0; i < modes.getSize(); ++i) {
       const openni::VideoMode& m = modes[i];
-      if (m.getPixelFormat() == wanted && m.getResolutionX() == config_.width &&
-          m.getResolutionY() == config_.height && m.getFps() == config_.fps) {
+      if (Fits(m, wanted)) {
         if (stream_.setVideoMode(m) != openni::STATUS_OK) {
           throw std::runtime_error("OpenNI2: cannot set the video mode of " +
                                    name + ": " + OpenNIError());
         }
         return;
       }
-      if (MetersPerUnit(m.getPixelFormat()) != 0.0) {
-        available += " " + std::to_string(m.getResolutionX()) + "x" +
-                     std::to_string(m.getResolutionY()) + "@" +
-                     std::to_string(m.getFps()) +
-                     (m.getPixelFormat() == openni::PIXEL_FORMAT_DEPTH_1_MM
-                          ? "/1mm"
-                          : "/100um");
-      }
+      if (MetersPerUnit(m.getPixelFormat()) != 0.0) available += " " + ModeText(m);
     }
+    auto field = [](int v) { return v == 0 ? std::string("*") : std::to_string(v); };
     throw std::runtime_error(
-        "OpenNI2: " + name + " has no depth mode " +
-        std::to_string(config_.width) + "x" + std::to_string(config_.height) +
-        "@" + std::to_string(config_.fps) +
+        "OpenNI2: " + name + " has no depth mode " + field(config_.width) + "x" +
+        field(config_.height) + "@" + field(config_.fps) +
         (wanted == openni::PIXEL_FORMAT_DEPTH_1_MM ? "/1mm" : "/100um") +
         "; available:" + (available.empty() ? " none" : available));
   }
 
   void Close() {
+    if (recorder_.isValid()) {
+      recorder_.stop();
+      recorder_.destroy();  // writes what is queued, then the seek table
+    }
     frame_.release();
     if (started_) stream_.stop();
     started_ = false;
@@ -238,11 +326,13 @@ class OpenNI2Source::Impl {
   bool ended_{false};
   int num_frames_{0};
   int frames_read_{0};
-  float horizontal_fov_rad_{0.0f};
-  float vertical_fov_rad_{0.0f};
+  bool replay_device_{false};
+  CameraIntrinsics intrinsics_;
+  std::vector<float> meters_1mm_, meters_100um_;  // by unit value
   openni::Device device_;
   openni::VideoStream stream_;
   openni::VideoFrameRef frame_;
+  openni::Recorder recorder_;
   std::string last_error_;
 };
 
@@ -265,5 +355,13 @@ const std::string& OpenNI2Source::last_error() const {
 }
 
 bool OpenNI2Source::is_recording() const { return impl_->recording(); }
+
+bool OpenNI2Source::paced_by_reader() const { return impl_->paced_by_reader(); }
+
+std::string OpenNI2Source::mode_text() const { return impl_->mode_text(); }
+
+void OpenNI2Source::StartRecording(const std::string& oni_path) {
+  impl_->StartRecording(oni_path);
+}
 
 }  // namespace graspfill::rt

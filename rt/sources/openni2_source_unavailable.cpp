@@ -29,5 +29,8 @@ const std::string& OpenNI2Source::last_error() const {
 }
 
 bool OpenNI2Source::is_recording() const { return false; }
+bool OpenNI2Source::paced_by_reader() const { return false; }
+std::string OpenNI2Source::mode_text() const { return ""; }
+void OpenNI2Source::StartRecording(const std::string&) {}
 
 }  // namespace graspfill::rt

@@ -1,9 +1,6 @@
 // ClawModel::Load: claw description files (format in config/claws/README.md).
 // Every error names the file and the JSON field it comes from, since these
 // files are written by hand for each robot.
-#include <open3d/geometry/TriangleMesh.h>
-#include <open3d/io/TriangleMeshIO.h>
-
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +10,9 @@
 #include <stdexcept>
 
 #include "graspfill/claw/claw_model.hpp"
+#include "graspfill/claw/mesh_check.hpp"
+#include "graspfill/claw/mesh_file.hpp"
+#include "graspfill/claw/urdf_claw.hpp"
 
 namespace graspfill::claw {
 namespace {
@@ -83,7 +83,9 @@ Eigen::Isometry3d ReadPose(const Context& ctx, const json& j,
 // optional key ("mesh_orgin") would otherwise be silently ignored.
 void CheckKeys(const Context& ctx, const json& j, const std::string& field,
                std::initializer_list<const char*> allowed) {
-  for (const auto& [key, value] : j.items()) {
+  for (const auto& item : j.items()) {
+    // Not a structured binding: clang (the fuzz build) cannot capture one.
+    const std::string key = item.key();
     if (key == "doc") continue;  // free text anywhere
     if (std::find_if(allowed.begin(), allowed.end(), [&](const char* a) {
           return key == a;
@@ -177,28 +179,21 @@ Joint ReadJoint(const Context& ctx, const json& j, const std::string& field) {
   return joint;
 }
 
+// Meshes are checked here, where the file and link can still be named.
 TriangleMesh ReadMesh(const Context& ctx, const fs::path& path, double scale,
-                      const std::string& field) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) {
-    ctx.Fail(field, "mesh file not found: " + path.string());
-  }
-  open3d::geometry::TriangleMesh o3d_mesh;
-  if (!open3d::io::ReadTriangleMesh(path.string(), o3d_mesh)) {
-    ctx.Fail(field, "cannot read mesh file: " + path.string());
-  }
-  // STL stores three vertices per triangle: merge them so that the mesh is
-  // connected and per-frame vertex work stays small.
-  o3d_mesh.RemoveDuplicatedVertices();
-  if (o3d_mesh.triangles_.empty()) {
-    ctx.Fail(field, "mesh has no triangles: " + path.string());
-  }
+                      const std::string& field, int* degenerate_dropped) {
   TriangleMesh mesh;
-  mesh.vertices.reserve(o3d_mesh.vertices_.size());
-  for (const Eigen::Vector3d& v : o3d_mesh.vertices_) {
-    mesh.vertices.push_back((scale * v).cast<float>());
+  try {
+    mesh = ReadMeshFile(path.string());
+  } catch (const std::runtime_error& e) {
+    ctx.Fail(field, e.what());
   }
-  mesh.triangles.assign(o3d_mesh.triangles_.begin(), o3d_mesh.triangles_.end());
+  if (const std::string defect = MeshDefect(mesh); !defect.empty()) {
+    ctx.Fail(field, path.string() + ": " + defect);
+  }
+  for (Eigen::Vector3f& v : mesh.vertices) v *= static_cast<float>(scale);
+  *degenerate_dropped = DropDegenerateTriangles(&mesh);
+  if (mesh.empty()) ctx.Fail(field, path.string() + ": every triangle has zero area");
   return mesh;
 }
 
@@ -206,13 +201,14 @@ TriangleMesh ReadMesh(const Context& ctx, const fs::path& path, double scale,
 
 ClawModel ClawModel::Load(const std::string& description_path,
                           const std::string& mesh_root) {
+  if (IsUrdfClaw(description_path)) return LoadUrdfClaw(description_path, mesh_root);
   const Context ctx(description_path);
   std::ifstream in(description_path);
   if (!in) ctx.Fail("", "cannot open claw description file");
   json doc;
   try {
     doc = json::parse(in);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // also a number out of range
     ctx.Fail("", std::string("bad JSON: ") + e.what());
   }
   if (!doc.is_object()) ctx.Fail("", "bad JSON: top level must be an object");
@@ -271,7 +267,7 @@ ClawModel ClawModel::Load(const std::string& description_path,
     if (const json* mesh = Find(j, "mesh")) {
       const fs::path rel = ReadString(ctx, *mesh, field + ".mesh");
       link.mesh = ReadMesh(ctx, rel.is_absolute() ? rel : mesh_dir / rel, scale,
-                           field + ".mesh");
+                           field + ".mesh", &link.degenerate_triangles_dropped);
     }
     parsed.push_back(std::move(link));
   }

@@ -341,10 +341,12 @@ Rect ClawMask::Impl::MarkTiles(const Rect& box_roi, bool vertices_projected) {
         v_lo > static_cast<float>(box_roi.v1)) {
       continue;
     }
-    const int u0 = std::max(static_cast<int>(u_lo), box_roi.u0);
-    const int u1 = std::min(static_cast<int>(u_hi), box_roi.u1);
-    const int v0 = std::max(static_cast<int>(v_lo), box_roi.v0);
-    const int v1 = std::min(static_cast<int>(v_hi), box_roi.v1);
+    // Clamped in float before the conversion (huge or NaN projections must
+    // not overflow int; fmax/fmin drop a NaN).
+    const int u0 = static_cast<int>(std::fmin(std::fmax(u_lo, static_cast<float>(box_roi.u0)), static_cast<float>(box_roi.u1)));
+    const int u1 = static_cast<int>(std::fmax(std::fmin(u_hi, static_cast<float>(box_roi.u1)), static_cast<float>(box_roi.u0)));
+    const int v0 = static_cast<int>(std::fmin(std::fmax(v_lo, static_cast<float>(box_roi.v0)), static_cast<float>(box_roi.v1)));
+    const int v1 = static_cast<int>(std::fmax(std::fmin(v_hi, static_cast<float>(box_roi.v1)), static_cast<float>(box_roi.v0)));
     // Tiles wholly outside one of the triangle's edges (grown by the margin)
     // are skipped: the box alone is loose for long oblique triangles.
     Eigen::Vector3f edge[3];  // (nx, ny, c): n.x + c >= 0 inside

@@ -2,6 +2,8 @@
 // Loading description files lives in claw_loader.cpp.
 #include "graspfill/claw/claw_model.hpp"
 
+#include "graspfill/claw/mesh_check.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -134,6 +136,12 @@ ClawModel::ClawModel(std::string name, std::vector<Link> links,
                                   link.name +
                                   "' must have a parent listed before it");
     }
+    // A bad index would only fail in the ray caster, at the first gripper
+    // state and far from the file it came from.
+    if (const std::string defect = MeshDefect(link.mesh); !defect.empty()) {
+      throw std::invalid_argument("ClawModel '" + name_ + "': link '" + link.name +
+                                  "': mesh: " + defect);
+    }
     if (link.joint.type != JointType::kFixed) {
       const double n = link.joint.axis.norm();
       if (!(n > 1e-9)) {
@@ -166,8 +174,9 @@ std::vector<Eigen::Isometry3d> ClawModel::LinkPoses(
       const bool from_index =
           joint.joint_index >= 0 &&
           joint.joint_index < static_cast<int>(joint_values.size());
-      double value = from_index ? joint_values[joint.joint_index]
-                                : joint.offset + joint.gain * opening_m;
+      double value =
+          from_index ? joint.joint_bias + joint.joint_scale * joint_values[joint.joint_index]
+                     : joint.offset + joint.gain * opening_m;
       value = std::clamp(value, std::min(joint.lower, joint.upper),
                          std::max(joint.lower, joint.upper));
       if (joint.type == JointType::kPrismatic) {

@@ -75,9 +75,12 @@ PoseLookup GripperStateBuffer::Lookup(int64_t utime, GripperState* out) const {
     return PoseLookup::kOk;
   }
   const GripperState& before = at(lo - 1);  // lo > 0: utime > oldest
-  if (after.utime - before.utime > max_gap_us_) return PoseLookup::kGap;
-  const double alpha = static_cast<double>(utime - before.utime) /
-                       static_cast<double>(after.utime - before.utime);
+  // Differences in 128 bits: states at INT64_MIN and INT64_MAX must not
+  // wrap into a small "gap" and interpolate a bogus pose.
+  const __int128 gap = static_cast<__int128>(after.utime) - before.utime;
+  if (gap > max_gap_us_) return PoseLookup::kGap;
+  const double alpha = static_cast<double>(static_cast<__int128>(utime) - before.utime) /
+                       static_cast<double>(gap);
   out->utime = utime;
   out->T_C_G = InterpolatePose(before.T_C_G, after.T_C_G, alpha);
   out->opening_m = (1.0 - alpha) * before.opening_m + alpha * after.opening_m;

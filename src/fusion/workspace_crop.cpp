@@ -33,11 +33,20 @@ PixelRect ProjectBox(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G,
   }
   // The projection of a box is contained in the hull of its projected
   // corners, so this rectangle is conservative.
+  // Clamped in double before the conversion: huge or non-finite
+  // projections (extreme intrinsics, a pose far away) must not overflow int.
+  if (!std::isfinite(u_min) || !std::isfinite(u_max) || !std::isfinite(v_min) ||
+      !std::isfinite(v_max)) {
+    return full;
+  }
+  auto to_pixel = [](double x, double offset, int size) {
+    return static_cast<int>(std::clamp(x + offset, 0.0, static_cast<double>(size)));
+  };
   PixelRect r;
-  r.u0 = std::clamp(static_cast<int>(std::floor(u_min)) - margin_px, 0, K.width);
-  r.v0 = std::clamp(static_cast<int>(std::floor(v_min)) - margin_px, 0, K.height);
-  r.u1 = std::clamp(static_cast<int>(std::ceil(u_max)) + 1 + margin_px, 0, K.width);
-  r.v1 = std::clamp(static_cast<int>(std::ceil(v_max)) + 1 + margin_px, 0, K.height);
+  r.u0 = to_pixel(std::floor(u_min), -margin_px, K.width);
+  r.v0 = to_pixel(std::floor(v_min), -margin_px, K.height);
+  r.u1 = to_pixel(std::ceil(u_max), 1.0 + margin_px, K.width);
+  r.v1 = to_pixel(std::ceil(v_max), 1.0 + margin_px, K.height);
   return r;
 }
 

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cstdio>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -20,6 +21,7 @@
 
 #include <graspfill/depth_image_t.hpp>
 #include <graspfill/gripper_state_t.hpp>
+#include <graspfill/gripper_state_v1_t.hpp>
 #include <graspfill/hole_t.hpp>
 #include <graspfill/module_status_t.hpp>
 #include <graspfill/object_cloud_t.hpp>
@@ -29,14 +31,33 @@
 namespace graspfill::io {
 namespace {
 
-// Largest depth image accepted (4096 x 4096); guards the allocation a
-// corrupt header could ask for.
-constexpr int64_t kMaxDepthPixels = int64_t{1} << 24;
 // Tolerance on |q| before a quaternion counts as not a rotation.
 constexpr double kUnitQuaternionTolerance = 1e-3;
 
-void SetError(std::string* error, const std::string& message) {
+// Why the decode in progress on this thread failed; read by the public
+// Decode* wrappers at the end of the file.
+thread_local MessageError t_reason = MessageError::kNone;
+
+void SetError(std::string* error, const std::string& message,
+              MessageError reason = MessageError::kMalformed) {
+  t_reason = reason;
   if (error != nullptr) *error = message;
+}
+
+std::string FormatLimit(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%g", v);
+  return buf;
+}
+
+bool UtimeInRange(const char* type, int64_t utime, std::string* error) {
+  if (utime < 0 || utime > kMaxUtime) {
+    SetError(error, std::string(type) + ": utime " + std::to_string(utime) + " outside 0.." +
+                        std::to_string(kMaxUtime) + " us",
+             MessageError::kBadTimestamp);
+    return false;
+  }
+  return true;
 }
 
 // Reads LCM's wire format (big-endian, counts before arrays) with bounds
@@ -92,10 +113,15 @@ class WireReader {
     return count >= 0 && static_cast<size_t>(count) <=
                              remaining() / (element_bytes ? element_bytes : 1);
   }
-  // An LCM string: int32 length including the NUL, then the bytes.
+  // An LCM string: int32 length including the NUL, then the bytes. The
+  // NUL must end it and be its only one: lcm-gen decodes embedded NULs
+  // into std::string but encodes with strlen, so such a string would
+  // decode and then fail to re-encode (found by fuzz_object_cloud).
   bool SkipString() {
     int32_t length;
-    return I32(&length) && length >= 1 && Skip(static_cast<size_t>(length));
+    const uint8_t* bytes = nullptr;
+    if (!I32(&length) || length < 1 || !Bytes(static_cast<size_t>(length), &bytes)) return false;
+    return std::memchr(bytes, 0, static_cast<size_t>(length)) == bytes + length - 1;
   }
   bool Hash(int64_t expected) {
     int64_t hash;
@@ -129,7 +155,7 @@ bool PoseFromWire(const char* type, const double position[3],
                   const double orientation[4], Eigen::Isometry3d* T,
                   std::string* error) {
   if (!AllFinite(position, 3) || !AllFinite(orientation, 4)) {
-    SetError(error, std::string(type) + ": pose is not finite");
+    SetError(error, std::string(type) + ": pose is not finite", MessageError::kBadPose);
     return false;
   }
   Eigen::Quaterniond q(orientation[0], orientation[1], orientation[2],
@@ -138,7 +164,8 @@ bool PoseFromWire(const char* type, const double position[3],
   if (std::abs(norm - 1.0) > kUnitQuaternionTolerance) {
     SetError(error, std::string(type) +
                         ": orientation is not a unit quaternion (|q| = " +
-                        std::to_string(norm) + ")");
+                        std::to_string(norm) + ")",
+             MessageError::kBadPose);
     return false;
   }
   q.normalize();
@@ -356,7 +383,7 @@ std::vector<uint8_t> EncodeDepthImage(const DepthFrame& frame,
   return EncodeMessage(msg);
 }
 
-bool DecodeDepthImage(const void* data, size_t size, DepthFrame* out,
+static bool DecodeDepthImageImpl(const void* data, size_t size, DepthFrame* out,
                       std::string* error) {
   if (!CheckBuffer(data, size, out, "depth_image_t", error)) return false;
   // Parsed in place (see the file comment); the layout is depth_image_t's.
@@ -386,19 +413,24 @@ bool DecodeDepthImage(const void* data, size_t size, DepthFrame* out,
   if (width <= 0 || height <= 0 ||
       int64_t{width} * height > kMaxDepthPixels) {
     SetError(error, "depth_image_t: bad image size " + std::to_string(width) +
-                        "x" + std::to_string(height));
+                        "x" + std::to_string(height),
+             MessageError::kBadSize);
     return false;
   }
-  if (!std::isfinite(fx) || !std::isfinite(fy) || fx <= 0.0 || fy <= 0.0 ||
-      !std::isfinite(cx) || !std::isfinite(cy)) {
-    SetError(error, "depth_image_t: bad intrinsics (non-finite or "
-                    "non-positive focal length)");
+  {
+    std::string why;
+    if (!IntrinsicsInRange(CameraIntrinsics{width, height, fx, fy, cx, cy}, &why)) {
+      SetError(error, "depth_image_t: bad intrinsics (" + why + ")", MessageError::kBadIntrinsics);
+      return false;
+    }
+  }
+  if (!(depth_scale >= kMinDepthScaleM && depth_scale <= kMaxDepthScaleM)) {
+    SetError(error, "depth_image_t: bad depth_scale (expected " + FormatLimit(kMinDepthScaleM) +
+                        ".." + FormatLimit(kMaxDepthScaleM) + " m per unit)",
+             MessageError::kBadDepthScale);
     return false;
   }
-  if (!std::isfinite(depth_scale) || depth_scale <= 0.0) {
-    SetError(error, "depth_image_t: bad depth_scale");
-    return false;
-  }
+  if (!UtimeInRange("depth_image_t", utime, error)) return false;
 
   const size_t num_pixels = static_cast<size_t>(width) * height;
   const uint8_t* samples = nullptr;  // little-endian uint16, maybe delta-coded
@@ -407,7 +439,8 @@ bool DecodeDepthImage(const void* data, size_t size, DepthFrame* out,
     if (static_cast<size_t>(num_bytes) != 2 * num_pixels) {
       SetError(error, "depth_image_t: RAW16 data has " +
                           std::to_string(num_bytes) + " bytes, expected " +
-                          std::to_string(2 * num_pixels));
+                          std::to_string(2 * num_pixels),
+               MessageError::kBadEncoding);
       return false;
     }
     samples = payload;
@@ -416,13 +449,15 @@ bool DecodeDepthImage(const void* data, size_t size, DepthFrame* out,
     raw.resize(2 * num_pixels);  // grows once, then reused
     if (!Inflate(payload, static_cast<size_t>(num_bytes), raw.data(),
                  raw.size(), error)) {
+      t_reason = MessageError::kBadEncoding;
       return false;
     }
     samples = raw.data();
     delta = true;
   } else {
     SetError(error, "depth_image_t: unknown encoding " +
-                        std::to_string(static_cast<int>(encoding)));
+                        std::to_string(static_cast<int>(encoding)),
+             MessageError::kBadEncoding);
     return false;
   }
 
@@ -460,18 +495,24 @@ std::vector<uint8_t> EncodeGripperState(const GripperState& state) {
   msg.opening_m = state.opening_m;
   msg.num_joints = static_cast<int32_t>(state.joint_values.size());
   msg.joint_values = state.joint_values;
+  msg.grasp_id = state.grasp_id;
   return EncodeMessage(msg);
 }
 
-bool DecodeGripperState(const void* data, size_t size,
+static bool DecodeGripperStateImpl(const void* data, size_t size,
                         const Eigen::Isometry3d& T_C_B, GripperState* out,
                         std::string* error) {
   if (!CheckBuffer(data, size, out, "gripper_state_t", error)) return false;
+  // Recordings made before grasp_id carry gripper_state_v1_t's layout (and
+  // fingerprint): read as grasp_id 0.
+  const bool v1 = WireReader(data, size).Hash(graspfill::gripper_state_v1_t::getHash());
   WireReader r(data, size);
   int32_t num_joints;
-  if (!r.Hash(graspfill::gripper_state_t::getHash()) ||
+  if (!r.Hash(v1 ? graspfill::gripper_state_v1_t::getHash()
+                 : graspfill::gripper_state_t::getHash()) ||
       !r.Skip(8 + 1 + 3 * 8 + 4 * 8 + 8) || !r.Count(&num_joints, 8) ||
-      !r.Skip(8 * static_cast<size_t>(num_joints)) || r.remaining() != 0) {
+      !r.Skip(8 * static_cast<size_t>(num_joints)) || (!v1 && !r.Skip(8)) ||
+      r.remaining() != 0) {
     SetError(error, "gripper_state_t: malformed message");
     return false;
   }
@@ -479,7 +520,21 @@ bool DecodeGripperState(const void* data, size_t size,
   // lcm-gen skips an array whose count is 0 without resizing it: clear
   // (keeping capacity) so nothing stale survives from the last message.
   msg.joint_values.clear();
-  if (!DecodeMessage(data, size, &msg, error)) return false;
+  if (v1) {
+    thread_local graspfill::gripper_state_v1_t old{};
+    old.joint_values.clear();
+    if (!DecodeMessage(data, size, &old, error)) return false;
+    msg.utime = old.utime;
+    msg.frame = old.frame;
+    std::copy(old.position, old.position + 3, msg.position);
+    std::copy(old.orientation, old.orientation + 4, msg.orientation);
+    msg.opening_m = old.opening_m;
+    msg.num_joints = old.num_joints;
+    msg.joint_values.assign(old.joint_values.begin(), old.joint_values.end());
+    msg.grasp_id = 0;
+  } else if (!DecodeMessage(data, size, &msg, error)) {
+    return false;
+  }
 
   Eigen::Isometry3d T_F_G;
   if (!PoseFromWire("gripper_state_t", msg.position, msg.orientation, &T_F_G,
@@ -488,21 +543,24 @@ bool DecodeGripperState(const void* data, size_t size,
   }
   if (!std::isfinite(msg.opening_m) ||
       !AllFinite(msg.joint_values.data(), msg.num_joints)) {
-    SetError(error, "gripper_state_t: opening or joint values not finite");
+    SetError(error, "gripper_state_t: opening or joint values not finite", MessageError::kBadValue);
     return false;
   }
+  if (!UtimeInRange("gripper_state_t", msg.utime, error)) return false;
   if (msg.frame == graspfill::gripper_state_t::FRAME_CAMERA) {
     out->T_C_G = T_F_G;
   } else if (msg.frame == graspfill::gripper_state_t::FRAME_BASE) {
     out->T_C_G = T_C_B * T_F_G;
   } else {
     SetError(error, "gripper_state_t: unknown frame " +
-                        std::to_string(static_cast<int>(msg.frame)));
+                        std::to_string(static_cast<int>(msg.frame)),
+             MessageError::kBadValue);
     return false;
   }
   out->utime = msg.utime;
   out->opening_m = msg.opening_m;
   out->joint_values.assign(msg.joint_values.begin(), msg.joint_values.end());
+  out->grasp_id = msg.grasp_id;
   return true;
 }
 
@@ -578,10 +636,12 @@ std::vector<uint8_t> EncodeObjectCloud(const ObjectCloud& cloud) {
     msg.timing_names.push_back(t.stage);
     msg.timing_ms.push_back(t.ms);
   }
+  msg.grasp_id = cloud.grasp_id;
+  msg.is_final = cloud.is_final ? 1 : 0;
   return EncodeMessage(msg);
 }
 
-bool DecodeObjectCloud(const void* data, size_t size, ObjectCloud* out,
+static bool DecodeObjectCloudImpl(const void* data, size_t size, ObjectCloud* out,
                        std::string* error) {
   if (!CheckBuffer(data, size, out, "object_cloud_t", error)) return false;
   // Walk the whole message so that every count is known to fit before the
@@ -605,6 +665,7 @@ bool DecodeObjectCloud(const void* data, size_t size, ObjectCloud* out,
               r.Count(&num_timings, 4 + 1 + 8);
     for (int32_t i = 0; ok && i < num_timings; ++i) ok = r.SkipString();
     ok = ok && r.Skip(8 * static_cast<size_t>(num_timings)) &&
+         r.Skip(8 + 1) &&  // grasp_id, is_final
          r.remaining() == 0;
     if (!ok) {
       SetError(error, "object_cloud_t: malformed message");
@@ -656,9 +717,11 @@ bool DecodeObjectCloud(const void* data, size_t size, ObjectCloud* out,
     }
   }
   if (msg.bound_num_bytes > 0) {
-    const int64_t voxels = int64_t{msg.bound_nx} * msg.bound_ny * msg.bound_nz;
+    // In 128 bits: three int32 counts overflow int64 (found by fuzz_object_cloud).
+    const __int128 voxels = static_cast<__int128>(msg.bound_nx) * msg.bound_ny * msg.bound_nz;
     if (msg.bound_nx <= 0 || msg.bound_ny <= 0 || msg.bound_nz <= 0 ||
-        !(msg.bound_voxel_m > 0.0f) || !std::isfinite(msg.bound_origin[0]) ||
+        !(msg.bound_voxel_m > 0.0f) || !std::isfinite(msg.bound_voxel_m) ||
+        !std::isfinite(msg.bound_origin[0]) ||
         !std::isfinite(msg.bound_origin[1]) || !std::isfinite(msg.bound_origin[2]) ||
         (voxels + 7) / 8 != msg.bound_num_bytes) {
       SetError(error, "object_cloud_t: inconsistent safe bound (" + std::to_string(msg.bound_nx) +
@@ -721,6 +784,8 @@ bool DecodeObjectCloud(const void* data, size_t size, ObjectCloud* out,
     out->timings[i].stage = msg.timing_names[i];
     out->timings[i].ms = msg.timing_ms[i];
   }
+  out->grasp_id = msg.grasp_id;
+  out->is_final = msg.is_final != 0;
   return true;
 }
 
@@ -735,15 +800,28 @@ std::vector<uint8_t> EncodeModuleStatus(const ModuleStatus& status) {
   msg.frames_dropped = status.frames_dropped;
   msg.last_frame_ms = status.last_frame_ms;
   msg.state = status.state;
+  msg.state_code = static_cast<int8_t>(status.state_code);
+  msg.state_detail = status.state_detail;
+  msg.frames_skipped_no_pose = status.frames_skipped_no_pose;
+  msg.frames_skipped_clock_jump = status.frames_skipped_clock_jump;
+  msg.frames_bad = status.frames_bad;
+  msg.decode_errors = status.decode_errors;
+  msg.clock_jumps = status.clock_jumps;
+  msg.repairs_done = status.repairs_done;
+  msg.repairs_superseded = status.repairs_superseded;
+  msg.repairs_failed = status.repairs_failed;
+  msg.grasp_id = status.grasp_id;
+  msg.grasps_completed = status.grasps_completed;
   return EncodeMessage(msg);
 }
 
-bool DecodeModuleStatus(const void* data, size_t size, ModuleStatus* out,
+static bool DecodeModuleStatusImpl(const void* data, size_t size, ModuleStatus* out,
                         std::string* error) {
   if (!CheckBuffer(data, size, out, "module_status_t", error)) return false;
   WireReader r(data, size);
   if (!r.Hash(graspfill::module_status_t::getHash()) || !r.Skip(5 * 8 + 8) ||
-      !r.SkipString() || r.remaining() != 0) {
+      !r.SkipString() || !r.Skip(1) || !r.SkipString() || !r.Skip(10 * 8) ||
+      r.remaining() != 0) {
     SetError(error, "module_status_t: malformed message");
     return false;
   }
@@ -756,6 +834,18 @@ bool DecodeModuleStatus(const void* data, size_t size, ModuleStatus* out,
   out->frames_dropped = msg.frames_dropped;
   out->last_frame_ms = msg.last_frame_ms;
   out->state = msg.state;
+  out->state_code = static_cast<ModuleState>(msg.state_code);
+  out->state_detail = msg.state_detail;
+  out->frames_skipped_no_pose = msg.frames_skipped_no_pose;
+  out->frames_skipped_clock_jump = msg.frames_skipped_clock_jump;
+  out->frames_bad = msg.frames_bad;
+  out->decode_errors = msg.decode_errors;
+  out->clock_jumps = msg.clock_jumps;
+  out->repairs_done = msg.repairs_done;
+  out->repairs_superseded = msg.repairs_superseded;
+  out->repairs_failed = msg.repairs_failed;
+  out->grasp_id = msg.grasp_id;
+  out->grasps_completed = msg.grasps_completed;
   return true;
 }
 
@@ -779,13 +869,14 @@ bool CheckSession(const SessionDescription& s, std::string* error) {
     const CameraIntrinsics& K = *s.intrinsics;
     if (K.width <= 0 || K.height <= 0 || int64_t{K.width} * K.height > kMaxDepthPixels) {
       SetError(error, std::string(type) + ": bad intrinsics override size " +
-                          std::to_string(K.width) + "x" + std::to_string(K.height));
+                          std::to_string(K.width) + "x" + std::to_string(K.height),
+               MessageError::kBadSize);
       return false;
     }
-    if (!std::isfinite(K.fx) || !std::isfinite(K.fy) || !(K.fx > 0.0) || !(K.fy > 0.0) ||
-        !std::isfinite(K.cx) || !std::isfinite(K.cy)) {
-      SetError(error, std::string(type) +
-                          ": bad intrinsics override (non-finite or non-positive focal length)");
+    std::string why;
+    if (!IntrinsicsInRange(K, &why)) {
+      SetError(error, std::string(type) + ": bad intrinsics override (" + why + ")",
+               MessageError::kBadIntrinsics);
       return false;
     }
   }
@@ -848,7 +939,7 @@ std::vector<uint8_t> EncodeSessionDescription(const SessionDescription& session)
   return EncodeMessage(msg);
 }
 
-bool DecodeSessionDescription(const void* data, size_t size, SessionDescription* out,
+static bool DecodeSessionDescriptionImpl(const void* data, size_t size, SessionDescription* out,
                               std::string* error) {
   using Msg = graspfill::session_description_t;
   if (!CheckBuffer(data, size, out, "session_description_t", error)) return false;
@@ -907,6 +998,79 @@ bool DecodeSessionDescription(const void* data, size_t size, SessionDescription*
   s.voxel_m = msg.voxel_m;
   if (!CheckSession(s, error)) return false;
   *out = std::move(s);
+  return true;
+}
+
+// ---- Public decoders: the reason of a failure ---------------------------------
+
+namespace {
+template <typename F>
+bool WithReason(MessageError* reason, F decode) {
+  t_reason = MessageError::kNone;
+  const bool ok = decode();
+  if (reason != nullptr) {
+    *reason = ok ? MessageError::kNone
+                 : (t_reason == MessageError::kNone ? MessageError::kMalformed : t_reason);
+  }
+  return ok;
+}
+}  // namespace
+
+bool DecodeDepthImage(const void* data, size_t size, DepthFrame* out, std::string* error,
+                      MessageError* reason) {
+  return WithReason(reason, [&] { return DecodeDepthImageImpl(data, size, out, error); });
+}
+bool DecodeGripperState(const void* data, size_t size, const Eigen::Isometry3d& T_C_B,
+                        GripperState* out, std::string* error, MessageError* reason) {
+  return WithReason(reason, [&] { return DecodeGripperStateImpl(data, size, T_C_B, out, error); });
+}
+bool DecodeObjectCloud(const void* data, size_t size, ObjectCloud* out, std::string* error,
+                       MessageError* reason) {
+  return WithReason(reason, [&] { return DecodeObjectCloudImpl(data, size, out, error); });
+}
+bool DecodeModuleStatus(const void* data, size_t size, ModuleStatus* out, std::string* error,
+                        MessageError* reason) {
+  return WithReason(reason, [&] { return DecodeModuleStatusImpl(data, size, out, error); });
+}
+bool DecodeSessionDescription(const void* data, size_t size, SessionDescription* out,
+                              std::string* error, MessageError* reason) {
+  return WithReason(reason,
+                    [&] { return DecodeSessionDescriptionImpl(data, size, out, error); });
+}
+
+const char* MessageErrorName(MessageError reason) {
+  switch (reason) {
+    case MessageError::kNone: return "none";
+    case MessageError::kMalformed: return "malformed";
+    case MessageError::kBadSize: return "bad_size";
+    case MessageError::kBadIntrinsics: return "bad_intrinsics";
+    case MessageError::kBadDepthScale: return "bad_depth_scale";
+    case MessageError::kBadEncoding: return "bad_encoding";
+    case MessageError::kBadPose: return "bad_pose";
+    case MessageError::kBadValue: return "bad_value";
+    case MessageError::kBadTimestamp: return "bad_timestamp";
+    case MessageError::kIntrinsicsMismatch: return "intrinsics_mismatch";
+    case MessageError::kNonMonotonicTime: return "non_monotonic_time";
+    case MessageError::kCount: break;
+  }
+  return "unknown";
+}
+
+bool IntrinsicsInRange(const CameraIntrinsics& K, std::string* why) {
+  auto fail = [&](const std::string& text) {
+    if (why != nullptr) *why = text;
+    return false;
+  };
+  // Written as "in range" tests so that NaN fails them.
+  if (!(K.fx >= kMinFocalPx && K.fx <= kMaxFocalPx && K.fy >= kMinFocalPx &&
+        K.fy <= kMaxFocalPx)) {
+    return fail("focal lengths must be " + FormatLimit(kMinFocalPx) + ".." +
+                FormatLimit(kMaxFocalPx) + " px");
+  }
+  const double w = K.width, h = K.height;
+  if (!(K.cx >= -w && K.cx <= 2.0 * w && K.cy >= -h && K.cy <= 2.0 * h)) {
+    return fail("principal point must be within one image size of the image");
+  }
   return true;
 }
 

@@ -1,17 +1,18 @@
 // PLY and mesh files. Writers are hand-written (see ply.hpp for why) and emit
 // little-endian bytes explicitly, so output does not depend on the host.
-// Readers go through Open3D, which handles every PLY flavour in the wild.
+// PLY is read by our own parser (ply_parser.hpp: checked before anything is
+// allocated); other mesh formats (STL, OBJ) through Open3D.
 #include "graspfill/io/ply.hpp"
 
 #include "graspfill/io/atomic_file.hpp"
+#include "ply_parser.hpp"
 
-#include <open3d/core/Tensor.h>
 #include <open3d/geometry/TriangleMesh.h>
 #include <open3d/io/TriangleMeshIO.h>
-#include <open3d/t/geometry/PointCloud.h>
-#include <open3d/t/io/PointCloudIO.h>
 
+#include <cctype>
 #include <cerrno>
+#include <limits>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -104,19 +105,6 @@ void ReadHeaderComments(const std::string& path, ObjectCloud* cloud) {
   // No end_header within bounds: Open3D will report the malformed header.
 }
 
-// Copies an {n, 3} tensor into Vector3f's.
-std::vector<Eigen::Vector3f> ToVectors(const open3d::core::Tensor& tensor) {
-  const open3d::core::Tensor t =
-      tensor.To(open3d::core::Float32).Contiguous();
-  const int64_t n = t.GetLength();
-  std::vector<Eigen::Vector3f> v(static_cast<size_t>(n));
-  const float* p = t.GetDataPtr<float>();
-  for (int64_t i = 0; i < n; ++i) {
-    v[i] = Eigen::Vector3f(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
-  }
-  return v;
-}
-
 }  // namespace
 
 void WriteCloudPly(const std::string& path, const ObjectCloud& cloud) {
@@ -175,59 +163,70 @@ void WriteCloudPly(const std::string& path, const ObjectCloud& cloud) {
 }
 
 ObjectCloud ReadCloudPly(const std::string& path) {
-  CheckReadable("cannot read PLY", path);
+  const std::string what = "cannot read PLY";
+  const std::string bytes = ply::ReadWholeFile(path, what);
+  // Our own parser, not Open3D's: it checks the header and the body before
+  // it allocates (see ply_parser.hpp).
+  const ply::Parsed parsed = ply::Parse(bytes, path, what, /*want_faces=*/false);
   ObjectCloud cloud;
   ReadHeaderComments(path, &cloud);
-
-  open3d::t::geometry::PointCloud pcd;
-  open3d::io::ReadPointCloudOption options;
-  options.format = "ply";  // whatever the extension says
-  if (!open3d::t::io::ReadPointCloud(path, pcd, options)) {
-    Fail("cannot read PLY", path, "not a readable point cloud PLY");
-  }
-  // HasPointPositions() is false for zero points; a PLY declaring x y z
-  // with zero vertices is an empty cloud, not an error.
-  if (!pcd.GetPointAttr().Contains("positions")) {
-    Fail("cannot read PLY", path, "no x y z vertex properties");
-  }
-  if (pcd.GetPointPositions().GetLength() == 0) return cloud;
-  cloud.points_G = ToVectors(pcd.GetPointPositions());
-  const size_t n = cloud.points_G.size();
-  if (pcd.HasPointNormals()) cloud.normals_G = ToVectors(pcd.GetPointNormals());
-
-  cloud.provenance.assign(n, Provenance::kObserved);
-  if (pcd.HasPointAttr("provenance")) {
-    // Other tools may have stored it as float or int; accept exact 0..2.
-    const open3d::core::Tensor p =
-        pcd.GetPointAttr("provenance").To(open3d::core::Float64).Contiguous();
-    if (static_cast<size_t>(p.NumElements()) != n) {
-      Fail("cannot read PLY", path, "provenance is not one per point");
+  const size_t n = static_cast<size_t>(parsed.num_vertices);
+  auto column = [&](const char* name) -> const std::vector<double>* {
+    const auto it = parsed.vertex.find(name);
+    return it == parsed.vertex.end() ? nullptr : &it->second;
+  };
+  auto to_float = [&](const char* name, size_t i, double v) {
+    const float f = static_cast<float>(v);
+    if (!std::isfinite(f)) {
+      Fail(what, path, "vertex " + std::to_string(i) + ", property '" + name +
+                           "': " + FormatDouble(v) + " is not a finite float");
     }
-    const double* values = p.GetDataPtr<double>();
+    return f;
+  };
+  const std::vector<double>* xyz[3] = {column("x"), column("y"), column("z")};
+  cloud.points_G.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      cloud.points_G[i][k] = to_float(k == 0 ? "x" : k == 1 ? "y" : "z", i, (*xyz[k])[i]);
+    }
+  }
+  const std::vector<double>* normals[3] = {column("nx"), column("ny"), column("nz")};
+  const int num_normal_columns = (normals[0] != nullptr) + (normals[1] != nullptr) + (normals[2] != nullptr);
+  if (num_normal_columns != 0 && num_normal_columns != 3) {
+    Fail(what, path, "normals need all of nx, ny, nz");
+  }
+  if (num_normal_columns == 3 && n > 0) {
+    cloud.normals_G.resize(n);
     for (size_t i = 0; i < n; ++i) {
-      const double v = values[i];
+      for (int k = 0; k < 3; ++k) {
+        cloud.normals_G[i][k] = to_float(k == 0 ? "nx" : k == 1 ? "ny" : "nz", i, (*normals[k])[i]);
+      }
+    }
+  }
+  if (n == 0) return cloud;
+  cloud.provenance.assign(n, Provenance::kObserved);
+  if (const std::vector<double>* p = column("provenance")) {
+    // Other tools may have stored it as float or int; accept exact 0..2.
+    for (size_t i = 0; i < n; ++i) {
+      const double v = (*p)[i];
       if (v != 0.0 && v != 1.0 && v != 2.0) {
-        Fail("cannot read PLY", path,
+        Fail(what, path,
              "provenance value " + FormatDouble(v) + " at vertex " +
                  std::to_string(i) + " is not 0, 1 or 2");
       }
       cloud.provenance[i] = static_cast<Provenance>(static_cast<int>(v));
     }
   }
-  if (pcd.HasPointAttr("confidence")) {
-    const open3d::core::Tensor c =
-        pcd.GetPointAttr("confidence").To(open3d::core::Float32).Contiguous();
-    if (static_cast<size_t>(c.NumElements()) != n) {
-      Fail("cannot read PLY", path, "confidence is not one per point");
-    }
-    const float* values = c.GetDataPtr<float>();
-    cloud.confidence.assign(values, values + n);
+  if (const std::vector<double>* c = column("confidence")) {
+    cloud.confidence.resize(n);
     for (size_t i = 0; i < n; ++i) {
-      if (!(values[i] >= 0.0f && values[i] <= 1.0f)) {
-        Fail("cannot read PLY", path,
-             "confidence value " + FormatDouble(values[i]) + " at vertex " + std::to_string(i) +
+      const float v = static_cast<float>((*c)[i]);
+      if (!(v >= 0.0f && v <= 1.0f)) {
+        Fail(what, path,
+             "confidence value " + FormatDouble(v) + " at vertex " + std::to_string(i) +
                  " is not in [0, 1]");
       }
+      cloud.confidence[i] = v;
     }
   }
   return cloud;
@@ -261,8 +260,55 @@ void WriteMeshPly(const std::string& path, const TriangleMesh& mesh) {
   WriteFile("cannot write PLY", path, bytes);
 }
 
+namespace {
+
+bool HasPlyExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".ply";
+}
+
+// PLY meshes through our parser: Open3D's reader crashed on malformed
+// headers and in its ear clipping of polygons. Polygons are fan-triangulated;
+// faces that repeat a vertex (degenerate) are dropped.
+TriangleMesh ReadPlyMesh(const std::string& path) {
+  const std::string what = "cannot read mesh";
+  const std::string bytes = ply::ReadWholeFile(path, what);
+  const ply::Parsed parsed = ply::Parse(bytes, path, what, /*want_faces=*/true);
+  if (parsed.num_vertices > std::numeric_limits<int>::max()) {
+    Fail(what, path, "too many vertices");
+  }
+  TriangleMesh mesh;
+  const auto& x = parsed.vertex.at("x");
+  const auto& y = parsed.vertex.at("y");
+  const auto& z = parsed.vertex.at("z");
+  mesh.vertices.resize(static_cast<size_t>(parsed.num_vertices));
+  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const Eigen::Vector3f v(static_cast<float>(x[i]), static_cast<float>(y[i]), static_cast<float>(z[i]));
+    if (!v.allFinite()) {
+      Fail(what, path, "vertex " + std::to_string(i) + " is not finite");
+    }
+    mesh.vertices[i] = v;
+  }
+  for (size_t f = 0; f + 1 < parsed.face_start.size(); ++f) {
+    const int64_t* idx = parsed.face_indices.data() + parsed.face_start[f];
+    const int64_t count = parsed.face_start[f + 1] - parsed.face_start[f];
+    for (int64_t k = 1; k + 1 < count; ++k) {
+      const Eigen::Vector3i tri(static_cast<int>(idx[0]), static_cast<int>(idx[k]),
+                                static_cast<int>(idx[k + 1]));
+      if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) continue;
+      mesh.triangles.push_back(tri);
+    }
+  }
+  if (mesh.triangles.empty()) Fail(what, path, "mesh has no (non-degenerate) triangles");
+  return mesh;
+}
+
+}  // namespace
+
 TriangleMesh ReadMesh(const std::string& path) {
   CheckReadable("cannot read mesh", path);
+  if (HasPlyExtension(path)) return ReadPlyMesh(path);
   open3d::geometry::TriangleMesh o3d_mesh;
   if (!open3d::io::ReadTriangleMesh(path, o3d_mesh)) {
     Fail("cannot read mesh", path, "unsupported or malformed file");

@@ -13,6 +13,7 @@ void PipelineConfig::Validate() const {
   workspace.Validate();
   tsdf.Validate();
   visibility.Validate();
+  refine.Validate();
   if (max_pose_gap_us <= 0) throw std::invalid_argument("PipelineConfig: max_pose_gap_us <= 0");
   if (state_buffer_capacity < 2) throw std::invalid_argument("PipelineConfig: state_buffer_capacity < 2");
   if (max_pending_frames < 1) throw std::invalid_argument("PipelineConfig: max_pending_frames < 1");
@@ -29,6 +30,7 @@ struct Pipeline::Impl {
         mask(c.mask),
         fusion(c.tsdf),
         visibility(c.visibility, c.workspace),
+        refiner(c.refine),
         states(static_cast<size_t>(c.state_buffer_capacity), c.max_pose_gap_us),
         pending(static_cast<size_t>(c.max_pending_frames)) {}
 
@@ -44,45 +46,57 @@ struct Pipeline::Impl {
     const TriangleMesh posed = claw.Posed(state.opening_m, state.joint_values);
     mask.SetClaw(posed);
     visibility.SetClaw(posed);
+    if (config.refine.enabled) refiner.SetClaw(posed);
     claw_opening_m = state.opening_m;
     claw_joints = state.joint_values;
     claw_set = true;
     ++stats.claw_rebuilds;
   }
 
-  // Crop, mask and fuse one frame at a known pose.
-  void Integrate(const DepthFrame& frame, const GripperState& state) {
+  // Refine the pose, crop, mask and fuse one frame. False: refinement
+  // rejected the frame (counted), nothing fused.
+  bool Integrate(const DepthFrame& frame, const GripperState& state) {
     UpdateClaw(state);
+    Eigen::Isometry3d T_C_G = state.T_C_G;
+    {
+      ScopedStageTimer t(&stats.refine_time);
+      const refine::RefineOutcome outcome = refiner.Refine(frame, state.T_C_G, &T_C_G);
+      stats.refine = refiner.stats();
+      if (outcome != refine::RefineOutcome::kRefined && outcome != refine::RefineOutcome::kOff) {
+        ++stats.frames_skipped_refine;
+        return false;
+      }
+    }
     work.utime = frame.utime;
     work.intrinsics = frame.intrinsics;
     work.depth_m.assign(frame.depth_m.begin(), frame.depth_m.end());
     {
       ScopedStageTimer t(&stats.crop);
-      fusion::CropToWorkspace(config.workspace, state.T_C_G, &work);
+      fusion::CropToWorkspace(config.workspace, T_C_G, &work);
     }
     {
       ScopedStageTimer t(&stats.mask);
-      mask.Apply(state.T_C_G, &work);
+      mask.Apply(T_C_G, &work);
     }
     {
       ScopedStageTimer t(&stats.integrate);
-      fusion.Integrate(work, state.T_C_G);
+      fusion.Integrate(work, T_C_G);
     }
     {
       ScopedStageTimer t(&stats.visibility);
-      visibility.Offer(frame, mask.claw_depth_m(), state.T_C_G);
+      visibility.Offer(frame, mask.claw_depth_m(), T_C_G);
     }
     last_utime = frame.utime;
-    last_T_C_G = state.T_C_G;
+    last_T_C_G = T_C_G;
     ++stats.frames_integrated;
+    return true;
   }
 
   // Tries the frame against the state buffer.
   FrameOutcome TryIntegrate(const DepthFrame& frame) {
     switch (states.Lookup(frame.utime, &pose)) {
       case PoseLookup::kOk:
-        Integrate(frame, pose);
-        return FrameOutcome::kIntegrated;
+        return Integrate(frame, pose) ? FrameOutcome::kIntegrated : FrameOutcome::kSkippedRefine;
       case PoseLookup::kNotYet:
         return FrameOutcome::kPending;
       case PoseLookup::kTooEarly:
@@ -108,6 +122,7 @@ struct Pipeline::Impl {
   claw::ClawMask mask;
   fusion::TsdfFusion fusion;
   evidence::VisibilityRecord visibility;
+  refine::PoseRefiner refiner;
   GripperStateBuffer states;
   std::vector<DepthFrame> pending;  // ring, slots reused
   size_t pending_head{0};
@@ -212,6 +227,7 @@ void Pipeline::Reset() {
   Impl& s = *impl_;
   s.fusion.Reset();
   s.visibility.Reset();
+  s.refiner.Reset();
   s.claw_set = false;  // the next state gives the record its claw again
   s.states = GripperStateBuffer(static_cast<size_t>(s.config.state_buffer_capacity),
                                 s.config.max_pose_gap_us);
@@ -221,6 +237,7 @@ void Pipeline::Reset() {
 }
 
 const evidence::VisibilityRecord& Pipeline::visibility() const { return impl_->visibility; }
+const refine::PoseRefiner& Pipeline::refiner() const { return impl_->refiner; }
 const PipelineStats& Pipeline::stats() const { return impl_->stats; }
 const PipelineConfig& Pipeline::config() const { return impl_->config; }
 

@@ -19,6 +19,12 @@ std::vector<Candidate>& Scratch() {
   return candidates;
 }
 
+// Smallest box edge the grid works with: relative to the box, so that any
+// scale works, and never 0.
+float MinExtent(const Eigen::AlignedBox3f& box) {
+  return std::max(1e-6f * box.sizes().maxCoeff(), std::numeric_limits<float>::min());
+}
+
 }  // namespace
 
 struct NeighborIndex::Impl {
@@ -28,14 +34,42 @@ struct NeighborIndex::Impl {
   std::vector<int> cell_start;  // cells + 1 offsets into `order`/`sorted`
   std::vector<int> order;       // point indices, grouped by cell
   PointList sorted;             // the points in that order
+  // The grid covers `box` (robust: the bulk of the points, see
+  // RobustBox); the few points outside it ("far": stray points) are kept
+  // in a list of their own and searched by brute force, so that two stray
+  // points a kilometre away do not coarsen the grid into one cell.
+  Eigen::AlignedBox3f box;
+  std::vector<int> far;  // indices of the points outside `box`
 
-  // Grid over `points` with cubic cells of `cell` [m] (coarsened until the
+  // Grid over `box` with cubic cells of `cell` [m] (coarsened until the
   // grid has at most ~4 cells per point), points counting-sorted by cell.
   void Build(const PointList& points, double cell);
 
+  bool Inside(const Eigen::Vector3f& p) const {
+    return (p.array() >= box.min().array()).all() && (p.array() <= box.max().array()).all();
+  }
+  // Lower bound on the distance from q to any far point: its distance to
+  // the outside of `box` (0 outside it; infinite when there are none).
+  double FarBound(const Eigen::Vector3d& q) const {
+    if (far.empty()) return std::numeric_limits<double>::infinity();
+    double d = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a) {
+      d = std::min({d, q[a] - static_cast<double>(box.min()[a]),
+                    static_cast<double>(box.max()[a]) - q[a]});
+    }
+    return std::max(d, 0.0);
+  }
+  void CollectFar(const PointList& points, const Eigen::Vector3d& q,
+                  std::vector<Candidate>* out) const {
+    for (int i : far) out->emplace_back((points[static_cast<size_t>(i)].cast<double>() - q).squaredNorm(), i);
+  }
+
   int CellOf(float x, int axis) const {
-    const int i = static_cast<int>(std::floor((x - origin[axis]) / cell));
-    return std::clamp(i, 0, n[axis] - 1);
+    // In double and clamped before the conversion: far or NaN coordinates
+    // must not overflow int.
+    const double i = std::floor((static_cast<double>(x) - origin[axis]) / cell);
+    if (!(i >= 0.0)) return 0;
+    return static_cast<int>(std::min(i, static_cast<double>(n[axis] - 1)));
   }
   int Flat(int x, int y, int z) const { return (z * n[1] + y) * n[0] + x; }
 
@@ -89,9 +123,8 @@ NeighborIndex::NeighborIndex(const PointList& points)
   // hundred points: the 27 cells around a point then hold its 20 nearest
   // with few others (on a rotated surface sample the first grid has cells
   // ~2x larger and ~2x the candidates).
-  Eigen::AlignedBox3f box;
-  for (const Eigen::Vector3f& p : points) box.extend(p);
-  const Eigen::Vector3f extent = box.sizes().cwiseMax(1e-6f);
+  impl_->box = RobustBox(points);
+  const Eigen::Vector3f extent = impl_->box.sizes().cwiseMax(MinExtent(impl_->box));
   const double count = static_cast<double>(points.size());
   impl_->Build(points, std::cbrt(static_cast<double>(extent.x()) * extent.y() * extent.z() / count));
   constexpr int kTypicalK = 21;
@@ -113,11 +146,16 @@ NeighborIndex::NeighborIndex(const PointList& points)
 
 void NeighborIndex::Impl::Build(const PointList& points, double cell) {
   Impl& g = *this;
-  Eigen::AlignedBox3f box;
-  for (const Eigen::Vector3f& p : points) box.extend(p);
-  const Eigen::Vector3f extent = box.sizes().cwiseMax(1e-6f);
-  const double count = static_cast<double>(points.size());
-  cell = std::max(cell, 1e-7);
+  const Eigen::Vector3f extent = box.sizes().cwiseMax(MinExtent(box));
+  far.clear();
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!Inside(points[i])) far.push_back(static_cast<int>(i));
+  }
+  const double count = static_cast<double>(points.size() - far.size());
+  // Relative to the extent, not a fixed length: a cloud scaled by 1e-38 is
+  // as cheap as any other (its cells would otherwise all be one).
+  cell = std::max({cell, 1e-6 * static_cast<double>(extent.maxCoeff()), 1e-300});
+  if (!std::isfinite(cell)) cell = std::max(1.0, static_cast<double>(extent.maxCoeff()));
   auto cells = [&](double c) {
     double total = 1.0;
     for (int a = 0; a < 3; ++a) total *= std::floor(extent[a] / c) + 1.0;
@@ -126,22 +164,26 @@ void NeighborIndex::Impl::Build(const PointList& points, double cell) {
   while (cells(cell) > 4.0 * count + 64.0) cell *= 1.25;
   g.cell = static_cast<float>(cell);
   g.origin = box.min();
-  for (int a = 0; a < 3; ++a) g.n[a] = static_cast<int>(std::floor(extent[a] / cell)) + 1;
+  // cells() <= 4 count + 64 above: each axis is small enough for int.
+  for (int a = 0; a < 3; ++a) g.n[a] = static_cast<int>(std::min(std::floor(extent[a] / cell), 1e7)) + 1;
 
-  // Counting sort of the points by cell.
+  // Counting sort of the points inside the box by cell.
   const size_t num_cells = static_cast<size_t>(g.n[0]) * g.n[1] * g.n[2];
-  std::vector<int> cell_of(points.size());
+  std::vector<int> cell_of(points.size(), -1);
   g.cell_start.assign(num_cells + 1, 0);
   for (size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector3f& p = points[i];
+    if (!Inside(p)) continue;
     cell_of[i] = g.Flat(g.CellOf(p.x(), 0), g.CellOf(p.y(), 1), g.CellOf(p.z(), 2));
     ++g.cell_start[static_cast<size_t>(cell_of[i]) + 1];
   }
   for (size_t c = 0; c < num_cells; ++c) g.cell_start[c + 1] += g.cell_start[c];
   std::vector<int> fill(g.cell_start.begin(), g.cell_start.end() - 1);
-  g.order.resize(points.size());
-  g.sorted.resize(points.size());
+  const size_t inside = points.size() - far.size();
+  g.order.resize(inside);
+  g.sorted.resize(inside);
   for (size_t i = 0; i < points.size(); ++i) {
+    if (cell_of[i] < 0) continue;
     const int slot = fill[static_cast<size_t>(cell_of[i])]++;
     g.order[slot] = static_cast<int>(i);
     g.sorted[slot] = points[i];
@@ -164,15 +206,21 @@ void NeighborIndex::Knn(const Eigen::Vector3f& query, int k, std::vector<int>* i
   g.Collect(centre[0], centre[1], centre[2], q, &found);
   // Grow the block shell by shell until the k-th nearest found so far is
   // nearer than anything outside it.
+  const double far_bound = g.FarBound(q);
   for (int r = 1;; ++r) {
     g.CollectShell(centre, r, q, &found);
     const double bound = g.Unsearched(centre, r, q);
-    if (found.size() < want) {
-      if (std::isinf(bound)) break;  // cannot happen: want <= size
-      continue;
+    const bool enough = found.size() >= want;
+    if (enough) {
+      std::nth_element(found.begin(), found.begin() + static_cast<long>(want - 1), found.end());
+      const double kth = found[want - 1].first;
+      if (kth <= std::min(bound, far_bound) * std::min(bound, far_bound)) break;  // no far point needed
     }
-    std::nth_element(found.begin(), found.begin() + static_cast<long>(want - 1), found.end());
-    if (std::isinf(bound) || found[want - 1].first <= bound * bound) break;
+    if (std::isinf(bound) || (enough && found[want - 1].first <= bound * bound)) {
+      // The grid is done; the far points may still be nearer.
+      g.CollectFar(points_, q, &found);
+      break;
+    }
   }
   want = std::min(want, found.size());
   std::partial_sort(found.begin(), found.begin() + static_cast<long>(want), found.end());
@@ -237,7 +285,7 @@ KnnTable NeighborIndex::AllKnn(int k) const {
           }
           // Exact only if nothing outside the block can be nearer.
           const Eigen::Vector3d q = qf.cast<double>();
-          const double bound = g.Unsearched(centre, 1, q);
+          const double bound = std::min(g.Unsearched(centre, 1, q), g.FarBound(q));
           if (!(std::isinf(bound) ? num >= want : kth < 0.999 * bound * bound)) {
             Knn(points_[static_cast<size_t>(point)], table.k, &fallback_nn, &fallback_d2);
             std::copy(fallback_nn.begin(), fallback_nn.end(), row);
@@ -260,6 +308,12 @@ KnnTable NeighborIndex::AllKnn(int k) const {
       }
     }
   }
+  for (int point : g.far) {
+    Knn(points_[static_cast<size_t>(point)], table.k, &fallback_nn, &fallback_d2);
+    std::copy(fallback_nn.begin(), fallback_nn.end(), table.indices.data() + static_cast<size_t>(point) * want);
+    std::copy(fallback_d2.begin(), fallback_d2.end(),
+              table.squared_distances.data() + static_cast<size_t>(point) * want);
+  }
   return table;
 }
 
@@ -278,6 +332,7 @@ void NeighborIndex::Radius(const Eigen::Vector3f& query, double radius_m,
   for (int r = 1; g.Unsearched(centre, r - 1, q) <= radius_m; ++r) {
     g.CollectShell(centre, r, q, &found);
   }
+  if (g.FarBound(q) <= radius_m) g.CollectFar(points_, q, &found);
   const double r2 = radius_m * radius_m;
   found.erase(std::remove_if(found.begin(), found.end(),
                              [r2](const Candidate& c) { return c.first > r2; }),
@@ -288,6 +343,39 @@ void NeighborIndex::Radius(const Eigen::Vector3f& query, double radius_m,
     if (squared_distances) squared_distances->push_back(c.first);
   }
 }
+
+// The box the grid covers: the points' bounding box, cut down around the
+// bulk when a few points lie far from it. Per axis, the 0.1% and 99.9%
+// quantiles widened by half their distance on each side: a clean cloud's
+// extremes lie inside that, so its box (and every result) is the bounding
+// box as before; stray points beyond it are searched apart (Impl::far).
+Eigen::AlignedBox3f RobustBox(const PointList& points) {
+  Eigen::AlignedBox3f box;
+  size_t finite = 0;
+  for (const Eigen::Vector3f& p : points) {
+    if (p.allFinite()) box.extend(p), ++finite;
+  }
+  if (finite < 64) return box;
+  std::vector<float> values;
+  values.reserve(finite);
+  const size_t lo_rank = finite / 1000;
+  const size_t hi_rank = finite - 1 - lo_rank;
+  for (int a = 0; a < 3; ++a) {
+    values.clear();
+    for (const Eigen::Vector3f& p : points) {
+      if (p.allFinite()) values.push_back(p[a]);
+    }
+    std::nth_element(values.begin(), values.begin() + static_cast<long>(lo_rank), values.end());
+    const float lo = values[lo_rank];
+    std::nth_element(values.begin(), values.begin() + static_cast<long>(hi_rank), values.end());
+    const float hi = values[hi_rank];
+    const double margin = 0.5 * (static_cast<double>(hi) - lo);
+    box.min()[a] = std::max(box.min()[a], static_cast<float>(lo - margin));
+    box.max()[a] = std::min(box.max()[a], static_cast<float>(hi + margin));
+  }
+  return box;
+}
+
 
 KnnTable RestrictTable(const KnnTable& table, const std::vector<int>& kept,
                        const NeighborIndex& kept_index) {

@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cstdio>
 #include <chrono>
 #include <limits>
 #include <stdexcept>
@@ -177,6 +178,7 @@ std::string RepairStatusName(RepairStatus status) {
     case RepairStatus::kNoHoles: return "no holes found";
     case RepairStatus::kTooFewPoints: return "too few points";
     case RepairStatus::kNoFrame: return "no virtual frame";
+    case RepairStatus::kOutOfRange: return "outside the repair's limits";
   }
   return "no holes found";
 }
@@ -248,6 +250,23 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
     report.status = RepairStatus::kTooFewPoints;
     report.status_detail = std::to_string(input.points_G.size()) + " of at least " +
                            std::to_string(kMinPoints) + ", nothing repaired";
+    return result;
+  }
+  // Bounded work (issue 12): past these limits the steps' grids and
+  // thresholds (in meters) stop making sense; the cloud comes back as is.
+  if (input.points_G.size() > kMaxRepairPoints) {
+    report.status = RepairStatus::kOutOfRange;
+    report.status_detail = std::to_string(input.points_G.size()) + " points, more than the " +
+                           std::to_string(kMaxRepairPoints) + " the repair takes";
+    return result;
+  }
+  if (const double extent = RobustBox(input.points_G).sizes().maxCoeff();
+      !(extent >= kMinRepairExtentM && extent <= kMaxRepairExtentM)) {
+    char text[160];
+    std::snprintf(text, sizeof(text), "the cloud's extent %.3g m is outside %g..%g m", extent,
+                  kMinRepairExtentM, kMaxRepairExtentM);
+    report.status = RepairStatus::kOutOfRange;
+    report.status_detail = text;
     return result;
   }
 

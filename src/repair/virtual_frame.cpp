@@ -64,15 +64,24 @@ class NearGrid {
   NearGrid(const std::vector<Vec3>& points, double r) : points_(points), r2_(r * r) {
     Eigen::AlignedBox3d box;
     for (const Vec3& p : points) box.extend(p);
+    if (points.empty()) box.extend(Vec3::Zero());
     origin_ = box.min();
     const Vec3 extent = box.sizes();
-    cell_ = r;
+    // A radius that is not a positive length finds nothing (r2_ is NaN or
+    // 0); the grid still needs a usable cell.
+    cell_ = r > 0.0 && std::isfinite(r) ? r : 1.0;
     // Stray points could make the box huge; coarser cells keep the grid
-    // small and the 27-cell query still covers the radius.
+    // small and the 27-cell query still covers the radius. Doubled until
+    // the grid fits (a cube-root rescale undershoots a long thin box: one
+    // axis of 1e10 cells overflowed int and asked for 7 GB).
     constexpr double kMaxCells = 1 << 21;
-    const double volume_cells = (extent.array() / cell_ + 1.0).prod();
-    if (volume_cells > kMaxCells) cell_ *= std::cbrt(volume_cells / kMaxCells) * 1.01;
-    for (int a = 0; a < 3; ++a) dims_[a] = static_cast<int>(extent[a] / cell_) + 1;
+    auto volume_cells = [&] {
+      double v = 1.0;
+      for (int a = 0; a < 3; ++a) v *= std::floor(extent[a] / cell_) + 1.0;
+      return v;
+    };
+    while (!(volume_cells() <= kMaxCells)) cell_ *= 2.0;
+    for (int a = 0; a < 3; ++a) dims_[a] = static_cast<int>(std::floor(extent[a] / cell_)) + 1;
     const size_t cells = static_cast<size_t>(dims_[0]) * dims_[1] * dims_[2];
     start_.assign(cells + 1, 0);
     std::vector<size_t> cell_of(points.size());
@@ -112,7 +121,7 @@ class NearGrid {
     for (int a = 0; a < 3; ++a) {
       // Points outside the box map to out-of-range cells, which are skipped.
       const double v = std::floor((p[a] - origin_[a]) / cell_);
-      c[a] = static_cast<int>(std::clamp(v, -2.0, static_cast<double>(dims_[a]) + 1.0));
+      c[a] = v == v ? static_cast<int>(std::clamp(v, -2.0, static_cast<double>(dims_[a]) + 1.0)) : -2;
     }
     return c;
   }

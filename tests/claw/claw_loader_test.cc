@@ -257,7 +257,7 @@ TEST_F(ClawLoaderFileTest, MissingMesh) {
 
 TEST_F(ClawLoaderFileTest, EmptyMesh) {
   ExpectError(Description(R"([{"name": "a", "mesh": "empty.ply"}])"),
-              "links[0] (a).mesh: mesh has no triangles");
+              "links[0] (a).mesh: cannot read mesh file");
 }
 
 TEST_F(ClawLoaderFileTest, BadJointType) {

@@ -71,5 +71,16 @@ TEST(GripperStateBuffer, RingDropsOldestAndRejectsBadStates) {
   EXPECT_EQ(buffer.newest_utime(), 40000);
 }
 
+// Issue 12: states at INT64_MIN and INT64_MAX: their difference wrapped
+// to -1, passed the gap test and interpolated a bogus pose.
+TEST(GripperStateBuffer, ExtremeTimestampsAreAGapNotAnOverflow) {
+  GripperStateBuffer buffer(4, 50000);
+  ASSERT_TRUE(buffer.Push(StateAt(INT64_MIN)));
+  ASSERT_TRUE(buffer.Push(StateAt(INT64_MAX)));
+  GripperState out;
+  EXPECT_EQ(buffer.Lookup(0, &out), PoseLookup::kGap);
+  EXPECT_EQ(buffer.Lookup(INT64_MAX - 1, &out), PoseLookup::kGap);
+}
+
 }  // namespace
 }  // namespace graspfill

@@ -83,7 +83,7 @@ TEST(RepairCli, BadInputGetsAClearMessageAndNothingIsOverwritten) {
   }
   auto r = RunCli("repair " + dir + "/nan.ply -o " + dir + "/out.ply");
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.output.find("not finite"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("not a finite"), std::string::npos) << r.output;
   r = RunCli("repair " + dir + "/garbage.ply -o " + dir + "/out.ply");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("cannot read PLY"), std::string::npos) << r.output;

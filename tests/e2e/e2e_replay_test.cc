@@ -33,8 +33,10 @@ std::string ReadBytes(const std::string& path) {
 
 TEST(ReplayE2E, BundledRecordingMatchesItsRecordedOutput) {
   const std::string dir = ScratchDir("regression");
+  // --no-refine: the expected cloud was recorded at the logged poses
+  // (exact in this recording; e2e_refine_test covers the refined path).
   const auto r = RunCli("replay " + kReplayDir + "/default/recording.lcmlog -o " + dir +
-                        "/cloud.ply --json --lcm-url memq://");
+                        "/cloud.ply --json --lcm-url memq:// --no-refine");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   // The expected cloud holds the fused points only (written with
   // --no-repair): this pins the fusion, whatever the repair adds.
@@ -249,7 +251,8 @@ TEST_F(BadLogs, WrongSizedFrameFailsUnlessSkipped) {
   auto r = RunCli("replay " + dir + "/log.lcmlog -o " + dir + "/c.ply --no-publish");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("size"), std::string::npos) << r.output;
-  r = RunCli("replay " + dir + "/log.lcmlog -o " + dir + "/c.ply --no-publish --skip-bad-frames --json");
+  // --no-refine: these frames hold no claw, so pose refinement would skip them all.
+  r = RunCli("replay " + dir + "/log.lcmlog -o " + dir + "/c.ply --no-publish --skip-bad-frames --json --no-refine");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("\"frames_bad\": 1"), std::string::npos) << r.output;
 }
@@ -259,13 +262,15 @@ TEST_F(BadLogs, NanPoseFailsUnlessSkipped) {
   auto r = RunCli("replay " + dir + "/log.lcmlog -o " + dir + "/c.ply --no-publish");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("not finite"), std::string::npos) << r.output;
-  r = RunCli("replay " + dir + "/log.lcmlog -o " + dir + "/c.ply --no-publish --skip-bad-frames");
+  // --no-refine: these frames hold no claw (see WrongSizedFrameFailsUnlessSkipped).
+  r = RunCli("replay " + dir + "/log.lcmlog -o " + dir + "/c.ply --no-publish --skip-bad-frames --no-refine");
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
 TEST_F(BadLogs, FramesWithoutNearbyStatesAreSkippedAndCounted) {
   const std::string dir = Write("sparse", false, false, true);
-  const auto r = RunCli("replay " + dir + "/log.lcmlog -o " + dir + "/c.ply --no-publish --json");
+  // --no-refine: these frames hold no claw (see WrongSizedFrameFailsUnlessSkipped).
+  const auto r = RunCli("replay " + dir + "/log.lcmlog -o " + dir + "/c.ply --no-publish --json --no-refine");
   // One state per frame, 33 ms apart, before the frame: the next state
   // brackets the frame within the 50 ms gap for all but the last frame.
   EXPECT_EQ(r.exit_code, 0) << r.output;

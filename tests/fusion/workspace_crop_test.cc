@@ -58,6 +58,28 @@ TEST(WorkspaceCrop, BoxBehindCameraUsesFullImageAndNaNIsCleared) {
   EXPECT_EQ(f.depth_m[5], 0.0f);
 }
 
+// Issue 12: fx = 1e300 or cx = 1e308 overflowed double -> int (UBSan); in
+// practice the rectangle came out empty and every pixel was cropped.
+TEST(WorkspaceCrop, ExtremeIntrinsicsGiveAConservativeRectangle) {
+  WorkspaceBox box;
+  box.min_G = Eigen::Vector3d(-0.05, -0.05, 0.05);
+  box.max_G = Eigen::Vector3d(0.05, 0.05, 0.15);
+  CameraIntrinsics K;
+  K.fx = K.fy = 1e300;  // the box straddles the optical axis: +-1e299 px
+  PixelRect r = ProjectBox(box, SideCamera(), K);
+  EXPECT_EQ(r.u0, 0);
+  EXPECT_EQ(r.u1, K.width);
+  K = CameraIntrinsics{};
+  K.cx = 1e308;  // everything far right of the image
+  r = ProjectBox(box, SideCamera(), K);
+  EXPECT_EQ(r.u0, K.width);
+  EXPECT_EQ(r.u1, K.width);
+  K.cx = -1e308;  // far left
+  r = ProjectBox(box, SideCamera(), K);
+  EXPECT_EQ(r.u0, 0);
+  EXPECT_EQ(r.u1, 0);
+}
+
 TEST(WorkspaceCrop, ValidateRejectsInvertedBox) {
   WorkspaceBox box;
   box.max_G.z() = box.min_G.z() - 0.01;

@@ -894,3 +894,104 @@ TEST(SessionDescriptionMessage, ChannelNameDefault) {
 
 }  // namespace
 }  // namespace graspfill::io
+
+// ---- Issue 12: intrinsics, depth scale and timestamps in range, reasons ----
+
+namespace graspfill::io {
+namespace {
+
+std::vector<uint8_t> DepthWith(double fx, double fy, double cx, double cy, double scale,
+                               int64_t utime) {
+  graspfill::depth_image_t msg{};
+  msg.utime = utime;
+  msg.width = 4;
+  msg.height = 2;
+  msg.fx = fx;
+  msg.fy = fy;
+  msg.cx = cx;
+  msg.cy = cy;
+  msg.depth_scale = scale;
+  msg.encoding = graspfill::depth_image_t::RAW16;
+  msg.num_bytes = 16;
+  msg.data.assign(16, 1);
+  std::vector<uint8_t> bytes(static_cast<size_t>(msg.getEncodedSize()));
+  msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  return bytes;
+}
+
+// fx = fy = 1e-300 made the claw cut-out cast infinite rays (Embree
+// aborted); cx = 1e308 and fx = 1e300 overflowed float -> int in the crop.
+TEST(DepthImageMessage, IntrinsicsOutOfRangeAreRejectedWithAReason) {
+  DepthFrame out;
+  std::string error;
+  MessageError reason = MessageError::kNone;
+  auto good = DepthWith(500, 500, 2, 1, 0.001, 10);
+  ASSERT_TRUE(DecodeDepthImage(good.data(), good.size(), &out, &error, &reason)) << error;
+  EXPECT_EQ(reason, MessageError::kNone);
+  struct Case {
+    double fx, fy, cx, cy;
+  };
+  for (const Case& c : {Case{1e-300, 1e-300, 2, 1}, Case{1e300, 500, 2, 1}, Case{500, 500, 1e308, 1},
+                        Case{500, 500, 2, -1e308}, Case{0.5, 500, 2, 1}, Case{500, 2e5, 2, 1},
+                        Case{500, 500, 9, 1}, Case{500, 500, 2, std::nan("")}}) {
+    const auto bytes = DepthWith(c.fx, c.fy, c.cx, c.cy, 0.001, 10);
+    EXPECT_FALSE(DecodeDepthImage(bytes.data(), bytes.size(), &out, &error, &reason))
+        << c.fx << " " << c.cx;
+    EXPECT_EQ(reason, MessageError::kBadIntrinsics) << error;
+    EXPECT_NE(error.find("bad intrinsics"), std::string::npos) << error;
+  }
+  for (double scale : {1e-300, 10.0, -1.0}) {
+    const auto bytes = DepthWith(500, 500, 2, 1, scale, 10);
+    EXPECT_FALSE(DecodeDepthImage(bytes.data(), bytes.size(), &out, &error, &reason));
+    EXPECT_EQ(reason, MessageError::kBadDepthScale) << error;
+  }
+  for (int64_t utime : {INT64_MIN, int64_t{-1}, INT64_MAX, kMaxUtime + 1}) {
+    const auto bytes = DepthWith(500, 500, 2, 1, 0.001, utime);
+    EXPECT_FALSE(DecodeDepthImage(bytes.data(), bytes.size(), &out, &error, &reason));
+    EXPECT_EQ(reason, MessageError::kBadTimestamp) << error;
+  }
+  const auto truncated = std::vector<uint8_t>(good.begin(), good.end() - 1);
+  EXPECT_FALSE(DecodeDepthImage(truncated.data(), truncated.size(), &out, &error, &reason));
+  EXPECT_EQ(reason, MessageError::kMalformed);
+  EXPECT_STREQ(MessageErrorName(MessageError::kBadIntrinsics), "bad_intrinsics");
+}
+
+// Gripper states at INT64_MIN / INT64_MAX overflowed the interpolation.
+TEST(GripperStateMessage, UtimeOutOfRangeIsRejected) {
+  GripperState state;
+  GripperState out;
+  std::string error;
+  MessageError reason = MessageError::kNone;
+  for (int64_t utime : {INT64_MIN, int64_t{-5}, INT64_MAX}) {
+    state.utime = utime;
+    const auto bytes = EncodeGripperState(state);
+    EXPECT_FALSE(DecodeGripperState(bytes.data(), bytes.size(), Eigen::Isometry3d::Identity(), &out,
+                                    &error, &reason));
+    EXPECT_EQ(reason, MessageError::kBadTimestamp) << error;
+  }
+  state.utime = 1700000000000000;
+  const auto bytes = EncodeGripperState(state);
+  EXPECT_TRUE(DecodeGripperState(bytes.data(), bytes.size(), Eigen::Isometry3d::Identity(), &out,
+                                 &error, &reason));
+  EXPECT_EQ(out.utime, state.utime);
+  graspfill::gripper_state_t msg{};
+  ASSERT_GT(msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())), 0);
+  msg.orientation[0] = 2.0;
+  std::vector<uint8_t> bad(static_cast<size_t>(msg.getEncodedSize()));
+  msg.encode(bad.data(), 0, static_cast<int>(bad.size()));
+  EXPECT_FALSE(DecodeGripperState(bad.data(), bad.size(), Eigen::Isometry3d::Identity(), &out,
+                                  &error, &reason));
+  EXPECT_EQ(reason, MessageError::kBadPose);
+}
+
+TEST(SessionDescriptionMessage, IntrinsicsOverrideOutOfRangeIsRefused) {
+  SessionDescription s;
+  s.claw_name = "three-finger";
+  s.intrinsics = CameraIntrinsics{640, 480, 1e-300, 1e-300, 320, 240};
+  EXPECT_THROW(EncodeSessionDescription(s), std::invalid_argument);
+  s.intrinsics = CameraIntrinsics{640, 480, 500, 500, 1e308, 240};
+  EXPECT_THROW(EncodeSessionDescription(s), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace graspfill::io

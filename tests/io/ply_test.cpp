@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <functional>
+
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -264,6 +267,117 @@ TEST_F(PlyIoTest, ReadMeshErrors) {
   }
   WriteText(Path("garbage.obj"), "\x01\x02 not a mesh");
   EXPECT_THROW(ReadMesh(Path("garbage.obj")), std::runtime_error);
+}
+
+// ---- Issue 12: malformed PLY files are clear errors, never crashes or
+// silent garbage -------------------------------------------------------------
+
+// The message of what `read` throws (fails the test if it does not throw).
+std::string ErrorOf(const std::function<void()>& read) {
+  try {
+    read();
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no exception";
+  return "";
+}
+
+TEST_F(PlyIoTest, HeaderCutInsideALineIsAnErrorNotASegfault) {
+  // The issue's 40-byte file: Open3D's reader segfaulted on it.
+  const std::string path = Path("cut.ply");
+  WriteText(path, std::string("ply\nformat ascii 1.0\nobj_info").append(40 - 29, 'x'));
+  ASSERT_EQ(std::filesystem::file_size(path), 40u);
+  const std::string cloud_error = ErrorOf([&] { ReadCloudPly(path); });
+  EXPECT_NE(cloud_error.find("cannot read PLY '" + path + "'"), std::string::npos) << cloud_error;
+  EXPECT_NE(cloud_error.find("without 'end_header'"), std::string::npos) << cloud_error;
+  const std::string mesh_error = ErrorOf([&] { ReadMesh(path); });
+  EXPECT_NE(mesh_error.find("cannot read mesh '" + path + "'"), std::string::npos) << mesh_error;
+}
+
+TEST_F(PlyIoTest, MissingCoordinateIsNamed) {
+  // Open3D read this with z = 0.
+  WriteText(Path("noz.ply"),
+            "ply\nformat ascii 1.0\nelement vertex 1\n"
+            "property float x\nproperty float y\nend_header\n1 2\n");
+  const std::string error = ErrorOf([&] { ReadCloudPly(Path("noz.ply")); });
+  EXPECT_NE(error.find(Path("noz.ply")), std::string::npos) << error;
+  EXPECT_NE(error.find("no 'z' vertex property"), std::string::npos) << error;
+}
+
+TEST_F(PlyIoTest, BinaryHeaderOverAsciiBodyIsRefused) {
+  // Open3D read the text as floats.
+  WriteText(Path("mixed.ply"),
+            "ply\nformat binary_little_endian 1.0\nelement vertex 2\n"
+            "property float x\nproperty float y\nproperty float z\nend_header\n"
+            "0.1 0.2 0.3\n0.4 0.5 0.6\n");
+  const std::string error = ErrorOf([&] { ReadCloudPly(Path("mixed.ply")); });
+  EXPECT_NE(error.find(Path("mixed.ply")), std::string::npos) << error;
+  EXPECT_NE(error.find("does not match the binary header"), std::string::npos) << error;
+}
+
+TEST_F(PlyIoTest, CountsBeyondTheFileAndBadValuesAreNamed) {
+  WriteText(Path("huge.ply"),
+            "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\n"
+            "property float x\nproperty float y\nproperty float z\nend_header\n");
+  std::string error = ErrorOf([&] { ReadCloudPly(Path("huge.ply")); });
+  EXPECT_NE(error.find("element 'vertex' declares 4000000000 entries"), std::string::npos) << error;
+  WriteText(Path("short.ply"),
+            "ply\nformat ascii 1.0\nelement vertex 2\n"
+            "property float x\nproperty float y\nproperty float z\nend_header\n1 2 3\n4 5\n");
+  error = ErrorOf([&] { ReadCloudPly(Path("short.ply")); });
+  EXPECT_NE(error.find("vertex 1, property 'z'"), std::string::npos) << error;
+  WriteText(Path("word.ply"),
+            "ply\nformat ascii 1.0\nelement vertex 1\n"
+            "property float x\nproperty float y\nproperty float z\nend_header\n1 abc 3\n");
+  error = ErrorOf([&] { ReadCloudPly(Path("word.ply")); });
+  EXPECT_NE(error.find("vertex 0, property 'y': 'abc' is not a number"), std::string::npos) << error;
+  WriteText(Path("inf.ply"),
+            "ply\nformat ascii 1.0\nelement vertex 1\n"
+            "property double x\nproperty double y\nproperty double z\nend_header\n1 1e300 3\n");
+  error = ErrorOf([&] { ReadCloudPly(Path("inf.ply")); });
+  EXPECT_NE(error.find("vertex 0, property 'y'"), std::string::npos) << error;
+}
+
+TEST_F(PlyIoTest, BinaryBigEndianAndExtraElementsAreRead) {
+  std::string bytes =
+      "ply\nformat binary_big_endian 1.0\nelement vertex 1\n"
+      "property float x\nproperty float y\nproperty float z\n"
+      "element extra 1\nproperty list uchar int stuff\nend_header\n";
+  for (float v : {1.0f, -2.0f, 0.5f}) {
+    uint32_t bits;
+    std::memcpy(&bits, &v, 4);
+    for (int i = 3; i >= 0; --i) bytes.push_back(static_cast<char>(bits >> (8 * i)));
+  }
+  bytes.push_back(1);
+  bytes.append(4, '\0');
+  WriteText(Path("be.ply"), bytes);
+  const ObjectCloud cloud = ReadCloudPly(Path("be.ply"));
+  ASSERT_EQ(cloud.size(), 1u);
+  EXPECT_EQ(cloud.points_G[0], Eigen::Vector3f(1.0f, -2.0f, 0.5f));
+}
+
+TEST_F(PlyIoTest, MeshPolygonsAreFannedAndBadFacesNamed) {
+  // A quad and a pentagon (Open3D's ear clipping crashed on such a mesh
+  // with collinear or repeated vertices), and a degenerate triangle.
+  WriteText(Path("poly.ply"),
+            "ply\nformat ascii 1.0\nelement vertex 5\n"
+            "property float x\nproperty float y\nproperty float z\n"
+            "element face 3\nproperty list uchar int vertex_indices\nend_header\n"
+            "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 0\n"
+            "4 0 1 2 3\n5 0 1 1 2 3\n3 0 0 1\n");
+  const TriangleMesh mesh = ReadMesh(Path("poly.ply"));
+  EXPECT_EQ(mesh.vertices.size(), 5u);
+  EXPECT_EQ(mesh.triangles.size(), 4u);  // 2 + 2 (one of the pentagon's 3 is degenerate) + 0
+  WriteText(Path("badindex.ply"),
+            "ply\nformat ascii 1.0\nelement vertex 3\n"
+            "property float x\nproperty float y\nproperty float z\n"
+            "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+            "0 0 0\n1 0 0\n1 1 0\n3 0 1 7\n");
+  const std::string error = ErrorOf([&] { ReadMesh(Path("badindex.ply")); });
+  EXPECT_NE(error.find("face 0, property 'vertex_indices': vertex index 7 out of range"),
+            std::string::npos)
+      << error;
 }
 
 }  // namespace

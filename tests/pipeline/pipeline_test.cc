@@ -118,7 +118,9 @@ TEST_F(PipelineTest, WithoutTheMaskTheClawLeaksIn) {
   claw::ProceduralClawConfig tiny;
   tiny.finger_length_m = 0.0005;  // fingers too short to mask anything
   tiny.palm_radius_m = 0.001;
-  Pipeline pipeline(PipelineConfig{}, claw::ClawModel::ThreeFinger(tiny));
+  PipelineConfig unrefined;  // a claw this small cannot be registered
+  unrefined.refine.enabled = false;
+  Pipeline pipeline(unrefined, claw::ClawModel::ThreeFinger(tiny));
   Feed(&pipeline, 20);
   const ObjectCloud cloud = pipeline.ExtractCloud();
   int off_surface = 0;

@@ -213,5 +213,63 @@ TEST(NeighborIndex, FlatCloudsAndFarQueries) {
   EXPECT_EQ(nn, std::vector<int>{0});
 }
 
+// Issue 12: two stray points far away coarsened the grid into a few cells
+// (a protocol cloud's repair took 31 s and 10.7 GB); they are now searched
+// apart, and every query still gets the exact answer.
+TEST(NeighborIndex, FarStrayPointsKeepResultsExactAndTheGridFine) {
+  PointList points = RandomCloud(3000, 7);
+  points.emplace_back(1000.0f, -2000.0f, 5.0f);
+  points.emplace_back(-3e7f, 0.5f, 0.05f);
+  points.emplace_back(0.5f, 0.5f, 40.0f);
+  const NeighborIndex index(points);
+  std::vector<int> nn;
+  std::vector<double> d2;
+  std::vector<Eigen::Vector3f> queries = {points[0], points[3000], points[3001], points[3002],
+                                          Eigen::Vector3f(0.5f, 0.5f, 20.0f), Eigen::Vector3f(2, 2, 0.05f)};
+  for (const Eigen::Vector3f& q : queries) {
+    index.Knn(q, 8, &nn, &d2);
+    const auto truth = BruteForce(points, q);
+    ASSERT_EQ(nn.size(), 8u);
+    for (size_t j = 0; j < 8; ++j) {
+      EXPECT_EQ(nn[j], truth[j].second) << q.transpose();
+      EXPECT_DOUBLE_EQ(d2[j], truth[j].first);
+    }
+    index.Radius(q, 25.0, &nn, &d2);
+    size_t within = 0;
+    for (const auto& t : truth) within += t.first <= 625.0;
+    EXPECT_EQ(nn.size(), within) << q.transpose();
+  }
+  const KnnTable table = index.AllKnn(6);
+  for (size_t i : {size_t{0}, size_t{1500}, size_t{3000}, size_t{3001}, size_t{3002}}) {
+    const auto truth = BruteForce(points, points[i]);
+    for (int j = 0; j < 6; ++j) EXPECT_EQ(table.Row(i)[j], truth[static_cast<size_t>(j)].second) << i;
+  }
+  // Cost: the table of the cloud with its stray points takes about as long
+  // as without them (it took ~100x before: everything in one cell).
+  const PointList clean(points.begin(), points.begin() + 3000);
+  const double clean_ms = testing::BestOf3CpuMs([&] { NeighborIndex(clean).AllKnn(21); });
+  const double stray_ms = testing::BestOf3CpuMs([&] { NeighborIndex(points).AllKnn(21); });
+  std::printf("AllKnn(21) of 3000 points: %.2f ms clean, %.2f ms with 3 stray points\n", clean_ms,
+              stray_ms);
+  EXPECT_LT(stray_ms, 3.0 * clean_ms + 2.0);
+}
+
+// A cloud scaled to 1e-38 m: the grid's cell has no fixed floor (it was
+// 1e-7 m: every point in one cell).
+TEST(NeighborIndex, TinyScaleCloudIsAsCheapAsAnyOther) {
+  const PointList clean = RandomCloud(3000, 8);
+  PointList tiny = clean;
+  for (Eigen::Vector3f& p : tiny) p *= 1e-30f;  // normal floats still (1e-38 would be subnormal)
+  const double clean_ms = testing::BestOf3CpuMs([&] { NeighborIndex(clean).AllKnn(21); });
+  const double tiny_ms = testing::BestOf3CpuMs([&] { NeighborIndex(tiny).AllKnn(21); });
+  std::printf("AllKnn(21) of 3000 points: %.2f ms at 1 m, %.2f ms at 1e-30 m\n", clean_ms, tiny_ms);
+  EXPECT_LT(tiny_ms, 3.0 * clean_ms + 2.0);
+  const KnnTable a = NeighborIndex(clean).AllKnn(5);
+  const KnnTable b = NeighborIndex(tiny).AllKnn(5);
+  int same = 0;
+  for (size_t i = 0; i < a.indices.size(); ++i) same += a.indices[i] == b.indices[i];
+  EXPECT_GT(same, static_cast<int>(0.99 * a.indices.size()));  // rounding may swap near-ties
+}
+
 }  // namespace
 }  // namespace graspfill::repair

@@ -134,8 +134,15 @@ TEST(SessionClaw, ClawsThatCannotBeBuiltSaySo) {
     return std::string();
   };
   EXPECT_EQ(message(),
-            "the session description's claw URDF 'robotiq' (robotiq.urdf): URDF claws are not "
-            "read yet (pass --claw SPEC, or --claw-mesh-root DIR for its meshes)");
+            "the session description's claw URDF 'robotiq' (robotiq.urdf): URDF claw 'robotiq': "
+            "no URDF (empty text) (pass --claw SPEC, or --claw-mesh-root DIR for its meshes)");
+  session.claw_text = "<robot name='robotiq'><link name='palm'><collision><geometry>"
+                      "<mesh filename='package://robotiq/palm.stl'/></geometry></collision>"
+                      "</link></robot>";
+  session.claw_mesh_root = "/nonexistent/meshes";
+  EXPECT_NE(message().find("link 'palm'"), std::string::npos) << message();
+  EXPECT_NE(message().find("palm.stl' not found under /nonexistent/meshes"), std::string::npos)
+      << message();
   DescribeBuiltinClaw("four-finger", {}, &session);
   EXPECT_NE(message().find("unknown built-in claw"), std::string::npos) << message();
   session.claw_kind = io::SessionClawKind::kDescription;

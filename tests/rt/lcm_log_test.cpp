@@ -448,5 +448,32 @@ TEST_F(LcmLogTest, DepthOfAnotherSizeThanTheOverrideAndBadSessionsAreBadFrames) 
   EXPECT_EQ(source.sessions_read(), 1);
 }
 
+// Issue 12: a 48-byte log whose event declares datalen 0x7fffffff (and logs
+// declaring lengths near 2^31) segfaulted liblcm's reader; now the source
+// ends there, truncated, naming the offset and the field.
+TEST_F(LcmLogTest, EventDeclaringHugeDataIsTruncationNotACrash) {
+  for (uint32_t datalen : {0x7fffffffu, 0x7ffffff0u, 0x10000000u, 0x80000000u}) {
+    SCOPED_TRACE(datalen);
+    std::vector<char> bytes = {char(0xED), char(0xA1), char(0xDA), char(0x01)};
+    bytes.resize(4 + 16, 0);
+    const uint32_t channel_len = 15;
+    for (uint32_t v : {channel_len, datalen}) {
+      for (int i = 3; i >= 0; --i) bytes.push_back(static_cast<char>(v >> (8 * i)));
+    }
+    const std::string channel = "GRASPFILL_DEPTH";
+    bytes.insert(bytes.end(), channel.begin(), channel.end());
+    bytes.resize(48, 'x');
+    const std::string path = Path("huge" + std::to_string(datalen) + ".lcmlog");
+    std::ofstream(path, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    LcmLogSource source(SourceConfig(path));
+    SourceEvent event;
+    EXPECT_EQ(source.Next(&event), FrameResult::kEndOfStream);
+    EXPECT_TRUE(source.truncated());
+    EXPECT_EQ(source.events_read(), 0);
+    EXPECT_NE(source.stop_reason().find("log '" + path + "', event at byte 0: "), std::string::npos)
+        << source.stop_reason();
+  }
+}
+
 }  // namespace
 }  // namespace graspfill::rt

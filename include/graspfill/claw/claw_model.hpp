@@ -31,8 +31,10 @@ struct ProceduralClawConfig {
 enum class JointType { kFixed, kRevolute, kPrismatic };
 
 /// A joint placing a link in its parent: T_parent_link =
-/// T_parent_joint * motion(axis, value). The value is either the claw's
-/// joint value `joint_index` or `offset + gain * opening`, clamped to limits.
+/// T_parent_joint * motion(axis, value). The value is either
+/// `joint_bias + joint_scale * joint_values[joint_index]` (URDF mimic joints
+/// follow their master's value that way) or `offset + gain * opening`,
+/// clamped to limits.
 struct Joint {
   JointType type{JointType::kFixed};
   Eigen::Isometry3d T_parent_joint{Eigen::Isometry3d::Identity()};
@@ -42,6 +44,8 @@ struct Joint {
   double gain{1.0};     ///< d(value)/d(opening)
   double offset{0.0};   ///< value at opening 0
   int joint_index{-1};  ///< index into GripperState::joint_values, or -1
+  double joint_scale{1.0};  ///< d(value)/d(joint_values[joint_index])
+  double joint_bias{0.0};   ///< value at joint_values[joint_index] = 0
 };
 
 /// One rigid link. `parent` indexes an earlier link, -1 for the root (G).
@@ -51,6 +55,9 @@ struct Link {
   Joint joint;
   Eigen::Isometry3d T_link_mesh{Eigen::Isometry3d::Identity()};
   TriangleMesh mesh;  ///< in the mesh frame, meters
+  /// Zero-area triangles the loader removed from the mesh file (reported,
+  /// not an error: exported meshes often have a few).
+  int degenerate_triangles_dropped{0};
 };
 
 class ClawModel {
@@ -61,8 +68,11 @@ class ClawModel {
   /// Two parallel fingers facing each other along G's x axis.
   static ClawModel Parallel(const ProceduralClawConfig& config = {});
   /// Loads a description file (format in config/claws/README.md); mesh paths
-  /// are relative to the file unless `mesh_root` is given. Throws
-  /// std::runtime_error with the offending path/field on bad input.
+  /// are relative to the file unless `mesh_root` is given. A URDF claw (a
+  /// `.urdf` file, or a JSON config with a "urdf" key) is read by
+  /// LoadUrdfClaw (urdf_claw.hpp). Every mesh is checked (mesh_check.hpp).
+  /// Throws std::runtime_error with the offending path/field/link on bad
+  /// input.
   static ClawModel Load(const std::string& description_path,
                         const std::string& mesh_root = "");
 
@@ -79,8 +89,9 @@ class ClawModel {
   /// What the claw's opening means (units, range), from the description.
   const std::string& opening_doc() const { return opening_doc_; }
 
-  /// Links must list parents before children (throws
-  /// std::invalid_argument otherwise); movable joint axes are normalized.
+  /// Links must list parents before children, and every mesh must pass
+  /// MeshDefect (throws std::invalid_argument naming the claw and link
+  /// otherwise); movable joint axes are normalized.
   ClawModel(std::string name, std::vector<Link> links,
             std::string opening_doc = "");
 

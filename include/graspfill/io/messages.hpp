@@ -44,6 +44,43 @@ struct ChannelNames {
   std::string session{"GRASPFILL_SESSION"};
 };
 
+/// Why a message was rejected: decoders report one (optional last
+/// argument) so that a bus subscriber can count bad messages per reason.
+enum class MessageError : int {
+  kNone = 0,
+  kMalformed,           ///< wrong type hash, truncated, trailing bytes, bad counts
+  kBadSize,             ///< image width/height <= 0 or over kMaxDepthPixels
+  kBadIntrinsics,       ///< focal length or principal point out of range
+  kBadDepthScale,       ///< depth scale out of range
+  kBadEncoding,         ///< unknown encoding, corrupt zlib, data size mismatch
+  kBadPose,             ///< pose not finite, quaternion not unit
+  kBadValue,            ///< any other field out of range (opening, joints, kinds, frames)
+  kBadTimestamp,        ///< utime outside [0, kMaxUtime]
+  kIntrinsicsMismatch,  ///< image size differs from the session's intrinsics override
+  kNonMonotonicTime,    ///< utime older than the previous one on its channel (subscriber)
+  kCount                ///< number of reasons (array size)
+};
+/// A short stable name ("malformed", "bad_intrinsics", ...), for status and logs.
+const char* MessageErrorName(MessageError reason);
+
+/// Input limits checked by the decoders (README "Input limits").
+/// Largest depth image: 4096 x 4096 pixels.
+constexpr int64_t kMaxDepthPixels = int64_t{1} << 24;
+/// Focal lengths fx, fy accepted [pixels].
+constexpr double kMinFocalPx = 1.0;
+constexpr double kMaxFocalPx = 1e5;
+/// The principal point may lie up to one image size outside the image:
+/// cx in [-width, 2 width], cy in [-height, 2 height].
+/// Depth scale accepted [m per unit]: 1 um .. 1 m.
+constexpr double kMinDepthScaleM = 1e-6;
+constexpr double kMaxDepthScaleM = 1.0;
+/// Latest utime accepted (2^53 us, year ~2255): differences of two valid
+/// utimes never overflow, and they are exact in a double.
+constexpr int64_t kMaxUtime = int64_t{1} << 53;
+
+/// Checks intrinsics against the limits above; false + *why (one line) if not.
+bool IntrinsicsInRange(const CameraIntrinsics& K, std::string* why);
+
 /// How depth_image_t carries its pixels.
 enum class DepthEncoding {
   /// width*height little-endian uint16, uncompressed (2 bytes/pixel).
@@ -75,15 +112,17 @@ std::vector<uint8_t> EncodeDepthImage(
 ///
 /// Rejects malformed bytes (wrong type hash, truncated, trailing bytes),
 /// bad sizes (width/height <= 0, more than 2^24 pixels, data size not
-/// matching the encoding), unknown encodings, corrupt zlib streams, and
-/// non-finite or non-positive fx, fy, depth_scale (non-finite cx, cy).
+/// matching the encoding), unknown encodings, corrupt zlib streams,
+/// intrinsics outside the limits above (IntrinsicsInRange), a depth scale
+/// outside [kMinDepthScaleM, kMaxDepthScaleM] and a utime outside
+/// [0, kMaxUtime]. `reason`, if not null, gets why (kNone on success).
 /// @param data, size  one encoded message (LCM payload).
 /// @param out  receives the frame (depth in meters, 0 = invalid); on failure
 ///   its contents are unspecified.
 /// @param error  if not null, set to a one-line reason on failure.
 /// @return true on success.
 bool DecodeDepthImage(const void* data, size_t size, DepthFrame* out,
-                      std::string* error);
+                      std::string* error, MessageError* reason = nullptr);
 
 /// Encodes a gripper state as gripper_state_t with frame = FRAME_CAMERA
 /// (the pose written is state.T_C_G; the quaternion is normalized).
@@ -94,13 +133,13 @@ std::vector<uint8_t> EncodeGripperState(const GripperState& state);
 /// Camera-frame messages give T_C_G directly; base-frame messages carry
 /// T_B_G and are converted as T_C_G = T_C_B * T_B_G.
 /// Rejects malformed bytes, unknown frames, NaN/inf anywhere (pose,
-/// opening, joints) and quaternions whose norm is off 1 by more than 1e-3
-/// (the accepted ones are renormalized).
+/// opening, joints), quaternions whose norm is off 1 by more than 1e-3
+/// (the accepted ones are renormalized) and a utime outside [0, kMaxUtime].
 /// @param T_C_B  hand-eye calibration: maps points from B to C.
 /// @param error  if not null, set to a one-line reason on failure.
 bool DecodeGripperState(const void* data, size_t size,
                         const Eigen::Isometry3d& T_C_B, GripperState* out,
-                        std::string* error);
+                        std::string* error, MessageError* reason = nullptr);
 
 /// Encodes an object cloud as object_cloud_t.
 ///
@@ -117,18 +156,39 @@ std::vector<uint8_t> EncodeObjectCloud(const ObjectCloud& cloud);
 /// points or pose, and non-unit quaternions (as DecodeGripperState).
 /// @param error  if not null, set to a one-line reason on failure.
 bool DecodeObjectCloud(const void* data, size_t size, ObjectCloud* out,
-                       std::string* error);
+                       std::string* error, MessageError* reason = nullptr);
+
+/// What the module is doing (module_status_t.state_code).
+enum class ModuleState : int8_t {
+  kWaiting = 0,    ///< no depth frame yet, or the claw is empty
+  kFusing = 1,     ///< frames are being fused
+  kRepairing = 2,  ///< a grasp ended; its final model is being repaired
+  kStalled = 3,    ///< frames come but none was fused for a while
+  kError = 4,      ///< cannot go on (state_detail says why)
+};
 
 /// The module's health, as carried by module_status_t. Counters are
 /// cumulative since the module started.
 struct ModuleStatus {
-  int64_t utime{0};           ///< when the status was assembled [us]
+  int64_t utime{0};           ///< bus time: the newest depth frame's utime [us]
   int64_t frames_in{0};       ///< depth frames received
   int64_t frames_used{0};     ///< depth frames fused into the TSDF
   int64_t frames_skipped{0};  ///< frames deliberately not fused
   int64_t frames_dropped{0};  ///< frames lost to a full queue
   double last_frame_ms{0.0};  ///< receive-to-fused time of the last frame
-  std::string state;          ///< "idle", "running", "error: ..."
+  std::string state;          ///< state_code as text, with the detail
+  ModuleState state_code{ModuleState::kWaiting};
+  std::string state_detail;   ///< why, for kStalled and kError
+  int64_t frames_skipped_no_pose{0};
+  int64_t frames_skipped_clock_jump{0};
+  int64_t frames_bad{0};
+  int64_t decode_errors{0};   ///< messages on our channels that did not decode
+  int64_t clock_jumps{0};     ///< backwards jumps the module started over at
+  int64_t repairs_done{0};
+  int64_t repairs_superseded{0};
+  int64_t repairs_failed{0};
+  int64_t grasp_id{0};        ///< the grasp being modelled (0: none / not numbered)
+  int64_t grasps_completed{0};
 };
 
 /// Encodes a status as module_status_t.
@@ -136,7 +196,7 @@ std::vector<uint8_t> EncodeModuleStatus(const ModuleStatus& status);
 
 /// Decodes a module_status_t; false + *error on malformed bytes.
 bool DecodeModuleStatus(const void* data, size_t size, ModuleStatus* out,
-                        std::string* error);
+                        std::string* error, MessageError* reason = nullptr);
 
 /// How a session description gives its claw (session_description_t's
 /// claw_kind).
@@ -194,6 +254,6 @@ std::vector<uint8_t> EncodeSessionDescription(const SessionDescription& session)
 /// with min < max on every axis, and a voxel size not finite and >= 0.
 /// @param error  if not null, set to a one-line reason on failure.
 bool DecodeSessionDescription(const void* data, size_t size, SessionDescription* out,
-                              std::string* error);
+                              std::string* error, MessageError* reason = nullptr);
 
 }  // namespace graspfill::io

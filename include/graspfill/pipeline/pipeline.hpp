@@ -3,7 +3,8 @@
 // the object's cloud in the gripper frame comes out.
 //
 // Per depth frame: pose at the frame's timestamp (interpolated between the
-// bracketing gripper states), crop to the workspace box in G, claw cut-out by
+// bracketing gripper states), refined by registering the claw to the depth
+// (refine/pose_refiner.hpp; a frame it rejects is skipped), crop to the workspace box in G, claw cut-out by
 // ray casting the posed claw, TSDF integration in G, and the frame offered
 // to the visibility record (evidence/). Extraction is on demand.
 //
@@ -20,6 +21,7 @@
 #include "graspfill/evidence/visibility_record.hpp"
 #include "graspfill/fusion/tsdf_fusion.hpp"
 #include "graspfill/fusion/workspace_crop.hpp"
+#include "graspfill/refine/pose_refiner.hpp"
 #include "graspfill/types.hpp"
 
 namespace graspfill {
@@ -31,6 +33,9 @@ struct PipelineConfig {
   /// The key frames the repair tests its proposals against (over the
   /// workspace box above).
   evidence::VisibilityConfig visibility;
+  /// Pose refinement before the mask and the fusion (on by default; a frame
+  /// it rejects is skipped and counted, see refine/pose_refiner.hpp).
+  refine::RefineConfig refine;
   /// Two gripper states bracketing a depth frame may be at most this far
   /// apart [us]; otherwise the frame is skipped (no trustworthy pose).
   int64_t max_pose_gap_us{50000};
@@ -53,6 +58,7 @@ enum class FrameOutcome {
   kPending,        ///< waiting for a later gripper state
   kSkippedNoPose,  ///< no gripper states close enough around its timestamp
   kBadFrame,       ///< wrong size or bad intrinsics: rejected
+  kSkippedRefine,  ///< pose refinement rejected it (PipelineStats::refine says why)
 };
 
 struct PipelineStats {
@@ -64,6 +70,9 @@ struct PipelineStats {
   int64_t states_in{0};
   int64_t states_rejected{0};  ///< non-finite / not newer than the last
   int64_t claw_rebuilds{0};
+  int64_t frames_skipped_refine{0};  ///< rejected by pose refinement
+  refine::RefineStats refine;       ///< corrections, residuals, rejections by reason
+  StageTotal refine_time;  ///< claw registration (0 when refinement is off)
   StageTotal crop;
   StageTotal mask;
   StageTotal integrate;
@@ -99,6 +108,10 @@ class Pipeline {
   /// What the camera saw of the object so far, in G (key frames; copying
   /// it is cheap and the copy stays valid after Reset).
   const evidence::VisibilityRecord& visibility() const;
+
+  /// The pose refinement's state: the hand-eye correction found so far
+  /// (T_C_G ~= H * T_C_G_logged), the last registration.
+  const refine::PoseRefiner& refiner() const;
 
   /// Forgets the object (volume, visibility, states, pending frames);
   /// keeps the claw.

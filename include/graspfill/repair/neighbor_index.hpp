@@ -75,4 +75,11 @@ KnnTable RestrictTable(const KnnTable& table, const std::vector<int>& kept,
 /// nearest other point: the cloud's spacing [m]; 0 when none has one.
 double MeanNearestDistance(const NeighborIndex& index, int samples);
 
+/// The box around the bulk of `points`: per axis the 0.1% and 99.9%
+/// quantiles widened by half their distance on each side, cut to the
+/// bounding box. A clean cloud's box is its bounding box; a few stray points
+/// far away are outside it (the index searches them apart, the repair's
+/// limits measure this box). Non-finite points are ignored.
+Eigen::AlignedBox3f RobustBox(const PointList& points);
+
 }  // namespace graspfill::repair

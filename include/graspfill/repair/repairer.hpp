@@ -110,14 +110,23 @@ enum class RepairStatus {
   kNoHoles,       ///< nothing to repair: the cloud comes back unchanged
   kTooFewPoints,  ///< below the steps' minimum: unchanged
   kNoFrame,       ///< no virtual frame could be found: unchanged
+  kOutOfRange,    ///< beyond the documented limits (kMaxRepairPoints, extent): unchanged
 };
 
-/// "repaired", "no holes found", "too few points", "no virtual frame".
+/// The repair's input limits (README "Input limits"): the most points, and
+/// the bulk's extent (RobustBox's largest side; stray points beyond it are
+/// ignored as outliers) [m].
+constexpr size_t kMaxRepairPoints = 4'000'000;
+constexpr double kMinRepairExtentM = 1e-3;
+constexpr double kMaxRepairExtentM = 10.0;
+
+/// "repaired", "no holes found", "too few points", "no virtual frame",
+/// "outside the repair's limits".
 std::string RepairStatusName(RepairStatus status);
 
 struct RepairReport {
   RepairStatus status{RepairStatus::kNoHoles};
-  /// Why, for kTooFewPoints and kNoFrame (empty otherwise).
+  /// Why, for kTooFewPoints, kNoFrame and kOutOfRange (empty otherwise).
   std::string status_detail;
   /// The status's name, then the detail after ": " when there is one (what
   /// the CLI prints and `--json` gives as "status").

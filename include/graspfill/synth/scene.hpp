@@ -33,6 +33,7 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -97,6 +98,9 @@ struct SceneConfig {
 
   ClawType claw{ClawType::kThreeFinger};
   claw::ProceduralClawConfig claw_config;  ///< the claw's dimensions
+  /// A description or URDF claw replacing `claw` and `claw_config` when set,
+  /// placed by the rule in model_claw_placement.hpp.
+  std::shared_ptr<const claw::ClawModel> claw_model;
   GraspWay grasp{GraspWay::kTopStraight};
 
   uint64_t seed{1};            ///< sensor noise, wobble phases
@@ -127,7 +131,8 @@ struct Placement {
   Eigen::Isometry3d T_G_O{Eigen::Isometry3d::Identity()};  ///< object in G
   double palm_gap_m{0.0};     ///< palm face (z = 0) to the object's top
   double contact_fraction{0.0};
-  double opening_m{0.0};      ///< the claw's opening (finger inner radius)
+  double opening_m{0.0};      ///< the claw's opening (finger inner radius;
+                              ///< a model claw's own units)
   /// Per finger: radius at which it would touch the object [m].
   std::vector<double> finger_touch_radius_m;
   claw::ProceduralClawConfig claw;  ///< the claw as used (finger length)

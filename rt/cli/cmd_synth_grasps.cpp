@@ -1,0 +1,149 @@
+#include "cmd_synth_grasps.hpp"
+
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "claw_option.hpp"
+#include "commands.hpp"
+#include "number_parsing.hpp"
+#include "output_dir.hpp"
+#include "graspfill/io/atomic_file.hpp"
+#include "graspfill/io/messages.hpp"
+#include "graspfill/io/ply.hpp"
+#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/synth/renderer.hpp"
+#include "graspfill/synth/scene.hpp"
+#include "graspfill/synth/shapes.hpp"
+#include "sinks/lcm_log_writer.hpp"
+
+namespace graspfill::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+// Between two grasps: no events (the robot puts the object down).
+constexpr int64_t kGapBetweenGraspsUs = 1000000;
+}  // namespace
+
+std::vector<std::string> ParseGraspShapes(const std::string& text) {
+  std::vector<std::string> shapes;
+  std::stringstream in(text);
+  std::string name;
+  while (std::getline(in, name, ',')) {
+    if (!synth::ParseShape(name)) {
+      throw UsageError("--grasps '" + text + "': unknown shape '" + name + "'");
+    }
+    shapes.push_back(name);
+  }
+  if (shapes.empty() || text.back() == ',') {
+    throw UsageError("--grasps '" + text + "': expected shapes separated by commas");
+  }
+  return shapes;
+}
+
+int RunSynthGrasps(const SynthGraspsOptions& o) {
+  std::vector<synth::SceneConfig> configs;
+  int64_t start_utime = synth::MotionConfig{}.start_utime;
+  for (size_t k = 0; k < o.shapes.size(); ++k) {
+    synth::SceneConfig config;
+    config.shape = *synth::ParseShape(o.shapes[k]);
+    config.claw = *synth::ParseClawType(o.claw);
+    config.grasp = *synth::ParseGraspWay(o.grasp);
+    config.seed = o.seed + k;
+    config.num_frames = o.frames;
+    if (o.ideal) config.sensor = synth::SensorModelConfig::Ideal();
+    config.environment.wall_distance_m = o.wall_m;
+    config.motion.start_utime = start_utime;
+    configs.push_back(config);
+    const synth::Scene scene(config);
+    const std::vector<synth::TimelineEvent> timeline = scene.Timeline();
+    start_utime = timeline.back().utime + kGapBetweenGraspsUs +
+                  static_cast<int64_t>(1e6 * config.gripper_lead_s);
+  }
+  const fs::path dir(o.output_dir);
+  std::vector<std::string> outputs = {"recording.lcmlog", "grasps.json"};
+  for (size_t k = 1; k <= o.shapes.size(); ++k) {
+    outputs.push_back("grasp" + std::to_string(k) + "/gt_mesh.ply");
+    outputs.push_back("grasp" + std::to_string(k) + "/gt_cloud.ply");
+  }
+  if (!PrepareOutputs(dir, outputs, o.force, "synth")) return 1;
+  try {
+    const io::ChannelNames channels;
+    rt::LcmLogWriter log((dir / "recording.lcmlog").string(), o.force);
+    nlohmann::ordered_json grasps = nlohmann::json::array();
+    std::string claw_text;  // the first grasp's claw, as rendered
+    for (size_t k = 0; k < configs.size(); ++k) {
+      const int64_t grasp_id = static_cast<int64_t>(k) + 1;
+      const synth::Scene scene(configs[k]);
+      const std::vector<synth::TimelineEvent> timeline = scene.Timeline();
+      const std::string text = ProceduralClawText(scene.placement().claw);
+      if (k == 0) {
+        claw_text = text;
+        io::SessionDescription session;
+        session.utime = timeline.front().utime;
+        session.software_version = io::SoftwareVersion();
+        DescribeBuiltinClaw(o.claw, scene.placement().claw, &session);
+        log.Write(channels.session, session.utime, io::EncodeSessionDescription(session));
+      } else if (text != claw_text) {
+        std::fprintf(stderr, "graspfill synth: --grasps: shape '%s' needs other claw dimensions "
+                     "than the first grasp's (one claw holds every object)\n",
+                     o.shapes[k].c_str());
+        return 1;
+      }
+      const synth::SceneRenderer renderer(scene);
+      int64_t states = 0;
+      for (const synth::TimelineEvent& event : timeline) {
+        if (event.kind == synth::TimelineEvent::Kind::kDepth) {
+          log.Write(channels.depth, event.utime,
+                    io::EncodeDepthImage(renderer.Render(event.index),
+                                         io::DepthEncoding::kZlib16, 0.001));
+        } else {
+          GripperState state = scene.GripperStateAt(event.utime);
+          state.grasp_id = grasp_id;
+          log.Write(channels.gripper_state, event.utime, io::EncodeGripperState(state));
+          ++states;
+        }
+      }
+      const fs::path gdir = dir / ("grasp" + std::to_string(grasp_id));
+      fs::create_directories(gdir);
+      io::WriteMeshPly((gdir / "gt_mesh.ply").string(), scene.object_G());
+      const synth::SurfaceSamples samples = synth::SampleSurface(
+          scene.object_G(), synth::kDefaultGroundTruthPoints, configs[k].seed);
+      ObjectCloud gt;
+      gt.utime = scene.DepthUtime(0);
+      gt.T_C_G = scene.T_C_G(0.0);
+      gt.points_G = samples.points;
+      gt.normals_G = samples.normals;
+      io::WriteCloudPly((gdir / "gt_cloud.ply").string(), gt);
+      grasps.push_back({{"grasp_id", grasp_id},
+                        {"shape", o.shapes[k]},
+                        {"seed", configs[k].seed},
+                        {"depth_frames", configs[k].num_frames},
+                        {"gripper_states", states},
+                        {"first_utime", timeline.front().utime},
+                        {"last_utime", timeline.back().utime},
+                        {"ground_truth", gdir.filename().string() + "/gt_cloud.ply"}});
+      std::printf("grasp %lld: %s, %d depth frames + %lld gripper states\n",
+                  static_cast<long long>(grasp_id), o.shapes[k].c_str(), configs[k].num_frames,
+                  static_cast<long long>(states));
+    }
+    log.Close();
+    const nlohmann::ordered_json doc = {{"format", "graspfill-synth-grasps/1"},
+                                        {"claw", o.claw},
+                                        {"grasp", o.grasp},
+                                        {"log", "recording.lcmlog"},
+                                        {"grasps", grasps}};
+    io::WriteFileAtomically((dir / "grasps.json").string(), doc.dump(2) + "\n");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "graspfill synth: error: %s\n", e.what());
+    return 1;
+  }
+  std::printf("wrote %s: %zu grasps\n", (dir / "recording.lcmlog").string().c_str(),
+              o.shapes.size());
+  return 0;
+}
+
+}  // namespace graspfill::cli

@@ -1,0 +1,226 @@
+#include "module/live_session.hpp"
+
+#include <chrono>
+#include <stdexcept>
+#include <thread>
+#include <utility>
+
+namespace graspfill::rt {
+
+namespace {
+
+const char* StateName(io::ModuleState state) {
+  switch (state) {
+    case io::ModuleState::kWaiting: return "waiting";
+    case io::ModuleState::kFusing: return "fusing";
+    case io::ModuleState::kRepairing: return "repairing";
+    case io::ModuleState::kStalled: return "stalled";
+    case io::ModuleState::kError: return "error";
+  }
+  return "error";
+}
+
+}  // namespace
+
+LiveSession::LiveSession(const LiveSessionConfig& config)
+    : config_(config), publisher_(config.lcm_url) {
+  LcmBusSubscriber::Config bus;
+  bus.url = config.lcm_url;
+  bus.channels = config.channels;
+  subscriber_ = std::make_unique<LcmBusSubscriber>(
+      bus, [this](const GripperState& s) { OnGripperState(s); },
+      config.depth_from_bus ? LcmBusSubscriber::DepthCallback(
+                                  [this](const DepthFrame& f) { OnDepth(f); })
+                            : LcmBusSubscriber::DepthCallback(),
+      [this](const io::SessionDescription& session) {
+        std::lock_guard<std::mutex> lock(intake_mutex_);
+        if (!first_session_) first_session_ = session;
+      });
+}
+
+LiveSession::~LiveSession() {
+  subscriber_.reset();  // no more events from the bus's thread
+}
+
+std::optional<io::SessionDescription> LiveSession::first_session() const {
+  std::lock_guard<std::mutex> lock(intake_mutex_);
+  return first_session_;
+}
+
+std::optional<io::SessionDescription> LiveSession::WaitForFirstEvent() {
+  const auto start = std::chrono::steady_clock::now();
+  const SessionLoopLimits& limits = config_.limits;
+  for (;;) {
+    {
+      std::lock_guard<std::mutex> lock(intake_mutex_);
+      if (first_session_ || !early_frames_.empty()) return first_session_;
+    }
+    if (limits.interrupted != nullptr && limits.interrupted->load()) break;
+    if (limits.duration_s > 0 &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
+            limits.duration_s) {
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return first_session();
+}
+
+void LiveSession::PublishCloud(const ObjectCloud& cloud) {
+  last_points_out_ = cloud.size();
+  std::lock_guard<std::mutex> lock(publisher_mutex_);
+  publisher_.PublishCloud(config_.channels.object_cloud, cloud);
+}
+
+void LiveSession::Begin(claw::ClawModel claw, const io::SessionDescription& description) {
+  if (config_.repair) {
+    repair_stage_ = std::make_unique<RepairStage>(
+        config_.repair_config, [this](const ObjectCloud& cloud) { PublishCloud(cloud); });
+  }
+  if (!config_.record.path.empty()) {
+    config_.record.channels = config_.channels;
+    recorder_ = std::make_unique<SessionRecorder>(config_.record, description);
+  }
+  module_ = std::make_unique<GraspModule>(
+      config_.module, std::move(claw),
+      [this](const ObjectCloud& cloud, const evidence::VisibilityRecord& seen) {
+        if (repair_stage_) repair_stage_->Submit(cloud, &seen);  // never waits
+        else PublishCloud(cloud);
+      });
+  SessionLoopLimits limits = config_.limits;
+  limits.on_tick = [this] {
+    if (on_tick_) on_tick_();
+    PublishStatus();
+  };
+  std::lock_guard<std::mutex> lock(intake_mutex_);
+  loop_ = std::make_unique<SessionLoop>(limits);  // OnDepth reads it under the lock
+  for (const GripperState& s : early_states_) {
+    if (recorder_) recorder_->RecordGripperState(s);
+    module_->PushGripperState(s);
+  }
+  for (const DepthFrame& f : early_frames_) {
+    if (recorder_) recorder_->RecordDepth(f);
+    module_->PushDepthFrame(f);
+  }
+  early_states_.clear();
+  early_frames_.clear();
+  begun_ = true;
+}
+
+void LiveSession::OnGripperState(const GripperState& state) {
+  std::lock_guard<std::mutex> lock(intake_mutex_);
+  if (begun_) {
+    if (recorder_) recorder_->RecordGripperState(state);
+    module_->PushGripperState(state);
+    return;
+  }
+  if (early_states_.size() == kMaxEarlyStates) early_states_.pop_front();
+  early_states_.push_back(state);
+}
+
+void LiveSession::OnDepth(const DepthFrame& frame) {
+  std::lock_guard<std::mutex> lock(intake_mutex_);
+  if (begun_) {
+    if (recorder_) recorder_->RecordDepth(frame);
+    module_->PushDepthFrame(frame);
+    loop_->NoteDepthFrame();  // the idle rule
+  } else {
+    if (early_frames_.size() == kMaxEarlyFrames) early_frames_.pop_front();
+    early_frames_.push_back(frame);
+  }
+}
+
+bool LiveSession::OnEvent(const SourceEvent& event) {
+  // Run's source gives depth (a camera); the bus gives the rest.
+  if (event.kind == SourceEvent::Kind::kDepth) OnDepth(event.depth);
+  else if (event.kind == SourceEvent::Kind::kGripperState) OnGripperState(event.gripper);
+  return true;
+}
+
+bool LiveSession::OnBadEvent(const SourceEvent&) {
+  ++source_errors_;  // e.g. a camera timeout: counted, the session goes on
+  return true;
+}
+
+io::ModuleStatus LiveSession::Status() const {
+  io::ModuleStatus status;
+  const GraspModuleStatus s = module_ ? module_->status() : GraspModuleStatus{};
+  const SessionCounters& c = s.session;
+  status.utime = c.last_frame_utime;
+  status.frames_in = s.frames_in;
+  status.frames_used = s.pipeline.frames_integrated;
+  status.frames_skipped_no_pose = s.pipeline.frames_skipped_no_pose;
+  status.frames_skipped_clock_jump = c.skipped_clock_jump;
+  status.frames_bad = s.pipeline.frames_bad + source_errors_;
+  status.frames_skipped = status.frames_skipped_no_pose + status.frames_skipped_clock_jump +
+                          s.pipeline.frames_bad + c.frames_released;
+  status.frames_dropped = s.frames_dropped + s.pipeline.frames_dropped;
+  status.last_frame_ms = s.pipeline.crop.last_ms + s.pipeline.mask.last_ms +
+                         s.pipeline.integrate.last_ms;
+  status.decode_errors = subscriber_ ? subscriber_->decode_errors() : 0;
+  status.clock_jumps = c.clock_jumps;
+  status.grasp_id = c.grasp_id;
+  status.grasps_completed = c.grasps_completed;
+  int64_t finals_pending = 0;
+  if (repair_stage_) {
+    const RepairStageStatus r = repair_stage_->status();
+    status.repairs_done = r.repaired;
+    status.repairs_superseded = r.superseded;
+    status.repairs_failed = r.failed;
+    finals_pending = r.finals_pending;
+  }
+  if (finals_pending > 0) {
+    status.state_code = io::ModuleState::kRepairing;
+  } else if (s.frames_in == 0 || !c.holding) {
+    status.state_code = io::ModuleState::kWaiting;
+  } else if (c.frames_since_fused >= config_.stall_after_frames) {
+    status.state_code = io::ModuleState::kStalled;
+    status.state_detail = s.stall_reason;
+  } else {
+    status.state_code = io::ModuleState::kFusing;
+  }
+  status.state = StateName(status.state_code);
+  if (!status.state_detail.empty()) status.state += ": " + status.state_detail;
+  return status;
+}
+
+void LiveSession::PublishStatus() {
+  last_status_ = Status();
+  std::lock_guard<std::mutex> lock(publisher_mutex_);
+  publisher_.PublishStatus(config_.channels.status, last_status_);
+}
+
+LiveSessionSummary LiveSession::Run(FrameSource* source, std::function<void()> on_tick) {
+  if (!module_) throw std::logic_error("LiveSession::Run before Begin");
+  on_tick_ = std::move(on_tick);
+  loop_->Run(source, this);
+
+  LiveSessionSummary summary;
+  const ObjectCloud fused = module_->Finish();
+  summary.final_points = fused.size();
+  if (repair_stage_) {
+    repair_stage_->Drain();  // the last cloud out repaired, not dropped
+    summary.final_points = last_points_out_;
+    summary.repair = repair_stage_->status();
+  }
+  PublishStatus();  // the final counters
+  summary.module = module_->status();
+  summary.states_received = subscriber_->states_received();
+  summary.decode_errors = subscriber_->decode_errors();
+  summary.source_errors = source_errors_;
+  summary.status = last_status_;
+  if (recorder_) {
+    // Stop feeding the recorder before closing it.
+    {
+      std::lock_guard<std::mutex> lock(intake_mutex_);
+      begun_ = false;
+    }
+    summary.records_written = recorder_->events_written();
+    recorder_->Close();  // throws naming the path if a write failed
+    summary.records_written = recorder_->events_written();
+    summary.records_dropped = recorder_->events_dropped();
+  }
+  return summary;
+}
+
+}  // namespace graspfill::rt

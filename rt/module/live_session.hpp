@@ -1,0 +1,141 @@
+// The live grasp-and-model session, composed: sources (the LCM bus's
+// gripper states and session descriptions, depth from the bus or from a
+// FrameSource such as an OpenNI2 device) -> GraspModule (fusion worker,
+// grasp after grasp) -> RepairStage (repair thread; grasp finals never
+// superseded) -> LcmPublisher (clouds, status), with an optional
+// SessionRecorder beside the module. `graspfill live` only parses its flags
+// and wires one of these.
+//
+// Life: construct (subscribes; events are held until Begin), optionally
+// WaitForFirstEvent (for the claw of the session description before the
+// first depth frame), Begin (with the claw and the description the session
+// runs with), Run (the session loop: until the source ends or a limit), and
+// Finish (the last grasp's model out repaired, the recording closed).
+//
+// Threads: the bus's receive thread calls OnDepth / OnGripperState (so may
+// anyone; they never wait for fusion, repair or the disk); Run and the rest
+// from one thread. The status goes out from Run's thread.
+#pragma once
+
+#include <atomic>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "graspfill/io/messages.hpp"
+#include "graspfill/repair/repairer.hpp"
+#include "module/grasp_module.hpp"
+#include "module/repair_stage.hpp"
+#include "module/session_loop.hpp"
+#include "sinks/lcm_publisher.hpp"
+#include "sinks/session_recorder.hpp"
+#include "sources/frame_source.hpp"
+#include "sources/lcm_bus_subscriber.hpp"
+
+namespace graspfill::rt {
+
+struct LiveSessionConfig {
+  /// LCM URL for everything ("" = LCM's default); channel names.
+  io::ChannelNames channels;
+  std::string lcm_url;
+  /// Subscribe to depth_image_t on the bus (else depth comes from Run's
+  /// source).
+  bool depth_from_bus{false};
+  GraspModuleConfig module;
+  /// Repair each cloud before it is published (config for clouds in G).
+  bool repair{true};
+  repair::RepairConfig repair_config;
+  /// Record what the session received (path empty: no recording).
+  SessionRecorder::Config record;
+  /// Stop rules; on_tick is the session's (the status).
+  SessionLoopLimits limits;
+  /// This many depth frames in a row not fused: the status says "stalled".
+  int stall_after_frames{30};
+};
+
+/// What the session did, for the summary line.
+struct LiveSessionSummary {
+  GraspModuleStatus module;
+  std::optional<RepairStageStatus> repair;
+  int64_t states_received{0};
+  int64_t decode_errors{0};
+  int64_t source_errors{0};  ///< the FrameSource's kBadFrame events
+  size_t final_points{0};    ///< points of the last cloud published
+  int64_t records_written{0};
+  int64_t records_dropped{0};
+  io::ModuleStatus status;   ///< the last status published
+};
+
+class LiveSession : private EventSink {
+ public:
+  /// Opens the bus (throws std::runtime_error if LCM cannot start) and
+  /// holds what it receives until Begin.
+  explicit LiveSession(const LiveSessionConfig& config);
+  ~LiveSession() override;
+  LiveSession(const LiveSession&) = delete;
+  LiveSession& operator=(const LiveSession&) = delete;
+
+  /// Waits until a session description or a depth frame arrived (or a
+  /// limit is reached); returns the first session description, if any.
+  std::optional<io::SessionDescription> WaitForFirstEvent();
+  /// The first session description received so far (any thread).
+  std::optional<io::SessionDescription> first_session() const;
+
+  /// Starts fusing with `claw` (and the pipeline config in the session
+  /// config, which the caller has set from `description` if it wants);
+  /// `description` heads the recording. Throws on a bad config or an
+  /// output that cannot be written.
+  void Begin(claw::ClawModel claw, const io::SessionDescription& description);
+
+  /// Runs the session loop on `source` (null: depth comes from the bus)
+  /// until it ends or a limit stops it; `on_tick` runs on each status tick
+  /// (the CLI's late-session warning). Then finishes (see the file comment).
+  LiveSessionSummary Run(FrameSource* source, std::function<void()> on_tick = {});
+
+  /// The status as published now (Run's thread).
+  io::ModuleStatus Status() const;
+
+  /// Event entry points (any thread; the bus's receive thread).
+  void OnDepth(const DepthFrame& frame);
+  void OnGripperState(const GripperState& state);
+
+  /// The publisher, for callers that also subscribe on its provider
+  /// (memq:// in tests).
+  LcmPublisher& publisher() { return publisher_; }
+
+ private:
+  bool OnEvent(const SourceEvent& event) override;
+  bool OnBadEvent(const SourceEvent& event) override;
+  void PublishCloud(const ObjectCloud& cloud);
+  void PublishStatus();
+
+  static constexpr size_t kMaxEarlyStates = 64;  // as the module's state queue
+  static constexpr size_t kMaxEarlyFrames = 4;   // as the module's frame queue
+
+  LiveSessionConfig config_;
+  LcmPublisher publisher_;
+  std::mutex publisher_mutex_;  // clouds from the repair thread, status from Run's
+  std::unique_ptr<RepairStage> repair_stage_;
+  std::unique_ptr<SessionRecorder> recorder_;
+  // After the stage and recorder (destroyed before them: nothing is handed
+  // to a stage that is gone); before the subscriber, which feeds it.
+  std::unique_ptr<GraspModule> module_;
+  std::unique_ptr<SessionLoop> loop_;  // made by Begin
+  std::function<void()> on_tick_;      // Run's caller's, on the loop's thread
+
+  mutable std::mutex intake_mutex_;  // guards the three below
+  bool begun_{false};
+  std::deque<GripperState> early_states_;
+  std::deque<DepthFrame> early_frames_;
+  std::optional<io::SessionDescription> first_session_;
+
+  std::atomic<int64_t> source_errors_{0};
+  std::atomic<size_t> last_points_out_{0};
+  io::ModuleStatus last_status_;
+  std::unique_ptr<LcmBusSubscriber> subscriber_;  // last: its thread calls the above
+};
+
+}  // namespace graspfill::rt

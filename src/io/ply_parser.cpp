@@ -1,0 +1,405 @@
+#include "ply_parser.hpp"
+
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace graspfill::io::ply {
+namespace {
+
+enum class Format { kAscii, kBinaryLittle, kBinaryBig };
+enum class Type { kInt8, kUint8, kInt16, kUint16, kInt32, kUint32, kFloat32, kFloat64 };
+
+struct Property {
+  std::string name;
+  Type type{Type::kFloat32};
+  bool is_list{false};
+  Type count_type{Type::kUint8};
+};
+
+struct Element {
+  std::string name;
+  int64_t count{0};
+  std::vector<Property> properties;
+};
+
+[[noreturn]] void Fail(const std::string& what, const std::string& path, const std::string& why) {
+  throw std::runtime_error(what + " '" + path + "': " + why);
+}
+
+bool ParseType(const std::string& s, Type* t) {
+  static const std::pair<const char*, Type> kNames[] = {
+      {"char", Type::kInt8},     {"int8", Type::kInt8},       {"uchar", Type::kUint8},
+      {"uint8", Type::kUint8},   {"short", Type::kInt16},     {"int16", Type::kInt16},
+      {"ushort", Type::kUint16}, {"uint16", Type::kUint16},   {"int", Type::kInt32},
+      {"int32", Type::kInt32},   {"uint", Type::kUint32},     {"uint32", Type::kUint32},
+      {"float", Type::kFloat32}, {"float32", Type::kFloat32}, {"double", Type::kFloat64},
+      {"float64", Type::kFloat64}};
+  for (const auto& [name, type] : kNames) {
+    if (s == name) {
+      *t = type;
+      return true;
+    }
+  }
+  return false;
+}
+
+int TypeBytes(Type t) {
+  switch (t) {
+    case Type::kInt8: case Type::kUint8: return 1;
+    case Type::kInt16: case Type::kUint16: return 2;
+    case Type::kInt32: case Type::kUint32: case Type::kFloat32: return 4;
+    case Type::kFloat64: return 8;
+  }
+  return 1;
+}
+
+bool IsInteger(Type t) { return t != Type::kFloat32 && t != Type::kFloat64; }
+
+// The body, read value by value with bounds checks; errors say where.
+class Body {
+ public:
+  Body(const std::string& bytes, size_t start, Format format, const std::string& path,
+       const std::string& what)
+      : bytes_(bytes), pos_(start), format_(format), path_(path), what_(what) {}
+
+  size_t remaining() const { return bytes_.size() - pos_; }
+
+  // One value of type t; `where` names it for errors (only built on failure).
+  template <typename Where>
+  double Read(Type t, const Where& where) {
+    return format_ == Format::kAscii ? ReadAscii(t, where) : ReadBinary(t, where);
+  }
+
+  // After the last element: nothing but (ASCII) whitespace may follow.
+  void ExpectEnd() {
+    if (format_ == Format::kAscii) {
+      while (pos_ < bytes_.size() && std::isspace(static_cast<unsigned char>(bytes_[pos_]))) ++pos_;
+      if (pos_ < bytes_.size()) {
+        Fail(what_, path_, "unexpected data after the last element (at byte " + std::to_string(pos_) +
+                               "): more values than the header declares");
+      }
+    } else if (pos_ < bytes_.size()) {
+      Fail(what_, path_,
+           std::to_string(bytes_.size() - pos_) +
+               " bytes after the last element: the body does not match the binary header "
+               "(an ASCII body, or counts that are too small?)");
+    }
+  }
+
+ private:
+  template <typename Where>
+  double ReadBinary(Type t, const Where& where) {
+    const int n = TypeBytes(t);
+    if (remaining() < static_cast<size_t>(n)) {
+      Fail(what_, path_, "file ends inside " + where() + " (the body is shorter than the header declares)");
+    }
+    uint8_t b[8];
+    std::memcpy(b, bytes_.data() + pos_, static_cast<size_t>(n));
+    pos_ += static_cast<size_t>(n);
+    if (format_ == Format::kBinaryBig) {
+      for (int i = 0; i < n / 2; ++i) std::swap(b[i], b[n - 1 - i]);
+    }
+    switch (t) {
+      case Type::kInt8: return static_cast<int8_t>(b[0]);
+      case Type::kUint8: return b[0];
+      case Type::kInt16: { int16_t v; std::memcpy(&v, b, 2); return v; }
+      case Type::kUint16: { uint16_t v; std::memcpy(&v, b, 2); return v; }
+      case Type::kInt32: { int32_t v; std::memcpy(&v, b, 4); return v; }
+      case Type::kUint32: { uint32_t v; std::memcpy(&v, b, 4); return v; }
+      case Type::kFloat32: { float v; std::memcpy(&v, b, 4); return v; }
+      case Type::kFloat64: { double v; std::memcpy(&v, b, 8); return v; }
+    }
+    return 0.0;
+  }
+
+  template <typename Where>
+  double ReadAscii(Type t, const Where& where) {
+    while (pos_ < bytes_.size() && std::isspace(static_cast<unsigned char>(bytes_[pos_]))) ++pos_;
+    const size_t begin = pos_;
+    while (pos_ < bytes_.size() && !std::isspace(static_cast<unsigned char>(bytes_[pos_]))) ++pos_;
+    if (begin == pos_) {
+      Fail(what_, path_, "file ends before " + where() + " (fewer values than the header declares)");
+    }
+    // Copy the token (bounded: a number is short) so strtod stops at its end.
+    if (pos_ - begin > 64) Fail(what_, path_, where() + ": value too long to be a number");
+    char token[65];
+    std::memcpy(token, bytes_.data() + begin, pos_ - begin);
+    token[pos_ - begin] = '\0';
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(token, &end);
+    if (end == token || *end != '\0') {
+      Fail(what_, path_, where() + ": '" + std::string(token) + "' is not a number");
+    }
+    if (IsInteger(t) && (v != std::floor(v) || !std::isfinite(v))) {
+      Fail(what_, path_, where() + ": '" + std::string(token) + "' is not an integer");
+    }
+    return v;
+  }
+
+  const std::string& bytes_;
+  size_t pos_;
+  Format format_;
+  const std::string& path_;
+  const std::string& what_;
+};
+
+// Reads the next header line (without the newline, without '\r').
+bool NextLine(const std::string& bytes, size_t* pos, std::string* line) {
+  if (*pos >= bytes.size()) return false;
+  const size_t nl = bytes.find('\n', *pos);
+  if (nl == std::string::npos) return false;  // a header line always ends in '\n'
+  *line = bytes.substr(*pos, nl - *pos);
+  if (!line->empty() && line->back() == '\r') line->pop_back();
+  *pos = nl + 1;
+  return true;
+}
+
+std::vector<std::string> Words(const std::string& line) {
+  std::istringstream in(line);
+  std::vector<std::string> words;
+  std::string w;
+  while (in >> w) words.push_back(w);
+  return words;
+}
+
+bool ParseCount(const std::string& s, int64_t* count) {
+  if (s.empty() || s.size() > 18) return false;
+  for (char c : s) {
+    if (c < '0' || c > '9') return false;
+  }
+  *count = std::strtoll(s.c_str(), nullptr, 10);
+  return true;
+}
+
+}  // namespace
+
+std::string ReadWholeFile(const std::string& path, const std::string& what) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    Fail(what, path, errno == ENOENT ? std::string("no such file") : std::strerror(errno));
+  }
+  if (S_ISDIR(st.st_mode)) Fail(what, path, "is a directory");
+  if (!S_ISREG(st.st_mode)) Fail(what, path, "not a regular file");
+  if (st.st_size > kMaxFileBytes) {
+    Fail(what, path, "file of " + std::to_string(st.st_size) + " bytes, over the limit of " +
+                         std::to_string(kMaxFileBytes));
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) Fail(what, path, std::strerror(errno));
+  std::string bytes(static_cast<size_t>(st.st_size), '\0');
+  in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (in.gcount() != static_cast<std::streamsize>(bytes.size())) {
+    Fail(what, path, "read failed (the file changed while being read?)");
+  }
+  return bytes;
+}
+
+Parsed Parse(const std::string& bytes, const std::string& path, const std::string& what,
+             bool want_faces) {
+  size_t pos = 0;
+  std::string line;
+  if (!NextLine(bytes, &pos, &line) || line != "ply") {
+    Fail(what, path, "not a PLY file (no 'ply' line at the start)");
+  }
+  Format format = Format::kAscii;
+  bool have_format = false;
+  std::vector<Element> elements;
+  bool ended = false;
+  for (int n = 1; n < kMaxHeaderLines; ++n) {
+    if (static_cast<int64_t>(pos) > kMaxHeaderBytes) break;
+    if (!NextLine(bytes, &pos, &line)) {
+      Fail(what, path, "header ends at line " + std::to_string(n + 1) + " without 'end_header'");
+    }
+    const std::vector<std::string> w = Words(line);
+    const std::string where = "header line " + std::to_string(n + 1);
+    if (w.empty()) continue;
+    if (w[0] == "comment" || w[0] == "obj_info") continue;
+    if (w[0] == "end_header") {
+      ended = true;
+      break;
+    }
+    if (w[0] == "format") {
+      if (w.size() != 3 || w[2] != "1.0") Fail(what, path, where + ": expected 'format <type> 1.0'");
+      if (w[1] == "ascii") format = Format::kAscii;
+      else if (w[1] == "binary_little_endian") format = Format::kBinaryLittle;
+      else if (w[1] == "binary_big_endian") format = Format::kBinaryBig;
+      else Fail(what, path, where + ": unknown format '" + w[1] + "'");
+      have_format = true;
+    } else if (w[0] == "element") {
+      Element e;
+      if (w.size() != 3 || !ParseCount(w[2], &e.count)) {
+        Fail(what, path, where + ": expected 'element <name> <count>' with a count >= 0");
+      }
+      e.name = w[1];
+      for (const Element& other : elements) {
+        if (other.name == e.name) Fail(what, path, where + ": element '" + e.name + "' declared twice");
+      }
+      elements.push_back(e);
+    } else if (w[0] == "property") {
+      if (elements.empty()) Fail(what, path, where + ": property before any element");
+      Property p;
+      if (w.size() == 3 && ParseType(w[1], &p.type)) {
+        p.name = w[2];
+      } else if (w.size() == 5 && w[1] == "list" && ParseType(w[2], &p.count_type) &&
+                 IsInteger(p.count_type) && ParseType(w[3], &p.type)) {
+        p.is_list = true;
+        p.name = w[4];
+      } else {
+        Fail(what, path, where + ": expected 'property <type> <name>' or 'property list <int type> <type> <name>'");
+      }
+      for (const Property& other : elements.back().properties) {
+        if (other.name == p.name) {
+          Fail(what, path, where + ": property '" + p.name + "' declared twice");
+        }
+      }
+      elements.back().properties.push_back(p);
+    } else {
+      Fail(what, path, where + ": unknown keyword '" + w[0] + "'");
+    }
+  }
+  if (!ended) Fail(what, path, "no 'end_header' within the first " + std::to_string(kMaxHeaderLines) + " lines / " + std::to_string(kMaxHeaderBytes) + " bytes");
+  if (!have_format) Fail(what, path, "no 'format' line in the header");
+
+  Parsed out;
+  const Element* vertex_element = nullptr;
+  for (const Element& e : elements) {
+    if (e.name == "vertex") vertex_element = &e;
+  }
+  if (vertex_element == nullptr) Fail(what, path, "no 'vertex' element");
+  for (const char* axis : {"x", "y", "z"}) {
+    bool found = false;
+    for (const Property& p : vertex_element->properties) {
+      if (p.name == axis) {
+        if (p.is_list) Fail(what, path, std::string("vertex property '") + axis + "' is a list");
+        found = true;
+      }
+    }
+    if (!found) Fail(what, path, std::string("no '") + axis + "' vertex property");
+  }
+
+  // Counts against the body before anything is allocated: every value takes
+  // at least 1 byte (binary) or 2 (ASCII: a digit and a separator), every
+  // list at least its count.
+  const size_t body_bytes = bytes.size() - pos;
+  const int64_t min_value_bytes = format == Format::kAscii ? 2 : 1;
+  int64_t min_total = 0;
+  for (const Element& e : elements) {
+    int64_t per = 0;
+    for (const Property& p : e.properties) {
+      per += p.is_list ? (format == Format::kAscii ? 2 : TypeBytes(p.count_type))
+                       : (format == Format::kAscii ? 2 : TypeBytes(p.type));
+    }
+    per = std::max<int64_t>(per, 0);
+    if (per > 0 && e.count > static_cast<int64_t>(body_bytes) / per + 1) {
+      Fail(what, path, "element '" + e.name + "' declares " + std::to_string(e.count) +
+                           " entries, more than the " + std::to_string(body_bytes) +
+                           " bytes of the body can hold");
+    }
+    min_total += per * e.count;
+  }
+  (void)min_value_bytes;
+  if (format != Format::kAscii && min_total > static_cast<int64_t>(body_bytes)) {
+    Fail(what, path, "the body has " + std::to_string(body_bytes) + " bytes, the header declares at least " +
+                         std::to_string(min_total));
+  }
+
+  // A binary header over a text body of the right size (the case:
+  // "0.1 0.2 0.3\n" is 12 bytes, one float vertex) would be read as floats.
+  // Binary data that is all number characters with line breaks is
+  // practically impossible; text is.
+  if (format != Format::kAscii && body_bytes > 0) {
+    bool text = false;
+    bool only_number_chars = true;
+    for (size_t i = pos; i < bytes.size() && only_number_chars; ++i) {
+      const char c = bytes[i];
+      if (c == '\n') text = true;
+      only_number_chars = (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+' || c == 'e' ||
+                          c == 'E' || c == ' ' || c == '\t' || c == '\r' || c == '\n';
+    }
+    if (text && only_number_chars) {
+      Fail(what, path, "the body is ASCII text but the header says binary: the body does not match "
+                       "the binary header");
+    }
+  }
+
+  out.num_vertices = vertex_element->count;
+  const size_t nv = static_cast<size_t>(vertex_element->count);
+  std::vector<std::vector<double>*> columns(vertex_element->properties.size(), nullptr);
+  for (size_t k = 0; k < vertex_element->properties.size(); ++k) {
+    const Property& p = vertex_element->properties[k];
+    if (!p.is_list) {
+      auto& column = out.vertex[p.name];
+      column.resize(nv);
+      columns[k] = &column;
+    }
+  }
+
+  Body body(bytes, pos, format, path, what);
+  for (const Element& e : elements) {
+    const bool is_vertex = &e == vertex_element;
+    const bool is_face = want_faces && e.name == "face";
+    int face_list = -1;
+    if (e.properties.empty()) continue;  // nothing to read, whatever its count
+    if (is_face) {
+      for (size_t k = 0; k < e.properties.size(); ++k) {
+        const Property& p = e.properties[k];
+        if (p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) {
+          face_list = static_cast<int>(k);
+        }
+      }
+      if (face_list < 0) Fail(what, path, "face element without a 'vertex_indices' list");
+      if (!IsInteger(e.properties[static_cast<size_t>(face_list)].type)) {
+        Fail(what, path, "face property 'vertex_indices' is not an integer list");
+      }
+      out.has_faces = true;
+      out.face_start.reserve(static_cast<size_t>(e.count) + 1);
+    }
+    for (int64_t i = 0; i < e.count; ++i) {
+      for (size_t k = 0; k < e.properties.size(); ++k) {
+        const Property& p = e.properties[k];
+        auto where = [&] {
+          return e.name + " " + std::to_string(i) + ", property '" + p.name + "'";
+        };
+        if (p.is_list) {
+          const double count = body.Read(p.count_type, where);
+          if (count < 0 || count > static_cast<double>(body.remaining())) {
+            Fail(what, path, where() + ": list of " + std::to_string(static_cast<int64_t>(count)) +
+                                 " values, more than the file holds");
+          }
+          const bool keep = is_face && static_cast<int>(k) == face_list;
+          if (keep && (count < 3 || count > kMaxFaceVertices)) {
+            Fail(what, path, where() + ": a face of " + std::to_string(static_cast<int64_t>(count)) +
+                                 " vertices (expected 3.." + std::to_string(kMaxFaceVertices) + ")");
+          }
+          for (int64_t j = 0; j < static_cast<int64_t>(count); ++j) {
+            const double v = body.Read(p.type, where);
+            if (keep) {
+              if (!(v >= 0 && v < static_cast<double>(out.num_vertices))) {
+                Fail(what, path, where() + ": vertex index " + std::to_string(static_cast<int64_t>(v)) +
+                                     " out of range (" + std::to_string(out.num_vertices) + " vertices)");
+              }
+              out.face_indices.push_back(static_cast<int64_t>(v));
+            }
+          }
+          if (keep) out.face_start.push_back(static_cast<int64_t>(out.face_indices.size()));
+        } else {
+          const double v = body.Read(p.type, where);
+          if (is_vertex) (*columns[k])[static_cast<size_t>(i)] = v;
+        }
+      }
+    }
+  }
+  body.ExpectEnd();
+  return out;
+}
+
+}  // namespace graspfill::io::ply

@@ -1,0 +1,169 @@
+#include "graspfill/refine/pose_refiner.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace graspfill::refine {
+namespace {
+
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+
+void Require(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument("RefineConfig: " + what);
+}
+
+Eigen::Vector3d RotationVector(const Eigen::Matrix3d& R) {
+  const Eigen::AngleAxisd aa(R);
+  return aa.angle() * aa.axis();
+}
+
+Eigen::Matrix3d FromRotationVector(const Eigen::Vector3d& w) {
+  const double angle = w.norm();
+  if (!(angle > 0.0)) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
+}
+
+// How far `D` (a motion of C) moves a point at `centre_C` [m], and its angle [deg].
+void MotionAt(const Eigen::Isometry3d& D, const Eigen::Vector3d& centre_C, double* m, double* deg) {
+  *m = (D * centre_C - centre_C).norm();
+  *deg = Eigen::AngleAxisd(D.linear()).angle() * kRadToDeg;
+}
+
+}  // namespace
+
+void RefineConfig::Validate() const {
+  registration.Validate();
+  Require(search_gate_m > 0.0 && tracking_gate_m > 0.0, "gates must be > 0");
+  Require(max_correction_m > 0.0 && max_correction_deg > 0.0, "max_correction must be > 0");
+  Require(max_jump_m > 0.0 && max_jump_deg > 0.0, "max_jump must be > 0");
+  Require(min_correction_m >= 0.0 && min_correction_deg >= 0.0, "min_correction must be >= 0");
+  Require(hand_eye_min_frames >= 1, "hand_eye_min_frames must be >= 1");
+  Require(hand_eye_window >= hand_eye_min_frames, "hand_eye_window must be >= hand_eye_min_frames");
+}
+
+const char* RefineOutcomeName(RefineOutcome outcome) {
+  switch (outcome) {
+    case RefineOutcome::kRefined: return "refined";
+    case RefineOutcome::kOff: return "off";
+    case RefineOutcome::kClawNotSeen: return "claw_not_seen";
+    case RefineOutcome::kNotConverged: return "not_converged";
+    case RefineOutcome::kJump: return "jump";
+  }
+  return "unknown";
+}
+
+PoseRefiner::PoseRefiner(const RefineConfig& config)
+    : config_(config), registration_((config.Validate(), config.registration)) {
+  window_.resize(static_cast<size_t>(config_.hand_eye_window));
+  scratch_.reserve(window_.size());
+}
+
+void PoseRefiner::SetClaw(const TriangleMesh& claw_G) { registration_.SetClaw(claw_G); }
+
+void PoseRefiner::Reset() {
+  next_ = 0;
+  samples_ = 0;
+  hand_eye_.setIdentity();
+  centre_mean_C_.setZero();
+  last_ = RegistrationResult{};
+  stats_ = RefineStats{};
+}
+
+Eigen::Isometry3d PoseRefiner::HandEyeCorrection() const {
+  return static_cast<int>(samples_) >= config_.hand_eye_min_frames ? hand_eye_
+                                                                    : Eigen::Isometry3d::Identity();
+}
+
+void PoseRefiner::AddSample(const Eigen::Isometry3d& correction_C, const Eigen::Vector3d& centre_C) {
+  Sample& s = window_[next_];
+  s.rotation = RotationVector(correction_C.linear());
+  s.shift_at_claw = correction_C * centre_C - centre_C;
+  s.centre_C = centre_C;
+  next_ = (next_ + 1) % window_.size();
+  samples_ = std::min(samples_ + 1, window_.size());
+  UpdateEstimate();
+}
+
+// Component-wise medians of the rotation and of the claw's shift (the shift
+// at the claw, not at the camera's origin, so that the two do not trade
+// off across samples through the 0.5 m lever), recombined about the mean
+// claw centre.
+void PoseRefiner::UpdateEstimate() {
+  auto median = [&](auto get) {
+    scratch_.clear();
+    for (size_t i = 0; i < samples_; ++i) scratch_.push_back(get(window_[i]));
+    const size_t mid = scratch_.size() / 2;
+    std::nth_element(scratch_.begin(), scratch_.begin() + mid, scratch_.end());
+    double m = scratch_[mid];
+    if (scratch_.size() % 2 == 0) {
+      m = 0.5 * (m + *std::max_element(scratch_.begin(), scratch_.begin() + mid));
+    }
+    return m;
+  };
+  Eigen::Vector3d w, shift;
+  for (int k = 0; k < 3; ++k) {
+    w[k] = median([k](const Sample& s) { return s.rotation[k]; });
+    shift[k] = median([k](const Sample& s) { return s.shift_at_claw[k]; });
+  }
+  centre_mean_C_.setZero();
+  for (size_t i = 0; i < samples_; ++i) centre_mean_C_ += window_[i].centre_C;
+  centre_mean_C_ /= static_cast<double>(samples_);
+  hand_eye_.linear() = FromRotationVector(w);
+  hand_eye_.translation() = centre_mean_C_ + shift - hand_eye_.linear() * centre_mean_C_;
+}
+
+RefineOutcome PoseRefiner::Refine(const DepthFrame& frame, const Eigen::Isometry3d& T_C_G_logged,
+                                  Eigen::Isometry3d* T_C_G) {
+  if (!config_.enabled) {
+    *T_C_G = T_C_G_logged;
+    return RefineOutcome::kOff;
+  }
+  const bool tracking = static_cast<int>(samples_) >= config_.hand_eye_min_frames;
+  const Eigen::Isometry3d prediction = tracking ? hand_eye_ * T_C_G_logged : T_C_G_logged;
+  last_ = registration_.Register(frame, prediction,
+                                 tracking ? config_.tracking_gate_m : config_.search_gate_m);
+  switch (last_.status) {
+    case RegistrationStatus::kConverged: break;
+    case RegistrationStatus::kTooFewPoints:
+    case RegistrationStatus::kNoClaw:
+      ++stats_.rejected_claw_not_seen;
+      return RefineOutcome::kClawNotSeen;
+    case RegistrationStatus::kNotConverged:
+    case RegistrationStatus::kDegenerate:
+      ++stats_.rejected_not_converged;
+      return RefineOutcome::kNotConverged;
+  }
+  const Eigen::Isometry3d correction = last_.T_C_G * T_C_G_logged.inverse();
+  double corr_m, corr_deg, res_m, res_deg;
+  MotionAt(correction, last_.centroid_C, &corr_m, &corr_deg);
+  MotionAt(last_.correction_C, last_.centroid_C, &res_m, &res_deg);
+  const bool too_far = tracking ? (res_m > config_.max_jump_m || res_deg > config_.max_jump_deg)
+                                : (corr_m > config_.max_correction_m ||
+                                   corr_deg > config_.max_correction_deg);
+  if (too_far) {
+    ++stats_.rejected_jump;
+    return RefineOutcome::kJump;
+  }
+  AddSample(correction, last_.centroid_C);
+  ++stats_.frames_refined;
+  stats_.iterations += last_.iterations;
+  stats_.matches += last_.matches;
+  stats_.rms_sum_m += last_.rms_m;
+  stats_.correction_sum_m += corr_m;
+  stats_.correction_sum_deg += corr_deg;
+  if (tracking) {
+    ++stats_.frames_tracked;
+    stats_.residual_sum_m += res_m;
+    stats_.residual_sum_deg += res_deg;
+    stats_.max_residual_m = std::max(stats_.max_residual_m, res_m);
+  }
+  const bool below_precision =
+      tracking && res_m < config_.min_correction_m && res_deg < config_.min_correction_deg;
+  if (below_precision) ++stats_.frames_at_prediction;
+  *T_C_G = below_precision ? prediction : last_.T_C_G;
+  return RefineOutcome::kRefined;
+}
+
+}  // namespace graspfill::refine

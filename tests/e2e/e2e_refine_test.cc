@@ -1,0 +1,161 @@
+// Imperfect robots (issue 9): recordings whose logged gripper poses carry a
+// hand-eye error, per-state noise and a clock offset, replayed with pose
+// refinement and without it. Refined, the fused cloud lies on the truth in
+// the true G and holds no claw; unrefined, the same frames fuse worse; the
+// hand-eye correction found matches the error synth injected.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli_runner.hpp"
+#include "cloud_parts.hpp"
+#include "graspfill/eval/metrics.hpp"
+#include "graspfill/io/ply.hpp"
+
+namespace graspfill {
+namespace {
+
+using testing::ObservedPoints;
+using testing::RunCli;
+using testing::SampleSurface;
+using testing::ScratchDir;
+
+struct Fused {
+  double p95_m{0.0};
+  int claw_left{0};
+  size_t points{0};
+  double coverage{0.0};  ///< share of the truth within 2 mm of the whole output
+  nlohmann::json report;
+};
+
+// Replays DIR's recording (with the repair when `repair`) and measures the
+// fused points (and the whole output's coverage) against DIR's ground truth.
+Fused ReplayAndMeasure(const std::string& dir, const std::string& extra, bool repair = false) {
+  Fused f;
+  const auto replay = RunCli("replay " + dir + "/recording.lcmlog -o " + dir + "/cloud" + extra +
+                             ".ply --force --json --no-publish " + (repair ? "" : "--no-repair ") +
+                             extra);
+  EXPECT_EQ(replay.exit_code, 0) << replay.output;
+  if (replay.exit_code != 0) return f;
+  f.report = nlohmann::json::parse(replay.output.substr(replay.output.find('{')));
+  const ObjectCloud output = io::ReadCloudPly(dir + "/cloud" + extra + ".ply");
+  const std::vector<Eigen::Vector3f> fused = ObservedPoints(output);
+  const ObjectCloud gt = io::ReadCloudPly(dir + "/gt_cloud.ply");
+  const std::vector<Eigen::Vector3f> claw = SampleSurface(io::ReadMesh(dir + "/claw.ply"), 0.001f);
+  const std::vector<double> to_gt = eval::NearestDistances(fused, gt.points_G);
+  const std::vector<double> to_claw = eval::NearestDistances(fused, claw);
+  f.p95_m = eval::Percentile(to_gt, 95.0);
+  for (size_t i = 0; i < fused.size(); ++i) f.claw_left += to_claw[i] < 0.002 && to_gt[i] > 0.002;
+  f.points = fused.size();
+  f.coverage = eval::FractionWithin(eval::NearestDistances(gt.points_G, output.points_G), 0.002);
+  return f;
+}
+
+nlohmann::json ReadJson(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+Eigen::Isometry3d Matrix(const nlohmann::json& rows) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 4; ++c) T.matrix()(r, c) = rows[r][c].get<double>();
+  }
+  return T;
+}
+
+TEST(RefineE2E, UndoesHandEyeErrorPoseNoiseAndClockOffset) {
+  const std::string dir = ScratchDir("e2e_refine_errors");
+  const auto synth = RunCli("synth --shape cylinder --claw three-finger --frames 30 --wall-m 0 "
+                            "--seed 3 --hand-eye-error 3,1 --pose-noise 0.5,0.2 "
+                            "--clock-offset-ms 15 -o " + dir);
+  ASSERT_EQ(synth.exit_code, 0) << synth.output;
+  const nlohmann::json errors = ReadJson(dir + "/scene.json")["rig_errors"];
+  EXPECT_EQ(errors["clock_offset_us"].get<int64_t>(), 15000);
+  EXPECT_NEAR(errors["E_C_angle_deg"].get<double>(), 1.0, 1e-6);
+
+  const Fused refined = ReplayAndMeasure(dir, "--refine");
+  const Fused logged = ReplayAndMeasure(dir, "--no-refine");
+  ASSERT_GT(refined.points, 2000u);
+  std::printf("p95 to the truth: refined %.3f mm (%zu points, %d claw), logged poses %.3f mm "
+              "(%zu points, %d claw)\n", 1000 * refined.p95_m, refined.points, refined.claw_left,
+              1000 * logged.p95_m, logged.points, logged.claw_left);
+  EXPECT_LE(refined.p95_m, 0.0010);
+  EXPECT_LT(refined.claw_left, 0.001 * refined.points);
+  // The same frames at their logged poses: several mm off, and claw left.
+  EXPECT_GT(logged.p95_m, 2.0 * refined.p95_m);
+  EXPECT_GT(logged.claw_left, refined.claw_left);
+  const nlohmann::json& r = refined.report["refine"];
+  EXPECT_TRUE(r["enabled"].get<bool>());
+  EXPECT_GE(r["frames_refined"].get<int>(), 27);
+  EXPECT_EQ(refined.report["frames_used"].get<int>(), r["frames_refined"].get<int>());
+  EXPECT_FALSE(logged.report["refine"]["enabled"].get<bool>());
+}
+
+TEST(RefineE2E, HandEyeCorrectionMatchesTheInjectedError) {
+  const std::string dir = ScratchDir("e2e_refine_hand_eye");
+  const auto synth = RunCli("synth --shape cuboid --claw parallel --frames 30 --wall-m 0 "
+                            "--seed 5 --hand-eye-error 3,1 --pose-noise 0.5,0.2 -o " + dir);
+  ASSERT_EQ(synth.exit_code, 0) << synth.output;
+  const Eigen::Isometry3d E = Matrix(ReadJson(dir + "/scene.json")["rig_errors"]["E_C"]);
+  const Fused refined = ReplayAndMeasure(dir, "--refine");
+  const nlohmann::json& he = refined.report["refine"]["hand_eye_correction"];
+  const Eigen::Isometry3d H = Matrix(he["H_C"]);
+  const Eigen::Vector3d centre(he["claw_centre_C"][0].get<double>(), he["claw_centre_C"][1].get<double>(),
+                               he["claw_centre_C"][2].get<double>());
+  // H undoes E: H * E is the identity, up to the estimate's error.
+  const Eigen::Isometry3d residual = H * E;
+  const double at_claw_mm = 1000.0 * (residual * centre - centre).norm();
+  const double deg = Eigen::AngleAxisd(residual.linear()).angle() * 180.0 / M_PI;
+  std::printf("hand-eye: injected %.3f deg; left after the correction %.3f mm at the claw, "
+              "%.3f deg\n", Eigen::AngleAxisd(E.linear()).angle() * 180.0 / M_PI, at_claw_mm, deg);
+  EXPECT_LT(at_claw_mm, 1.0);
+  EXPECT_LT(deg, 0.3);
+  EXPECT_LE(refined.p95_m, 0.0010);
+}
+
+// The README's table ("Imperfect robots"): every built-in shape of the
+// paper, both claws, 90 frames, error-free vs the issue's errors with and
+// without refinement, repair on. Minutes, so not in the suite:
+//   build/bin/e2e_refine_test --gtest_also_run_disabled_tests --gtest_filter='*Table*'
+TEST(RefineE2E, DISABLED_Table) {
+  const char* cases[][2] = {{"cuboid", "three-finger"},   {"triangular-prism", "parallel"},
+                            {"cylinder", "three-finger"}, {"sphere", "parallel"},
+                            {"elliptic-cylinder", "three-finger"}, {"ellipsoid", "parallel"},
+                            {"bottle", "three-finger"},   {"mug", "parallel"}};
+  std::printf("| shape, claw | p95 mm: no errors / refined / logged poses | claw pts: refined / "
+              "logged | coverage: no errors / refined / logged | frames refined / rejected | "
+              "hand-eye+clock correction found | refine ms/frame |\n|---|---|---|---|---|---|---|\n");
+  // REFINE_TABLE_FROM=N starts at the N-th case (resuming a long run).
+  const char* from = std::getenv("REFINE_TABLE_FROM");
+  int index = 0;
+  for (const auto& c : cases) {
+    if (from && index++ < std::atoi(from)) continue;
+    const std::string name = std::string(c[0]) + "_" + c[1];
+    const std::string clean = ScratchDir("refine_table_clean_" + name);
+    const std::string bad = ScratchDir("refine_table_errors_" + name);
+    const std::string common = std::string("synth --shape ") + c[0] + " --claw " + c[1] + " --seed 11 ";
+    ASSERT_EQ(RunCli(common + "-o " + clean).exit_code, 0);
+    ASSERT_EQ(RunCli(common + "--hand-eye-error 3,1 --pose-noise 0.5,0.2 --clock-offset-ms 15 -o " + bad)
+                  .exit_code, 0);
+    const Fused f0 = ReplayAndMeasure(clean, "--refine", true);
+    const Fused f1 = ReplayAndMeasure(bad, "--refine", true);
+    const Fused f2 = ReplayAndMeasure(bad, "--no-refine", true);
+    const nlohmann::json& r = f1.report["refine"];
+    std::printf("| %s, %s | %.2f / **%.2f** / %.2f | %d / %d | %.3f / **%.3f** / %.3f | %d / %d | "
+                "%.1f mm at the claw, %.2f deg | %.2f |\n", c[0], c[1], 1000 * f0.p95_m,
+                1000 * f1.p95_m, 1000 * f2.p95_m, f1.claw_left, f2.claw_left, f0.coverage,
+                f1.coverage, f2.coverage, r["frames_refined"].get<int>(),
+                r["frames_rejected"]["total"].get<int>(),
+                r["hand_eye_correction"]["shift_at_claw_mm"].get<double>(),
+                r["hand_eye_correction"]["rotation_deg"].get<double>(), r["ms_per_frame"].get<double>());
+    std::fflush(stdout);
+  }
+}
+
+}  // namespace
+}  // namespace graspfill

@@ -1,0 +1,143 @@
+// Writes the seed corpora of tests/fuzz/corpus/ with graspfill's own
+// encoders (run once by hand when a format changes; the output is
+// committed): make_seeds <corpus folder>.
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "graspfill/io/messages.hpp"
+#include "graspfill/io/ply.hpp"
+
+using namespace graspfill;
+namespace fs = std::filesystem;
+
+namespace {
+
+void Write(const fs::path& dir, const std::string& name, const std::vector<uint8_t>& bytes) {
+  fs::create_directories(dir);
+  std::ofstream(dir / name, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+}
+void WriteText(const fs::path& dir, const std::string& name, const std::string& text) {
+  Write(dir, name, std::vector<uint8_t>(text.begin(), text.end()));
+}
+
+void PutBigEndian(std::vector<uint8_t>* out, uint64_t v, int n) {
+  for (int i = n - 1; i >= 0; --i) out->push_back(static_cast<uint8_t>(v >> (8 * i)));
+}
+void AppendEvent(std::vector<uint8_t>* log, int64_t number, const std::string& channel,
+                 const std::vector<uint8_t>& data) {
+  PutBigEndian(log, 0xEDA1DA01u, 4);
+  PutBigEndian(log, static_cast<uint64_t>(number), 8);
+  PutBigEndian(log, static_cast<uint64_t>(1000 * number), 8);
+  PutBigEndian(log, channel.size(), 4);
+  PutBigEndian(log, data.size(), 4);
+  log->insert(log->end(), channel.begin(), channel.end());
+  log->insert(log->end(), data.begin(), data.end());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) return 2;
+  const fs::path root = argv[1];
+  DepthFrame frame;
+  frame.utime = 1700000000000000;
+  frame.intrinsics = CameraIntrinsics{8, 6, 10.0, 10.0, 3.5, 2.5};
+  frame.depth_m.assign(48, 0.5f);
+  frame.depth_m[7] = 0.0f;
+  GripperState state;
+  state.utime = 1700000000001000;
+  state.T_C_G.translation() = Eigen::Vector3d(0.0, 0.05, 0.4);
+  state.opening_m = 0.03;
+  state.joint_values = {0.01, 0.02};
+  ObjectCloud cloud;
+  cloud.points_G = {{0, 0, 0}, {0.01f, 0, 0.02f}, {0, 0.01f, 0.03f}};
+  cloud.normals_G = {{0, 0, 1}, {0, 1, 0}, {1, 0, 0}};
+  cloud.provenance = {Provenance::kObserved, Provenance::kSurface, Provenance::kSymmetry};
+  cloud.confidence = {1.0f, 0.6f, 0.5f};
+  cloud.timings = {{"extract", 1.5}};
+  HoleSummary hole;
+  hole.points_added = 2;
+  cloud.holes = {hole};
+  io::SessionDescription session;
+  session.utime = 1700000000000000;
+  session.software_version = io::SoftwareVersion();
+  session.claw_name = "three-finger";
+  session.claw_text = "{\"finger_length_m\": 0.08}";
+  session.intrinsics = CameraIntrinsics{640, 480, 525.0, 525.0, 319.5, 239.5};
+  session.workspace_G = Eigen::AlignedBox3d(Eigen::Vector3d(-0.1, -0.1, 0.0), Eigen::Vector3d(0.1, 0.1, 0.25));
+  session.voxel_m = 0.002;
+  io::ModuleStatus status;
+  status.frames_in = 10;
+  status.state = "running";
+
+  const auto depth_raw = io::EncodeDepthImage(frame, io::DepthEncoding::kRaw16);
+  const auto depth_zlib = io::EncodeDepthImage(frame, io::DepthEncoding::kZlib16);
+  Write(root / "depth_image", "raw16", depth_raw);
+  Write(root / "depth_image", "zlib16", depth_zlib);
+  Write(root / "gripper_state", "camera", io::EncodeGripperState(state));
+  Write(root / "object_cloud", "three_points", io::EncodeObjectCloud(cloud));
+  Write(root / "session_description", "full", io::EncodeSessionDescription(session));
+  Write(root / "module_status", "running", io::EncodeModuleStatus(status));
+
+  const io::ChannelNames channels;
+  std::vector<uint8_t> log;
+  AppendEvent(&log, 0, channels.session, io::EncodeSessionDescription(session));
+  AppendEvent(&log, 1, channels.depth, depth_zlib);
+  AppendEvent(&log, 2, channels.gripper_state, io::EncodeGripperState(state));
+  AppendEvent(&log, 3, "OTHER", {1, 2, 3});
+  Write(root / "lcm_log_reader", "four_events", log);
+  std::vector<uint8_t> huge;  // the 48-byte log: datalen 0x7fffffff
+  AppendEvent(&huge, 0, "GRASPFILL_DEPTH", {});
+  huge[24] = 0x7f, huge[25] = 0xff, huge[26] = 0xff, huge[27] = 0xff;
+  huge.resize(48, 'x');
+  Write(root / "lcm_log_reader", "huge_datalen", huge);
+
+  const fs::path ply = root / "ply_reader";
+  WriteText(ply, "ascii_cloud",
+            "ply\nformat ascii 1.0\ncomment graspfill utime 5\nelement vertex 3\n"
+            "property float x\nproperty float y\nproperty float z\nproperty uchar provenance\n"
+            "end_header\n0 0 0 0\n0.5 -0.25 1 1\n1e-3 2 3 2\n");
+  WriteText(ply, "ascii_mesh",
+            "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\n"
+            "property double z\nelement face 2\nproperty list uchar int vertex_indices\n"
+            "end_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n4 0 1 2 3\n");
+  WriteText(ply, "cut_header", "ply\nformat ascii 1.0\nobj_info xxxxxxxxxxx");
+  const fs::path tmp = fs::temp_directory_path() / "graspfill_make_seeds";
+  fs::create_directories(tmp);
+  io::WriteCloudPly((tmp / "cloud.ply").string(), cloud);
+  TriangleMesh mesh;
+  mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  mesh.triangles = {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}};
+  io::WriteMeshPly((tmp / "mesh.ply").string(), mesh);
+  fs::copy_file(tmp / "cloud.ply", ply / "binary_cloud", fs::copy_options::overwrite_existing);
+  fs::copy_file(tmp / "mesh.ply", ply / "binary_mesh", fs::copy_options::overwrite_existing);
+  fs::remove_all(tmp);
+
+  const fs::path claw = root / "claw";
+  WriteText(claw, "two_links",
+            "{\"name\": \"fuzz\", \"links\": [{\"name\": \"palm\", \"mesh\": \"box.ply\"},"
+            " {\"name\": \"finger\", \"parent\": \"palm\", \"mesh\": \"box.ply\", \"joint\": {\"type\": "
+            "\"prismatic\", \"origin\": {\"xyz\": [0, 0, 0.02]}, \"axis\": [1, 0, 0], \"limits\": "
+            "{\"lower\": 0, \"upper\": 0.05}, \"drive\": {\"opening_gain\": 0.5, \"opening_offset\": 0}}}]}");
+  WriteText(claw, "joint_index",
+            "{\"name\": \"fuzz2\", \"links\": [{\"name\": \"palm\", \"mesh\": \"box.ply\", \"mesh_scale\": 1.0},"
+            " {\"name\": \"f\", \"parent\": \"palm\", \"mesh\": \"box.ply\", \"joint\": {\"type\": "
+            "\"revolute\", \"axis\": [0, 1, 0], \"limits\": {\"lower\": -1, \"upper\": 1}, \"drive\": "
+            "{\"joint_index\": 1}}}]}");
+
+  // Repair: flag byte, then float triples (a few points; the target adds
+  // its base cylinder when bit 0 is set).
+  std::vector<uint8_t> repair = {1};
+  for (float v : {0.01f, 0.02f, 0.03f, 1000.0f, 1000.0f, 1000.0f, -0.02f, 0.0f, 0.1f}) {
+    uint8_t b[4];
+    std::memcpy(b, &v, 4);
+    repair.insert(repair.end(), b, b + 4);
+  }
+  Write(root / "repair", "base_and_strays", repair);
+  Write(root / "repair", "base_paper", {3});
+  return 0;
+}

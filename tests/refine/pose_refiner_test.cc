@@ -1,0 +1,126 @@
+// The pose refiner over a turn: it finds a constant hand-eye error under
+// per-frame pose noise, fuses every frame at the true pose within the
+// registration's precision, and rejects (and counts) frames it cannot trust.
+#include "graspfill/refine/pose_refiner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "refine_fixtures.hpp"
+
+namespace graspfill::refine {
+namespace {
+
+using graspfill::testing::AngleDeg;
+using graspfill::testing::CameraError;
+using graspfill::testing::ClawOffsetM;
+using graspfill::testing::RenderFrame;
+using graspfill::testing::TrueT_C_G;
+
+class PoseRefinerTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const TriangleMesh claw = graspfill::testing::PosedClaw();
+    raycaster_.AddMesh(claw);
+    raycaster_.Commit();
+    refiner_.SetClaw(claw);
+  }
+  // Logged pose: hand-eye error E, then 0.5 mm / 0.2 deg noise in G.
+  Eigen::Isometry3d Logged(const Eigen::Isometry3d& truth, std::mt19937* rng) const {
+    std::normal_distribution<double> n(0.0, 1.0);
+    const Eigen::Vector3d t(n(*rng), n(*rng), n(*rng));
+    const Eigen::Vector3d w(n(*rng), n(*rng), n(*rng));
+    Eigen::Isometry3d N = Eigen::Isometry3d::Identity();
+    N.translation() = t * (0.0005 / std::sqrt(3.0));
+    const double angle = w.norm() * (0.2 / std::sqrt(3.0)) * M_PI / 180.0;
+    N.linear() = Eigen::AngleAxisd(angle, w.normalized()).toRotationMatrix();
+    return E_ * truth * N;
+  }
+  const Eigen::Isometry3d E_ =
+      CameraError(3.0, Eigen::Vector3d(-1, 0.4, 1), 1.0, Eigen::Vector3d(1, 0.2, 0.5));
+  Raycaster raycaster_;
+  PoseRefiner refiner_{[] {
+    RefineConfig on;  // refinement is opt-in
+    on.enabled = true;
+    return on;
+  }()};
+};
+
+TEST_F(PoseRefinerTest, FindsTheHandEyeErrorAndFusesAtTheTruePose) {
+  std::mt19937 rng(5);
+  double worst_logged = 0.0, worst_refined = 0.0;
+  for (int k = 0; k < 14; ++k) {
+    const Eigen::Isometry3d truth = TrueT_C_G(0.45 * k);
+    const DepthFrame frame = RenderFrame(raycaster_, truth, 0.001, 100 + k);
+    const Eigen::Isometry3d logged = Logged(truth, &rng);
+    Eigen::Isometry3d refined;
+    ASSERT_EQ(refiner_.Refine(frame, logged, &refined), RefineOutcome::kRefined) << "frame " << k;
+    worst_logged = std::max(worst_logged, ClawOffsetM(logged, truth));
+    worst_refined = std::max(worst_refined, ClawOffsetM(refined, truth));
+  }
+  EXPECT_GT(worst_logged, 0.006);   // the error is there...
+  EXPECT_LT(worst_refined, 0.0005);  // ...and gone
+  // The hand-eye correction undoes E at the claw.
+  const Eigen::Isometry3d H = refiner_.HandEyeCorrection();
+  const Eigen::Isometry3d truth = TrueT_C_G(0.0);
+  EXPECT_LT(ClawOffsetM(H * E_ * truth, truth), 0.0005);
+  EXPECT_LT(AngleDeg(H * E_, Eigen::Isometry3d::Identity()), 0.3);
+  EXPECT_EQ(refiner_.stats().frames_refined, 14);
+  EXPECT_EQ(refiner_.stats().rejected(), 0);
+}
+
+TEST_F(PoseRefinerTest, RejectsAndCountsFramesItCannotTrust) {
+  std::mt19937 rng(9);
+  for (int k = 0; k < 6; ++k) {  // a known hand-eye correction first
+    const Eigen::Isometry3d truth = TrueT_C_G(0.5 * k);
+    Eigen::Isometry3d refined;
+    ASSERT_EQ(refiner_.Refine(RenderFrame(raycaster_, truth, 0.001, k), Logged(truth, &rng), &refined),
+              RefineOutcome::kRefined)
+        << "frame " << k << ": " << RegistrationStatusName(refiner_.last_registration().status)
+        << " after " << refiner_.last_registration().iterations << " iterations, rms "
+        << refiner_.last_registration().rms_m << " m, " << refiner_.last_registration().matches
+        << " matches";
+  }
+  const Eigen::Isometry3d truth = TrueT_C_G(3.2);
+  const Eigen::Isometry3d logged = Logged(truth, &rng);
+  Eigen::Isometry3d refined = Eigen::Isometry3d::Identity();
+  // No claw in view.
+  EXPECT_EQ(refiner_.Refine(RenderFrame(raycaster_, truth, 0.001, 50, false), logged, &refined),
+            RefineOutcome::kClawNotSeen);
+  // Almost no valid depth.
+  DepthFrame sparse = RenderFrame(raycaster_, truth, 0.001, 51);
+  for (size_t i = 0; i < sparse.depth_m.size(); ++i) {
+    if (i % 97 != 0) sparse.depth_m[i] = 0.0f;
+  }
+  EXPECT_EQ(refiner_.Refine(sparse, logged, &refined), RefineOutcome::kClawNotSeen);
+  // A logged pose that jumped by 10 cm.
+  Eigen::Isometry3d jumped = logged;
+  jumped.translation().y() += 0.10;
+  EXPECT_NE(refiner_.Refine(RenderFrame(raycaster_, truth, 0.001, 52), jumped, &refined),
+            RefineOutcome::kRefined);
+  EXPECT_TRUE(refined.isApprox(Eigen::Isometry3d::Identity()));  // untouched
+  EXPECT_EQ(refiner_.stats().rejected(), 3);
+  EXPECT_EQ(refiner_.stats().rejected_claw_not_seen + refiner_.stats().rejected_jump +
+                refiner_.stats().rejected_not_converged, 3);
+  // The estimate survived them: the next good frame refines.
+  EXPECT_EQ(refiner_.Refine(RenderFrame(raycaster_, truth, 0.001, 53), logged, &refined),
+            RefineOutcome::kRefined);
+  EXPECT_LT(ClawOffsetM(refined, truth), 0.0005);
+}
+
+TEST(PoseRefiner, OffPassesTheLoggedPoseThrough) {
+  RefineConfig off;
+  off.enabled = false;
+  PoseRefiner refiner(off);
+  DepthFrame frame;
+  Eigen::Isometry3d logged = TrueT_C_G(0.3), out;
+  EXPECT_EQ(refiner.Refine(frame, logged, &out), RefineOutcome::kOff);
+  EXPECT_TRUE(out.isApprox(logged));
+  RefineConfig bad;
+  bad.hand_eye_window = 2;  // below hand_eye_min_frames
+  EXPECT_THROW(PoseRefiner{bad}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace graspfill::refine

@@ -1,0 +1,143 @@
+// The live session, composed (source -> module -> repair -> publisher, with
+// the recorder beside), on LCM's in-process memq:// provider, fed from the
+// bundled recording: `live --record` then `replay` of the record gives the
+// live session's final cloud, and the status tells the bus time and state.
+#include "module/live_session.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <lcm/lcm-cpp.hpp>
+#include <optional>
+#include <vector>
+
+#include "claw_option.hpp"
+#include "graspfill/io/messages.hpp"
+#include "module/cloud_repair.hpp"
+#include "module/sequencer_feed.hpp"
+#include "module/session_loop.hpp"
+#include "sources/lcm_log_source.hpp"
+
+namespace graspfill::rt {
+namespace {
+
+const std::string kBundled = std::string(GRASPFILL_SOURCE_DIR) + "/replay/default/recording.lcmlog";
+
+LcmLogSource::Config LogConfig(const std::string& path) {
+  LcmLogSource::Config config;
+  config.path = path;
+  config.session_events = true;
+  return config;
+}
+
+// The replay path (cmd_replay's): the session loop into a sequencer, then
+// the repair with what the camera saw.
+ObjectCloud ReplayFinalCloud(const std::string& path, std::optional<io::SessionDescription>* session) {
+  LcmLogSource source(LogConfig(path));
+  SequencerFeed feed(
+      [](const std::optional<io::SessionDescription>&) {
+        return std::make_unique<GraspSequencer>(PipelineConfig{}, claw::ClawModel::ThreeFinger(),
+                                                GraspSequencerConfig{}, nullptr);
+      },
+      false);
+  EXPECT_EQ(SessionLoop(SessionLoopLimits{}).Run(&source, &feed), LoopEnd::kEndOfStream)
+      << feed.first_error();
+  if (session) *session = feed.session();
+  ObjectCloud cloud = feed.sequencer()->Finish();
+  RepairObjectCloud(GripperFrameRepairConfig(repair::RepairConfig{}), &cloud,
+                    &feed.sequencer()->pipeline().visibility());
+  return cloud;
+}
+
+// What `graspfill live --claw three-finger` heads its recording with.
+io::SessionDescription Description() {
+  io::SessionDescription session;
+  session.software_version = io::SoftwareVersion();
+  cli::DescribeBuiltinClaw("three-finger", claw::ProceduralClawConfig{}, &session);
+  return session;
+}
+
+TEST(LiveSession, RecordThenReplayGivesTheSessionsFinalCloud) {
+  const std::filesystem::path dir =
+      std::filesystem::path(GRASPFILL_BINARY_DIR) / "test_scratch" / "live_session_record";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string record = (dir / "session.lcmlog").string();
+
+  LiveSessionConfig config;
+  config.lcm_url = "memq://";
+  config.module.frame_queue_capacity = 1000;  // no drops: the record is the session
+  config.module.state_queue_capacity = 10000;
+  config.module.extract_every_n_frames = 10;
+  config.repair_config = GripperFrameRepairConfig(repair::RepairConfig{});
+  config.record.path = record;
+  config.record.queue_capacity = 10000;
+  LiveSession live(config);
+
+  // Every cloud the session publishes, decoded as a planner would.
+  std::vector<ObjectCloud> clouds;
+  std::vector<io::ModuleStatus> statuses;
+  lcm::LCM* bus = live.publisher().lcm_instance();
+  bus->subscribeFunction(
+      config.channels.object_cloud,
+      +[](const lcm::ReceiveBuffer* rbuf, const std::string&, std::vector<ObjectCloud>* out) {
+        ObjectCloud c;
+        std::string error;
+        ASSERT_TRUE(io::DecodeObjectCloud(rbuf->data, rbuf->data_size, &c, &error)) << error;
+        out->push_back(std::move(c));
+      },
+      &clouds);
+  bus->subscribeFunction(
+      config.channels.status,
+      +[](const lcm::ReceiveBuffer* rbuf, const std::string&, std::vector<io::ModuleStatus>* out) {
+        io::ModuleStatus s;
+        std::string error;
+        ASSERT_TRUE(io::DecodeModuleStatus(rbuf->data, rbuf->data_size, &s, &error)) << error;
+        out->push_back(std::move(s));
+      },
+      &statuses);
+
+  live.Begin(claw::ClawModel::ThreeFinger(), Description());
+  LcmLogSource source(LogConfig(kBundled));
+  const LiveSessionSummary summary = live.Run(&source);
+  while (bus->handleTimeout(50) > 0) {
+  }
+  EXPECT_EQ(summary.module.frames_dropped, 0);
+  EXPECT_EQ(summary.records_dropped, 0);
+  EXPECT_GT(summary.records_written, 36);
+  ASSERT_FALSE(clouds.empty());
+  const ObjectCloud& live_final = clouds.back();
+  EXPECT_TRUE(live_final.is_final);
+  EXPECT_GT(live_final.size(), 1000u);
+  for (size_t i = 0; i + 1 < clouds.size(); ++i) EXPECT_FALSE(clouds[i].is_final);
+
+  // The record opens with the session description, and replays to the
+  // live session's final cloud, point for point.
+  std::optional<io::SessionDescription> recorded_session;
+  const ObjectCloud replayed = ReplayFinalCloud(record, &recorded_session);
+  ASSERT_TRUE(recorded_session.has_value());
+  EXPECT_EQ(recorded_session->claw_name, "three-finger");
+  EXPECT_EQ(replayed.size(), live_final.size());
+  EXPECT_TRUE(replayed.points_G == live_final.points_G);
+  // And it held what was received: the original replays to the same cloud.
+  EXPECT_TRUE(ReplayFinalCloud(kBundled, nullptr).points_G == live_final.points_G);
+
+  // The last status: bus time of the newest frame, fused counts, a state.
+  ASSERT_FALSE(statuses.empty());
+  const io::ModuleStatus& status = statuses.back();
+  int64_t last_depth_utime = 0;
+  LcmLogSource again(LogConfig(kBundled));
+  for (SourceEvent e; again.Next(&e) == FrameResult::kOk;) {
+    if (e.kind == SourceEvent::Kind::kDepth) last_depth_utime = e.depth.utime;
+  }
+  EXPECT_EQ(status.utime, last_depth_utime);
+  EXPECT_EQ(status.frames_used, summary.module.pipeline.frames_integrated);
+  EXPECT_EQ(status.state_code, io::ModuleState::kFusing);
+  EXPECT_EQ(status.state, "fusing");
+  EXPECT_EQ(status.grasps_completed, 1);
+  EXPECT_GE(status.repairs_done, 1);
+  EXPECT_EQ(status.decode_errors, 0);
+}
+
+}  // namespace
+}  // namespace graspfill::rt
