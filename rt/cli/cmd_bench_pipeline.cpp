@@ -77,6 +77,7 @@ struct Outcome {
   int added_in_free{0};
   double ms{0.0};
   std::string note;
+  std::vector<StageTiming> steps;
 };
 
 // Coverage and the added points' errors of `cloud` (first `fused` points
@@ -104,6 +105,23 @@ std::string Note(const repair::RepairReport& r) {
   if (!r.symmetric && !r.symmetry_reason.empty()) note += "; " + r.symmetry_reason;
   if (!r.evidence.top.empty()) note += "; top: " + r.evidence.top;
   return note;
+}
+
+// The repair's steps and their times: " outliers 12.3 boundary_points 4.5 ...".
+std::string StepsText(const std::vector<StageTiming>& steps) {
+  std::string text;
+  char step[96];
+  for (const StageTiming& t : steps) {
+    std::snprintf(step, sizeof(step), " %s %.1f", t.stage.c_str(), t.ms);
+    text += step;
+  }
+  return text;
+}
+
+nlohmann::ordered_json StepsJson(const std::vector<StageTiming>& steps) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  for (const StageTiming& t : steps) out[t.stage] = t.ms;
+  return out;
 }
 
 }  // namespace
@@ -192,6 +210,7 @@ int RunBenchRepairPipeline(const Args& args) {
       result[with_evidence] = Measure(cloud, fused.size(), truth, record);
       result[with_evidence].ms = ms;
       result[with_evidence].note = Note(report);
+      result[with_evidence].steps = report.timings;
     }
     const double fused_coverage = eval::FractionWithin(eval::NearestDistances(truth, fused.points_G), 0.002);
     const double frame_ms = stats.crop.mean_ms() + stats.mask.mean_ms() + stats.integrate.mean_ms() +
@@ -201,7 +220,7 @@ int RunBenchRepairPipeline(const Args& args) {
         return nlohmann::ordered_json{{"points", o.points}, {"added", o.added}, {"coverage", o.coverage},
                                       {"added_p95_mm", o.added_p95_mm}, {"added_wrong", o.added_wrong},
                                       {"added_in_seen_free", o.added_in_free}, {"ms", o.ms},
-                                      {"note", o.note}};
+                                      {"steps_ms", StepsJson(o.steps)}, {"note", o.note}};
       };
       rows.push_back({{"object", c.label}, {"shape", c.shape},
                       {"claw", synth::ClawTypeName(c.claw)}, {"grasp", synth::GraspWayName(c.grasp)},
@@ -221,7 +240,9 @@ int RunBenchRepairPipeline(const Args& args) {
     }
     std::printf(" %6.2f %6.2f\n", stats.visibility.mean_ms(), frame_ms);
     if (verbose) {
-      std::printf("    cloud only: %s\n    evidence:   %s\n", result[0].note.c_str(), result[1].note.c_str());
+      std::printf("    cloud only: %s\n      ms:%s\n    evidence:   %s\n      ms:%s\n",
+                  result[0].note.c_str(), StepsText(result[0].steps).c_str(), result[1].note.c_str(),
+                  StepsText(result[1].steps).c_str());
     }
     std::fflush(stdout);
   }

@@ -28,12 +28,13 @@ SafeBound ComputeSafeBound(const VisibilityRecord& record, const SafeBoundConfig
   // margin plus half its diagonal.
   const float half_diagonal = 0.5f * std::sqrt(3.0f) * bound.voxel_m;
   size_t b = 0;
+  size_t carver = 0;  // the key frame that carved the voxel before
   for (int k = 0; k < bound.nz; ++k) {
     for (int j = 0; j < bound.ny; ++j) {
       for (int i = 0; i < bound.nx; ++i, ++b) {
         const Eigen::Vector3f centre =
             bound.origin_G + bound.voxel_m * Eigen::Vector3f(i + 0.5f, j + 0.5f, k + 0.5f);
-        if (!record.SeenFree(centre, half_diagonal, /*coarse=*/true)) {
+        if (!record.SeenFree(centre, half_diagonal, /*coarse=*/true, &carver)) {
           bound.bits[b >> 3] |= uint8_t(1u << (b & 7));
         }
       }

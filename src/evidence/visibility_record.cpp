@@ -200,14 +200,22 @@ VisibilityVotes VisibilityRecord::Votes(const Eigen::Vector3f& p_G) const {
   return votes;
 }
 
-bool VisibilityRecord::SeenFree(const Eigen::Vector3f& p_G, float extra_m, bool coarse) const {
+bool VisibilityRecord::SeenFree(const Eigen::Vector3f& p_G, float extra_m, bool coarse,
+                                size_t* first_key_frame) const {
   const float margin = static_cast<float>(config_.free_margin_m) + extra_m;
-  for (const auto& kp : key_frames_) {
+  const size_t n = key_frames_.size();
+  const size_t first = first_key_frame && *first_key_frame < n ? *first_key_frame : 0;
+  for (size_t k = 0; k < n; ++k) {
+    const size_t f = (first + k) % n;
+    const KeyFrame& kf = *key_frames_[f];
     size_t i = 0;
     float z = 0.0f;
-    if (!Project(*kp, p_G, &i, &z)) continue;
-    const float d_free = coarse ? kp->coarse_free_depth_m[i] : kp->free_depth_m[i];
-    if (d_free > 0.0f && d_free > z + margin) return true;
+    if (!Project(kf, p_G, &i, &z)) continue;
+    const float d_free = coarse ? kf.coarse_free_depth_m[i] : kf.free_depth_m[i];
+    if (d_free > 0.0f && d_free > z + margin) {
+      if (first_key_frame) *first_key_frame = f;
+      return true;
+    }
   }
   return false;
 }

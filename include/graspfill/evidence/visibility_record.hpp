@@ -101,7 +101,11 @@ class VisibilityRecord {
   /// True when some key frame sees `p_G` free by at least `extra_m` beyond
   /// the free margin; `coarse` reads the coarse window (the safe bound
   /// carves whole voxels with it).
-  bool SeenFree(const Eigen::Vector3f& p_G, float extra_m = 0.0f, bool coarse = false) const;
+  /// `first_key_frame` (may be null): the key frame asked first, set to the
+  /// one that saw the point free; neighbouring points are mostly carved by
+  /// the same one (the safe bound walks the grid so). The answer is the same.
+  bool SeenFree(const Eigen::Vector3f& p_G, float extra_m = 0.0f, bool coarse = false,
+                size_t* first_key_frame = nullptr) const;
 
   bool empty() const { return key_frames_.empty(); }
   size_t size() const { return key_frames_.size(); }
