@@ -831,7 +831,7 @@ bool FitThinPlate(const NeighborIndex& index, const std::vector<int>& support,
     out->w_lo = std::min(out->w_lo, l.z());
     out->w_hi = std::max(out->w_hi, l.z());
   }
-  out->w_pad = 2.0 * d;
+  out->w_pad = 2.0 * d;  // the caller may widen it
   return true;
 }
 
@@ -1269,6 +1269,9 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
     ThinPlateSheet smooth;
     if (!filled && config.surface == ClawSurface::kLocalFit &&
         FitThinPlate(index, support, frame, centroid, d, kThinPlateCentres, &smooth)) {
+      // Its heights may pass the support's by the bulge of a convex face
+      // over the hole (a^2 / 2r, bounded by a quarter of the hole's width).
+      smooth.w_pad = 2.0 * d + 0.25 * (region.hi.head<2>() - region.lo.head<2>()).minCoeff();
       SampleHeightField(smooth, region, density, nullptr, 0.0, nullptr, 0.0, &rng, &gap, &fill);
       filled = true;
     }
