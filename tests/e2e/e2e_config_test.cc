@@ -16,6 +16,7 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <sys/wait.h>
 #include <vector>
 
 #include <graspfill/gripper_state_t.hpp>
@@ -311,6 +312,59 @@ TEST(ConfigE2E, BaseFramePosesFuseWithTheConfigsHandEye) {
               uncalibrated.p95_m > 0.004)
       << "exit " << uncalibrated.exit_code << ", " << uncalibrated.points << " points, p95 "
       << 1000.0 * uncalibrated.p95_m << " mm\n" << uncalibrated.output;
+}
+
+// Runs `command` in sh; its exit code and output (stdout and stderr).
+testing::CliResult RunShell(const std::string& command) {
+  testing::CliResult result;
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) return result;
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) result.output.append(buffer, n);
+  const int status = pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+// `live --config` on a real bus: the base-frame recording played by
+// lcm-logplayer on UDP multicast inside a private network namespace
+// (loopback only), live recording what it received (its gripper states in
+// the camera frame, the config's T_C_B applied); the record replays clean.
+TEST(ConfigE2E, LiveAppliesTheConfigsHandEyeToTheBus) {
+  if (RunShell("command -v lcm-logplayer && command -v ip && unshare -n true").exit_code != 0) {
+    GTEST_SKIP() << "needs lcm-logplayer, ip and network namespaces (multicast stays off the host)";
+  }
+  const std::string dir = ScratchDir("config_live");
+  const auto synth = RunCli("synth --shape cylinder --frames 30 --wall-m 0 --seed 5 -o " + dir);
+  ASSERT_EQ(synth.exit_code, 0) << synth.output;
+  Eigen::Isometry3d T_C_B = Eigen::Isometry3d::Identity();
+  T_C_B.linear() = Eigen::AngleAxisd(0.1, Eigen::Vector3d(0.0, 1.0, 1.0).normalized()).toRotationMatrix();
+  T_C_B.translation() = Eigen::Vector3d(-0.02, 0.01, 0.03);
+  RewriteStatesInBase(dir + "/recording.lcmlog", dir + "/base.lcmlog", T_C_B);
+  const Eigen::Quaterniond q(T_C_B.linear());
+  char yaml[512];
+  std::snprintf(yaml, sizeof(yaml),
+                "robot:\n  T_C_B:\n    translation_m: [%.17g, %.17g, %.17g]\n"
+                "    rotation_wxyz: [%.17g, %.17g, %.17g, %.17g]\n"
+                "channels:\n  object_cloud: CONFIG_TEST_CLOUD\n",
+                T_C_B.translation().x(), T_C_B.translation().y(), T_C_B.translation().z(),
+                q.w(), q.x(), q.y(), q.z());
+  WriteText(dir + "/rig.yaml", yaml);
+  const std::string url = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608";
+  const auto live = RunShell(
+      "unshare -n sh -c 'ip link set lo up && ip route add 224.0.0.0/4 dev lo || exit 90; " GRASPFILL_CLI
+      " live --depth-from-lcm --lcm-url \"" + url + "\" --config " + dir + "/rig.yaml --no-repair "
+      "--publish-every 0 --idle-exit-s 1.5 --duration-s 25 --record " + dir + "/record.lcmlog > " +
+      dir + "/live.out 2>&1 & live=$!; sleep 1; lcm-logplayer --lcm-url=\"" + url + "\" " + dir +
+      "/base.lcmlog > /dev/null 2>&1 || exit 92; wait $live || exit 93'");
+  const std::string live_out = ReadText(dir + "/live.out");
+  ASSERT_EQ(live.exit_code, 0) << live.output << live_out;
+  EXPECT_NE(live_out.find("published on CONFIG_TEST_CLOUD"), std::string::npos) << live_out;
+  const Fused recorded = ReplayAndMeasure(dir, dir + "/record.lcmlog", "record.ply", "");
+  ASSERT_EQ(recorded.exit_code, 0) << recorded.output;
+  EXPECT_GT(recorded.points, 5000u);
+  EXPECT_LT(recorded.p95_m, 0.002) << live_out;
 }
 
 // synth --clock-offset-ms T: a state stamped t holds the pose of t + T.
