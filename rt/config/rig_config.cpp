@@ -13,6 +13,9 @@
 #include <vector>
 
 #include "cli/number_parsing.hpp"
+#include "graspfill/fusion/tsdf_fusion.hpp"
+#include "graspfill/pipeline/pipeline.hpp"
+#include "graspfill/repair/repairer.hpp"
 
 namespace graspfill::rt {
 

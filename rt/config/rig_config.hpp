@@ -26,11 +26,17 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "graspfill/io/messages.hpp"
-#include "graspfill/pipeline/pipeline.hpp"
-#include "graspfill/repair/repairer.hpp"
 #include "graspfill/types.hpp"
+
+namespace graspfill {
+struct PipelineConfig;  // graspfill/pipeline/pipeline.hpp
+namespace repair {
+struct RepairConfig;  // graspfill/repair/repairer.hpp
+}  // namespace repair
+}  // namespace graspfill
 
 namespace graspfill::rt {
 

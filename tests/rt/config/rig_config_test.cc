@@ -12,6 +12,8 @@
 
 #include "config/rig_config.hpp"
 #include "graspfill/fusion/tsdf_fusion.hpp"
+#include "graspfill/pipeline/pipeline.hpp"
+#include "graspfill/repair/repairer.hpp"
 #include "module/grasp_module.hpp"
 #include "module/session_loop.hpp"
 
