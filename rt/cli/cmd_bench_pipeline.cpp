@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "number_parsing.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
@@ -137,11 +138,9 @@ int RunBenchRepairPipeline(const Args& args) {
     else if (args[i] == "--case" && i + 1 < args.size()) only = args[++i];
     else if (args[i] == "--frames" && i + 1 < args.size()) {
       try {
-        size_t used = 0;
-        frames = std::stoi(args[++i], &used);
-        if (used != args[i].size() || frames < 10 || frames > 3000) throw std::invalid_argument("");
-      } catch (const std::exception&) {
-        std::fprintf(stderr, "graspfill bench repair --pipeline: --frames needs an integer in [10, 3000]\n");
+        frames = ParseInteger<int>("--frames", args[++i], 10, 3000);
+      } catch (const UsageError& e) {
+        std::fprintf(stderr, "graspfill bench repair --pipeline: %s\n", e.what());
         return 2;
       }
     } else {

@@ -5,12 +5,16 @@
 // density) and best/floor, plus the time per repair.
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
+#include <limits>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "cmd_synth_protocol.hpp"
 #include "commands.hpp"
+#include "number_parsing.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/repair/repairer.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
@@ -83,36 +87,42 @@ int RunBenchRepair(const Args& args) {
   bool json = false, verbose = false;
   std::string only;
   double top_cut = 0.0;  // 0: the protocol's own top (the face, or a round top's cap)
-  for (size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--help" || args[i] == "-h") {
-      std::printf("usage: graspfill bench repair [--points N] [--seed S] [--case TEXT] [--verbose] [--json]\n"
-                  "       graspfill bench repair --pipeline [--frames N] [--case TEXT] [--verbose] [--json]\n"
-                  "  --pipeline   the shape zoo through the whole pipeline, cloud-only vs with evidence\n"
-                  "  the paper's Tables 1-3 next to graspfill's numbers on the same protocol\n"
-                  "  --case TEXT  only the rows whose label contains TEXT\n"
-                  "  --top-cut F  cut every shape's top band above (1 - F) x its height (0.02, 0.15)\n"
-                  "  --verbose    each repair's status, holes and symmetry finding\n");
-      return 0;
-    } else if (args[i] == "--points" && i + 1 < args.size()) {
-      num_points = std::stoi(args[++i]);
-    } else if (args[i] == "--seed" && i + 1 < args.size()) {
-      seed = std::stoull(args[++i]);
-    } else if (args[i] == "--top-cut" && i + 1 < args.size()) {
-      top_cut = std::stod(args[++i]);
-      if (!(top_cut > 0.0 && top_cut < 0.5)) {
-        std::fprintf(stderr, "graspfill bench repair: --top-cut must be in (0, 0.5)\n");
+  try {
+    for (size_t i = 0; i < args.size(); ++i) {
+      if (args[i] == "--help" || args[i] == "-h") {
+        std::printf("usage: graspfill bench repair [--points N] [--seed S] [--case TEXT] [--verbose] [--json]\n"
+                    "       graspfill bench repair --pipeline [--frames N] [--case TEXT] [--verbose] [--json]\n"
+                    "  --pipeline   the shape zoo through the whole pipeline, cloud-only vs with evidence\n"
+                    "  the paper's Tables 1-3 next to graspfill's numbers on the same protocol\n"
+                    "  --case TEXT  only the rows whose label contains TEXT\n"
+                    "  --top-cut F  cut every shape's top band above (1 - F) x its height (0.02, 0.15)\n"
+                    "  --verbose    each repair's status, holes and symmetry finding\n");
+        return 0;
+      } else if (args[i] == "--points" && i + 1 < args.size()) {
+        num_points = ParseInteger<int>("--points", args[++i], kMinProtocolPoints, kMaxProtocolPoints);
+      } else if (args[i] == "--seed" && i + 1 < args.size()) {
+        seed = ParseInteger<uint64_t>("--seed", args[++i], 0, std::numeric_limits<uint64_t>::max());
+      } else if (args[i] == "--top-cut" && i + 1 < args.size()) {
+        // In (0, 0.5): the open ends are refused below.
+        top_cut = ParseDouble("--top-cut", args[++i], 0.0, 0.5);
+        if (!(top_cut > 0.0 && top_cut < 0.5)) {
+          throw UsageError("--top-cut '" + args[i] + "': out of range, expected more than 0 and "
+                           "less than 0.5");
+        }
+      } else if (args[i] == "--case" && i + 1 < args.size()) {
+        only = args[++i];
+      } else if (args[i] == "--verbose") {
+        verbose = true;
+      } else if (args[i] == "--json") {
+        json = true;
+      } else {
+        std::fprintf(stderr, "graspfill bench repair: bad option '%s'\n", args[i].c_str());
         return 2;
       }
-    } else if (args[i] == "--case" && i + 1 < args.size()) {
-      only = args[++i];
-    } else if (args[i] == "--verbose") {
-      verbose = true;
-    } else if (args[i] == "--json") {
-      json = true;
-    } else {
-      std::fprintf(stderr, "graspfill bench repair: bad option '%s'\n", args[i].c_str());
-      return 2;
     }
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "graspfill bench repair: %s\n", e.what());
+    return 2;
   }
   nlohmann::ordered_json rows = nlohmann::json::array();
   std::string table;

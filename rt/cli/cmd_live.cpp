@@ -23,9 +23,15 @@
 // default). Every session description's hand-eye T_C_B and intrinsics
 // override apply to the gripper states and depth images received after it.
 //
+// A rig config (--config FILE, rt/config/rig_config.hpp) sets the camera,
+// hand-eye, clock offset, claw, box, TSDF, repair, channels and rates; it
+// goes over the session descriptions, and the flags over it.
+//
 // The session itself is rt::LiveSession (rt/module/live_session.hpp): this
 // file parses the flags, picks the claw and wires the camera to it.
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <exception>
@@ -38,6 +44,7 @@
 #include "camera_options.hpp"
 #include "claw_option.hpp"
 #include "commands.hpp"
+#include "config_option.hpp"
 #include "number_parsing.hpp"
 #include "graspfill/io/output_path.hpp"
 #include "graspfill/repair/repairer.hpp"
@@ -50,6 +57,8 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: graspfill live [options]\n"
+    "  --config FILE         the rig config (`graspfill config --dump-defaults`): over the\n"
+    "                        session descriptions; the flags below over it\n"
     "  --device URI          OpenNI2 device URI or an .oni file (default: any device)\n"
     "  --depth-from-lcm      take depth_image_t from the LCM bus instead of OpenNI2\n"
     "                        (a camera driver on another process, or lcm-logplayer)\n"
@@ -110,11 +119,58 @@ int RunLive(const Args& args) {
   bool force = false;
   repair::RepairConfig repair_config;
   constexpr double kMaxSeconds = 7 * 24 * 3600.0;  // a week
+  // What the config fixes over the session description.
+  bool voxel_given = false, workspace_given = false;
+  double sdf_trunc_voxels = 4.0;
+  std::string config_path;
   try {
+    std::optional<rt::RigConfig> rig;
+    try {
+      rig = LoadConfigOption(args, &config_path);
+    } catch (const rt::ConfigError& e) {
+      std::fprintf(stderr, "graspfill live: --config: %s\n", e.what());
+      return 2;
+    }
+    if (rig) {
+      const rt::RigConfig& c = *rig;
+      rt::OpenNI2Source::Config& d = camera.device;
+      d.uri = c.camera.device;
+      d.width = c.camera.width_px;
+      d.height = c.camera.height_px;
+      d.fps = c.camera.fps;
+      d.depth_mode = c.camera.depth_units == "100um" ? rt::OpenNI2Source::DepthMode::k100um
+                                                     : rt::OpenNI2Source::DepthMode::k1mm;
+      if (c.camera.intrinsics_override) {
+        d.intrinsics.fx = c.camera.intrinsics_override->fx_px;
+        d.intrinsics.fy = c.camera.intrinsics_override->fy_px;
+        d.intrinsics.cx = c.camera.intrinsics_override->cx_px;
+        d.intrinsics.cy = c.camera.intrinsics_override->cy_px;
+      }
+      session_config.intrinsics = rt::IntrinsicsOverride(c);  // the bus's depth images
+      if (c.robot.T_C_B) {
+        session_config.T_C_B = c.robot.T_C_B->ToIsometry();
+        camera.T_C_B = session_config.T_C_B;
+      }
+      session_config.gripper_clock_offset_us = rt::ClockOffsetUs(c);
+      camera.gripper_clock_offset_us = session_config.gripper_clock_offset_us;
+      if (!c.claw.spec.empty()) claw_spec = c.claw.spec;
+      mesh_root = c.claw.mesh_root;
+      rt::ApplyToPipeline(c, &module_config.pipeline);
+      voxel_given = c.tsdf.voxel_m.has_value();
+      workspace_given = c.workspace.has_value();
+      sdf_trunc_voxels = c.tsdf.sdf_trunc_voxels;
+      session_config.repair = c.repair.enabled;
+      session_config.repair_evidence = c.repair.use_evidence;
+      rt::ApplyToRepair(c, &repair_config);
+      channels = rt::ToChannelNames(c.channels);
+      module_config.extract_every_n_frames = c.rates.publish_every_n_frames;
+      session_config.limits.tick_ms = static_cast<int>(std::lround(c.rates.status_period_s * 1000.0));
+    }
     for (size_t i = 0; i < args.size(); ++i) {
       const std::string& a = args[i];
       const bool has_value = i + 1 < args.size();
       if (a == "--help" || a == "-h") { std::fputs(kUsage, stdout); std::fputs(kCameraUsage, stdout); return 0; }
+      else if (a == "--config" && has_value) ++i;  // read above
       else if (a == "--device" && has_value) camera.device.uri = args[++i];
       else if (ParseCameraOption(args, &i, &camera)) {}
       else if (a == "--depth-from-lcm") depth_from_lcm = true;
@@ -182,23 +238,26 @@ int RunLive(const Args& args) {
     claw_model = MakeClaw(*claw_spec, mesh_root);
     claw_label = *claw_spec;
     description = DescribeClaw(*claw_spec, mesh_root, claw_model);
-    std::printf("live: claw %s (from the command line)\n", claw_label.c_str());
+    std::printf("live: claw %s (from the %s)\n", claw_label.c_str(),
+                config_path.empty() || std::find(args.begin(), args.end(), "--claw") != args.end()
+                    ? "command line"
+                    : ("config file " + config_path).c_str());
   } else if (session) {
     claw_model = MakeSessionClaw(*session, mesh_root);
     claw_label = SessionClawLabel(*session);
     description = *session;
-    if (session->workspace_G) {
+    if (session->workspace_G && !workspace_given) {
       module_config.pipeline.workspace.min_G = session->workspace_G->min();
       module_config.pipeline.workspace.max_G = session->workspace_G->max();
     }
-    if (session->voxel_m > 0.0) {
+    if (session->voxel_m > 0.0 && !voxel_given) {
       if (session->voxel_m < kMinVoxelM || session->voxel_m > kMaxVoxelM) {
         std::fprintf(stderr, "graspfill live: the session description asks for a voxel of %g m, "
                      "outside %g..%g m\n", session->voxel_m, kMinVoxelM, kMaxVoxelM);
         return 1;
       }
       module_config.pipeline.tsdf.voxel_m = session->voxel_m;
-      module_config.pipeline.tsdf.sdf_trunc_m = 4.0 * session->voxel_m;
+      module_config.pipeline.tsdf.sdf_trunc_m = sdf_trunc_voxels * session->voxel_m;
     }
     std::printf("live: claw %s (from the session description on %s)\n", claw_label.c_str(),
                 channels.session.c_str());

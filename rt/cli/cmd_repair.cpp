@@ -9,6 +9,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "number_parsing.hpp"
 #include "graspfill/io/output_path.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/repair/repairer.hpp"
@@ -88,12 +89,20 @@ int RunRepair(const Args& args) {
         return 2;
       }
     } else if (a == "--up" && has_value) {
+      // X,Y,Z: three strict numbers (no blanks, nothing after them), not all 0.
+      const std::string text = args[++i];
       Eigen::Vector3d up;
-      char c1 = 0, c2 = 0;
-      std::istringstream s(args[++i]);
-      if (!(s >> up.x() >> c1 >> up.y() >> c2 >> up.z()) || c1 != ',' || c2 != ',' ||
-          !up.allFinite() || up.norm() == 0.0) {
-        std::fprintf(stderr, "graspfill repair: --up needs X,Y,Z (a non-zero vector)\n");
+      try {
+        size_t start = 0;
+        for (int k = 0; k < 3; ++k) {
+          const size_t comma = k < 2 ? text.find(',', start) : text.size();
+          if (comma == std::string::npos) throw UsageError("--up '" + text + "': expected X,Y,Z");
+          up[k] = ParseDouble("--up", text.substr(start, comma - start), -1e6, 1e6);
+          start = comma + 1;
+        }
+        if (up.norm() == 0.0) throw UsageError("--up '" + text + "': a zero vector has no direction");
+      } catch (const UsageError& e) {
+        std::fprintf(stderr, "graspfill repair: %s\n%s", e.what(), kUsage);
         return 2;
       }
       config.up_hint = up.normalized();

@@ -9,7 +9,9 @@
 // gives the claw, the hand-eye calibration, the intrinsics override, the
 // workspace box and the voxel size; --claw and --voxel-m override it, and a
 // --claw that is not the recording's claw is warned about. Without one the
-// defaults apply (the three-finger claw).
+// defaults apply (the three-finger claw). A rig config (--config FILE,
+// rt/config/rig_config.hpp) goes over the session description, and the
+// command line's flags over both.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +25,7 @@
 
 #include "claw_option.hpp"
 #include "commands.hpp"
+#include "config_option.hpp"
 #include "evidence_json.hpp"
 #include "number_parsing.hpp"
 #include "refine_json.hpp"
@@ -44,6 +47,8 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: graspfill replay LOG -o CLOUD.ply [options]\n"
+    "  --config FILE            the rig config (`graspfill config --dump-defaults`): over the\n"
+    "                           recording's session description; the flags below over it\n"
     "  -o, --output PATH        object cloud in the gripper frame (PLY): the fused points,\n"
     "                           then the points the repair added (property provenance:\n"
     "                           0 observed, 1 surface, 2 symmetry)\n"
@@ -73,9 +78,18 @@ struct ReplayOptions {
   std::string output_path;
   bool json{false};
   bool force{false};
-  std::optional<std::string> claw;  ///< --claw; none = the recording's
+  std::optional<std::string> claw;  ///< --claw or the config's; none = the recording's
+  std::string claw_from{"command line"};  ///< where `claw` came from
   std::string claw_mesh_root;
-  bool voxel_given{false};
+  bool voxel_given{false};      ///< the voxel is the command line's or the config's
+  bool workspace_given{false};  ///< the box is the config's
+  double sdf_trunc_voxels{4.0};
+  std::string config_path;      ///< --config, "" = none
+  /// The config's hand-eye, intrinsics override and clock offset (over the
+  /// session description's).
+  std::optional<Eigen::Isometry3d> T_C_B;
+  std::optional<CameraIntrinsics> intrinsics;
+  int64_t clock_offset_us{0};
   std::string lcm_url;
   bool publish{true};
   bool skip_bad_frames{false};
@@ -86,10 +100,31 @@ struct ReplayOptions {
   repair::RepairConfig repair_config;
 };
 
-// The voxel edge, with the truncation distance at its default 4 voxels.
-void SetVoxel(double voxel_m, PipelineConfig* config) {
+// The voxel edge, with the truncation distance at `trunc_voxels` voxels
+// (default 4).
+void SetVoxel(double voxel_m, double trunc_voxels, PipelineConfig* config) {
   config->tsdf.voxel_m = voxel_m;
-  config->tsdf.sdf_trunc_m = 4.0 * voxel_m;
+  config->tsdf.sdf_trunc_m = trunc_voxels * voxel_m;
+}
+
+// The rig config's values, before the flags (which override them).
+void ApplyConfig(const rt::RigConfig& c, ReplayOptions* o) {
+  rt::ApplyToPipeline(c, &o->pipeline);
+  o->voxel_given = c.tsdf.voxel_m.has_value();
+  o->workspace_given = c.workspace.has_value();
+  o->sdf_trunc_voxels = c.tsdf.sdf_trunc_voxels;
+  rt::ApplyToRepair(c, &o->repair_config);
+  o->repair = c.repair.enabled;
+  o->evidence = c.repair.use_evidence;
+  o->channels = rt::ToChannelNames(c.channels);
+  if (!c.claw.spec.empty()) {
+    o->claw = c.claw.spec;
+    o->claw_from = "config file";
+  }
+  o->claw_mesh_root = c.claw.mesh_root;
+  if (c.robot.T_C_B) o->T_C_B = c.robot.T_C_B->ToIsometry();
+  o->intrinsics = rt::IntrinsicsOverride(c);
+  o->clock_offset_us = rt::ClockOffsetUs(c);
 }
 
 // Throws UsageError (printed with the usage text, exit code 2).
@@ -101,12 +136,14 @@ bool Parse(const Args& args, ReplayOptions* o) {
       *out = args[++i];
     };
     std::string v;
-    if (a == "-o" || a == "--output") value(&o->output_path);
+    if (a == "--config") value(&o->config_path);  // read before (LoadConfigOption)
+    else if (a == "-o" || a == "--output") value(&o->output_path);
     else if (a == "--json") o->json = true;
     else if (a == "--force") o->force = true;
     else if (a == "--claw") {
       value(&v);
       o->claw = v;
+      o->claw_from = "command line";
     }
     else if (a == "--claw-mesh-root") value(&o->claw_mesh_root);
     else if (a == "--lcm-url") value(&o->lcm_url);
@@ -128,7 +165,7 @@ bool Parse(const Args& args, ReplayOptions* o) {
     else if (a == "--session-channel") value(&o->channels.session);
     else if (a == "--voxel-m") {
       value(&v);
-      SetVoxel(ParseDouble(a, v, kMinVoxelM, kMaxVoxelM, "m"), &o->pipeline);
+      SetVoxel(ParseDouble(a, v, kMinVoxelM, kMaxVoxelM, "m"), o->sdf_trunc_voxels, &o->pipeline);
       o->voxel_given = true;
     } else if (!a.empty() && a[0] == '-') {
       throw UsageError("unknown option " + a);
@@ -147,7 +184,7 @@ bool Parse(const Args& args, ReplayOptions* o) {
 // The claw the replay uses and where it came from.
 struct ClawUse {
   std::string label;  ///< how messages name it
-  std::string from;   ///< "command line", "session description" or "default"
+  std::string from;   ///< "command line", "config file", "session description" or "default"
 };
 
 // Builds the pipeline once the events before the first depth or gripper
@@ -164,7 +201,7 @@ std::unique_ptr<rt::GraspSequencer> MakeReplayPipeline(
                                                 rt::GraspSequencerConfig{}, on_grasp_end);
   };
   PipelineConfig config = o.pipeline;
-  if (session && session->workspace_G) {
+  if (session && session->workspace_G && !o.workspace_given) {
     config.workspace.min_G = session->workspace_G->min();
     config.workspace.max_G = session->workspace_G->max();
   }
@@ -176,12 +213,12 @@ std::unique_ptr<rt::GraspSequencer> MakeReplayPipeline(
                     "%g..%g m (pass --voxel-m)", session->voxel_m, kMinVoxelM, kMaxVoxelM);
       throw std::runtime_error(message);
     }
-    SetVoxel(session->voxel_m, &config);
+    SetVoxel(session->voxel_m, o.sdf_trunc_voxels, &config);
   }
   if (o.claw) {
     claw::ClawModel model = MakeClaw(*o.claw, o.claw_mesh_root);
     use->label = *o.claw;
-    use->from = "command line";
+    use->from = o.claw_from;
     if (session) {
       // The recording's claw as it was; one that cannot be built (a URDF,
       // meshes not here) is compared by name.
@@ -192,10 +229,13 @@ std::unique_ptr<rt::GraspSequencer> MakeReplayPipeline(
         same = model.name() == session->claw_name;
       }
       if (!same) {
+        const std::string given = o.claw_from == "config file"
+                                      ? "the config's claw.spec " + *o.claw + " (" + o.config_path + ")"
+                                      : "--claw " + *o.claw;
         std::fprintf(stderr,
-                     "graspfill replay: warning: --claw %s differs from the claw this recording "
+                     "graspfill replay: warning: %s differs from the claw this recording "
                      "was made with (%s, from its session description); using %s\n",
-                     o.claw->c_str(), SessionClawLabel(*session).c_str(), o.claw->c_str());
+                     given.c_str(), SessionClawLabel(*session).c_str(), o.claw->c_str());
       }
     }
     return make(std::move(model), config);
@@ -229,9 +269,15 @@ int RunReplay(const Args& args) {
   }
   ReplayOptions o;
   try {
+    if (const std::optional<rt::RigConfig> config = LoadConfigOption(args, &o.config_path)) {
+      ApplyConfig(*config, &o);
+    }
     Parse(args, &o);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "graspfill replay: %s\n%s", e.what(), kUsage);
+    return 2;
+  } catch (const rt::ConfigError& e) {
+    std::fprintf(stderr, "graspfill replay: --config: %s\n", e.what());
     return 2;
   }
   // Before the log is read: an output that cannot be written (its folder
@@ -248,6 +294,15 @@ int RunReplay(const Args& args) {
   source_config.path = o.log_path;
   source_config.channels = o.channels;
   source_config.session_events = true;
+  if (o.T_C_B) {  // the config's hand-eye over the session descriptions'
+    source_config.T_C_B = *o.T_C_B;
+    source_config.T_C_B_from_session = false;
+  }
+  if (o.intrinsics) {
+    source_config.intrinsics = o.intrinsics;
+    source_config.intrinsics_from_session = false;
+  }
+  source_config.gripper_clock_offset_us = o.clock_offset_us;
   auto log_source = std::make_unique<rt::LcmLogSource>(source_config);  // throws on a bad file
   const rt::LcmLogSource& log = *log_source;  // for its counters, once at the end
   // Decoding runs ahead on a second thread, overlapping the pipeline.
@@ -391,6 +446,7 @@ int RunReplay(const Args& args) {
   report["gripper_states"] = stats.states_in;
   report["gripper_states_rejected"] = stats.states_rejected;
   report["claw"] = {{"name", claw_use.label}, {"from", claw_use.from}};
+  report["config"] = o.config_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.config_path);
   if (session) {
     report["session"] = {{"software_version", session->software_version},
                          {"utime", session->utime},

@@ -21,5 +21,6 @@ int RunRepair(const Args& args);  // cmd_repair.cpp
 int RunBenchRepair(const Args& args);  // cmd_bench_repair.cpp
 int RunBenchRepairPipeline(const Args& args);  // cmd_bench_pipeline.cpp
 int RunClaw(const Args& args);    // cmd_claw.cpp
+int RunConfig(const Args& args);  // cmd_config.cpp
 
 }  // namespace graspfill::cli

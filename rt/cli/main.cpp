@@ -33,6 +33,7 @@ void PrintUsage() {
       "  oni-record  an OpenNI2 device's depth into an .oni file (OpenNI2's recorder)\n"
       "  repair  fill the claw holes and the unseen top of an object cloud\n"
       "  claw    write a claw (built-in, description or URDF) posed at an opening as PLY\n"
+      "  config  the rig config: --dump-defaults (documented YAML), --check FILE\n"
       "run `graspfill <command> --help` for the command's options\n");
 }
 
@@ -56,6 +57,7 @@ int main(int argc, char** argv) {
     if (command == "oni-record") return graspfill::cli::RunOniRecord(args);
     if (command == "repair") return graspfill::cli::RunRepair(args);
     if (command == "claw") return graspfill::cli::RunClaw(args);
+    if (command == "config") return graspfill::cli::RunConfig(args);
     if (command == "--help" || command == "-h" || command == "help") {
       PrintUsage();
       return 0;

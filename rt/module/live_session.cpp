@@ -27,6 +27,15 @@ LiveSession::LiveSession(const LiveSessionConfig& config)
   LcmBusSubscriber::Config bus;
   bus.url = config.lcm_url;
   bus.channels = config.channels;
+  if (config.T_C_B) {
+    bus.T_C_B = *config.T_C_B;
+    bus.T_C_B_from_session = false;
+  }
+  if (config.intrinsics) {
+    bus.intrinsics = config.intrinsics;
+    bus.intrinsics_from_session = false;
+  }
+  bus.gripper_clock_offset_us = config.gripper_clock_offset_us;
   subscriber_ = std::make_unique<LcmBusSubscriber>(
       bus, [this](const GripperState& s) { OnGripperState(s); },
       config.depth_from_bus ? LcmBusSubscriber::DepthCallback(
@@ -84,7 +93,9 @@ void LiveSession::Begin(claw::ClawModel claw, const io::SessionDescription& desc
   module_ = std::make_unique<GraspModule>(
       config_.module, std::move(claw),
       [this](const ObjectCloud& cloud, const evidence::VisibilityRecord& seen) {
-        if (repair_stage_) repair_stage_->Submit(cloud, &seen);  // never waits
+        if (repair_stage_) {
+          repair_stage_->Submit(cloud, config_.repair_evidence ? &seen : nullptr);  // never waits
+        }
         else PublishCloud(cloud);
       });
   SessionLoopLimits limits = config_.limits;

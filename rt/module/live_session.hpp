@@ -17,6 +17,7 @@
 // from one thread. The status goes out from Run's thread.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <atomic>
 #include <deque>
 #include <functional>
@@ -44,10 +45,23 @@ struct LiveSessionConfig {
   /// Subscribe to depth_image_t on the bus (else depth comes from Run's
   /// source).
   bool depth_from_bus{false};
+  /// Hand-eye calibration for base-frame gripper states that replaces the
+  /// session descriptions' (a rig config's robot.T_C_B); none = theirs,
+  /// else identity.
+  std::optional<Eigen::Isometry3d> T_C_B;
+  /// Intrinsics override of the bus's depth images that replaces the
+  /// session descriptions' (a rig config's); none = theirs, else the
+  /// images' own.
+  std::optional<CameraIntrinsics> intrinsics;
+  /// Added to every gripper state's utime [us] (the robot's clock onto the
+  /// camera's).
+  int64_t gripper_clock_offset_us{0};
   GraspModuleConfig module;
   /// Repair each cloud before it is published (config for clouds in G).
   bool repair{true};
   repair::RepairConfig repair_config;
+  /// Repair with what the camera saw (the grasp's visibility record).
+  bool repair_evidence{true};
   /// Record what the session received (path empty: no recording).
   SessionRecorder::Config record;
   /// Stop rules; on_tick is the session's (the status).

@@ -6,6 +6,8 @@
 // live --device` reads.
 #pragma once
 
+#include <Eigen/Geometry>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -28,6 +30,12 @@ class CameraSource : public FrameSource {
     /// The log's channels (its depth images are skipped: depth comes
     /// through OpenNI2).
     io::ChannelNames channels;
+    /// The log's base-frame gripper states: this hand-eye calibration
+    /// instead of its session descriptions' (a rig config's robot.T_C_B);
+    /// none = theirs.
+    std::optional<Eigen::Isometry3d> T_C_B;
+    /// Added to the log's gripper states' utime [us].
+    int64_t gripper_clock_offset_us{0};
   };
 
   /// Opens the device (and the log).

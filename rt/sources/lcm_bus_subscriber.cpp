@@ -69,6 +69,7 @@ LcmBusSubscriber::LcmBusSubscriber(const Config& config, StateCallback on_state,
   impl_->on_depth = std::move(on_depth);
   impl_->on_session = std::move(on_session);
   impl_->T_C_B = config.T_C_B;
+  impl_->intrinsics = config.intrinsics;
   // Handlers are called from LCM's C code: they count errors, never throw.
   impl_->lcm.subscribeFunction(
       config.channels.gripper_state,
@@ -79,6 +80,7 @@ LcmBusSubscriber::LcmBusSubscriber(const Config& config, StateCallback on_state,
           self->CountBad(s.reason);
           return;
         }
+        s.state.utime += s.config.gripper_clock_offset_us;
         if (!TakeTime(&s.state_clock, s.state.utime, true, kResyncAfterNonMonotonic)) {
           self->CountBad(io::MessageError::kNonMonotonicTime);
           return;

@@ -50,6 +50,12 @@ class LcmBusSubscriber {
     /// images received after it; an image of another size is counted as a
     /// decode error (false: the images' own intrinsics always).
     bool intrinsics_from_session{true};
+    /// The intrinsics override until a session description replaces it
+    /// (for good with intrinsics_from_session false); none = the images' own.
+    std::optional<CameraIntrinsics> intrinsics;
+    /// Added to every gripper state's utime [us]: the robot's clock onto
+    /// the camera's.
+    int64_t gripper_clock_offset_us{0};
   };
   using StateCallback = std::function<void(const GripperState&)>;
   using DepthCallback = std::function<void(const DepthFrame&)>;

@@ -10,7 +10,8 @@ namespace graspfill::rt {
 LcmLogSource::LcmLogSource(const Config& config)
     : config_(config),
       reader_(std::make_unique<io::LcmLogReader>(config.path)),
-      T_C_B_(config.T_C_B) {}
+      T_C_B_(config.T_C_B),
+      intrinsics_(config.intrinsics) {}
 
 LcmLogSource::~LcmLogSource() = default;
 
@@ -46,6 +47,7 @@ FrameResult LcmLogSource::Next(SourceEvent* event) {
                                   &event->gripper, &event->error)) {
         return FrameResult::kBadFrame;
       }
+      event->gripper.utime += config_.gripper_clock_offset_us;
       return FrameResult::kOk;
     }
     if (channel == config_.channels.session) {

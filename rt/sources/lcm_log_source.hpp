@@ -41,6 +41,13 @@ class LcmLogSource : public FrameSource {
     /// A session description's intrinsics override applies to the depth
     /// images after it (false: the images' own intrinsics always).
     bool intrinsics_from_session{true};
+    /// The intrinsics override until a session description replaces it
+    /// (for good with intrinsics_from_session false, e.g. a rig config's);
+    /// none = the images' own.
+    std::optional<CameraIntrinsics> intrinsics;
+    /// Added to every gripper state's utime [us]: the robot's clock onto
+    /// the camera's (a rig config's robot.clock_offset_s).
+    int64_t gripper_clock_offset_us{0};
     /// Hand session descriptions to the caller as SourceEvent::Kind::kSession
     /// events (false: they are read and applied as above, not returned).
     bool session_events{false};

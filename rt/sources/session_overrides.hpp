@@ -22,7 +22,8 @@ inline bool ApplyIntrinsicsOverride(const std::optional<CameraIntrinsics>& K,
     if (error != nullptr) {
       *error = "depth image of " + std::to_string(frame->intrinsics.width) + "x" +
                std::to_string(frame->intrinsics.height) +
-               " pixels, but the session description overrides the intrinsics of " +
+               " pixels, but the intrinsics override (the session description's or the "
+               "rig config's) is for " +
                std::to_string(K->width) + "x" + std::to_string(K->height) + " images";
     }
     return false;

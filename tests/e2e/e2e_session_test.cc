@@ -230,6 +230,21 @@ TEST(SessionE2E, NumbersAreParsedStrictlyEverywhere) {
       {"live --depth-from-lcm --idle-exit-s -1", "--idle-exit-s '-1': out of range, expected 0..604800 s"},
       {"bench " + log + " --repeat 0", "--repeat '0': out of range, expected 1..1000"},
       {"bench " + log + " --repeat x", "--repeat 'x': not an integer"},
+      // bench repair, bench repair --pipeline and repair --up (were std::stoi/stod/istream).
+      {"bench repair --points 2e4", "--points '2e4': not an integer"},
+      {"bench repair --points 20000x", "--points '20000x': not an integer"},
+      {"bench repair --points 10", "--points '10': out of range, expected 1000..5000000"},
+      {"bench repair --seed -1", "--seed '-1': not an integer"},
+      {"bench repair --top-cut 0.1x", "--top-cut '0.1x': not a number"},
+      {"bench repair --top-cut 0.5", "--top-cut '0.5': out of range"},
+      {"bench repair --top-cut nan", "--top-cut 'nan': out of range"},
+      {"bench repair --pipeline --frames 12x", "--frames '12x': not an integer"},
+      {"bench repair --pipeline --frames 5", "--frames '5': out of range, expected 10..3000"},
+      {"repair " + dir + "/in.ply -o " + dir + "/x.ply --up 0,0,1x", "--up '1x': not a number"},
+      {"repair " + dir + "/in.ply -o " + dir + "/x.ply --up 0,0", "--up '0,0': expected X,Y,Z"},
+      {"repair " + dir + "/in.ply -o " + dir + "/x.ply --up 0,0,0",
+       "--up '0,0,0': a zero vector has no direction"},
+      {"repair " + dir + "/in.ply -o " + dir + "/x.ply --up ' 1,0,0'", "--up ' 1': not a number"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.args);

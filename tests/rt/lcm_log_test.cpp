@@ -421,6 +421,31 @@ TEST_F(LcmLogTest, ConfigCanIgnoreTheSessionsHandEyeAndIntrinsics) {
   }
 }
 
+// A rig config's intrinsics override and clock offset (cmd_replay's
+// --config): the override holds over the sessions', the offset moves every
+// gripper state's stamp.
+TEST_F(LcmLogTest, ConfigIntrinsicsAndClockOffsetHoldOverTheSessions) {
+  WriteSessionLog(Path("s.lcmlog"));
+  LcmLogSource::Config config = SourceConfig(Path("s.lcmlog"));
+  const CameraIntrinsics K{8, 6, 30.0, 31.0, 3.5, 2.5};
+  config.intrinsics = K;
+  config.intrinsics_from_session = false;
+  config.gripper_clock_offset_us = 40000;
+  LcmLogSource source(config);
+  std::vector<int64_t> state_utimes, depth_utimes;
+  SourceEvent event;
+  for (FrameResult r; (r = source.Next(&event)) != FrameResult::kEndOfStream;) {
+    ASSERT_EQ(r, FrameResult::kOk) << event.error;
+    if (event.kind == SourceEvent::Kind::kGripperState) state_utimes.push_back(event.gripper.utime);
+    if (event.kind == SourceEvent::Kind::kDepth) {
+      depth_utimes.push_back(event.depth.utime);
+      EXPECT_EQ(event.depth.intrinsics, K);
+    }
+  }
+  EXPECT_EQ(depth_utimes, (std::vector<int64_t>{4, 7}));  // the camera's clock: unmoved
+  EXPECT_EQ(state_utimes, (std::vector<int64_t>{40001, 40003, 40006}));
+}
+
 TEST_F(LcmLogTest, DepthOfAnotherSizeThanTheOverrideAndBadSessionsAreBadFrames) {
   const io::ChannelNames ch;
   {
@@ -440,8 +465,8 @@ TEST_F(LcmLogTest, DepthOfAnotherSizeThanTheOverrideAndBadSessionsAreBadFrames) 
   EXPECT_NE(event.error.find("session_description_t"), std::string::npos) << event.error;
   EXPECT_EQ(source.Next(&event), FrameResult::kBadFrame);
   EXPECT_EQ(event.kind, SourceEvent::Kind::kDepth);
-  EXPECT_NE(event.error.find("depth image of 8x6 pixels, but the session description overrides "
-                             "the intrinsics of 640x480 images"),
+  EXPECT_NE(event.error.find("depth image of 8x6 pixels, but the intrinsics override (the "
+                             "session description's or the rig config's) is for 640x480 images"),
             std::string::npos)
       << event.error;
   EXPECT_EQ(source.Next(&event), FrameResult::kEndOfStream);

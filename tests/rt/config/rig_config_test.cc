@@ -1,0 +1,294 @@
+// The rig config file (rt/config/rig_config.hpp): its defaults are the
+// libraries' defaults, dump -> parse gives the same struct back, and every
+// bad value is refused naming the file, the line and the field.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "config/rig_config.hpp"
+#include "graspfill/fusion/tsdf_fusion.hpp"
+#include "graspfill/pipeline/pipeline.hpp"
+#include "graspfill/repair/repairer.hpp"
+#include "module/grasp_module.hpp"
+#include "module/session_loop.hpp"
+
+namespace graspfill::rt {
+namespace {
+
+// Every field away from its default (optionals set), with values that need
+// all 17 digits to round-trip.
+RigConfig EveryFieldChanged() {
+  RigConfig c;
+  c.camera.device = "graspfill-replay:/tmp/a \"quoted\" log.lcmlog";
+  c.camera.width_px = 848;
+  c.camera.height_px = 480;
+  c.camera.fps = 60;
+  c.camera.depth_units = "100um";
+  c.camera.intrinsics_override = RigConfig::Intrinsics{848, 480, 421.1 + 1e-13, 421.3, 424.7, 239.1};
+  const double s = std::sqrt(0.5);
+  c.robot.T_C_B = RigConfig::Pose{{0.1 + 0.2, -0.25, 0.8}, {s, 0.0, s, 0.0}};
+  c.robot.clock_offset_s = -0.0123;
+  c.robot.max_pose_gap_s = 0.07;
+  c.claw.spec = "config/claws/robotiq_3f.json";
+  c.claw.mesh_root = "/opt/robot meshes";
+  c.workspace = RigConfig::Box{{-0.05, -0.06, 0.01}, {0.05, 0.06, 0.2}};
+  c.tsdf.voxel_m = 0.002;
+  c.tsdf.sdf_trunc_voxels = 5.5;
+  c.tsdf.block_resolution = 8;
+  c.tsdf.depth_sampling_stride = 1;
+  c.repair.enabled = false;
+  c.repair.mode = "paper";
+  c.repair.use_evidence = false;
+  c.repair.safe_bound_voxel_m = 0.0;
+  c.repair.top_rim_band_m = 0.006;
+  c.repair.close_unknown_top = false;
+  c.channels = {"D", "G", "C", "S", "SESSION_2"};
+  c.rates.publish_every_n_frames = 0;
+  c.rates.status_period_s = 0.25;
+  return c;
+}
+
+TEST(RigConfig, DefaultsAreTheLibrariesDefaults) {
+  const RigConfig c;
+  PipelineConfig pipeline;
+  pipeline.tsdf.sdf_trunc_m = 1.0;  // must come back as the default's
+  pipeline.max_pose_gap_us = 1;
+  ApplyToPipeline(c, &pipeline);
+  const PipelineConfig want;
+  EXPECT_EQ(pipeline.tsdf.voxel_m, want.tsdf.voxel_m);
+  EXPECT_EQ(pipeline.tsdf.sdf_trunc_m, want.tsdf.sdf_trunc_m);
+  EXPECT_EQ(pipeline.tsdf.block_resolution, want.tsdf.block_resolution);
+  EXPECT_EQ(pipeline.tsdf.depth_sampling_stride, want.tsdf.depth_sampling_stride);
+  EXPECT_EQ(pipeline.max_pose_gap_us, want.max_pose_gap_us);
+  EXPECT_EQ(pipeline.workspace.min_G, want.workspace.min_G);
+  EXPECT_EQ(pipeline.workspace.max_G, want.workspace.max_G);
+  // The box a null workspace stands for is the library's.
+  const RigConfig::Box box;
+  EXPECT_EQ(Eigen::Vector3d(box.min_G_m[0], box.min_G_m[1], box.min_G_m[2]), want.workspace.min_G);
+  EXPECT_EQ(Eigen::Vector3d(box.max_G_m[0], box.max_G_m[1], box.max_G_m[2]), want.workspace.max_G);
+
+  repair::RepairConfig repair;
+  repair.mode = repair::RepairMode::kPaper;
+  repair.safe_bound_voxel_m = 0.0;
+  repair.top_rim_band_m = 0.0;
+  repair.close_unknown_top = false;
+  ApplyToRepair(c, &repair);
+  const repair::RepairConfig want_repair;
+  EXPECT_EQ(repair.mode, want_repair.mode);
+  EXPECT_EQ(repair.safe_bound_voxel_m, want_repair.safe_bound_voxel_m);
+  EXPECT_EQ(repair.top_rim_band_m, want_repair.top_rim_band_m);
+  EXPECT_EQ(repair.close_unknown_top, want_repair.close_unknown_top);
+
+  const io::ChannelNames channels = ToChannelNames(c.channels);
+  const io::ChannelNames want_channels;
+  EXPECT_EQ(channels.depth, want_channels.depth);
+  EXPECT_EQ(channels.gripper_state, want_channels.gripper_state);
+  EXPECT_EQ(channels.object_cloud, want_channels.object_cloud);
+  EXPECT_EQ(channels.status, want_channels.status);
+  EXPECT_EQ(channels.session, want_channels.session);
+
+  EXPECT_EQ(c.rates.publish_every_n_frames, GraspModuleConfig{}.extract_every_n_frames);
+  EXPECT_EQ(std::lround(c.rates.status_period_s * 1000.0), SessionLoopLimits{}.tick_ms);
+  EXPECT_EQ(ClockOffsetUs(c), 0);
+  EXPECT_FALSE(IntrinsicsOverride(c).has_value());
+  EXPECT_FALSE(c.robot.T_C_B.has_value());
+  EXPECT_TRUE(c.claw.spec.empty());
+  EXPECT_NO_THROW(c.Validate());
+}
+
+TEST(RigConfig, DumpThenParseGivesTheSameStruct) {
+  const RigConfig defaults;
+  EXPECT_EQ(ParseRigConfig(DumpRigConfig(defaults), "defaults.yaml"), defaults);
+
+  const RigConfig changed = EveryFieldChanged();
+  ASSERT_NO_THROW(changed.Validate());
+  // Every section differs from the defaults, so equality below means each
+  // field was written and read back.
+  EXPECT_FALSE(changed.camera == defaults.camera);
+  EXPECT_FALSE(changed.robot == defaults.robot);
+  EXPECT_FALSE(changed.claw == defaults.claw);
+  EXPECT_FALSE(changed.workspace == defaults.workspace);
+  EXPECT_FALSE(changed.tsdf == defaults.tsdf);
+  EXPECT_FALSE(changed.repair == defaults.repair);
+  EXPECT_FALSE(changed.channels == defaults.channels);
+  EXPECT_FALSE(changed.rates == defaults.rates);
+  const std::string text = DumpRigConfig(changed);
+  const RigConfig back = ParseRigConfig(text, "changed.yaml");
+  EXPECT_EQ(back, changed) << text;
+  EXPECT_EQ(back.camera.intrinsics_override->fx_px, 421.1 + 1e-13);  // all digits
+  EXPECT_EQ(back.robot.T_C_B->translation_m[0], 0.1 + 0.2);
+  EXPECT_EQ(DumpRigConfig(back), text);
+}
+
+TEST(RigConfig, TheDumpDocumentsEveryKeyWithItsUnit) {
+  const std::string text = DumpRigConfig(RigConfig{});
+  for (const char* key : {"device:", "width_px:", "depth_units:", "intrinsics_override: null",
+                          "T_C_B: null", "clock_offset_s: 0", "max_pose_gap_s: 0.05", "spec: \"\"",
+                          "workspace: null", "voxel_m: null", "sdf_trunc_voxels: 4",
+                          "mode: best", "publish_every_n_frames: 30", "status_period_s: 1",
+                          "object_cloud: \"GRASPFILL_OBJECT_CLOUD\""}) {
+    EXPECT_NE(text.find(key), std::string::npos) << key << "\n" << text;
+  }
+  // The built-in values the nulls stand for are in the comments.
+  EXPECT_NE(text.find("# T_C_B: {translation_m: [0, 0, 0], rotation_wxyz: [1, 0, 0, 0]}"),
+            std::string::npos) << text;
+  EXPECT_NE(text.find("# workspace: {min_G_m: [-0.1, -0.1, 0.003], max_G_m: [0.1, 0.1, 0.3]}"),
+            std::string::npos) << text;
+  EXPECT_NE(text.find("else 0.0015"), std::string::npos) << text;
+}
+
+TEST(RigConfig, AnEmptyOrPartialFileKeepsTheDefaults) {
+  EXPECT_EQ(ParseRigConfig("", "empty.yaml"), RigConfig{});
+  EXPECT_EQ(ParseRigConfig("# nothing but a comment\n", "comment.yaml"), RigConfig{});
+  const RigConfig c = ParseRigConfig(
+      "tsdf:\n  voxel_m: 0.002\nrobot:\n  T_C_B:\n    translation_m: [0.1, 0, 0.5]\n"
+      "    rotation_wxyz: [0.7071, 0.7071, 0, 0]\n",
+      "partial.yaml");
+  RigConfig want;
+  want.tsdf.voxel_m = 0.002;
+  want.robot.T_C_B = RigConfig::Pose{{0.1, 0.0, 0.5}, {0.7071, 0.7071, 0.0, 0.0}};
+  EXPECT_EQ(c, want);
+  // JSON is YAML too.
+  EXPECT_EQ(ParseRigConfig("{\"tsdf\": {\"voxel_m\": 0.002}, \"robot\": {\"T_C_B\": "
+                           "{\"translation_m\": [0.1, 0, 0.5], \"rotation_wxyz\": "
+                           "[0.7071, 0.7071, 0, 0]}}}",
+                           "rig.json"),
+            want);
+  // A typed (rounded) quaternion is normalized where it is used.
+  const Eigen::Isometry3d T = c.robot.T_C_B->ToIsometry();
+  EXPECT_NEAR((T.linear() * T.linear().transpose() - Eigen::Matrix3d::Identity()).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((T.linear() * Eigen::Vector3d::UnitY() - Eigen::Vector3d::UnitZ()).norm(), 0.0, 1e-4);
+}
+
+struct BadCase {
+  std::string yaml;
+  std::string field;    ///< ConfigError::field()
+  std::string message;  ///< in what(), after "bad.yaml:LINE: "
+  int line;
+};
+
+TEST(RigConfig, EveryBadValueIsRefusedNamingItsField) {
+  const std::vector<BadCase> cases = {
+      {"tsdf:\n  voxel_m: 0.002mm\n", "tsdf.voxel_m", "tsdf.voxel_m '0.002mm': not a number", 2},
+      {"tsdf:\n  voxel_m: 0.5\n", "tsdf.voxel_m",
+       "tsdf.voxel_m '0.5': out of range, expected 0.0005..0.01 m", 2},
+      {"tsdf:\n  voxel_m: nan\n", "tsdf.voxel_m", "tsdf.voxel_m 'nan': out of range", 2},
+      {"tsdf:\n  voxel_m: .nan\n", "tsdf.voxel_m", "tsdf.voxel_m '.nan': not a number", 2},
+      {"tsdf:\n  voxel_m: inf\n", "tsdf.voxel_m", "tsdf.voxel_m 'inf': out of range", 2},
+      {"tsdf:\n  voxel_m: \" 0.002\"\n", "tsdf.voxel_m",
+       "tsdf.voxel_m: expected a number, got the string \" 0.002\"", 2},
+      {"tsdf:\n  voxel_m: \"0.002\"\n", "tsdf.voxel_m", "expected a number, got the string", 2},
+      {"tsdf:\n  voxel_m: [0.002]\n", "tsdf.voxel_m", "tsdf.voxel_m: expected a number, got a list", 2},
+      {"tsdf:\n  voxel_m: 0x10\n", "tsdf.voxel_m", "tsdf.voxel_m '0x10': not a number", 2},
+      {"tsdf:\n  voxl_m: 0.002\n", "tsdf.voxl_m", "unknown key 'tsdf.voxl_m' (tsdf has: voxel_m,", 2},
+      {"tsdf:\n  block_resolution: 16.5\n", "tsdf.block_resolution",
+       "tsdf.block_resolution '16.5': not an integer", 2},
+      {"tsdf:\n  block_resolution: 99999999999\n", "tsdf.block_resolution",
+       "tsdf.block_resolution '99999999999': out of range, expected 2..128", 2},
+      {"tsdf:\n  sdf_trunc_voxels: 1\n", "tsdf.sdf_trunc_voxels",
+       "tsdf.sdf_trunc_voxels '1': out of range", 2},
+      {"tsdf:\n  depth_sampling_stride: 2 # ok\n  depth_sampling_stride: 3\n",
+       "tsdf.depth_sampling_stride", "duplicate key 'tsdf.depth_sampling_stride'", 3},
+      {"tsdf: 5\n", "tsdf", "tsdf: expected a map of keys, got '5'", 1},
+      {"repair:\n  enabled: yes\n", "repair.enabled", "repair.enabled 'yes': expected true or false", 2},
+      {"repair:\n  mode: fast\n", "repair.mode", "repair.mode 'fast': expected best or paper", 2},
+      {"repair:\n  safe_bound_voxel_m: 0.0001\n", "repair.safe_bound_voxel_m",
+       "expected 0 (no bound) or 0.0005..0.1 m", 2},
+      {"robot:\n  clock_offset_s: 1e400\n", "robot.clock_offset_s",
+       "robot.clock_offset_s '1e400': out of range, expected -3600..3600 s", 2},
+      {"robot:\n  max_pose_gap_s: 0.05s\n", "robot.max_pose_gap_s",
+       "robot.max_pose_gap_s '0.05s': not a number", 2},
+      {"robot:\n  T_C_B:\n    translation_m: [0, 0]\n    rotation_wxyz: [1, 0, 0, 0]\n",
+       "robot.T_C_B.translation_m", "expected a list of 3 numbers, got a list of 2", 3},
+      {"robot:\n  T_C_B:\n    translation_m: [0, 0, 1x]\n    rotation_wxyz: [1, 0, 0, 0]\n",
+       "robot.T_C_B.translation_m[2]", "robot.T_C_B.translation_m[2] '1x': not a number", 3},
+      {"robot:\n  T_C_B:\n    translation_m: [0, 0, 0]\n    rotation_wxyz: [0.5, 0, 0, 0]\n",
+       "robot.T_C_B.rotation_wxyz", "robot.T_C_B.rotation_wxyz: not a unit quaternion (norm 0.5", 4},
+      {"robot:\n  T_C_B:\n    translation_m: [0, 0, 0]\n", "robot.T_C_B.rotation_wxyz",
+       "robot.T_C_B.rotation_wxyz: missing", 3},
+      {"workspace:\n  min_G_m: [0, 0, 0.2]\n  max_G_m: [0.1, 0.1, 0.1]\n", "workspace.max_G_m[2]",
+       "workspace.max_G_m[2]: must be greater than workspace.min_G_m[2]", 3},
+      {"camera:\n  intrinsics_override:\n    width_px: 640\n",
+       "camera.intrinsics_override.height_px", "camera.intrinsics_override.height_px: missing", 3},
+      {"camera:\n  intrinsics_override: {width_px: 640, height_px: 480, fx_px: 0, fy_px: 1, "
+       "cx_px: 1, cy_px: 1}\n",
+       "camera.intrinsics_override.fx_px", "camera.intrinsics_override.fx_px '0': out of range", 2},
+      {"camera:\n  depth_units: cm\n", "camera.depth_units",
+       "camera.depth_units 'cm': expected mm or 100um", 2},
+      {"camera:\n  fps: -1\n", "camera.fps", "camera.fps '-1': out of range, expected 0..1000", 2},
+      {"camera:\n  fps: +30\n", "camera.fps", "camera.fps '+30': not an integer", 2},
+      {"camera:\n  device: {uri: x}\n", "camera.device", "camera.device: expected a string, got a map", 2},
+      {"channels:\n  depth: \"\"\n", "channels.depth", "channels.depth: must not be empty", 2},
+      {"rates:\n  publish_every_n_frames: 3.5\n", "rates.publish_every_n_frames",
+       "rates.publish_every_n_frames '3.5': not an integer", 2},
+      {"rates:\n  status_period_s: 0\n", "rates.status_period_s",
+       "rates.status_period_s '0': out of range, expected 0.05..60 s", 2},
+      {"camera: {}\ncolour: red\n", "colour", "unknown key 'colour' (the file has: camera,", 2},
+      {"- a\n- b\n", "", "the file: expected a map of keys, got a list", 1},
+      {"tsdf: {voxel_m: [\n", "", "not YAML", 2},
+  };
+  for (const BadCase& c : cases) {
+    SCOPED_TRACE(c.yaml);
+    try {
+      ParseRigConfig(c.yaml, "bad.yaml");
+      ADD_FAILURE() << "accepted";
+    } catch (const ConfigError& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(e.field(), c.field) << what;
+      EXPECT_EQ(what.rfind("bad.yaml:" + std::to_string(c.line) + ": ", 0), 0u) << what;
+      EXPECT_NE(what.find(c.message), std::string::npos) << what;
+    }
+  }
+}
+
+TEST(RigConfig, ValidateNamesTheFieldOfAStructBuiltInCode) {
+  RigConfig c;
+  c.tsdf.voxel_m = 0.1;
+  try {
+    c.Validate();
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.field(), "tsdf.voxel_m");
+    EXPECT_NE(std::string(e.what()).find("tsdf.voxel_m '0.1': out of range"), std::string::npos);
+  }
+  RigConfig d;
+  d.robot.max_pose_gap_s = std::nan("");
+  try {
+    d.Validate();
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.field(), "robot.max_pose_gap_s");
+  }
+}
+
+TEST(RigConfig, LoadNamesAFileItCannotRead) {
+  const std::string dir = std::string(GRASPFILL_BINARY_DIR) + "/test_scratch/rig_config_load";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  try {
+    LoadRigConfig(dir + "/missing.yaml");
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot read config '" + dir + "/missing.yaml'"),
+              std::string::npos) << e.what();
+  }
+  const std::string path = dir + "/rig.yaml";
+  std::ofstream(path) << "tsdf:\n  voxel_m: 0.003\n";
+  EXPECT_EQ(*LoadRigConfig(path).tsdf.voxel_m, 0.003);
+  std::ofstream(path) << "tsdf:\n  voxel_m: 0.003 m\n";
+  try {
+    LoadRigConfig(path);
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(path + ":2: tsdf.voxel_m '0.003 m': not a number", 0), 0u)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace graspfill::rt
