@@ -153,8 +153,8 @@ int RunBenchRepairPipeline(const Args& args) {
     std::printf("Shape zoo through the pipeline (%d frames, one turn): coverage = true surface within 2 mm;\n"
                 "added p95 / wrong (> 3 mm) / in seen-free space; cloud-only repair vs with evidence\n\n",
                 frames);
-    std::printf("%-12s %-17s %-12s %-15s | %6s | %6s %6s %5s %5s %6s | %6s %6s %5s %5s %6s | %6s %6s\n",
-                "object", "shape", "claw", "grasp", "fused", "cov", "p95mm", "wrong", "free", "ms",
+    std::printf("%-12s %-17s %-12s %-15s | %6s %6s | %6s %6s %5s %5s %6s | %6s %6s %5s %5s %6s | %6s %6s\n",
+                "object", "shape", "claw", "grasp", "points", "fused", "cov", "p95mm", "wrong", "free", "ms",
                 "cov", "p95mm", "wrong", "free", "ms", "rec/fr", "frame");
   }
   for (const ZooCase& c : ZooCases()) {
@@ -231,8 +231,9 @@ int RunBenchRepairPipeline(const Args& args) {
                       {"record_mb", record.memory_bytes() / 1e6}});
       continue;
     }
-    std::printf("%-12s %-17s %-12s %-15s | %6.3f |", c.label.c_str(), c.shape.c_str(),
-                synth::ClawTypeName(c.claw).c_str(), synth::GraspWayName(c.grasp).c_str(), fused_coverage);
+    std::printf("%-12s %-17s %-12s %-15s | %6zu %6.3f |", c.label.c_str(), c.shape.c_str(),
+                synth::ClawTypeName(c.claw).c_str(), synth::GraspWayName(c.grasp).c_str(), fused.size(),
+                fused_coverage);
     for (const Outcome& o : result) {
       std::printf(" %6.3f %6.2f %5.3f %5d %6.0f |", o.coverage, o.added_p95_mm, o.added_wrong,
                   o.added_in_free, o.ms);

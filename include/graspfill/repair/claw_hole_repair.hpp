@@ -45,8 +45,11 @@ enum class ClawSurface {
   ///  - two height fields, one per face of a convex edge (a hole at a
   ///    cuboid's corner), the faces told apart by the points' normals, each
   ///    used where it lies inside the other.
-  /// A candidate must explain 90% of the rim's points; when none does, the
-  /// hole falls back to a local Poisson surface.
+  /// A candidate must explain 90% of the rim's points; when none does (a
+  /// rounded edge, a rim a fused cloud leaves ragged), the hole falls back
+  /// to a thin-plate spline over the rim's plane, fitted to the support's
+  /// points that face the hole's way (a 256-centre solve, ~5-20 ms a hole;
+  /// the local Poisson surface it replaces cost 0.3-0.8 s).
   kLocalFit,
 };
 
