@@ -15,6 +15,7 @@
 #include "cmd_synth_protocol.hpp"
 #include "commands.hpp"
 #include "number_parsing.hpp"
+#include "poisson_baseline.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/repair/repairer.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"

@@ -3,8 +3,37 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace graspfill::repair::fill {
+
+void CheckFinite(const PointList& points, const char* what) {
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!points[i].allFinite()) {
+      throw std::invalid_argument(std::string(what) + ": non-finite coordinate at index " +
+                                  std::to_string(i));
+    }
+  }
+}
+
+void CheckInputs(const PointList& points, const std::vector<Eigen::Vector3f>* normals,
+                 const NeighborIndex* index, const char* what) {
+  CheckFinite(points, what);
+  if (normals != nullptr) {
+    if (normals->size() != points.size()) {
+      throw std::invalid_argument(std::string(what) + ": " + std::to_string(normals->size()) +
+                                  " normals for " + std::to_string(points.size()) + " points");
+    }
+    CheckFinite(*normals, what);
+  }
+  if (index != nullptr) {
+    if (&index->points() != &points) {
+      throw std::invalid_argument(std::string(what) +
+                                  ": the neighbour index must be built over the same cloud");
+    }
+  }
+}
 
 uint64_t MixSeed(uint64_t seed, uint64_t stream) {
   // SplitMix64 of the pair: neighbouring streams look independent.

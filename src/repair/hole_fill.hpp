@@ -17,6 +17,14 @@ namespace graspfill::repair::fill {
 
 using Box = Eigen::AlignedBox3f;
 
+/// Throws std::invalid_argument (prefixed by `what`) on a non-finite
+/// coordinate.
+void CheckFinite(const PointList& points, const char* what);
+/// The inputs of a fill: finite points, as many finite normals (if given),
+/// an index over the very same cloud (if given); throws otherwise.
+void CheckInputs(const PointList& points, const std::vector<Eigen::Vector3f>* normals,
+                 const NeighborIndex* index, const char* what);
+
 uint64_t MixSeed(uint64_t seed, uint64_t stream);
 
 // Uniform in [0, 1) from 53 bits, written out so that a seed gives the same
