@@ -1,9 +1,11 @@
 // graspfill: grasp-reconstruction module and its tools.
+#include <malloc.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <string>
-#include <unistd.h>
 
 #include "commands.hpp"
 
@@ -18,6 +20,18 @@ void LimitOpenMPThreads(char** argv) {
   if (std::getenv("OMP_THREAD_LIMIT") != nullptr) return;
   setenv("OMP_THREAD_LIMIT", "1", 1);
   execv("/proc/self/exe", argv);  // returns only on failure: run as we are
+}
+
+// glibc gives every block over 128 KiB back to the kernel when it is freed,
+// so each repair (kNN tables and grids of a few MB on a 20k-point cloud)
+// page-faults its memory in again: on this project's 2-core VMs ~15% of a
+// repair's time went to page faults and zeroing. Blocks up to 32 MiB now
+// stay in the heap for the next repair (RSS stays at its high-water mark).
+// The shape zoo's repairs with evidence (bench repair --pipeline, one run
+// each): 1,850 ms -> 1,643 ms summed over 15 objects.
+void KeepFreedMemoryForReuse() {
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 512 << 20);
 }
 
 void PrintUsage() {
@@ -41,6 +55,7 @@ void PrintUsage() {
 
 int main(int argc, char** argv) {
   LimitOpenMPThreads(argv);
+  KeepFreedMemoryForReuse();
   if (argc < 2) {
     PrintUsage();
     return 2;
