@@ -115,6 +115,15 @@ bool FitQuadric(const PointList& points, const std::vector<int>& support,
   return true;
 }
 
+namespace {
+// The thin plate's acceptance (see FitThinPlate).
+constexpr double kMinFacingShare = 0.12;
+constexpr double kMaxHeightSpread = 1.0;
+// A quadric within this robust residual scale of the facing points [m]
+// (a fused cloud's noise is ~0.3 mm) carries the fill over a curved face.
+constexpr double kQuadricNoiseM = 0.0005;
+}  // namespace
+
 bool FitThinPlate(const NeighborIndex& index, const std::vector<int>& support,
                   const HoleFrame& frame, const Eigen::Vector3f& centroid, double d,
                   int max_centres, ThinPlateSheet* out) {
@@ -126,15 +135,30 @@ bool FitThinPlate(const NeighborIndex& index, const std::vector<int>& support,
   const std::vector<Eigen::Vector3f> normals = EstimateNormals(index, sample, 10, centroid);
   const Eigen::Vector3f n = frame.n.cast<float>();
   std::vector<Eigen::Vector3d> local;
+  std::vector<int> facing;
   Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()),
                   hi = -lo;
   for (size_t k = 0; k < sample.size(); ++k) {
     if (normals[k].dot(n) < 0.5f) continue;
+    facing.push_back(sample[k]);
     local.push_back(frame.Local(points[sample[k]].cast<double>()));
     lo = lo.cwiseMin(local.back().head<2>());
     hi = hi.cwiseMax(local.back().head<2>());
   }
-  if (local.size() < 30) return false;
+  // Enough of the support must face the hole's way (12%: a hole over a
+  // rounded edge has ~16%) and its heights spread over less than the
+  // support's smaller side: else it is no sheet over the plane (a boundary
+  // around a large part of the object: 8% facing, 70 mm of heights over
+  // 64 mm), and a spline through it would invent a surface. The caller
+  // falls back to Poisson then.
+  if (local.size() < 30 || local.size() < kMinFacingShare * static_cast<double>(sample.size())) {
+    return false;
+  }
+  {
+    double w_min = std::numeric_limits<double>::infinity(), w_max = -w_min;
+    for (const Eigen::Vector3d& l : local) w_min = std::min(w_min, l.z()), w_max = std::max(w_max, l.z());
+    if (w_max - w_min > kMaxHeightSpread * (hi - lo).minCoeff()) return false;
+  }
   out->frame = frame;
   const Eigen::Vector2d size = (hi - lo).cwiseMax(d);
   // Cells of ~1/max_centres of the box's area (the hole leaves some
@@ -204,6 +228,22 @@ bool FitThinPlate(const NeighborIndex& index, const std::vector<int>& support,
     out->w_hi = std::max(out->w_hi, l.z());
   }
   out->w_pad = 2.0 * d;  // the caller may widen it
+  out->use_quadric =
+      FitQuadric(points, facing, std::vector<double>(facing.size(), 1.0), 6, 0.05 * d, &out->quadric) &&
+      !out->quadric.IsPlanePair() && out->quadric.sigma_m <= kQuadricNoiseM;
+  out->grid_lo = lo;
+  out->grid_cell = cell;
+  out->nu = nu;
+  out->nv = nv;
+  out->column_top.assign(static_cast<size_t>(nu) * nv, std::numeric_limits<double>::quiet_NaN());
+  for (int i : support) {
+    const Eigen::Vector3d l = frame.Local(points[i].cast<double>());
+    const double fu = std::floor((l.x() - lo.x()) / cell), fv = std::floor((l.y() - lo.y()) / cell);
+    if (!(fu >= 0.0 && fu < nu && fv >= 0.0 && fv < nv)) continue;
+    double& top = out->column_top[static_cast<size_t>(fv) * nu + static_cast<size_t>(fu)];
+    if (std::isnan(top) || l.z() > top) top = l.z();
+  }
+  out->column_tol_m = std::max(0.0015, 3.0 * d);
   return true;
 }
 

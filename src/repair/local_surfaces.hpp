@@ -168,6 +168,22 @@ struct ThinPlateSheet {
   Eigen::Vector3d affine{Eigen::Vector3d::Zero()};
   double w_lo{0.0}, w_hi{0.0};  // the support's heights [m]
   double w_pad{0.0};
+  // A quadric through the same points, when it explains them to the noise
+  // (a fruit, a small ball): over a wide hole the spline, which bends as
+  // little as it can, sags below a curved face; its samples are then moved
+  // onto the quadric.
+  bool use_quadric{false};
+  Quadric quadric;
+  // The cloud's own surface where it has points: per cell of a (u, v) grid
+  // the highest w of the support's points (NaN where none: the hole). A
+  // sample more than `column_tol_m` off it floats over (or sinks under) a
+  // surface the cloud shows, e.g. past a sharp edge whose other face the
+  // fit left out.
+  Eigen::Vector2d grid_lo{0.0, 0.0};
+  double grid_cell{1.0};
+  int nu{0}, nv{0};
+  std::vector<double> column_top;
+  double column_tol_m{0.0};
 
   static double Phi(double r2) { return r2 > 0.0 ? 0.5 * r2 * std::log(r2) : 0.0; }
   // Height [m] at (u, v) [m], and its gradient when asked.
@@ -194,8 +210,13 @@ struct ThinPlateSheet {
   // Only within the support's heights (padded by `w_pad`): past them the
   // spline extrapolates.
   bool Holds(const Eigen::Vector3d& p) const {
-    const double w = frame.Local(p).z();
-    return w >= w_lo - w_pad && w <= w_hi + w_pad;
+    const Eigen::Vector3d l = frame.Local(p);
+    if (!(l.z() >= w_lo - w_pad && l.z() <= w_hi + w_pad)) return false;
+    const double fu = std::floor((l.x() - grid_lo.x()) / grid_cell);
+    const double fv = std::floor((l.y() - grid_lo.y()) / grid_cell);
+    if (!(fu >= 0.0 && fu < nu && fv >= 0.0 && fv < nv)) return true;
+    const double top = column_top[static_cast<size_t>(fv) * nu + static_cast<size_t>(fu)];
+    return std::isnan(top) || std::abs(l.z() - top) <= column_tol_m;
   }
   double AreaElement(double u, double v) const {
     Eigen::Vector2d g;
