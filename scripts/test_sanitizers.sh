@@ -8,9 +8,9 @@
 #     reader, fuzz regressions, files), claw, core, fusion, evidence,
 #     pipeline, repair (all but evidence_repair, the suite's slowest test at
 #     70 s in Release; the repairer and bounded-repair tests run the whole
-#     repair), rt (log, publisher,
-#     prefetching source, CLI options, rig config, module: grasp module,
-#     cloud repair, repair stage, sequencer, live session with the recorder).
+#     repair), rt (log, publisher, prefetching source, CLI options, rig
+#     config, module: grasp module, cloud repair, repair stage, sequencer,
+#     live session with the recorder).
 #     Not run: e2e (the CLI end to end: slow, and the same code as above),
 #     synth, eval, refine, the install/package tests, the OpenNI2 driver
 #     and the udpm scripts (other processes inside `unshare -n`).
