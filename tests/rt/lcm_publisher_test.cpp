@@ -15,9 +15,19 @@
 namespace graspfill::rt {
 namespace {
 
-// Collects raw messages on one channel.
+// Collects raw messages on one channel. Subscribed through
+// subscribeFunction, as LcmBusSubscriber subscribes: under GCC 12 with
+// -fsanitize=address,undefined at -O1, lcm-cpp's member-function form
+// (LCM::subscribe(channel, &C::method, obj), LCMMHUntypedSubscription::cb_func)
+// calls the handler through a register that does not hold the subscription
+// (UBSan: "possibly invalid vptr", then a member call on 0xbebebe...01),
+// so the ASan step (scripts/test_sanitizers.sh) could not run these tests.
 class Collector {
  public:
+  static void Receive(const lcm::ReceiveBuffer* buffer, const std::string& channel,
+                      Collector* self) {
+    self->OnMessage(buffer, channel);
+  }
   void OnMessage(const lcm::ReceiveBuffer* buffer, const std::string& channel) {
     const auto* data = static_cast<const uint8_t*>(buffer->data);
     messages.emplace_back(data, data + buffer->data_size);
@@ -37,8 +47,8 @@ void Pump(lcm::LCM* lcm, const Collector& collector, size_t count) {
 TEST(LcmPublisher, CloudArrivesOverMemq) {
   LcmPublisher dut("memq://");
   Collector collector;
-  dut.lcm_instance()->subscribe("LcmPublisher.CloudArrivesOverMemq",
-                                &Collector::OnMessage, &collector);
+  dut.lcm_instance()->subscribeFunction("LcmPublisher.CloudArrivesOverMemq",
+                                        &Collector::Receive, &collector);
   const ObjectCloud cloud = testing::MakeTestCloud(5000, 21);
   ASSERT_TRUE(dut.PublishCloud("LcmPublisher.CloudArrivesOverMemq", cloud));
   Pump(dut.lcm_instance(), collector, 1);
@@ -65,8 +75,8 @@ TEST(LcmPublisher, CloudArrivesOverMemq) {
 TEST(LcmPublisher, StatusAndRawOverMemq) {
   LcmPublisher dut("memq://");
   Collector collector;
-  dut.lcm_instance()->subscribe("LcmPublisher.Status.*", &Collector::OnMessage,
-                                &collector);
+  dut.lcm_instance()->subscribeFunction("LcmPublisher.Status.*", &Collector::Receive,
+                                        &collector);
   io::ModuleStatus status;
   status.frames_in = 30;
   status.frames_dropped = 2;
