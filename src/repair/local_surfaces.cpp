@@ -154,11 +154,13 @@ bool FitThinPlate(const NeighborIndex& index, const std::vector<int>& support,
   if (local.size() < 30 || local.size() < kMinFacingShare * static_cast<double>(sample.size())) {
     return false;
   }
-  {
-    double w_min = std::numeric_limits<double>::infinity(), w_max = -w_min;
-    for (const Eigen::Vector3d& l : local) w_min = std::min(w_min, l.z()), w_max = std::max(w_max, l.z());
-    if (w_max - w_min > kMaxHeightSpread * (hi - lo).minCoeff()) return false;
+  out->w_lo = std::numeric_limits<double>::infinity();
+  out->w_hi = -out->w_lo;
+  for (const Eigen::Vector3d& l : local) {
+    out->w_lo = std::min(out->w_lo, l.z());
+    out->w_hi = std::max(out->w_hi, l.z());
   }
+  if (out->w_hi - out->w_lo > kMaxHeightSpread * (hi - lo).minCoeff()) return false;
   out->frame = frame;
   const Eigen::Vector2d size = (hi - lo).cwiseMax(d);
   // Cells of ~1/max_centres of the box's area (the hole leaves some
@@ -187,25 +189,25 @@ bool FitThinPlate(const NeighborIndex& index, const std::vector<int>& support,
       out->centres.push_back(data[i].head<2>());
       w.push_back(data[i].z());
     }
-    const long n = static_cast<long>(out->centres.size());
-    if (n < 10) return false;
+    const long count = static_cast<long>(out->centres.size());
+    if (count < 10) return false;
     // Smoothing: the cells' mean heights carry noise of a fraction of D.
     const double lambda = 1e-6;
-    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n + 3, n + 3);
-    Eigen::VectorXd b = Eigen::VectorXd::Zero(n + 3);
-    for (long i = 0; i < n; ++i) {
+    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(count + 3, count + 3);
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(count + 3);
+    for (long i = 0; i < count; ++i) {
       for (long j = 0; j < i; ++j) {
         a(i, j) = a(j, i) = ThinPlateSheet::Phi((out->centres[i] - out->centres[j]).squaredNorm());
       }
-      a(i, i) = lambda * static_cast<double>(n);
-      a(i, n) = a(n, i) = 1.0;
-      a(i, n + 1) = a(n + 1, i) = out->centres[i].x();
-      a(i, n + 2) = a(n + 2, i) = out->centres[i].y();
+      a(i, i) = lambda * static_cast<double>(count);
+      a(i, count) = a(count, i) = 1.0;
+      a(i, count + 1) = a(count + 1, i) = out->centres[i].x();
+      a(i, count + 2) = a(count + 2, i) = out->centres[i].y();
       b(i) = w[i];
     }
     const Eigen::VectorXd x = a.partialPivLu().solve(b);
     if (!x.allFinite()) return false;
-    out->c = x.head(n);
+    out->c = x.head(count);
     out->affine = x.tail<3>();
     if (pass == 1) break;
     std::vector<double> r(data.size());
@@ -220,12 +222,6 @@ bool FitThinPlate(const NeighborIndex& index, const std::vector<int>& support,
       if (r[i] > cut) use[i] = 0, dropped = true;
     }
     if (!dropped) break;
-  }
-  out->w_lo = std::numeric_limits<double>::infinity();
-  out->w_hi = -out->w_lo;
-  for (const Eigen::Vector3d& l : local) {
-    out->w_lo = std::min(out->w_lo, l.z());
-    out->w_hi = std::max(out->w_hi, l.z());
   }
   out->w_pad = 2.0 * d;  // the caller may widen it
   out->use_quadric =
