@@ -343,14 +343,17 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
 
     PointList fill;
     bool filled = false;
+    // A surface sampled over the hole may bulge out of the rim's plane by
+    // the curvature's a^2 / 2r, bounded by a quarter of the hole's width.
+    const double bulge_m = 0.25 * (region.hi.head<2>() - region.lo.head<2>()).minCoeff();
+    // A sheet parametrizes a quadric's samples: it is within ~1 mm of it.
+    const double max_snap = std::max(0.003, 10.0 * d);
     Sheets sheets;
     // Otherwise the points around the hole are not one or two smooth
     // sheets: the hole falls back to the thin plate below.
     if (config.surface == ClawSurface::kLocalFit &&
         FitSheets(index, support, rim, frame, centroid, config, d, &sheets)) {
       const double clip_tol = 0.5 * d;
-      // The sheet parametrizes the quadric's samples: it is within ~1 mm.
-      const double max_snap = std::max(0.003, 10.0 * d);
       // Each sheet over the rim's shadow in its own frame.
       const auto region_of = [&](const HoleFrame& f) {
         return RimRegion(rim, f, pad, region.z_lo, region.z_hi);
@@ -368,12 +371,9 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
     ThinPlateSheet smooth;
     if (!filled && config.surface == ClawSurface::kLocalFit &&
         FitThinPlate(index, support, frame, centroid, d, kThinPlateCentres, &smooth)) {
-      // Its heights may pass the support's by the bulge of a convex face
-      // over the hole (a^2 / 2r, bounded by a quarter of the hole's width).
-      smooth.w_pad = 2.0 * d + 0.25 * (region.hi.head<2>() - region.lo.head<2>()).minCoeff();
+      smooth.w_pad = 2.0 * d + bulge_m;  // past the support's heights: the bulge
       SampleHeightField(smooth, region, density, nullptr, 0.0,
-                        smooth.use_quadric ? &smooth.quadric : nullptr, std::max(0.003, 10.0 * d),
-                        &rng, &gap, &fill);
+                        smooth.use_quadric ? &smooth.quadric : nullptr, max_snap, &rng, &gap, &fill);
       filled = true;
     }
     // The last resort (and the paper's surface): Poisson, ~0.3-0.8 s.
@@ -395,10 +395,8 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
                                    config.poisson_scale);
       }
       // Along n: the rim's spread, the surface's sag or bulge over the hole
-      // (up to about a cell, and the curvature's a^2 / 2r, bounded by a
-      // quarter of the hole's width), and the pad.
-      const double n_pad = pad + config.poisson_box_pad_cells * surface->cell_m +
-                           0.25 * (region.hi.head<2>() - region.lo.head<2>()).minCoeff();
+      // (up to about a cell, and the bulge), and the pad.
+      const double n_pad = pad + config.poisson_box_pad_cells * surface->cell_m + bulge_m;
       region.lo.z() -= n_pad;
       region.hi.z() += n_pad;
       SampleMesh(*surface->mesh, frame, region, true, cos_max, nullptr, density, &rng, &gap, &fill);
