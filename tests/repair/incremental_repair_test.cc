@@ -1,0 +1,229 @@
+// Updates between full repairs, on a synthetic grasp fused in-process
+// (synth -> pipeline, as the live loop does): a box turned by the claw,
+// the model taken every 6 frames.
+#include "graspfill/repair/incremental_repair.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <stdexcept>
+
+#include "graspfill/eval/metrics.hpp"
+#include "graspfill/io/messages.hpp"
+#include "graspfill/pipeline/pipeline.hpp"
+#include "graspfill/repair/repairer.hpp"
+#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/synth/renderer.hpp"
+#include "graspfill/synth/scene.hpp"
+
+namespace graspfill::repair {
+namespace {
+
+struct Snapshot {
+  ObjectCloud fused;
+  evidence::VisibilityRecord record;
+};
+
+struct Session {
+  std::vector<Snapshot> snapshots;  // every 6 frames from frame 30 on
+  std::vector<Eigen::Vector3f> truth;
+};
+
+constexpr int kEvery = 6;
+constexpr int kFirst = 30;
+
+const Session& Box() {
+  static const Session session = [] {
+    synth::SceneConfig sc;
+    sc.shape = synth::Shape::kCuboid;
+    sc.size_m = Eigen::Vector3d(0.055, 0.045, 0.10);
+    sc.num_frames = 90;
+    sc.seed = 11;
+    const synth::Scene scene(sc);
+    const synth::SceneRenderer renderer(scene);
+    Pipeline pipeline(PipelineConfig{}, scene.MakeClawModel());
+    Session s;
+    DepthFrame frame;
+    std::string error;
+    int frames = 0;
+    for (const synth::TimelineEvent& e : scene.Timeline()) {
+      if (e.kind == synth::TimelineEvent::Kind::kDepth) {
+        const auto bytes = io::EncodeDepthImage(renderer.Render(e.index), io::DepthEncoding::kZlib16, 0.001);
+        EXPECT_TRUE(io::DecodeDepthImage(bytes.data(), bytes.size(), &frame, &error)) << error;
+        pipeline.AddDepthFrame(frame);
+        ++frames;
+      } else {
+        pipeline.AddGripperState(scene.GripperStateAt(e.utime));
+        if (frames >= kFirst && frames % kEvery == 0 &&
+            (s.snapshots.empty() || pipeline.stats().frames_integrated > s.snapshots.back().fused.seq)) {
+          Snapshot snap{pipeline.ExtractCloud(), pipeline.visibility()};
+          snap.fused.seq = pipeline.stats().frames_integrated;  // marks the snapshot's frame count
+          s.snapshots.push_back(std::move(snap));
+        }
+      }
+    }
+    s.truth = synth::SampleSurface(scene.object_G(), 100000, 3).points;
+    return s;
+  }();
+  return session;
+}
+
+RepairConfig InG() {
+  RepairConfig config;
+  config.up_hint = Eigen::Vector3d(0, 0, -1);
+  config.claw.max_fit_sigma_m = 0.002;  // as the live loop (rt/module/cloud_repair.cpp)
+  return config;
+}
+
+double Coverage(const ObjectCloud& cloud, const std::vector<Eigen::Vector3f>& truth) {
+  return eval::FractionWithin(eval::NearestDistances(truth, cloud.points_G), 0.002);
+}
+
+// The live loop's rule, without its threads: an update after every model,
+// a full repair (the new base) whenever the update says one is due.
+TEST(IncrementalRepair, EveryUpdateMatchesAFullRepairOfTheSameModel) {
+  const Session& s = Box();
+  ASSERT_GE(s.snapshots.size(), 8u);
+  IncrementalRepair incremental;
+  ObjectCloud model;
+  int updates = 0, rebases = 0;
+  for (const Snapshot& snap : s.snapshots) {
+    const UpdateReport report = incremental.Update(snap.fused, &snap.record, &model);
+    const RepairResult full = Repair(snap.fused, InG(), &snap.record);
+    if (report.rebase == RebaseReason::kNoBase) {
+      incremental.Rebase(full.cloud, &snap.record);
+      ++rebases;
+      continue;
+    }
+    ++updates;
+    ASSERT_EQ(model.points_G.size(), model.provenance.size());
+    // The fused points come first, unchanged.
+    for (size_t i = 0; i < snap.fused.size(); ++i) {
+      ASSERT_EQ(model.points_G[i], snap.fused.points_G[i]);
+      ASSERT_EQ(model.provenance[i], Provenance::kObserved);
+    }
+    const double cov_update = Coverage(model, s.truth);
+    const double cov_full = Coverage(full.cloud, s.truth);
+    const double chamfer_update = eval::Compare(model.points_G, s.truth).chamfer_mm2;
+    const double chamfer_full = eval::Compare(full.cloud.points_G, s.truth).chamfer_mm2;
+    {
+      const auto mu = eval::Compare(model.points_G, s.truth);
+      const auto mf = eval::Compare(full.cloud.points_G, s.truth);
+      std::printf("%s frames %lld new %.4f kept %d meas %d free %d | upd n=%zu p2g %.3f g2p %.3f cov %.4f | full n=%zu p2g %.3f g2p %.3f cov %.4f keys %zu\n", RebaseReasonName(report.rebase),
+                  (long long)snap.fused.seq, report.new_surface_share, report.added_kept, report.dropped_measured, report.dropped_free,
+                  model.size(), mu.pred_to_gt_mean_sq_mm2, mu.gt_to_pred_mean_sq_mm2, cov_update, full.cloud.size(), mf.pred_to_gt_mean_sq_mm2, mf.gt_to_pred_mean_sq_mm2, cov_full, snap.record.size());
+    }
+    SCOPED_TRACE("frames " + std::to_string(snap.fused.seq) + ", new surface " +
+                 std::to_string(report.new_surface_share));
+    // Never worse than the fused cloud unrepaired.
+    EXPECT_GE(cov_update, Coverage(snap.fused, s.truth) - 1e-9);
+    if (!report.full_due()) {
+      // The stated tolerance: the update tracks a full repair of the same
+      // model to 2.5 coverage points and 15% chamfer. Not 2%: the full
+      // repair itself improves ~5-10% every 6 frames while new key frames
+      // carve its fills, and the update holds the base's until the rule
+      // rebases (measured worst: 2.3 points, 12%).
+      EXPECT_NEAR(cov_update, cov_full, 0.025);
+      EXPECT_LE(chamfer_update, 1.15 * chamfer_full + 0.05);  // +0.05 mm^2: the metric's floor
+    }
+    // Never an added point where the record now sees free space.
+    for (size_t i = snap.fused.size(); i < model.size(); ++i) {
+      ASSERT_FALSE(snap.record.SeenFree(model.points_G[i]));
+    }
+    if (report.full_due()) {
+      incremental.Rebase(full.cloud, &snap.record);
+      ++rebases;
+    }
+  }
+  EXPECT_GE(updates, 6);
+  EXPECT_GE(rebases, 1);
+}
+
+TEST(IncrementalRepair, WithoutABaseTheModelIsTheFusedCloud) {
+  const Snapshot& snap = Box().snapshots.front();
+  IncrementalRepair incremental;
+  ObjectCloud model;
+  const UpdateReport report = incremental.Update(snap.fused, &snap.record, &model);
+  EXPECT_EQ(report.rebase, RebaseReason::kNoBase);
+  EXPECT_EQ(model.points_G, snap.fused.points_G);
+}
+
+TEST(IncrementalRepair, AnotherGraspNeedsAFullRepair) {
+  const Snapshot& snap = Box().snapshots.back();
+  IncrementalRepair incremental;
+  incremental.Rebase(Repair(snap.fused, InG(), &snap.record).cloud);
+  ObjectCloud next = snap.fused;
+  next.grasp_id = snap.fused.grasp_id + 1;
+  ObjectCloud model;
+  EXPECT_EQ(incremental.Update(next, &snap.record, &model).rebase, RebaseReason::kOtherGrasp);
+  EXPECT_EQ(model.size(), next.size());  // nothing of the other grasp's added
+}
+
+// A base whose fused cloud lacked a patch that the repair filled: once the
+// camera measures the patch, the fill there goes and the measurement stays.
+TEST(IncrementalRepair, MeasuredSurfaceReplacesTheFill) {
+  const Snapshot& snap = Box().snapshots.back();
+  ObjectCloud base;
+  const Eigen::Vector3f centre = snap.fused.points_G[snap.fused.size() / 2];
+  std::vector<Eigen::Vector3f> patch;
+  for (size_t i = 0; i < snap.fused.size(); ++i) {
+    const Eigen::Vector3f& p = snap.fused.points_G[i];
+    if ((p - centre).norm() < 0.015f) {
+      patch.push_back(p);
+      continue;
+    }
+    base.points_G.push_back(p);
+    base.provenance.push_back(Provenance::kObserved);
+  }
+  ASSERT_GT(patch.size(), 50u);
+  for (const Eigen::Vector3f& p : patch) {  // the "fill": the patch itself
+    base.points_G.push_back(p);
+    base.provenance.push_back(Provenance::kSurface);
+  }
+  IncrementalRepair incremental;
+  incremental.Rebase(base);
+  ObjectCloud model;
+  const UpdateReport report = incremental.Update(snap.fused, nullptr, &model);
+  // All but a rim one or two cells wide, where the base's own points
+  // explain the measurement (a cell of 3 mm, dilated once).
+  EXPECT_GE(report.dropped_measured, static_cast<int>(0.8 * patch.size()));
+  EXPECT_EQ(report.dropped_measured + report.added_kept, static_cast<int>(patch.size()));
+  for (size_t i = snap.fused.size(); i < model.size(); ++i) {
+    EXPECT_GT((model.points_G[i] - centre).norm(), 0.015f - 0.0061f);
+  }
+  EXPECT_GT(report.new_surface_share, 0.0);
+  EXPECT_EQ(report.rebase, RebaseReason::kAddedDropped);  // all of the fill gone
+}
+
+// An added point that the record sees free is dropped, whatever the base said.
+TEST(IncrementalRepair, AddedPointsInSeenFreeSpaceAreDropped) {
+  const Snapshot& snap = Box().snapshots.back();
+  ASSERT_FALSE(snap.record.empty());
+  ObjectCloud base = snap.fused;
+  base.provenance.assign(base.size(), Provenance::kObserved);
+  base.normals_G.clear();
+  // 3 cm out from the box's side, towards where the camera looked: free.
+  const Eigen::Vector3f out = snap.fused.points_G[0] + 0.03f * snap.record.key_frames()[0]->view_dir_G;
+  ASSERT_TRUE(snap.record.SeenFree(out));
+  base.points_G.push_back(out);
+  base.provenance.push_back(Provenance::kSymmetry);
+  IncrementalRepair incremental;
+  incremental.Rebase(base);
+  ObjectCloud model;
+  const UpdateReport report = incremental.Update(snap.fused, &snap.record, &model);
+  EXPECT_EQ(report.dropped_free, 1);
+  EXPECT_EQ(model.size(), snap.fused.size());
+}
+
+TEST(IncrementalRepair, BadInputIsRefused) {
+  IncrementalConfig bad;
+  bad.cell_m = 0.0f;
+  EXPECT_THROW(IncrementalRepair{bad}, std::invalid_argument);
+  IncrementalRepair incremental;
+  ObjectCloud none;
+  EXPECT_THROW(incremental.Rebase(none), std::invalid_argument);
+  EXPECT_FALSE(incremental.has_base());
+}
+
+}  // namespace
+}  // namespace graspfill::repair
