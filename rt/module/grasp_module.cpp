@@ -25,6 +25,7 @@ GraspModule::GraspModule(const GraspModuleConfig& config, claw::ClawModel claw,
                                 "extract_every_n_frames >= 0");
   }
   frames_.resize(static_cast<size_t>(config.frame_queue_capacity));
+  frame_arrival_.resize(frames_.size());
   states_.resize(static_cast<size_t>(config.state_queue_capacity));
   worker_ = std::thread(&GraspModule::WorkerLoop, this);
 }
@@ -39,6 +40,7 @@ GraspModule::~GraspModule() {
 }
 
 void GraspModule::PushDepthFrame(const DepthFrame& frame) {
+  const Clock::time_point arrival = Clock::now();
   {
     std::lock_guard<std::mutex> lock(mutex_);
     ++status_.frames_in;
@@ -47,7 +49,9 @@ void GraspModule::PushDepthFrame(const DepthFrame& frame) {
       --frames_count_;
       ++status_.frames_dropped;
     }
-    DepthFrame& slot = frames_[(frames_head_ + frames_count_) % frames_.size()];
+    const size_t at = (frames_head_ + frames_count_) % frames_.size();
+    frame_arrival_[at] = arrival;
+    DepthFrame& slot = frames_[at];
     slot.utime = frame.utime;
     slot.intrinsics = frame.intrinsics;
     slot.depth_m.assign(frame.depth_m.begin(), frame.depth_m.end());  // reuses capacity
@@ -78,9 +82,25 @@ bool GraspModule::PublishIfDue() {
   const int64_t integrated = sequencer_.stats().frames_integrated;
   if (n <= 0 || integrated / n <= integrated_at_last_cloud_ / n) return false;
   integrated_at_last_cloud_ = integrated;
-  const ObjectCloud cloud = sequencer_.ExtractCloud();
+  const Clock::time_point start = Clock::now();
+  ObjectCloud cloud = sequencer_.ExtractCloud();
+  StampLatency(&cloud, start);
   if (on_cloud_) on_cloud_(cloud, sequencer_.pipeline().visibility());
   return true;
+}
+
+void GraspModule::StampLatency(ObjectCloud* cloud, Clock::time_point extract_start) const {
+  const auto ms = [](Clock::duration d) {
+    return std::chrono::duration<double, std::milli>(d).count();
+  };
+  const Clock::time_point now = Clock::now();
+  for (const TakenFrame& taken : taken_) {
+    if (taken.utime != cloud->utime || taken.arrival == Clock::time_point{}) continue;
+    cloud->timings.push_back({"latency_queue_wait", taken.queue_wait_ms});
+    cloud->timings.push_back({"latency_extract", ms(now - extract_start)});
+    cloud->timings.push_back({"latency_frame_to_cloud", ms(now - taken.arrival)});
+    return;
+  }
 }
 
 void GraspModule::WorkerLoop() {
@@ -114,6 +134,11 @@ void GraspModule::WorkerLoop() {
       std::swap(frame.depth_m, frames_[frames_head_].depth_m);  // no copy
       frame.utime = frames_[frames_head_].utime;
       frame.intrinsics = frames_[frames_head_].intrinsics;
+      TakenFrame& taken = taken_[taken_next_++ % taken_.size()];
+      taken.utime = frame.utime;
+      taken.arrival = frame_arrival_[frames_head_];
+      taken.queue_wait_ms =
+          std::chrono::duration<double, std::milli>(Clock::now() - taken.arrival).count();
       frames_head_ = (frames_head_ + 1) % frames_.size();
       --frames_count_;
       lock.unlock();

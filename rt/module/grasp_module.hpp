@@ -5,11 +5,18 @@
 // frames, and each grasp's final model (ObjectCloud::is_final) when the
 // grasp ends.
 //
+// Latency: each cloud handed out carries, in its timings, the age of its
+// newest frame: "latency_queue_wait" (arrival -> the worker took it),
+// "latency_extract" and "latency_frame_to_cloud" (arrival -> extracted)
+// [ms]; the repair stage and the publisher add their parts.
+//
 // Threads: Push* and the accessors are safe from any thread and never wait
 // for the worker's processing (they take a short lock to copy the data into
 // a preallocated slot). The cloud callback runs on the worker thread.
 #pragma once
 
+#include <array>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -78,6 +85,9 @@ class GraspModule {
   // Worker thread, lock not held: extracts and hands out a cloud when
   // another extract_every_n_frames frames have been fused; true if it did.
   bool PublishIfDue();
+  // Worker: the latency timings of `cloud` (see the file comment), from
+  // when its extraction began; none when its newest frame is not known.
+  void StampLatency(ObjectCloud* cloud, std::chrono::steady_clock::time_point extract_start) const;
   // Worker, lock held: the status from the sequencer (not touched by
   // another thread while the worker holds the lock).
   void UpdateStatusLocked();
@@ -90,11 +100,22 @@ class GraspModule {
   mutable std::mutex mutex_;
   std::condition_variable wake_worker_;
   std::condition_variable idle_;
+  using Clock = std::chrono::steady_clock;
   std::vector<DepthFrame> frames_;  // ring of reusable slots
+  std::vector<Clock::time_point> frame_arrival_;  // beside frames_
   size_t frames_head_{0}, frames_count_{0};
   std::vector<GripperState> states_;  // ring
   size_t states_head_{0}, states_count_{0};
   int64_t integrated_at_last_cloud_{0};  // worker only
+  struct TakenFrame {
+    int64_t utime{0};
+    Clock::time_point arrival;
+    double queue_wait_ms{0.0};
+  };
+  // Worker only: the frames taken lately (more than the pipeline keeps
+  // pending), to find a cloud's newest frame by its utime.
+  std::array<TakenFrame, 32> taken_{};
+  size_t taken_next_{0};
   bool busy_{false};
   bool stop_{false};
   bool finish_requested_{false};

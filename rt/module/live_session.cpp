@@ -1,5 +1,7 @@
 #include "module/live_session.hpp"
 
+#include "module/process_memory.hpp"
+
 #include <chrono>
 #include <stdexcept>
 #include <thread>
@@ -77,14 +79,30 @@ std::optional<io::SessionDescription> LiveSession::WaitForFirstEvent() {
 
 void LiveSession::PublishCloud(const ObjectCloud& cloud) {
   last_points_out_ = cloud.size();
-  std::lock_guard<std::mutex> lock(publisher_mutex_);
-  publisher_.PublishCloud(config_.channels.object_cloud, cloud);
+  const auto start = std::chrono::steady_clock::now();
+  {
+    std::lock_guard<std::mutex> lock(publisher_mutex_);
+    publisher_.PublishCloud(config_.channels.object_cloud, cloud);
+  }
+  const double publish_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  // The age of the cloud's newest frame when it went out: from the repair
+  // stage's stamp, or the module's when the repair is off.
+  double before_ms = -1.0;
+  for (const StageTiming& t : cloud.timings) {
+    if (t.stage == "latency_frame_to_repaired") before_ms = t.ms;
+    else if (t.stage == "latency_frame_to_cloud" && !repair_stage_) before_ms = t.ms;
+  }
+  std::lock_guard<std::mutex> lock(latency_mutex_);
+  ++clouds_published_;
+  if (before_ms >= 0.0) latency_ms_.Add(before_ms + publish_ms);
 }
 
 void LiveSession::Begin(claw::ClawModel claw, const io::SessionDescription& description) {
   if (config_.repair) {
     repair_stage_ = std::make_unique<RepairStage>(
-        config_.repair_config, [this](const ObjectCloud& cloud) { PublishCloud(cloud); });
+        config_.repair_config, [this](const ObjectCloud& cloud) { PublishCloud(cloud); },
+        config_.repair_options);
   }
   if (!config_.record.path.empty()) {
     config_.record.channels = config_.channels;
@@ -179,7 +197,23 @@ io::ModuleStatus LiveSession::Status() const {
     status.repairs_superseded = r.superseded;
     status.repairs_failed = r.failed;
     finals_pending = r.finals_pending;
+    status.repair_updates = r.updates;
+    status.repairs_full = r.full_published + r.rebases;
+    status.update_ms_p50 = r.update_ms.p50;
+    status.update_ms_p99 = r.update_ms.p99;
+    status.full_repair_ms_p50 = r.full_ms.p50;
+    status.full_repair_ms_p99 = r.full_ms.p99;
   }
+  {
+    std::lock_guard<std::mutex> lock(latency_mutex_);
+    const Percentiles latency = latency_ms_.Summary();
+    status.latency_ms_p50 = latency.p50;
+    status.latency_ms_p95 = latency.p95;
+    status.latency_ms_p99 = latency.p99;
+    status.latency_ms_max = latency.max;
+    status.clouds_published = clouds_published_;
+  }
+  status.rss_mb = ResidentMemoryMb();
   if (finals_pending > 0) {
     status.state_code = io::ModuleState::kRepairing;
   } else if (s.frames_in == 0 || !c.holding) {
@@ -220,6 +254,11 @@ LiveSessionSummary LiveSession::Run(FrameSource* source, std::function<void()> o
   summary.decode_errors = subscriber_->decode_errors();
   summary.source_errors = source_errors_;
   summary.status = last_status_;
+  {
+    std::lock_guard<std::mutex> lock(latency_mutex_);
+    summary.latency_ms = latency_ms_.Summary();
+    summary.clouds_published = clouds_published_;
+  }
   if (recorder_) {
     // Stop feeding the recorder before closing it.
     {

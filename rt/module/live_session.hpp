@@ -30,6 +30,7 @@
 #include "graspfill/repair/repairer.hpp"
 #include "module/grasp_module.hpp"
 #include "module/repair_stage.hpp"
+#include "module/sample_window.hpp"
 #include "module/session_loop.hpp"
 #include "sinks/lcm_publisher.hpp"
 #include "sinks/session_recorder.hpp"
@@ -60,6 +61,8 @@ struct LiveSessionConfig {
   /// Repair each cloud before it is published (config for clouds in G).
   bool repair{true};
   repair::RepairConfig repair_config;
+  /// Incremental updates between full repairs (repair_stage.hpp).
+  RepairStageOptions repair_options;
   /// Repair with what the camera saw (the grasp's visibility record).
   bool repair_evidence{true};
   /// Record what the session received (path empty: no recording).
@@ -81,6 +84,10 @@ struct LiveSessionSummary {
   int64_t records_written{0};
   int64_t records_dropped{0};
   io::ModuleStatus status;   ///< the last status published
+  /// Arrival of each published cloud's newest frame -> its publication [ms]
+  /// (the last 4096 clouds).
+  Percentiles latency_ms;
+  int64_t clouds_published{0};
 };
 
 class LiveSession : private EventSink {
@@ -147,6 +154,9 @@ class LiveSession : private EventSink {
   std::optional<io::SessionDescription> first_session_;
 
   std::atomic<int64_t> source_errors_{0};
+  mutable std::mutex latency_mutex_;  // the two below: the publishing thread's
+  SampleWindow latency_ms_;
+  int64_t clouds_published_{0};
   std::atomic<size_t> last_points_out_{0};
   io::ModuleStatus last_status_;
   std::unique_ptr<LcmBusSubscriber> subscriber_;  // last: its thread calls the above

@@ -1,6 +1,9 @@
 #include "module/repair_stage.hpp"
 
-#include <chrono>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <exception>
 #include <utility>
@@ -9,10 +12,48 @@
 
 namespace graspfill::rt {
 
-RepairStage::RepairStage(const repair::RepairConfig& config, CloudCallback on_cloud)
-    : config_(config), on_cloud_(std::move(on_cloud)) {
+namespace {
+
+// Full repairs in the background must never slow fusion down.
+constexpr int kRebaseNice = 10;
+
+double MsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+const StageTiming* FindTiming(const ObjectCloud& cloud, const char* stage) {
+  for (const StageTiming& t : cloud.timings) {
+    if (t.stage == stage) return &t;
+  }
+  return nullptr;
+}
+
+// The repair's verdict, or the reason it threw (the cloud is then as it was).
+template <typename RepairFn>
+bool RunGuarded(RepairFn&& repair, std::string* verdict) {
+  try {
+    *verdict = repair();
+    return false;
+  } catch (const std::exception& e) {
+    *verdict = std::string("failed: ") + e.what();
+  } catch (...) {
+    *verdict = "failed: unknown exception";
+  }
+  return true;
+}
+
+}  // namespace
+
+RepairStage::RepairStage(const repair::RepairConfig& config, CloudCallback on_cloud,
+                         const RepairStageOptions& options)
+    : config_(config),
+      options_(options),
+      on_cloud_(std::move(on_cloud)),
+      base_(options.incremental_config) {  // validates it
   config_.Validate();  // a bad config fails here, not once per cloud
   worker_ = std::thread(&RepairStage::WorkerLoop, this);
+  if (options_.incremental) rebaser_ = std::thread(&RepairStage::RebaseLoop, this);
 }
 
 RepairStage::~RepairStage() {
@@ -21,11 +62,14 @@ RepairStage::~RepairStage() {
     stop_ = true;
   }
   wake_worker_.notify_all();
+  wake_rebase_.notify_all();
   idle_.notify_all();
   worker_.join();
+  if (rebaser_.joinable()) rebaser_.join();
 }
 
 void RepairStage::Submit(const ObjectCloud& cloud, const evidence::VisibilityRecord* record) {
+  const Clock::time_point now = Clock::now();
   {
     std::lock_guard<std::mutex> lock(mutex_);
     ++status_.submitted;
@@ -34,7 +78,7 @@ void RepairStage::Submit(const ObjectCloud& cloud, const evidence::VisibilityRec
         has_mail_ = false;  // older than the final of its grasp
         ++status_.superseded;
       }
-      finals_.push_back(Final{cloud, record ? *record : evidence::VisibilityRecord()});
+      finals_.push_back(Final{cloud, record ? *record : evidence::VisibilityRecord(), now});
       ++status_.finals_pending;
       wake_worker_.notify_one();
       return;
@@ -44,6 +88,7 @@ void RepairStage::Submit(const ObjectCloud& cloud, const evidence::VisibilityRec
     // and they are after the first few clouds (they cycle with working_).
     mailbox_ = cloud;
     mailbox_record_ = record ? *record : evidence::VisibilityRecord();
+    mailbox_submitted_ = now;
     has_mail_ = true;
   }
   wake_worker_.notify_one();
@@ -56,7 +101,64 @@ void RepairStage::Drain() {
 
 RepairStageStatus RepairStage::status() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return status_;
+  RepairStageStatus status = status_;
+  status.update_ms = update_ms_.Summary();
+  status.full_ms = full_ms_.Summary();
+  return status;
+}
+
+bool RepairStage::RepairInFull(std::string* verdict) {
+  const evidence::VisibilityRecord* record = working_record_.empty() ? nullptr : &working_record_;
+  const Clock::time_point start = Clock::now();
+  const bool failed = RunGuarded(
+      [&] { return RepairObjectCloud(config_, &working_, record).StatusText(); }, verdict);
+  const double ms = MsSince(start);
+  if (!failed && options_.incremental) {
+    // The first cloud of a grasp, or a final: the base for what follows.
+    std::lock_guard<std::mutex> base_lock(base_mutex_);
+    try {
+      base_.Rebase(working_, record);
+    } catch (const std::exception& e) {
+      base_.Reset();  // full repairs until a cloud fits the change grid
+      std::fprintf(stderr, "graspfill repair stage: no incremental base: %s\n", e.what());
+    }
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  full_ms_.Add(ms);
+  return failed;
+}
+
+bool RepairStage::UpdateFromBase(std::string* verdict) {
+  const evidence::VisibilityRecord* record = working_record_.empty() ? nullptr : &working_record_;
+  const Clock::time_point start = Clock::now();
+  repair::UpdateReport report;
+  try {
+    std::lock_guard<std::mutex> base_lock(base_mutex_);
+    report = base_.Update(working_, record, &updated_);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "graspfill repair stage: update failed (%s); repairing in full\n", e.what());
+    return false;
+  }
+  if (report.rebase == repair::RebaseReason::kNoBase ||
+      report.rebase == repair::RebaseReason::kOtherGrasp) {
+    return false;
+  }
+  const double ms = MsSince(start);
+  updated_.timings.push_back({"repair_update", ms});
+  *verdict = "updated";
+  std::lock_guard<std::mutex> lock(mutex_);
+  update_ms_.Add(ms);
+  if (report.full_due() && !has_rebase_job_ && !rebasing_) {
+    // The fused cloud goes to the rebase thread (no copy); the update's
+    // output is what the planner gets now.
+    std::swap(rebase_job_, working_);
+    rebase_record_ = working_record_;
+    has_rebase_job_ = true;
+    status_.last_rebase_reason = repair::RebaseReasonName(report.rebase);
+    wake_rebase_.notify_one();
+  }
+  std::swap(working_, updated_);
+  return true;
 }
 
 void RepairStage::WorkerLoop() {
@@ -68,32 +170,26 @@ void RepairStage::WorkerLoop() {
     if (working_final_) {
       std::swap(working_, finals_.front().cloud);
       std::swap(working_record_, finals_.front().record);
+      working_submitted_ = finals_.front().submitted;
       finals_.pop_front();
     } else {
       std::swap(working_, mailbox_);  // moves buffers, no copy
       std::swap(working_record_, mailbox_record_);
+      working_submitted_ = mailbox_submitted_;
       has_mail_ = false;
     }
     busy_ = true;  // in the same critical section: Drain never sees a gap
     lock.unlock();
 
+    const double wait_ms =
+        std::chrono::duration<double, std::milli>(Clock::now() - working_submitted_).count();
+    const Clock::time_point start = Clock::now();
     const size_t points_in = working_.size();
     std::string verdict;
     bool failed = false;
-    const auto start = std::chrono::steady_clock::now();
-    try {
-      verdict = RepairObjectCloud(config_, &working_,
-                                  working_record_.empty() ? nullptr : &working_record_)
-                    .StatusText();
-    } catch (const std::exception& e) {
-      failed = true;
-      verdict = std::string("failed: ") + e.what();
-    } catch (...) {
-      failed = true;
-      verdict = "failed: unknown exception";
-    }
-    const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const bool updated = options_.incremental && !working_final_ && UpdateFromBase(&verdict);
+    if (!updated) failed = RepairInFull(&verdict);
+    const double ms = MsSince(start);
     if (failed) {
       // RepairObjectCloud leaves the cloud as it was: the fused cloud still
       // beats no cloud for the planner.
@@ -101,10 +197,18 @@ void RepairStage::WorkerLoop() {
                    "publishing it unrepaired\n",
                    static_cast<long long>(working_.seq), points_in, verdict.c_str());
     }
+    working_.timings.push_back({"latency_repair_wait", wait_ms});
+    working_.timings.push_back({"latency_repair", ms});
+    if (const StageTiming* to_cloud = FindTiming(working_, "latency_frame_to_cloud")) {
+      const double extra = MsSince(working_submitted_);
+      working_.timings.push_back({"latency_frame_to_repaired", to_cloud->ms + extra});
+    }
 
     lock.lock();
     if (failed) ++status_.failed;
     else ++status_.repaired;
+    if (updated) ++status_.updates;
+    else if (!failed) ++status_.full_published;
     status_.last_repair_ms = ms;
     status_.last_points_in = points_in;
     status_.last_points_out = working_.size();
@@ -130,6 +234,54 @@ void RepairStage::WorkerLoop() {
     if (working_final_) --status_.finals_pending;
     busy_ = false;
     idle_.notify_all();
+  }
+}
+
+void RepairStage::RebaseLoop() {
+  // Linux: a thread's nice value is its own (setpriority on its tid).
+  setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), kRebaseNice);
+  ObjectCloud cloud;
+  evidence::VisibilityRecord record;
+  std::unique_lock<std::mutex> lock(mutex_);
+  for (;;) {
+    wake_rebase_.wait(lock, [&] { return stop_ || has_rebase_job_; });
+    if (stop_) return;
+    std::swap(cloud, rebase_job_);
+    std::swap(record, rebase_record_);
+    has_rebase_job_ = false;
+    rebasing_ = true;
+    lock.unlock();
+
+    const Clock::time_point start = Clock::now();
+    std::string verdict;
+    const bool failed = RunGuarded(
+        [&] {
+          return RepairObjectCloud(config_, &cloud, record.empty() ? nullptr : &record)
+              .StatusText();
+        },
+        &verdict);
+    const double ms = MsSince(start);
+    bool rebased = false;
+    if (!failed) {
+      // Built apart, swapped in: updates wait only for the swap.
+      repair::IncrementalRepair fresh(options_.incremental_config);
+      try {
+        fresh.Rebase(cloud, record.empty() ? nullptr : &record);
+        std::lock_guard<std::mutex> base_lock(base_mutex_);
+        std::swap(base_, fresh);
+        rebased = true;
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "graspfill repair stage: no incremental base: %s\n", e.what());
+      }
+    } else {
+      std::fprintf(stderr, "graspfill repair stage: background repair of cloud seq %lld %s\n",
+                   static_cast<long long>(cloud.seq), verdict.c_str());
+    }
+
+    lock.lock();
+    full_ms_.Add(ms);
+    if (rebased) ++status_.rebases;
+    rebasing_ = false;
   }
 }
 

@@ -8,12 +8,26 @@
 // their own, are repaired first, in order, and a cloud of the same grasp
 // waiting in the mailbox when its final comes is superseded by it.
 //
+// Incremental (the default): the first cloud of a grasp is repaired in
+// full; each later one is an update of the last full repair (the base,
+// repair/incremental_repair.hpp: milliseconds). When an update says a full
+// repair is due, the cloud goes to a second thread that repairs it in full
+// at a lower priority than fusion (nice +10) and then becomes the new base;
+// updates go on meanwhile with the old one. Finals are always repaired in
+// full. Off (`incremental = false`): every cloud is repaired in full.
+//
+// Latency: before the callback, the stage adds to the cloud's timings
+// "latency_repair_wait" (Submit -> taken), "latency_repair" (the update or
+// the full repair) and, when the cloud came with "latency_frame_to_cloud",
+// "latency_frame_to_repaired" (the newest frame's arrival -> now) [ms].
+//
 // Threads: Submit and status() are safe from any thread and never wait for
 // a repair (they take a short lock; Submit copies the cloud into a slot
 // whose buffers are reused from cloud to cloud). The output callback runs
 // on the stage's thread, once per repaired (or failed) cloud, in order.
 #pragma once
 
+#include <chrono>
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
@@ -23,10 +37,19 @@
 #include <string>
 #include <thread>
 
+#include "graspfill/repair/incremental_repair.hpp"
 #include "graspfill/repair/repairer.hpp"
 #include "graspfill/types.hpp"
+#include "module/sample_window.hpp"
 
 namespace graspfill::rt {
+
+struct RepairStageOptions {
+  /// Updates between full repairs (see the file comment); false: a full
+  /// repair per cloud.
+  bool incremental{true};
+  repair::IncrementalConfig incremental_config;
+};
 
 struct RepairStageStatus {
   int64_t submitted{0};
@@ -45,6 +68,17 @@ struct RepairStageStatus {
   std::string last_status;
   /// Final models waiting or being repaired now (status "repairing").
   int64_t finals_pending{0};
+  /// Of `repaired`: incremental updates published, full repairs published
+  /// (a grasp's first cloud, finals, or every cloud when not incremental).
+  int64_t updates{0};
+  int64_t full_published{0};
+  /// Full repairs run in the background that became the base.
+  int64_t rebases{0};
+  std::string last_rebase_reason;  ///< why the last background repair ran
+  /// Wall time of the updates and of every full repair (published or
+  /// background) over the last 4096 of each [ms].
+  Percentiles update_ms;
+  Percentiles full_ms;
 };
 
 class RepairStage {
@@ -54,7 +88,8 @@ class RepairStage {
   /// Starts the thread. `config` is used as given (see
   /// GripperFrameRepairConfig for clouds in G). Throws
   /// std::invalid_argument on a bad config.
-  RepairStage(const repair::RepairConfig& config, CloudCallback on_cloud);
+  RepairStage(const repair::RepairConfig& config, CloudCallback on_cloud,
+              const RepairStageOptions& options = {});
   /// Waits for a repair in progress (a repair cannot be interrupted) but
   /// hands nothing more to the callback; a cloud still waiting is dropped.
   ~RepairStage();
@@ -74,9 +109,18 @@ class RepairStage {
   RepairStageStatus status() const;
 
  private:
+  using Clock = std::chrono::steady_clock;
   void WorkerLoop();
+  void RebaseLoop();
+  // Worker, lock not held: the full repair of working_ (true if it threw:
+  // working_ is left as it was); its verdict in *verdict.
+  bool RepairInFull(std::string* verdict);
+  // Worker, lock not held: an update of working_ into updated_ (then
+  // swapped into working_); false when there is no base for it.
+  bool UpdateFromBase(std::string* verdict);
 
   const repair::RepairConfig config_;
+  const RepairStageOptions options_;
   CloudCallback on_cloud_;
 
   mutable std::mutex mutex_;
@@ -84,19 +128,39 @@ class RepairStage {
   std::condition_variable idle_;
   ObjectCloud mailbox_;        // the latest cloud, valid while has_mail_
   evidence::VisibilityRecord mailbox_record_;  // empty when none was given
+  Clock::time_point mailbox_submitted_;
   bool has_mail_{false};
   struct Final {
     ObjectCloud cloud;
     evidence::VisibilityRecord record;
+    Clock::time_point submitted;
   };
   std::deque<Final> finals_;   // once per grasp: allocation is fine here
   bool working_final_{false};
   ObjectCloud working_;        // the worker's; swapped with mailbox_, never copied
   evidence::VisibilityRecord working_record_;
+  Clock::time_point working_submitted_;
+  ObjectCloud updated_;        // the worker's update output, reused
   bool busy_{false};
   bool stop_{false};
   RepairStageStatus status_;
-  std::thread worker_;  // last: starts after everything above exists
+  SampleWindow update_ms_;     // guarded by mutex_
+  SampleWindow full_ms_;
+
+  // The base, shared by the worker (updates, a grasp's first cloud) and the
+  // rebase thread (which swaps a new one in).
+  std::mutex base_mutex_;
+  repair::IncrementalRepair base_;
+  // The rebase thread's job (guarded by mutex_): a fused cloud to repair
+  // in full, and the base it builds.
+  ObjectCloud rebase_job_;
+  evidence::VisibilityRecord rebase_record_;
+  bool has_rebase_job_{false};
+  bool rebasing_{false};
+  std::condition_variable wake_rebase_;
+
+  std::thread worker_;  // last: start after everything above exists
+  std::thread rebaser_;
 };
 
 }  // namespace graspfill::rt

@@ -812,6 +812,18 @@ std::vector<uint8_t> EncodeModuleStatus(const ModuleStatus& status) {
   msg.repairs_failed = status.repairs_failed;
   msg.grasp_id = status.grasp_id;
   msg.grasps_completed = status.grasps_completed;
+  msg.latency_ms_p50 = status.latency_ms_p50;
+  msg.latency_ms_p95 = status.latency_ms_p95;
+  msg.latency_ms_p99 = status.latency_ms_p99;
+  msg.latency_ms_max = status.latency_ms_max;
+  msg.clouds_published = status.clouds_published;
+  msg.repair_updates = status.repair_updates;
+  msg.repairs_full = status.repairs_full;
+  msg.update_ms_p50 = status.update_ms_p50;
+  msg.update_ms_p99 = status.update_ms_p99;
+  msg.full_repair_ms_p50 = status.full_repair_ms_p50;
+  msg.full_repair_ms_p99 = status.full_repair_ms_p99;
+  msg.rss_mb = status.rss_mb;
   return EncodeMessage(msg);
 }
 
@@ -820,7 +832,7 @@ static bool DecodeModuleStatusImpl(const void* data, size_t size, ModuleStatus* 
   if (!CheckBuffer(data, size, out, "module_status_t", error)) return false;
   WireReader r(data, size);
   if (!r.Hash(graspfill::module_status_t::getHash()) || !r.Skip(5 * 8 + 8) ||
-      !r.SkipString() || !r.Skip(1) || !r.SkipString() || !r.Skip(10 * 8) ||
+      !r.SkipString() || !r.Skip(1) || !r.SkipString() || !r.Skip(10 * 8 + 5 * 8 + 7 * 8) ||
       r.remaining() != 0) {
     SetError(error, "module_status_t: malformed message");
     return false;
@@ -846,6 +858,18 @@ static bool DecodeModuleStatusImpl(const void* data, size_t size, ModuleStatus* 
   out->repairs_failed = msg.repairs_failed;
   out->grasp_id = msg.grasp_id;
   out->grasps_completed = msg.grasps_completed;
+  out->latency_ms_p50 = msg.latency_ms_p50;
+  out->latency_ms_p95 = msg.latency_ms_p95;
+  out->latency_ms_p99 = msg.latency_ms_p99;
+  out->latency_ms_max = msg.latency_ms_max;
+  out->clouds_published = msg.clouds_published;
+  out->repair_updates = msg.repair_updates;
+  out->repairs_full = msg.repairs_full;
+  out->update_ms_p50 = msg.update_ms_p50;
+  out->update_ms_p99 = msg.update_ms_p99;
+  out->full_repair_ms_p50 = msg.full_repair_ms_p50;
+  out->full_repair_ms_p99 = msg.full_repair_ms_p99;
+  out->rss_mb = msg.rss_mb;
   return true;
 }
 

@@ -5,7 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <stdexcept>
 
 #include "graspfill/eval/metrics.hpp"
@@ -106,13 +105,6 @@ TEST(IncrementalRepair, EveryUpdateMatchesAFullRepairOfTheSameModel) {
     const double cov_full = Coverage(full.cloud, s.truth);
     const double chamfer_update = eval::Compare(model.points_G, s.truth).chamfer_mm2;
     const double chamfer_full = eval::Compare(full.cloud.points_G, s.truth).chamfer_mm2;
-    {
-      const auto mu = eval::Compare(model.points_G, s.truth);
-      const auto mf = eval::Compare(full.cloud.points_G, s.truth);
-      std::printf("%s frames %lld new %.4f kept %d meas %d free %d | upd n=%zu p2g %.3f g2p %.3f cov %.4f | full n=%zu p2g %.3f g2p %.3f cov %.4f keys %zu\n", RebaseReasonName(report.rebase),
-                  (long long)snap.fused.seq, report.new_surface_share, report.added_kept, report.dropped_measured, report.dropped_free,
-                  model.size(), mu.pred_to_gt_mean_sq_mm2, mu.gt_to_pred_mean_sq_mm2, cov_update, full.cloud.size(), mf.pred_to_gt_mean_sq_mm2, mf.gt_to_pred_mean_sq_mm2, cov_full, snap.record.size());
-    }
     SCOPED_TRACE("frames " + std::to_string(snap.fused.seq) + ", new surface " +
                  std::to_string(report.new_surface_share));
     // Never worse than the fused cloud unrepaired.
@@ -139,7 +131,9 @@ TEST(IncrementalRepair, EveryUpdateMatchesAFullRepairOfTheSameModel) {
   EXPECT_GE(rebases, 1);
 }
 
-TEST(IncrementalRepair, WithoutABaseTheModelIsTheFusedCloud) {
+// The rules, each on one model of the session (one test: the session is
+// the costly part).
+void WithoutABaseTheModelIsTheFusedCloud() {
   const Snapshot& snap = Box().snapshots.front();
   IncrementalRepair incremental;
   ObjectCloud model;
@@ -148,7 +142,7 @@ TEST(IncrementalRepair, WithoutABaseTheModelIsTheFusedCloud) {
   EXPECT_EQ(model.points_G, snap.fused.points_G);
 }
 
-TEST(IncrementalRepair, AnotherGraspNeedsAFullRepair) {
+void AnotherGraspNeedsAFullRepair() {
   const Snapshot& snap = Box().snapshots.back();
   IncrementalRepair incremental;
   incremental.Rebase(Repair(snap.fused, InG(), &snap.record).cloud);
@@ -161,7 +155,7 @@ TEST(IncrementalRepair, AnotherGraspNeedsAFullRepair) {
 
 // A base whose fused cloud lacked a patch that the repair filled: once the
 // camera measures the patch, the fill there goes and the measurement stays.
-TEST(IncrementalRepair, MeasuredSurfaceReplacesTheFill) {
+void MeasuredSurfaceReplacesTheFill() {
   const Snapshot& snap = Box().snapshots.back();
   ObjectCloud base;
   const Eigen::Vector3f centre = snap.fused.points_G[snap.fused.size() / 2];
@@ -196,7 +190,7 @@ TEST(IncrementalRepair, MeasuredSurfaceReplacesTheFill) {
 }
 
 // An added point that the record sees free is dropped, whatever the base said.
-TEST(IncrementalRepair, AddedPointsInSeenFreeSpaceAreDropped) {
+void AddedPointsInSeenFreeSpaceAreDropped() {
   const Snapshot& snap = Box().snapshots.back();
   ASSERT_FALSE(snap.record.empty());
   ObjectCloud base = snap.fused;
@@ -213,6 +207,25 @@ TEST(IncrementalRepair, AddedPointsInSeenFreeSpaceAreDropped) {
   const UpdateReport report = incremental.Update(snap.fused, &snap.record, &model);
   EXPECT_EQ(report.dropped_free, 1);
   EXPECT_EQ(model.size(), snap.fused.size());
+}
+
+TEST(IncrementalRepair, RulesOnOneModel) {
+  {
+    SCOPED_TRACE("without a base");
+    WithoutABaseTheModelIsTheFusedCloud();
+  }
+  {
+    SCOPED_TRACE("another grasp");
+    AnotherGraspNeedsAFullRepair();
+  }
+  {
+    SCOPED_TRACE("measured since");
+    MeasuredSurfaceReplacesTheFill();
+  }
+  {
+    SCOPED_TRACE("seen free since");
+    AddedPointsInSeenFreeSpaceAreDropped();
+  }
 }
 
 TEST(IncrementalRepair, BadInputIsRefused) {

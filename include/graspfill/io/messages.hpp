@@ -189,6 +189,16 @@ struct ModuleStatus {
   int64_t repairs_failed{0};
   int64_t grasp_id{0};        ///< the grasp being modelled (0: none / not numbered)
   int64_t grasps_completed{0};
+  /// Arrival of a cloud's newest depth frame -> its publication [ms], over
+  /// the last clouds; clouds published.
+  double latency_ms_p50{0.0}, latency_ms_p95{0.0}, latency_ms_p99{0.0}, latency_ms_max{0.0};
+  int64_t clouds_published{0};
+  /// Incremental updates and full repairs run, and their times [ms].
+  int64_t repair_updates{0};
+  int64_t repairs_full{0};
+  double update_ms_p50{0.0}, update_ms_p99{0.0};
+  double full_repair_ms_p50{0.0}, full_repair_ms_p99{0.0};
+  double rss_mb{0.0};  ///< resident memory of the module's process
 };
 
 /// Encodes a status as module_status_t.

@@ -15,7 +15,9 @@
 #include <mutex>
 #include <stdexcept>
 #include <thread>
+#include <string>
 #include <vector>
+#include <chrono>
 
 #include "protocol_cloud.hpp"
 
@@ -172,7 +174,11 @@ TEST(RepairStage, AFailedRepairIsCountedAndPublishedUnrepaired) {
   EXPECT_EQ(published.size(), bad.size());
   EXPECT_EQ(published.provenance, bad.provenance);
   EXPECT_TRUE(published.holes.empty());
-  EXPECT_EQ(published.timings.size(), bad.timings.size());
+  // The input's timings, then the stage's latency parts only.
+  ASSERT_GE(published.timings.size(), bad.timings.size());
+  for (size_t i = bad.timings.size(); i < published.timings.size(); ++i) {
+    EXPECT_EQ(published.timings[i].stage.rfind("latency_", 0), 0u) << published.timings[i].stage;
+  }
 
   // The stage carries on with the next cloud.
   stage.Submit(ProtocolCloudWithSeq(2));
@@ -182,6 +188,97 @@ TEST(RepairStage, AFailedRepairIsCountedAndPublishedUnrepaired) {
   EXPECT_EQ(s.failed, 1);
   ASSERT_EQ(out.clouds.size(), 2u);
   EXPECT_GT(out.clouds[1].size(), ProtocolCloud().size());
+}
+
+double TimingMs(const ObjectCloud& cloud, const std::string& stage) {
+  for (const StageTiming& t : cloud.timings) {
+    if (t.stage == stage) return t.ms;
+  }
+  return -1.0;
+}
+
+// Incremental: the grasp's first cloud is repaired in full, the next one
+// of the same grasp is an update of it, which keeps its fills (nothing new
+// was measured) and takes a fraction of the time.
+TEST(RepairStage, UpdatesTheLastFullRepairBetweenFullRepairs) {
+  Published out;
+  RepairStage stage(repair::RepairConfig{}, [&](const ObjectCloud& c) { out.Record(c); });
+  stage.Submit(ProtocolCloudWithSeq(1));
+  stage.Drain();
+  stage.Submit(ProtocolCloudWithSeq(2));
+  stage.Drain();
+  const RepairStageStatus s = stage.status();
+  EXPECT_EQ(s.full_published, 1);
+  EXPECT_EQ(s.updates, 1);
+  EXPECT_EQ(s.repaired, 2);
+  ASSERT_EQ(out.clouds.size(), 2u);
+  const ObjectCloud& full = out.clouds[0];
+  const ObjectCloud& update = out.clouds[1];
+  ASSERT_GT(full.size(), ProtocolCloud().size());
+  EXPECT_EQ(update.points_G, full.points_G);
+  EXPECT_EQ(update.provenance, full.provenance);
+  EXPECT_LT(TimingMs(full, "repair_update"), 0.0);
+  EXPECT_GE(TimingMs(update, "repair_update"), 0.0);
+  EXPECT_EQ(s.update_ms.count, 1u);
+  EXPECT_EQ(s.full_ms.count, 1u);
+  EXPECT_LT(s.update_ms.max, s.full_ms.max);
+}
+
+TEST(RepairStage, WithoutIncrementalEveryCloudIsRepairedInFull) {
+  Published out;
+  RepairStageOptions options;
+  options.incremental = false;
+  RepairStage stage(repair::RepairConfig{}, [&](const ObjectCloud& c) { out.Record(c); }, options);
+  stage.Submit(ProtocolCloudWithSeq(1));
+  stage.Drain();
+  stage.Submit(ProtocolCloudWithSeq(2));
+  stage.Drain();
+  const RepairStageStatus s = stage.status();
+  EXPECT_EQ(s.full_published, 2);
+  EXPECT_EQ(s.updates, 0);
+  EXPECT_EQ(s.full_ms.count, 2u);
+}
+
+// A cloud with much new surface is published as an update at once, and
+// repaired in full behind it: that repair becomes the next base.
+TEST(RepairStage, ALargeChangeRebasesInTheBackground) {
+  Published out;
+  RepairStage stage(repair::RepairConfig{}, [&](const ObjectCloud& c) { out.Record(c); });
+  stage.Submit(ProtocolCloudWithSeq(1));
+  stage.Drain();
+  ObjectCloud grown = ProtocolCloudWithSeq(2);
+  const size_t n = grown.size();
+  for (size_t i = 0; i < n / 5; ++i) {  // 20% more surface, 20 cm away
+    grown.points_G.push_back(grown.points_G[i] + Eigen::Vector3f(0.2f, 0.0f, 0.0f));
+    if (!grown.normals_G.empty()) grown.normals_G.push_back(grown.normals_G[i]);
+    grown.provenance.push_back(Provenance::kObserved);
+  }
+  stage.Submit(grown);
+  stage.Drain();
+  for (int i = 0; i < 600 && stage.status().rebases == 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  const RepairStageStatus s = stage.status();
+  EXPECT_EQ(s.updates, 1);
+  EXPECT_EQ(s.rebases, 1);
+  EXPECT_EQ(s.last_rebase_reason, "new surface");
+  EXPECT_EQ(s.full_ms.count, 2u);  // the first cloud's and the background one
+}
+
+// The stage adds its part to the age the module stamped on the cloud.
+TEST(RepairStage, AddsItsPartToTheCloudsLatency) {
+  Published out;
+  RepairStage stage(repair::RepairConfig{}, [&](const ObjectCloud& c) { out.Record(c); });
+  ObjectCloud cloud = ProtocolCloudWithSeq(1);
+  cloud.timings.push_back({"latency_frame_to_cloud", 25.0});
+  stage.Submit(cloud);
+  stage.Drain();
+  ASSERT_EQ(out.clouds.size(), 1u);
+  const double repair_ms = TimingMs(out.clouds[0], "latency_repair");
+  const double wait_ms = TimingMs(out.clouds[0], "latency_repair_wait");
+  ASSERT_GT(repair_ms, 0.0);
+  ASSERT_GE(wait_ms, 0.0);
+  EXPECT_GE(TimingMs(out.clouds[0], "latency_frame_to_repaired"), 25.0 + repair_ms + wait_ms - 1e-6);
 }
 
 TEST(RepairStage, DestructionWithACloudWaitingDoesNotHang) {
