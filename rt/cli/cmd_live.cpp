@@ -4,13 +4,17 @@
 // hole repair (claw holes and the unseen top, unless --no-repair) on a
 // repair stage's thread of its own, and the object cloud published over LCM.
 //
-// A repair takes ~100-200 ms, a depth frame must be fused within ~33 ms: the
-// fusion worker only hands each extracted cloud to the repair stage's
-// one-slot mailbox and goes on. When clouds come faster than repairs, the
-// one waiting is replaced by the newer (counted as superseded), so the
-// planner always gets the freshest model. The published cloud is as
-// `graspfill replay` writes it: fused points first, the repair's after,
-// with its holes and "repair_" timings.
+// A full repair takes ~60-1,000 ms, a depth frame must be fused within
+// ~33 ms: the fusion worker only hands each extracted cloud to the repair
+// stage's one-slot mailbox and goes on. The stage repairs a grasp's first
+// cloud in full and updates that repair for the next ones (milliseconds),
+// while full repairs run behind at a lower priority when the model changed
+// enough (rt/module/repair_stage.hpp; --no-incremental: every cloud in
+// full). When clouds come faster than the stage, the one waiting is replaced
+// by the newer (counted as superseded), so the planner always gets the
+// freshest model. The published cloud is as `graspfill replay` writes it:
+// fused points first, the repair's after, with its holes and "repair_" and
+// "latency_" timings.
 //
 // The claw: --claw if given. Otherwise, with --depth-from-lcm, the claw of
 // the session description (session_description_t on GRASPFILL_SESSION) that
@@ -75,6 +79,8 @@ constexpr const char* kUsage =
     "                        The repair runs beside fusion; a cloud that comes while one\n"
     "                        is repaired waits, and a newer one replaces it (a grasp's\n"
     "                        final model is never replaced)\n"
+    "  --no-incremental      repair every published cloud in full (default: update the\n"
+    "                        last full repair, full repairs running behind)\n"
     "  --record LOG          write what the session receives (session description, depth,\n"
     "                        gripper states) as an LCM log that `graspfill replay` and\n"
     "                        lcm-logplayer play\n"
@@ -161,6 +167,7 @@ int RunLive(const Args& args) {
       sdf_trunc_voxels = c.tsdf.sdf_trunc_voxels;
       session_config.repair = c.repair.enabled;
       session_config.repair_evidence = c.repair.use_evidence;
+      session_config.repair_options.incremental = c.repair.incremental;
       rt::ApplyToRepair(c, &repair_config);
       channels = rt::ToChannelNames(c.channels);
       module_config.extract_every_n_frames = c.rates.publish_every_n_frames;
@@ -185,6 +192,7 @@ int RunLive(const Args& args) {
         module_config.extract_every_n_frames = ParseInteger<int>(a, args[++i], 0, 100000);
       }
       else if (a == "--no-repair") session_config.repair = false;
+      else if (a == "--no-incremental") session_config.repair_options.incremental = false;
       else if (a == "--repair-mode" && has_value) {
         const std::string mode = args[++i];
         if (mode == "paper") repair_config.mode = repair::RepairMode::kPaper;
@@ -316,6 +324,10 @@ int RunLive(const Args& args) {
               static_cast<long long>(s.frames_dropped),
               static_cast<long long>(summary.states_received), summary.final_points,
               channels.object_cloud.c_str());
+  const rt::Percentiles& lat = summary.latency_ms;
+  std::printf("latency: %lld clouds published; frame arrival -> published p50 %.1f, p95 %.1f, "
+              "p99 %.1f, max %.1f ms\n",
+              static_cast<long long>(summary.clouds_published), lat.p50, lat.p95, lat.p99, lat.max);
   const io::ModuleStatus& st = summary.status;
   std::printf("live: skipped %lld (no pose %lld, clock jump %lld, bad %lld, claw empty %lld); "
               "%lld decode errors; %lld clock jumps; %lld grasps completed; state %s\n",
@@ -341,6 +353,11 @@ int RunLive(const Args& args) {
                 static_cast<long long>(r.submitted), static_cast<long long>(r.repaired),
                 static_cast<long long>(r.superseded), static_cast<long long>(r.failed),
                 r.last_status.c_str(), r.last_points_in, r.last_points_out, r.last_repair_ms);
+    std::printf("repair: %lld updates (p50 %.1f, p99 %.1f ms), %lld full published + %lld "
+                "behind (p50 %.1f, p99 %.1f ms)\n",
+                static_cast<long long>(r.updates), r.update_ms.p50, r.update_ms.p99,
+                static_cast<long long>(r.full_published), static_cast<long long>(r.rebases),
+                r.full_ms.p50, r.full_ms.p99);
   } else {
     std::printf("repair: off (--no-repair)\n");
   }

@@ -170,7 +170,7 @@ bool RigConfig::Tsdf::operator==(const Tsdf& o) const {
 bool RigConfig::Repair::operator==(const Repair& o) const {
   return enabled == o.enabled && mode == o.mode && use_evidence == o.use_evidence &&
          safe_bound_voxel_m == o.safe_bound_voxel_m && top_rim_band_m == o.top_rim_band_m &&
-         close_unknown_top == o.close_unknown_top;
+         close_unknown_top == o.close_unknown_top && incremental == o.incremental;
 }
 bool RigConfig::Channels::operator==(const Channels& o) const {
   return depth == o.depth && gripper_state == o.gripper_state &&
@@ -393,6 +393,9 @@ std::string DumpRigConfig(const RigConfig& c) {
   w.Key(1, "top_rim_band_m", FormatNumber(c.repair.top_rim_band_m));
   w.Comment(1, "Best mode, no evidence, no symmetry: close a straight-walled top flat.");
   w.Key(1, "close_unknown_top", Bool(c.repair.close_unknown_top));
+  w.Comment(1, "Live: update the last full repair between full repairs, which run behind");
+  w.Comment(1, "(false: a full repair per published cloud).");
+  w.Key(1, "incremental", Bool(c.repair.incremental));
   w.Blank();
 
   w.Comment(0, "LCM channels.");
@@ -637,7 +640,7 @@ RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
       });
     } else if (key == "repair") {
       r.Map(v, path, {"enabled", "mode", "use_evidence", "safe_bound_voxel_m", "top_rim_band_m",
-                      "close_unknown_top"},
+                      "close_unknown_top", "incremental"},
             [&](const std::string& k, const YAML::Node& x, const std::string& f) {
         if (k == "enabled") c.repair.enabled = r.Bool(x, f);
         else if (k == "mode") c.repair.mode = r.OneOf(x, f, {"best", "paper"});
@@ -647,6 +650,7 @@ RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
           r.Check(x, [&] { CheckSafeBound(f, c.repair.safe_bound_voxel_m); });
         }
         else if (k == "top_rim_band_m") c.repair.top_rim_band_m = r.Number(x, f, kRimBandM);
+        else if (k == "incremental") c.repair.incremental = r.Bool(x, f);
         else c.repair.close_unknown_top = r.Bool(x, f);
       });
     } else if (key == "channels") {

@@ -138,6 +138,9 @@ struct RigConfig {
     double top_rim_band_m{0.004};
     /// Best mode, no evidence, no symmetry: close a straight-walled top flat.
     bool close_unknown_top{true};
+    /// Live: update the last full repair between full repairs (false: a
+    /// full repair per published cloud).
+    bool incremental{true};
     bool operator==(const Repair& o) const;
   };
   struct Channels {

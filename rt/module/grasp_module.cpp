@@ -16,8 +16,12 @@ GraspModule::GraspModule(const GraspModuleConfig& config, claw::ClawModel claw,
       on_cloud_(std::move(on_cloud)),
       sequencer_(config.pipeline, std::move(claw), config.grasps,
                  [this](const ObjectCloud& cloud, const evidence::VisibilityRecord& seen) {
+                   // A grasp's final model (once per grasp: the copy is fine).
                    ++clouds_out_;
-                   if (on_cloud_) on_cloud_(cloud, seen);
+                   if (!on_cloud_) return;
+                   ObjectCloud stamped = cloud;
+                   StampLatency(&stamped, std::nullopt);
+                   on_cloud_(stamped, seen);
                  }) {
   if (config.frame_queue_capacity < 1 || config.state_queue_capacity < 1 ||
       config.extract_every_n_frames < 0) {
@@ -89,7 +93,8 @@ bool GraspModule::PublishIfDue() {
   return true;
 }
 
-void GraspModule::StampLatency(ObjectCloud* cloud, Clock::time_point extract_start) const {
+void GraspModule::StampLatency(ObjectCloud* cloud,
+                               std::optional<Clock::time_point> extract_start) const {
   const auto ms = [](Clock::duration d) {
     return std::chrono::duration<double, std::milli>(d).count();
   };
@@ -97,7 +102,7 @@ void GraspModule::StampLatency(ObjectCloud* cloud, Clock::time_point extract_sta
   for (const TakenFrame& taken : taken_) {
     if (taken.utime != cloud->utime || taken.arrival == Clock::time_point{}) continue;
     cloud->timings.push_back({"latency_queue_wait", taken.queue_wait_ms});
-    cloud->timings.push_back({"latency_extract", ms(now - extract_start)});
+    if (extract_start) cloud->timings.push_back({"latency_extract", ms(now - *extract_start)});
     cloud->timings.push_back({"latency_frame_to_cloud", ms(now - taken.arrival)});
     return;
   }

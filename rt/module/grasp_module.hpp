@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -85,9 +86,11 @@ class GraspModule {
   // Worker thread, lock not held: extracts and hands out a cloud when
   // another extract_every_n_frames frames have been fused; true if it did.
   bool PublishIfDue();
-  // Worker: the latency timings of `cloud` (see the file comment), from
-  // when its extraction began; none when its newest frame is not known.
-  void StampLatency(ObjectCloud* cloud, std::chrono::steady_clock::time_point extract_start) const;
+  // Worker: the latency timings of `cloud` (see the file comment), with
+  // its extraction's when its start is given; none when its newest frame
+  // is not known.
+  void StampLatency(ObjectCloud* cloud,
+                    std::optional<std::chrono::steady_clock::time_point> extract_start) const;
   // Worker, lock held: the status from the sequencer (not touched by
   // another thread while the worker holds the lock).
   void UpdateStatusLocked();

@@ -47,6 +47,7 @@ RigConfig EveryFieldChanged() {
   c.repair.safe_bound_voxel_m = 0.0;
   c.repair.top_rim_band_m = 0.006;
   c.repair.close_unknown_top = false;
+  c.repair.incremental = false;
   c.channels = {"D", "G", "C", "S", "SESSION_2"};
   c.rates.publish_every_n_frames = 0;
   c.rates.status_period_s = 0.25;

@@ -137,6 +137,30 @@ TEST(LiveSession, RecordThenReplayGivesTheSessionsFinalCloud) {
   EXPECT_EQ(status.grasps_completed, 1);
   EXPECT_GE(status.repairs_done, 1);
   EXPECT_EQ(status.decode_errors, 0);
+
+  // Every cloud carries its age, from its newest frame's arrival; the
+  // status and the summary count them all and sum up their latencies.
+  for (const ObjectCloud& c : clouds) {
+    double to_cloud = -1, to_repaired = -1;
+    for (const StageTiming& t : c.timings) {
+      if (t.stage == "latency_frame_to_cloud") to_cloud = t.ms;
+      if (t.stage == "latency_frame_to_repaired") to_repaired = t.ms;
+    }
+    EXPECT_GT(to_cloud, 0.0) << "cloud seq " << c.seq;
+    EXPECT_GE(to_repaired, to_cloud) << "cloud seq " << c.seq;
+  }
+  EXPECT_EQ(summary.clouds_published, static_cast<int64_t>(clouds.size()));
+  EXPECT_EQ(summary.latency_ms.count, clouds.size());
+  EXPECT_EQ(status.clouds_published, static_cast<int64_t>(clouds.size()));
+  EXPECT_GT(status.latency_ms_p50, 0.0);
+  EXPECT_LE(status.latency_ms_p50, status.latency_ms_p99);
+  EXPECT_LE(status.latency_ms_p99, status.latency_ms_max);
+  // A grasp's first cloud and its final are repaired in full, the rest updated.
+  ASSERT_TRUE(summary.repair.has_value());
+  EXPECT_GE(summary.repair->full_published, 2);
+  EXPECT_EQ(summary.repair->updates + summary.repair->full_published, summary.repair->repaired);
+  EXPECT_EQ(status.repair_updates, summary.repair->updates);
+  EXPECT_GT(status.rss_mb, 10.0);
 }
 
 }  // namespace
