@@ -106,6 +106,7 @@ double ReplayFps(const std::string& path, const claw::ClawModel& claw, int64_t* 
 
 int RunBench(const Args& args) {
   if (!args.empty() && args[0] == "repair") return RunBenchRepair(Args(args.begin() + 1, args.end()));
+  if (!args.empty() && args[0] == "live") return RunBenchLive(Args(args.begin() + 1, args.end()));
   std::string log;  // the bundled recording unless given
   std::string claw_spec = "three-finger";
   int repeat = 3;

@@ -353,9 +353,10 @@ int RunLive(const Args& args) {
                 static_cast<long long>(r.submitted), static_cast<long long>(r.repaired),
                 static_cast<long long>(r.superseded), static_cast<long long>(r.failed),
                 r.last_status.c_str(), r.last_points_in, r.last_points_out, r.last_repair_ms);
-    std::printf("repair: %lld updates (p50 %.1f, p99 %.1f ms), %lld full published + %lld "
-                "behind (p50 %.1f, p99 %.1f ms)\n",
+    std::printf("repair: %lld updates (p50 %.1f, p99 %.1f ms), %lld out as fused before the "
+                "grasp's first full repair, %lld full published + %lld behind (p50 %.1f, p99 %.1f ms)\n",
                 static_cast<long long>(r.updates), r.update_ms.p50, r.update_ms.p99,
+                static_cast<long long>(r.unrepaired),
                 static_cast<long long>(r.full_published), static_cast<long long>(r.rebases),
                 r.full_ms.p50, r.full_ms.p99);
   } else {

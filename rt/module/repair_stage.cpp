@@ -128,7 +128,7 @@ bool RepairStage::RepairInFull(std::string* verdict) {
   return failed;
 }
 
-bool RepairStage::UpdateFromBase(std::string* verdict) {
+RepairStage::Update RepairStage::UpdateFromBase(std::string* verdict) {
   const evidence::VisibilityRecord* record = working_record_.empty() ? nullptr : &working_record_;
   const Clock::time_point start = Clock::now();
   repair::UpdateReport report;
@@ -137,28 +137,30 @@ bool RepairStage::UpdateFromBase(std::string* verdict) {
     report = base_.Update(working_, record, &updated_);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "graspfill repair stage: update failed (%s); repairing in full\n", e.what());
-    return false;
+    return Update::kFailed;
   }
-  if (report.rebase == repair::RebaseReason::kNoBase ||
-      report.rebase == repair::RebaseReason::kOtherGrasp) {
-    return false;
-  }
+  const bool no_base = report.rebase == repair::RebaseReason::kNoBase ||
+                       report.rebase == repair::RebaseReason::kOtherGrasp;
   const double ms = MsSince(start);
-  updated_.timings.push_back({"repair_update", ms});
-  *verdict = "updated";
   std::lock_guard<std::mutex> lock(mutex_);
-  update_ms_.Add(ms);
   if (report.full_due() && !has_rebase_job_ && !rebasing_) {
-    // The fused cloud goes to the rebase thread (no copy); the update's
-    // output is what the planner gets now.
-    std::swap(rebase_job_, working_);
+    // The fused cloud goes to the rebase thread; the update's output (the
+    // fused cloud itself when there is no base) is what the planner gets now.
+    rebase_job_ = working_;  // copy-assignment reuses the job's buffers
     rebase_record_ = working_record_;
     has_rebase_job_ = true;
     status_.last_rebase_reason = repair::RebaseReasonName(report.rebase);
     wake_rebase_.notify_one();
   }
+  if (no_base) {
+    *verdict = "not repaired yet: the grasp's first full repair is running";
+    return Update::kNoBase;  // working_ goes out as fused
+  }
+  updated_.timings.push_back({"repair_update", ms});
+  update_ms_.Add(ms);
+  *verdict = "updated";
   std::swap(working_, updated_);
-  return true;
+  return Update::kUpdated;
 }
 
 void RepairStage::WorkerLoop() {
@@ -187,8 +189,11 @@ void RepairStage::WorkerLoop() {
     const size_t points_in = working_.size();
     std::string verdict;
     bool failed = false;
-    const bool updated = options_.incremental && !working_final_ && UpdateFromBase(&verdict);
-    if (!updated) failed = RepairInFull(&verdict);
+    const Update update =
+        options_.incremental && !working_final_ ? UpdateFromBase(&verdict) : Update::kFailed;
+    const bool updated = update == Update::kUpdated;
+    const bool unrepaired = update == Update::kNoBase;
+    if (!updated && !unrepaired) failed = RepairInFull(&verdict);
     const double ms = MsSince(start);
     if (failed) {
       // RepairObjectCloud leaves the cloud as it was: the fused cloud still
@@ -206,9 +211,10 @@ void RepairStage::WorkerLoop() {
 
     lock.lock();
     if (failed) ++status_.failed;
+    else if (unrepaired) ++status_.unrepaired;
     else ++status_.repaired;
     if (updated) ++status_.updates;
-    else if (!failed) ++status_.full_published;
+    else if (!failed && !unrepaired) ++status_.full_published;
     status_.last_repair_ms = ms;
     status_.last_points_in = points_in;
     status_.last_points_out = working_.size();

@@ -8,13 +8,15 @@
 // their own, are repaired first, in order, and a cloud of the same grasp
 // waiting in the mailbox when its final comes is superseded by it.
 //
-// Incremental (the default): the first cloud of a grasp is repaired in
-// full; each later one is an update of the last full repair (the base,
-// repair/incremental_repair.hpp: milliseconds). When an update says a full
-// repair is due, the cloud goes to a second thread that repairs it in full
-// at a lower priority than fusion (nice +10) and then becomes the new base;
-// updates go on meanwhile with the old one. Finals are always repaired in
-// full. Off (`incremental = false`): every cloud is repaired in full.
+// Incremental (the default): each cloud is an update of the last full
+// repair (the base, repair/incremental_repair.hpp: milliseconds). When the
+// update says a full repair is due, the cloud goes to a second thread that
+// repairs it in full at a lower priority than fusion (nice +10) and then
+// becomes the new base; updates go on meanwhile with the old one. Until a
+// grasp's first full repair has landed (60-1,000 ms) its clouds go out as
+// fused, unrepaired (counted): a full repair never holds a cloud back.
+// Finals are always repaired in full, in order. Off (`incremental =
+// false`): every cloud is repaired in full on the stage's thread.
 //
 // Latency: before the callback, the stage adds to the cloud's timings
 // "latency_repair_wait" (Submit -> taken), "latency_repair" (the update or
@@ -68,8 +70,11 @@ struct RepairStageStatus {
   std::string last_status;
   /// Final models waiting or being repaired now (status "repairing").
   int64_t finals_pending{0};
+  /// Published as fused: no full repair of the grasp had landed yet
+  /// (incremental only; not counted in `repaired`).
+  int64_t unrepaired{0};
   /// Of `repaired`: incremental updates published, full repairs published
-  /// (a grasp's first cloud, finals, or every cloud when not incremental).
+  /// (finals, or every cloud when not incremental).
   int64_t updates{0};
   int64_t full_published{0};
   /// Full repairs run in the background that became the base.
@@ -116,8 +121,10 @@ class RepairStage {
   // working_ is left as it was); its verdict in *verdict.
   bool RepairInFull(std::string* verdict);
   // Worker, lock not held: an update of working_ into updated_ (then
-  // swapped into working_); false when there is no base for it.
-  bool UpdateFromBase(std::string* verdict);
+  // swapped into working_), or working_ left as fused when there is no
+  // base for it yet; a full repair in the background when one is due.
+  enum class Update { kUpdated, kNoBase, kFailed };
+  Update UpdateFromBase(std::string* verdict);
 
   const repair::RepairConfig config_;
   const RepairStageOptions options_;
