@@ -22,5 +22,6 @@ int RunBenchRepair(const Args& args);  // cmd_bench_repair.cpp
 int RunBenchRepairPipeline(const Args& args);  // cmd_bench_pipeline.cpp
 int RunClaw(const Args& args);    // cmd_claw.cpp
 int RunConfig(const Args& args);  // cmd_config.cpp
+int RunView(const Args& args);    // cmd_view.cpp
 
 }  // namespace graspfill::cli
