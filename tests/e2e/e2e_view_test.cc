@@ -172,6 +172,15 @@ TEST(ViewCli, BadInputIsNamedAndNothingIsOverwritten) {
   EXPECT_EQ(no_dir.exit_code, 1) << no_dir.output;
   EXPECT_NE(no_dir.output.find(dir + "/no/such/dir/v.png"), std::string::npos) << no_dir.output;
 
+  // A folder where the picture should be, or a file where its folder should be.
+  fs::create_directories(dir + "/taken.png");
+  auto is_dir = RunCli("view " + cloud + " -o " + dir + "/taken.png --force");
+  EXPECT_EQ(is_dir.exit_code, 1) << is_dir.output;
+  EXPECT_NE(is_dir.output.find(dir + "/taken.png"), std::string::npos) << is_dir.output;
+  auto under_file = RunCli("view " + cloud + " -o " + cloud + "/v.png");
+  EXPECT_EQ(under_file.exit_code, 1) << under_file.output;
+  EXPECT_NE(under_file.output.find(cloud + "/v.png"), std::string::npos) << under_file.output;
+
   const auto not_a_cloud = RunCli("view " + dir + " -o " + dir + "/v.png");
   EXPECT_EQ(not_a_cloud.exit_code, 1) << not_a_cloud.output;
   EXPECT_NE(not_a_cloud.output.find(dir), std::string::npos) << not_a_cloud.output;
