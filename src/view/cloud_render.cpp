@@ -13,6 +13,10 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 // The framing sphere's diameter as a share of the view's edge (a margin).
 constexpr double kFill = 0.92;
+// The darkest shade of a colour: a point edge-on to the view (normals),
+// or at the far side of the framing sphere (no normals).
+constexpr double kMinShade = 0.45;
+constexpr double kMinDepthShade = 0.6;
 
 // Disc radius [pixels]: points about their spacing apart on the picture
 // should touch, so that a surface reads as a surface. The spacing is that
@@ -76,13 +80,18 @@ void RenderView(const ObjectCloud& cloud, const Framing& framing, const ViewAngl
     const double v = half - d.dot(up) * px_per_m;
     const auto z = static_cast<float>(d.dot(forward));
     const Provenance p = has_provenance ? cloud.provenance[i] : Provenance::kObserved;
-    Rgb8 color = ProvenanceColor(p);
+    // With normals: facing the camera full colour, edge-on darker. Without:
+    // nearer brighter (depth cueing). Either way the shape reads.
+    double shade = 1.0;
     if (shaded && cloud.normals_G[i].allFinite()) {
-      // Facing the camera full colour, edge-on darker: the shape reads.
       const double facing = std::abs(cloud.normals_G[i].cast<double>().dot(forward));
-      const double shade = 0.45 + 0.55 * std::min(facing, 1.0);
-      for (uint8_t& c : color) c = static_cast<uint8_t>(std::lround(c * shade));
+      shade = kMinShade + (1.0 - kMinShade) * std::min(facing, 1.0);
+    } else if (!shaded) {
+      const double far = std::clamp(0.5 + 0.5 * z / framing.radius_m, 0.0, 1.0);
+      shade = 1.0 - (1.0 - kMinDepthShade) * far;
     }
+    Rgb8 color = ProvenanceColor(p);
+    for (uint8_t& c : color) c = static_cast<uint8_t>(std::lround(c * shade));
     const int cu = static_cast<int>(std::floor(u));
     const int cv = static_cast<int>(std::floor(v));
     for (int dy = -radius; dy <= radius; ++dy) {

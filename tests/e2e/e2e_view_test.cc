@@ -77,7 +77,23 @@ struct Pixels {
   double mean_row{0.0};
 };
 
-// Pixels of exactly the provenance's colour in view `view` of column
+// Whether `pixel` is a shade of `colour` (s * colour, s in [0.4, 1], to
+// rounding): the pictures shade each point's colour by depth or normal.
+bool IsShadeOf(const uint8_t* pixel, const Rgb8& colour) {
+  double dot = 0.0, norm = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    dot += pixel[k] * static_cast<double>(colour[k]);
+    norm += static_cast<double>(colour[k]) * colour[k];
+  }
+  const double s = dot / norm;
+  if (s < 0.4 || s > 1.01) return false;
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(pixel[k] - s * colour[k]) > 1.5) return false;
+  }
+  return true;
+}
+
+// Pixels of a shade of the provenance's colour in view `view` of column
 // `column` (view::LayoutSheet says where RenderSheet put it).
 Pixels InView(const open3d::geometry::Image& image, const view::SheetLayout& layout, int column,
               int view, Provenance p) {
@@ -85,8 +101,7 @@ Pixels InView(const open3d::geometry::Image& image, const view::SheetLayout& lay
   Pixels s;
   for (int y = layout.ViewY(view); y < layout.ViewY(view) + layout.view_px; ++y) {
     for (int x = layout.ViewX(column); x < layout.ViewX(column) + layout.view_px; ++x) {
-      const uint8_t* px = &image.data_[(static_cast<size_t>(y) * image.width_ + x) * 3];
-      if (px[0] == c[0] && px[1] == c[1] && px[2] == c[2]) {
+      if (IsShadeOf(&image.data_[(static_cast<size_t>(y) * image.width_ + x) * 3], c)) {
         ++s.count;
         s.mean_row += y;
       }

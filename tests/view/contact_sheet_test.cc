@@ -42,21 +42,41 @@ ObjectCloud HeldCylinder() {
 struct ColourStats {
   int count{0};
   double mean_row{0.0};
+  double mean_shade{0.0};
 };
 
-// Pixels of exactly `colour` in columns [x0, x1) and rows [y0, y1).
+// The shade s in [0.4, 1] with pixel ~= s * colour (to rounding), or -1:
+// the palette's hues are far apart, so a pixel is a shade of one at most.
+double ShadeOf(const uint8_t* pixel, const Rgb8& colour) {
+  double dot = 0.0, norm = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    dot += pixel[k] * static_cast<double>(colour[k]);
+    norm += static_cast<double>(colour[k]) * colour[k];
+  }
+  const double s = dot / norm;
+  if (s < 0.4 || s > 1.01) return -1.0;
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(pixel[k] - s * colour[k]) > 1.5) return -1.0;
+  }
+  return s;
+}
+
+// Pixels of a shade of `colour` in columns [x0, x1) and rows [y0, y1).
 ColourStats Find(const RgbImage& image, const Rgb8& colour, int x0, int x1, int y0, int y1) {
   ColourStats s;
   for (int y = y0; y < y1; ++y) {
     for (int x = x0; x < x1; ++x) {
-      const uint8_t* p = &image.rgb[(static_cast<size_t>(y) * image.width + x) * 3];
-      if (p[0] == colour[0] && p[1] == colour[1] && p[2] == colour[2]) {
-        ++s.count;
-        s.mean_row += y;
-      }
+      const double shade = ShadeOf(&image.rgb[(static_cast<size_t>(y) * image.width + x) * 3], colour);
+      if (shade < 0.0) continue;
+      ++s.count;
+      s.mean_row += y;
+      s.mean_shade += shade;
     }
   }
-  if (s.count > 0) s.mean_row /= s.count;
+  if (s.count > 0) {
+    s.mean_row /= s.count;
+    s.mean_shade /= s.count;
+  }
   return s;
 }
 
@@ -146,24 +166,57 @@ TEST(ContactSheetTest, SameCloudsGiveTheSamePixels) {
   EXPECT_EQ(a.rgb, b.rgb);
 }
 
-TEST(ContactSheetTest, NormalsShadeTheColourTowardsDark) {
-  ObjectCloud cloud = HeldCylinder();
-  for (const Eigen::Vector3f& p : cloud.points_G) {
-    // Radial on the side; the cap faces the palm.
-    cloud.normals_G.push_back(p.z() == 0.0f ? Eigen::Vector3f(0, 0, -1)
-                                             : Eigen::Vector3f(p.x(), p.y(), 0).normalized());
-  }
+// A 2 x 2 cm plate of points, seen in the one view of azimuth 0: with
+// normals towards the camera in full colour, with normals across the view
+// at the darkest shade.
+TEST(ContactSheetTest, NormalsShadeTheColour) {
   SheetConfig config;
   config.views = 1;
-  const RgbImage image = RenderSheet({{&cloud, "shaded"}}, config);
+  const double el = config.elevation_deg * kPi / 180.0;
+  const Eigen::Vector3f to_camera(static_cast<float>(std::cos(el)), 0.0f, static_cast<float>(-std::sin(el)));
+  ObjectCloud facing, edge_on;
+  for (int i = 0; i < 40; ++i) {
+    for (int j = 0; j < 40; ++j) {
+      const Eigen::Vector3f p(0.0f, 0.0005f * i, 0.0005f * j);
+      facing.points_G.push_back(p);
+      facing.normals_G.push_back(to_camera);
+      edge_on.points_G.push_back(p);
+      edge_on.normals_G.push_back(Eigen::Vector3f(0, 1, 0));  // across the view
+    }
+  }
+  facing.provenance.assign(facing.size(), Provenance::kObserved);
+  edge_on.provenance.assign(edge_on.size(), Provenance::kObserved);
   const Region view = ViewRegion(LayoutSheet(1, config), 0, 0);
-  // Edge-on parts of the side are darker than the flat colour: fewer
-  // pixels keep it exactly than without normals.
-  ObjectCloud flat = cloud;
-  flat.normals_G.clear();
-  const RgbImage flat_image = RenderSheet({{&flat, "flat"}}, config);
-  EXPECT_LT(Find(image, Provenance::kObserved, view).count,
-            Find(flat_image, Provenance::kObserved, view).count / 2);
+  const ColourStats lit = Find(RenderSheet({{&facing, "facing"}}, config), Provenance::kObserved, view);
+  const ColourStats dark = Find(RenderSheet({{&edge_on, "edge-on"}}, config), Provenance::kObserved, view);
+  ASSERT_GT(lit.count, 1000);
+  ASSERT_GT(dark.count, 1000);
+  EXPECT_GT(lit.mean_shade, 0.98);
+  EXPECT_LT(dark.mean_shade, 0.5);
+}
+
+// Without normals nearer is brighter: of two plates beside each other, the
+// one nearer the camera (azimuth 0: towards +x) is lighter.
+TEST(ContactSheetTest, WithoutNormalsNearerIsBrighter) {
+  ObjectCloud cloud;
+  for (int i = 0; i < 40; ++i) {
+    for (int j = 0; j < 40; ++j) {
+      cloud.points_G.emplace_back(0.05f, 0.0005f * i + 0.01f, 0.0005f * j);   // near, one side
+      cloud.points_G.emplace_back(-0.05f, -0.0005f * i - 0.01f, 0.0005f * j); // far, the other
+    }
+  }
+  cloud.provenance.assign(cloud.size(), Provenance::kObserved);
+  SheetConfig config;
+  config.views = 1;
+  const RgbImage image = RenderSheet({{&cloud, "plates"}}, config);
+  const Region view = ViewRegion(LayoutSheet(1, config), 0, 0);
+  const int mid = (view.x0 + view.x1) / 2;
+  // +y is on the left seen from +x (the palm side up).
+  const ColourStats left = Find(image, ProvenanceColor(Provenance::kObserved), view.x0, mid, view.y0, view.y1);
+  const ColourStats right = Find(image, ProvenanceColor(Provenance::kObserved), mid, view.x1, view.y0, view.y1);
+  ASSERT_GT(left.count, 500);
+  ASSERT_GT(right.count, 500);
+  EXPECT_GT(left.mean_shade, right.mean_shade + 0.2);
 }
 
 TEST(ContactSheetTest, EmptyCloudStillDraws) {

@@ -33,9 +33,11 @@ struct ViewAngle {
 
 /// Draws `cloud` into the `size_px` x `size_px` square of *image whose
 /// top-left pixel is (x0, y0), over what is there. Points take their
-/// provenance colour (core/provenance_colors.hpp), shaded by the angle of
-/// their normal to the view when the cloud has normals (flat otherwise);
-/// the disc radius follows the cloud's point spacing.
+/// provenance colour (core/provenance_colors.hpp) times a shade in
+/// [0.45, 1]: by the angle of their normal to the view when the cloud has
+/// normals (1 facing the camera), else by depth (1 at the framing sphere's
+/// near side, 0.6 at its far side); the disc radius follows the cloud's
+/// point spacing.
 void RenderView(const ObjectCloud& cloud, const Framing& framing, const ViewAngle& angle,
                 int x0, int y0, int size_px, RgbImage* image);
 
