@@ -78,6 +78,9 @@ void RenderView(const ObjectCloud& cloud, const Framing& framing, const ViewAngl
     const Eigen::Vector3d d = point.cast<double>() - framing.center_G;
     const double u = half + d.dot(right) * px_per_m;
     const double v = half - d.dot(up) * px_per_m;
+    // Outside the view (a framing that does not hold the cloud): skipped
+    // before the conversion to int could overflow.
+    if (!(std::abs(u - half) < half + radius + 1 && std::abs(v - half) < half + radius + 1)) continue;
     const auto z = static_cast<float>(d.dot(forward));
     const Provenance p = has_provenance ? cloud.provenance[i] : Provenance::kObserved;
     // With normals: facing the camera full colour, edge-on darker. Without:
