@@ -69,6 +69,14 @@ struct TriangleMesh {
   TriangleMesh Transformed(const Eigen::Isometry3d& T) const;
 };
 
+/// An 8-bit RGB picture for people (`graspfill view`): row-major from the
+/// top-left pixel, 3 bytes (red, green, blue) per pixel.
+struct RgbImage {
+  int width{0};
+  int height{0};
+  std::vector<uint8_t> rgb;  ///< width * height * 3 bytes
+};
+
 /// Where an object-cloud point comes from.
 enum class Provenance : uint8_t {
   kObserved = 0,  ///< fused from depth frames

@@ -15,6 +15,7 @@
 
 #include "claw_option.hpp"
 #include "commands.hpp"
+#include "progress.hpp"
 #include "number_parsing.hpp"
 #include "data_paths.hpp"
 #include "graspfill/core/pose_interpolation.hpp"
@@ -38,6 +39,13 @@ std::string Usage() {
 
 using Clock = std::chrono::steady_clock;
 double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
+
+// The progress of all of the bench's passes over the frames.
+struct FramesDone {
+  ProgressLine& line;
+  int64_t done{0};
+  void Add(int64_t n = 1) { line.Update(done += n); }
+};
 
 struct PosedFrame {
   DepthFrame frame;
@@ -71,19 +79,21 @@ std::vector<PosedFrame> LoadPosedFrames(const std::string& path) {
 // The frame path on the same frames with pose refinement off (its stages
 // only: every frame fused at its logged pose).
 double FramePathWithoutRefinementMs(PipelineConfig config, const claw::ClawModel& claw,
-                                    const std::vector<PosedFrame>& frames) {
+                                    const std::vector<PosedFrame>& frames, FramesDone* progress) {
   config.refine.enabled = false;
   Pipeline pipeline(config, claw);
   for (const PosedFrame& p : frames) {
     pipeline.AddGripperState(p.state);
     pipeline.AddDepthFrame(p.frame);
+    progress->Add();
   }
   const PipelineStats& s = pipeline.stats();
   return s.crop.mean_ms() + s.mask.mean_ms() + s.integrate.mean_ms() + s.visibility.mean_ms();
 }
 
 // Replays the log file through a fresh pipeline: decode + pipeline, no output.
-double ReplayFps(const std::string& path, const claw::ClawModel& claw, int64_t* frames) {
+double ReplayFps(const std::string& path, const claw::ClawModel& claw, int64_t* frames,
+                 FramesDone* progress) {
   const Clock::time_point start = Clock::now();
   rt::LcmLogSource::Config config;
   config.path = path;
@@ -95,7 +105,12 @@ double ReplayFps(const std::string& path, const claw::ClawModel& claw, int64_t* 
                                                     rt::GraspSequencerConfig{}, nullptr);
       },
       /*skip_bad=*/true);
-  rt::SessionLoop(rt::SessionLoopLimits{}).Run(&source, &feed);
+  rt::SessionLoopLimits limits;
+  const int64_t done_before = progress->done;
+  limits.on_tick = [&] { progress->line.Update(done_before + feed.depth_events()); };
+  limits.tick_ms = 200;
+  rt::SessionLoop(limits).Run(&source, &feed);
+  progress->Add(feed.depth_events());
   if (feed.sequencer() == nullptr) return 0.0;
   feed.sequencer()->Flush();
   *frames = feed.sequencer()->stats().frames_integrated;
@@ -144,17 +159,23 @@ int RunBench(const Args& args) {
     return c;
   }();
 
+  // Four passes over the posed frames, then the replays of the whole log
+  // (a log's unposed frames can take the count past the total: capped).
+  ProgressLine line("bench", "frames", static_cast<int64_t>(frames.size()) * (4 + repeat));
+  FramesDone progress{line};
+
   // graspfill's frame path, stage by stage (the Pipeline's own code path).
   Pipeline pipeline(config, claw);
   for (const PosedFrame& p : frames) {
     pipeline.AddGripperState(p.state);
     pipeline.AddDepthFrame(p.frame);
+    progress.Add();
   }
   const PipelineStats& s = pipeline.stats();
   const double ours_cut_ms = s.crop.mean_ms() + s.mask.mean_ms();
   const double ours_total_ms =
       ours_cut_ms + s.integrate.mean_ms() + s.visibility.mean_ms() + s.refine_time.mean_ms();
-  const double unrefined_total_ms = FramePathWithoutRefinementMs(config, claw, frames);
+  const double unrefined_total_ms = FramePathWithoutRefinementMs(config, claw, frames, &progress);
   const size_t ours_points = pipeline.ExtractCloud().size();
 
   // The z-buffer alternative to Embree for the claw's depth, same frames.
@@ -164,6 +185,7 @@ int RunBench(const Args& args) {
   for (const PosedFrame& p : frames) {
     raster.AddGripperState(p.state);
     raster.AddDepthFrame(p.frame);
+    progress.Add();
   }
   const double raster_mask_ms = raster.stats().mask.mean_ms();
 
@@ -176,11 +198,13 @@ int RunBench(const Args& args) {
   for (const PosedFrame& p : frames) {
     ScopedStageTimer t(&bare_integrate);
     bare.Integrate(p.frame, Eigen::Isometry3d::Identity());
+    progress.Add();
   }
 
   int64_t replay_frames = 0;
   double best_fps = 0.0;
-  for (int r = 0; r < repeat; ++r) best_fps = std::max(best_fps, ReplayFps(log, claw, &replay_frames));
+  for (int r = 0; r < repeat; ++r) best_fps = std::max(best_fps, ReplayFps(log, claw, &replay_frames, &progress));
+  line.Clear();
 
   if (json) {
     nlohmann::ordered_json j;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "progress.hpp"
 #include "number_parsing.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/messages.hpp"
@@ -157,10 +158,16 @@ int RunBenchRepairPipeline(const Args& args) {
                 "object", "shape", "claw", "grasp", "points", "fused", "cov", "p95mm", "wrong", "free", "ms",
                 "cov", "p95mm", "wrong", "free", "ms", "rec/fr", "frame");
   }
+  std::vector<ZooCase> cases;
   for (const ZooCase& c : ZooCases()) {
-    if (!only.empty() && c.label.find(only) == std::string::npos && c.shape.find(only) == std::string::npos) {
-      continue;
+    if (only.empty() || c.label.find(only) != std::string::npos || c.shape.find(only) != std::string::npos) {
+      cases.push_back(c);
     }
+  }
+  ProgressLine progress("bench repair --pipeline", "objects", static_cast<int64_t>(cases.size()));
+  for (size_t done = 0; done < cases.size(); ++done) {
+    const ZooCase& c = cases[done];
+    progress.Update(static_cast<int64_t>(done));
     synth::SceneConfig sc;
     const auto shape = synth::ParseShape(c.shape);
     if (!shape) {
@@ -231,6 +238,7 @@ int RunBenchRepairPipeline(const Args& args) {
                       {"record_mb", record.memory_bytes() / 1e6}});
       continue;
     }
+    progress.Clear();  // the row on a line of its own
     std::printf("%-12s %-17s %-12s %-15s | %6zu %6.3f |", c.label.c_str(), c.shape.c_str(),
                 synth::ClawTypeName(c.claw).c_str(), synth::GraspWayName(c.grasp).c_str(), fused.size(),
                 fused_coverage);
@@ -246,6 +254,7 @@ int RunBenchRepairPipeline(const Args& args) {
     }
     std::fflush(stdout);
   }
+  progress.Clear();
   if (json) std::printf("%s\n", rows.dump(2).c_str());
   return 0;
 }

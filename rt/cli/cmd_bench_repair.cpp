@@ -16,6 +16,7 @@
 #include "commands.hpp"
 #include "number_parsing.hpp"
 #include "poisson_baseline.hpp"
+#include "progress.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/repair/repairer.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
@@ -127,8 +128,14 @@ int RunBenchRepair(const Args& args) {
   }
   nlohmann::ordered_json rows = nlohmann::json::array();
   std::string table;
+  std::vector<Row> cases;
   for (const Row& row : PaperRows()) {
-    if (!only.empty() && row.label.find(only) == std::string::npos) continue;
+    if (only.empty() || row.label.find(only) != std::string::npos) cases.push_back(row);
+  }
+  ProgressLine progress("bench repair", "cases", static_cast<int64_t>(cases.size()));
+  for (size_t done = 0; done < cases.size(); ++done) {
+    const Row& row = cases[done];
+    progress.Update(static_cast<int64_t>(done));
     synth::PaperProtocolConfig pc;
     pc.shape = row.shape;
     pc.size_m = row.size_m;
@@ -168,6 +175,7 @@ int RunBenchRepair(const Args& args) {
                       {"best_over_floor", after[1] / floor}, {"ms_paper", ms[0]}, {"ms_best", ms[1]}});
       continue;
     }
+    progress.Clear();  // the row on a line of its own
     if (row.table != table) {
       table = row.table;
       if (top_cut > 0.0) std::printf("\n(top cut at %.0f%% of the height for every shape)", 100.0 * top_cut);
@@ -181,6 +189,7 @@ int RunBenchRepair(const Args& args) {
                 row.label.c_str(), row.paper_before_mm2, row.paper_after_mm2, before, after[0],
                 after[1], baseline, floor, after[1] / floor, ms[0], ms[1]);
   }
+  progress.Clear();
   // The time target: a 50k-point cloud (after the cut and the
   // holes) repaired in best mode, against 100 ms and the paper's ~1 s.
   if (only.empty() && top_cut == 0.0) {

@@ -10,6 +10,7 @@
 
 #include "commands.hpp"
 #include "number_parsing.hpp"
+#include "preview.hpp"
 #include "graspfill/io/output_path.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/repair/repairer.hpp"
@@ -18,11 +19,13 @@ namespace graspfill::cli {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: graspfill repair IN.ply -o OUT.ply [--mode paper|best] [--up X,Y,Z] [--json] [--force]\n"
+    "usage: graspfill repair IN.ply -o OUT.ply [--mode paper|best] [--up X,Y,Z] [--preview DIR] [--json] [--force]\n"
     "  IN.ply     unorganized cloud in meters, any pose, normals optional\n"
     "  --mode     paper: the method as published; best (default): graspfill's\n"
     "  --up       optional hint of the direction to the missing top, input frame\n"
-    "  --json     print the holes found and the time of every step as JSON\n";
+    "  --json     print the holes found and the time of every step as JSON\n"
+    "  --preview  also a picture of the cloud before and after: DIR/<OUT's stem>.png\n"
+    "  --force    overwrite OUT.ply (and the preview) if it exists\n";
 
 const char* KindName(HoleKind kind) {
   return kind == HoleKind::kClaw ? "claw" : "missing_surface";
@@ -65,7 +68,7 @@ nlohmann::ordered_json RepairReportJson(const repair::RepairReport& r, size_t po
 }  // namespace
 
 int RunRepair(const Args& args) {
-  std::string in, out;
+  std::string in, out, preview_dir;
   bool json = false, force = false;
   repair::RepairConfig config;
   for (size_t i = 0; i < args.size(); ++i) {
@@ -76,6 +79,8 @@ int RunRepair(const Args& args) {
       return 0;
     } else if ((a == "-o" || a == "--output") && has_value) {
       out = args[++i];
+    } else if (a == "--preview" && has_value) {
+      preview_dir = args[++i];
     } else if (a == "--json") {
       json = true;
     } else if (a == "--force") {
@@ -123,9 +128,13 @@ int RunRepair(const Args& args) {
     std::fprintf(stderr, "graspfill repair: %s\n", e.what());
     return 1;
   }
+  if (!preview_dir.empty() && !PreparePreview(preview_dir, out, force, "repair")) return 1;
   const ObjectCloud input = io::ReadCloudPly(in);  // throws with the path
   const repair::RepairResult result = repair::Repair(input, config);
   io::WriteCloudPly(out, result.cloud);
+  // Written after the cloud: a picture only of what is on the disk.
+  const std::string preview =
+      preview_dir.empty() ? "" : WritePreview(preview_dir, out, &input, result.cloud);
   if (json) {
     std::printf("%s\n", RepairReportJson(result.report, input.size(), result.cloud.size()).dump(2).c_str());
     return 0;
@@ -142,6 +151,7 @@ int RunRepair(const Args& args) {
   double total = 0.0;
   for (const StageTiming& s : result.report.timings) total += s.ms;
   std::printf("  repair took %.1f ms -> %s\n", total, out.c_str());
+  if (!preview.empty()) std::printf("  preview -> %s\n", preview.c_str());
   return 0;
 }
 

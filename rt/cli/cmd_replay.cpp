@@ -28,7 +28,10 @@
 #include "config_option.hpp"
 #include "evidence_json.hpp"
 #include "number_parsing.hpp"
+#include "preview.hpp"
+#include "progress.hpp"
 #include "refine_json.hpp"
+#include "graspfill/io/lcm_log_reader.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/output_path.hpp"
 #include "graspfill/io/ply.hpp"
@@ -56,7 +59,9 @@ constexpr const char* kUsage =
     "  --repair-mode MODE       paper: the repair as published; best (default): graspfill's\n"
     "  --no-evidence            repair from the cloud alone (without what the camera saw)\n"
     "  --json                   print the report as JSON (\"repair\" is null with --no-repair)\n"
-    "  --force                  overwrite the output if it exists\n"
+    "  --force                  overwrite the output (and the preview) if it exists\n"
+    "  --preview DIR            also a picture of the cloud before and after the repair:\n"
+    "                           DIR/<CLOUD's stem>.png (see `graspfill view`)\n"
     "  --claw SPEC              three-finger, parallel, or a claw description .json (default:\n"
     "                           the recording's claw, from its session description, else\n"
     "                           three-finger); one that differs from the recording's is warned about\n"
@@ -76,6 +81,7 @@ constexpr const char* kUsage =
 struct ReplayOptions {
   std::string log_path;
   std::string output_path;
+  std::string preview_dir;  ///< --preview, "" = none
   bool json{false};
   bool force{false};
   std::optional<std::string> claw;  ///< --claw or the config's; none = the recording's
@@ -138,6 +144,7 @@ bool Parse(const Args& args, ReplayOptions* o) {
     std::string v;
     if (a == "--config") value(&o->config_path);  // read before (LoadConfigOption)
     else if (a == "-o" || a == "--output") value(&o->output_path);
+    else if (a == "--preview") value(&o->preview_dir);
     else if (a == "--json") o->json = true;
     else if (a == "--force") o->force = true;
     else if (a == "--claw") {
@@ -254,6 +261,16 @@ double Ms(std::chrono::steady_clock::duration d) {
   return std::chrono::duration<double, std::milli>(d).count();
 }
 
+// Depth frames in the log, for the progress line's total (headers and
+// channel names only matter; a log that ends badly is reported later).
+int64_t CountDepthFrames(const std::string& path, const std::string& channel) {
+  io::LcmLogReader reader(path);
+  io::LogEvent event;
+  int64_t frames = 0;
+  while (reader.Next(&event) == io::LogReadResult::kEvent) frames += event.channel == channel;
+  return frames;
+}
+
 const char* HoleKindName(HoleKind kind) {
   return kind == HoleKind::kClaw ? "claw" : "missing_surface";
 }
@@ -287,6 +304,9 @@ int RunReplay(const Args& args) {
     io::CheckOutputFile(o.output_path, o.force);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "graspfill replay: %s\n", e.what());
+    return 1;
+  }
+  if (!o.preview_dir.empty() && !PreparePreview(o.preview_dir, o.output_path, o.force, "replay")) {
     return 1;
   }
 
@@ -326,8 +346,16 @@ int RunReplay(const Args& args) {
       },
       o.skip_bad_frames);
   const auto t_start = std::chrono::steady_clock::now();
-  rt::SessionLoop loop(rt::SessionLoopLimits{});
+  rt::SessionLoopLimits limits;
+  std::optional<ProgressLine> progress;
+  if (ProgressWanted()) {
+    progress.emplace("replay", "frames", CountDepthFrames(o.log_path, o.channels.depth));
+    limits.on_tick = [&] { progress->Update(feed.depth_events()); };
+    limits.tick_ms = 200;
+  }
+  rt::SessionLoop loop(limits);
   const rt::LoopEnd end = loop.Run(&source, &feed);
+  progress.reset();  // the line erased before anything else is printed
   if (feed.late_sessions() > 0) {
     std::fprintf(stderr, "graspfill replay: warning: the session description at utime %lld "
                  "comes after the recording's first one or its first events; its claw, "
@@ -412,6 +440,8 @@ int RunReplay(const Args& args) {
     }
   }
   const size_t fused_points = cloud.size();
+  std::optional<ObjectCloud> fused;  // the preview's "before"
+  if (!o.preview_dir.empty() && o.repair) fused = cloud;
   std::optional<repair::RepairReport> repair_report;
   if (o.repair) {
     try {
@@ -426,6 +456,15 @@ int RunReplay(const Args& args) {
   const auto t_repaired = std::chrono::steady_clock::now();
   io::WriteCloudPly(o.output_path, cloud);
   const auto t_written = std::chrono::steady_clock::now();
+  std::string preview_path;
+  if (!o.preview_dir.empty()) {
+    try {
+      preview_path = WritePreview(o.preview_dir, o.output_path, fused ? &*fused : nullptr, cloud);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "graspfill replay: %s\n", e.what());
+      return 1;
+    }
+  }
   if (o.publish) {
     rt::LcmPublisher publisher(o.lcm_url);
     publisher.PublishCloud(o.channels.object_cloud, cloud);
@@ -464,6 +503,8 @@ int RunReplay(const Args& args) {
   report["clock_jumps"] = sequencer.counters().clock_jumps;
   report["frames_skipped_clock_jump"] = sequencer.counters().skipped_clock_jump;
   report["published"] = o.publish ? o.channels.object_cloud : "";
+  report["preview"] = preview_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(preview_path);
+  report["software_version"] = io::SoftwareVersion();
   const double repair_ms = Ms(t_repaired - t_extracted);
   const size_t points_added = cloud.size() - fused_points;
   if (repair_report) {
@@ -509,6 +550,7 @@ int RunReplay(const Args& args) {
     std::printf("%s\n", RefineSummary(sequencer.pipeline()).c_str());
     std::printf("object cloud: %zu points -> %s%s%s\n", cloud.size(), o.output_path.c_str(),
                 o.publish ? ", published on " : "", o.publish ? o.channels.object_cloud.c_str() : "");
+    if (!preview_path.empty()) std::printf("preview: %s\n", preview_path.c_str());
     std::printf("per frame: crop %.3f ms, claw mask %.3f ms, integrate %.3f ms; "
                 "replay %.1f fps; extract %.1f ms\n",
                 stats.crop.mean_ms(), stats.mask.mean_ms(), stats.integrate.mean_ms(), fps,

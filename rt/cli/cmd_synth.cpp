@@ -32,6 +32,7 @@
 #include "commands.hpp"
 #include "number_parsing.hpp"
 #include "output_dir.hpp"
+#include "progress.hpp"
 #include "graspfill/io/atomic_file.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
@@ -307,6 +308,7 @@ json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::Chann
   }
   return {
       {"format", "graspfill-synth-scene/1"},
+      {"software_version", io::SoftwareVersion()},
       {"frames_doc", "geometry in the gripper frame G (origin palm face centre, +z approach); "
                      "T_A_B maps points from B to A; meters, microseconds"},
       {"object", object},
@@ -459,11 +461,14 @@ int Run(const SynthOptions& o) {
     const int64_t start_utime = timeline.empty() ? config.motion.start_utime : timeline.front().utime;
     log.Write(channels.session, start_utime,
               io::EncodeSessionDescription(SessionOf(scene, start_utime, o)));
+    ProgressLine progress("synth", "frames", config.num_frames);
+    int64_t frames_done = 0;
     for (const synth::TimelineEvent& event : timeline) {
       if (event.kind == synth::TimelineEvent::Kind::kDepth) {
         const DepthFrame frame = renderer.Render(event.index);
         log.Write(channels.depth, event.utime,
                   io::EncodeDepthImage(frame, io::DepthEncoding::kZlib16, 0.001));
+        progress.Update(++frames_done);
       } else {
         // The rig's errors: the true pose at the robot's clock, then the
         // hand-eye error and this state's noise (identity by default).

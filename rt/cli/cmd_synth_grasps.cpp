@@ -10,6 +10,7 @@
 #include "commands.hpp"
 #include "number_parsing.hpp"
 #include "output_dir.hpp"
+#include "progress.hpp"
 #include "graspfill/io/atomic_file.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
@@ -75,6 +76,10 @@ int RunSynthGrasps(const SynthGraspsOptions& o) {
     rt::LcmLogWriter log((dir / "recording.lcmlog").string(), o.force);
     nlohmann::ordered_json grasps = nlohmann::json::array();
     std::string claw_text;  // the first grasp's claw, as rendered
+    int64_t total_frames = 0;
+    for (const synth::SceneConfig& c : configs) total_frames += c.num_frames;
+    ProgressLine progress("synth", "frames", total_frames);
+    int64_t frames_done = 0;
     for (size_t k = 0; k < configs.size(); ++k) {
       const int64_t grasp_id = static_cast<int64_t>(k) + 1;
       const synth::Scene scene(configs[k]);
@@ -100,6 +105,7 @@ int RunSynthGrasps(const SynthGraspsOptions& o) {
           log.Write(channels.depth, event.utime,
                     io::EncodeDepthImage(renderer.Render(event.index),
                                          io::DepthEncoding::kZlib16, 0.001));
+          progress.Update(++frames_done);
         } else {
           GripperState state = scene.GripperStateAt(event.utime);
           state.grasp_id = grasp_id;
@@ -126,12 +132,14 @@ int RunSynthGrasps(const SynthGraspsOptions& o) {
                         {"first_utime", timeline.front().utime},
                         {"last_utime", timeline.back().utime},
                         {"ground_truth", gdir.filename().string() + "/gt_cloud.ply"}});
+      progress.Clear();  // the grasp's line on a line of its own
       std::printf("grasp %lld: %s, %d depth frames + %lld gripper states\n",
                   static_cast<long long>(grasp_id), o.shapes[k].c_str(), configs[k].num_frames,
                   static_cast<long long>(states));
     }
     log.Close();
     const nlohmann::ordered_json doc = {{"format", "graspfill-synth-grasps/1"},
+                                        {"software_version", io::SoftwareVersion()},
                                         {"claw", o.claw},
                                         {"grasp", o.grasp},
                                         {"log", "recording.lcmlog"},

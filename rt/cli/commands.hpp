@@ -23,5 +23,6 @@ int RunBenchRepairPipeline(const Args& args);  // cmd_bench_pipeline.cpp
 int RunBenchLive(const Args& args);  // cmd_bench_live.cpp
 int RunClaw(const Args& args);    // cmd_claw.cpp
 int RunConfig(const Args& args);  // cmd_config.cpp
+int RunView(const Args& args);    // cmd_view.cpp
 
 }  // namespace graspfill::cli

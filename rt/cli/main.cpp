@@ -6,8 +6,11 @@
 #include <cstdlib>
 #include <exception>
 #include <string>
+#include <vector>
 
 #include "commands.hpp"
+#include "graspfill/io/messages.hpp"
+#include "progress.hpp"
 
 namespace {
 
@@ -49,7 +52,10 @@ void PrintUsage() {
       "  repair  fill the claw holes and the unseen top of an object cloud\n"
       "  claw    write a claw (built-in, description or URDF) posed at an opening as PLY\n"
       "  config  the rig config: --dump-defaults (documented YAML), --check FILE\n"
-      "run `graspfill <command> --help` for the command's options\n");
+      "  view    a picture (PNG) of clouds in their provenance colours, before / after\n"
+      "run `graspfill <command> --help` for the command's options\n"
+      "options of every command: --quiet (no progress line on a terminal)\n"
+      "graspfill --version: the version\n");
 }
 
 }  // namespace
@@ -61,8 +67,21 @@ int main(int argc, char** argv) {
     PrintUsage();
     return 2;
   }
+  // Piped or redirected, stdout would be written in 4 KiB blocks: a
+  // command's rows (bench repair's cases) would come at its end, not as
+  // they are made.
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   const std::string command = argv[1];
-  const graspfill::cli::Args args(argv + 2, argv + argc);
+  if (command == "--version") {
+    std::printf("%s\n", graspfill::io::SoftwareVersion().c_str());
+    return 0;
+  }
+  // --quiet is every command's: taken off before the command reads its own.
+  graspfill::cli::Args args;
+  for (int i = 2; i < argc; ++i) {
+    if (std::string(argv[i]) == "--quiet") graspfill::cli::ProgressQuiet() = true;
+    else args.emplace_back(argv[i]);
+  }
   try {
     if (command == "synth") return graspfill::cli::RunSynth(args);
     if (command == "replay") return graspfill::cli::RunReplay(args);
@@ -74,6 +93,7 @@ int main(int argc, char** argv) {
     if (command == "repair") return graspfill::cli::RunRepair(args);
     if (command == "claw") return graspfill::cli::RunClaw(args);
     if (command == "config") return graspfill::cli::RunConfig(args);
+    if (command == "view") return graspfill::cli::RunView(args);
     if (command == "--help" || command == "-h" || command == "help") {
       PrintUsage();
       return 0;

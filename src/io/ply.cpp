@@ -4,7 +4,9 @@
 // allocated); other mesh formats (STL, OBJ) through Open3D.
 #include "graspfill/io/ply.hpp"
 
+#include "graspfill/core/provenance_colors.hpp"
 #include "graspfill/io/atomic_file.hpp"
+#include "graspfill/io/messages.hpp"
 #include "ply_parser.hpp"
 
 #include <open3d/geometry/TriangleMesh.h>
@@ -130,9 +132,11 @@ void WriteCloudPly(const std::string& path, const ObjectCloud& cloud) {
   const Eigen::Vector3d& t = cloud.T_C_G.translation();
 
   std::string bytes;
-  bytes.reserve(512 + n * (has_normals ? 25 : 13));
+  bytes.reserve(640 + n * (16 + (has_normals ? 12 : 0) + (has_confidence ? 4 : 0)));
   bytes += "ply\nformat binary_little_endian 1.0\n";
   bytes += "comment graspfill object cloud, gripper frame G, meters\n";
+  // The version only (no date): the same cloud must give the same bytes.
+  bytes += "comment graspfill software " + SoftwareVersion() + "\n";
   bytes += "comment graspfill frame_name " + frame_name + "\n";
   bytes += "comment graspfill utime " + std::to_string(cloud.utime) + "\n";
   bytes += "comment graspfill seq " + std::to_string(cloud.seq) + "\n";
@@ -141,6 +145,7 @@ void WriteCloudPly(const std::string& path, const ObjectCloud& cloud) {
            FormatDouble(q.w()) + " " + FormatDouble(q.x()) + " " +
            FormatDouble(q.y()) + " " + FormatDouble(q.z()) + "\n";
   bytes += "comment provenance: 0 observed, 1 surface repair, 2 symmetry\n";
+  bytes += "comment red green blue: the provenance's colour, for viewers\n";
   bytes += "element vertex " + std::to_string(n) + "\n";
   bytes += "property float x\nproperty float y\nproperty float z\n";
   if (has_normals) {
@@ -148,6 +153,7 @@ void WriteCloudPly(const std::string& path, const ObjectCloud& cloud) {
   }
   bytes += "property uchar provenance\n";
   if (has_confidence) bytes += "property float confidence\n";
+  bytes += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   bytes += "end_header\n";
   for (size_t i = 0; i < n; ++i) {
     for (int k = 0; k < 3; ++k) AppendFloat(&bytes, cloud.points_G[i][k]);
@@ -158,6 +164,7 @@ void WriteCloudPly(const std::string& path, const ObjectCloud& cloud) {
         cloud.provenance.empty() ? Provenance::kObserved : cloud.provenance[i];
     bytes.push_back(static_cast<char>(p));
     if (has_confidence) AppendFloat(&bytes, cloud.confidence[i]);
+    for (const uint8_t c : ProvenanceColor(p)) bytes.push_back(static_cast<char>(c));
   }
   WriteFile("cannot write PLY", path, bytes);
 }

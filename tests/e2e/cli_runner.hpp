@@ -15,13 +15,8 @@ struct CliResult {
   std::string output;  ///< stdout and stderr together
 };
 
-/// Runs `graspfill <args>` with LCM on the in-process memq:// provider so
-/// that no test traffic leaves the process. `shell_prefix`, if given, runs
-/// first in the same shell (e.g. "trap '' XFSZ; ulimit -f 16; " for a
-/// full disk).
-inline CliResult RunCli(const std::string& args, const std::string& shell_prefix = "") {
-  const std::string command =
-      shell_prefix + "LCM_DEFAULT_URL=memq:// " GRASPFILL_CLI " " + args + " 2>&1";
+/// Runs the shell command `command`, keeping what it printed on stdout.
+inline CliResult RunShell(const std::string& command) {
   CliResult result;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return result;
@@ -31,6 +26,14 @@ inline CliResult RunCli(const std::string& args, const std::string& shell_prefix
   const int status = pclose(pipe);
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
+}
+
+/// Runs `graspfill <args>` with LCM on the in-process memq:// provider so
+/// that no test traffic leaves the process. `shell_prefix`, if given, runs
+/// first in the same shell (e.g. "trap '' XFSZ; ulimit -f 16; " for a
+/// full disk).
+inline CliResult RunCli(const std::string& args, const std::string& shell_prefix = "") {
+  return RunShell(shell_prefix + "LCM_DEFAULT_URL=memq:// " GRASPFILL_CLI " " + args + " 2>&1");
 }
 
 /// A fresh, empty scratch folder under the build tree.

@@ -8,6 +8,7 @@
 #include <functional>
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -15,7 +16,11 @@
 #include <random>
 #include <stdexcept>
 
+#include <open3d/geometry/PointCloud.h>
+#include <open3d/io/PointCloudIO.h>
+
 #include "file_size_limit.hpp"
+#include "graspfill/core/provenance_colors.hpp"
 
 namespace graspfill::io {
 namespace {
@@ -80,11 +85,12 @@ TEST_F(PlyIoTest, CloudRoundTripKeepsPointsNormalsProvenanceAndPose) {
   const std::string bytes = ReadBytes(Path("cloud.ply"));
   EXPECT_NE(bytes.find("format binary_little_endian 1.0\n"), std::string::npos);
   EXPECT_NE(bytes.find("property float nx\n"), std::string::npos);
-  EXPECT_NE(bytes.find("property uchar provenance\nend_header\n"),
+  EXPECT_NE(bytes.find("property uchar provenance\nproperty uchar red\nproperty uchar green\n"
+                       "property uchar blue\nend_header\n"),
             std::string::npos);
-  // 257 vertices of 6 floats + 1 byte after the header.
+  // 257 vertices of 6 floats + 4 bytes after the header.
   const size_t header = bytes.find("end_header\n") + 11;
-  EXPECT_EQ(bytes.size() - header, 257u * 25u);
+  EXPECT_EQ(bytes.size() - header, 257u * 28u);
 }
 
 TEST_F(PlyIoTest, CloudWithoutNormalsOrProvenance) {
@@ -113,6 +119,32 @@ TEST_F(PlyIoTest, ConfidenceRoundTripsAndIsChecked) {
   cloud.confidence.clear();
   WriteCloudPly(Path("none.ply"), cloud);
   EXPECT_TRUE(ReadCloudPly(Path("none.ply")).confidence.empty());
+}
+
+// Viewers that know nothing of `provenance` (Open3D, MeshLab) show the
+// provenance's colour; the header names the version that wrote the file.
+TEST_F(PlyIoTest, ColoursByProvenanceAndVersionComment) {
+  const ObjectCloud cloud = SomeCloud(false);
+  WriteCloudPly(Path("rgb.ply"), cloud);
+  open3d::geometry::PointCloud o3d;
+  ASSERT_TRUE(open3d::io::ReadPointCloud(Path("rgb.ply"), o3d));
+  ASSERT_EQ(o3d.colors_.size(), cloud.size());
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    const Rgb8 expected = ProvenanceColor(cloud.provenance[i]);
+    for (int k = 0; k < 3; ++k) {
+      ASSERT_EQ(std::lround(o3d.colors_[i][k] * 255.0), expected[k]) << "point " << i;
+    }
+  }
+  // The three colours differ, so a viewer tells the provenances apart.
+  EXPECT_NE(ProvenanceColor(Provenance::kObserved), ProvenanceColor(Provenance::kSurface));
+  EXPECT_NE(ProvenanceColor(Provenance::kObserved), ProvenanceColor(Provenance::kSymmetry));
+  EXPECT_NE(ProvenanceColor(Provenance::kSurface), ProvenanceColor(Provenance::kSymmetry));
+  // The provenance property still reads back as it was written.
+  EXPECT_EQ(ReadCloudPly(Path("rgb.ply")).provenance, cloud.provenance);
+  const std::string bytes = ReadBytes(Path("rgb.ply"));
+  const std::string header = bytes.substr(0, bytes.find("end_header\n"));
+  EXPECT_NE(header.find("\ncomment graspfill software graspfill " GRASPFILL_PROJECT_VERSION "\n"),
+            std::string::npos) << header;
 }
 
 TEST_F(PlyIoTest, SameCloudGivesSameBytes) {

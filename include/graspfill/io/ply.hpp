@@ -19,9 +19,12 @@ namespace graspfill::io {
 /// Vertex properties, in this order: float x y z (gripper frame G, meters),
 /// float nx ny nz (only if cloud.normals_G is non-empty), uchar provenance
 /// (Provenance values; all kObserved if cloud.provenance is empty), float
-/// confidence (only if cloud.confidence is non-empty). The
-/// header carries the cloud's frame_name, utime, seq and T_C_G as comments,
-/// read back by ReadCloudPly. The same cloud always gives the same bytes.
+/// confidence (only if cloud.confidence is non-empty), uchar red green blue
+/// (the provenance's colour, core/provenance_colors.hpp, for viewers that
+/// ignore `provenance`). The header carries the cloud's frame_name, utime,
+/// seq and T_C_G as comments, read back by ReadCloudPly, and the software
+/// version ("comment graspfill software graspfill X.Y.Z"). The same cloud
+/// always gives the same bytes.
 /// A cloud with zero points is written (a valid, empty PLY).
 ///
 /// Written by hand rather than with Open3D's t::io::WritePointCloud: the
@@ -36,7 +39,7 @@ void WriteCloudPly(const std::string& path, const ObjectCloud& cloud);
 ///
 /// Normals are read if present. Provenance comes from a `provenance`
 /// property if present (values must be 0..2), else every point is
-/// kObserved; confidence from a `confidence` property (values in [0, 1]),
+/// kObserved (colours say nothing of it: they are ignored); confidence from a `confidence` property (values in [0, 1]),
 /// else empty. frame_name, utime, seq and T_C_G come from WriteCloudPly's
 /// header comments if present, else keep ObjectCloud's defaults. Holes and
 /// timings are not stored in PLY and come back empty.
