@@ -27,6 +27,7 @@
 #include <fcntl.h>
 #include <filesystem>
 #include <lcm/lcm-cpp.hpp>
+#include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -77,10 +78,12 @@ double MsBetween(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
-// The recording, held in memory: decoded for in-process play, raw for the bus.
+// The recording: read from the file as it plays in-process (as a replay
+// does: holding 900 decoded frames would take GBs), raw in memory for the bus.
 struct Recording {
+  std::string path;
   std::optional<io::SessionDescription> session;
-  std::vector<rt::SourceEvent> events;  // depth and gripper states, in log order
+  std::vector<int64_t> depth_utimes;    // in log order
   std::vector<io::LogEvent> raw;        // every event of our channels, in log order
   std::vector<int64_t> raw_depth_utime; // beside raw: a depth frame's utime, else 0
   io::ChannelNames channels;
@@ -93,24 +96,27 @@ int64_t UtimeOf(const rt::SourceEvent& e) {
   return e.kind == rt::SourceEvent::Kind::kDepth ? e.depth.utime : e.gripper.utime;
 }
 
-Recording LoadRecording(const std::string& path) {
-  Recording rec;
+std::unique_ptr<rt::LcmLogSource> OpenSource(const std::string& path) {
   rt::LcmLogSource::Config config;
   config.path = path;
   config.session_events = true;
-  rt::LcmLogSource source(config);
+  return std::make_unique<rt::LcmLogSource>(config);
+}
+
+Recording LoadRecording(const std::string& path) {
+  Recording rec;
+  rec.path = path;
+  const auto source = OpenSource(path);
   rt::SourceEvent event;
-  for (rt::FrameResult r; (r = source.Next(&event)) != rt::FrameResult::kEndOfStream;) {
+  for (rt::FrameResult r; (r = source->Next(&event)) != rt::FrameResult::kEndOfStream;) {
     if (r != rt::FrameResult::kOk) continue;  // counted by replay; a benchmark plays the rest
     if (event.kind == rt::SourceEvent::Kind::kSession) {
       if (!rec.session) rec.session = event.session;
-      continue;
-    }
-    if (event.kind == rt::SourceEvent::Kind::kDepth) {
+    } else if (event.kind == rt::SourceEvent::Kind::kDepth) {
       if (rec.depth_frames++ == 0) rec.first_utime = event.depth.utime;
       rec.last_utime = std::max(rec.last_utime, event.depth.utime);
+      rec.depth_utimes.push_back(event.depth.utime);
     }
-    rec.events.push_back(event);
   }
   if (rec.depth_frames < 2) throw std::runtime_error("'" + path + "' has fewer than 2 depth frames");
   io::LcmLogReader reader(path);
@@ -155,9 +161,7 @@ class LatencyProbe {
  public:
   explicit LatencyProbe(const Recording& rec, int loops) {
     for (int loop = 0; loop < loops; ++loop) {
-      for (const rt::SourceEvent& e : rec.events) {
-        if (e.kind == rt::SourceEvent::Kind::kDepth) index_.emplace(Shift(rec, e.depth.utime, loop), index_.size());
-      }
+      for (const int64_t utime : rec.depth_utimes) index_.emplace(Shift(rec, utime, loop), index_.size());
     }
     sent_ns_ = std::vector<std::atomic<int64_t>>(index_.size());
   }
@@ -269,20 +273,21 @@ RunResult RunInProcess(const Recording& rec, const RunSpec& spec) {
   const Clock::time_point start = Clock::now();
   std::atomic<double> rss_minute1{0.0};
   std::thread player([&] {
+    rt::SourceEvent e;
     for (int loop = 0; loop < loops; ++loop) {
-      for (const rt::SourceEvent& e : rec.events) {
+      const auto source = OpenSource(rec.path);
+      for (rt::FrameResult r; (r = source->Next(&e)) != rt::FrameResult::kEndOfStream;) {
+        if (r != rt::FrameResult::kOk || e.kind == rt::SourceEvent::Kind::kSession) continue;
         const int64_t shifted = LatencyProbe::Shift(rec, UtimeOf(e), loop);
         WaitForRecordingTime(start, shifted - rec.first_utime, spec.speed);
         if (e.kind == rt::SourceEvent::Kind::kDepth) {
-          DepthFrame frame = e.depth;
-          frame.utime = shifted;
+          e.depth.utime = shifted;
           probe.Sent(shifted);
-          live.OnDepth(frame);
+          live.OnDepth(e.depth);
           ++result.frames_sent;
         } else {
-          GripperState state = e.gripper;
-          state.utime = shifted;
-          live.OnGripperState(state);
+          e.gripper.utime = shifted;
+          live.OnGripperState(e.gripper);
         }
         if (spec.soak_s > 0.0 && rss_minute1 == 0.0 &&
             Clock::now() - start >= std::chrono::seconds(60)) {
