@@ -14,6 +14,7 @@
 #include "graspfill/synth/mesh_sampling.hpp"
 #include "graspfill/synth/renderer.hpp"
 #include "graspfill/synth/scene.hpp"
+#include "fused_scene.hpp"
 
 namespace graspfill::repair {
 namespace {
@@ -33,20 +34,8 @@ const Fused& Can() {
     sc.num_frames = 45;
     sc.seed = 5;
     const synth::Scene scene(sc);
-    const synth::SceneRenderer renderer(scene);
     Pipeline pipeline(PipelineConfig{}, scene.MakeClawModel());
-    DepthFrame frame;
-    std::string error;
-    for (const synth::TimelineEvent& e : scene.Timeline()) {
-      if (e.kind == synth::TimelineEvent::Kind::kDepth) {
-        const auto bytes = io::EncodeDepthImage(renderer.Render(e.index), io::DepthEncoding::kZlib16, 0.001);
-        EXPECT_TRUE(io::DecodeDepthImage(bytes.data(), bytes.size(), &frame, &error)) << error;
-        pipeline.AddDepthFrame(frame);
-      } else {
-        pipeline.AddGripperState(scene.GripperStateAt(e.utime));
-      }
-    }
-    pipeline.Flush();
+    testing::FuseScene(scene, &pipeline);
     Fused f;
     f.cloud = pipeline.ExtractCloud();
     f.record = pipeline.visibility();

@@ -14,6 +14,7 @@
 #include "graspfill/synth/mesh_sampling.hpp"
 #include "graspfill/synth/renderer.hpp"
 #include "graspfill/synth/scene.hpp"
+#include "fused_scene.hpp"
 
 namespace graspfill::repair {
 namespace {
@@ -39,28 +40,16 @@ const Session& Box() {
     sc.num_frames = 90;
     sc.seed = 11;
     const synth::Scene scene(sc);
-    const synth::SceneRenderer renderer(scene);
     Pipeline pipeline(PipelineConfig{}, scene.MakeClawModel());
     Session s;
-    DepthFrame frame;
-    std::string error;
-    int frames = 0;
-    for (const synth::TimelineEvent& e : scene.Timeline()) {
-      if (e.kind == synth::TimelineEvent::Kind::kDepth) {
-        const auto bytes = io::EncodeDepthImage(renderer.Render(e.index), io::DepthEncoding::kZlib16, 0.001);
-        EXPECT_TRUE(io::DecodeDepthImage(bytes.data(), bytes.size(), &frame, &error)) << error;
-        pipeline.AddDepthFrame(frame);
-        ++frames;
-      } else {
-        pipeline.AddGripperState(scene.GripperStateAt(e.utime));
-        if (frames >= kFirst && frames % kEvery == 0 &&
-            (s.snapshots.empty() || pipeline.stats().frames_integrated > s.snapshots.back().fused.seq)) {
-          Snapshot snap{pipeline.ExtractCloud(), pipeline.visibility()};
-          snap.fused.seq = pipeline.stats().frames_integrated;  // marks the snapshot's frame count
-          s.snapshots.push_back(std::move(snap));
-        }
+    testing::FuseScene(scene, &pipeline, [&](int frames) {
+      if (frames >= kFirst && frames % kEvery == 0 &&
+          (s.snapshots.empty() || pipeline.stats().frames_integrated > s.snapshots.back().fused.seq)) {
+        Snapshot snap{pipeline.ExtractCloud(), pipeline.visibility()};
+        snap.fused.seq = pipeline.stats().frames_integrated;  // marks the snapshot's frame count
+        s.snapshots.push_back(std::move(snap));
       }
-    }
+    });
     s.truth = synth::SampleSurface(scene.object_G(), 100000, 3).points;
     return s;
   }();
