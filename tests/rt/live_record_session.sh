@@ -24,14 +24,16 @@ trap 'rm -rf "$TMP"' EXIT
 "$GRASPFILL" synth --shape cylinder --frames 20 --wall-m 0 --seed 4 -o "$TMP/rec" \
     >"$TMP/synth.out" 2>&1 || { cat "$TMP/synth.out"; echo "FAIL: synth"; exit 1; }
 export GRASPFILL TMP
+export LCM_READY="$(cd "$(dirname "$0")" && pwd)/lcm_ready.sh"
 export URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608'
 unshare -n sh -c '
   ip link set lo up || exit 90
   ip route add 224.0.0.0/4 dev lo || exit 91
+  . "$LCM_READY"
   "$GRASPFILL" live --depth-from-lcm --lcm-url "$URL" --publish-every 0 --idle-exit-s 1.5 \
       --duration-s 40 --record "$TMP/session.lcmlog" >"$TMP/live.out" 2>"$TMP/live.err" &
   live=$!
-  sleep 1
+  wait_lcm_subscribed $live || exit 95
   lcm-logplayer --speed=0.25 --lcm-url="$URL" "$TMP/rec/recording.lcmlog" >"$TMP/player.out" 2>&1 || exit 92
   wait $live || exit 93
 '

@@ -27,6 +27,7 @@ trap 'rm -rf "$TMP"' EXIT
     --wall-m 0 --seed 3 -o "$TMP/rec" >"$TMP/synth.out" 2>&1 || {
   cat "$TMP/synth.out"; echo "FAIL: synth"; exit 1; }
 export GRASPFILL TMP
+export LCM_READY="$(cd "$(dirname "$0")" && pwd)/lcm_ready.sh"
 export URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608'
 
 # $1: name of the run, then live's extra flags.
@@ -36,10 +37,11 @@ run() {
   NAME=$name FLAGS="$*" unshare -n sh -c '
     ip link set lo up || exit 90
     ip route add 224.0.0.0/4 dev lo || exit 91
+    . "$LCM_READY"
     "$GRASPFILL" live --depth-from-lcm --lcm-url "$URL" --no-repair --publish-every 0 \
         --idle-exit-s 1.5 --duration-s 25 $FLAGS >"$TMP/$NAME.out" 2>"$TMP/$NAME.err" &
     live=$!
-    sleep 1
+    wait_lcm_subscribed $live || exit 95
     lcm-logplayer --lcm-url="$URL" "$TMP/rec/recording.lcmlog" >"$TMP/$NAME.player" 2>&1 || exit 92
     wait $live || exit 93
   '

@@ -25,17 +25,20 @@ fi
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 export GRASPFILL SUB LOG TMP
+export LCM_READY="$(cd "$(dirname "$0")" && pwd)/lcm_ready.sh"
 export URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608'
 
 unshare -n sh -c '
   ip link set lo up || exit 90
   ip route add 224.0.0.0/4 dev lo || exit 91
+  . "$LCM_READY"
   "$SUB" "$URL" GRASPFILL_OBJECT_CLOUD 30000 >"$TMP/sub.out" 2>"$TMP/sub.err" &
   sub=$!
   "$GRASPFILL" live --depth-from-lcm --lcm-url "$URL" --publish-every 0 \
       --idle-exit-s 1.5 --duration-s 25 >"$TMP/live.out" 2>"$TMP/live.err" &
   live=$!
-  sleep 1
+  wait_lcm_subscribed $sub || exit 95
+  wait_lcm_subscribed $live || exit 95
   lcm-logplayer --lcm-url="$URL" "$LOG" >"$TMP/player.out" 2>&1 || exit 92
   wait $live || exit 93
   wait $sub || exit 94

@@ -24,6 +24,7 @@ fi
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 export SUB PUB TMP
+export LCM_READY="$(cd "$(dirname "$0")" && pwd)/lcm_ready.sh"
 export URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608'
 export CHANNEL=GRASPFILL_TEST_UDPM_CLOUD
 
@@ -31,9 +32,10 @@ export CHANNEL=GRASPFILL_TEST_UDPM_CLOUD
 unshare -n sh -c '
   ip link set lo up || exit 90
   ip route add 224.0.0.0/4 dev lo || exit 91
+  . "$LCM_READY"
   "$SUB" "$URL" "$CHANNEL" 10000 >"$TMP/sub.out" 2>"$TMP/sub.err" &
   sub=$!
-  sleep 0.5
+  wait_lcm_subscribed $sub || exit 95
   "$PUB" "$URL" "$CHANNEL" 20000 7 >"$TMP/pub.out" 2>"$TMP/pub.err" || exit 92
   wait $sub || exit 93
 '
