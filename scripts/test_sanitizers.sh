@@ -7,7 +7,8 @@
 #     the fast, meaningful part of the suite: io (messages, PLY, LCM log
 #     reader, fuzz regressions, files), claw, core, fusion, evidence,
 #     pipeline, repair (all but evidence_repair, the suite's slowest test at
-#     70 s in Release; the repairer and bounded-repair tests run the whole
+#     70 s in Release, and incremental_repair, which fuses a grasp and
+#     repairs it 10 times; the repairer and bounded-repair tests run the whole
 #     repair), rt (log, publisher, prefetching source, CLI options, rig
 #     config, module: grasp module, cloud repair, repair stage, sequencer,
 #     live session with the recorder).
@@ -39,7 +40,7 @@ asan_tests="
   io_messages_test io_ply_test io_atomic_file_test io_output_path_test io_lcm_log_reader_test
   io_fuzz_regressions_test
   claw_model_test claw_mask_test claw_loader_test claw_validation_test urdf_claw_test mesh_file_test
-  pose_interpolation_test raycaster_test tsdf_fusion_test workspace_crop_test
+  pose_interpolation_test raycaster_test bit_grid_test tsdf_fusion_test workspace_crop_test
   visibility_record_test safe_bound_test pipeline_test
   repair_neighbor_index_test repair_analysis_cloud_test repair_outlier_removal_test
   repair_boundary_detection_test repair_boundary_linking_test repair_virtual_frame_test
@@ -48,7 +49,7 @@ asan_tests="
   repair_bounded_repair_test
   rt_lcm_log_test rt_lcm_publisher_test rt_prefetching_source_test rt_cli_options_test
   rt_config_test rt_grasp_module_test rt_cloud_repair_test rt_repair_stage_test
-  rt_grasp_sequencer_test rt_live_session_test"
+  rt_grasp_sequencer_test rt_live_session_test rt_sample_window_test"
 tsan_tests="
   rt_lcm_log_test rt_lcm_publisher_test rt_prefetching_source_test
   rt_config_test rt_grasp_module_test rt_cloud_repair_test rt_repair_stage_test
