@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <unistd.h>
 
 #include "cli_runner.hpp"
 #include "graspfill/io/lcm_log_reader.hpp"
@@ -52,8 +53,10 @@ std::string Summary(const ObjectCloud& c) {
 
 class ExamplesTest : public ::testing::Test {
  protected:
+  // CTest runs each test as a process of its own, in parallel: a folder
+  // for each.
   static void SetUpTestSuite() {
-    dir_ = ScratchDir("examples");
+    dir_ = ScratchDir("examples_" + std::to_string(getpid()));
     bus_log_ = dir_ + "/bus.lcmlog";
     const CliResult replay =
         RunCli("replay " GRASPFILL_SOURCE_DIR "/replay/default/recording.lcmlog -o " + dir_ +
@@ -74,6 +77,8 @@ class ExamplesTest : public ::testing::Test {
     ASSERT_EQ(clouds, 1);
     expected_ = Summary(published_);
   }
+
+  static void TearDownTestSuite() { std::filesystem::remove_all(dir_); }
 
   static std::string dir_;
   static std::string bus_log_;
