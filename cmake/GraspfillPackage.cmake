@@ -47,7 +47,7 @@ endfunction()
 # into the consumer's flags (no public graspfill header includes either).
 function(graspfill_write_pkg_config)
   set(libs)
-  foreach(name rt_module rt_sources rt_sinks synth eval io view pipeline refine repair
+  foreach(name rt_module rt_sources rt_sinks mesh synth eval io view pipeline refine repair
                evidence fusion claw core)
     string(APPEND libs " -lgraspfill_${name}")
   endforeach()

@@ -30,3 +30,77 @@ function(lcm_gen_cpp target)
     install(FILES ${headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/graspfill)
   endif()
 endfunction()
+
+# Bindings for planners in other languages (issue 11), generated from the
+# same .lcm files. Python needs nothing but the interpreter (the generated
+# classes use only `struct`); Java needs a JDK and LCM's own jar
+# (liblcm-java), and is skipped with a note when either is missing.
+set(GRASPFILL_INSTALL_PYTHONDIR lib/python3/dist-packages CACHE STRING
+  "Where the Python package `graspfill` (lcm-gen -p) is installed, relative to the prefix")
+set(GRASPFILL_INSTALL_JAVADIR ${CMAKE_INSTALL_DATADIR}/java CACHE STRING
+  "Where graspfill_lcmtypes.jar is installed, relative to the prefix")
+
+# lcm_gen_python(<target> FILES ...): the package `graspfill` under
+# <build>/lcmgen/python (one lcm-gen call: it writes __init__.py for all types).
+function(lcm_gen_python target)
+  cmake_parse_arguments(ARG "" "" "FILES" ${ARGN})
+  set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/lcmgen/python)
+  set(sources)
+  set(modules ${out_dir}/graspfill/__init__.py)
+  foreach(lcm_file ${ARG_FILES})
+    get_filename_component(type_name ${lcm_file} NAME_WE)
+    list(APPEND sources ${CMAKE_CURRENT_SOURCE_DIR}/${lcm_file})
+    list(APPEND modules ${out_dir}/graspfill/${type_name}.py)
+  endforeach()
+  add_custom_command(
+    OUTPUT ${modules}
+    # A fresh folder: lcm-gen adds to an existing __init__.py.
+    COMMAND ${CMAKE_COMMAND} -E rm -rf ${out_dir}/graspfill
+    COMMAND ${LCM_GEN_EXECUTABLE} --python --ppath ${out_dir} ${sources}
+    DEPENDS ${sources}
+    COMMENT "lcm-gen --python"
+    VERBATIM)
+  add_custom_target(${target} ALL DEPENDS ${modules})
+  set_target_properties(${target} PROPERTIES PYTHON_PATH ${out_dir})
+  if(GRASPFILL_INSTALL)
+    install(FILES ${modules} DESTINATION ${GRASPFILL_INSTALL_PYTHONDIR}/graspfill)
+  endif()
+endfunction()
+
+# lcm_gen_java(<target> FILES ...): graspfill_lcmtypes.jar (classes
+# graspfill.<type>), or no target when no JDK or lcm.jar is found. The
+# target's property LCM_JAR is LCM's jar (compile and run against both).
+function(lcm_gen_java target)
+  cmake_parse_arguments(ARG "" "" "FILES" ${ARGN})
+  find_package(Java 1.8 COMPONENTS Development QUIET)
+  pkg_check_modules(LCM_JAVA QUIET lcm-java)
+  if(LCM_JAVA_FOUND)
+    pkg_get_variable(lcm_jar lcm-java classpath)
+  endif()
+  if(NOT Java_FOUND OR NOT lcm_jar OR NOT EXISTS "${lcm_jar}")
+    message(STATUS "graspfill: no Java bindings (needs a JDK and liblcm-java's lcm.jar: "
+      "apt-get install default-jdk-headless liblcm-java)")
+    return()
+  endif()
+  include(UseJava)
+  set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/lcmgen/java)
+  set(sources)
+  set(java_files)
+  foreach(lcm_file ${ARG_FILES})
+    get_filename_component(type_name ${lcm_file} NAME_WE)
+    list(APPEND sources ${CMAKE_CURRENT_SOURCE_DIR}/${lcm_file})
+    list(APPEND java_files ${out_dir}/graspfill/${type_name}.java)
+  endforeach()
+  add_custom_command(
+    OUTPUT ${java_files}
+    COMMAND ${LCM_GEN_EXECUTABLE} --java --jpath ${out_dir} ${sources}
+    DEPENDS ${sources}
+    COMMENT "lcm-gen --java"
+    VERBATIM)
+  add_jar(${target} SOURCES ${java_files} INCLUDE_JARS ${lcm_jar}
+    OUTPUT_NAME graspfill_lcmtypes)
+  if(GRASPFILL_INSTALL)
+    install_jar(${target} DESTINATION ${GRASPFILL_INSTALL_JAVADIR})
+  endif()
+  set_property(TARGET ${target} PROPERTY LCM_JAR ${lcm_jar})
+endfunction()

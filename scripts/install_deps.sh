@@ -11,6 +11,7 @@ packages=(
   libgtest-dev
   liburdfdom-dev libassimp-dev libyaml-cpp-dev  # URDF claws, DAE meshes, the rig config
   iproute2 util-linux  # ip and unshare: the cross-process udpm test
+  liblcm-java default-jdk-headless  # the Java bindings and example (skipped without them)
 )
 
 missing=()

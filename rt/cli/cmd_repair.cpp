@@ -9,6 +9,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "mesh_option.hpp"
 #include "number_parsing.hpp"
 #include "preview.hpp"
 #include "graspfill/io/output_path.hpp"
@@ -19,12 +20,14 @@ namespace graspfill::cli {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: graspfill repair IN.ply -o OUT.ply [--mode paper|best] [--up X,Y,Z] [--preview DIR] [--json] [--force]\n"
+    "usage: graspfill repair IN.ply -o OUT.ply [--mode paper|best] [--up X,Y,Z] [--preview DIR]\n"
+    "                        [--mesh-out FILE.{ply,stl,obj}] [--json] [--force]\n"
     "  IN.ply     unorganized cloud in meters, any pose, normals optional\n"
     "  --mode     paper: the method as published; best (default): graspfill's\n"
     "  --up       optional hint of the direction to the missing top, input frame\n"
     "  --json     print the holes found and the time of every step as JSON\n"
     "  --preview  also a picture of the cloud before and after: DIR/<OUT's stem>.png\n"
+    "  --mesh-out the repaired cloud's closed collision mesh (and its deviation)\n"
     "  --force    overwrite OUT.ply (and the preview) if it exists\n";
 
 const char* KindName(HoleKind kind) {
@@ -68,7 +71,7 @@ nlohmann::ordered_json RepairReportJson(const repair::RepairReport& r, size_t po
 }  // namespace
 
 int RunRepair(const Args& args) {
-  std::string in, out, preview_dir;
+  std::string in, out, preview_dir, mesh_out;
   bool json = false, force = false;
   repair::RepairConfig config;
   for (size_t i = 0; i < args.size(); ++i) {
@@ -81,6 +84,8 @@ int RunRepair(const Args& args) {
       out = args[++i];
     } else if (a == "--preview" && has_value) {
       preview_dir = args[++i];
+    } else if (a == "--mesh-out" && has_value) {
+      mesh_out = args[++i];
     } else if (a == "--json") {
       json = true;
     } else if (a == "--force") {
@@ -122,8 +127,17 @@ int RunRepair(const Args& args) {
     std::fprintf(stderr, "graspfill repair: need IN.ply and -o OUT.ply\n%s", kUsage);
     return 2;
   }
+  if (!mesh_out.empty()) {
+    try {
+      CheckMeshOutOption(mesh_out, out);
+    } catch (const UsageError& e) {
+      std::fprintf(stderr, "graspfill repair: %s\n%s", e.what(), kUsage);
+      return 2;
+    }
+  }
   try {
     io::CheckOutputFile(out, force);  // before the repair, not after it
+    if (!mesh_out.empty()) io::CheckOutputFile(mesh_out, force);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "graspfill repair: %s\n", e.what());
     return 1;
@@ -132,11 +146,20 @@ int RunRepair(const Args& args) {
   const ObjectCloud input = io::ReadCloudPly(in);  // throws with the path
   const repair::RepairResult result = repair::Repair(input, config);
   io::WriteCloudPly(out, result.cloud);
+  nlohmann::ordered_json report = RepairReportJson(result.report, input.size(), result.cloud.size());
+  if (!mesh_out.empty()) {
+    try {
+      report["mesh"] = WriteCollisionMesh(mesh_out, result.cloud);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "graspfill repair: collision mesh: %s\n", e.what());
+      return 1;
+    }
+  }
   // Written after the cloud: a picture only of what is on the disk.
   const std::string preview =
       preview_dir.empty() ? "" : WritePreview(preview_dir, out, &input, result.cloud);
   if (json) {
-    std::printf("%s\n", RepairReportJson(result.report, input.size(), result.cloud.size()).dump(2).c_str());
+    std::printf("%s\n", report.dump(2).c_str());
     return 0;
   }
   std::printf("%s: %zu points in, %zu out (%s)\n", in.c_str(), input.size(), result.cloud.size(),
@@ -152,6 +175,7 @@ int RunRepair(const Args& args) {
   for (const StageTiming& s : result.report.timings) total += s.ms;
   std::printf("  repair took %.1f ms -> %s\n", total, out.c_str());
   if (!preview.empty()) std::printf("  preview -> %s\n", preview.c_str());
+  if (!mesh_out.empty()) PrintCollisionMesh(report["mesh"]);
   return 0;
 }
 

@@ -27,6 +27,7 @@
 #include "commands.hpp"
 #include "config_option.hpp"
 #include "evidence_json.hpp"
+#include "mesh_option.hpp"
 #include "number_parsing.hpp"
 #include "preview.hpp"
 #include "progress.hpp"
@@ -55,6 +56,8 @@ constexpr const char* kUsage =
     "  -o, --output PATH        object cloud in the gripper frame (PLY): the fused points,\n"
     "                           then the points the repair added (property provenance:\n"
     "                           0 observed, 1 surface, 2 symmetry)\n"
+    "  --mesh-out FILE          also the model's closed collision mesh (.ply, .stl or .obj),\n"
+    "                           its deviation from the cloud printed (and in --json)\n"
     "  --no-repair              write and publish the fused cloud only\n"
     "  --repair-mode MODE       paper: the repair as published; best (default): graspfill's\n"
     "  --no-evidence            repair from the cloud alone (without what the camera saw)\n"
@@ -82,6 +85,7 @@ struct ReplayOptions {
   std::string log_path;
   std::string output_path;
   std::string preview_dir;  ///< --preview, "" = none
+  std::string mesh_out;  ///< --mesh-out, "" = none
   bool json{false};
   bool force{false};
   std::optional<std::string> claw;  ///< --claw or the config's; none = the recording's
@@ -145,6 +149,7 @@ bool Parse(const Args& args, ReplayOptions* o) {
     if (a == "--config") value(&o->config_path);  // read before (LoadConfigOption)
     else if (a == "-o" || a == "--output") value(&o->output_path);
     else if (a == "--preview") value(&o->preview_dir);
+    else if (a == "--mesh-out") value(&o->mesh_out);
     else if (a == "--json") o->json = true;
     else if (a == "--force") o->force = true;
     else if (a == "--claw") {
@@ -185,6 +190,7 @@ bool Parse(const Args& args, ReplayOptions* o) {
   if (o->log_path.empty() || o->output_path.empty()) {
     throw UsageError("need LOG and -o CLOUD.ply");
   }
+  if (!o->mesh_out.empty()) CheckMeshOutOption(o->mesh_out, o->output_path);
   return true;
 }
 
@@ -302,6 +308,7 @@ int RunReplay(const Args& args) {
   // --force) is found now, not after the whole replay.
   try {
     io::CheckOutputFile(o.output_path, o.force);
+    if (!o.mesh_out.empty()) io::CheckOutputFile(o.mesh_out, o.force);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "graspfill replay: %s\n", e.what());
     return 1;
@@ -470,6 +477,16 @@ int RunReplay(const Args& args) {
     publisher.PublishCloud(o.channels.object_cloud, cloud);
   }
   const auto t_end = std::chrono::steady_clock::now();
+  // The collision mesh of the model just written (the last grasp's).
+  nlohmann::ordered_json mesh_report;
+  if (!o.mesh_out.empty()) {
+    try {
+      mesh_report = WriteCollisionMesh(o.mesh_out, cloud);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "graspfill replay: collision mesh: %s\n", e.what());
+      return 1;
+    }
+  }
 
   const double replay_ms = Ms(t_fused - t_start);
   const double fps = stats.frames_integrated / (replay_ms / 1000.0);
@@ -535,6 +552,7 @@ int RunReplay(const Args& args) {
       {"write_ply", Ms(t_written - t_repaired)},
       {"publish", Ms(t_end - t_written)}};
   report["replay_fps"] = fps;
+  if (!o.mesh_out.empty()) report["mesh"] = mesh_report;
   if (o.json) {
     std::printf("%s\n", report.dump(2).c_str());
   } else {
@@ -572,6 +590,7 @@ int RunReplay(const Args& args) {
                   repair_report->StatusText().c_str(), points_added, claw_holes, missing_surfaces,
                   symmetry.c_str(), repair_ms);
     }
+    if (!o.mesh_out.empty()) PrintCollisionMesh(mesh_report);
   }
   return 0;
 }

@@ -2,7 +2,7 @@
 # graspfill used as its users use it (tests/install/CMakeLists.txt registers
 # one CTest test per step):
 #   install        a fresh `cmake --install` into PREFIX; the package files,
-#                  headers, libraries, CLI and data are there and name no
+#                  headers, libraries, CLI, data and planner bindings (Python, Java) are there and name no
 #                  path of this source or build tree
 #   find_package   tests/install/downstream configured against PREFIX
 #                  (find_package(graspfill)), built, and its grasp_loop run
@@ -62,6 +62,17 @@ install)
     [ -f "$PREFIX/$f" ] || fail "not installed: $f"
   done
   [ -L "$PREFIX/share/graspfill/replay" ] && fail "share/graspfill/replay is a link, not the data"
+  # The planner bindings: the Python package imports from the prefix alone;
+  # the jar is installed where the build made one (a JDK and lcm.jar found).
+  PYDIR=$PREFIX/lib/python3/dist-packages
+  [ -f "$PYDIR/graspfill/object_cloud_t.py" ] || fail "not installed: the Python package graspfill"
+  if command -v python3 >/dev/null; then
+    (cd / && PYTHONPATH=$PYDIR python3 -c 'from graspfill import object_cloud_t, hole_t') \
+      || fail "the installed Python package graspfill does not import"
+  fi
+  if [ -f "$BUILD/lcmtypes/graspfill_lcmtypes.jar" ]; then
+    [ -f "$PREFIX/share/java/graspfill_lcmtypes.jar" ] || fail "not installed: share/java/graspfill_lcmtypes.jar"
+  fi
   # Relocatable: the package files name no folder of this checkout.
   if grep -rlF -e "$SRC/" -e "$BUILD/" "$PREFIX/$libdir/cmake" "$PREFIX/$libdir/pkgconfig"; then
     fail "package files name the source or build tree (above)"

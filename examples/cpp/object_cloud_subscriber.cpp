@@ -1,0 +1,91 @@
+// A planner's side of graspfill, in C++: subscribes to the object clouds and
+// prints a summary of each. Needs only LCM and the generated header
+// <graspfill/object_cloud_t.hpp> (target graspfill::lcmtypes).
+//
+// usage: object_cloud_subscriber [URL] [--channel NAME] [--count N] [--timeout-s S]
+//   URL   LCM's URL (default: LCM_DEFAULT_URL, else UDP multicast); a bus log
+//         recorded with lcm-logger or graspfill plays as "file://LOG?speed=0"
+// Prints per cloud:
+//   seq=S utime=U grasp=G final=F points=N observed=A surface=B symmetry=C holes=H
+// Exit: 0 once N clouds (default 1) are received; 1 on a usage error, an
+// undecodable message, the end of a log or S seconds (default 10) without a
+// cloud before that.
+#include <lcm/lcm-cpp.hpp>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "graspfill/object_cloud_t.hpp"
+
+namespace {
+
+class Printer {
+ public:
+  // Called on the thread that calls handle(): prints and counts. LCM hands
+  // over the message already decoded (or skips it when decoding fails).
+  void OnCloud(const lcm::ReceiveBuffer*, const std::string&,
+               const graspfill::object_cloud_t* cloud) {
+    std::array<long long, 3> by_provenance{0, 0, 0};
+    for (int8_t p : cloud->provenance) {
+      if (p >= 0 && p < 3) ++by_provenance[p];
+    }
+    std::printf("seq=%lld utime=%lld grasp=%lld final=%d points=%d observed=%lld "
+                "surface=%lld symmetry=%lld holes=%d\n",
+                static_cast<long long>(cloud->seq), static_cast<long long>(cloud->utime),
+                static_cast<long long>(cloud->grasp_id), cloud->is_final, cloud->num_points,
+                by_provenance[graspfill::object_cloud_t::OBSERVED],
+                by_provenance[graspfill::object_cloud_t::SURFACE],
+                by_provenance[graspfill::object_cloud_t::SYMMETRY], cloud->num_holes);
+    std::fflush(stdout);
+    ++received;
+  }
+  int received{0};
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string url, channel = "GRASPFILL_OBJECT_CLOUD";
+  int count = 1;
+  int timeout_s = 10;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (a == "--channel" && has_value) channel = argv[++i];
+    else if (a == "--count" && has_value) count = std::atoi(argv[++i]);
+    else if (a == "--timeout-s" && has_value) timeout_s = std::atoi(argv[++i]);
+    else if (url.empty() && !a.empty() && a[0] != '-') url = a;
+    else {
+      std::fprintf(stderr, "usage: %s [URL] [--channel NAME] [--count N] [--timeout-s S]\n",
+                   argv[0]);
+      return 1;
+    }
+  }
+  if (count < 1 || timeout_s < 1) {
+    std::fprintf(stderr, "object_cloud_subscriber: --count and --timeout-s must be >= 1\n");
+    return 1;
+  }
+  lcm::LCM lcm(url);
+  if (!lcm.good()) {
+    std::fprintf(stderr, "object_cloud_subscriber: cannot open LCM at '%s'\n", url.c_str());
+    return 1;
+  }
+  Printer printer;
+  lcm.subscribe(channel, &Printer::OnCloud, &printer);
+  while (printer.received < count) {
+    const int status = lcm.handleTimeout(timeout_s * 1000);
+    if (status == 0) {
+      std::fprintf(stderr, "object_cloud_subscriber: no cloud on %s for %d s\n", channel.c_str(),
+                   timeout_s);
+      return 1;
+    }
+    if (status < 0) {  // a log's end, or the bus failed
+      std::fprintf(stderr, "object_cloud_subscriber: %d of %d clouds, then LCM ended\n",
+                   printer.received, count);
+      return 1;
+    }
+  }
+  return 0;
+}

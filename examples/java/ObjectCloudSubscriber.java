@@ -1,0 +1,104 @@
+// A planner's side of graspfill, in Java: subscribes to the object clouds and
+// prints a summary of each. Needs LCM's jar (liblcm-java) and
+// graspfill_lcmtypes.jar (classes graspfill.<type>, built by graspfill).
+//
+// usage: java -cp lcm.jar:graspfill_lcmtypes.jar:. ObjectCloudSubscriber
+//            [URL] [--channel NAME] [--count N] [--timeout-s S]
+//   URL   LCM's URL (default: LCM_DEFAULT_URL, else UDP multicast); a bus log
+//         plays as "file://LOG?speed=0" (at its end LCM's Java file provider
+//         prints an EOFException on stderr: harmless)
+// Prints per cloud, as the C++ example does:
+//   seq=S utime=U grasp=G final=F points=N observed=A surface=B symmetry=C holes=H
+// Exit: 0 once N clouds (default 1) are received; 1 on a usage error, an
+// undecodable message or S seconds (default 10) without a cloud before that.
+import graspfill.object_cloud_t;
+import java.io.IOException;
+import lcm.lcm.LCM;
+import lcm.lcm.LCMDataInputStream;
+import lcm.lcm.LCMSubscriber;
+
+public class ObjectCloudSubscriber implements LCMSubscriber {
+  private int received = 0;
+  private boolean failed = false;
+
+  // Runs on LCM's reader thread; main() waits on this object.
+  @Override
+  public synchronized void messageReceived(LCM lcm, String channel, LCMDataInputStream ins) {
+    try {
+      object_cloud_t cloud = new object_cloud_t(ins);
+      long[] byProvenance = new long[3];
+      for (byte p : cloud.provenance) {
+        if (p >= 0 && p < 3) ++byProvenance[p];
+      }
+      System.out.printf("seq=%d utime=%d grasp=%d final=%d points=%d observed=%d surface=%d "
+              + "symmetry=%d holes=%d%n", cloud.seq, cloud.utime, cloud.grasp_id, cloud.is_final,
+          cloud.num_points, byProvenance[object_cloud_t.OBSERVED],
+          byProvenance[object_cloud_t.SURFACE], byProvenance[object_cloud_t.SYMMETRY],
+          cloud.num_holes);
+      System.out.flush();
+      ++received;
+    } catch (IOException e) {
+      System.err.println("ObjectCloudSubscriber: undecodable message on " + channel + ": " + e);
+      failed = true;
+    }
+    notifyAll();
+  }
+
+  private static int usage() {
+    System.err.println("usage: ObjectCloudSubscriber [URL] [--channel NAME] [--count N] "
+        + "[--timeout-s S]");
+    return 1;
+  }
+
+  private static int run(String[] args) throws IOException, InterruptedException {
+    String url = null;
+    String channel = "GRASPFILL_OBJECT_CLOUD";
+    int count = 1;
+    int timeoutS = 10;
+    for (int i = 0; i < args.length; ++i) {
+      boolean hasValue = i + 1 < args.length;
+      if (args[i].equals("--channel") && hasValue) channel = args[++i];
+      else if (args[i].equals("--count") && hasValue) count = Integer.parseInt(args[++i]);
+      else if (args[i].equals("--timeout-s") && hasValue) timeoutS = Integer.parseInt(args[++i]);
+      else if (url == null && !args[i].startsWith("-")) url = args[i];
+      else return usage();
+    }
+    if (count < 1 || timeoutS < 1) return usage();
+    LCM lcm = url == null ? new LCM() : new LCM(url);
+    ObjectCloudSubscriber subscriber = new ObjectCloudSubscriber();
+    lcm.subscribe(channel, subscriber);
+    try {
+      synchronized (subscriber) {
+        // The timeout counts from the latest cloud (wait() may also wake early).
+        int seen = 0;
+        long deadline = System.nanoTime() + timeoutS * 1_000_000_000L;
+        while (subscriber.received < count && !subscriber.failed) {
+          if (subscriber.received != seen) {
+            seen = subscriber.received;
+            deadline = System.nanoTime() + timeoutS * 1_000_000_000L;
+          }
+          long leftMs = (deadline - System.nanoTime()) / 1_000_000L;
+          if (leftMs <= 0) {
+            System.err.printf("ObjectCloudSubscriber: no cloud on %s for %d s%n", channel,
+                timeoutS);
+            return 1;
+          }
+          subscriber.wait(leftMs);
+        }
+        return subscriber.failed ? 1 : 0;
+      }
+    } finally {
+      lcm.close();
+    }
+  }
+
+  public static void main(String[] args) throws IOException, InterruptedException {
+    int code;
+    try {
+      code = run(args);
+    } catch (NumberFormatException e) {
+      code = usage();
+    }
+    System.exit(code);
+  }
+}

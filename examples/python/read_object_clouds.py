@@ -1,0 +1,94 @@
+#!/usr/bin/env python3
+"""Reads graspfill's object clouds from an LCM log file and prints a summary
+of each, as the C++ and Java subscribers do:
+
+  seq=S utime=U grasp=G final=F points=N observed=A surface=B symmetry=C holes=H
+
+Debian ships no Python binding of LCM, and none is needed to read a log: the
+event format is small (below), and the classes `lcm-gen -p` made (the
+package `graspfill`, installed by graspfill under
+PREFIX/lib/python3/dist-packages) decode a message with the `struct` module
+alone.
+
+usage: read_object_clouds.py LOG [--channel NAME]
+Exit: 0 when at least one cloud was read; 1 on a missing, malformed or
+truncated log, or a log without clouds on the channel.
+"""
+import argparse
+import struct
+import sys
+
+from graspfill import object_cloud_t
+
+# One event of an LCM log (all big-endian): sync word, event number, utime
+# [us], channel length, data length, then the channel name and the data.
+SYNC_WORD = 0xEDA1DA01
+EVENT_HEADER = struct.Struct(">Iqqii")
+
+
+class LogError(Exception):
+    pass
+
+
+def read_events(path):
+    """Yields (utime, channel, data) for every event of the log at `path`."""
+    with open(path, "rb") as log:
+        while True:
+            offset = log.tell()
+            header = log.read(EVENT_HEADER.size)
+            if not header:
+                return
+            if len(header) < EVENT_HEADER.size:
+                raise LogError(f"truncated event header at byte {offset}")
+            sync, _, utime, channel_len, data_len = EVENT_HEADER.unpack(header)
+            if sync != SYNC_WORD:
+                raise LogError(f"no LCM sync word at byte {offset} (not an LCM log?)")
+            if channel_len < 0 or data_len < 0:
+                raise LogError(f"negative length in the event at byte {offset}")
+            channel = log.read(channel_len)
+            data = log.read(data_len)
+            if len(channel) < channel_len or len(data) < data_len:
+                raise LogError(f"truncated event at byte {offset}")
+            yield utime, channel.decode("utf-8", "replace"), data
+
+
+def summary(cloud):
+    by_provenance = [0, 0, 0]
+    for p in cloud.provenance:
+        if 0 <= p < 3:
+            by_provenance[p] += 1
+    return (f"seq={cloud.seq} utime={cloud.utime} grasp={cloud.grasp_id} "
+            f"final={cloud.is_final} points={cloud.num_points} "
+            f"observed={by_provenance[object_cloud_t.OBSERVED]} "
+            f"surface={by_provenance[object_cloud_t.SURFACE]} "
+            f"symmetry={by_provenance[object_cloud_t.SYMMETRY]} holes={cloud.num_holes}")
+
+
+def main():
+    parser = argparse.ArgumentParser(description="Summarize graspfill object clouds in an LCM log.")
+    parser.add_argument("log", help="LCM log file (lcm-logger, or graspfill with --lcm-url file://LOG?mode=w)")
+    parser.add_argument("--channel", default="GRASPFILL_OBJECT_CLOUD")
+    args = parser.parse_args()
+    clouds = 0
+    try:
+        for utime, channel, data in read_events(args.log):
+            if channel != args.channel:
+                continue
+            try:
+                cloud = object_cloud_t.decode(data)
+            except (ValueError, struct.error) as e:  # another type, or cut short
+                print(f"read_object_clouds: skipping the event at utime {utime}: {e}", file=sys.stderr)
+                continue
+            print(summary(cloud))
+            clouds += 1
+    except (OSError, LogError) as e:
+        print(f"read_object_clouds: {args.log}: {e}", file=sys.stderr)
+        return 1
+    if clouds == 0:
+        print(f"read_object_clouds: no object_cloud_t on {args.channel} in {args.log}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
