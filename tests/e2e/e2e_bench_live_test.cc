@@ -33,14 +33,15 @@ void CheckRun(const nlohmann::json& run, int frames) {
 }
 
 TEST(BenchLive, ReportsEveryRunItWasAskedFor) {
-  const auto r = RunCli("bench live --speeds 4 --transport both --repair both --json");
+  // 1x: at 4x a loaded machine may fuse too few of the 36 frames for a cloud.
+  const auto r = RunCli("bench live --speeds 1 --transport both --repair both --json");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto json = nlohmann::json::parse(r.output.substr(r.output.find('{')));
   const int frames = json["depth_frames"].get<int>();
   ASSERT_GT(frames, 10);
   ASSERT_EQ(json["runs"].size(), 4u);
   for (const auto& run : json["runs"]) {
-    EXPECT_EQ(run["speed"].get<double>(), 4.0);
+    EXPECT_EQ(run["speed"].get<double>(), 1.0);
     const bool udpm = run["transport"] == "udpm";
     if (udpm && run.contains("skipped")) {
       // Only for want of a private network namespace (never the host's network).
