@@ -298,7 +298,6 @@ RunResult RunInProcess(const Recording& rec, const RunSpec& spec) {
   });
   player.join();
   result.play_s = MsBetween(start, Clock::now()) / 1000.0;
-  const int64_t clouds_while_playing = probe.clouds();
   live.Run(nullptr);  // returns on the idle rule, the final model out
   result.rss_end_mb = rt::ResidentMemoryMb();
   receiving = false;
@@ -308,7 +307,6 @@ RunResult RunInProcess(const Recording& rec, const RunSpec& spec) {
   result.rss_minute1_mb = rss_minute1;
   result.last = live.Status();
   result.clouds = probe.clouds();
-  (void)clouds_while_playing;
   result.latency = probe.latency();
   return result;
 }
