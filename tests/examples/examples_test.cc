@@ -25,17 +25,7 @@ using testing::RunCli;
 using testing::ScratchDir;
 
 // Runs a shell command line; stdout and stderr together.
-CliResult RunShell(const std::string& command) {
-  CliResult result;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) return result;
-  std::array<char, 4096> buffer;
-  size_t n;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
+CliResult RunLine(const std::string& command) { return testing::RunShell(command + " 2>&1"); }
 
 // The examples' summary line, written here from graspfill's own decoding.
 std::string Summary(const ObjectCloud& c) {
@@ -103,13 +93,13 @@ TEST_F(ExamplesTest, BusCarriesTheWrittenModelWithRepairedPoints) {
 
 TEST_F(ExamplesTest, CppSubscriberPrintsThePublishedCloud) {
   const CliResult r =
-      RunShell(std::string(EXAMPLE_CPP_SUBSCRIBER) + " 'file://" + bus_log_ + "?speed=0'");
+      RunLine(std::string(EXAMPLE_CPP_SUBSCRIBER) + " 'file://" + bus_log_ + "?speed=0'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output, expected_);
 }
 
 TEST_F(ExamplesTest, CppSubscriberFailsAtTheLogsEndWithoutEnoughClouds) {
-  const CliResult r = RunShell(std::string(EXAMPLE_CPP_SUBSCRIBER) + " 'file://" + bus_log_ +
+  const CliResult r = RunLine(std::string(EXAMPLE_CPP_SUBSCRIBER) + " 'file://" + bus_log_ +
                                "?speed=0' --count 2 --timeout-s 20");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find(expected_), std::string::npos) << r.output;
@@ -122,26 +112,26 @@ std::string PythonReader(const std::string& args) {
 }
 
 TEST_F(ExamplesTest, PythonReaderPrintsThePublishedCloud) {
-  const CliResult r = RunShell(PythonReader(bus_log_));
+  const CliResult r = RunLine(PythonReader(bus_log_));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output, expected_);
 }
 
 TEST_F(ExamplesTest, PythonReaderRejectsBadLogsClearly) {
   // Not a log: the PLY.
-  CliResult r = RunShell(PythonReader(dir_ + "/cloud.ply"));
+  CliResult r = RunLine(PythonReader(dir_ + "/cloud.ply"));
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("not an LCM log"), std::string::npos) << r.output;
   // Cut short in the cloud's event.
   const std::string cut = dir_ + "/cut.lcmlog";
   std::filesystem::copy_file(bus_log_, cut, std::filesystem::copy_options::overwrite_existing);
   std::filesystem::resize_file(cut, std::filesystem::file_size(bus_log_) - 100);
-  r = RunShell(PythonReader(cut));
+  r = RunLine(PythonReader(cut));
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("truncated event"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("Traceback"), std::string::npos) << r.output;
   // No cloud on the channel asked for.
-  r = RunShell(PythonReader(bus_log_ + " --channel ELSEWHERE"));
+  r = RunLine(PythonReader(bus_log_ + " --channel ELSEWHERE"));
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("no object_cloud_t on ELSEWHERE"), std::string::npos) << r.output;
 }
@@ -150,7 +140,7 @@ TEST_F(ExamplesTest, JavaSubscriberPrintsThePublishedCloud) {
 #ifndef EXAMPLE_JAVA
   GTEST_SKIP() << "Java bindings not built (no JDK or liblcm-java)";
 #else
-  const CliResult r = RunShell(std::string(EXAMPLE_JAVA) + " -cp " EXAMPLE_JAVA_CLASSPATH
+  const CliResult r = RunLine(std::string(EXAMPLE_JAVA) + " -cp " EXAMPLE_JAVA_CLASSPATH
                                " ObjectCloudSubscriber 'file://" + bus_log_ +
                                "?speed=0' --timeout-s 30");
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -170,7 +160,7 @@ TEST(LcmSpyTest, FindsEveryGraspfillTypeThroughClasspath) {
   for (const auto& entry : std::filesystem::directory_iterator(GRASPFILL_SOURCE_DIR "/lcmtypes")) {
     types += entry.path().extension() == ".lcm";
   }
-  const CliResult r = RunShell("CLASSPATH=" EXAMPLE_TYPES_JAR " " EXAMPLE_JAVA
+  const CliResult r = RunLine("CLASSPATH=" EXAMPLE_TYPES_JAR " " EXAMPLE_JAVA
                                " -Djava.awt.headless=true -cp " EXAMPLE_LCM_JAR
                                " lcm.spy.Spy --lcm-url=memq://");
   EXPECT_NE(r.output.find("Found " + std::to_string(types) + " LCM types"), std::string::npos)

@@ -51,9 +51,7 @@ RepairConfig InG() {
   return config;
 }
 
-double Coverage(const ObjectCloud& cloud, const std::vector<Eigen::Vector3f>& truth) {
-  return eval::FractionWithin(eval::NearestDistances(truth, cloud.points_G), 0.002);
-}
+using testing::Coverage;
 
 TEST(EvidenceRepair, ClosesTheCansTopAndAddsNothingInSeenFreeSpace) {
   const Fused& can = Can();

@@ -7,6 +7,7 @@
 #include <functional>
 #include <string>
 
+#include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "graspfill/synth/renderer.hpp"
@@ -35,6 +36,11 @@ inline void FuseScene(const synth::Scene& scene, Pipeline* pipeline,
     }
   }
   pipeline->Flush();
+}
+
+/// Share of `truth` within 2 mm of `cloud` (the zoo's coverage).
+inline double Coverage(const ObjectCloud& cloud, const std::vector<Eigen::Vector3f>& truth) {
+  return eval::FractionWithin(eval::NearestDistances(truth, cloud.points_G), 0.002);
 }
 
 }  // namespace graspfill::testing

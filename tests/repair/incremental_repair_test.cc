@@ -63,9 +63,7 @@ RepairConfig InG() {
   return config;
 }
 
-double Coverage(const ObjectCloud& cloud, const std::vector<Eigen::Vector3f>& truth) {
-  return eval::FractionWithin(eval::NearestDistances(truth, cloud.points_G), 0.002);
-}
+using testing::Coverage;
 
 // The live loop's rule, without its threads: an update after every model,
 // a full repair (the new base) whenever the update says one is due.
