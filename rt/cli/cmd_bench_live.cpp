@@ -43,6 +43,7 @@
 #include "data_paths.hpp"
 #include "graspfill/io/lcm_log_reader.hpp"
 #include "graspfill/io/messages.hpp"
+#include "error_text.hpp"
 #include "module/cloud_repair.hpp"
 #include "module/live_session.hpp"
 #include "module/process_memory.hpp"
@@ -565,7 +566,7 @@ int RunBenchLive(const Args& args) {
   try {
     rec = LoadRecording(log);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "graspfill bench live: %s\n", e.what());
+    std::fprintf(stderr, "graspfill bench live: %s\n", ErrorText(e).c_str());
     return 1;
   }
   if (!json) {
@@ -609,7 +610,7 @@ int RunBenchLive(const Args& args) {
       results.push_back(r);
     }
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "graspfill bench live: %s\n", e.what());
+    std::fprintf(stderr, "graspfill bench live: %s\n", ErrorText(e).c_str());
     return 1;
   }
   if (json) {

@@ -10,6 +10,7 @@
 #include "commands.hpp"
 #include "graspfill/io/output_path.hpp"
 #include "graspfill/io/ply.hpp"
+#include "error_text.hpp"
 #include "number_parsing.hpp"
 
 namespace graspfill::cli {
@@ -77,7 +78,7 @@ int RunClaw(const Args& args) {
   try {
     io::CheckOutputFile(out, force);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "graspfill claw: %s\n", e.what());
+    std::fprintf(stderr, "graspfill claw: %s\n", ErrorText(e).c_str());
     return 1;
   }
   const claw::ClawModel model = MakeClaw(spec, mesh_root);  // throws naming the file

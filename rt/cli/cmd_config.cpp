@@ -11,6 +11,7 @@
 #include "config/rig_config.hpp"
 #include "graspfill/io/atomic_file.hpp"
 #include "graspfill/io/output_path.hpp"
+#include "error_text.hpp"
 #include "number_parsing.hpp"
 
 namespace graspfill::cli {
@@ -78,7 +79,7 @@ int RunConfig(const Args& args) {
     io::CheckOutputFile(output, force);
     io::WriteFileAtomically(output, text, "cannot write config");
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "graspfill config: %s\n", e.what());
+    std::fprintf(stderr, "graspfill config: %s\n", ErrorText(e).c_str());
     return 1;
   }
   std::printf("rig config defaults -> %s\n", output.c_str());

@@ -7,6 +7,7 @@
 
 #include "commands.hpp"
 #include "data_paths.hpp"
+#include "error_text.hpp"
 #include "graspfill/io/output_path.hpp"
 
 namespace graspfill::cli {
@@ -52,7 +53,7 @@ int RunDemo(const Args& args) {
     io::PrepareOutputDir(out_dir);
     io::CheckOutputFile(cloud, overwrite);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "graspfill demo: %s\n", e.what());
+    std::fprintf(stderr, "graspfill demo: %s\n", ErrorText(e).c_str());
     return 1;
   }
   Args replay = {recording + "/recording.lcmlog", "-o", cloud};

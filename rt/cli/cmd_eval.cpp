@@ -55,8 +55,9 @@ std::optional<std::vector<Eigen::Vector3f>> LoadCloud(const std::string& path,
                                                       const char* role) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
-    std::fprintf(stderr, "graspfill eval: %s file '%s' does not exist\n", role,
-                 path.c_str());
+    const bool exists = std::filesystem::exists(path, ec);
+    std::fprintf(stderr, "graspfill eval: %s file '%s' %s\n", role, path.c_str(),
+                 exists ? "is not a regular file" : "does not exist");
     return std::nullopt;
   }
   open3d::geometry::PointCloud cloud;

@@ -49,6 +49,7 @@
 #include "claw_option.hpp"
 #include "commands.hpp"
 #include "config_option.hpp"
+#include "error_text.hpp"
 #include "number_parsing.hpp"
 #include "graspfill/io/output_path.hpp"
 #include "graspfill/repair/repairer.hpp"
@@ -222,7 +223,7 @@ int RunLive(const Args& args) {
     try {
       io::CheckOutputFile(session_config.record.path, force);  // before the session starts
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "graspfill live: --record: %s\n", e.what());
+      std::fprintf(stderr, "graspfill live: --record: %s\n", ErrorText(e).c_str());
       return 1;
     }
   }
@@ -312,7 +313,7 @@ int RunLive(const Args& args) {
   try {
     summary = live.Run(camera_source.get(), check_session);
   } catch (const std::exception& e) {  // the recording could not be completed
-    std::fprintf(stderr, "graspfill live: %s\n", e.what());
+    std::fprintf(stderr, "graspfill live: %s\n", ErrorText(e).c_str());
     return 1;
   }
   check_session();
@@ -338,6 +339,16 @@ int RunLive(const Args& args) {
               static_cast<long long>(s.session.frames_released),
               static_cast<long long>(st.decode_errors), static_cast<long long>(st.clock_jumps),
               static_cast<long long>(st.grasps_completed), st.state.c_str());
+  if (st.decode_errors > 0) {
+    std::string reasons;
+    for (size_t i = 1; i < io::BadMessageCounts::kNumReasons; ++i) {
+      if (st.bad_messages.by_reason[i] == 0) continue;
+      reasons += std::string(reasons.empty() ? "" : ", ") +
+                 io::MessageErrorName(static_cast<io::MessageError>(i)) + " " +
+                 std::to_string(st.bad_messages.by_reason[i]);
+    }
+    std::printf("live: decode errors by reason: %s\n", reasons.c_str());
+  }
   if (!session_config.record.path.empty()) {
     std::printf("record: %lld events written to %s, %lld dropped\n",
                 static_cast<long long>(summary.records_written),

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "error_text.hpp"
 #include "mesh_option.hpp"
 #include "number_parsing.hpp"
 #include "preview.hpp"
@@ -139,7 +140,7 @@ int RunRepair(const Args& args) {
     io::CheckOutputFile(out, force);  // before the repair, not after it
     if (!mesh_out.empty()) io::CheckOutputFile(mesh_out, force);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "graspfill repair: %s\n", e.what());
+    std::fprintf(stderr, "graspfill repair: %s\n", ErrorText(e).c_str());
     return 1;
   }
   if (!preview_dir.empty() && !PreparePreview(preview_dir, out, force, "repair")) return 1;
@@ -151,7 +152,7 @@ int RunRepair(const Args& args) {
     try {
       report["mesh"] = WriteCollisionMesh(mesh_out, result.cloud);
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "graspfill repair: collision mesh: %s\n", e.what());
+      std::fprintf(stderr, "graspfill repair: collision mesh: %s\n", ErrorText(e).c_str());
       return 1;
     }
   }

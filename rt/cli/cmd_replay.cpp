@@ -26,6 +26,7 @@
 #include "claw_option.hpp"
 #include "commands.hpp"
 #include "config_option.hpp"
+#include "error_text.hpp"
 #include "evidence_json.hpp"
 #include "mesh_option.hpp"
 #include "number_parsing.hpp"
@@ -310,7 +311,7 @@ int RunReplay(const Args& args) {
     io::CheckOutputFile(o.output_path, o.force);
     if (!o.mesh_out.empty()) io::CheckOutputFile(o.mesh_out, o.force);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "graspfill replay: %s\n", e.what());
+    std::fprintf(stderr, "graspfill replay: %s\n", ErrorText(e).c_str());
     return 1;
   }
   if (!o.preview_dir.empty() && !PreparePreview(o.preview_dir, o.output_path, o.force, "replay")) {
@@ -431,7 +432,7 @@ int RunReplay(const Args& args) {
       io::WriteCloudPly(path, model);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "graspfill replay: grasp %lld: %s\n",
-                   static_cast<long long>(model.grasp_id), e.what());
+                   static_cast<long long>(model.grasp_id), ErrorText(e).c_str());
       return 1;
     }
     if (o.publish) {
@@ -456,7 +457,7 @@ int RunReplay(const Args& args) {
                                             o.evidence ? &last_seen : nullptr);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "graspfill replay: hole repair failed on the fused cloud (%zu points): %s\n"
-                   "(pass --no-repair to write the fused cloud as is)\n", fused_points, e.what());
+                   "(pass --no-repair to write the fused cloud as is)\n", fused_points, ErrorText(e).c_str());
       return 1;
     }
   }
@@ -468,7 +469,7 @@ int RunReplay(const Args& args) {
     try {
       preview_path = WritePreview(o.preview_dir, o.output_path, fused ? &*fused : nullptr, cloud);
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "graspfill replay: %s\n", e.what());
+      std::fprintf(stderr, "graspfill replay: %s\n", ErrorText(e).c_str());
       return 1;
     }
   }
@@ -483,7 +484,7 @@ int RunReplay(const Args& args) {
     try {
       mesh_report = WriteCollisionMesh(o.mesh_out, cloud);
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "graspfill replay: collision mesh: %s\n", e.what());
+      std::fprintf(stderr, "graspfill replay: collision mesh: %s\n", ErrorText(e).c_str());
       return 1;
     }
   }

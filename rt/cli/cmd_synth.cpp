@@ -30,6 +30,7 @@
 #include "cmd_synth_grasps.hpp"
 #include "cmd_synth_protocol.hpp"
 #include "commands.hpp"
+#include "error_text.hpp"
 #include "number_parsing.hpp"
 #include "output_dir.hpp"
 #include "progress.hpp"
@@ -70,6 +71,8 @@ constexpr const char* kUsage =
     "  --ideal           noise-free sensor (no noise, quantization, dropouts)\n"
     "  --wall-m D        background wall D m from the camera (default 1.4;\n"
     "                    0: none, which makes the log ~5x smaller)\n"
+    "  --width W --height H  depth image size, 16..4096 (default 640 x 480), the\n"
+    "                    same field of view (a 4096 x 4096 stream for the limits)\n"
     "  --hand-eye-error MM,DEG  logged poses off by a constant camera-frame error\n"
     "                    (MM mm in a random direction, DEG deg about a random axis)\n"
     "  --pose-noise MM,DEG  per gripper state noise in G (RMS), e.g. 0.5,0.2\n"
@@ -109,6 +112,8 @@ struct SynthOptions {
   bool help{false};
   std::optional<int> points;  ///< --protocol only
   synth::RigErrorConfig rig_errors;  ///< logged-pose errors (all off)
+  int width{CameraIntrinsics{}.width};    ///< depth image size [pixels]
+  int height{CameraIntrinsics{}.height};
   /// Options given that only a recording uses, to refuse them in protocol
   /// mode rather than silently ignore them.
   std::vector<std::string> recording_only_given;
@@ -160,7 +165,7 @@ SynthOptions Parse(const Args& args) {
     const bool recording_only = a == "--mesh" || a == "--claw" || a == "--frames" ||
                                 a == "--ideal" || a == "--wall-m" ||
                                 a == "--hand-eye-error" || a == "--pose-noise" ||
-                                a == "--clock-offset-ms";
+                                a == "--clock-offset-ms" || a == "--width" || a == "--height";
     if (recording_only) o.recording_only_given.push_back(a);
     if (a == "-h" || a == "--help") o.help = true;
     else if (a == "--protocol") o.protocol = value();
@@ -189,6 +194,8 @@ SynthOptions Parse(const Args& args) {
     } else if (a == "--clock-offset-ms") {
       o.rig_errors.clock_offset_us = std::llround(1000.0 * ParseDouble(a, value(), -90.0, 90.0, "ms"));
     }
+    else if (a == "--width") o.width = ParseInteger<int>(a, value(), 16, 4096);
+    else if (a == "--height") o.height = ParseInteger<int>(a, value(), 16, 4096);
     else if (a == "--force") o.force = true;
     else if (a == "-o" || a == "--output") o.output_dir = value();
     else throw UsageError("unknown argument '" + a + "'");
@@ -417,6 +424,7 @@ int Run(const SynthOptions& o) {
   config.num_frames = o.frames;
   if (o.ideal) config.sensor = synth::SensorModelConfig::Ideal();
   config.environment.wall_distance_m = o.wall_m;
+  config.intrinsics = synth::IntrinsicsAtResolution(o.width, o.height);
   if (o.shape) {
     config.shape = *synth::ParseShape(*o.shape);
     if (o.size) config.size_m = ParseSize(*o.size);
@@ -424,7 +432,7 @@ int Run(const SynthOptions& o) {
     try {
       config.mesh = io::ReadMesh(*o.mesh_path);
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "graspfill synth: cannot read mesh: %s\n", e.what());
+      std::fprintf(stderr, "graspfill synth: cannot read mesh: %s\n", ErrorText(e).c_str());
       return 1;
     }
     config.mesh_name = *o.mesh_path;
@@ -560,13 +568,14 @@ int RunSynth(const Args& args) {
       g.frames = options.frames;
       g.ideal = options.ideal;
       g.wall_m = options.wall_m;
+      g.intrinsics = synth::IntrinsicsAtResolution(options.width, options.height);
       g.force = options.force;
       g.output_dir = options.output_dir;
       return RunSynthGrasps(g);
     }
     return protocol_options ? RunSynthProtocol(*protocol_options) : Run(options);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "graspfill synth: error: %s\n", e.what());
+    std::fprintf(stderr, "graspfill synth: error: %s\n", ErrorText(e).c_str());
     return 1;
   }
 }

@@ -8,6 +8,7 @@
 
 #include "claw_option.hpp"
 #include "commands.hpp"
+#include "error_text.hpp"
 #include "number_parsing.hpp"
 #include "output_dir.hpp"
 #include "progress.hpp"
@@ -57,6 +58,7 @@ int RunSynthGrasps(const SynthGraspsOptions& o) {
     config.num_frames = o.frames;
     if (o.ideal) config.sensor = synth::SensorModelConfig::Ideal();
     config.environment.wall_distance_m = o.wall_m;
+    config.intrinsics = o.intrinsics;
     config.motion.start_utime = start_utime;
     configs.push_back(config);
     const synth::Scene scene(config);
@@ -146,7 +148,7 @@ int RunSynthGrasps(const SynthGraspsOptions& o) {
                                         {"grasps", grasps}};
     io::WriteFileAtomically((dir / "grasps.json").string(), doc.dump(2) + "\n");
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "graspfill synth: error: %s\n", e.what());
+    std::fprintf(stderr, "graspfill synth: error: %s\n", ErrorText(e).c_str());
     return 1;
   }
   std::printf("wrote %s: %zu grasps\n", (dir / "recording.lcmlog").string().c_str(),

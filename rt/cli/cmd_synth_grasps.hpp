@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "graspfill/types.hpp"
+
 namespace graspfill::cli {
 
 struct SynthGraspsOptions {
@@ -19,6 +21,7 @@ struct SynthGraspsOptions {
   int frames{90};                   ///< depth frames per grasp
   bool ideal{false};
   double wall_m{0.0};
+  CameraIntrinsics intrinsics;      ///< the camera (--width, --height)
   bool force{false};
   std::string output_dir;
 };

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "error_text.hpp"
 #include "number_parsing.hpp"
 #include "graspfill/io/output_path.hpp"
 #include "graspfill/io/ply.hpp"
@@ -84,7 +85,7 @@ int RunView(const Args& args) {
     std::printf("wrote %s: %zu cloud(s) x %d view(s), %d x %d pixels\n", o.output_path.c_str(),
                 clouds.size(), o.sheet.views, image.width, image.height);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "graspfill view: %s\n", e.what());
+    std::fprintf(stderr, "graspfill view: %s\n", ErrorText(e).c_str());
     return 1;
   }
   return 0;

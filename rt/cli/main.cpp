@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "error_text.hpp"
 #include "graspfill/io/messages.hpp"
 #include "progress.hpp"
 
@@ -99,7 +100,7 @@ int main(int argc, char** argv) {
       return 0;
     }
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "graspfill %s: error: %s\n", command.c_str(), e.what());
+    std::fprintf(stderr, "graspfill %s: error: %s\n", command.c_str(), graspfill::cli::ErrorText(e).c_str());
     return 1;
   }
   std::fprintf(stderr, "graspfill: unknown command '%s'\n", command.c_str());

@@ -60,7 +60,6 @@ inline std::string RefineSummary(const Pipeline& pipeline) {
   const refine::PoseRefiner& refiner = pipeline.refiner();
   if (!refiner.config().enabled) return "pose refinement: off (--refine turns it on)";
   const refine::RefineStats& r = pipeline.stats().refine;
-  const double n = r.frames_refined > 0 ? static_cast<double>(r.frames_refined) : 1.0;
   const Eigen::Isometry3d H = refiner.HandEyeCorrection();
   const Eigen::Vector3d centre = refiner.claw_centre_C();
   char line[400];

@@ -186,7 +186,8 @@ io::ModuleStatus LiveSession::Status() const {
   status.frames_dropped = s.frames_dropped + s.pipeline.frames_dropped;
   status.last_frame_ms = s.pipeline.crop.last_ms + s.pipeline.mask.last_ms +
                          s.pipeline.integrate.last_ms;
-  status.decode_errors = subscriber_ ? subscriber_->decode_errors() : 0;
+  if (subscriber_) status.bad_messages = subscriber_->bad_messages();
+  status.decode_errors = status.bad_messages.total();
   status.clock_jumps = c.clock_jumps;
   status.grasp_id = c.grasp_id;
   status.grasps_completed = c.grasps_completed;
@@ -251,7 +252,6 @@ LiveSessionSummary LiveSession::Run(FrameSource* source, std::function<void()> o
   PublishStatus();  // the final counters
   summary.module = module_->status();
   summary.states_received = subscriber_->states_received();
-  summary.decode_errors = subscriber_->decode_errors();
   summary.source_errors = source_errors_;
   summary.status = last_status_;
   {

@@ -78,7 +78,6 @@ struct LiveSessionSummary {
   GraspModuleStatus module;
   std::optional<RepairStageStatus> repair;
   int64_t states_received{0};
-  int64_t decode_errors{0};
   int64_t source_errors{0};  ///< the FrameSource's kBadFrame events
   size_t final_points{0};    ///< points of the last cloud published
   int64_t records_written{0};

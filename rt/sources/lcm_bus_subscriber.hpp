@@ -18,22 +18,7 @@
 
 namespace graspfill::rt {
 
-/// Bad messages received on our channels, per reason, cumulative since the
-/// subscriber started: for the module's status (a bad message is counted
-/// and dropped, never fatal).
-struct BadMessageCounts {
-  static constexpr size_t kNumReasons = static_cast<size_t>(io::MessageError::kCount);
-  /// Indexed by io::MessageError (kNone stays 0).
-  std::array<int64_t, kNumReasons> by_reason{};
-  int64_t operator[](io::MessageError reason) const {
-    return by_reason[static_cast<size_t>(reason)];
-  }
-  int64_t total() const {
-    int64_t sum = 0;
-    for (int64_t n : by_reason) sum += n;
-    return sum;
-  }
-};
+using io::BadMessageCounts;
 
 class LcmBusSubscriber {
  public:

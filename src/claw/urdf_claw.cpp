@@ -600,7 +600,7 @@ json ParseJson(const std::string& label, const std::string& text) {
     json doc = json::parse(text);
     if (!doc.is_object()) Fail(label, "bad JSON: top level must be an object");
     return doc;
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
     Fail(label, std::string("bad JSON: ") + e.what());
   }
 }

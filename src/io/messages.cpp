@@ -824,6 +824,11 @@ std::vector<uint8_t> EncodeModuleStatus(const ModuleStatus& status) {
   msg.full_repair_ms_p50 = status.full_repair_ms_p50;
   msg.full_repair_ms_p99 = status.full_repair_ms_p99;
   msg.rss_mb = status.rss_mb;
+  for (size_t i = 1; i < BadMessageCounts::kNumReasons; ++i) {
+    msg.bad_message_reasons.push_back(MessageErrorName(static_cast<MessageError>(i)));
+    msg.bad_messages.push_back(status.bad_messages.by_reason[i]);
+  }
+  msg.num_bad_message_reasons = static_cast<int32_t>(msg.bad_messages.size());
   return EncodeMessage(msg);
 }
 
@@ -832,8 +837,14 @@ static bool DecodeModuleStatusImpl(const void* data, size_t size, ModuleStatus* 
   if (!CheckBuffer(data, size, out, "module_status_t", error)) return false;
   WireReader r(data, size);
   if (!r.Hash(graspfill::module_status_t::getHash()) || !r.Skip(5 * 8 + 8) ||
-      !r.SkipString() || !r.Skip(1) || !r.SkipString() || !r.Skip(10 * 8 + 5 * 8 + 7 * 8) ||
-      r.remaining() != 0) {
+      !r.SkipString() || !r.Skip(1) || !r.SkipString() || !r.Skip(10 * 8 + 5 * 8 + 7 * 8)) {
+    SetError(error, "module_status_t: malformed message");
+    return false;
+  }
+  int32_t num_reasons = 0;
+  bool ok = r.Count(&num_reasons, 4 + 1 + 8);
+  for (int32_t i = 0; ok && i < num_reasons; ++i) ok = r.SkipString();
+  if (!ok || !r.Skip(8 * static_cast<size_t>(num_reasons)) || r.remaining() != 0) {
     SetError(error, "module_status_t: malformed message");
     return false;
   }
@@ -870,6 +881,20 @@ static bool DecodeModuleStatusImpl(const void* data, size_t size, ModuleStatus* 
   out->full_repair_ms_p50 = msg.full_repair_ms_p50;
   out->full_repair_ms_p99 = msg.full_repair_ms_p99;
   out->rss_mb = msg.rss_mb;
+  out->bad_messages = BadMessageCounts{};
+  std::array<bool, BadMessageCounts::kNumReasons> seen{};
+  for (size_t i = 0; i < msg.bad_message_reasons.size(); ++i) {
+    const MessageError reason = MessageErrorFromName(msg.bad_message_reasons[i]);
+    const auto index = static_cast<size_t>(reason);
+    if (reason == MessageError::kNone || seen[index] || msg.bad_messages[i] < 0) {
+      SetError(error, "module_status_t: bad message reason '" + msg.bad_message_reasons[i] +
+                          "' unknown, repeated or with a negative count",
+               MessageError::kBadValue);
+      return false;
+    }
+    seen[index] = true;
+    out->bad_messages.by_reason[index] = msg.bad_messages[i];
+  }
   return true;
 }
 
@@ -1078,6 +1103,14 @@ const char* MessageErrorName(MessageError reason) {
     case MessageError::kCount: break;
   }
   return "unknown";
+}
+
+MessageError MessageErrorFromName(const std::string& name) {
+  for (size_t i = 1; i < BadMessageCounts::kNumReasons; ++i) {
+    const auto reason = static_cast<MessageError>(i);
+    if (name == MessageErrorName(reason)) return reason;
+  }
+  return MessageError::kNone;
 }
 
 bool IntrinsicsInRange(const CameraIntrinsics& K, std::string* why) {

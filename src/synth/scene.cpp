@@ -80,6 +80,20 @@ claw::ClawModel MakeClaw(ClawType type, const claw::ProceduralClawConfig& config
 
 }  // namespace
 
+CameraIntrinsics IntrinsicsAtResolution(int width, int height, const CameraIntrinsics& base) {
+  const double sx = static_cast<double>(width) / base.width;
+  const double sy = static_cast<double>(height) / base.height;
+  CameraIntrinsics K;
+  K.width = width;
+  K.height = height;
+  K.fx = base.fx * sx;
+  K.fy = base.fy * sy;
+  // Pixel centres: the image's centre stays the centre.
+  K.cx = (base.cx + 0.5) * sx - 0.5;
+  K.cy = (base.cy + 0.5) * sy - 0.5;
+  return K;
+}
+
 std::string ClawTypeName(ClawType claw) {
   return claw == ClawType::kParallel ? "parallel" : "three-finger";
 }

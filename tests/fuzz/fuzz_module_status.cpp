@@ -16,6 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   FUZZ_CHECK(io::DecodeModuleStatus(bytes.data(), bytes.size(), &back, &error));
   FUZZ_CHECK(back.utime == status.utime && back.frames_in == status.frames_in &&
              back.frames_used == status.frames_used && back.frames_skipped == status.frames_skipped &&
-             back.frames_dropped == status.frames_dropped && back.state == status.state);
+             back.frames_dropped == status.frames_dropped && back.state == status.state &&
+             back.bad_messages.by_reason == status.bad_messages.by_reason);
   return 0;
 }

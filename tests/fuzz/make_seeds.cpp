@@ -73,6 +73,8 @@ int main(int argc, char** argv) {
   io::ModuleStatus status;
   status.frames_in = 10;
   status.state = "running";
+  status.bad_messages.by_reason[static_cast<size_t>(io::MessageError::kBadPose)] = 2;
+  status.decode_errors = 2;
 
   const auto depth_raw = io::EncodeDepthImage(frame, io::DepthEncoding::kRaw16);
   const auto depth_zlib = io::EncodeDepthImage(frame, io::DepthEncoding::kZlib16);

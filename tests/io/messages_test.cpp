@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +14,7 @@
 
 #include <graspfill/depth_image_t.hpp>
 #include <graspfill/gripper_state_t.hpp>
+#include <graspfill/module_status_t.hpp>
 #include <graspfill/object_cloud_t.hpp>
 #include <graspfill/session_description_t.hpp>
 
@@ -614,6 +616,9 @@ TEST(ModuleStatusMessage, RoundTrip) {
   status.full_repair_ms_p50 = 110.0;
   status.full_repair_ms_p99 = 180.5;
   status.rss_mb = 101.25;
+  status.bad_messages.by_reason[static_cast<size_t>(MessageError::kMalformed)] = 18;
+  status.bad_messages.by_reason[static_cast<size_t>(MessageError::kNonMonotonicTime)] = 2;
+  status.decode_errors = status.bad_messages.total();
   const auto bytes = EncodeModuleStatus(status);
   ModuleStatus out;
   std::string error;
@@ -636,7 +641,48 @@ TEST(ModuleStatusMessage, RoundTrip) {
   EXPECT_EQ(out.frames_dropped, 3);
   EXPECT_EQ(out.last_frame_ms, 12.5);
   EXPECT_EQ(out.state, "running");
+  EXPECT_EQ(out.decode_errors, 20);
+  EXPECT_EQ(out.bad_messages[MessageError::kMalformed], 18);
+  EXPECT_EQ(out.bad_messages[MessageError::kNonMonotonicTime], 2);
+  EXPECT_EQ(out.bad_messages.total(), 20);
   EXPECT_FALSE(DecodeModuleStatus(bytes.data(), bytes.size() - 1, &out, &error));
+}
+
+// The per-reason counts are named on the wire: planners read them without
+// our enum, and a name we do not know, a repeated one or a negative count
+// is a bad message, not a silently wrong count.
+TEST(ModuleStatusMessage, BadMessageReasonsByName) {
+  ModuleStatus status;
+  status.bad_messages.by_reason[static_cast<size_t>(MessageError::kBadPose)] = 3;
+  graspfill::module_status_t msg;
+  const auto bytes = EncodeModuleStatus(status);
+  ASSERT_EQ(msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())),
+            static_cast<int>(bytes.size()));
+  ASSERT_EQ(msg.num_bad_message_reasons, static_cast<int32_t>(MessageError::kCount) - 1);
+  const auto it = std::find(msg.bad_message_reasons.begin(), msg.bad_message_reasons.end(),
+                            "bad_pose");
+  ASSERT_NE(it, msg.bad_message_reasons.end());
+  EXPECT_EQ(msg.bad_messages[static_cast<size_t>(it - msg.bad_message_reasons.begin())], 3);
+
+  auto decodes = [](const graspfill::module_status_t& m, MessageError* reason) {
+    std::vector<uint8_t> b(static_cast<size_t>(m.getEncodedSize()));
+    m.encode(b.data(), 0, static_cast<int>(b.size()));
+    ModuleStatus out;
+    std::string error;
+    return DecodeModuleStatus(b.data(), b.size(), &out, &error, reason);
+  };
+  MessageError reason = MessageError::kNone;
+  EXPECT_TRUE(decodes(msg, &reason));
+  graspfill::module_status_t unknown = msg;
+  unknown.bad_message_reasons[0] = "cosmic_ray";
+  EXPECT_FALSE(decodes(unknown, &reason));
+  EXPECT_EQ(reason, MessageError::kBadValue);
+  graspfill::module_status_t repeated = msg;
+  repeated.bad_message_reasons[1] = repeated.bad_message_reasons[0];
+  EXPECT_FALSE(decodes(repeated, &reason));
+  graspfill::module_status_t negative = msg;
+  negative.bad_messages[0] = -1;
+  EXPECT_FALSE(decodes(negative, &reason));
 }
 
 TEST(MessageChannelNames, Defaults) {

@@ -4,9 +4,12 @@
 
 #include <cstdint>
 #include <limits>
+#include <new>
+#include <stdexcept>
 #include <string>
 
 #include "claw_option.hpp"
+#include "error_text.hpp"
 #include "number_parsing.hpp"
 
 namespace graspfill::cli {
@@ -154,4 +157,15 @@ TEST(SessionClaw, ClawsThatCannotBeBuiltSaySo) {
 }
 
 }  // namespace
+// Allocation failures reach the user as what happened, not as the
+// library's "std::bad_alloc"; every other message is passed on as it is.
+TEST(ErrorText, NamesAllocationFailuresInWords) {
+  EXPECT_EQ(ErrorText(std::bad_alloc()).find("std::bad_alloc"), std::string::npos);
+  EXPECT_NE(ErrorText(std::bad_alloc()).find("out of memory"), std::string::npos);
+  const std::string too_long =
+      ErrorText(std::length_error("cannot create std::vector larger than max_size()"));
+  EXPECT_EQ(too_long.rfind("a size beyond what can be allocated", 0), 0u) << too_long;
+  EXPECT_EQ(ErrorText(std::runtime_error("cannot open log 'x'")), "cannot open log 'x'");
+}
+
 }  // namespace graspfill::cli

@@ -4,12 +4,16 @@
 # plays the bundled recording (depth + gripper states), `graspfill live`
 # fuses and repairs it and publishes the object cloud, a separate subscriber
 # receives it (with the repair's added points and holes).
-# usage: live_udpm_session.sh <graspfill> <cloud_subscriber> <recording.lcmlog>
+# With <bad_bus_log>, the recording is first damaged by it (bit flips,
+# truncations, bad intrinsics, bad poses): live must still model the object
+# and its status must count every damaged message by its reason.
+# usage: live_udpm_session.sh <graspfill> <cloud_subscriber> <recording.lcmlog> [<bad_bus_log>]
 # Exit: 0 pass, 1 fail, 77 skipped (no network namespaces here).
 set -u
 GRASPFILL=$1
 SUB=$2
 LOG=$3
+DAMAGE=${4:-}
 SKIP=77
 
 if ! command -v unshare >/dev/null 2>&1 || ! command -v ip >/dev/null 2>&1 ||
@@ -24,6 +28,10 @@ fi
 
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
+if [ -n "$DAMAGE" ]; then
+  damaged=$("$DAMAGE" "$LOG" "$TMP/damaged.lcmlog") || { echo "FAIL: $DAMAGE failed"; exit 1; }
+  LOG="$TMP/damaged.lcmlog"
+fi
 export GRASPFILL SUB LOG TMP
 export LCM_READY="$(cd "$(dirname "$0")" && pwd)/lcm_ready.sh"
 export URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608'
@@ -66,5 +74,15 @@ holes=$(sed -n 's/.*holes=\([0-9]*\).*/\1/p' "$TMP/sub.out")
 if [ -z "$added" ] || [ "$added" -lt 1 ] || [ -z "$holes" ] || [ "$holes" -lt 1 ]; then
   echo "FAIL: expected a repaired cloud (added points and holes), got added='${added}' holes='${holes}'"
   exit 1
+fi
+# The status counts what was damaged, by reason (live prints the last
+# status's counts, those with a count).
+if [ -n "$DAMAGE" ]; then
+  set -- $damaged  # malformed N bad_intrinsics N bad_pose N
+  want="live: decode errors by reason: malformed $2, bad_intrinsics $4, bad_pose $6"
+  if ! grep -qx "$want" "$TMP/live.out"; then
+    echo "FAIL: expected the line '$want'"
+    exit 1
+  fi
 fi
 echo "PASS: the subscriber received a cloud of $points points, $added added by the repair, $holes holes"

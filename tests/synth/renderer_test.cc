@@ -71,6 +71,35 @@ TEST(DepthRendererTest, BoxFaceIsAnalyticPlane) {
   EXPECT_GT(checked, 10000);
 }
 
+// Another resolution keeps the field of view: an off-centre box covers
+// the same part of the image at 640 x 480 and at 1600 x 1200 (6.25 x the
+// pixels), and a 4096 x 4096 image spans the same angles across.
+TEST(DepthRendererTest, OtherResolutionsKeepTheFieldOfView) {
+  TriangleMesh box = MakeShape(Shape::kCuboid, Eigen::Vector3d(0.1, 0.08, 0.05));
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(0.07, -0.05, 0.5);
+  auto box_pixels = [&](const CameraIntrinsics& k) {
+    DepthRenderer renderer(k, 0.0);
+    renderer.AddMesh(box.Transformed(T), SurfaceLabel::kObject);
+    renderer.Commit();
+    IdealDepthImage image;
+    renderer.Render(Eigen::Isometry3d::Identity(), &image);
+    int n = 0;
+    for (SurfaceLabel label : image.label) n += label == SurfaceLabel::kObject;
+    return n;
+  };
+  const CameraIntrinsics vga = IntrinsicsAtResolution(640, 480);
+  EXPECT_EQ(vga, CameraIntrinsics{});
+  const int at_vga = box_pixels(vga);
+  const int at_uxga = box_pixels(IntrinsicsAtResolution(1600, 1200));
+  ASSERT_GT(at_vga, 5000);
+  EXPECT_NEAR(static_cast<double>(at_uxga) / at_vga, 6.25, 0.06);
+  const CameraIntrinsics big = IntrinsicsAtResolution(4096, 4096);
+  EXPECT_NEAR(big.cx / (big.width - 1), vga.cx / (vga.width - 1), 1e-12);
+  EXPECT_NEAR((big.width / big.fx), (vga.width / vga.fx), 1e-12);
+  EXPECT_NEAR((big.height / big.fy), (vga.height / vga.fy), 1e-12);
+}
+
 TEST(DepthRendererTest, SphereIsAnalyticThroughAPose) {
   const double radius = 0.05;
   // Sphere centred at c_G in G; the camera sees G through a rotated pose.

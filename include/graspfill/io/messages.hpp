@@ -18,6 +18,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -62,6 +63,24 @@ enum class MessageError : int {
 };
 /// A short stable name ("malformed", "bad_intrinsics", ...), for status and logs.
 const char* MessageErrorName(MessageError reason);
+/// The reason of a name MessageErrorName gives; kNone for any other text.
+MessageError MessageErrorFromName(const std::string& name);
+
+/// Bad messages received on our channels, per reason, cumulative: for the
+/// module's status (a bad message is counted and dropped, never fatal).
+struct BadMessageCounts {
+  static constexpr size_t kNumReasons = static_cast<size_t>(MessageError::kCount);
+  /// Indexed by MessageError (kNone stays 0).
+  std::array<int64_t, kNumReasons> by_reason{};
+  int64_t operator[](MessageError reason) const {
+    return by_reason[static_cast<size_t>(reason)];
+  }
+  int64_t total() const {
+    int64_t sum = 0;
+    for (int64_t n : by_reason) sum += n;
+    return sum;
+  }
+};
 
 /// Input limits checked by the decoders (README "Input limits").
 /// Largest depth image: 4096 x 4096 pixels.
@@ -183,6 +202,7 @@ struct ModuleStatus {
   int64_t frames_skipped_clock_jump{0};
   int64_t frames_bad{0};
   int64_t decode_errors{0};   ///< messages on our channels that did not decode
+  BadMessageCounts bad_messages;  ///< decode_errors per reason
   int64_t clock_jumps{0};     ///< backwards jumps the module started over at
   int64_t repairs_done{0};
   int64_t repairs_superseded{0};

@@ -50,6 +50,11 @@ enum class ClawType { kThreeFinger, kParallel };
 enum class GraspWay { kTopStraight, kMiddleStraight, kTopOblique };
 
 /// "three-finger" / "parallel".
+/// `base`'s field of view at another resolution (e.g. a 4096 x 4096
+/// stream): focal lengths and principal point scaled per axis.
+CameraIntrinsics IntrinsicsAtResolution(int width, int height,
+                                        const CameraIntrinsics& base = CameraIntrinsics{});
+
 std::string ClawTypeName(ClawType claw);
 std::optional<ClawType> ParseClawType(const std::string& name);
 /// "top-straight" / "middle-straight" / "top-oblique".
