@@ -499,6 +499,7 @@ int RunReplay(const Args& args) {
   report["frames_skipped_no_pose"] = stats.frames_skipped_no_pose;
   report["frames_dropped"] = stats.frames_dropped;
   report["frames_bad"] = stats.frames_bad;
+  report["frames_decimated"] = stats.frames_decimated;
   report["bad_events_skipped"] = bad_events;
   report["gripper_states"] = stats.states_in;
   report["gripper_states_rejected"] = stats.states_rejected;

@@ -18,6 +18,7 @@ void PipelineConfig::Validate() const {
   if (state_buffer_capacity < 2) throw std::invalid_argument("PipelineConfig: state_buffer_capacity < 2");
   if (max_pending_frames < 1) throw std::invalid_argument("PipelineConfig: max_pending_frames < 1");
   if (!(claw_rebuild_tolerance >= 0.0)) throw std::invalid_argument("PipelineConfig: claw_rebuild_tolerance < 0");
+  if (max_fusion_pixels < 1) throw std::invalid_argument("PipelineConfig: max_fusion_pixels < 1");
   if (mask.dilation_px < 0 || mask.roi_margin_px < 0 || !(mask.front_margin_m >= 0.0)) {
     throw std::invalid_argument("PipelineConfig: mask margins must be >= 0");
   }
@@ -51,6 +52,28 @@ struct Pipeline::Impl {
     claw_joints = state.joint_values;
     claw_set = true;
     ++stats.claw_rebuilds;
+  }
+
+  // `frame`, or its decimation (in `decimated`) when it has more pixels
+  // than the config allows.
+  const DepthFrame& WithinPixelLimit(const DepthFrame& frame) {
+    const CameraIntrinsics& K = frame.intrinsics;
+    int f = 1;
+    while (int64_t{K.width / f} * (K.height / f) > config.max_fusion_pixels) ++f;
+    if (f == 1) return frame;
+    ++stats.frames_decimated;
+    // Pixel (u', v') is pixel (f u', f v'): u = fx X / Z + cx becomes
+    // u' = (fx / f) X / Z + cx / f.
+    decimated.utime = frame.utime;
+    decimated.intrinsics = {K.width / f, K.height / f, K.fx / f, K.fy / f, K.cx / f, K.cy / f};
+    const int w = decimated.intrinsics.width, h = decimated.intrinsics.height;
+    decimated.depth_m.resize(static_cast<size_t>(w) * h);
+    for (int v = 0; v < h; ++v) {
+      const float* row = frame.depth_m.data() + static_cast<size_t>(v) * f * K.width;
+      float* out = decimated.depth_m.data() + static_cast<size_t>(v) * w;
+      for (int u = 0; u < w; ++u) out[u] = row[static_cast<size_t>(u) * f];
+    }
+    return decimated;
   }
 
   // Refine the pose, crop, mask and fuse one frame. False: refinement
@@ -127,6 +150,7 @@ struct Pipeline::Impl {
   std::vector<DepthFrame> pending;  // ring, slots reused
   size_t pending_head{0};
   size_t num_pending{0};
+  DepthFrame decimated;  // a frame over max_fusion_pixels, decimated
   DepthFrame work;       // the frame being cropped and masked
   GripperState pose;     // interpolated state, reused
   bool claw_set{false};
@@ -157,13 +181,13 @@ bool Pipeline::AddGripperState(const GripperState& state) {
   return true;
 }
 
-FrameOutcome Pipeline::AddDepthFrame(const DepthFrame& frame, std::string* error) {
+FrameOutcome Pipeline::AddDepthFrame(const DepthFrame& full_frame, std::string* error) {
   Impl& s = *impl_;
   ++s.stats.frames_in;
-  const CameraIntrinsics& K = frame.intrinsics;
+  const CameraIntrinsics& K = full_frame.intrinsics;
   const char* problem = nullptr;
   if (K.width <= 0 || K.height <= 0 ||
-      frame.depth_m.size() != static_cast<size_t>(K.width) * K.height) {
+      full_frame.depth_m.size() != static_cast<size_t>(K.width) * K.height) {
     problem = "depth size does not match width x height";
   } else if (!(K.fx > 0 && K.fy > 0 && std::isfinite(K.cx) && std::isfinite(K.cy))) {
     problem = "bad intrinsics";
@@ -180,6 +204,8 @@ FrameOutcome Pipeline::AddDepthFrame(const DepthFrame& frame, std::string* error
     s.first_intrinsics = K;
     s.have_intrinsics = true;
   }
+  // Decimated before it waits, so that pending slots stay small too.
+  const DepthFrame& frame = s.WithinPixelLimit(full_frame);
   // Keep arrival order: a frame waits behind earlier pending frames.
   if (s.num_pending == 0) {
     const FrameOutcome outcome = s.TryIntegrate(frame);

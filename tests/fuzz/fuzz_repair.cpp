@@ -3,6 +3,7 @@
 // NaN, inf, 1e38, subnormals), best or paper mode. Contract: non-finite
 // input is std::invalid_argument; otherwise every input point comes back
 // first and unchanged, then only finite added points.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -15,8 +16,8 @@
 using namespace graspfill;
 
 namespace {
-const PointList& BaseCloud() {
-  static const PointList base = [] {
+const repair::PointList& BaseCloud() {
+  static const repair::PointList base = [] {
     synth::PaperProtocolConfig config;
     config.shape = synth::Shape::kCylinder;
     config.num_points = 800;

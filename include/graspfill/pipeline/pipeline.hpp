@@ -2,8 +2,8 @@
 // frames go in (from a live camera or a recording, in any interleaving),
 // the object's cloud in the gripper frame comes out.
 //
-// Per depth frame: pose at the frame's timestamp (interpolated between the
-// bracketing gripper states), refined by registering the claw to the depth
+// Per depth frame: decimated if it is very large, pose at the frame's
+// timestamp (interpolated between the bracketing gripper states), refined by registering the claw to the depth
 // (refine/pose_refiner.hpp; a frame it rejects is skipped), crop to the workspace box in G, claw cut-out by
 // ray casting the posed claw, TSDF integration in G, and the frame offered
 // to the visibility record (evidence/). Extraction is on demand.
@@ -47,6 +47,14 @@ struct PipelineConfig {
   /// The claw's ray-casting scene is rebuilt when the opening moves by more
   /// than this [m] (or any joint value by more than this [rad or m]).
   double claw_rebuild_tolerance{0.0005};
+  /// Frames with more pixels than this are decimated before anything else
+  /// (every f-th pixel of every f-th row, f the smallest integer that
+  /// brings them under it; intrinsics divided by f): a 1.5 mm voxel needs
+  /// no finer sampling at the workspace's distance, and the frame path's
+  /// time and the key frames' memory grow with the pixels. The default,
+  /// 1280 x 1024, leaves VGA, 720p and 1024 x 1024 cameras as they are and
+  /// takes a 4096 x 4096 stream at 1/4 (README "Input limits").
+  int64_t max_fusion_pixels{1280 * 1024};
 
   /// Throws std::invalid_argument naming the bad field.
   void Validate() const;
@@ -71,6 +79,7 @@ struct PipelineStats {
   int64_t states_rejected{0};  ///< non-finite / not newer than the last
   int64_t claw_rebuilds{0};
   int64_t frames_skipped_refine{0};  ///< rejected by pose refinement
+  int64_t frames_decimated{0};  ///< over max_fusion_pixels, fused decimated
   refine::RefineStats refine;       ///< corrections, residuals, rejections by reason
   StageTotal refine_time;  ///< claw registration (0 when refinement is off)
   StageTotal crop;
