@@ -43,6 +43,7 @@ constexpr Range kVoxelM{cli::kMinVoxelM, cli::kMaxVoxelM, "m"};
 constexpr Range kTruncVoxels{1.5, 32.0, "voxels"};
 constexpr Range kBlockResolution{2, 128, "voxels"};
 constexpr Range kStride{1, 16, "pixels"};
+constexpr Range kFusionPixels{64 * 48, 4096 * 4096, "pixels"};
 constexpr Range kSafeBoundM{0.0, 0.1, "m"};  // and 0 or >= kMinSafeBoundM
 constexpr double kMinSafeBoundM = 0.0005;
 constexpr Range kRimBandM{0.0, 0.5, "m"};
@@ -165,7 +166,8 @@ bool RigConfig::Box::operator==(const Box& o) const {
 bool RigConfig::Tsdf::operator==(const Tsdf& o) const {
   return voxel_m == o.voxel_m && sdf_trunc_voxels == o.sdf_trunc_voxels &&
          block_resolution == o.block_resolution &&
-         depth_sampling_stride == o.depth_sampling_stride;
+         depth_sampling_stride == o.depth_sampling_stride &&
+         max_fusion_pixels == o.max_fusion_pixels;
 }
 bool RigConfig::Repair::operator==(const Repair& o) const {
   return enabled == o.enabled && mode == o.mode && use_evidence == o.use_evidence &&
@@ -212,6 +214,7 @@ void RigConfig::Validate() const {
   CheckRange("tsdf.sdf_trunc_voxels", tsdf.sdf_trunc_voxels, kTruncVoxels);
   CheckRange("tsdf.block_resolution", tsdf.block_resolution, kBlockResolution);
   CheckRange("tsdf.depth_sampling_stride", tsdf.depth_sampling_stride, kStride);
+  CheckRange("tsdf.max_fusion_pixels", tsdf.max_fusion_pixels, kFusionPixels);
   CheckOneOf("repair.mode", repair.mode, {"best", "paper"});
   CheckSafeBound("repair.safe_bound_voxel_m", repair.safe_bound_voxel_m);
   CheckRange("repair.top_rim_band_m", repair.top_rim_band_m, kRimBandM);
@@ -376,6 +379,9 @@ std::string DumpRigConfig(const RigConfig& c) {
   w.Comment(1, "Every Nth pixel of each row and column is fused (default " +
                    std::to_string(d.tsdf.depth_sampling_stride) + ").");
   w.Key(1, "depth_sampling_stride", std::to_string(c.tsdf.depth_sampling_stride));
+  w.Comment(1, "Frames with more pixels are fused decimated, every f-th pixel and row "
+               "(default " + std::to_string(d.tsdf.max_fusion_pixels) + " = 1280 x 1024).");
+  w.Key(1, "max_fusion_pixels", std::to_string(c.tsdf.max_fusion_pixels));
   w.Blank();
 
   w.Key(0, "repair", "");
@@ -628,7 +634,8 @@ RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
       r.Check(v["max_G_m"], [&] { CheckBox(path, box); });
       c.workspace = box;
     } else if (key == "tsdf") {
-      r.Map(v, path, {"voxel_m", "sdf_trunc_voxels", "block_resolution", "depth_sampling_stride"},
+      r.Map(v, path, {"voxel_m", "sdf_trunc_voxels", "block_resolution", "depth_sampling_stride",
+                      "max_fusion_pixels"},
             [&](const std::string& k, const YAML::Node& x, const std::string& f) {
         if (k == "voxel_m") {
           if (x.IsNull()) c.tsdf.voxel_m.reset();
@@ -636,7 +643,8 @@ RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
         }
         else if (k == "sdf_trunc_voxels") c.tsdf.sdf_trunc_voxels = r.Number(x, f, kTruncVoxels);
         else if (k == "block_resolution") c.tsdf.block_resolution = r.Integer(x, f, kBlockResolution);
-        else c.tsdf.depth_sampling_stride = r.Integer(x, f, kStride);
+        else if (k == "depth_sampling_stride") c.tsdf.depth_sampling_stride = r.Integer(x, f, kStride);
+        else c.tsdf.max_fusion_pixels = r.Integer(x, f, kFusionPixels);
       });
     } else if (key == "repair") {
       r.Map(v, path, {"enabled", "mode", "use_evidence", "safe_bound_voxel_m", "top_rim_band_m",
@@ -711,6 +719,7 @@ void ApplyToPipeline(const RigConfig& c, PipelineConfig* p) {
   p->tsdf.sdf_trunc_m = c.tsdf.sdf_trunc_voxels * p->tsdf.voxel_m;
   p->tsdf.block_resolution = c.tsdf.block_resolution;
   p->tsdf.depth_sampling_stride = c.tsdf.depth_sampling_stride;
+  p->max_fusion_pixels = c.tsdf.max_fusion_pixels;
   if (c.workspace) {
     p->workspace.min_G = Eigen::Vector3d(c.workspace->min_G_m[0], c.workspace->min_G_m[1],
                                          c.workspace->min_G_m[2]);

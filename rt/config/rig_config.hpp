@@ -123,6 +123,9 @@ struct RigConfig {
     int block_resolution{16};
     /// Every Nth pixel of each row and column is integrated.
     int depth_sampling_stride{2};
+    /// Frames with more pixels than this are fused decimated (every f-th
+    /// pixel and row; PipelineConfig::max_fusion_pixels).
+    int max_fusion_pixels{1280 * 1024};
     bool operator==(const Tsdf& o) const;
   };
   struct Repair {

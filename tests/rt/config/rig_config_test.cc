@@ -41,6 +41,7 @@ RigConfig EveryFieldChanged() {
   c.tsdf.sdf_trunc_voxels = 5.5;
   c.tsdf.block_resolution = 8;
   c.tsdf.depth_sampling_stride = 1;
+  c.tsdf.max_fusion_pixels = 1920 * 1080;
   c.repair.enabled = false;
   c.repair.mode = "paper";
   c.repair.use_evidence = false;
@@ -65,6 +66,7 @@ TEST(RigConfig, DefaultsAreTheLibrariesDefaults) {
   EXPECT_EQ(pipeline.tsdf.sdf_trunc_m, want.tsdf.sdf_trunc_m);
   EXPECT_EQ(pipeline.tsdf.block_resolution, want.tsdf.block_resolution);
   EXPECT_EQ(pipeline.tsdf.depth_sampling_stride, want.tsdf.depth_sampling_stride);
+  EXPECT_EQ(pipeline.max_fusion_pixels, want.max_fusion_pixels);
   EXPECT_EQ(pipeline.max_pose_gap_us, want.max_pose_gap_us);
   EXPECT_EQ(pipeline.workspace.min_G, want.workspace.min_G);
   EXPECT_EQ(pipeline.workspace.max_G, want.workspace.max_G);
@@ -222,6 +224,8 @@ TEST(RigConfig, EveryBadValueIsRefusedNamingItsField) {
       {"camera:\n  depth_units: cm\n", "camera.depth_units",
        "camera.depth_units 'cm': expected mm or 100um", 2},
       {"camera:\n  fps: -1\n", "camera.fps", "camera.fps '-1': out of range, expected 0..1000", 2},
+      {"tsdf:\n  max_fusion_pixels: 100\n", "tsdf.max_fusion_pixels",
+       "tsdf.max_fusion_pixels '100': out of range, expected 3072..16777216", 2},
       {"camera:\n  fps: +30\n", "camera.fps", "camera.fps '+30': not an integer", 2},
       {"camera:\n  device: {uri: x}\n", "camera.device", "camera.device: expected a string, got a map", 2},
       {"channels:\n  depth: \"\"\n", "channels.depth", "channels.depth: must not be empty", 2},
