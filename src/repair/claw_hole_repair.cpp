@@ -295,6 +295,12 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
   // The paper's single surface of all the side points, built on first use.
   std::unique_ptr<PoissonSurface> global_surface;
 
+  // Stray points far from the object can end up on a rim: a fill's samples
+  // must stay by the cloud's bulk, within its size of it (found by
+  // fuzz_repair: a fill point ~1e33 m away).
+  Box by_object = RobustBox(points_V);
+  by_object = Box(by_object.min() - by_object.sizes(), by_object.max() + by_object.sizes());
+
   std::unique_ptr<AddedPoints> earlier;  // the fills of the holes before
   for (size_t h = 0; h < holes.size(); ++h) {
     const PointList& rim = holes[h]->points_V;
@@ -402,6 +408,7 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
       SampleMesh(*surface->mesh, frame, region, true, cos_max, nullptr, density, &rng, &gap, &fill);
     }
     for (const Eigen::Vector3f& p : fill) {
+      if (!by_object.contains(p)) continue;
       earlier->Add(p);
       out.push_back(p);
     }

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -37,10 +39,13 @@ class AddedPoints {
   void Add(const Eigen::Vector3f& p) { cells_[Key(Cell(p))].push_back(p); }
 
  private:
+  // Clamped into int's range: a cloud far from the origin must not
+  // overflow the cast (its cells then share keys, which only costs time).
   Eigen::Vector3i Cell(const Eigen::Vector3f& p) const {
-    return Eigen::Vector3i(static_cast<int>(std::floor(p.x() / cell_)),
-                           static_cast<int>(std::floor(p.y() / cell_)),
-                           static_cast<int>(std::floor(p.z() / cell_)));
+    const auto index = [this](float v) {
+      return static_cast<int>(std::clamp(std::floor(v / cell_), -1e9, 1e9));
+    };
+    return Eigen::Vector3i(index(p.x()), index(p.y()), index(p.z()));
   }
   static uint64_t Key(const Eigen::Vector3i& c) {
     const auto u = [](int v) { return static_cast<uint64_t>(v) & 0x1fffffULL; };

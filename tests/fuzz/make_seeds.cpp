@@ -141,5 +141,6 @@ int main(int argc, char** argv) {
   }
   Write(root / "repair", "base_and_strays", repair);
   Write(root / "repair", "base_paper", {3});
+  Write(root / "repair", "sparse_base", {9});  // the 800-point base: the Poisson path
   return 0;
 }

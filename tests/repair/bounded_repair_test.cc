@@ -83,4 +83,30 @@ TEST(BoundedRepair, CloudAtAnAbsurdScaleIsBoundedToo) {
 }
 
 }  // namespace
+// Found by fuzz_repair (tests/fuzz/regressions/repair/): three strays of
+// absurd size beside a 2,000-point protocol cylinder made the claw-hole fill
+// add a point ~1e33 m away, whose grid cell overflowed int (UBSan). Every
+// added point must lie by the object, whatever the strays.
+TEST(BoundedRepair, AbsurdStraysAddNothingFarFromTheObject) {
+  synth::PaperProtocolConfig config;
+  config.shape = synth::Shape::kCylinder;
+  config.num_points = 2000;
+  ObjectCloud cloud;
+  cloud.points_G = synth::MakePaperProtocolCloud(config).holey;
+  Eigen::AlignedBox3f object;
+  for (const Eigen::Vector3f& p : cloud.points_G) object.extend(p);
+  cloud.points_G.emplace_back(-1.80143981e14f, -2.2881e-17f, -4.93266957e32f);
+  cloud.points_G.emplace_back(1.66154688e35f, 1.66154846e35f, 1.66154846e35f);
+  cloud.points_G.emplace_back(-2.33146944e-17f, -1.34989296e8f, 0.0996299684f);
+  const size_t given = cloud.size();
+  const RepairResult result = Repair(cloud, RepairConfig{});
+  ASSERT_GE(result.cloud.size(), given);
+  const float reach = object.sizes().maxCoeff();
+  Eigen::AlignedBox3f near_object(object.min() - Eigen::Vector3f::Constant(reach),
+                                  object.max() + Eigen::Vector3f::Constant(reach));
+  size_t far = 0;
+  for (size_t i = given; i < result.cloud.size(); ++i) far += !near_object.contains(result.cloud.points_G[i]);
+  EXPECT_EQ(far, 0u) << "of " << result.cloud.size() - given << " added points";
+}
+
 }  // namespace graspfill::repair
