@@ -21,6 +21,7 @@ void AddCounters(const PipelineStats& s, PipelineStats* sum) {
   sum->frames_skipped_no_pose += s.frames_skipped_no_pose;
   sum->frames_bad += s.frames_bad;
   sum->frames_skipped_refine += s.frames_skipped_refine;
+  sum->frames_skipped_tracking += s.frames_skipped_tracking;
   sum->frames_dropped += s.frames_dropped;
   sum->states_in += s.states_in;
   sum->states_rejected += s.states_rejected;

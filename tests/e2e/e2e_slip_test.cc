@@ -35,6 +35,10 @@ struct SlipFused {
   double p95_before_m{0.0};  ///< to the truth as grasped (gt_cloud_before_slip.ply)
   double old_share{0.0};     ///< on the surface as grasped, off the one after
   double new_share{0.0};     ///< on the surface after, off the one as grasped
+  /// With --track-object: the fused points moved to where the tracker says
+  /// the object is now (track_object.object_pose), to the truth after.
+  double p95_tracked_pose_m{0.0};
+  Eigen::Vector3d shift_found_m{0.0, 0.0, 0.0};
   size_t points{0};
   nlohmann::json report;
 };
@@ -69,6 +73,18 @@ SlipFused ReplayAndMeasure(const std::string& dir, const std::string& extra = ""
   }
   f.old_share = static_cast<double>(old_points) / fused.size();
   f.new_share = static_cast<double>(new_points) / fused.size();
+  const nlohmann::json& track = f.report["track_object"];
+  if (track["enabled"].get<bool>()) {
+    Eigen::Isometry3d S = Eigen::Isometry3d::Identity();
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 4; ++c) S.matrix()(r, c) = track["object_pose"]["S_G"][r][c].get<double>();
+    }
+    f.shift_found_m = S.translation();
+    std::vector<Eigen::Vector3f> moved;
+    for (const Eigen::Vector3f& p : fused) moved.push_back((S * p.cast<double>()).cast<float>());
+    f.p95_tracked_pose_m = eval::Percentile(
+        eval::NearestDistances(moved, io::ReadCloudPly(dir + "/gt_cloud.ply").points_G), 95.0);
+  }
   return f;
 }
 
@@ -107,6 +123,50 @@ TEST(SlipE2E, AnUncorrectedSlipMovesTheModelOffTheTruth) {
   EXPECT_LT(f0.old_share + f0.new_share, 0.001);
 }
 
+Eigen::Vector3d Vec3(const nlohmann::json& j) {
+  return Eigen::Vector3d(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+}
+
+// replay --track-object: the frames after the slip are fused where the
+// object was first seen, so the model stays on the truth as grasped, and
+// the object's pose found puts it on the truth after the slip (within the
+// 1.5 mm the issue asks for at p95). Without a slip it changes the model's
+// p95 by less than 0.1 mm.
+TEST(SlipE2E, TrackingKeepsTheModelOnTheObject) {
+  const std::string dir = ScratchDir("e2e_slip_tracked");
+  const std::string common = "synth --shape cylinder --claw three-finger --frames 60 --wall-m 0 --seed 2 ";
+  ASSERT_EQ(RunCli(common + "--slip-mm 3 -o " + dir).exit_code, 0);
+  const nlohmann::json slip = ReadJson(dir + "/scene.json")["slip"];
+  const SlipFused plain = ReplayAndMeasure(dir);
+  const SlipFused tracked = ReplayAndMeasure(dir, "--track-object");
+  ASSERT_GT(tracked.points, 2000u);
+  const Eigen::Vector3d d = Vec3(slip["displacement_G_m"]);
+  std::printf("3 mm slip, tracked: p95 %.2f mm to the truth as grasped (uncorrected %.2f), %.2f mm "
+              "at the pose found to the truth after (uncorrected %.2f); shift found %.2f %.2f %.2f "
+              "mm, true %.2f %.2f %.2f mm\n", 1000 * tracked.p95_before_m, 1000 * plain.p95_before_m,
+              1000 * tracked.p95_tracked_pose_m, 1000 * plain.p95_after_m,
+              1000 * tracked.shift_found_m.x(), 1000 * tracked.shift_found_m.y(),
+              1000 * tracked.shift_found_m.z(), 1000 * d.x(), 1000 * d.y(), 1000 * d.z());
+  EXPECT_LE(tracked.p95_before_m, 0.0015);
+  // The issue's target: the model after the slip, where the object is.
+  EXPECT_LE(tracked.p95_tracked_pose_m, 0.0015);
+  EXPECT_GT(plain.p95_after_m, 0.0015);  // the same, uncorrected
+  EXPECT_LT((tracked.shift_found_m - d).norm(), 0.001);
+  const nlohmann::json& t = tracked.report["track_object"];
+  EXPECT_GE(t["frames_tracked"].get<int>(), 45);
+  EXPECT_EQ(t["frames_rejected"]["total"].get<int>(), 0);
+  EXPECT_EQ(tracked.report["frames_used"].get<int>(),
+            t["frames_tracked"].get<int>() + t["frames_before_a_model"].get<int>());
+  EXPECT_FALSE(plain.report["track_object"]["enabled"].get<bool>());
+
+  const std::string still = ScratchDir("e2e_slip_tracked_still");
+  ASSERT_EQ(RunCli(common + "-o " + still).exit_code, 0);
+  const SlipFused still_plain = ReplayAndMeasure(still);
+  const SlipFused still_tracked = ReplayAndMeasure(still, "--track-object");
+  EXPECT_NEAR(still_tracked.p95_after_m, still_plain.p95_after_m, 0.0001);
+  EXPECT_LT(still_tracked.shift_found_m.norm(), 0.001);
+}
+
 // The README's table ("Imperfect robots", slip): three shapes, both claws,
 // 90 frames, no slip vs an uncorrected 3 mm slip (SLIP_TABLE_MM=S for
 // another), fused points only (no repair). Minutes, so not in the suite:
@@ -119,7 +179,9 @@ TEST(SlipE2E, DISABLED_Table) {
                             {"sphere", "three-finger"}, {"sphere", "parallel"}};
   std::printf("| shape, claw | slip direction in G, frames moved..settled | p95 mm, no slip | "
               "p95 mm to the truth after / before the slip | points on the old surface only / "
-              "the new only |\n|---|---|---|---|---|\n");
+              "the new only | tracked: p95 mm to the truth before / after at the pose found, "
+              "no slip | shift found - true, mm | tracking ms/frame |\n"
+              "|---|---|---|---|---|---|---|---|\n");
   for (const auto& c : cases) {
     const std::string name = std::string(c[0]) + "_" + c[1];
     const std::string clean = ScratchDir("slip_table_clean_" + name);
@@ -130,12 +192,18 @@ TEST(SlipE2E, DISABLED_Table) {
     const nlohmann::json slip = ReadJson(slipped + "/scene.json")["slip"];
     const SlipFused f0 = ReplayAndMeasure(clean);
     const SlipFused f1 = ReplayAndMeasure(slipped);
-    std::printf("| %s, %s | [%.2f %.2f %.2f], %d..%d | %.2f | %.2f / %.2f | %.1f %% / %.1f %% |\n",
+    const SlipFused t0 = ReplayAndMeasure(clean, "--track-object");
+    const SlipFused t1 = ReplayAndMeasure(slipped, "--track-object");
+    const Eigen::Vector3d miss = t1.shift_found_m - Vec3(slip["displacement_G_m"]);
+    std::printf("| %s, %s | [%.2f %.2f %.2f], %d..%d | %.2f | %.2f / %.2f | %.1f %% / %.1f %% | "
+                "**%.2f** / %.2f, %.2f | %.2f %.2f %.2f | %.2f |\n",
                 c[0], c[1], slip["direction_G"][0].get<double>(),
                 slip["direction_G"][1].get<double>(), slip["direction_G"][2].get<double>(),
                 slip["first_frame_moved"].get<int>(), slip["first_frame_settled"].get<int>(),
                 1000 * f0.p95_after_m, 1000 * f1.p95_after_m, 1000 * f1.p95_before_m,
-                100 * f1.old_share, 100 * f1.new_share);
+                100 * f1.old_share, 100 * f1.new_share, 1000 * t1.p95_before_m,
+                1000 * t1.p95_tracked_pose_m, 1000 * t0.p95_after_m, 1000 * miss.x(),
+                1000 * miss.y(), 1000 * miss.z(), t1.report["track_object"]["ms_per_frame"].get<double>());
     std::fflush(stdout);
   }
 }
