@@ -31,6 +31,7 @@ inline nlohmann::ordered_json TrackJson(const Pipeline& pipeline) {
   j["mean_iterations"] = t.iterations / n;
   j["mean_points_matched"] = t.matches / n;
   j["pose_updates"] = t.pose_updates;
+  j["frames_underconstrained"] = t.frames_underconstrained;
   j["max_step_mm"] = 1000.0 * t.max_step_m;
   // Where the object is in G now: p_G = S_G * p (the cloud's frame is the
   // object's as first seen).

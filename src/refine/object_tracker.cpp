@@ -201,6 +201,7 @@ TrackOutcome ObjectTracker::Track(const DepthFrame& object_frame, const Eigen::I
   const Eigen::Vector3d centre_G = S * model_centre_.cast<double>();
   double gate = config_.band_m;
   bool converged = false, settled = false;
+  bool underconstrained = false;  // at the last iteration
   int matches = 0;
   double rms = 0.0;
   int iterations = 0;
@@ -260,9 +261,12 @@ TrackOutcome ObjectTracker::Track(const DepthFrame& object_frame, const Eigen::I
       const Eigen::Vector3d lambda = eig.eigenvalues();
       const Eigen::Matrix3d& E = eig.eigenvectors();
       v.setZero();
+      underconstrained = false;
       for (int k = 0; k < 3; ++k) {
         if (lambda(k) > config_.min_constraint * lambda(2)) {
           v -= E.col(k) * (E.col(k).dot(g.tail<3>()) / lambda(k));
+        } else {
+          underconstrained = true;
         }
       }
     }
@@ -310,6 +314,7 @@ TrackOutcome ObjectTracker::Track(const DepthFrame& object_frame, const Eigen::I
     ++stats_.pose_updates;
   }
   ++stats_.frames_tracked;
+  stats_.frames_underconstrained += underconstrained;
   stats_.iterations += iterations;
   stats_.matches += matches;
   stats_.rms_sum_m += rms;

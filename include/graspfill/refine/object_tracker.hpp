@@ -124,6 +124,9 @@ struct TrackStats {
   int64_t rejected_jump{0};
   int64_t model_updates{0};
   int64_t pose_updates{0};  ///< tracked frames that moved the pose (beyond min_step_m)
+  /// Tracked frames whose matches left a direction of the shift below
+  /// min_constraint (not estimated: a slide that way is not followed).
+  int64_t frames_underconstrained{0};
   int64_t iterations{0};  ///< over the tracked frames
   int64_t matches{0};     ///< over the tracked frames
   double rms_sum_m{0.0};  ///< over the tracked frames
