@@ -91,6 +91,25 @@ double FramePathWithoutRefinementMs(PipelineConfig config, const claw::ClawModel
   return s.crop.mean_ms() + s.mask.mean_ms() + s.integrate.mean_ms() + s.visibility.mean_ms();
 }
 
+// The frame path on the same frames with object tracking on (refine/
+// object_tracker.hpp; its model updates included in its stage).
+PipelineStats FramePathWithTracking(PipelineConfig config, const claw::ClawModel& claw,
+                                    const std::vector<PosedFrame>& frames, FramesDone* progress) {
+  config.track_object.enabled = true;
+  Pipeline pipeline(config, claw);
+  for (const PosedFrame& p : frames) {
+    pipeline.AddGripperState(p.state);
+    pipeline.AddDepthFrame(p.frame);
+    progress->Add();
+  }
+  return pipeline.stats();
+}
+
+double FramePathMs(const PipelineStats& s) {
+  return s.crop.mean_ms() + s.mask.mean_ms() + s.integrate.mean_ms() + s.visibility.mean_ms() +
+         s.refine_time.mean_ms() + s.track_time.mean_ms();
+}
+
 // Replays the log file through a fresh pipeline: decode + pipeline, no output.
 double ReplayFps(const std::string& path, const claw::ClawModel& claw, int64_t* frames,
                  FramesDone* progress) {
@@ -159,9 +178,9 @@ int RunBench(const Args& args) {
     return c;
   }();
 
-  // Four passes over the posed frames, then the replays of the whole log
+  // Five passes over the posed frames, then the replays of the whole log
   // (a log's unposed frames can take the count past the total: capped).
-  ProgressLine line("bench", "frames", static_cast<int64_t>(frames.size()) * (4 + repeat));
+  ProgressLine line("bench", "frames", static_cast<int64_t>(frames.size()) * (5 + repeat));
   FramesDone progress{line};
 
   // graspfill's frame path, stage by stage (the Pipeline's own code path).
@@ -177,6 +196,7 @@ int RunBench(const Args& args) {
       ours_cut_ms + s.integrate.mean_ms() + s.visibility.mean_ms() + s.refine_time.mean_ms();
   const double unrefined_total_ms = FramePathWithoutRefinementMs(config, claw, frames, &progress);
   const size_t ours_points = pipeline.ExtractCloud().size();
+  const PipelineStats tracked = FramePathWithTracking(config, claw, frames, &progress);
 
   // The z-buffer alternative to Embree for the claw's depth, same frames.
   PipelineConfig raster_config = config;
@@ -216,7 +236,10 @@ int RunBench(const Args& args) {
                       {"refine_ms", s.refine_time.mean_ms()},
                       {"frames_rejected_by_refine", s.frames_skipped_refine},
                       {"frame_total_ms", ours_total_ms},
-                      {"frame_total_without_refine_ms", unrefined_total_ms}, {"points", ours_points}};
+                      {"frame_total_without_refine_ms", unrefined_total_ms}, {"points", ours_points},
+                      {"track_object_ms", tracked.track_time.mean_ms()},
+                      {"frames_rejected_by_track_object", tracked.frames_skipped_tracking},
+                      {"frame_total_with_track_object_ms", FramePathMs(tracked)}};
     j["open3d_bare"] = {{"integrate_ms", bare_integrate.mean_ms()}};
     j["replay_fps"] = best_fps;
     j["replay_frames"] = replay_frames;
@@ -234,6 +257,8 @@ int RunBench(const Args& args) {
   std::printf("%-34s %12.3f %14s\n", "pose refinement (claw registration)", s.refine_time.mean_ms(), "-");
   std::printf("%-34s %12.3f %14.3f\n", "frame path total", ours_total_ms, bare_integrate.mean_ms());
   std::printf("%-34s %12.3f %14s\n", "  (frame path without refinement)", unrefined_total_ms, "-");
+  std::printf("%-34s %12.3f %14s\n", "  (object tracking, --track-object)", tracked.track_time.mean_ms(), "-");
+  std::printf("%-34s %12.3f %14s\n", "  (frame path with object tracking)", FramePathMs(tracked), "-");
   std::printf("masked path / bare integration: %.2f (target < 1)\n",
               ours_total_ms / bare_integrate.mean_ms());
   std::printf("replay throughput (decode + pipeline): %.1f fps over %lld frames (target >= 100)\n",

@@ -33,6 +33,7 @@
 #include "preview.hpp"
 #include "progress.hpp"
 #include "refine_json.hpp"
+#include "track_json.hpp"
 #include "graspfill/io/lcm_log_reader.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/output_path.hpp"
@@ -80,7 +81,11 @@ constexpr const char* kUsage =
     "  --skip-bad-frames        skip malformed events instead of failing\n"
     "  --refine                 correct each frame's gripper pose by registering the claw\n"
     "                           model to the depth (for rigs whose poses are off; default off)\n"
-    "  --no-refine              fuse at the logged gripper poses (the default)\n";
+    "  --no-refine              fuse at the logged gripper poses (the default)\n"
+    "  --track-object           follow the object slipping in the grasp: align each frame's\n"
+    "                           object pixels to the model fused so far and fuse it in the\n"
+    "                           object's frame as first seen (the cloud's frame; where the\n"
+    "                           object is in G now: --json track_object.object_pose)\n";
 
 struct ReplayOptions {
   std::string log_path;
@@ -166,6 +171,7 @@ bool Parse(const Args& args, ReplayOptions* o) {
     else if (a == "--no-evidence") o->evidence = false;
     else if (a == "--no-refine") o->pipeline.refine.enabled = false;
     else if (a == "--refine") o->pipeline.refine.enabled = true;
+    else if (a == "--track-object") o->pipeline.track_object.enabled = true;
     else if (a == "--repair-mode") {
       value(&v);
       if (v == "paper") o->repair_config.mode = repair::RepairMode::kPaper;
@@ -514,6 +520,7 @@ int RunReplay(const Args& args) {
     report["session"] = nullptr;
   }
   report["refine"] = RefineJson(sequencer.pipeline());
+  report["track_object"] = TrackJson(sequencer.pipeline());
   report["points"] = cloud.size();
   report["grasp_id"] = cloud.grasp_id;
   grasps_json.push_back({{"grasp_id", cloud.grasp_id}, {"points", cloud.size()},
@@ -568,6 +575,9 @@ int RunReplay(const Args& args) {
                                       : "from the " + claw_use.from;
     std::printf("claw: %s (%s)\n", claw_use.label.c_str(), claw_from.c_str());
     std::printf("%s\n", RefineSummary(sequencer.pipeline()).c_str());
+    if (o.pipeline.track_object.enabled) {
+      std::printf("%s\n", TrackSummary(sequencer.pipeline()).c_str());
+    }
     std::printf("object cloud: %zu points -> %s%s%s\n", cloud.size(), o.output_path.c_str(),
                 o.publish ? ", published on " : "", o.publish ? o.channels.object_cloud.c_str() : "");
     if (!preview_path.empty()) std::printf("preview: %s\n", preview_path.c_str());

@@ -5,8 +5,11 @@
 //                       rendered), then depth_image_t (ZLIB16, 1 mm units)
 //                       and gripper_state_t events in time order, each
 //                       event's log timestamp = its message utime
-// DIR/gt_mesh.ply       the object's surface in G
+// DIR/gt_mesh.ply       the object's surface in G (where it ends: after a
+//                       --slip-mm slip)
 // DIR/gt_cloud.ply      kDefaultGroundTruthPoints points sampled on it, in G
+// DIR/gt_mesh_before_slip.ply, gt_cloud_before_slip.ply
+//                       with --slip-mm only: the same, as grasped
 // DIR/claw.ply          the posed claw (palm + fingers) in G
 // DIR/claw/claw.json    the claw as a description for `--claw` (+ meshes)
 // DIR/scene.json        every parameter of the scene and what followed
@@ -78,6 +81,12 @@ constexpr const char* kUsage =
     "  --pose-noise MM,DEG  per gripper state noise in G (RMS), e.g. 0.5,0.2\n"
     "  --clock-offset-ms T  logged gripper stamps run T ms behind the frames\n"
     "                    (all three seeded, recorded in scene.json, off by default)\n"
+    "  --slip-mm S       the object slides S mm (0..20; 0: off, the default) in the\n"
+    "                    grasp, along the fingers (within 15 deg of +z in G, away\n"
+    "                    from the palm), starting at a seeded instant in 30-70 % of\n"
+    "                    the recording, eased over 0.3 s; the claw stays. gt_mesh.ply\n"
+    "                    and gt_cloud.ply are then the object after the slip, and\n"
+    "                    gt_*_before_slip.ply as grasped (scene.json: slip)\n"
     "  --force           overwrite existing output files\n"
     "  -o, --output DIR  output folder (created if missing)\n"
     "writes DIR/recording.lcmlog, gt_mesh.ply, gt_cloud.ply, claw.ply,\n"
@@ -112,6 +121,7 @@ struct SynthOptions {
   bool help{false};
   std::optional<int> points;  ///< --protocol only
   synth::RigErrorConfig rig_errors;  ///< logged-pose errors (all off)
+  double slip_mm{0.0};  ///< --slip-mm: the object's slide in the grasp (off)
   int width{CameraIntrinsics{}.width};    ///< depth image size [pixels]
   int height{CameraIntrinsics{}.height};
   /// Options given that only a recording uses, to refuse them in protocol
@@ -165,7 +175,8 @@ SynthOptions Parse(const Args& args) {
     const bool recording_only = a == "--mesh" || a == "--claw" || a == "--frames" ||
                                 a == "--ideal" || a == "--wall-m" ||
                                 a == "--hand-eye-error" || a == "--pose-noise" ||
-                                a == "--clock-offset-ms" || a == "--width" || a == "--height";
+                                a == "--clock-offset-ms" || a == "--width" || a == "--height" ||
+                                a == "--slip-mm";
     if (recording_only) o.recording_only_given.push_back(a);
     if (a == "-h" || a == "--help") o.help = true;
     else if (a == "--protocol") o.protocol = value();
@@ -194,6 +205,7 @@ SynthOptions Parse(const Args& args) {
     } else if (a == "--clock-offset-ms") {
       o.rig_errors.clock_offset_us = std::llround(1000.0 * ParseDouble(a, value(), -90.0, 90.0, "ms"));
     }
+    else if (a == "--slip-mm") o.slip_mm = ParseDouble(a, value(), 0.0, 20.0, "mm");
     else if (a == "--width") o.width = ParseInteger<int>(a, value(), 16, 4096);
     else if (a == "--height") o.height = ParseInteger<int>(a, value(), 16, 4096);
     else if (a == "--force") o.force = true;
@@ -217,6 +229,7 @@ SynthOptions Parse(const Args& args) {
     if (o.protocol || o.shape || o.mesh_path || o.size) {
       throw UsageError("--grasps replaces --shape (no --mesh, --size, --protocol)");
     }
+    if (o.slip_mm != 0.0) throw UsageError("--slip-mm applies to one grasp, not to --grasps");
     ParseGraspShapes(*o.grasps);
   } else if (o.shape.has_value() == o.mesh_path.has_value()) {
     throw UsageError("give exactly one of --shape and --mesh");
@@ -297,6 +310,36 @@ json RigErrorsJson(const synth::RigErrors& rig) {
           {"clock_offset_us", c.clock_offset_us}};
 }
 
+json SlipJson(const synth::Scene& scene) {
+  const synth::ObjectSlip& slip = scene.slip();
+  const synth::SlipConfig& c = slip.config();
+  // The first depth frame that sees any of the slide, and the first that
+  // sees all of it.
+  int first_moved = scene.num_frames(), first_settled = scene.num_frames();
+  for (int i = scene.num_frames() - 1; i >= 0; --i) {
+    const double progress = slip.Progress(scene.DepthUtime(i));
+    if (progress > 0.0) first_moved = i;
+    if (progress >= 1.0) first_settled = i;
+  }
+  return {{"doc", "the object slides by displacement_G_m = distance_m * direction_G (in G) "
+                  "relative to the claw, smoothstep-eased from start_utime over duration_s; "
+                  "the claw and the gripper states do not move; gt_mesh.ply and gt_cloud.ply "
+                  "hold the object after the slip, gt_*_before_slip.ply before it"},
+          {"distance_mm", 1000.0 * c.distance_m},
+          {"distance_m", c.distance_m},
+          {"direction_G", Vec(slip.direction_G())},
+          {"displacement_G_m", Vec(slip.Displacement_G())},
+          {"max_tilt_deg", c.max_tilt_deg},
+          {"start_fraction_range", json::array({c.start_min_fraction, c.start_max_fraction})},
+          {"start_utime", slip.start_utime()},
+          {"end_utime", slip.end_utime()},
+          {"duration_s", c.duration_s},
+          {"first_frame_moved", first_moved},
+          {"first_frame_settled", first_settled},
+          {"mesh_before_slip", "gt_mesh_before_slip.ply"},
+          {"cloud_before_slip", "gt_cloud_before_slip.ply"}};
+}
+
 json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::ChannelNames& ch,
                int64_t log_bytes, size_t gripper_states, const synth::RigErrors& rig) {
   const synth::SceneConfig& c = scene.config();
@@ -313,7 +356,7 @@ json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::Chann
     object["size_m"] = Vec(c.EffectiveSize());
     object["segments"] = c.shape_segments;
   }
-  return {
+  json j = {
       {"format", "graspfill-synth-scene/1"},
       {"software_version", io::SoftwareVersion()},
       {"frames_doc", "geometry in the gripper frame G (origin palm face centre, +z approach); "
@@ -393,6 +436,9 @@ json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::Chann
                         {"cloud_seed", c.seed},
                         {"claw_mesh", "claw.ply"}}},
   };
+  // Only with a slip: without one scene.json stays as it was.
+  if (c.slip.any()) j["slip"] = SlipJson(scene);
+  return j;
 }
 
 // What the recording was made with: the claw exactly as rendered (the
@@ -425,6 +471,7 @@ int Run(const SynthOptions& o) {
   if (o.ideal) config.sensor = synth::SensorModelConfig::Ideal();
   config.environment.wall_distance_m = o.wall_m;
   config.intrinsics = synth::IntrinsicsAtResolution(o.width, o.height);
+  config.slip.distance_m = 0.001 * o.slip_mm;
   if (o.shape) {
     config.shape = *synth::ParseShape(*o.shape);
     if (o.size) config.size_m = ParseSize(*o.size);
@@ -454,6 +501,11 @@ int Run(const SynthOptions& o) {
   std::vector<std::string> outputs = {"recording.lcmlog", "gt_mesh.ply", "gt_cloud.ply",
                                       "claw.ply", "scene.json", "claw/claw.json"};
   for (const claw::Link& link : claw_model.links()) outputs.push_back("claw/" + link.name + ".ply");
+  const bool slip = config.slip.any();
+  if (slip) {
+    outputs.push_back("gt_mesh_before_slip.ply");
+    outputs.push_back("gt_cloud_before_slip.ply");
+  }
   if (!PrepareOutputs(dir, outputs, o.force, "synth")) return 1;
 
   const synth::SceneRenderer renderer(scene);
@@ -491,7 +543,9 @@ int Run(const SynthOptions& o) {
   }
   const int64_t log_bytes = static_cast<int64_t>(fs::file_size(log_path));
 
-  io::WriteMeshPly((dir / "gt_mesh.ply").string(), scene.object_G());
+  // The truth is where the object ends; with a slip, the same samples
+  // moved by the slide (point for point) beside the truth as grasped.
+  io::WriteMeshPly((dir / "gt_mesh.ply").string(), scene.object_G_after_slip());
   const synth::SurfaceSamples samples =
       synth::SampleSurface(scene.object_G(), synth::kDefaultGroundTruthPoints, config.seed);
   ObjectCloud gt;
@@ -499,6 +553,12 @@ int Run(const SynthOptions& o) {
   gt.T_C_G = scene.T_C_G(0.0);
   gt.points_G = samples.points;
   gt.normals_G = samples.normals;
+  if (slip) {
+    io::WriteMeshPly((dir / "gt_mesh_before_slip.ply").string(), scene.object_G());
+    io::WriteCloudPly((dir / "gt_cloud_before_slip.ply").string(), gt);
+    const Eigen::Vector3f d = scene.slip().Displacement_G().cast<float>();
+    for (Eigen::Vector3f& p : gt.points_G) p += d;
+  }
   io::WriteCloudPly((dir / "gt_cloud.ply").string(), gt);
   io::WriteMeshPly((dir / "claw.ply").string(), scene.claw_G());
   WriteClawDescription(claw_model, dir / "claw");
@@ -512,6 +572,12 @@ int Run(const SynthOptions& o) {
       log_path.string().c_str(), config.num_frames, gripper_states,
       static_cast<long long>(log_bytes), scene.placement().opening_m, ws.min().x(),
       ws.min().y(), ws.min().z(), ws.max().x(), ws.max().y(), ws.max().z());
+  if (slip) {
+    std::printf("slip: %.2f mm along [%.3f %.3f %.3f] in G from utime %lld over %.2f s\n",
+                o.slip_mm, scene.slip().direction_G().x(), scene.slip().direction_G().y(),
+                scene.slip().direction_G().z(), static_cast<long long>(scene.slip().start_utime()),
+                config.slip.duration_s);
+  }
   return 0;
 }
 

@@ -22,6 +22,7 @@ void AddCounters(const PipelineStats& s, PipelineStats* sum) {
   sum->frames_bad += s.frames_bad;
   sum->frames_skipped_refine += s.frames_skipped_refine;
   sum->frames_decimated += s.frames_decimated;
+  sum->frames_skipped_tracking += s.frames_skipped_tracking;
   sum->frames_dropped += s.frames_dropped;
   sum->states_in += s.states_in;
   sum->states_rejected += s.states_rejected;

@@ -14,6 +14,7 @@ void PipelineConfig::Validate() const {
   tsdf.Validate();
   visibility.Validate();
   refine.Validate();
+  track_object.Validate();
   if (max_pose_gap_us <= 0) throw std::invalid_argument("PipelineConfig: max_pose_gap_us <= 0");
   if (state_buffer_capacity < 2) throw std::invalid_argument("PipelineConfig: state_buffer_capacity < 2");
   if (max_pending_frames < 1) throw std::invalid_argument("PipelineConfig: max_pending_frames < 1");
@@ -32,6 +33,7 @@ struct Pipeline::Impl {
         fusion(c.tsdf),
         visibility(c.visibility, c.workspace),
         refiner(c.refine),
+        tracker(c.track_object),
         states(static_cast<size_t>(c.state_buffer_capacity), c.max_pose_gap_us),
         pending(static_cast<size_t>(c.max_pending_frames)) {}
 
@@ -76,9 +78,9 @@ struct Pipeline::Impl {
     return decimated;
   }
 
-  // Refine the pose, crop, mask and fuse one frame. False: refinement
-  // rejected the frame (counted), nothing fused.
-  bool Integrate(const DepthFrame& frame, const GripperState& state) {
+  // Refine the pose, crop, mask, track the object and fuse one frame; a
+  // frame refinement or tracking rejects is counted, nothing fused.
+  FrameOutcome Integrate(const DepthFrame& frame, const GripperState& state) {
     UpdateClaw(state);
     Eigen::Isometry3d T_C_G = state.T_C_G;
     {
@@ -87,7 +89,7 @@ struct Pipeline::Impl {
       stats.refine = refiner.stats();
       if (outcome != refine::RefineOutcome::kRefined && outcome != refine::RefineOutcome::kOff) {
         ++stats.frames_skipped_refine;
-        return false;
+        return FrameOutcome::kSkippedRefine;
       }
     }
     work.utime = frame.utime;
@@ -101,25 +103,56 @@ struct Pipeline::Impl {
       ScopedStageTimer t(&stats.mask);
       mask.Apply(T_C_G, &work);
     }
+    // The camera in the volume's frame: G, or with tracking the object's
+    // frame as first seen (the claw, crop and mask stay in G).
+    Eigen::Isometry3d T_C_O = T_C_G;
+    if (config.track_object.enabled) {
+      ScopedStageTimer t(&stats.track_time);
+      const refine::TrackOutcome outcome = tracker.Track(work, T_C_G);
+      stats.tracking = tracker.stats();
+      if (outcome != refine::TrackOutcome::kTracked && outcome != refine::TrackOutcome::kNoModel) {
+        ++stats.frames_skipped_tracking;
+        return FrameOutcome::kSkippedTracking;
+      }
+      T_C_O = tracker.T_C_O(T_C_G);
+    }
     {
       ScopedStageTimer t(&stats.integrate);
-      fusion.Integrate(work, T_C_G);
+      fusion.Integrate(work, T_C_O);
     }
     {
       ScopedStageTimer t(&stats.visibility);
-      visibility.Offer(frame, mask.claw_depth_m(), T_C_G);
+      visibility.Offer(frame, mask.claw_depth_m(), T_C_O);
     }
     last_utime = frame.utime;
-    last_T_C_G = T_C_G;
+    last_T_C_G = T_C_O;
     ++stats.frames_integrated;
-    return true;
+    if (config.track_object.enabled) {
+      ScopedStageTimer t(&stats.track_time);
+      UpdateTrackingModel();
+      stats.tracking = tracker.stats();
+    }
+    return FrameOutcome::kIntegrated;
+  }
+
+  // The tracker's model: the surface fused so far, re-extracted after the
+  // warm-up and every model_refresh_frames fused frames (an extraction
+  // costs tens of ms; `model` keeps its memory between them).
+  void UpdateTrackingModel() {
+    const refine::ObjectTrackingConfig& c = tracker.config();
+    const int fused = fusion.frames_integrated();
+    if (fused < c.warmup_frames) return;
+    if (tracker.has_model() && fused - model_frames < c.model_refresh_frames) return;
+    fusion.ExtractCloud(&model);
+    tracker.SetModel(model.points_G, model.normals_G);
+    model_frames = fused;
   }
 
   // Tries the frame against the state buffer.
   FrameOutcome TryIntegrate(const DepthFrame& frame) {
     switch (states.Lookup(frame.utime, &pose)) {
       case PoseLookup::kOk:
-        return Integrate(frame, pose) ? FrameOutcome::kIntegrated : FrameOutcome::kSkippedRefine;
+        return Integrate(frame, pose);
       case PoseLookup::kNotYet:
         return FrameOutcome::kPending;
       case PoseLookup::kTooEarly:
@@ -146,6 +179,9 @@ struct Pipeline::Impl {
   fusion::TsdfFusion fusion;
   evidence::VisibilityRecord visibility;
   refine::PoseRefiner refiner;
+  refine::ObjectTracker tracker;
+  ObjectCloud model;     // the tracker's model, reused
+  int model_frames{0};   // frames fused when it was extracted
   GripperStateBuffer states;
   std::vector<DepthFrame> pending;  // ring, slots reused
   size_t pending_head{0};
@@ -254,6 +290,8 @@ void Pipeline::Reset() {
   s.fusion.Reset();
   s.visibility.Reset();
   s.refiner.Reset();
+  s.tracker.Reset();
+  s.model_frames = 0;
   s.claw_set = false;  // the next state gives the record its claw again
   s.states = GripperStateBuffer(static_cast<size_t>(s.config.state_buffer_capacity),
                                 s.config.max_pose_gap_us);
@@ -264,6 +302,8 @@ void Pipeline::Reset() {
 
 const evidence::VisibilityRecord& Pipeline::visibility() const { return impl_->visibility; }
 const refine::PoseRefiner& Pipeline::refiner() const { return impl_->refiner; }
+const refine::ObjectTracker& Pipeline::tracker() const { return impl_->tracker; }
+Eigen::Isometry3d Pipeline::ObjectPose() const { return impl_->tracker.S_G(); }
 const PipelineStats& Pipeline::stats() const { return impl_->stats; }
 const PipelineConfig& Pipeline::config() const { return impl_->config; }
 

@@ -15,6 +15,19 @@ constexpr int kRoiMarginPx = 2;
 // Corners nearer than this in C make the projection unusable: cast all.
 constexpr double kMinProjectionDepthM = 1e-3;
 
+// Lays the object's pixels over the rest where they are nearer.
+void OverlayNearer(const IdealDepthImage& object, IdealDepthImage* image) {
+  for (size_t i = 0; i < object.depth_m.size(); ++i) {
+    if (object.label[i] != SurfaceLabel::kObject) continue;
+    if (image->label[i] != SurfaceLabel::kNone && !(object.depth_m[i] < image->depth_m[i])) {
+      continue;
+    }
+    image->depth_m[i] = object.depth_m[i];
+    image->cos_incidence[i] = object.cos_incidence[i];
+    image->label[i] = SurfaceLabel::kObject;
+  }
+}
+
 }  // namespace
 
 DepthRenderer::DepthRenderer(const CameraIntrinsics& intrinsics,
@@ -111,16 +124,31 @@ void DepthRenderer::Render(const Eigen::Isometry3d& T_C_G, IdealDepthImage* out)
 
 SceneRenderer::SceneRenderer(const Scene& scene)
     : scene_(scene),
-      renderer_(scene.config().intrinsics, scene.config().environment.wall_distance_m) {
-  renderer_.AddMesh(scene.object_G(), SurfaceLabel::kObject);
+      renderer_(scene.config().intrinsics, scene.config().environment.wall_distance_m),
+      object_renderer_(scene.config().intrinsics, 0.0) {
+  if (scene.slip().config().any()) {
+    object_renderer_.AddMesh(scene.object_G(), SurfaceLabel::kObject);
+    object_renderer_.Commit();
+  } else {
+    renderer_.AddMesh(scene.object_G(), SurfaceLabel::kObject);
+  }
   renderer_.AddMesh(scene.claw_G(), SurfaceLabel::kClaw);
   renderer_.AddMesh(scene.arm_G(), SurfaceLabel::kArm);
   renderer_.Commit();
 }
 
 IdealDepthImage SceneRenderer::RenderIdeal(int frame_index) const {
+  const int64_t utime = scene_.DepthUtime(frame_index);
+  const Eigen::Isometry3d T_C_G = scene_.T_C_G_AtUtime(utime);
   IdealDepthImage image;
-  renderer_.Render(scene_.T_C_G_AtUtime(scene_.DepthUtime(frame_index)), &image);
+  renderer_.Render(T_C_G, &image);
+  if (scene_.slip().config().any()) {
+    // The object mesh is as grasped; where it has slipped to at this time
+    // maps into C through T_C_G * S_G.
+    IdealDepthImage object;
+    object_renderer_.Render(T_C_G * scene_.ObjectSlipAt(utime), &object);
+    OverlayNearer(object, &image);
+  }
   return image;
 }
 

@@ -156,6 +156,7 @@ void SceneConfig::Validate() const {
               claw_config.finger_thickness_m > 0.0 && claw_config.palm_thickness_m >= 0.0,
           "claw dimensions must be positive");
   sensor.Validate();
+  slip.Validate();
 }
 
 Scene::Scene(const SceneConfig& config) : config_(config) {
@@ -278,6 +279,10 @@ Scene::Scene(const SceneConfig& config) : config_(config) {
 
   Rng rng(DeriveSeed(config_.seed, kWobbleStream));
   for (double& phase : wobble_phase_) phase = 2.0 * kPi * rng.Uniform();
+
+  slip_ = ObjectSlip(config_.slip, config_.seed, DepthUtime(0), DepthUtime(config_.num_frames - 1));
+  object_G_after_slip_ =
+      config_.slip.any() ? object_G_.Transformed(slip_.S_G_final()) : object_G_;
 }
 
 claw::ClawModel Scene::MakeClawModel() const {

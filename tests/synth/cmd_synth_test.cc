@@ -14,6 +14,7 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "commands.hpp"
@@ -21,6 +22,7 @@
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/synth/object_slip.hpp"
 #include "graspfill/synth/shapes.hpp"
 
 namespace graspfill::cli {
@@ -436,6 +438,155 @@ TEST_F(SynthCliTest, ProtocolRefusesToOverwriteWithoutForce) {
   forced.push_back("--force");
   EXPECT_EQ(RunSynth(forced), 0);
   EXPECT_GT(FileBytes(dir_ / "holey.ply").size(), holey.size());
+}
+
+
+// --slip-mm (object_slip.hpp) end to end.
+namespace slip {
+
+// The log's events as (channel, bytes), in order.
+std::vector<std::pair<std::string, std::string>> LogEvents(const fs::path& path) {
+  std::vector<std::pair<std::string, std::string>> events;
+  lcm::LogFile log(path.string(), "r");
+  EXPECT_TRUE(log.good()) << path;
+  while (const lcm::LogEvent* event = log.readNextEvent()) {
+    events.emplace_back(event->channel,
+                        std::string(static_cast<const char*>(event->data), event->datalen));
+  }
+  return events;
+}
+
+Eigen::Vector3d Vec3(const nlohmann::json& j) {
+  return Eigen::Vector3d(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+}
+
+// 40 frames (1.3 s): a slide starting at 70 % still ends before the last.
+const std::vector<std::string> kCommon = {"--shape", "cuboid", "--frames", "40", "--wall-m", "0",
+                                          "--seed", "6"};
+
+int RunWith(const fs::path& out, std::vector<std::string> extra) {
+  Args args(kCommon.begin(), kCommon.end());
+  args.insert(args.end(), extra.begin(), extra.end());
+  args.push_back("-o");
+  args.push_back(out.string());
+  return RunSynth(args);
+}
+
+}  // namespace slip
+
+TEST_F(SynthCliTest, SlipIsSeededRecordedAndMovesOnlyTheObject) {
+  ASSERT_EQ(slip::RunWith(dir_ / "still", {}), 0);
+  ASSERT_EQ(slip::RunWith(dir_ / "a", {"--slip-mm", "3"}), 0);
+  ASSERT_EQ(slip::RunWith(dir_ / "b", {"--slip-mm", "3"}), 0);
+  // Seeded: the same run twice, byte for byte.
+  for (const char* name : {"recording.lcmlog", "gt_mesh.ply", "gt_cloud.ply", "scene.json",
+                           "gt_mesh_before_slip.ply", "gt_cloud_before_slip.ply"}) {
+    const std::string a = FileBytes(dir_ / "a" / name);
+    EXPECT_FALSE(a.empty()) << name;
+    EXPECT_EQ(a, FileBytes(dir_ / "b" / name)) << name;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "still" / "gt_cloud_before_slip.ply"));
+
+  // scene.json: exactly the slip the model draws for this seed and span.
+  const nlohmann::json scene = ReadJson(dir_ / "a" / "scene.json");
+  EXPECT_FALSE(ReadJson(dir_ / "still" / "scene.json").contains("slip"));
+  ASSERT_TRUE(scene.contains("slip"));
+  const nlohmann::json& s = scene["slip"];
+  synth::SlipConfig config;
+  config.distance_m = 0.003;
+  const synth::ObjectSlip model(config, 6, scene["log"]["first_depth_utime"].get<int64_t>(),
+                                scene["log"]["last_depth_utime"].get<int64_t>());
+  EXPECT_EQ(s["distance_mm"].get<double>(), 3.0);
+  EXPECT_EQ(slip::Vec3(s["direction_G"]), model.direction_G());
+  EXPECT_EQ(slip::Vec3(s["displacement_G_m"]), model.Displacement_G());
+  EXPECT_EQ(s["start_utime"].get<int64_t>(), model.start_utime());
+  EXPECT_EQ(s["end_utime"].get<int64_t>(), model.end_utime());
+  EXPECT_EQ(s["duration_s"].get<double>(), 0.3);
+  const Eigen::Vector3d d = slip::Vec3(s["displacement_G_m"]);
+  EXPECT_NEAR(d.norm(), 0.003, 1e-12);
+
+  // The truth: where the object ends, the same samples as grasped beside it.
+  const ObjectCloud after = io::ReadCloudPly((dir_ / "a" / "gt_cloud.ply").string());
+  const ObjectCloud before = io::ReadCloudPly((dir_ / "a" / "gt_cloud_before_slip.ply").string());
+  EXPECT_EQ(FileBytes(dir_ / "a" / "gt_cloud_before_slip.ply"),
+            FileBytes(dir_ / "still" / "gt_cloud.ply"));
+  ASSERT_EQ(after.size(), before.size());
+  double worst = 0.0;
+  for (size_t i = 0; i < after.size(); ++i) {
+    worst = std::max(worst, (after.points_G[i].cast<double>() - before.points_G[i].cast<double>() - d)
+                                .norm());
+  }
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_EQ(after.normals_G, before.normals_G);
+  const TriangleMesh mesh_after = io::ReadMesh((dir_ / "a" / "gt_mesh.ply").string());
+  const TriangleMesh mesh_before = io::ReadMesh((dir_ / "a" / "gt_mesh_before_slip.ply").string());
+  ASSERT_EQ(mesh_after.vertices.size(), mesh_before.vertices.size());
+  EXPECT_TRUE(synth::Bounds(mesh_after).min().isApprox(synth::Bounds(mesh_before).min() + d, 1e-6));
+  EXPECT_EQ(FileBytes(dir_ / "a" / "gt_mesh_before_slip.ply"),
+            FileBytes(dir_ / "still" / "gt_mesh.ply"));
+
+  // The log: the claw's states untouched; the frames those of the still
+  // object until the slide starts, different once it is over.
+  const auto still = slip::LogEvents(dir_ / "still" / "recording.lcmlog");
+  const auto slipped = slip::LogEvents(dir_ / "a" / "recording.lcmlog");
+  ASSERT_EQ(still.size(), slipped.size());
+  const int first_moved = s["first_frame_moved"].get<int>();
+  const int first_settled = s["first_frame_settled"].get<int>();
+  EXPECT_GE(first_moved, 11);  // 30 % of 39 frames' span, and more
+  EXPECT_LE(first_settled, 39);
+  EXPECT_LE(first_settled - first_moved, 10);  // 0.3 s at 30 Hz
+  const io::ChannelNames channels;
+  int frame = 0, same_before = 0, differ_after = 0, states = 0;
+  for (size_t i = 0; i < still.size(); ++i) {
+    ASSERT_EQ(still[i].first, slipped[i].first);
+    if (still[i].first == channels.depth) {
+      if (frame < first_moved) same_before += still[i].second == slipped[i].second;
+      if (frame >= first_settled) differ_after += still[i].second != slipped[i].second;
+      ++frame;
+    } else if (still[i].first == channels.gripper_state) {
+      EXPECT_EQ(still[i].second, slipped[i].second);
+      ++states;
+    }
+  }
+  EXPECT_EQ(frame, 40);
+  EXPECT_GT(states, 100);
+  EXPECT_EQ(same_before, first_moved);
+  EXPECT_EQ(differ_after, 40 - first_settled);
+}
+
+TEST_F(SynthCliTest, ZeroSlipChangesNothing) {
+  ASSERT_EQ(slip::RunWith(dir_ / "default", {}), 0);
+  ASSERT_EQ(slip::RunWith(dir_ / "zero", {"--slip-mm", "0"}), 0);
+  size_t files = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(dir_ / "default")) {
+    if (!entry.is_regular_file()) continue;
+    const fs::path rel = fs::relative(entry.path(), dir_ / "default");
+    EXPECT_EQ(FileBytes(entry.path()), FileBytes(dir_ / "zero" / rel)) << rel;
+    ++files;
+  }
+  size_t zero_files = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(dir_ / "zero")) {
+    zero_files += entry.is_regular_file();
+  }
+  EXPECT_GE(files, 6u);
+  EXPECT_EQ(files, zero_files);
+}
+
+TEST_F(SynthCliTest, BadSlipIsRefused) {
+  for (const char* bad : {"-1", "20.5", "abc", "nan", ""}) {
+    EXPECT_EQ(slip::RunWith(dir_, {"--slip-mm", bad}), 2) << bad;
+  }
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(slip::RunWith(dir_, {"--slip-mm", "25"}), 2);
+  const std::string message = testing::internal::GetCapturedStderr();
+  EXPECT_NE(message.find("--slip-mm '25': out of range, expected 0..20 mm"), std::string::npos)
+      << message;
+  EXPECT_EQ(RunSynth({"--protocol", "paper", "--shape", "cuboid", "--slip-mm", "3", "-o",
+                      dir_.string()}),
+            2);
+  EXPECT_EQ(RunSynth({"--grasps", "cuboid,sphere", "--slip-mm", "3", "-o", dir_.string()}), 2);
+  EXPECT_EQ(RunSynth({"--shape", "cuboid", "--slip-mm", "-o", dir_.string()}), 2);
+  EXPECT_FALSE(fs::exists(dir_));
 }
 
 }  // namespace

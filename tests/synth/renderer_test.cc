@@ -2,10 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <vector>
 
 #include "graspfill/synth/mesh_sampling.hpp"
 #include "graspfill/synth/shapes.hpp"
@@ -301,6 +303,70 @@ TEST(SceneRendererTest, RenderTimePerFrame) {
 #ifdef NDEBUG
   EXPECT_LT(ms, 500.0);  // generous: loaded CI machines (~25-45 ms here)
 #endif
+}
+
+// A slip (object_slip.hpp): the frames before it are those of the scene
+// without one; afterwards the object's pixels lie on the object moved by the
+// slip's displacement, off where it was, and the claw has not moved.
+TEST(SceneRendererTest, SlipMovesTheObjectAndNothingElse) {
+  SceneConfig config = IdealScene(Shape::kSphere, GraspWay::kTopStraight);
+  config.seed = 4;
+  const Scene still(config);
+  config.slip.distance_m = 0.003;
+  const Scene slipping(config);
+  const SceneRenderer still_renderer(still);
+  const SceneRenderer renderer(slipping);
+  const ObjectSlip& slip = slipping.slip();
+  ASSERT_TRUE(slip.config().any());
+
+  int before = 0;  // the last frame before the slip starts
+  while (before + 1 < slipping.num_frames() &&
+         slipping.DepthUtime(before + 1) <= slip.start_utime()) {
+    ++before;
+  }
+  ASSERT_GT(before, 10);
+  for (int f : {0, before}) {
+    const IdealDepthImage a = still_renderer.RenderIdeal(f);
+    const IdealDepthImage b = renderer.RenderIdeal(f);
+    EXPECT_EQ(a.depth_m, b.depth_m) << "frame " << f;
+    EXPECT_EQ(a.label, b.label) << "frame " << f;
+  }
+
+  const int last = slipping.num_frames() - 1;
+  ASSERT_GE(slipping.DepthUtime(last), slip.end_utime());
+  const IdealDepthImage moved = renderer.RenderIdeal(last);
+  const IdealDepthImage unmoved = still_renderer.RenderIdeal(last);
+  const CameraIntrinsics& k = moved.intrinsics;
+  const Eigen::Isometry3d T_G_C = slipping.T_C_G_AtUtime(slipping.DepthUtime(last)).inverse();
+  const double r = 0.5 * DefaultSize(Shape::kSphere).x();
+  const Eigen::Vector3d centre_G = Bounds(slipping.object_G()).center();
+  const Eigen::Vector3d d = slip.Displacement_G();
+  std::vector<double> to_moved, to_unmoved;
+  int claw_same = 0, claw_differs = 0;
+  for (int v = 0; v < k.height; ++v) {
+    for (int u = 0; u < k.width; ++u) {
+      const size_t i = static_cast<size_t>(v) * k.width + u;
+      if (moved.label[i] == SurfaceLabel::kClaw && unmoved.label[i] == SurfaceLabel::kClaw) {
+        (moved.depth_m[i] == unmoved.depth_m[i] ? claw_same : claw_differs) += 1;
+      }
+      if (moved.label[i] != SurfaceLabel::kObject) continue;
+      const Eigen::Vector3d p_G = T_G_C * (moved.depth_m[i] * RayC(k, u, v));
+      to_moved.push_back(std::abs((p_G - centre_G - d).norm() - r));
+      to_unmoved.push_back(std::abs((p_G - centre_G).norm() - r));
+    }
+  }
+  ASSERT_GT(to_moved.size(), 3000u);
+  std::sort(to_moved.begin(), to_moved.end());
+  std::sort(to_unmoved.begin(), to_unmoved.end());
+  // A 128-segment sphere: ~10 um off the true one radially, more along
+  // grazing rays at the silhouette.
+  EXPECT_LT(to_moved[to_moved.size() * 99 / 100], 1e-4);
+  // The camera sees the sphere's side and bottom (+z_G side), the slide is
+  // within 15 deg of +z_G: a point with normal n moved d . n off the unmoved
+  // sphere, over 0.75 mm for most of them.
+  EXPECT_GT(to_unmoved[to_unmoved.size() / 2], 0.25 * 0.003);
+  EXPECT_GT(claw_same, 500);
+  EXPECT_EQ(claw_differs, 0);
 }
 
 IdealDepthImage FlatImage(double z, double cos_incidence) {

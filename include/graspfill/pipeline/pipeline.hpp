@@ -5,7 +5,10 @@
 // Per depth frame: decimated if it is very large, pose at the frame's
 // timestamp (interpolated between the bracketing gripper states), refined by registering the claw to the depth
 // (refine/pose_refiner.hpp; a frame it rejects is skipped), crop to the workspace box in G, claw cut-out by
-// ray casting the posed claw, TSDF integration in G, and the frame offered
+// ray casting the posed claw, with object tracking on the object's pixels
+// aligned to the model fused so far (refine/object_tracker.hpp: the object
+// slipping in G; a frame it rejects is skipped), TSDF integration in G (in
+// the object's frame as first seen, with tracking), and the frame offered
 // to the visibility record (evidence/). Extraction is on demand.
 //
 // Single-threaded and NOT thread safe: rt/ owns the threads that feed it.
@@ -21,6 +24,7 @@
 #include "graspfill/evidence/visibility_record.hpp"
 #include "graspfill/fusion/tsdf_fusion.hpp"
 #include "graspfill/fusion/workspace_crop.hpp"
+#include "graspfill/refine/object_tracker.hpp"
 #include "graspfill/refine/pose_refiner.hpp"
 #include "graspfill/types.hpp"
 
@@ -36,6 +40,11 @@ struct PipelineConfig {
   /// Pose refinement before the mask and the fusion (on by default; a frame
   /// it rejects is skipped and counted, see refine/pose_refiner.hpp).
   refine::RefineConfig refine;
+  /// Object tracking after the mask (off by default; a frame it rejects is
+  /// skipped and counted). On, the volume, the visibility record and the
+  /// extracted cloud are in the object's frame as first seen (G before any
+  /// slip); ObjectPose() says where the object is in G now.
+  refine::ObjectTrackingConfig track_object;
   /// Two gripper states bracketing a depth frame may be at most this far
   /// apart [us]; otherwise the frame is skipped (no trustworthy pose).
   int64_t max_pose_gap_us{50000};
@@ -67,6 +76,7 @@ enum class FrameOutcome {
   kSkippedNoPose,  ///< no gripper states close enough around its timestamp
   kBadFrame,       ///< wrong size or bad intrinsics: rejected
   kSkippedRefine,  ///< pose refinement rejected it (PipelineStats::refine says why)
+  kSkippedTracking,  ///< object tracking rejected it (PipelineStats::tracking says why)
 };
 
 struct PipelineStats {
@@ -82,6 +92,9 @@ struct PipelineStats {
   int64_t frames_decimated{0};  ///< over max_fusion_pixels, fused decimated
   refine::RefineStats refine;       ///< corrections, residuals, rejections by reason
   StageTotal refine_time;  ///< claw registration (0 when refinement is off)
+  int64_t frames_skipped_tracking{0};  ///< rejected by object tracking
+  refine::TrackStats tracking;         ///< object tracking by outcome
+  StageTotal track_time;  ///< object tracking and its model updates (0 when off)
   StageTotal crop;
   StageTotal mask;
   StageTotal integrate;
@@ -121,6 +134,10 @@ class Pipeline {
   /// The pose refinement's state: the hand-eye correction found so far
   /// (T_C_G ~= H * T_C_G_logged), the last registration.
   const refine::PoseRefiner& refiner() const;
+  /// The object tracking's state; ObjectPose: the object's pose in G,
+  /// S_G (p_G = S_G * p in the volume's frame; identity without tracking).
+  const refine::ObjectTracker& tracker() const;
+  Eigen::Isometry3d ObjectPose() const;
 
   /// Forgets the object (volume, visibility, states, pending frames);
   /// keeps the claw.

@@ -44,7 +44,9 @@ class DepthRenderer {
 };
 
 /// Renders the frames of a Scene (object, claw, arm, wall) with its sensor
-/// model. Keeps a reference: the scene must outlive it.
+/// model. Keeps a reference: the scene must outlive it. With a slip the
+/// object has its own renderer (it moves in G, the rest does not) and is
+/// laid over the rest by depth; without one everything is in one.
 class SceneRenderer {
  public:
   explicit SceneRenderer(const Scene& scene);
@@ -59,6 +61,7 @@ class SceneRenderer {
  private:
   const Scene& scene_;
   DepthRenderer renderer_;
+  DepthRenderer object_renderer_;  ///< the object alone, with a slip only
 };
 
 }  // namespace graspfill::synth

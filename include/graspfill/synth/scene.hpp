@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "graspfill/claw/claw_model.hpp"
+#include "graspfill/synth/object_slip.hpp"
 #include "graspfill/synth/sensor_model.hpp"
 #include "graspfill/synth/shapes.hpp"
 #include "graspfill/types.hpp"
@@ -124,6 +125,8 @@ struct SceneConfig {
   PlacementConfig placement;
   MotionConfig motion;
   EnvironmentConfig environment;
+  /// The object sliding in the grasp (seeded by `seed`; none by default).
+  SlipConfig slip;
 
   /// Size actually used (size_m, or the default for the shape).
   Eigen::Vector3d EffectiveSize() const;
@@ -162,6 +165,12 @@ class Scene {
   /// The object in its own frame O, and in G.
   const TriangleMesh& object_O() const { return object_O_; }
   const TriangleMesh& object_G() const { return object_G_; }
+  /// The slip (identity motion without one) and the object where it ends,
+  /// in G (object_G() without slip).
+  const ObjectSlip& slip() const { return slip_; }
+  const TriangleMesh& object_G_after_slip() const { return object_G_after_slip_; }
+  /// The object's motion in G at `utime` (ObjectSlip::S_G).
+  Eigen::Isometry3d ObjectSlipAt(int64_t utime) const { return slip_.S_G(utime); }
   /// The posed claw (palm and fingers) in G.
   const TriangleMesh& claw_G() const { return claw_G_; }
   /// The robot arm behind the palm, in G.
@@ -196,6 +205,8 @@ class Scene {
   SceneConfig config_;
   TriangleMesh object_O_;
   TriangleMesh object_G_;
+  TriangleMesh object_G_after_slip_;
+  ObjectSlip slip_;
   TriangleMesh claw_G_;
   TriangleMesh arm_G_;
   Placement placement_;
