@@ -65,49 +65,6 @@ const char* RegistrationStatusName(RegistrationStatus status) {
   return "unknown";
 }
 
-void ClawRegistration::LookupGrid::Build(const std::vector<Eigen::Vector3f>& points, int stride,
-                                         double cell_m, double band_m) {
-  Eigen::AlignedBox3f box;
-  for (const Eigen::Vector3f& p : points) box.extend(p);
-  cell = static_cast<float>(cell_m);
-  band = static_cast<float>(band_m);
-  origin = box.min().array() - band - cell;
-  const Eigen::Vector3f extent = box.max().array() + band + cell - origin.array();
-  nx = static_cast<int>(std::ceil(extent.x() / cell));
-  ny = static_cast<int>(std::ceil(extent.y() / cell));
-  nz = static_cast<int>(std::ceil(extent.z() / cell));
-  const size_t n = static_cast<size_t>(nx) * ny * nz;
-  nearest.assign(n, -1);
-  std::vector<float> best(n, band * band);
-  const int reach = static_cast<int>(std::ceil(band / cell));
-  for (size_t k = 0; k < points.size(); k += static_cast<size_t>(stride)) {
-    const Eigen::Vector3f rel = (points[k] - origin) / cell;
-    const int ci = static_cast<int>(rel.x()), cj = static_cast<int>(rel.y()),
-              ck = static_cast<int>(rel.z());
-    for (int i = std::max(0, ci - reach); i <= std::min(nx - 1, ci + reach); ++i) {
-      for (int j = std::max(0, cj - reach); j <= std::min(ny - 1, cj + reach); ++j) {
-        for (int l = std::max(0, ck - reach); l <= std::min(nz - 1, ck + reach); ++l) {
-          const Eigen::Vector3f centre = origin + cell * Eigen::Vector3f(i + 0.5f, j + 0.5f, l + 0.5f);
-          const float d2 = (centre - points[k]).squaredNorm();
-          const size_t c = static_cast<size_t>(i) + static_cast<size_t>(nx) * (j + static_cast<size_t>(ny) * l);
-          if (d2 < best[c]) {
-            best[c] = d2;
-            nearest[c] = static_cast<int32_t>(k);
-          }
-        }
-      }
-    }
-  }
-}
-
-int ClawRegistration::LookupGrid::Lookup(const Eigen::Vector3f& p) const {
-  const Eigen::Vector3f rel = (p - origin) / cell;
-  if (!(rel.x() >= 0.0f && rel.y() >= 0.0f && rel.z() >= 0.0f)) return -1;
-  const int i = static_cast<int>(rel.x()), j = static_cast<int>(rel.y()), l = static_cast<int>(rel.z());
-  if (i >= nx || j >= ny || l >= nz) return -1;
-  return nearest[static_cast<size_t>(i) + static_cast<size_t>(nx) * (j + static_cast<size_t>(ny) * l)];
-}
-
 ClawRegistration::ClawRegistration(const ClawRegistrationConfig& config) : config_(config) {
   config_.Validate();
 }
@@ -265,7 +222,7 @@ RegistrationResult ClawRegistration::Register(const DepthFrame& frame,
   result.status = RegistrationStatus::kNotConverged;
   for (int it = 0; it < config_.max_iterations; ++it) {
     const bool at_final = gate <= config_.final_gate_m * (1.0 + 1e-9);
-    const LookupGrid& grid = gate > config_.fine_band_m ? coarse_ : fine_;
+    const ClosestPointGrid& grid = gate > config_.fine_band_m ? coarse_ : fine_;
     const Eigen::Isometry3f T_G_C = T.inverse().cast<float>();
     const Eigen::Matrix3f R_C_G = T.linear().cast<float>();
     const Eigen::Vector3f t_C_G = T.translation().cast<float>();
@@ -277,7 +234,7 @@ RegistrationResult ClawRegistration::Register(const DepthFrame& frame,
     Eigen::Vector3d sum_p = Eigen::Vector3d::Zero();
     for (size_t i = 0; i < points_C_.size(); ++i) {
       const Eigen::Vector3f p_G = T_G_C * points_C_[i];
-      const int idx = grid.Lookup(p_G);
+      const int idx = grid.Nearest(p_G);
       if (idx < 0) continue;
       const Eigen::Vector3f& q_G = model_points_G_[idx];
       const Eigen::Vector3f& m_G = model_normals_G_[idx];

@@ -79,51 +79,21 @@ void ObjectTracker::SetModel(const std::vector<Eigen::Vector3f>& points_O,
   }
   model_points_.clear();
   model_normals_.clear();
-  Eigen::AlignedBox3f box;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (size_t i = 0; i < points_O.size(); ++i) {
     const float len = normals_O[i].norm();
     if (!points_O[i].allFinite() || !(len > 0.0f)) continue;
     model_points_.push_back(points_O[i]);
     model_normals_.push_back(normals_O[i] / len);
-    box.extend(points_O[i]);
     sum += points_O[i].cast<double>();
   }
   ++stats_.model_updates;
   if (model_points_.empty()) {
-    nx_ = ny_ = nz_ = 0;
+    grid_.Clear();
     return;
   }
   model_centre_ = (sum / static_cast<double>(model_points_.size())).cast<float>();
-  const float cell = static_cast<float>(config_.cell_m);
-  const float band = static_cast<float>(config_.band_m);
-  origin_ = box.min().array() - band - cell;
-  const Eigen::Vector3f extent = box.max().array() + band + cell - origin_.array();
-  nx_ = static_cast<int>(std::ceil(extent.x() / cell));
-  ny_ = static_cast<int>(std::ceil(extent.y() / cell));
-  nz_ = static_cast<int>(std::ceil(extent.z() / cell));
-  const size_t n = static_cast<size_t>(nx_) * ny_ * nz_;
-  nearest_.assign(n, -1);  // reuses the capacity of the last model's table
-  best_d2_.assign(n, band * band);
-  const int reach = static_cast<int>(std::ceil(band / cell));
-  for (size_t k = 0; k < model_points_.size(); ++k) {
-    const Eigen::Vector3f rel = (model_points_[k] - origin_) / cell;
-    const int ci = static_cast<int>(rel.x()), cj = static_cast<int>(rel.y()),
-              ck = static_cast<int>(rel.z());
-    for (int l = std::max(0, ck - reach); l <= std::min(nz_ - 1, ck + reach); ++l) {
-      for (int j = std::max(0, cj - reach); j <= std::min(ny_ - 1, cj + reach); ++j) {
-        for (int i = std::max(0, ci - reach); i <= std::min(nx_ - 1, ci + reach); ++i) {
-          const Eigen::Vector3f centre = origin_ + cell * Eigen::Vector3f(i + 0.5f, j + 0.5f, l + 0.5f);
-          const float d2 = (centre - model_points_[k]).squaredNorm();
-          const size_t c = static_cast<size_t>(i) + static_cast<size_t>(nx_) * (j + static_cast<size_t>(ny_) * l);
-          if (d2 < best_d2_[c]) {
-            best_d2_[c] = d2;
-            nearest_[c] = static_cast<int32_t>(k);
-          }
-        }
-      }
-    }
-  }
+  grid_.Build(model_points_, 1, config_.cell_m, config_.band_m);
 }
 
 int ObjectTracker::CollectPoints(const DepthFrame& frame) {
@@ -195,7 +165,6 @@ TrackOutcome ObjectTracker::Track(const DepthFrame& object_frame, const Eigen::I
   const Eigen::Isometry3f T_G_C = T_C_G.inverse().cast<float>();
   const Eigen::Matrix3f R_G_C = T_G_C.linear();
   const float cos_min = static_cast<float>(std::cos(config_.max_normal_angle_deg * kDegToRad));
-  const float cell = static_cast<float>(config_.cell_m);
   const double huber = config_.huber_m;
   Eigen::Isometry3d S = S_G_;
   const Eigen::Vector3d centre_G = S * model_centre_.cast<double>();
@@ -217,12 +186,7 @@ TrackOutcome ObjectTracker::Track(const DepthFrame& object_frame, const Eigen::I
     for (size_t i = 0; i < points_C_.size(); ++i) {
       const Eigen::Vector3f p_G = T_G_C * points_C_[i];
       const Eigen::Vector3f p_O = S_inv * p_G;
-      const Eigen::Vector3f rel = (p_O - origin_) / cell;
-      if (!(rel.x() >= 0.0f && rel.y() >= 0.0f && rel.z() >= 0.0f)) continue;
-      const int ci = static_cast<int>(rel.x()), cj = static_cast<int>(rel.y()),
-                ck = static_cast<int>(rel.z());
-      if (ci >= nx_ || cj >= ny_ || ck >= nz_) continue;
-      const int idx = nearest_[static_cast<size_t>(ci) + static_cast<size_t>(nx_) * (cj + static_cast<size_t>(ny_) * ck)];
+      const int idx = grid_.Nearest(p_O);
       if (idx < 0) continue;
       // The match in G, where the update moves it.
       const Eigen::Vector3f q_G = S_f * model_points_[idx];
@@ -324,7 +288,7 @@ TrackOutcome ObjectTracker::Track(const DepthFrame& object_frame, const Eigen::I
 void ObjectTracker::Reset() {
   model_points_.clear();
   model_normals_.clear();
-  nx_ = ny_ = nz_ = 0;
+  grid_.Clear();
   S_G_ = Eigen::Isometry3d::Identity();
   last_matches_ = 0;
   last_rms_m_ = 0.0;

@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "graspfill/refine/closest_point_grid.hpp"
 #include "graspfill/types.hpp"
 
 namespace graspfill::refine {
@@ -114,18 +115,6 @@ class ClawRegistration {
   const std::vector<Eigen::Vector3f>& model_normals_G() const { return model_normals_G_; }
 
  private:
-  // Index of the model point nearest each cell's centre within a band.
-  struct LookupGrid {
-    Eigen::Vector3f origin{0, 0, 0};
-    float cell{1.0f};
-    int nx{0}, ny{0}, nz{0};
-    float band{0.0f};
-    std::vector<int32_t> nearest;  // -1: no model point within the band
-    void Build(const std::vector<Eigen::Vector3f>& points, int stride, double cell_m,
-               double band_m);
-    int Lookup(const Eigen::Vector3f& p) const;
-  };
-
   // Depth points near the predicted claw (C), with normals facing the camera.
   int CollectCandidates(const DepthFrame& frame, const Eigen::Isometry3d& T_C_G, double gate_m);
 
@@ -133,8 +122,8 @@ class ClawRegistration {
   std::vector<Eigen::Vector3f> model_points_G_;
   std::vector<Eigen::Vector3f> model_normals_G_;
   Eigen::AlignedBox3f model_box_G_;
-  LookupGrid fine_;
-  LookupGrid coarse_;
+  ClosestPointGrid fine_;    // the model's closest points, fine and coarse
+  ClosestPointGrid coarse_;
   std::vector<Eigen::Vector3f> points_C_;   // reused per frame
   std::vector<Eigen::Vector3f> normals_C_;
 };

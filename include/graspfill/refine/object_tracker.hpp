@@ -31,6 +31,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "graspfill/refine/closest_point_grid.hpp"
 #include "graspfill/types.hpp"
 
 namespace graspfill::refine {
@@ -175,12 +176,7 @@ class ObjectTracker {
   std::vector<Eigen::Vector3f> model_points_;
   std::vector<Eigen::Vector3f> model_normals_;
   Eigen::Vector3f model_centre_{0, 0, 0};
-  // Lookup table: index of the model point nearest each cell's centre
-  // within band_m (-1: none).
-  Eigen::Vector3f origin_{0, 0, 0};
-  int nx_{0}, ny_{0}, nz_{0};
-  std::vector<int32_t> nearest_;
-  std::vector<float> best_d2_;  // table building scratch
+  ClosestPointGrid grid_;  // the model's closest points within band_m
   std::vector<Eigen::Vector3f> points_C_;  // reused per frame
   std::vector<Eigen::Vector3f> normals_C_;
   Eigen::Isometry3d S_G_{Eigen::Isometry3d::Identity()};
