@@ -82,6 +82,10 @@ constexpr const char* kUsage =
     "                        final model is never replaced)\n"
     "  --no-incremental      repair every published cloud in full (default: update the\n"
     "                        last full repair, full repairs running behind)\n"
+    "  --no-refine           fuse at the logged gripper poses (default: correct each frame's\n"
+    "                        pose by registering the claw model to the depth)\n"
+    "  --refine              the default; over a config's refine.enabled: false\n"
+    "  --track-object        follow the object slipping in the grasp (frame-to-model)\n"
     "  --record LOG          write what the session receives (session description, depth,\n"
     "                        gripper states) as an LCM log that `graspfill replay` and\n"
     "                        lcm-logplayer play\n"
@@ -194,6 +198,9 @@ int RunLive(const Args& args) {
       }
       else if (a == "--no-repair") session_config.repair = false;
       else if (a == "--no-incremental") session_config.repair_options.incremental = false;
+      else if (a == "--no-refine") module_config.pipeline.refine.enabled = false;
+      else if (a == "--refine") module_config.pipeline.refine.enabled = true;
+      else if (a == "--track-object") module_config.pipeline.track_object.enabled = true;
       else if (a == "--repair-mode" && has_value) {
         const std::string mode = args[++i];
         if (mode == "paper") repair_config.mode = repair::RepairMode::kPaper;
@@ -330,12 +337,14 @@ int RunLive(const Args& args) {
               "p99 %.1f, max %.1f ms\n",
               static_cast<long long>(summary.clouds_published), lat.p50, lat.p95, lat.p99, lat.max);
   const io::ModuleStatus& st = summary.status;
-  std::printf("live: skipped %lld (no pose %lld, clock jump %lld, bad %lld, claw empty %lld); "
-              "%lld decode errors; %lld clock jumps; %lld grasps completed; state %s\n",
+  std::printf("live: skipped %lld (no pose %lld, clock jump %lld, bad %lld, pose refinement %lld, "
+              "claw empty %lld); %lld decode errors; %lld clock jumps; %lld grasps completed; "
+              "state %s\n",
               static_cast<long long>(st.frames_skipped),
               static_cast<long long>(st.frames_skipped_no_pose),
               static_cast<long long>(st.frames_skipped_clock_jump),
               static_cast<long long>(st.frames_bad),
+              static_cast<long long>(st.frames_skipped_refine),
               static_cast<long long>(s.session.frames_released),
               static_cast<long long>(st.decode_errors), static_cast<long long>(st.clock_jumps),
               static_cast<long long>(st.grasps_completed), st.state.c_str());

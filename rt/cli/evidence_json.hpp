@@ -16,6 +16,7 @@ inline nlohmann::ordered_json EvidenceJson(const repair::EvidenceReport& e) {
   j["observed_free_share"] = e.observed_free_share;
   j["mirror_free_share"] = std::isnan(e.mirror_free_share) ? nlohmann::ordered_json(nullptr)
                                                            : nlohmann::ordered_json(e.mirror_free_share);
+  j["mirror_plane_drop_mm"] = 1000.0 * e.mirror_plane_drop_m;
   j["rejected_free"] = e.rejected_free;
   j["moved_out_of_claw"] = e.moved_out_of_claw;
   j["rejected_in_claw"] = e.rejected_in_claw;

@@ -58,7 +58,7 @@ inline nlohmann::ordered_json RefineJson(const Pipeline& pipeline) {
 
 inline std::string RefineSummary(const Pipeline& pipeline) {
   const refine::PoseRefiner& refiner = pipeline.refiner();
-  if (!refiner.config().enabled) return "pose refinement: off (--refine turns it on)";
+  if (!refiner.config().enabled) return "pose refinement: off (--no-refine)";
   const refine::RefineStats& r = pipeline.stats().refine;
   const Eigen::Isometry3d H = refiner.HandEyeCorrection();
   const Eigen::Vector3d centre = refiner.claw_centre_C();

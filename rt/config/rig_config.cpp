@@ -47,6 +47,8 @@ constexpr Range kFusionPixels{64 * 48, 4096 * 4096, "pixels"};
 constexpr Range kSafeBoundM{0.0, 0.1, "m"};  // and 0 or >= kMinSafeBoundM
 constexpr double kMinSafeBoundM = 0.0005;
 constexpr Range kRimBandM{0.0, 0.5, "m"};
+constexpr Range kCorrectionM{0.0, 0.005, "m"};
+constexpr Range kCorrectionDeg{0.0, 2.0, "deg"};
 constexpr Range kPublishEvery{0, 100000, "frames"};
 constexpr Range kStatusPeriodS{0.05, 60.0, "s"};
 constexpr double kUnitTolerance = 1e-3;  // |norm - 1| of a typed quaternion
@@ -174,6 +176,10 @@ bool RigConfig::Repair::operator==(const Repair& o) const {
          safe_bound_voxel_m == o.safe_bound_voxel_m && top_rim_band_m == o.top_rim_band_m &&
          close_unknown_top == o.close_unknown_top && incremental == o.incremental;
 }
+bool RigConfig::Refine::operator==(const Refine& o) const {
+  return enabled == o.enabled && min_correction_m == o.min_correction_m &&
+         min_correction_deg == o.min_correction_deg && track_object == o.track_object;
+}
 bool RigConfig::Channels::operator==(const Channels& o) const {
   return depth == o.depth && gripper_state == o.gripper_state &&
          object_cloud == o.object_cloud && status == o.status && session == o.session;
@@ -184,7 +190,8 @@ bool RigConfig::Rates::operator==(const Rates& o) const {
 }
 bool RigConfig::operator==(const RigConfig& o) const {
   return camera == o.camera && robot == o.robot && claw == o.claw && workspace == o.workspace &&
-         tsdf == o.tsdf && repair == o.repair && channels == o.channels && rates == o.rates;
+         tsdf == o.tsdf && repair == o.repair && refine == o.refine && channels == o.channels &&
+         rates == o.rates;
 }
 
 Eigen::Isometry3d RigConfig::Pose::ToIsometry() const {
@@ -218,6 +225,8 @@ void RigConfig::Validate() const {
   CheckOneOf("repair.mode", repair.mode, {"best", "paper"});
   CheckSafeBound("repair.safe_bound_voxel_m", repair.safe_bound_voxel_m);
   CheckRange("repair.top_rim_band_m", repair.top_rim_band_m, kRimBandM);
+  CheckRange("refine.min_correction_m", refine.min_correction_m, kCorrectionM);
+  CheckRange("refine.min_correction_deg", refine.min_correction_deg, kCorrectionDeg);
   CheckNotEmpty("channels.depth", channels.depth);
   CheckNotEmpty("channels.gripper_state", channels.gripper_state);
   CheckNotEmpty("channels.object_cloud", channels.object_cloud);
@@ -404,6 +413,19 @@ std::string DumpRigConfig(const RigConfig& c) {
   w.Key(1, "incremental", Bool(c.repair.incremental));
   w.Blank();
 
+  w.Key(0, "refine", "");
+  w.Comment(1, "Correct each frame's gripper pose by registering the claw model to the depth");
+  w.Comment(1, "(false: fuse at the logged poses).");
+  w.Key(1, "enabled", Bool(c.refine.enabled));
+  w.Comment(1, "Corrections beyond the prediction smaller than both are not fused (the");
+  w.Comment(1, "registration's jitter) [m], [deg] (defaults " + FormatNumber(d.refine.min_correction_m) +
+                   ", " + FormatNumber(d.refine.min_correction_deg) + ").");
+  w.Key(1, "min_correction_m", FormatNumber(c.refine.min_correction_m));
+  w.Key(1, "min_correction_deg", FormatNumber(c.refine.min_correction_deg));
+  w.Comment(1, "Follow the object slipping in the grasp (frame-to-model tracking).");
+  w.Key(1, "track_object", Bool(c.refine.track_object));
+  w.Blank();
+
   w.Comment(0, "LCM channels.");
   w.Key(0, "channels", "");
   w.Key(1, "depth", Quoted(c.channels.depth));
@@ -573,7 +595,7 @@ RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
   if (root.IsNull()) return c;  // an empty file: the defaults
   const Reader r(name);
   r.Map(root, "",
-        {"camera", "robot", "claw", "workspace", "tsdf", "repair", "channels", "rates"},
+        {"camera", "robot", "claw", "workspace", "tsdf", "repair", "refine", "channels", "rates"},
         [&](const std::string& key, const YAML::Node& v, const std::string& path) {
     if (key == "camera") {
       r.Map(v, path, {"device", "width_px", "height_px", "fps", "depth_units", "intrinsics_override"},
@@ -661,6 +683,14 @@ RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
         else if (k == "incremental") c.repair.incremental = r.Bool(x, f);
         else c.repair.close_unknown_top = r.Bool(x, f);
       });
+    } else if (key == "refine") {
+      r.Map(v, path, {"enabled", "min_correction_m", "min_correction_deg", "track_object"},
+            [&](const std::string& k, const YAML::Node& x, const std::string& f) {
+        if (k == "enabled") c.refine.enabled = r.Bool(x, f);
+        else if (k == "min_correction_m") c.refine.min_correction_m = r.Number(x, f, kCorrectionM);
+        else if (k == "min_correction_deg") c.refine.min_correction_deg = r.Number(x, f, kCorrectionDeg);
+        else c.refine.track_object = r.Bool(x, f);
+      });
     } else if (key == "channels") {
       r.Map(v, path, {"depth", "gripper_state", "object_cloud", "status", "session"},
             [&](const std::string& k, const YAML::Node& x, const std::string& f) {
@@ -727,6 +757,10 @@ void ApplyToPipeline(const RigConfig& c, PipelineConfig* p) {
                                          c.workspace->max_G_m[2]);
   }
   p->max_pose_gap_us = std::llround(c.robot.max_pose_gap_s * 1e6);
+  p->refine.enabled = c.refine.enabled;
+  p->refine.min_correction_m = c.refine.min_correction_m;
+  p->refine.min_correction_deg = c.refine.min_correction_deg;
+  p->track_object.enabled = c.refine.track_object;
 }
 
 void ApplyToRepair(const RigConfig& c, repair::RepairConfig* r) {

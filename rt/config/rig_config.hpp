@@ -146,6 +146,19 @@ struct RigConfig {
     bool incremental{true};
     bool operator==(const Repair& o) const;
   };
+  /// Pose refinement (PipelineConfig::refine, ::track_object).
+  struct Refine {
+    /// Correct each frame's gripper pose by registering the claw model to
+    /// the depth (false: fuse at the logged poses).
+    bool enabled{true};
+    /// Corrections beyond the prediction smaller than both are not fused:
+    /// the registration's jitter [m], [deg].
+    double min_correction_m{0.0005};
+    double min_correction_deg{0.5};
+    /// Follow the object slipping in the grasp (frame-to-model tracking).
+    bool track_object{false};
+    bool operator==(const Refine& o) const;
+  };
   struct Channels {
     std::string depth{"GRASPFILL_DEPTH"};
     std::string gripper_state{"GRASPFILL_GRIPPER_STATE"};
@@ -170,6 +183,7 @@ struct RigConfig {
   std::optional<Box> workspace;
   Tsdf tsdf;
   Repair repair;
+  Refine refine;
   Channels channels;
   Rates rates;
 

@@ -181,8 +181,9 @@ io::ModuleStatus LiveSession::Status() const {
   status.frames_skipped_no_pose = s.pipeline.frames_skipped_no_pose;
   status.frames_skipped_clock_jump = c.skipped_clock_jump;
   status.frames_bad = s.pipeline.frames_bad + source_errors_;
+  status.frames_skipped_refine = s.pipeline.frames_skipped_refine + s.pipeline.frames_skipped_tracking;
   status.frames_skipped = status.frames_skipped_no_pose + status.frames_skipped_clock_jump +
-                          s.pipeline.frames_bad + c.frames_released;
+                          s.pipeline.frames_bad + status.frames_skipped_refine + c.frames_released;
   status.frames_dropped = s.frames_dropped + s.pipeline.frames_dropped;
   status.last_frame_ms = s.pipeline.crop.last_ms + s.pipeline.mask.last_ms +
                          s.pipeline.integrate.last_ms;

@@ -805,6 +805,7 @@ std::vector<uint8_t> EncodeModuleStatus(const ModuleStatus& status) {
   msg.frames_skipped_no_pose = status.frames_skipped_no_pose;
   msg.frames_skipped_clock_jump = status.frames_skipped_clock_jump;
   msg.frames_bad = status.frames_bad;
+  msg.frames_skipped_refine = status.frames_skipped_refine;
   msg.decode_errors = status.decode_errors;
   msg.clock_jumps = status.clock_jumps;
   msg.repairs_done = status.repairs_done;
@@ -837,7 +838,7 @@ static bool DecodeModuleStatusImpl(const void* data, size_t size, ModuleStatus* 
   if (!CheckBuffer(data, size, out, "module_status_t", error)) return false;
   WireReader r(data, size);
   if (!r.Hash(graspfill::module_status_t::getHash()) || !r.Skip(5 * 8 + 8) ||
-      !r.SkipString() || !r.Skip(1) || !r.SkipString() || !r.Skip(10 * 8 + 5 * 8 + 7 * 8)) {
+      !r.SkipString() || !r.Skip(1) || !r.SkipString() || !r.Skip(11 * 8 + 5 * 8 + 7 * 8)) {
     SetError(error, "module_status_t: malformed message");
     return false;
   }
@@ -862,6 +863,7 @@ static bool DecodeModuleStatusImpl(const void* data, size_t size, ModuleStatus* 
   out->frames_skipped_no_pose = msg.frames_skipped_no_pose;
   out->frames_skipped_clock_jump = msg.frames_skipped_clock_jump;
   out->frames_bad = msg.frames_bad;
+  out->frames_skipped_refine = msg.frames_skipped_refine;
   out->decode_errors = msg.decode_errors;
   out->clock_jumps = msg.clock_jumps;
   out->repairs_done = msg.repairs_done;

@@ -159,8 +159,11 @@ RefineOutcome PoseRefiner::Refine(const DepthFrame& frame, const Eigen::Isometry
     stats_.residual_sum_deg += res_deg;
     stats_.max_residual_m = std::max(stats_.max_residual_m, res_m);
   }
+  // Before the hand-eye correction is known the prediction is the logged
+  // pose, so a correction below the registration's precision leaves that.
+  const double beyond_m = tracking ? res_m : corr_m, beyond_deg = tracking ? res_deg : corr_deg;
   const bool below_precision =
-      tracking && res_m < config_.min_correction_m && res_deg < config_.min_correction_deg;
+      beyond_m < config_.min_correction_m && beyond_deg < config_.min_correction_deg;
   if (below_precision) ++stats_.frames_at_prediction;
   *T_C_G = below_precision ? prediction : last_.T_C_G;
   return RefineOutcome::kRefined;

@@ -67,6 +67,9 @@ void EvidenceConfig::Validate() const {
   share(min_flat_area_ratio, "min_flat_area_ratio");
   if (!(taper_drop_m > 0.0 && taper_drop_m < 0.2)) throw std::invalid_argument("EvidenceConfig: taper_drop_m must be in (0, 0.2) m");
   if (!(mirror_low_m >= 0.0 && mirror_low_m < 0.1)) throw std::invalid_argument("EvidenceConfig: mirror_low_m must be in [0, 0.1) m");
+  if (!(max_plane_drop_m >= 0.0 && max_plane_drop_m < 0.05)) {
+    throw std::invalid_argument("EvidenceConfig: max_plane_drop_m must be in [0, 0.05) m");
+  }
 }
 
 std::string TopEvidenceName(TopEvidence outcome) {
@@ -85,6 +88,27 @@ double SeenFreeShare(const evidence::VisibilityRecord& record, const PointList& 
   size_t n = 0;
   for (const Eigen::Vector3f& p : points_V) n += record.SeenFree(T_in_V * p);
   return static_cast<double>(n) / static_cast<double>(points_V.size());
+}
+
+double LowerMirrorOutOfFree(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
+                            const Eigen::Isometry3f& T_in_V, float floor_z_V, PointList* added_V) {
+  const int steps = static_cast<int>(std::floor(config.max_plane_drop_m / config.top_step_m + 1e-9));
+  PointList lowered;
+  lowered.reserve(added_V->size());
+  for (int k = 0; k <= steps; ++k) {
+    const float drop = static_cast<float>(k * config.top_step_m);
+    lowered.clear();
+    for (const Eigen::Vector3f& p : *added_V) {
+      const Eigen::Vector3f q(p.x(), p.y(), p.z() - 2.0f * drop);
+      if (k == 0 || q.z() >= floor_z_V) lowered.push_back(q);
+    }
+    if (lowered.empty()) break;
+    if (SeenFreeShare(record, lowered, T_in_V) <= config.max_mirror_free_share) {
+      added_V->swap(lowered);
+      return drop;
+    }
+  }
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
 int DropSeenFree(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,

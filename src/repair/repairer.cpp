@@ -129,7 +129,18 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
   report->mirror_free_share = std::numeric_limits<double>::quiet_NaN();
   if (symmetry->symmetric) {
     report->mirror_free_share = SeenFreeShare(record, symmetry->added_V, T_in_V);
-    if (report->mirror_free_share > config.max_mirror_free_share) {
+    const double drop = LowerMirrorOutOfFree(record, config, T_in_V, symmetry->box_min_V.z(),
+                                             &symmetry->added_V);
+    if (drop > 0.0) {
+      report->mirror_plane_drop_m = drop;
+      report->mirror_free_share = SeenFreeShare(record, symmetry->added_V, T_in_V);
+      symmetry->symmetry_plane_z -= drop;
+      char text[96];
+      std::snprintf(text, sizeof(text), "; plane lowered %.2f mm: the mirror's top lay in seen-free space",
+                    1000.0 * drop);
+      symmetry->reason += text;
+    }
+    if (std::isnan(drop)) {
       symmetry->symmetric = false;
       symmetry->reason = "the mirror image contradicts what the camera saw: " +
                          std::to_string(static_cast<int>(100.0 * report->mirror_free_share + 0.5)) +

@@ -602,6 +602,7 @@ TEST(ModuleStatusMessage, RoundTrip) {
   status.frames_used = 90;
   status.frames_skipped = 7;
   status.frames_dropped = 3;
+  status.frames_skipped_refine = 4;
   status.last_frame_ms = 12.5;
   status.state = "running";
   status.latency_ms_p50 = 41.5;
@@ -639,6 +640,7 @@ TEST(ModuleStatusMessage, RoundTrip) {
   EXPECT_EQ(out.frames_used, 90);
   EXPECT_EQ(out.frames_skipped, 7);
   EXPECT_EQ(out.frames_dropped, 3);
+  EXPECT_EQ(out.frames_skipped_refine, 4);
   EXPECT_EQ(out.last_frame_ms, 12.5);
   EXPECT_EQ(out.state, "running");
   EXPECT_EQ(out.decode_errors, 20);

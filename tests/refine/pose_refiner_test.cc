@@ -40,10 +40,12 @@ class PoseRefinerTest : public ::testing::Test {
   const Eigen::Isometry3d E_ =
       CameraError(3.0, Eigen::Vector3d(-1, 0.4, 1), 1.0, Eigen::Vector3d(1, 0.2, 0.5));
   Raycaster raycaster_;
+  // The registration's own precision: no deadband (the default's is below).
   PoseRefiner refiner_{[] {
-    RefineConfig on;  // refinement is opt-in
-    on.enabled = true;
-    return on;
+    RefineConfig exact;
+    exact.min_correction_m = 0.0;
+    exact.min_correction_deg = 0.0;
+    return exact;
   }()};
 };
 
@@ -107,6 +109,40 @@ TEST_F(PoseRefinerTest, RejectsAndCountsFramesItCannotTrust) {
   EXPECT_EQ(refiner_.Refine(RenderFrame(raycaster_, truth, 0.001, 53), logged, &refined),
             RefineOutcome::kRefined);
   EXPECT_LT(ClawOffsetM(refined, truth), 0.0005);
+}
+
+// With the default deadband, a frame whose registration lands within
+// min_correction of the prediction is fused at the prediction itself (the
+// registration's jitter is not fused), the others at their registration.
+TEST_F(PoseRefinerTest, TheDefaultDeadbandFusesSmallCorrectionsAtThePrediction) {
+  PoseRefiner refiner;  // the defaults
+  ASSERT_TRUE(refiner.config().enabled);
+  ASSERT_GT(refiner.config().min_correction_m, 0.0);
+  refiner.SetClaw(graspfill::testing::PosedClaw());
+  std::mt19937 rng(5);
+  int at_prediction = 0;
+  double worst = 0.0;
+  for (int k = 0; k < 14; ++k) {
+    const Eigen::Isometry3d truth = TrueT_C_G(0.45 * k);
+    const Eigen::Isometry3d logged = Logged(truth, &rng);
+    const Eigen::Isometry3d prediction = refiner.HandEyeCorrection() * logged;
+    const int64_t before = refiner.stats().frames_at_prediction;
+    Eigen::Isometry3d refined;
+    ASSERT_EQ(refiner.Refine(RenderFrame(raycaster_, truth, 0.001, 100 + k), logged, &refined),
+              RefineOutcome::kRefined) << "frame " << k;
+    const bool held = refiner.stats().frames_at_prediction > before;
+    at_prediction += held;
+    if (held) {
+      EXPECT_TRUE(refined.isApprox(prediction, 1e-12)) << "frame " << k;
+    } else {
+      EXPECT_TRUE(refined.isApprox(refiner.last_registration().T_C_G, 1e-12)) << "frame " << k;
+    }
+    worst = std::max(worst, ClawOffsetM(refined, truth));
+  }
+  EXPECT_GT(at_prediction, 0);
+  EXPECT_LT(at_prediction, 14);  // 0.5 mm / 0.2 deg of noise: some frames move more
+  // Within the deadband of a registration that is within 0.5 mm.
+  EXPECT_LT(worst, 0.0005 + refiner.config().min_correction_m);
 }
 
 TEST(PoseRefiner, OffPassesTheLoggedPoseThrough) {

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <stdexcept>
 
 #include "graspfill/eval/metrics.hpp"
@@ -143,6 +144,51 @@ TEST(EvidenceRepair, SeenFreePointsAreCountedAndDropped) {
   EXPECT_EQ(SeenFreeShare(can.record, points, identity), 0.0);
 }
 
+// A mirror image capping the can too high (its top band raised into the
+// space the rays passed over) is lowered until it meets the share; one
+// shifted sideways (a handle's image) is contradicted at every height and
+// left for the caller to refuse.
+TEST(EvidenceRepair, AMirrorCappingTooHighIsLoweredASidewaysOneIsNot) {
+  const Fused& can = Can();
+  // V: +z towards the palm (G's -z), where the unseen top is.
+  Eigen::Isometry3f T_in_V = Eigen::Isometry3f::Identity();
+  T_in_V.linear() = Eigen::AngleAxisf(static_cast<float>(M_PI), Eigen::Vector3f::UnitX()).toRotationMatrix();
+  const Eigen::Isometry3f T_V_in = T_in_V.inverse();
+  float top_V = -1e9f;
+  for (const Eigen::Vector3f& p : can.truth) top_V = std::max(top_V, (T_V_in * p).z());
+  PointList cap_V;  // the true top band, 1.5 mm deep
+  for (const Eigen::Vector3f& p : can.truth) {
+    const Eigen::Vector3f v = T_V_in * p;
+    if (v.z() > top_V - 0.0015f) cap_V.push_back(v);
+  }
+  ASSERT_GT(cap_V.size(), 1000u);
+  EvidenceConfig config;
+  const float floor_V = top_V - 0.03f;
+
+  PointList high = cap_V;
+  for (Eigen::Vector3f& p : high) p.z() += 0.006f;
+  const double share_high = SeenFreeShare(can.record, high, T_in_V);
+  ASSERT_GT(share_high, config.max_mirror_free_share) << "the raised cap is not contradicted";
+  const double drop = LowerMirrorOutOfFree(can.record, config, T_in_V, floor_V, &high);
+  ASSERT_FALSE(std::isnan(drop));
+  EXPECT_GT(drop, 0.0);
+  EXPECT_LE(drop, config.max_plane_drop_m + 1e-9);
+  EXPECT_LE(SeenFreeShare(can.record, high, T_in_V), config.max_mirror_free_share);
+  // Lowered by twice the drop, and no lower than needed: half a step less
+  // was still contradicted.
+  EXPECT_NEAR(high.front().z(), cap_V.front().z() + 0.006f - 2.0f * static_cast<float>(drop), 1e-6f);
+  PointList less = cap_V;
+  for (Eigen::Vector3f& p : less) p.z() += 0.006f - 2.0f * static_cast<float>(drop - config.top_step_m);
+  EXPECT_GT(SeenFreeShare(can.record, less, T_in_V), config.max_mirror_free_share);
+
+  PointList sideways = cap_V;  // the band 25 mm out from the wall, at all heights
+  for (Eigen::Vector3f& p : sideways) p.x() += 0.025f, p.z() -= 0.03f;
+  const PointList before = sideways;
+  ASSERT_GT(SeenFreeShare(can.record, sideways, T_in_V), config.max_mirror_free_share);
+  EXPECT_TRUE(std::isnan(LowerMirrorOutOfFree(can.record, config, T_in_V, floor_V - 0.05f, &sideways)));
+  EXPECT_EQ(sideways, before);
+}
+
 TEST(EvidenceRepair, TopWithoutOutlineAndBadConfig) {
   const Fused& can = Can();
   const EvidenceTop none = CloseTopFromEvidence({}, {}, can.record, Eigen::Isometry3f::Identity(), 0.001, {});
@@ -153,6 +199,9 @@ TEST(EvidenceRepair, TopWithoutOutlineAndBadConfig) {
   EXPECT_THROW(bad.Validate(), std::invalid_argument);
   bad = EvidenceConfig{};
   bad.max_mirror_free_share = 2.0;
+  EXPECT_THROW(bad.Validate(), std::invalid_argument);
+  bad = EvidenceConfig{};
+  bad.max_plane_drop_m = -0.001;
   EXPECT_THROW(bad.Validate(), std::invalid_argument);
 }
 

@@ -201,6 +201,7 @@ struct ModuleStatus {
   int64_t frames_skipped_no_pose{0};
   int64_t frames_skipped_clock_jump{0};
   int64_t frames_bad{0};
+  int64_t frames_skipped_refine{0};  ///< pose refinement or object tracking
   int64_t decode_errors{0};   ///< messages on our channels that did not decode
   BadMessageCounts bad_messages;  ///< decode_errors per reason
   int64_t clock_jumps{0};     ///< backwards jumps the module started over at

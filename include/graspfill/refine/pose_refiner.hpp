@@ -25,12 +25,9 @@
 namespace graspfill::refine {
 
 struct RefineConfig {
-  /// Off (the default until the exact-pose regression below is fixed):
-  /// frames are fused at their logged poses. `replay --refine` turns it on.
-  /// On, it costs the triangular prism held by the three-finger claw its
-  /// claw holes on an exact recording (e2e_shapes_test; README, Imperfect
-  /// robots), so it is opt-in for rigs whose poses are known to be off.
-  bool enabled{false};
+  /// On by default; off, frames are fused at their logged poses
+  /// (`replay --no-refine`, `live --no-refine`, rig config `refine.enabled`).
+  bool enabled{true};
   ClawRegistrationConfig registration;
   /// First-iteration gate while the hand-eye correction is not known yet:
   /// what a few mm and about a degree of hand-eye error do at 0.5 m [m].
@@ -46,13 +43,14 @@ struct RefineConfig {
   /// is rejected: a pose that jumped, or a wrong registration [m], [deg].
   double max_jump_m{0.005};
   double max_jump_deg{2.0};
-  /// Once it is known, a registered pose within both of these of the
-  /// prediction, at the claw, is not used: the prediction is (a deadband
-  /// for corrections below the registration's own precision). Off by
-  /// default: 0.25 mm / 0.1 deg did not change the one case it was tried
-  /// on (see README, "Imperfect robots") [m], [deg].
-  double min_correction_m{0.0};
-  double min_correction_deg{0.0};
+  /// A registered pose within both of these of the prediction (the hand-eye
+  /// correction times the logged pose; the logged pose before it is known),
+  /// at the claw, is not used: the prediction is. On an exact recording the
+  /// registration jitters by ~0.16 mm / 0.25 deg a frame, and that jitter,
+  /// fused, cost the prism in the three-finger claw its claw holes (chamfer
+  /// 4.29 vs 0.95 mm^2 with this deadband; README, Imperfect robots) [m], [deg].
+  double min_correction_m{0.0005};
+  double min_correction_deg{0.5};
   /// The hand-eye correction predicts poses from this many accepted frames
   /// on; it is the median of the last `hand_eye_window` frames' corrections.
   int hand_eye_min_frames{5};
@@ -89,7 +87,7 @@ struct RefineStats {
   double correction_sum_m{0.0};
   double correction_sum_deg{0.0};
   int64_t frames_tracked{0};
-  int64_t frames_at_prediction{0};  ///< tracked, correction below min_correction
+  int64_t frames_at_prediction{0};  ///< refined, correction below min_correction: fused at the prediction
   double residual_sum_m{0.0};
   double residual_sum_deg{0.0};
   double max_residual_m{0.0};

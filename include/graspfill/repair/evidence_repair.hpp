@@ -32,6 +32,15 @@ struct EvidenceConfig {
   /// A mirror image with more than this share of its points in seen-free
   /// space is refused (symmetric objects: < 2%; a mug: ~30%).
   double max_mirror_free_share{0.05};
+  /// A contradicted mirror image is first lowered: the plane of a prism-like
+  /// shape is the middle of the observed height, and the fused cloud's
+  /// phantom layer over the top edge (see `phantom_m`) raises it, so the
+  /// mirrored bottom caps the object up to 2 x phantom_m too high, in the
+  /// rays that passed over the top. The plane drops by steps of
+  /// `top_step_m`, up to this, until the share above is met; the mirror is
+  /// refused only when no such drop meets it (a handle stays contradicted
+  /// at every height) [m].
+  double max_plane_drop_m{0.004};
   /// The top's outline is the 2D hull of the observed points within this
   /// of the highest one [m].
   double top_band_m{0.005};
@@ -76,6 +85,16 @@ struct EvidenceTop {
   PointList added_V;         ///< band and cap, none in seen-free space
   int rejected_free{0};      ///< candidates dropped as seen free
 };
+
+/// Lowers a mirror image (`added_V`, made about the plane z = plane_z_V)
+/// until at most `max_mirror_free_share` of it lies in seen-free space: the
+/// plane drops by top_step_m up to max_plane_drop_m, each point by twice
+/// the drop, and the points that fall below `floor_z_V` (the missing
+/// surface's boundary: observed surface there) are dropped. Returns the
+/// drop [m] (0 when the image already met the share), or NaN, leaving
+/// `added_V` as it was, when no drop meets it.
+double LowerMirrorOutOfFree(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
+                            const Eigen::Isometry3f& T_in_V, float floor_z_V, PointList* added_V);
 
 /// Share of `points_V` the record sees free (0 for an empty list).
 double SeenFreeShare(const evidence::VisibilityRecord& record, const PointList& points_V,

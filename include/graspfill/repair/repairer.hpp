@@ -88,6 +88,9 @@ struct EvidenceReport {
   double observed_free_share{0.0};
   /// Share of the mirror image in seen-free space (NaN when no mirror).
   double mirror_free_share{0.0};
+  /// How far the symmetry plane was lowered to take the mirror's top out of
+  /// seen-free space (EvidenceConfig::max_plane_drop_m) [m].
+  double mirror_plane_drop_m{0.0};
   /// Proposed points dropped as seen free, over all fills.
   int rejected_free{0};
   /// Claw-hole fill points that lay inside the claw, moved onto its face

@@ -49,6 +49,10 @@ RigConfig EveryFieldChanged() {
   c.repair.top_rim_band_m = 0.006;
   c.repair.close_unknown_top = false;
   c.repair.incremental = false;
+  c.refine.enabled = false;
+  c.refine.min_correction_m = 0.00025;
+  c.refine.min_correction_deg = 0.3;
+  c.refine.track_object = true;
   c.channels = {"D", "G", "C", "S", "SESSION_2"};
   c.rates.publish_every_n_frames = 0;
   c.rates.status_period_s = 0.25;
@@ -68,6 +72,10 @@ TEST(RigConfig, DefaultsAreTheLibrariesDefaults) {
   EXPECT_EQ(pipeline.tsdf.depth_sampling_stride, want.tsdf.depth_sampling_stride);
   EXPECT_EQ(pipeline.max_fusion_pixels, want.max_fusion_pixels);
   EXPECT_EQ(pipeline.max_pose_gap_us, want.max_pose_gap_us);
+  EXPECT_EQ(pipeline.refine.enabled, want.refine.enabled);
+  EXPECT_EQ(pipeline.refine.min_correction_m, want.refine.min_correction_m);
+  EXPECT_EQ(pipeline.refine.min_correction_deg, want.refine.min_correction_deg);
+  EXPECT_EQ(pipeline.track_object.enabled, want.track_object.enabled);
   EXPECT_EQ(pipeline.workspace.min_G, want.workspace.min_G);
   EXPECT_EQ(pipeline.workspace.max_G, want.workspace.max_G);
   // The box a null workspace stands for is the library's.
@@ -104,6 +112,18 @@ TEST(RigConfig, DefaultsAreTheLibrariesDefaults) {
   EXPECT_NO_THROW(c.Validate());
 }
 
+TEST(RigConfig, TheRefineSectionReachesThePipeline) {
+  const RigConfig c = ParseRigConfig(
+      "refine:\n  enabled: false\n  min_correction_m: 0.001\n  min_correction_deg: 0.25\n"
+      "  track_object: true\n", "refine.yaml");
+  PipelineConfig pipeline;
+  ApplyToPipeline(c, &pipeline);
+  EXPECT_FALSE(pipeline.refine.enabled);
+  EXPECT_EQ(pipeline.refine.min_correction_m, 0.001);
+  EXPECT_EQ(pipeline.refine.min_correction_deg, 0.25);
+  EXPECT_TRUE(pipeline.track_object.enabled);
+}
+
 TEST(RigConfig, DumpThenParseGivesTheSameStruct) {
   const RigConfig defaults;
   EXPECT_EQ(ParseRigConfig(DumpRigConfig(defaults), "defaults.yaml"), defaults);
@@ -118,6 +138,7 @@ TEST(RigConfig, DumpThenParseGivesTheSameStruct) {
   EXPECT_FALSE(changed.workspace == defaults.workspace);
   EXPECT_FALSE(changed.tsdf == defaults.tsdf);
   EXPECT_FALSE(changed.repair == defaults.repair);
+  EXPECT_FALSE(changed.refine == defaults.refine);
   EXPECT_FALSE(changed.channels == defaults.channels);
   EXPECT_FALSE(changed.rates == defaults.rates);
   const std::string text = DumpRigConfig(changed);
@@ -200,6 +221,9 @@ TEST(RigConfig, EveryBadValueIsRefusedNamingItsField) {
       {"tsdf: 5\n", "tsdf", "tsdf: expected a map of keys, got '5'", 1},
       {"repair:\n  enabled: yes\n", "repair.enabled", "repair.enabled 'yes': expected true or false", 2},
       {"repair:\n  mode: fast\n", "repair.mode", "repair.mode 'fast': expected best or paper", 2},
+      {"refine:\n  min_correction_deg: 5\n", "refine.min_correction_deg",
+       "refine.min_correction_deg '5': out of range, expected 0..2 deg", 2},
+      {"refine:\n  enabled: on\n", "refine.enabled", "refine.enabled 'on': expected true or false", 2},
       {"repair:\n  safe_bound_voxel_m: 0.0001\n", "repair.safe_bound_voxel_m",
        "expected 0 (no bound) or 0.0005..0.1 m", 2},
       {"robot:\n  clock_offset_s: 1e400\n", "robot.clock_offset_s",
