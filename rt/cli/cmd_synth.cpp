@@ -81,6 +81,9 @@ constexpr const char* kUsage =
     "  --pose-noise MM,DEG  per gripper state noise in G (RMS), e.g. 0.5,0.2\n"
     "  --clock-offset-ms T  logged gripper stamps run T ms behind the frames\n"
     "                    (all three seeded, recorded in scene.json, off by default)\n"
+    "  --speed-variation F  the turn's speed varies by F (0..0.9) of its mean, once\n"
+    "                    over the recording (default 0: steady; a clock offset can\n"
+    "                    only be told from a hand-eye error on a motion that varies)\n"
     "  --slip-mm S       the object slides S mm (0..20; 0: off, the default) in the\n"
     "                    grasp, along the fingers (within 15 deg of +z in G, away\n"
     "                    from the palm), starting at a seeded instant in 30-70 % of\n"
@@ -122,6 +125,7 @@ struct SynthOptions {
   std::optional<int> points;  ///< --protocol only
   synth::RigErrorConfig rig_errors;  ///< logged-pose errors (all off)
   double slip_mm{0.0};  ///< --slip-mm: the object's slide in the grasp (off)
+  double speed_variation{0.0};  ///< --speed-variation (steady turn)
   int width{CameraIntrinsics{}.width};    ///< depth image size [pixels]
   int height{CameraIntrinsics{}.height};
   /// Options given that only a recording uses, to refuse them in protocol
@@ -176,7 +180,7 @@ SynthOptions Parse(const Args& args) {
                                 a == "--ideal" || a == "--wall-m" ||
                                 a == "--hand-eye-error" || a == "--pose-noise" ||
                                 a == "--clock-offset-ms" || a == "--width" || a == "--height" ||
-                                a == "--slip-mm";
+                                a == "--slip-mm" || a == "--speed-variation";
     if (recording_only) o.recording_only_given.push_back(a);
     if (a == "-h" || a == "--help") o.help = true;
     else if (a == "--protocol") o.protocol = value();
@@ -206,6 +210,7 @@ SynthOptions Parse(const Args& args) {
       o.rig_errors.clock_offset_us = std::llround(1000.0 * ParseDouble(a, value(), -90.0, 90.0, "ms"));
     }
     else if (a == "--slip-mm") o.slip_mm = ParseDouble(a, value(), 0.0, 20.0, "mm");
+    else if (a == "--speed-variation") o.speed_variation = ParseDouble(a, value(), 0.0, 0.9, "");
     else if (a == "--width") o.width = ParseInteger<int>(a, value(), 16, 4096);
     else if (a == "--height") o.height = ParseInteger<int>(a, value(), 16, 4096);
     else if (a == "--force") o.force = true;
@@ -438,6 +443,7 @@ json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::Chann
   };
   // Only with a slip: without one scene.json stays as it was.
   if (c.slip.any()) j["slip"] = SlipJson(scene);
+  if (c.motion.speed_variation != 0.0) j["motion"]["speed_variation"] = c.motion.speed_variation;
   return j;
 }
 
@@ -472,6 +478,7 @@ int Run(const SynthOptions& o) {
   config.environment.wall_distance_m = o.wall_m;
   config.intrinsics = synth::IntrinsicsAtResolution(o.width, o.height);
   config.slip.distance_m = 0.001 * o.slip_mm;
+  config.motion.speed_variation = o.speed_variation;
   if (o.shape) {
     config.shape = *synth::ParseShape(*o.shape);
     if (o.size) config.size_m = ParseSize(*o.size);

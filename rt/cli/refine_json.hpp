@@ -37,7 +37,7 @@ inline nlohmann::ordered_json RefineJson(const Pipeline& pipeline) {
   j["mean_iterations"] = r.iterations / n;
   j["mean_claw_points_matched"] = r.matches / n;
   // T_C_G ~= H * T_C_G_logged: the constant part (hand-eye error, and what
-  // a clock offset does to a steady turn), in C.
+  // a clock offset does to a steady turn, unless clock_offset is applied), in C.
   const Eigen::Isometry3d H = refiner.HandEyeCorrection();
   const Eigen::AngleAxisd aa(H.linear());
   const Eigen::Vector3d centre = refiner.claw_centre_C();
@@ -52,6 +52,15 @@ inline nlohmann::ordered_json RefineJson(const Pipeline& pipeline) {
       {"translation_mm", 1000.0 * H.translation().norm()},
       {"shift_at_claw_mm", 1000.0 * (H * centre - centre).norm()},
       {"claw_centre_C", {centre.x(), centre.y(), centre.z()}}};
+  // The clock offset (RefineConfig::clock_*): from how the corrections
+  // follow the motion's rate; null where not estimable (a steady turn).
+  const refine::ClockOffsetEstimate& clock = refiner.clock_offset();
+  const bool estimable = std::isfinite(clock.stderr_s);
+  j["clock_offset"] = {
+      {"applied", clock.applied},
+      {"offset_ms", estimable ? nlohmann::ordered_json(1000.0 * clock.offset_s) : nlohmann::ordered_json(nullptr)},
+      {"stderr_ms", estimable ? nlohmann::ordered_json(1000.0 * clock.stderr_s) : nlohmann::ordered_json(nullptr)},
+      {"frames", clock.frames}};
   j["ms_per_frame"] = stats.refine_time.mean_ms();
   return j;
 }
@@ -62,18 +71,24 @@ inline std::string RefineSummary(const Pipeline& pipeline) {
   const refine::RefineStats& r = pipeline.stats().refine;
   const Eigen::Isometry3d H = refiner.HandEyeCorrection();
   const Eigen::Vector3d centre = refiner.claw_centre_C();
-  char line[400];
+  const refine::ClockOffsetEstimate& c = refiner.clock_offset();
+  char clock[96] = "not estimable";
+  if (std::isfinite(c.stderr_s)) {
+    std::snprintf(clock, sizeof(clock), "%.1f +- %.1f ms%s", 1000.0 * c.offset_s, 1000.0 * c.stderr_s,
+                  c.applied ? " (applied)" : " (not applied)");
+  }
+  char line[480];
   std::snprintf(line, sizeof(line),
                 "pose refinement: %lld frames refined, %lld rejected (claw not seen %lld, not "
                 "converged %lld, jump %lld); hand-eye correction %.2f mm at the claw, %.3f deg; "
-                "per frame beyond it %.2f mm; %.3f ms a frame",
+                "per frame beyond it %.2f mm; clock offset %s; %.3f ms a frame",
                 static_cast<long long>(r.frames_refined), static_cast<long long>(r.rejected()),
                 static_cast<long long>(r.rejected_claw_not_seen),
                 static_cast<long long>(r.rejected_not_converged),
                 static_cast<long long>(r.rejected_jump), 1000.0 * (H * centre - centre).norm(),
                 Eigen::AngleAxisd(H.linear()).angle() * 180.0 / 3.14159265358979323846,
                 1000.0 * r.residual_sum_m / std::max<double>(1.0, static_cast<double>(r.frames_tracked)),
-                pipeline.stats().refine_time.mean_ms());
+                clock, pipeline.stats().refine_time.mean_ms());
   return line;
 }
 

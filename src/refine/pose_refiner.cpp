@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -41,6 +42,9 @@ void RefineConfig::Validate() const {
   Require(min_correction_m >= 0.0 && min_correction_deg >= 0.0, "min_correction must be >= 0");
   Require(hand_eye_min_frames >= 1, "hand_eye_min_frames must be >= 1");
   Require(hand_eye_window >= hand_eye_min_frames, "hand_eye_window must be >= hand_eye_min_frames");
+  Require(clock_min_frames >= 3, "clock_min_frames must be >= 3");
+  Require(max_clock_stderr_s >= 0.0 && max_clock_offset_s >= 0.0 && max_rate_gap_s > 0.0,
+          "clock bounds must be >= 0 and max_rate_gap_s > 0");
 }
 
 const char* RefineOutcomeName(RefineOutcome outcome) {
@@ -66,6 +70,9 @@ void PoseRefiner::Reset() {
   next_ = 0;
   samples_ = 0;
   hand_eye_.setIdentity();
+  clock_ = ClockOffsetEstimate{};
+  shift_s_ = 0.0;
+  prev_utime_ = -1;
   centre_mean_C_.setZero();
   last_ = RegistrationResult{};
   stats_ = RefineStats{};
@@ -76,11 +83,34 @@ Eigen::Isometry3d PoseRefiner::HandEyeCorrection() const {
                                                                     : Eigen::Isometry3d::Identity();
 }
 
-void PoseRefiner::AddSample(const Eigen::Isometry3d& correction_C, const Eigen::Vector3d& centre_C) {
+Eigen::Vector3d PoseRefiner::Rate::Angular() const {
+  return valid ? Eigen::Vector3d(RotationVector(motion.linear()) / dt_s) : Eigen::Vector3d::Zero();
+}
+
+Eigen::Vector3d PoseRefiner::Rate::VelocityAt(const Eigen::Vector3d& p_C) const {
+  return valid ? Eigen::Vector3d((motion * p_C - p_C) / dt_s) : Eigen::Vector3d::Zero();
+}
+
+Eigen::Isometry3d PoseRefiner::ClockShift(const Rate& rate) const {
+  Eigen::Isometry3d E = Eigen::Isometry3d::Identity();
+  if (shift_s_ == 0.0 || !rate.valid) return E;
+  // A turn by shift x the rate about the claw centre, which moves by
+  // shift x its velocity.
+  const Eigen::Vector3d& c = centre_mean_C_;
+  E.linear() = FromRotationVector(shift_s_ * rate.Angular());
+  E.translation() = c + shift_s_ * rate.VelocityAt(c) - E.linear() * c;
+  return E;
+}
+
+void PoseRefiner::AddSample(const Eigen::Isometry3d& correction_C, const Eigen::Vector3d& centre_C,
+                            const Rate& rate) {
   Sample& s = window_[next_];
   s.rotation = RotationVector(correction_C.linear());
   s.shift_at_claw = correction_C * centre_C - centre_C;
   s.centre_C = centre_C;
+  s.has_rate = rate.valid;
+  s.angular_rate = rate.Angular();
+  s.claw_velocity = rate.VelocityAt(centre_C);
   next_ = (next_ + 1) % window_.size();
   samples_ = std::min(samples_ + 1, window_.size());
   UpdateEstimate();
@@ -91,6 +121,7 @@ void PoseRefiner::AddSample(const Eigen::Isometry3d& correction_C, const Eigen::
 // off across samples through the 0.5 m lever), recombined about the mean
 // claw centre.
 void PoseRefiner::UpdateEstimate() {
+  UpdateClockOffset();
   auto median = [&](auto get) {
     scratch_.clear();
     for (size_t i = 0; i < samples_; ++i) scratch_.push_back(get(window_[i]));
@@ -103,9 +134,11 @@ void PoseRefiner::UpdateEstimate() {
     return m;
   };
   Eigen::Vector3d w, shift;
+  // Without the clock offset's part: that varies with the motion's rate.
+  const double t = shift_s_;
   for (int k = 0; k < 3; ++k) {
-    w[k] = median([k](const Sample& s) { return s.rotation[k]; });
-    shift[k] = median([k](const Sample& s) { return s.shift_at_claw[k]; });
+    w[k] = median([k, t](const Sample& s) { return s.rotation[k] - t * s.angular_rate[k]; });
+    shift[k] = median([k, t](const Sample& s) { return s.shift_at_claw[k] - t * s.claw_velocity[k]; });
   }
   centre_mean_C_.setZero();
   for (size_t i = 0; i < samples_; ++i) centre_mean_C_ += window_[i].centre_C;
@@ -114,14 +147,67 @@ void PoseRefiner::UpdateEstimate() {
   hand_eye_.translation() = centre_mean_C_ + shift - hand_eye_.linear() * centre_mean_C_;
 }
 
+// Least squares over the window's frames with a rate: rotation = a +
+// shift x angular rate (componentwise a, one shift), so shift is the slope
+// of the corrections against the rate about their means; its standard
+// error follows from the residuals and the rate's spread, which a steady
+// turn does not have.
+void PoseRefiner::UpdateClockOffset() {
+  Eigen::Vector3d mean_rate(0, 0, 0), mean_rotation(0, 0, 0);
+  int n = 0;
+  for (size_t i = 0; i < samples_; ++i) {
+    if (!window_[i].has_rate) continue;
+    mean_rate += window_[i].angular_rate;
+    mean_rotation += window_[i].rotation;
+    ++n;
+  }
+  clock_ = ClockOffsetEstimate{};
+  clock_.frames = n;
+  clock_.stderr_s = std::numeric_limits<double>::infinity();
+  shift_s_ = 0.0;
+  if (n < config_.clock_min_frames) return;
+  mean_rate /= n;
+  mean_rotation /= n;
+  double spread = 0.0, cross = 0.0;
+  for (size_t i = 0; i < samples_; ++i) {
+    if (!window_[i].has_rate) continue;
+    const Eigen::Vector3d dw = window_[i].angular_rate - mean_rate;
+    spread += dw.squaredNorm();
+    cross += dw.dot(window_[i].rotation - mean_rotation);
+  }
+  if (!(spread > 0.0)) return;
+  const double slope = cross / spread;
+  double residual = 0.0;
+  for (size_t i = 0; i < samples_; ++i) {
+    if (!window_[i].has_rate) continue;
+    residual += (window_[i].rotation - mean_rotation -
+                 slope * (window_[i].angular_rate - mean_rate)).squaredNorm();
+  }
+  clock_.offset_s = -slope;  // the stamps run behind by what the pose leads
+  clock_.stderr_s = std::sqrt(residual / (3.0 * n - 4.0) / spread);
+  clock_.applied = clock_.stderr_s <= config_.max_clock_stderr_s &&
+                   std::abs(slope) <= config_.max_clock_offset_s;
+  if (clock_.applied) shift_s_ = slope;
+}
+
 RefineOutcome PoseRefiner::Refine(const DepthFrame& frame, const Eigen::Isometry3d& T_C_G_logged,
                                   Eigen::Isometry3d* T_C_G) {
   if (!config_.enabled) {
     *T_C_G = T_C_G_logged;
     return RefineOutcome::kOff;
   }
+  // The logged motion since the previous frame (for the clock offset).
+  Rate rate;
+  if (prev_utime_ >= 0) {
+    rate.dt_s = 1e-6 * static_cast<double>(frame.utime - prev_utime_);
+    rate.valid = rate.dt_s > 0.0 && rate.dt_s <= config_.max_rate_gap_s;
+    rate.motion = T_C_G_logged * prev_logged_.inverse();
+  }
+  prev_logged_ = T_C_G_logged;
+  prev_utime_ = frame.utime;
   const bool tracking = static_cast<int>(samples_) >= config_.hand_eye_min_frames;
-  const Eigen::Isometry3d prediction = tracking ? hand_eye_ * T_C_G_logged : T_C_G_logged;
+  const Eigen::Isometry3d prediction =
+      tracking ? hand_eye_ * ClockShift(rate) * T_C_G_logged : T_C_G_logged;
   last_ = registration_.Register(frame, prediction,
                                  tracking ? config_.tracking_gate_m : config_.search_gate_m);
   switch (last_.status) {
@@ -146,7 +232,7 @@ RefineOutcome PoseRefiner::Refine(const DepthFrame& frame, const Eigen::Isometry
     ++stats_.rejected_jump;
     return RefineOutcome::kJump;
   }
-  AddSample(correction, last_.centroid_C);
+  AddSample(correction, last_.centroid_C, rate);
   ++stats_.frames_refined;
   stats_.iterations += last_.iterations;
   stats_.matches += last_.matches;

@@ -147,6 +147,8 @@ void SceneConfig::Validate() const {
           "contact fractions must be in (0, 1)");
   Require(std::abs(placement.oblique_tilt_deg) < 80.0, "oblique_tilt_deg must be < 80");
   Require(motion.camera_distance_m > 0.0, "camera_distance_m must be > 0");
+  Require(motion.speed_variation >= 0.0 && motion.speed_variation < 1.0,
+          "speed_variation must be in [0, 1)");
   Require(std::abs(motion.camera_elevation_deg) < 80.0,
           "camera_elevation_deg must be in (-80, 80)");
   Require(environment.wall_distance_m >= 0.0 && environment.arm_radius_m >= 0.0 &&
@@ -300,7 +302,11 @@ Eigen::AlignedBox3d Scene::WorkspaceBoxG(double margin_m) const {
 
 Eigen::Isometry3d Scene::T_W_G(double t_s) const {
   const double duration_s = config_.num_frames / config_.depth_rate_hz;
-  const double theta = 2.0 * kPi * config_.motion.turns * t_s / duration_s;
+  double s = t_s / duration_s;
+  if (config_.motion.speed_variation != 0.0) {
+    s -= config_.motion.speed_variation * std::sin(2.0 * kPi * s) / (2.0 * kPi);
+  }
+  const double theta = 2.0 * kPi * config_.motion.turns * s;
   // Slow, incommensurate frequencies: a smooth wobble that 100 Hz states
   // sample densely enough for slerp.
   const double a = config_.motion.wobble_deg * kDegToRad;

@@ -197,6 +197,29 @@ TEST(SceneTest, OneTurnAboutTheGripperAxis) {
   EXPECT_LT(cam.z(), 0.0);  // below the object
 }
 
+// --speed-variation F: the same turn, slower at the ends (1 - F times the
+// mean speed) and faster in the middle (1 + F times), ending where it would.
+TEST(SceneTest, SpeedVariationSlowsTheEndsAndSpeedsUpTheMiddle) {
+  SceneConfig steady_config;
+  steady_config.motion.wobble_deg = 0.0;  // the turn alone
+  SceneConfig varying_config = steady_config;
+  varying_config.motion.speed_variation = 0.5;
+  const Scene steady(steady_config), varying(varying_config);
+  auto turn_rad = [](const Scene& scene, double t0, double t1) {
+    return Eigen::AngleAxisd(scene.T_W_G(t0).linear().transpose() * scene.T_W_G(t1).linear()).angle();
+  };
+  const double duration_s = 3.0, dt = 0.01;
+  const double mean = turn_rad(steady, 0.0, dt);  // rad per dt
+  EXPECT_NEAR(turn_rad(steady, 1.5, 1.5 + dt), mean, 1e-9);
+  EXPECT_NEAR(turn_rad(varying, 0.0, dt) / mean, 0.5, 0.01);
+  EXPECT_NEAR(turn_rad(varying, 1.5 - 0.5 * dt, 1.5 + 0.5 * dt) / mean, 1.5, 0.01);
+  EXPECT_TRUE(varying.T_W_G(duration_s).isApprox(steady.T_W_G(duration_s), 1e-9));
+  EXPECT_TRUE(varying.T_W_G(0.0).isApprox(steady.T_W_G(0.0), 1e-12));
+  SceneConfig bad = steady_config;
+  bad.motion.speed_variation = 1.0;  // would stop the turn
+  EXPECT_THROW(bad.Validate(), std::invalid_argument);
+}
+
 TEST(SceneTest, GripperStatesInterpolateToTheFramePoses) {
   SceneConfig config;
   config.grasp = GraspWay::kTopOblique;

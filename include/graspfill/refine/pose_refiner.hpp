@@ -55,9 +55,37 @@ struct RefineConfig {
   /// on; it is the median of the last `hand_eye_window` frames' corrections.
   int hand_eye_min_frames{5};
   int hand_eye_window{64};
+  /// The clock offset between the robot's stamps and the camera's: a state
+  /// stamped t that holds the pose of t + T makes the correction a turn by
+  /// -T x the angular rate (in C), on top of the constant hand-eye part.
+  /// On a steady turn the two cannot be told apart (the constant part
+  /// absorbs both); when the rate varies, the slope of the corrections'
+  /// rotation against the logged rate over the window is T. It is applied
+  /// (the prediction moves the logged pose by T along the motion, and the
+  /// hand-eye part is the median of the corrections without it) once at
+  /// least `clock_min_frames` frames have a rate and its standard error is
+  /// below `max_clock_stderr_s` [s].
+  int clock_min_frames{20};
+  double max_clock_stderr_s{0.001};
+  /// Estimates beyond this are not applied [s].
+  double max_clock_offset_s{0.2};
+  /// Frames farther apart than this give no rate [s].
+  double max_rate_gap_s{0.1};
 
   /// Throws std::invalid_argument naming the bad field.
   void Validate() const;
+};
+
+/// The clock offset found from the corrections (RefineConfig::clock_*).
+struct ClockOffsetEstimate {
+  /// Known well enough to be applied (else offset_s is what the slope says
+  /// but 0 is used).
+  bool applied{false};
+  /// What to add to the gripper states' stamps to put them on the camera's
+  /// clock (the rig config's robot.clock_offset_s convention) [s].
+  double offset_s{0.0};
+  double stderr_s{0.0};  ///< its standard error (inf: not estimable) [s]
+  int frames{0};         ///< frames with a rate in the window
 };
 
 /// What refinement did with a frame.
@@ -117,6 +145,7 @@ class PoseRefiner {
   Eigen::Vector3d claw_centre_C() const { return centre_mean_C_; }
   const RegistrationResult& last_registration() const { return last_; }
   const RefineStats& stats() const { return stats_; }
+  const ClockOffsetEstimate& clock_offset() const { return clock_; }
   const RefineConfig& config() const { return config_; }
 
   /// Forgets the estimate and the statistics (keeps the claw).
@@ -124,13 +153,30 @@ class PoseRefiner {
 
  private:
   // A correction as (rotation vector, motion of the claw centre) [rad], [m].
+  // With the logged motion's rate at the frame: angular [rad/s] and of the
+  // claw centre [m/s], in C (zero when has_rate is false).
   struct Sample {
     Eigen::Vector3d rotation{0, 0, 0};
     Eigen::Vector3d shift_at_claw{0, 0, 0};
     Eigen::Vector3d centre_C{0, 0, 0};
+    Eigen::Vector3d angular_rate{0, 0, 0};
+    Eigen::Vector3d claw_velocity{0, 0, 0};
+    bool has_rate{false};
   };
-  void AddSample(const Eigen::Isometry3d& correction_C, const Eigen::Vector3d& centre_C);
+  // The logged motion from the previous frame to this one, per second.
+  struct Rate {
+    Eigen::Isometry3d motion{Eigen::Isometry3d::Identity()};  // logged_k * logged_{k-1}^-1
+    double dt_s{0.0};
+    bool valid{false};
+    Eigen::Vector3d Angular() const;
+    Eigen::Vector3d VelocityAt(const Eigen::Vector3d& p_C) const;
+  };
+  void AddSample(const Eigen::Isometry3d& correction_C, const Eigen::Vector3d& centre_C,
+                 const Rate& rate);
   void UpdateEstimate();
+  void UpdateClockOffset();
+  // The logged pose moved along its motion by the applied clock offset.
+  Eigen::Isometry3d ClockShift(const Rate& rate) const;
 
   RefineConfig config_;
   ClawRegistration registration_;
@@ -139,6 +185,10 @@ class PoseRefiner {
   size_t samples_{0};
   std::vector<double> scratch_;  // for the medians
   Eigen::Isometry3d hand_eye_{Eigen::Isometry3d::Identity()};
+  ClockOffsetEstimate clock_;
+  double shift_s_{0.0};  // applied: T_C_G(t) ~= H * pose logged at t + shift_s_
+  Eigen::Isometry3d prev_logged_{Eigen::Isometry3d::Identity()};
+  int64_t prev_utime_{-1};
   Eigen::Vector3d centre_mean_C_{0, 0, 0};
   RegistrationResult last_;
   RefineStats stats_;

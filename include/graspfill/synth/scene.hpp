@@ -27,8 +27,8 @@
 // Motion: world W has z up; the camera looks at the object's centre from
 // `camera_distance_m`, `camera_elevation_deg` below it, so it sees the
 // object's bottom but never its top. The gripper points down (z_G = -z_W)
-// and turns `turns` revolutions about its z axis at constant rate over the
-// recording, with a small smooth wobble.
+// and turns `turns` revolutions about its z axis over the recording, at a
+// constant rate unless `speed_variation` is set, with a small smooth wobble.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -77,6 +77,12 @@ struct MotionConfig {
   double camera_distance_m{0.55};   ///< camera to the object's centre
   double camera_elevation_deg{25.0};  ///< camera below the object, looking up
   double turns{1.0};                ///< revolutions over the recording
+  /// The turn's speed varies by this share of its mean, once over the
+  /// recording: angle(s) = turns * 2 pi * (s - F sin(2 pi s) / (2 pi)),
+  /// s in [0, 1], speed (1 - F cos(2 pi s)) x the mean; 0 (the default):
+  /// a steady turn. A real arm accelerates and brakes; a clock offset is
+  /// separable from a hand-eye rotation only then (README, Imperfect robots).
+  double speed_variation{0.0};
   double wobble_deg{1.0};           ///< amplitude of the approach-axis tilt
   double wobble_translation_m{0.002};  ///< amplitude of the position wobble
   int64_t start_utime{1700000000000000};  ///< first depth frame [us]
