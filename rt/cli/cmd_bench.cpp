@@ -105,6 +105,50 @@ PipelineStats FramePathWithTracking(PipelineConfig config, const claw::ClawModel
   return pipeline.stats();
 }
 
+// Extraction as the live loop does it, a cloud every `every` fused frames:
+// the cached extraction (only the volume units changed since the last one,
+// and their neighbours, anew) beside Open3D's over the whole volume, on the
+// same volume each time [ms]; and the share of units extracted anew.
+struct ExtractionTimes {
+  std::vector<double> cached_ms, full_ms;
+  double units_share{0.0};
+  int clouds{0};
+};
+ExtractionTimes ExtractionEvery(const PipelineConfig& config, const claw::ClawModel& claw,
+                                const std::vector<PosedFrame>& frames, int every, FramesDone* progress) {
+  Pipeline pipeline(config, claw);
+  ExtractionTimes t;
+  int64_t units = 0, anew = 0, fused = 0;
+  ObjectCloud cloud;
+  for (const PosedFrame& p : frames) {
+    pipeline.AddGripperState(p.state);
+    pipeline.AddDepthFrame(p.frame);
+    progress->Add();
+    if (pipeline.stats().frames_integrated == fused) continue;
+    fused = pipeline.stats().frames_integrated;
+    if (fused % every != 0) continue;
+    const auto t0 = std::chrono::steady_clock::now();
+    pipeline.fusion().ExtractCloud(&cloud);
+    const auto t1 = std::chrono::steady_clock::now();
+    pipeline.fusion().ExtractCloudUncached(&cloud);
+    const auto t2 = std::chrono::steady_clock::now();
+    t.cached_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    t.full_ms.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
+    units += pipeline.fusion().units();
+    anew += pipeline.fusion().units_extracted();
+    ++t.clouds;
+  }
+  t.units_share = units > 0 ? static_cast<double>(anew) / static_cast<double>(units) : 0.0;
+  return t;
+}
+
+double PercentileMs(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  const size_t k = std::min(v.size() - 1, static_cast<size_t>(p / 100.0 * static_cast<double>(v.size())));
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
+  return v[k];
+}
+
 double FramePathMs(const PipelineStats& s) {
   return s.crop.mean_ms() + s.mask.mean_ms() + s.integrate.mean_ms() + s.visibility.mean_ms() +
          s.refine_time.mean_ms() + s.track_time.mean_ms();
@@ -171,16 +215,16 @@ int RunBench(const Args& args) {
   if (log.empty()) log = (BundledRecordingDir() / "recording.lcmlog").string();
   const claw::ClawModel claw = MakeClaw(claw_spec);
   const std::vector<PosedFrame> frames = LoadPosedFrames(log);
-  // Refinement on (it is opt-in), so its cost shows beside the path without.
+  // Refinement on (the default), its cost shown beside the path without.
   const PipelineConfig config = [] {
     PipelineConfig c;
     c.refine.enabled = true;
     return c;
   }();
 
-  // Five passes over the posed frames, then the replays of the whole log
+  // Six passes over the posed frames, then the replays of the whole log
   // (a log's unposed frames can take the count past the total: capped).
-  ProgressLine line("bench", "frames", static_cast<int64_t>(frames.size()) * (5 + repeat));
+  ProgressLine line("bench", "frames", static_cast<int64_t>(frames.size()) * (6 + repeat));
   FramesDone progress{line};
 
   // graspfill's frame path, stage by stage (the Pipeline's own code path).
@@ -197,6 +241,7 @@ int RunBench(const Args& args) {
   const double unrefined_total_ms = FramePathWithoutRefinementMs(config, claw, frames, &progress);
   const size_t ours_points = pipeline.ExtractCloud().size();
   const PipelineStats tracked = FramePathWithTracking(config, claw, frames, &progress);
+  const ExtractionTimes extraction = ExtractionEvery(config, claw, frames, 3, &progress);
 
   // The z-buffer alternative to Embree for the claw's depth, same frames.
   PipelineConfig raster_config = config;
@@ -241,6 +286,11 @@ int RunBench(const Args& args) {
                       {"frames_rejected_by_track_object", tracked.frames_skipped_tracking},
                       {"frame_total_with_track_object_ms", FramePathMs(tracked)}};
     j["open3d_bare"] = {{"integrate_ms", bare_integrate.mean_ms()}};
+    j["extraction_every_3_frames"] = {
+        {"clouds", extraction.clouds},
+        {"cached_ms", {{"p50", PercentileMs(extraction.cached_ms, 50)}, {"p99", PercentileMs(extraction.cached_ms, 99)}}},
+        {"open3d_full_ms", {{"p50", PercentileMs(extraction.full_ms, 50)}, {"p99", PercentileMs(extraction.full_ms, 99)}}},
+        {"units_extracted_share", extraction.units_share}};
     j["replay_fps"] = best_fps;
     j["replay_frames"] = replay_frames;
     std::printf("%s\n", j.dump(2).c_str());
@@ -259,6 +309,11 @@ int RunBench(const Args& args) {
   std::printf("%-34s %12.3f %14s\n", "  (frame path without refinement)", unrefined_total_ms, "-");
   std::printf("%-34s %12.3f %14s\n", "  (object tracking, --track-object)", tracked.track_time.mean_ms(), "-");
   std::printf("%-34s %12.3f %14s\n", "  (frame path with object tracking)", FramePathMs(tracked), "-");
+  std::printf("cloud every 3 fused frames (%d clouds), extraction p50 / p99 [ms]: cached %.2f / %.2f, "
+              "Open3D's whole volume %.2f / %.2f (%.0f%% of the units extracted anew)\n",
+              extraction.clouds, PercentileMs(extraction.cached_ms, 50), PercentileMs(extraction.cached_ms, 99),
+              PercentileMs(extraction.full_ms, 50), PercentileMs(extraction.full_ms, 99),
+              100.0 * extraction.units_share);
   std::printf("masked path / bare integration: %.2f (target < 1)\n",
               ours_total_ms / bare_integrate.mean_ms());
   std::printf("replay throughput (decode + pipeline): %.1f fps over %lld frames (target >= 100)\n",

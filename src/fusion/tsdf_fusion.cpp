@@ -6,6 +6,8 @@
 #include <open3d/geometry/RGBDImage.h>
 #include <open3d/pipelines/integration/ScalableTSDFVolume.h>
 
+#include "unit_surface_cache.hpp"
+
 #include <algorithm>
 #include <cstring>
 #include <numeric>
@@ -36,7 +38,42 @@ struct TsdfFusion::Impl {
   open3d::camera::PinholeCameraIntrinsic intrinsic;
   CameraIntrinsics intrinsics_set{0, 0, 0, 0, 0, 0};
   int frames{0};
+  // The last extraction's points per volume unit: logically part of the
+  // volume's state, refreshed by the (const) ExtractCloud.
+  UnitSurfaceCache surface;
+  std::vector<Eigen::Vector3d> points, normals;  // reused
 };
+
+namespace {
+
+// Canonical order (lexicographic, normals breaking ties), so that the
+// output depends neither on the order of Open3D's block hash map nor on the
+// cache's.
+void WriteSorted(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals,
+                 ObjectCloud* cloud) {
+  auto less = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    if (a.x() != b.x()) return a.x() < b.x();
+    if (a.y() != b.y()) return a.y() < b.y();
+    return a.z() < b.z();
+  };
+  const size_t n = points.size();
+  const bool has_normals = normals.size() == n && n > 0;
+  std::vector<size_t> order(n);
+  std::iota(order.begin(), order.end(), size_t{0});
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    if (points[a] != points[b]) return less(points[a], points[b]);
+    return has_normals && less(normals[a], normals[b]);
+  });
+  cloud->points_G.resize(n);
+  cloud->normals_G.resize(has_normals ? n : 0);
+  cloud->provenance.assign(n, Provenance::kObserved);
+  for (size_t i = 0; i < n; ++i) {
+    cloud->points_G[i] = points[order[i]].cast<float>();
+    if (has_normals) cloud->normals_G[i] = normals[order[i]].normalized().cast<float>();
+  }
+}
+
+}  // namespace
 
 TsdfFusion::TsdfFusion(const TsdfConfig& config) {
   config.Validate();
@@ -67,33 +104,23 @@ void TsdfFusion::Integrate(const DepthFrame& frame, const Eigen::Isometry3d& T_C
 }
 
 void TsdfFusion::ExtractCloud(ObjectCloud* cloud) const {
-  const std::shared_ptr<open3d::geometry::PointCloud> pcd =
-      impl_->volume.ExtractPointCloud();
-  // Canonical order (lexicographic), so that the output does not depend on
-  // the iteration order of Open3D's block hash map.
-  const size_t n = pcd->points_.size();
-  std::vector<size_t> order(n);
-  std::iota(order.begin(), order.end(), size_t{0});
-  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-    const Eigen::Vector3d& pa = pcd->points_[a];
-    const Eigen::Vector3d& pb = pcd->points_[b];
-    if (pa.x() != pb.x()) return pa.x() < pb.x();
-    if (pa.y() != pb.y()) return pa.y() < pb.y();
-    return pa.z() < pb.z();
-  });
-  cloud->points_G.resize(n);
-  cloud->normals_G.resize(pcd->HasNormals() ? n : 0);
-  cloud->provenance.assign(n, Provenance::kObserved);
-  for (size_t i = 0; i < n; ++i) {
-    cloud->points_G[i] = pcd->points_[order[i]].cast<float>();
-    if (pcd->HasNormals()) {
-      cloud->normals_G[i] = pcd->normals_[order[i]].normalized().cast<float>();
-    }
-  }
+  impl_->points.clear();
+  impl_->normals.clear();
+  impl_->surface.Extract(impl_->volume, &impl_->points, &impl_->normals);
+  WriteSorted(impl_->points, impl_->normals, cloud);
 }
+
+void TsdfFusion::ExtractCloudUncached(ObjectCloud* cloud) const {
+  const std::shared_ptr<open3d::geometry::PointCloud> pcd = impl_->volume.ExtractPointCloud();
+  WriteSorted(pcd->points_, pcd->normals_, cloud);
+}
+
+int TsdfFusion::units() const { return impl_->surface.units(); }
+int TsdfFusion::units_extracted() const { return impl_->surface.units_extracted(); }
 
 void TsdfFusion::Reset() {
   impl_->volume.Reset();
+  impl_->surface.Clear();
   impl_->frames = 0;
 }
 

@@ -301,6 +301,7 @@ void Pipeline::Reset() {
 }
 
 const evidence::VisibilityRecord& Pipeline::visibility() const { return impl_->visibility; }
+const fusion::TsdfFusion& Pipeline::fusion() const { return impl_->fusion; }
 const refine::PoseRefiner& Pipeline::refiner() const { return impl_->refiner; }
 const refine::ObjectTracker& Pipeline::tracker() const { return impl_->tracker; }
 Eigen::Isometry3d Pipeline::ObjectPose() const { return impl_->tracker.S_G(); }

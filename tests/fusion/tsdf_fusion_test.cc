@@ -105,5 +105,39 @@ TEST(TsdfFusion, SameFramesGiveIdenticalClouds) {
   EXPECT_TRUE(clouds[0].points_G == clouds[1].points_G);
 }
 
+// The cached extraction (only changed units and their neighbours anew)
+// equals Open3D's extraction of the whole volume, point for point and
+// normal for normal, after every frame of a turn; once the turn has covered
+// the sphere, a frame changes only part of the units.
+TEST(TsdfFusion, CachedExtractionEqualsOpen3DsAfterEveryFrame) {
+  TsdfFusion fusion;
+  ObjectCloud cached, full;
+  int fewer = 0;
+  for (int i = 0; i < 23; ++i) {  // the last frame is extracted
+    // A slow turn, the camera 15 deg further each frame.
+    const Eigen::Isometry3d T_C_G = CameraPose(i * M_PI / 12);
+    fusion.Integrate(RenderSphere(T_C_G), T_C_G);
+    if (i % 3 == 2) continue;  // two frames between some extractions
+    fusion.ExtractCloud(&cached);
+    fusion.ExtractCloudUncached(&full);
+    ASSERT_GT(full.size(), 100u);
+    ASSERT_EQ(cached.size(), full.size()) << "frame " << i;
+    EXPECT_TRUE(cached.points_G == full.points_G) << "frame " << i;
+    EXPECT_TRUE(cached.normals_G == full.normals_G) << "frame " << i;
+    EXPECT_LE(fusion.units_extracted(), fusion.units());
+    fewer += fusion.units_extracted() < fusion.units();
+  }
+  EXPECT_GT(fewer, 0);  // some extraction reused units
+  // An extraction with nothing fused since redoes nothing.
+  fusion.ExtractCloud(&cached);
+  EXPECT_EQ(fusion.units_extracted(), 0);
+  EXPECT_TRUE(cached.points_G == full.points_G);
+  // After a reset, nothing is left of the cache.
+  fusion.Reset();
+  fusion.ExtractCloud(&cached);
+  EXPECT_EQ(cached.size(), 0u);
+  EXPECT_EQ(fusion.units(), 0);
+}
+
 }  // namespace
 }  // namespace graspfill::fusion

@@ -45,7 +45,16 @@ class TsdfFusion {
 
   /// Writes the zero crossings of the TSDF (points and normals in G, all
   /// observed) into *cloud, replacing its points.
+  /// Only the volume units whose voxels changed since the last call (and
+  /// their neighbours) are extracted anew; the rest come from the last
+  /// call. The result equals ExtractCloudUncached's, point for point.
   void ExtractCloud(ObjectCloud* cloud) const;
+  /// The same from Open3D's ExtractPointCloud over the whole volume (the
+  /// reference for the tests and the benchmark).
+  void ExtractCloudUncached(ObjectCloud* cloud) const;
+  /// Volume units at the last ExtractCloud, and those it extracted anew.
+  int units() const;
+  int units_extracted() const;
 
   /// Empties the volume (a new object).
   void Reset();

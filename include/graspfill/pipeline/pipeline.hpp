@@ -130,6 +130,8 @@ class Pipeline {
   /// What the camera saw of the object so far, in G (key frames; copying
   /// it is cheap and the copy stays valid after Reset).
   const evidence::VisibilityRecord& visibility() const;
+  /// The TSDF volume (in G, or the object's frame with tracking).
+  const fusion::TsdfFusion& fusion() const;
 
   /// The pose refinement's state: the hand-eye correction found so far
   /// (T_C_G ~= H * T_C_G_logged), the last registration.
