@@ -189,6 +189,7 @@ class PoseRefiner {
   double shift_s_{0.0};  // applied: T_C_G(t) ~= H * pose logged at t + shift_s_
   Eigen::Isometry3d prev_logged_{Eigen::Isometry3d::Identity()};
   int64_t prev_utime_{-1};
+  Rate previous_rate_;
   Eigen::Vector3d centre_mean_C_{0, 0, 0};
   RegistrationResult last_;
   RefineStats stats_;
