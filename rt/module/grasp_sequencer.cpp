@@ -42,6 +42,7 @@ GraspSequencer::GraspSequencer(const PipelineConfig& pipeline, claw::ClawModel c
 void GraspSequencer::ResetPipeline() {
   AddCounters(pipeline_.stats(), &done_);
   pipeline_.Reset();
+  refine_at_last_fused_ = pipeline_.stats().refine;  // the new pipeline's (zero)
 }
 
 ObjectCloud GraspSequencer::EndGrasp() {
@@ -122,11 +123,19 @@ FrameOutcome GraspSequencer::AddDepthFrame(const DepthFrame& frame, std::string*
   return outcome;
 }
 
+int64_t GraspSequencer::RefineRejectedTotal() const {
+  const PipelineStats& s = pipeline_.stats();
+  return done_.frames_skipped_refine + done_.frames_skipped_tracking + s.frames_skipped_refine +
+         s.frames_skipped_tracking;
+}
+
 void GraspSequencer::UpdateFused() {
   const int64_t fused = done_.frames_integrated + pipeline_.stats().frames_integrated;
   if (fused != fused_total_at_last_check_) {
     fused_total_at_last_check_ = fused;
     counters_.frames_since_fused = 0;
+    refine_rejected_at_last_fused_ = RefineRejectedTotal();
+    refine_at_last_fused_ = pipeline_.stats().refine;
   }
 }
 
@@ -174,7 +183,7 @@ PipelineStats GraspSequencer::stats() const {
 
 std::string GraspSequencer::StallReason() const {
   if (!holding()) return "";
-  char text[200];
+  char text[256];
   if (!last_error_.empty()) {
     std::snprintf(text, sizeof(text), "%lld frames not fused: bad frame (%s)",
                   static_cast<long long>(counters_.frames_since_fused), last_error_.c_str());
@@ -192,6 +201,23 @@ std::string GraspSequencer::StallReason() const {
                   "(their clocks disagree)",
                   static_cast<long long>(counters_.frames_since_fused), std::abs(behind_s),
                   behind_s > 0 ? "behind" : "ahead of");
+    return text;
+  }
+  // Most of them posed but rejected by the pose refinement (or the object
+  // tracking): the logged poses and the depth disagree.
+  const int64_t rejected = RefineRejectedTotal() - refine_rejected_at_last_fused_;
+  if (rejected > 0 && 2 * rejected >= counters_.frames_since_fused) {
+    const refine::RefineStats& now = pipeline_.stats().refine;
+    const refine::RefineStats& then = refine_at_last_fused_;
+    auto since = [](int64_t a, int64_t b) { return static_cast<long long>(std::max<int64_t>(0, a - b)); };
+    std::snprintf(text, sizeof(text),
+                  "%lld frames not fused: pose refinement rejected %lld of them (claw not seen "
+                  "%lld, not converged %lld, jump %lld): the claw is not where the logged poses "
+                  "put it (--no-refine fuses at them)",
+                  static_cast<long long>(counters_.frames_since_fused), static_cast<long long>(rejected),
+                  since(now.rejected_claw_not_seen, then.rejected_claw_not_seen),
+                  since(now.rejected_not_converged, then.rejected_not_converged),
+                  since(now.rejected_jump, then.rejected_jump));
     return text;
   }
   std::snprintf(text, sizeof(text),

@@ -124,6 +124,9 @@ class GraspSequencer {
   bool numbered_seen_{false};
   bool have_frame_{false}, have_state_{false};  // since the last start-over
   int64_t fused_total_at_last_check_{0};
+  int64_t refine_rejected_at_last_fused_{0};  // frames refinement or tracking rejected
+  refine::RefineStats refine_at_last_fused_;  // this pipeline's, by reason
+  int64_t RefineRejectedTotal() const;
   std::string last_error_;
 };
 

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -176,6 +177,28 @@ TEST(GraspSequencer, FramesOnAnotherClockThanTheStatesAreReportedAsStalled) {
   EXPECT_GE(c.frames_since_fused, 12);
   const std::string why = sequencer.StallReason();
   EXPECT_NE(why.find("5.0 s behind the gripper states"), std::string::npos) << why;
+}
+
+// Posed frames that the pose refinement rejects (the logged poses 10 cm
+// off, where the claw is not) are reported as such, not as frames without
+// a pose.
+TEST(GraspSequencer, FramesThePoseRefinementRejectsAreReportedAsSuch) {
+  GraspSequencer sequencer(PipelineConfig{}, claw::ClawModel::ThreeFinger(), {}, nullptr);
+  for (SourceEvent e : LoadEvents()) {
+    if (e.kind == SourceEvent::Kind::kDepth) {
+      sequencer.AddDepthFrame(e.depth);
+    } else {
+      e.gripper.T_C_G.translation().y() += 0.10;
+      sequencer.AddGripperState(e.gripper);
+    }
+  }
+  const SessionCounters c = sequencer.counters();
+  EXPECT_EQ(c.frames_fused, 0);
+  EXPECT_GE(c.frames_since_fused, 10);
+  const std::string why = sequencer.StallReason();
+  std::printf("%s\n", why.c_str());
+  EXPECT_NE(why.find("pose refinement rejected"), std::string::npos) << why;
+  EXPECT_EQ(why.find("no gripper pose"), std::string::npos) << why;
 }
 
 }  // namespace
