@@ -235,6 +235,12 @@ SynthOptions Parse(const Args& args) {
       throw UsageError("--grasps replaces --shape (no --mesh, --size, --protocol)");
     }
     if (o.slip_mm != 0.0) throw UsageError("--slip-mm applies to one grasp, not to --grasps");
+    // Not silently dropped: the grasps' scenes take neither.
+    if (o.rig_errors.any()) {
+      throw UsageError("--hand-eye-error, --pose-noise and --clock-offset-ms apply to one grasp, "
+                       "not to --grasps");
+    }
+    if (o.speed_variation != 0.0) throw UsageError("--speed-variation applies to one grasp, not to --grasps");
     ParseGraspShapes(*o.grasps);
   } else if (o.shape.has_value() == o.mesh_path.has_value()) {
     throw UsageError("give exactly one of --shape and --mesh");

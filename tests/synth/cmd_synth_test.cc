@@ -589,5 +589,27 @@ TEST_F(SynthCliTest, BadSlipIsRefused) {
   EXPECT_FALSE(fs::exists(dir_));
 }
 
+// Options the grasps' scenes do not take are refused with --grasps, not
+// dropped; a bad --speed-variation is refused.
+TEST_F(SynthCliTest, OneGraspOptionsAreRefusedWithGraspsAndBadSpeedVariation) {
+  for (const std::vector<std::string>& extra :
+       std::vector<std::vector<std::string>>{{"--hand-eye-error", "3,1"},
+                                             {"--pose-noise", "0.5,0.2"},
+                                             {"--clock-offset-ms", "15"},
+                                             {"--speed-variation", "0.5"}}) {
+    std::vector<std::string> args = {"--grasps", "cuboid,sphere"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    args.insert(args.end(), {"-o", dir_.string()});
+    testing::internal::CaptureStderr();
+    EXPECT_EQ(RunSynth(args), 2) << extra[0];
+    const std::string message = testing::internal::GetCapturedStderr();
+    EXPECT_NE(message.find("not to --grasps"), std::string::npos) << message;
+  }
+  for (const char* bad : {"-0.1", "0.95", "x"}) {
+    EXPECT_EQ(RunSynth({"--shape", "cuboid", "--speed-variation", bad, "-o", dir_.string()}), 2) << bad;
+  }
+  EXPECT_FALSE(fs::exists(dir_));
+}
+
 }  // namespace
 }  // namespace graspfill::cli
