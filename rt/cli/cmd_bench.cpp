@@ -19,6 +19,7 @@
 #include "number_parsing.hpp"
 #include "data_paths.hpp"
 #include "graspfill/core/pose_interpolation.hpp"
+#include "graspfill/eval/metrics.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "module/sequencer_feed.hpp"
 #include "module/session_loop.hpp"
@@ -142,11 +143,9 @@ ExtractionTimes ExtractionEvery(const PipelineConfig& config, const claw::ClawMo
   return t;
 }
 
-double PercentileMs(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  const size_t k = std::min(v.size() - 1, static_cast<size_t>(p / 100.0 * static_cast<double>(v.size())));
-  std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
-  return v[k];
+// 0 when no cloud was extracted (a recording of fewer than 3 fused frames).
+double PercentileMs(const std::vector<double>& v, double p) {
+  return v.empty() ? 0.0 : eval::Percentile(v, p);
 }
 
 double FramePathMs(const PipelineStats& s) {
