@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "graspfill/core/raycaster.hpp"
+#include "graspfill/evidence/safe_bound.hpp"
 
 namespace graspfill::evidence {
 namespace {
@@ -125,6 +126,9 @@ void VisibilityConfig::Validate() const {
   if (coarse_erode_px < erode_px || coarse_erode_px > 32) {
     throw std::invalid_argument("VisibilityConfig: coarse_erode_px must be in [erode_px, 32]");
   }
+  if (!(safe_bound_voxel_m == 0.0 || (safe_bound_voxel_m >= 0.0005 && safe_bound_voxel_m <= 0.1))) {
+    throw std::invalid_argument("VisibilityConfig: safe_bound_voxel_m must be 0 or in [0.0005, 0.1] m");
+  }
 }
 
 VisibilityRecord::VisibilityRecord(const VisibilityConfig& config,
@@ -132,6 +136,18 @@ VisibilityRecord::VisibilityRecord(const VisibilityConfig& config,
     : config_(config), workspace_(workspace) {
   config_.Validate();
   workspace_.Validate();
+  Reset();
+}
+
+void VisibilityRecord::Reset() {
+  key_frames_.clear();
+  claw_.reset();
+  safe_bound_.reset();
+  if (config_.safe_bound_voxel_m > 0.0) {
+    SafeBoundConfig bound;
+    bound.voxel_m = config_.safe_bound_voxel_m;
+    safe_bound_ = std::make_shared<const SafeBound>(WholeBox(workspace_, bound));
+  }
 }
 
 bool VisibilityRecord::Offer(const DepthFrame& raw, const std::vector<float>& claw_depth_m,
@@ -172,6 +188,11 @@ bool VisibilityRecord::Offer(const DepthFrame& raw, const std::vector<float>& cl
   WindowMin(k->depth_m, w, h, config_.erode_px, &k->free_depth_m);
   WindowMin(k->depth_m, w, h, config_.coarse_erode_px, &k->coarse_free_depth_m);
   key_frames_.push_back(std::move(k));
+  if (safe_bound_) {
+    auto bound = std::make_shared<SafeBound>(*safe_bound_);
+    CarveSafeBound(*this, key_frames_.size() - 1, bound.get());
+    safe_bound_ = std::move(bound);
+  }
   return true;
 }
 
@@ -202,22 +223,26 @@ VisibilityVotes VisibilityRecord::Votes(const Eigen::Vector3f& p_G) const {
 
 bool VisibilityRecord::SeenFree(const Eigen::Vector3f& p_G, float extra_m, bool coarse,
                                 size_t* first_key_frame) const {
-  const float margin = static_cast<float>(config_.free_margin_m) + extra_m;
   const size_t n = key_frames_.size();
   const size_t first = first_key_frame && *first_key_frame < n ? *first_key_frame : 0;
   for (size_t k = 0; k < n; ++k) {
     const size_t f = (first + k) % n;
-    const KeyFrame& kf = *key_frames_[f];
-    size_t i = 0;
-    float z = 0.0f;
-    if (!Project(kf, p_G, &i, &z)) continue;
-    const float d_free = coarse ? kf.coarse_free_depth_m[i] : kf.free_depth_m[i];
-    if (d_free > 0.0f && d_free > z + margin) {
+    if (SeenFreeBy(f, p_G, extra_m, coarse)) {
       if (first_key_frame) *first_key_frame = f;
       return true;
     }
   }
   return false;
+}
+
+bool VisibilityRecord::SeenFreeBy(size_t key_frame, const Eigen::Vector3f& p_G, float extra_m,
+                                  bool coarse) const {
+  const KeyFrame& kf = *key_frames_.at(key_frame);
+  size_t i = 0;
+  float z = 0.0f;
+  if (!Project(kf, p_G, &i, &z)) return false;
+  const float d_free = coarse ? kf.coarse_free_depth_m[i] : kf.free_depth_m[i];
+  return d_free > 0.0f && d_free > z + static_cast<float>(config_.free_margin_m) + extra_m;
 }
 
 struct VisibilityRecord::ClawSolid {

@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -65,6 +66,29 @@ struct Gap {
   Eigen::Vector3f direction{Eigen::Vector3f::Zero()};
 };
 
+// The quick test before the sort: the directions' keys binned into 32
+// sectors of [0, 4). DiamondAngle turns at most 2 rad per key unit (dθ/dk
+// is 1 to 2 within a quadrant), so a gap of angle a between consecutive
+// directions leaves an open key interval longer than a / 2 empty, which
+// holds at least floor(a / 2 / w) - 1 whole sectors of width w. False when
+// no such run of empty sectors exists: then no gap is wider than the
+// threshold and the point is interior (most are).
+constexpr int kSectors = 32;
+bool MayHaveGap(uint32_t occupied, float threshold_key) {
+  // The threshold as an angle: keys below 1 are the first quadrant's,
+  // tan(angle) = k / (1 - k); past pi/2 each quadrant adds pi/2.
+  const float quadrants = std::floor(threshold_key);
+  const float k = threshold_key - quadrants;
+  const double angle = quadrants * M_PI_2 + std::atan2(k, 1.0f - k);
+  const int run = static_cast<int>(std::floor(angle / 2.0 / (4.0 / kSectors))) - 1;
+  if (run < 1) return true;
+  uint32_t empty_run = ~occupied;
+  for (int r = 1; r < run && empty_run != 0; ++r) {
+    empty_run &= ~((occupied >> r) | (occupied << (kSectors - r)));
+  }
+  return empty_run != 0;
+}
+
 // The maximum-angle criterion at P: true when the directions from P to its
 // neighbours `nn`, projected on the plane of `normal`, leave an angular gap
 // wider than the threshold (given as `threshold_key`, the DiamondAngle of
@@ -78,6 +102,7 @@ bool HasWideGap(const PointList& points, const std::vector<int>& nn, const Eigen
   const Eigen::Vector3f u = normal.unitOrthogonal();
   const Eigen::Vector3f v = normal.cross(u);
   dirs->clear();
+  uint32_t occupied = 0;  // bit s: some direction's key in sector s
   for (const int j : nn) {
     // P'Q' is the projection of PQ on the plane: its (u, v) coordinates.
     const Eigen::Vector3f d = points[static_cast<size_t>(j)] - p;
@@ -86,17 +111,19 @@ bool HasWideGap(const PointList& points, const std::vector<int>& nn, const Eigen
     // Skips P itself, its duplicates and neighbours straight along the
     // normal, whose direction in the plane is meaningless.
     if (x * x + y * y <= 1e-8f * d.squaredNorm()) continue;
-    const Direction2 dir{DiamondAngle(x, y), x, y};
-    // Insertion sort: a few dozen directions, mostly short moves.
-    auto it = dirs->end();
-    dirs->push_back(dir);
-    while (it != dirs->begin() && (it - 1)->key > dir.key) {
-      *it = *(it - 1);
-      --it;
-    }
-    *it = dir;
+    const float key = DiamondAngle(x, y);
+    dirs->push_back({key, x, y});
+    occupied |= 1u << std::min(static_cast<int>(key * (kSectors / 4.0f)), kSectors - 1);
   }
   if (dirs->empty()) return false;
+  if (!MayHaveGap(occupied, threshold_key)) return false;
+  // Insertion sort: a few dozen directions, mostly short moves.
+  for (size_t a = 1; a < dirs->size(); ++a) {
+    const Direction2 dir = (*dirs)[a];
+    size_t b = a;
+    for (; b > 0 && (*dirs)[b - 1].key > dir.key; --b) (*dirs)[b] = (*dirs)[b - 1];
+    (*dirs)[b] = dir;
+  }
   // The gap between consecutive directions a, b (counterclockwise) is the
   // polar angle of (a.b, a x b): compare those by their diamond angles too,
   // the wrap-around pair (last, first) included. A single direction leaves
@@ -109,7 +136,13 @@ bool HasWideGap(const PointList& points, const std::vector<int>& nn, const Eigen
     for (size_t a = 0; a < n; ++a) {
       const Direction2& d0 = (*dirs)[a];
       const Direction2& d1 = (*dirs)[(a + 1) % n];
-      const float key = DiamondAngle(d0.x * d1.x + d0.y * d1.y, d0.x * d1.y - d0.y * d1.x);
+      float cross = d0.x * d1.y - d0.y * d1.x;
+      // Keys less than 1 apart are less than 2 rad apart, so the true
+      // cross product is >= 0: a negative one is rounding between two
+      // (nearly) coincident directions, which would read as a full turn.
+      const float key_step = a + 1 < n ? d1.key - d0.key : d1.key + 4.0f - d0.key;
+      if (key_step < 1.0f) cross = std::max(cross, 0.0f);
+      const float key = DiamondAngle(d0.x * d1.x + d0.y * d1.y, cross);
       if (key > widest_key) {
         widest_key = key;
         widest = a;

@@ -20,7 +20,15 @@ struct SafeBoundConfig {
 };
 
 /// The bound over the record's workspace box. An empty record (nothing
-/// seen) gives the whole box.
+/// seen) gives the whole box. The record's own bound when it keeps one at
+/// this voxel (the same bits: it was carved by the same key frames).
 SafeBound ComputeSafeBound(const VisibilityRecord& record, const SafeBoundConfig& config = {});
+
+/// Every voxel of `box` set: nothing carved yet.
+SafeBound WholeBox(const fusion::WorkspaceBox& box, const SafeBoundConfig& config);
+
+/// Clears the voxels of `bound` (over the record's workspace box) that
+/// key frames first_key_frame.. of `record` see free.
+void CarveSafeBound(const VisibilityRecord& record, size_t first_key_frame, SafeBound* bound);
 
 }  // namespace graspfill::evidence

@@ -63,6 +63,12 @@ struct VisibilityConfig {
   /// every ray through the voxel must have passed it. 6 px holds a 5 mm
   /// voxel's half diagonal (4.3 mm) at 0.4 m and f = 525 px [px].
   int coarse_erode_px{6};
+  /// The planner's safe bound (safe_bound.hpp) is kept at this voxel edge
+  /// as key frames come [m]: each new one carves the voxels still set, so
+  /// a repair reads the bound instead of testing the whole box against
+  /// every key frame (14 ms on a full turn). 0 keeps none; a repair asking
+  /// for another voxel computes its own.
+  double safe_bound_voxel_m{0.005};
 
   /// Throws std::invalid_argument naming the bad field.
   void Validate() const;
@@ -106,6 +112,12 @@ class VisibilityRecord {
   /// the same one (the safe bound walks the grid so). The answer is the same.
   bool SeenFree(const Eigen::Vector3f& p_G, float extra_m = 0.0f, bool coarse = false,
                 size_t* first_key_frame = nullptr) const;
+  /// SeenFree asking key frame `key_frame` only.
+  bool SeenFreeBy(size_t key_frame, const Eigen::Vector3f& p_G, float extra_m = 0.0f,
+                  bool coarse = false) const;
+  /// The safe bound at config().safe_bound_voxel_m over the key frames so
+  /// far (the whole box before the first); null when none is kept.
+  const std::shared_ptr<const SafeBound>& safe_bound() const { return safe_bound_; }
 
   bool empty() const { return key_frames_.empty(); }
   size_t size() const { return key_frames_.size(); }
@@ -126,15 +138,15 @@ class VisibilityRecord {
   std::optional<Eigen::Vector3f> ExitClaw(const Eigen::Vector3f& p_G, const Eigen::Vector3f& dir_G) const;
 
   /// Forgets every key frame and the claw (a new object).
-  void Reset() {
-    key_frames_.clear();
-    claw_.reset();
-  }
+  void Reset();
 
  private:
   VisibilityConfig config_;
   fusion::WorkspaceBox workspace_;
   std::vector<std::shared_ptr<const KeyFrame>> key_frames_;
+  // Replaced, never changed in place: a copy of the record (the repair
+  // thread's snapshot) shares it.
+  std::shared_ptr<const SafeBound> safe_bound_;
   struct ClawSolid;
   std::shared_ptr<const ClawSolid> claw_;
 };
