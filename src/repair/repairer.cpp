@@ -369,6 +369,11 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
   {
     StepTimer t(&report, "boundary_lines");
     lines = LinkBoundaryPoints(points, boundary, config.link, &boundary_info);
+    // The gap directions keep close holes apart, but one point whose
+    // widest gap lies on the wrong side of a ragged rim can stop the only
+    // line there is (the large can of `bench repair --pipeline`: its rim
+    // and both claw holes, one line, lost): then the paper's rule alone.
+    if (lines.empty()) lines = LinkBoundaryPoints(points, boundary, config.link);
   }
   report.boundary_points = static_cast<int>(boundary.size());
   report.boundary_lines = static_cast<int>(lines.size());
