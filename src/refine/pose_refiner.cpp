@@ -50,6 +50,7 @@ void RefineConfig::Validate() const {
 const char* RefineOutcomeName(RefineOutcome outcome) {
   switch (outcome) {
     case RefineOutcome::kRefined: return "refined";
+    case RefineOutcome::kAtPrediction: return "at_prediction";
     case RefineOutcome::kOff: return "off";
     case RefineOutcome::kClawNotSeen: return "claw_not_seen";
     case RefineOutcome::kNotConverged: return "not_converged";
@@ -258,7 +259,7 @@ RefineOutcome PoseRefiner::Refine(const DepthFrame& frame, const Eigen::Isometry
       beyond_m < config_.min_correction_m && beyond_deg < config_.min_correction_deg;
   if (below_precision) ++stats_.frames_at_prediction;
   *T_C_G = below_precision ? prediction : last_.T_C_G;
-  return RefineOutcome::kRefined;
+  return below_precision ? RefineOutcome::kAtPrediction : RefineOutcome::kRefined;
 }
 
 }  // namespace graspfill::refine

@@ -154,6 +154,8 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
   PointList existing = points_V;
   existing.insert(existing.end(), surface_V->begin(), surface_V->end());
   EvidenceTop top = CloseTopFromEvidence(points_V, existing, record, T_in_V, spacing_m, config);
+  report->top = TopEvidenceName(top.outcome);
+  report->top_above_wall_m = top.top_z_V - top.wall_top_z_V;
   if (symmetry->symmetric) {
     float mirror_top = -std::numeric_limits<float>::infinity();
     for (const Eigen::Vector3f& p : symmetry->added_V) mirror_top = std::max(mirror_top, p.z());
@@ -171,8 +173,6 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
                             1000.0f * (top.top_z_V - mirror_top) + 0.5f)) +
                         " mm below the evidence's and was replaced";
   }
-  report->top = TopEvidenceName(top.outcome);
-  report->top_above_wall_m = top.top_z_V - top.wall_top_z_V;
   report->top_points_added = static_cast<int>(top.added_V.size());
   report->rejected_free += top.rejected_free;
   report->rejected_in_claw += DropInsideClaw(record, T_in_V, &top.added_V);

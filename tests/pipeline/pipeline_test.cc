@@ -114,6 +114,25 @@ TEST_F(PipelineTest, CloudLiesOnTheSphereWithoutTheClaw) {
   EXPECT_EQ(top, 0);
 }
 
+// A frame fused at its own registration, off the prediction, is not made
+// a key frame of the visibility record (its move may be the registration's
+// error); with no deadband every registration is trusted.
+TEST_F(PipelineTest, FramesFusedOffThePredictionAreNoKeyFrames) {
+  auto key_frames = [&](double min_correction_m, double min_correction_deg) {
+    PipelineConfig config;
+    config.refine.min_correction_m = min_correction_m;
+    config.refine.min_correction_deg = min_correction_deg;
+    Pipeline pipeline(config, Claw());
+    Feed(&pipeline, 40);
+    EXPECT_EQ(pipeline.stats().frames_integrated, 40);
+    return pipeline.visibility().size();
+  };
+  const size_t all_at_prediction = key_frames(1.0, 180.0);
+  EXPECT_GE(all_at_prediction, 3u);  // 40 frames at 1.5 rad/s: 115 deg, a key frame every 12
+  EXPECT_EQ(key_frames(1e-9, 1e-9), 0u);  // every registration moves the pose a little
+  EXPECT_GE(key_frames(0.0, 0.0) + 1, all_at_prediction);  // the same views, within a pose jitter
+}
+
 int PointsOffTheSphere(const ObjectCloud& cloud) {
   int off_surface = 0;
   for (const Eigen::Vector3f& p : cloud.points_G) {

@@ -51,6 +51,8 @@ struct RefineConfig {
   /// 4.29 vs 0.95 mm^2 with this deadband; README, Imperfect robots) [m], [deg].
   double min_correction_m{0.0005};
   double min_correction_deg{0.5};
+  /// Whether any registration can land within the deadband.
+  bool has_deadband() const { return min_correction_m > 0.0 && min_correction_deg > 0.0; }
   /// The hand-eye correction predicts poses from this many accepted frames
   /// on; it is the median of the last `hand_eye_window` frames' corrections.
   int hand_eye_min_frames{5};
@@ -91,14 +93,20 @@ struct ClockOffsetEstimate {
 /// What refinement did with a frame.
 enum class RefineOutcome {
   kRefined,        ///< registered: fuse at the refined pose
+  kAtPrediction,   ///< registered within min_correction of the prediction: fuse at that
   kOff,            ///< refinement disabled: fuse at the logged pose
   kClawNotSeen,    ///< too few depth points near the predicted claw
   kNotConverged,   ///< the registration did not converge (or was degenerate)
   kJump,           ///< correction beyond max_correction / max_jump
 };
 
-/// "refined", "off", "claw_not_seen", "not_converged", "jump".
+/// "refined", "at_prediction", "off", "claw_not_seen", "not_converged", "jump".
 const char* RefineOutcomeName(RefineOutcome outcome);
+/// Whether the frame is fused (refined, at the prediction, or refinement off).
+inline bool Fuses(RefineOutcome outcome) {
+  return outcome == RefineOutcome::kRefined || outcome == RefineOutcome::kAtPrediction ||
+         outcome == RefineOutcome::kOff;
+}
 
 struct RefineStats {
   int64_t frames_refined{0};
