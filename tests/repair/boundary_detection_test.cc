@@ -137,7 +137,8 @@ TEST(DetectBoundaryPoints, ARegularGridsCollinearNeighboursAreNoGap) {
   // A TSDF's zero crossings lie on voxel lines: a neighbour and the one
   // behind it share a direction, and projected on a tilted plane their
   // cross product can round below 0, which read as a full-turn gap
-  // (measured: 8% of a fused bottle's boundary points were such). A tilted
+  // (measured: 8% of a fused bottle's first-look, k = 20, boundary points
+  // were such). A tilted
   // 1 mm grid: only its outer ring is boundary.
   const int side = 40;
   const Eigen::Matrix3f R =
