@@ -761,6 +761,8 @@ void ApplyToPipeline(const RigConfig& c, PipelineConfig* p) {
   p->refine.min_correction_m = c.refine.min_correction_m;
   p->refine.min_correction_deg = c.refine.min_correction_deg;
   p->track_object.enabled = c.refine.track_object;
+  // The record keeps the safe bound at the repair's voxel (0: none).
+  p->visibility.safe_bound_voxel_m = c.repair.safe_bound_voxel_m;
 }
 
 void ApplyToRepair(const RigConfig& c, repair::RepairConfig* r) {

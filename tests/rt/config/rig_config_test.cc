@@ -124,6 +124,15 @@ TEST(RigConfig, TheRefineSectionReachesThePipeline) {
   EXPECT_TRUE(pipeline.track_object.enabled);
 }
 
+TEST(RigConfig, TheRecordKeepsTheSafeBoundAtTheRepairsVoxel) {
+  PipelineConfig pipeline;
+  ApplyToPipeline(ParseRigConfig("repair:\n  safe_bound_voxel_m: 0.01\n", "bound.yaml"), &pipeline);
+  EXPECT_EQ(pipeline.visibility.safe_bound_voxel_m, 0.01);
+  ApplyToPipeline(ParseRigConfig("repair:\n  safe_bound_voxel_m: 0\n", "none.yaml"), &pipeline);
+  EXPECT_EQ(pipeline.visibility.safe_bound_voxel_m, 0.0);
+  EXPECT_NO_THROW(pipeline.Validate());
+}
+
 TEST(RigConfig, DumpThenParseGivesTheSameStruct) {
   const RigConfig defaults;
   EXPECT_EQ(ParseRigConfig(DumpRigConfig(defaults), "defaults.yaml"), defaults);
