@@ -433,6 +433,7 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
     valid = static_cast<int>(sizes.size());
   }
   const bool prism_like = config.plateau_search && near_median >= config.prism_fraction * valid;
+  bool constant_section = prism_like;
   if (prism_like) {
     z_s = 0.5 * (z_min + z_b);
     how = "constant cross-section (" + std::to_string(near_median) + " of " + std::to_string(valid) +
@@ -463,6 +464,7 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
       // middle of the observed height, i.e. the mirror closes the object at
       // the boundary.
       z_s = 0.5 * (z_min + z_b);
+      constant_section = true;
       how = "constant cross-section from bottom to boundary: plane at mid-height";
     } else {
       // The run's middle, refined to the plane about which the size profile
@@ -550,6 +552,16 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
   }
 
   // The missing surface's box and the mirrored points that land in it.
+  // With a constant section the top is the rim's whole outline, even where
+  // the boundary test found only part of the rim (a rounded box held
+  // obliquely: 74 rim points, a third of its top mirrored); the mirror
+  // still adds nothing beside an original point.
+  if (constant_section) {
+    for (const Point2& v : profile.HullAt(z_b - 0.5 * h, config.min_slab_points)) {
+      boundary_box.extend(Eigen::Vector3f(static_cast<float>(v.x()), static_cast<float>(v.y()),
+                                          boundary_box.min().z()));
+    }
+  }
   const float pad = static_cast<float>(config.box_pad_d * d);
   const Eigen::Vector3f box_min(boundary_box.min().x() - pad, boundary_box.min().y() - pad,
                                 boundary_box.min().z() - pad);

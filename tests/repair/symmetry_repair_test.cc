@@ -241,6 +241,28 @@ TEST(SymmetryRepair, CylinderAndCuboidWithTheirTopFaceCutAreClosedExactly) {
   }
 }
 
+// The boundary test may find only part of a rim (a rounded box held
+// obliquely: a third of it). With a constant section the top is still the
+// rim's whole outline: the mirror covers all of it, not the part's box.
+TEST(SymmetryRepair, APartialRimOfAConstantSectionStillClosesTheWholeTop) {
+  Case c = ProtocolCase(Shape::kCuboid, 0.0, 0);
+  HoleBoundary part = c.top;
+  part.points_V.clear();
+  for (const Eigen::Vector3f& p : c.top.points_V) {
+    if (p.x() < -0.2f * static_cast<float>(c.height) * 0.5f) part.points_V.push_back(p);  // one side
+  }
+  ASSERT_GT(part.points_V.size(), 20u);
+  ASSERT_LT(part.points_V.size(), c.top.points_V.size() / 2);
+  c.top = part;
+  double ms = 0.0;
+  const SymmetryResult r = RunRepair(c, SymmetryConfig{}, &ms);
+  const MirrorStats st = Evaluate(c, r.added_V);
+  Print("cuboid, a third of the rim", c, r, st, ms);
+  ASSERT_TRUE(r.symmetric) << r.reason;
+  EXPECT_GE(st.on_surface, kSurfaceFraction);
+  EXPECT_GE(st.cover, kCoverFraction);
+}
+
 // The protocol's 8% band cut off a sphere and an ellipsoid, their claw
 // holes filled first (step 7, as in the pipeline): the equator is the
 // largest cross-section and the mirrored bottom is the true top.

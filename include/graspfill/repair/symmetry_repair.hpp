@@ -33,8 +33,10 @@
 // cut off the top of such a shape cannot be observed; this "minimal
 // closure" is the only choice the data support.
 //
-// The missing surface's box: x, y from the boundary's extent, z from the
-// boundary up to 2 z_s - min z (padded by `box_pad_d` D). Every point whose
+// The missing surface's box: x, y from the boundary's extent (with a
+// constant section also the rim's whole outline: the boundary test may find
+// only part of the rim), z from the boundary up to 2 z_s - min z (padded by
+// `box_pad_d` D). Every point whose
 // mirror image z' = 2 z_s - z lands in the box is added unless an original
 // point lies within `min_gap_d` D of it (the original is kept).
 //
