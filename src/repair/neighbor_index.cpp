@@ -279,7 +279,7 @@ KnnTable NeighborIndex::AllKnn(int k) const {
           }
           // The k-th smallest float distance, with a margin for rounding.
           // Selected among the candidates within a guess first (the last
-          // query's k-th distance x 1.3: neighbouring points have similar
+          // query's k-th distance x 1.1: neighbouring points have similar
           // ones), which holds ~k of the ~100-200; all of them only when
           // fewer than k fall within it. The same k-th either way.
           float kth = std::numeric_limits<float>::infinity();
@@ -298,7 +298,7 @@ KnnTable NeighborIndex::AllKnn(int k) const {
             }
             std::nth_element(scratch.begin(), scratch.begin() + static_cast<long>(want - 1),
                              scratch.begin() + static_cast<long>(within));
-            guess = 1.44f * scratch[want - 1];
+            guess = 1.21f * scratch[want - 1];
             kth = scratch[want - 1] * (1.0f + 1e-5f) + 1e-30f;
           }
           // Exact only if nothing outside the block can be nearer.
