@@ -60,7 +60,7 @@ using Clock = std::chrono::steady_clock;
 std::string Usage() {
   return "usage: graspfill bench live [LOG] [--speeds 1,2,4] [--transport memq|udpm|both]\n"
          "                            [--repair incremental|full|both] [--publish-every N]\n"
-         "                            [--soak-s S] [--json]\n"
+         "                            [--soak-s S] [--heap-reserve-mb N] [--json]\n"
          "  LOG defaults to the bundled recording " +
          (BundledRecordingDir() / "recording.lcmlog").string() +
          "\n"
@@ -72,7 +72,9 @@ std::string Usage() {
          "                     in full: the reference) or both (default)\n"
          "  --publish-every N  a cloud every N fused frames, 1..1000 (default 3: 10 Hz at 30 fps)\n"
          "  --soak-s S         long mode: also play the recording in a loop at 1x in-process for\n"
-         "                     S seconds (>= 60) and report RSS at minute 1 and at the end\n";
+         "                     S seconds (>= 60) and report RSS at minute 1 and at the end\n"
+         "  --heap-reserve-mb N `graspfill live`'s --heap-reserve-mb, in-process and in the child\n"
+         "                     (default " + std::to_string(kLiveHeapReserveMb) + "; 0: the allocator's defaults)\n";
 }
 
 double MsBetween(Clock::time_point a, Clock::time_point b) {
@@ -143,6 +145,7 @@ struct RunSpec {
   bool incremental{true};
   int publish_every{3};
   double soak_s{0.0};  // > 0: loop the recording this long (memq, 1x)
+  int heap_reserve_mb{kLiveHeapReserveMb};
 };
 
 struct RunResult {
@@ -244,6 +247,7 @@ RunResult RunInProcess(const Recording& rec, const RunSpec& spec) {
   config.repair_options.incremental = spec.incremental;
   config.limits.idle_exit_s = 1.0;
   config.limits.tick_ms = 250;
+  config.heap_reserve_mb = spec.heap_reserve_mb;  // process-wide: the first run's holds
   claw::ClawModel claw = claw::ClawModel::ThreeFinger();
   io::SessionDescription description;
   if (rec.session) {
@@ -389,6 +393,7 @@ RunResult RunAcrossProcesses(const Recording& rec, const RunSpec& spec, const st
       "--lcm-url", url, "--publish-every", std::to_string(spec.publish_every), "--idle-exit-s",
       "1", "--duration-s", std::to_string(static_cast<int>(rec.duration_s() / spec.speed) + 60)};
   if (!spec.incremental) args.push_back("--no-incremental");
+  args.insert(args.end(), {"--heap-reserve-mb", std::to_string(spec.heap_reserve_mb)});
   if (!rec.session) args.insert(args.end(), {"--claw", "three-finger"});
   const auto finish = [&](const std::string& note) {
     receiving = false;
@@ -517,6 +522,7 @@ int RunBenchLive(const Args& args) {
   std::string transport = "both", repair = "both";
   int publish_every = 3;
   double soak_s = 0.0;
+  int heap_reserve_mb = kLiveHeapReserveMb;
   bool json = false;
   try {
     bool log_given = false;
@@ -544,6 +550,8 @@ int RunBenchLive(const Args& args) {
         publish_every = ParseInteger<int>("--publish-every", args[++i], 1, 1000);
       } else if (a == "--soak-s" && has_value) {
         soak_s = ParseDouble("--soak-s", args[++i], 60.0, 86400.0);
+      } else if (a == "--heap-reserve-mb" && has_value) {
+        heap_reserve_mb = ParseInteger<int>("--heap-reserve-mb", args[++i], 0, 65536);
       } else if (!a.empty() && a[0] != '-' && !log_given) {
         log = a;
         log_given = true;
@@ -570,8 +578,9 @@ int RunBenchLive(const Args& args) {
     return 1;
   }
   if (!json) {
-    std::printf("bench live: %s, %d depth frames over %.1f s, a cloud every %d fused frames%s\n",
-                log.c_str(), rec.depth_frames, rec.duration_s(), publish_every,
+    std::printf("bench live: %s, %d depth frames over %.1f s, a cloud every %d fused frames, "
+                "heap reserve %d MB%s\n",
+                log.c_str(), rec.depth_frames, rec.duration_s(), publish_every, heap_reserve_mb,
                 rec.session ? "" : " (no session description: three-finger claw)");
     std::printf("latency: a frame's send -> the receipt of the first cloud it is the newest frame of "
                 "[ms]; update/full: the repair's times [ms]\n");
@@ -589,7 +598,7 @@ int RunBenchLive(const Args& args) {
       if (transport != "both" && transport != bus) continue;
       for (const double speed : speeds) {
         for (const bool incremental : modes) {
-          RunSpec spec{bus, speed, incremental, publish_every, 0.0};
+          RunSpec spec{bus, speed, incremental, publish_every, 0.0, heap_reserve_mb};
           RunResult r;
           if (bus == std::string("memq")) {
             r = RunInProcess(rec, spec);
@@ -605,7 +614,8 @@ int RunBenchLive(const Args& args) {
       }
     }
     if (soak_s > 0.0) {
-      RunResult r = RunInProcess(rec, RunSpec{"memq", 1.0, repair != "full", publish_every, soak_s});
+      RunResult r = RunInProcess(
+          rec, RunSpec{"memq", 1.0, repair != "full", publish_every, soak_s, heap_reserve_mb});
       if (!json) PrintRow(r);
       results.push_back(r);
     }
@@ -618,6 +628,7 @@ int RunBenchLive(const Args& args) {
     j["recording"] = log;
     j["depth_frames"] = rec.depth_frames;
     j["publish_every"] = publish_every;
+    j["heap_reserve_mb"] = heap_reserve_mb;
     j["runs"] = nlohmann::ordered_json::array();
     for (const RunResult& r : results) j["runs"].push_back(ToJson(r));
     std::printf("%s\n", j.dump(2).c_str());

@@ -91,6 +91,10 @@ constexpr const char* kUsage =
     "                        lcm-logplayer play\n"
     "  --force               overwrite the --record LOG if it exists\n"
     "  --duration-s S        stop after S seconds (default: until Ctrl-C or end of .oni)\n"
+    "  --heap-reserve-mb N   ready the heap for the frame path at start: one arena, nothing\n"
+    "                        returned to the system, N MB touched ahead so that the first\n"
+    "                        grasp's new memory does not fault in on the frame path\n"
+    "                        (default 256; 0: the allocator's defaults), 0..65536\n"
     "  --depth-channel C / --gripper-channel C / --cloud-channel C / --status-channel C /\n"
     "  --session-channel C\n";
 
@@ -122,6 +126,7 @@ io::SessionDescription DescribeClaw(const std::string& spec, const std::string& 
 int RunLive(const Args& args) {
   rt::CameraSource::Config camera;  // camera_options.hpp
   rt::LiveSessionConfig session_config;
+  session_config.heap_reserve_mb = kLiveHeapReserveMb;
   io::ChannelNames& channels = session_config.channels;
   rt::GraspModuleConfig& module_config = session_config.module;
   std::optional<std::string> claw_spec;
@@ -209,6 +214,9 @@ int RunLive(const Args& args) {
       }
       else if (a == "--record" && has_value) session_config.record.path = args[++i];
       else if (a == "--force") force = true;
+      else if (a == "--heap-reserve-mb" && has_value) {
+        session_config.heap_reserve_mb = ParseInteger<int>(a, args[++i], 0, 65536);
+      }
       else if (a == "--duration-s" && has_value) {
         session_config.limits.duration_s = ParseDouble(a, args[++i], 0.0, kMaxSeconds, "s");
       }

@@ -10,6 +10,11 @@ namespace graspfill::cli {
 
 using Args = std::vector<std::string>;
 
+/// `graspfill live`'s heap reserve [MB] (rt/module/process_memory.hpp),
+/// which `bench live` runs with too: a first grasp of a household object
+/// takes ~140 MB.
+constexpr int kLiveHeapReserveMb = 256;
+
 int RunSynth(const Args& args);   // cmd_synth.cpp
 int RunReplay(const Args& args);  // cmd_replay.cpp
 int RunEval(const Args& args);    // cmd_eval.cpp

@@ -3,6 +3,7 @@
 #include "module/process_memory.hpp"
 
 #include <chrono>
+#include <cstdio>
 #include <stdexcept>
 #include <thread>
 #include <utility>
@@ -26,6 +27,12 @@ const char* StateName(io::ModuleState state) {
 
 LiveSession::LiveSession(const LiveSessionConfig& config)
     : config_(config), publisher_(config.lcm_url) {
+  if (config.heap_reserve_mb < 0) throw std::invalid_argument("LiveSessionConfig: heap_reserve_mb < 0");
+  if (config.heap_reserve_mb > 0 && !ReserveHeap(static_cast<size_t>(config.heap_reserve_mb))) {
+    std::fprintf(stderr, "graspfill: the heap could not be readied for the real-time loop "
+                         "(%d MB reserve); continuing with the allocator's defaults\n",
+                 config.heap_reserve_mb);
+  }
   LcmBusSubscriber::Config bus;
   bus.url = config.lcm_url;
   bus.channels = config.channels;

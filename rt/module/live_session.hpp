@@ -71,6 +71,12 @@ struct LiveSessionConfig {
   SessionLoopLimits limits;
   /// This many depth frames in a row not fused: the status says "stalled".
   int stall_after_frames{30};
+  /// > 0: at construction, ReserveHeap(heap_reserve_mb) (process_memory.hpp:
+  /// the first grasp's new memory then faults in before the frames come,
+  /// not on the frame path). 0 (the default for a host process): the heap
+  /// stays as the host set it, since the settings are process-wide.
+  /// `graspfill live` reserves 256.
+  int heap_reserve_mb{0};
 };
 
 /// What the session did, for the summary line.

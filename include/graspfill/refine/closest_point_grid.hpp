@@ -23,6 +23,8 @@ class ClosestPointGrid {
   /// Index into the points of the one nearest the centre of p's cell; -1
   /// when none is within the band or p is off the table.
   int Nearest(const Eigen::Vector3f& p) const;
+  /// The centre of p's cell (the point Nearest answers for).
+  Eigen::Vector3f CellCentre(const Eigen::Vector3f& p) const;
 
  private:
   Eigen::Vector3f origin_{0, 0, 0};
@@ -30,6 +32,7 @@ class ClosestPointGrid {
   int nx_{0}, ny_{0}, nz_{0};
   std::vector<int32_t> nearest_;  // -1: no point within the band
   std::vector<float> best_d2_;    // building scratch
+  std::vector<int> row_reach_;    // building scratch: per row offset, the widest cell offset
 };
 
 }  // namespace graspfill::refine
