@@ -17,6 +17,7 @@
 #include "number_parsing.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/messages.hpp"
+#include "graspfill/io/ply.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "graspfill/repair/repairer.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
@@ -131,12 +132,14 @@ nlohmann::ordered_json StepsJson(const std::vector<StageTiming>& steps) {
 int RunBenchRepairPipeline(const Args& args) {
   bool json = false, verbose = false;
   std::string only;
+  std::string dump_dir;  // each case's fused and repaired clouds as PLY
   int frames = 90;
   for (size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--pipeline") continue;
     if (args[i] == "--json") json = true;
     else if (args[i] == "--verbose") verbose = true;
     else if (args[i] == "--case" && i + 1 < args.size()) only = args[++i];
+    else if (args[i] == "--dump" && i + 1 < args.size()) dump_dir = args[++i];
     else if (args[i] == "--frames" && i + 1 < args.size()) {
       try {
         frames = ParseInteger<int>("--frames", args[++i], 10, 3000);
@@ -202,8 +205,8 @@ int RunBenchRepairPipeline(const Args& args) {
     pipeline.Flush();
     const ObjectCloud fused = pipeline.ExtractCloud();
     const PipelineStats& stats = pipeline.stats();
-    const std::vector<Eigen::Vector3f> truth =
-        synth::SampleSurface(scene.object_G(), 200000, 5).points;
+    const synth::SurfaceSamples truth_samples = synth::SampleSurface(scene.object_G(), 200000, 5);
+    const std::vector<Eigen::Vector3f>& truth = truth_samples.points;
     const evidence::VisibilityRecord& record = pipeline.visibility();
 
     Outcome result[2];
@@ -217,6 +220,19 @@ int RunBenchRepairPipeline(const Args& args) {
       result[with_evidence].ms = ms;
       result[with_evidence].note = Note(report);
       result[with_evidence].steps = report.timings;
+      if (!dump_dir.empty()) {
+        std::string name = c.label;
+        std::replace(name.begin(), name.end(), ' ', '_');
+        if (with_evidence == 0) {
+          io::WriteCloudPly(dump_dir + "/" + name + "_fused.ply", fused);
+          ObjectCloud truth_cloud;
+          truth_cloud.points_G = truth_samples.points;
+          truth_cloud.normals_G = truth_samples.normals;
+          io::WriteCloudPly(dump_dir + "/" + name + "_truth.ply", truth_cloud);
+        }
+        io::WriteCloudPly(dump_dir + "/" + name + (with_evidence ? "_evidence.ply" : "_cloud_only.ply"),
+                          cloud);
+      }
     }
     const double fused_coverage = eval::FractionWithin(eval::NearestDistances(truth, fused.points_G), 0.002);
     const double frame_ms = stats.crop.mean_ms() + stats.mask.mean_ms() + stats.integrate.mean_ms() +

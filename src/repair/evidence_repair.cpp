@@ -7,6 +7,7 @@
 
 #include "convex_hull.hpp"
 #include "graspfill/repair/neighbor_index.hpp"
+#include "local_surfaces.hpp"
 
 namespace graspfill::repair {
 namespace {
@@ -47,6 +48,82 @@ Eigen::Vector3f At(const Eigen::Vector2d& xy, double z) {
   return Eigen::Vector3f(static_cast<float>(xy.x()), static_cast<float>(xy.y()), static_cast<float>(z));
 }
 
+// Keeps the candidates with no point of `index` within 0.75 spacing and
+// not seen free (counted in *rejected_free).
+PointList KeepNewAndUnseen(const PointList& candidates, const NeighborIndex& index, double spacing_m,
+                           const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
+                           int* rejected_free) {
+  PointList kept;
+  std::vector<int> near;
+  for (const Eigen::Vector3f& c : candidates) {
+    index.Radius(c, 0.75 * spacing_m, &near);
+    if (!near.empty()) continue;
+    if (record.SeenFree(T_in_V * c)) {
+      ++*rejected_free;
+      continue;
+    }
+    kept.push_back(c);
+  }
+  return kept;
+}
+
+// The dome over a tapered top (fruit, a ball): z = f(x, y), quadratic,
+// fitted to the observed points within `support_m` of the top `z_wall`,
+// sampled on a grid inside the top band's outline `hull`. Empty unless f
+// curves down on every side with its apex inside the outline, where it
+// may rise no more than the config's search reach above the wall.
+PointList DomeCandidates(const PointList& points_V, float z_wall, const Ring& hull,
+                         double spacing_m, const EvidenceConfig& config) {
+  std::vector<int> support;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < points_V.size(); ++i) {
+    if (points_V[i].z() < z_wall - config.dome_support_m) continue;
+    support.push_back(static_cast<int>(i));
+    centre += points_V[i].cast<double>();
+  }
+  if (support.empty()) return {};
+  fill::HoleFrame frame;  // V's axes about the band's centre
+  frame.origin = centre / static_cast<double>(support.size());
+  fill::HeightField f;
+  // A floor of a few cm on the robust scale: a plain least-squares fit (the
+  // band's heights spread by the dome itself, not by outliers).
+  constexpr int kDegree = 2, kIterations = 3;
+  constexpr double kSigmaFloorM = 0.05;
+  if (!fill::FitHeightField(points_V, support, frame, kDegree, kIterations, kSigmaFloorM, &f)) return {};
+  // f = c0 + c1 u + c2 v + c3 u^2 + c4 uv + c5 v^2 (in u / scale, v / scale).
+  const Eigen::VectorXd& c = f.coeffs;
+  Eigen::Matrix2d hessian;
+  hessian << 2.0 * c(3), c(4), c(4), 2.0 * c(5);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> curvature(hessian);
+  if (!(curvature.eigenvalues().maxCoeff() < 0.0)) return {};  // no dome
+  const Eigen::Vector2d apex_scaled = hessian.ldlt().solve(-Eigen::Vector2d(c(1), c(2)));
+  const Eigen::Vector2d apex = frame.origin.head<2>() + f.scale * apex_scaled;
+  if (!InsideConvex(hull, apex)) return {};
+  if (f.Point(f.scale * apex_scaled.x(), f.scale * apex_scaled.y()).z() > z_wall + config.top_search_m) {
+    return {};
+  }
+  // Over a wide cap of a ball the paraboloid sags by mm: its samples move
+  // onto a quadric of the same points when one explains them (a sphere,
+  // an ellipsoid), as the claw holes' fills do.
+  fill::Quadric quadric;
+  constexpr double kQuadricFitM = 0.0005, kMaxMoveM = 0.006;
+  const bool on_quadric =
+      fill::FitQuadric(points_V, support, std::vector<double>(support.size(), 1.0), 6, 0.0001, &quadric) &&
+      !quadric.IsPlanePair() && quadric.sigma_m <= kQuadricFitM;
+  PointList candidates;
+  Eigen::AlignedBox2d box;
+  for (const Eigen::Vector2d& h : hull) box.extend(h);
+  for (double x = box.min().x() + 0.5 * spacing_m; x < box.max().x(); x += spacing_m) {
+    for (double y = box.min().y() + 0.5 * spacing_m; y < box.max().y(); y += spacing_m) {
+      if (!InsideConvex(hull, {x, y})) continue;
+      Eigen::Vector3d p = f.Point(x - frame.origin.x(), y - frame.origin.y());
+      if (on_quadric && !quadric.Project(&p, kMaxMoveM)) continue;
+      candidates.push_back(p.cast<float>());
+    }
+  }
+  return candidates;
+}
+
 }  // namespace
 
 void EvidenceConfig::Validate() const {
@@ -66,6 +143,7 @@ void EvidenceConfig::Validate() const {
   }
   share(min_flat_area_ratio, "min_flat_area_ratio");
   if (!(taper_drop_m > 0.0 && taper_drop_m < 0.2)) throw std::invalid_argument("EvidenceConfig: taper_drop_m must be in (0, 0.2) m");
+  if (!(dome_support_m >= 0.0 && dome_support_m < 0.2)) throw std::invalid_argument("EvidenceConfig: dome_support_m must be in [0, 0.2) m");
   if (!(mirror_low_m >= 0.0 && mirror_low_m < 0.1)) throw std::invalid_argument("EvidenceConfig: mirror_low_m must be in [0, 0.1) m");
   if (!(max_plane_drop_m >= 0.0 && max_plane_drop_m < 0.05)) {
     throw std::invalid_argument("EvidenceConfig: max_plane_drop_m must be in [0, 0.05) m");
@@ -78,6 +156,7 @@ std::string TopEvidenceName(TopEvidence outcome) {
     case TopEvidence::kNotObservable: return "not observable";
     case TopEvidence::kNoOutline: return "no outline";
     case TopEvidence::kTapered: return "tapered top";
+    case TopEvidence::kDome: return "dome";
   }
   return "no outline";
 }
@@ -179,8 +258,16 @@ EvidenceTop CloseTopFromEvidence(const PointList& points_V, const PointList& exi
     if (p.z() <= lower_top && p.z() >= lower_top - config.top_band_m) lower_band.emplace_back(p.x(), p.y());
   }
   const Ring lower = ConvexHull2d(&lower_band);
+  const NeighborIndex index(existing_V.empty() ? points_V : existing_V);
   if (lower.size() >= 3 && Area(hull) < config.min_flat_area_ratio * Area(lower)) {
     top.outcome = TopEvidence::kTapered;
+    if (config.dome_support_m > 0.0) {
+      const PointList dome = DomeCandidates(points_V, z_wall, hull, spacing_m, config);
+      if (!dome.empty()) {
+        top.outcome = TopEvidence::kDome;
+        top.added_V = KeepNewAndUnseen(dome, index, spacing_m, record, T_in_V, &top.rejected_free);
+      }
+    }
     return top;
   }
   const Ring ring = SampleOutline(hull, spacing_m);
@@ -228,17 +315,7 @@ EvidenceTop CloseTopFromEvidence(const PointList& points_V, const PointList& exi
       if (InsideConvex(hull, {x, y})) candidates.push_back(At({x, y}, top.top_z_V));
     }
   }
-  const NeighborIndex index(existing_V.empty() ? points_V : existing_V);
-  std::vector<int> near;
-  for (const Eigen::Vector3f& c : candidates) {
-    index.Radius(c, 0.75 * spacing_m, &near);
-    if (!near.empty()) continue;
-    if (record.SeenFree(T_in_V * c)) {
-      ++top.rejected_free;
-      continue;
-    }
-    top.added_V.push_back(c);
-  }
+  top.added_V = KeepNewAndUnseen(candidates, index, spacing_m, record, T_in_V, &top.rejected_free);
   return top;
 }
 

@@ -177,7 +177,9 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
   report->rejected_free += top.rejected_free;
   report->rejected_in_claw += DropInsideClaw(record, T_in_V, &top.added_V);
   report->top_points_added = static_cast<int>(top.added_V.size());
-  *top_confidence = top.outcome == TopEvidence::kHeightFound ? 0.7f : 0.3f;
+  *top_confidence = top.outcome == TopEvidence::kHeightFound ? 0.7f
+                    : top.outcome == TopEvidence::kDome     ? 0.5f
+                                                            : 0.3f;
   return std::move(top.added_V);
 }
 

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 
 #include "graspfill/eval/metrics.hpp"
@@ -189,6 +190,57 @@ TEST(EvidenceRepair, AMirrorCappingTooHighIsLoweredASidewaysOneIsNot) {
   EXPECT_EQ(sideways, before);
 }
 
+// A ball of radius 30 mm sampled on a ~1 mm Fibonacci lattice, up to
+// `cut`(p) <= 0: an open top the flat cap refuses (the walls close in).
+PointList Ball(const std::function<bool(const Eigen::Vector3f&)>& kept) {
+  constexpr double kRadiusM = 0.03;
+  constexpr int kCount = 11000;  // 4 pi R^2 / 1 mm^2
+  PointList points;
+  for (int i = 0; i < kCount; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / kCount;
+    const double r = std::sqrt(1.0 - z * z), phi = i * 2.399963229728653;
+    const Eigen::Vector3f p = (kRadiusM * Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z)).cast<float>();
+    if (kept(p)) points.push_back(p);
+  }
+  return points;
+}
+
+double OffBall(const Eigen::Vector3f& p) { return std::abs(p.norm() - 0.03f); }
+
+TEST(EvidenceRepair, ARoundTopGetsADomeOnTheBall) {
+  // The top 6 mm open: a hole 36 mm across that the taper test refuses to
+  // cap flat. With nothing seen (no evidence) the dome alone closes it.
+  const PointList open = Ball([](const Eigen::Vector3f& p) { return p.z() <= 0.024f; });
+  const evidence::VisibilityRecord nothing_seen;
+  const EvidenceTop top = CloseTopFromEvidence(open, open, nothing_seen, Eigen::Isometry3f::Identity(),
+                                               0.001, EvidenceConfig{});
+  ASSERT_EQ(top.outcome, TopEvidence::kDome);
+  ASSERT_GT(top.added_V.size(), 300u);  // the cap is ~1,100 mm^2
+  double worst = 0.0;
+  for (const Eigen::Vector3f& p : top.added_V) worst = std::max(worst, OffBall(p));
+  EXPECT_LT(worst, 0.0015);  // a paraboloid over a 36 mm cap of a 60 mm ball
+  // Every spot of the missing cap is within 2 mm of a dome point.
+  const PointList cap = Ball([](const Eigen::Vector3f& p) { return p.z() > 0.024f; });
+  EXPECT_GE(eval::FractionWithin(eval::NearestDistances(cap, top.added_V), 0.002), 0.97);
+  // Without the dome the same top stays open.
+  EvidenceConfig no_dome;
+  no_dome.dome_support_m = 0.0;
+  const EvidenceTop flat = CloseTopFromEvidence(open, open, nothing_seen, Eigen::Isometry3f::Identity(),
+                                                0.001, no_dome);
+  EXPECT_EQ(flat.outcome, TopEvidence::kTapered);
+  EXPECT_TRUE(flat.added_V.empty());
+}
+
+TEST(EvidenceRepair, ADomeNeverLeavesTheBallWhereItsApexIsNotOverTheHole) {
+  // Cut at 40 degrees: the highest points are a crescent on one side, the
+  // band's paraboloid peaks off it. Whatever comes out stays on the ball.
+  const Eigen::Vector3f tilt(std::sin(0.7f), 0.0f, std::cos(0.7f));
+  const PointList open = Ball([&](const Eigen::Vector3f& p) { return p.dot(tilt) <= 0.02f; });
+  const EvidenceTop top = CloseTopFromEvidence(open, open, evidence::VisibilityRecord{},
+                                               Eigen::Isometry3f::Identity(), 0.001, EvidenceConfig{});
+  for (const Eigen::Vector3f& p : top.added_V) ASSERT_LT(OffBall(p), 0.0015) << p.transpose();
+}
+
 TEST(EvidenceRepair, TopWithoutOutlineAndBadConfig) {
   const Fused& can = Can();
   const EvidenceTop none = CloseTopFromEvidence({}, {}, can.record, Eigen::Isometry3f::Identity(), 0.001, {});
@@ -202,6 +254,9 @@ TEST(EvidenceRepair, TopWithoutOutlineAndBadConfig) {
   EXPECT_THROW(bad.Validate(), std::invalid_argument);
   bad = EvidenceConfig{};
   bad.max_plane_drop_m = -0.001;
+  EXPECT_THROW(bad.Validate(), std::invalid_argument);
+  bad = EvidenceConfig{};
+  bad.dome_support_m = -0.001;
   EXPECT_THROW(bad.Validate(), std::invalid_argument);
 }
 

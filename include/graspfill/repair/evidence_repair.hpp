@@ -62,6 +62,12 @@ struct EvidenceConfig {
   /// such as fruit: < 0.8, which a flat cap would cut through).
   double min_flat_area_ratio{0.85};
   double taper_drop_m{0.01};
+  /// A tapered top is closed by a dome instead: a quadratic height field
+  /// over V's x-y fitted to the observed points within this of the highest
+  /// one, sampled inside the top band's outline where the cloud has no
+  /// point, if it curves down on every side (a dome, not a saddle or a
+  /// bowl) with its apex inside the outline; 0 = no dome [m].
+  double dome_support_m{0.012};
   /// A mirrored top closing more than this below the evidence's top is
   /// replaced by the evidence's (flat) top [m].
   double mirror_low_m{0.001};
@@ -76,6 +82,7 @@ enum class TopEvidence {
   kNotObservable,   ///< no ring was carved: closed at the highest wall
   kNoOutline,       ///< too few points near the top for an outline
   kTapered,         ///< the walls close in towards the top: no flat cap
+  kDome,            ///< tapered, closed by a dome fitted to the top band
 };
 
 struct EvidenceTop {
@@ -124,7 +131,7 @@ EvidenceTop CloseTopFromEvidence(const PointList& points_V, const PointList& exi
                                  const Eigen::Isometry3f& T_in_V, double spacing_m,
                                  const EvidenceConfig& config);
 
-/// "height found", "not observable", "no outline", "tapered top".
+/// "height found", "not observable", "no outline", "tapered top", "dome".
 std::string TopEvidenceName(TopEvidence outcome);
 
 }  // namespace graspfill::repair
