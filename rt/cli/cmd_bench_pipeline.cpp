@@ -107,6 +107,7 @@ std::string Note(const repair::RepairReport& r) {
   std::string note = r.StatusText();
   if (!r.symmetric && !r.symmetry_reason.empty()) note += "; " + r.symmetry_reason;
   if (!r.evidence.top.empty()) note += "; top: " + r.evidence.top;
+  if (r.claw_holes_left_open > 0) note += "; claw holes left open: " + std::to_string(r.claw_holes_left_open);
   return note;
 }
 

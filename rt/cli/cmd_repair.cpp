@@ -55,6 +55,7 @@ nlohmann::ordered_json RepairReportJson(const repair::RepairReport& r, size_t po
   j["outliers_ignored"] = r.outliers_ignored;
   j["boundary_points"] = r.boundary_points;
   j["boundary_lines"] = r.boundary_lines;
+  j["claw_holes_left_open"] = r.claw_holes_left_open;
   j["holes"] = nlohmann::json::array();
   for (const HoleSummary& h : r.holes) {
     j["holes"].push_back({{"kind", KindName(h.kind)},

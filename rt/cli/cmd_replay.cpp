@@ -545,6 +545,7 @@ int RunReplay(const Args& args) {
                         {"symmetric", repair_report->symmetric},
                         {"symmetry_reason", repair_report->symmetry_reason},
                         {"holes", holes},
+                        {"claw_holes_left_open", repair_report->claw_holes_left_open},
                         {"evidence", EvidenceJson(repair_report->evidence)},
                         {"ms", repair_ms}};
   } else {
@@ -598,9 +599,13 @@ int RunReplay(const Args& args) {
       if (!repair_report->symmetric && !repair_report->symmetry_reason.empty()) {
         symmetry = "; no symmetry: " + repair_report->symmetry_reason;
       }
-      std::printf("repair: %s; %zu points added (%d claw holes, %d missing top%s) in %.1f ms\n",
-                  repair_report->StatusText().c_str(), points_added, claw_holes, missing_surfaces,
-                  symmetry.c_str(), repair_ms);
+      const std::string left_open =
+          repair_report->claw_holes_left_open > 0
+              ? ", " + std::to_string(repair_report->claw_holes_left_open) + " of them left open"
+              : "";
+      std::printf("repair: %s; %zu points added (%d claw holes%s, %d missing top%s) in %.1f ms\n",
+                  repair_report->StatusText().c_str(), points_added, claw_holes, left_open.c_str(),
+                  missing_surfaces, symmetry.c_str(), repair_ms);
     }
     if (!o.mesh_out.empty()) PrintCollisionMesh(mesh_report);
   }

@@ -257,9 +257,10 @@ void ClawRepairConfig::Validate() const {
 PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBoundary>& claw_holes,
                           const ClawRepairConfig& config,
                           const std::vector<Eigen::Vector3f>* normals_V,
-                          const NeighborIndex* index_V) {
+                          const NeighborIndex* index_V, int* holes_left_open) {
   config.Validate();
   CheckInputs(points_V, normals_V, index_V, "RepairClawHoles");
+  if (holes_left_open != nullptr) *holes_left_open = 0;
   PointList out;
   if (points_V.empty()) return out;
   std::vector<const HoleBoundary*> holes;
@@ -381,6 +382,10 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
       SampleHeightField(smooth, region, density, nullptr, 0.0,
                         smooth.use_quadric ? &smooth.quadric : nullptr, max_snap, &rng, &gap, &fill);
       filled = true;
+    }
+    if (!filled && config.surface == ClawSurface::kLocalFit && !config.poisson_fallback) {
+      if (holes_left_open != nullptr) ++*holes_left_open;
+      continue;
     }
     // The last resort (and the paper's surface): Poisson, ~0.3-0.8 s.
     if (!filled) {

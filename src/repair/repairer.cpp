@@ -466,7 +466,8 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
     StepTimer t(&report, "claw_holes");
     index_V.emplace(points_V);
     if (!claw_holes.empty()) {
-      surface_V = RepairClawHoles(points_V, claw_holes, config.claw, nullptr, &*index_V);
+      surface_V = RepairClawHoles(points_V, claw_holes, config.claw, nullptr, &*index_V,
+                                  &report.claw_holes_left_open);
     }
   }
   // 8. The missing top by symmetry, from the observed and surface points.

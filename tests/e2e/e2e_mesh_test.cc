@@ -94,7 +94,8 @@ TEST_P(MeshE2E, WatertightAndWithinAMillimetreOfTheRepairedCloud) {
 
   // The mesh's surface to the cloud, measured here from the files.
   const synth::SurfaceSamples samples = synth::SampleSurface(mesh, 100000, 11);
-  const double p95 = eval::Percentile(eval::NearestDistances(samples.points, cloud.points_G), 95.0);
+  const std::vector<double> mesh_to_cloud = eval::NearestDistances(samples.points, cloud.points_G);
+  const double p95 = eval::Percentile(mesh_to_cloud, 95.0);
   std::printf("%s/%s/%s: %zu triangles, mesh to cloud p95 %.3f mm (reported %.3f), cloud to mesh "
               "p95 %.3f mm\n", c.shape.c_str(), c.claw.c_str(), c.grasp.c_str(),
               mesh.triangles.size(), p95 * 1e3, report["surface_to_cloud_mm"]["p95"].get<double>(),
@@ -103,10 +104,16 @@ TEST_P(MeshE2E, WatertightAndWithinAMillimetreOfTheRepairedCloud) {
   EXPECT_LT(p95, c.meets_target ? kTargetP95M : kNearTargetP95M);
   EXPECT_LT(report["surface_to_cloud_mm"]["max"].get<double>(), kConstructionBoundM * 1e3);
   // What the CLI reports is the same measurement on other samples: within
-  // 0.05 mm, or 5% where the p95 lies in the sparse tail of far samples
-  // (the top's cap), whose sampling spread is wider.
-  EXPECT_NEAR(report["surface_to_cloud_mm"]["p95"].get<double>(), p95 * 1e3,
-              std::max(0.05, 0.05 * p95 * 1e3));
+  // 0.05 mm, or between the 94.5th and 95.5th percentiles of these samples
+  // (a p95 of 100k samples strays ~0.07% in rank: this is ~7 of those),
+  // which is wider where the p95 lies in the sparse tail of far samples (a
+  // claw hole left open, the top's cap).
+  const double reported_mm = report["surface_to_cloud_mm"]["p95"].get<double>();
+  const double band_lo_mm = eval::Percentile(mesh_to_cloud, 94.5) * 1e3 - 0.05;
+  const double band_hi_mm = eval::Percentile(mesh_to_cloud, 95.5) * 1e3 + 0.05;
+  EXPECT_TRUE(reported_mm >= band_lo_mm && reported_mm <= band_hi_mm)
+      << "reported p95 " << reported_mm << " mm, these samples' 94.5-95.5th percentiles (+-0.05 mm) "
+      << band_lo_mm << " .. " << band_hi_mm << " mm";
   // The mesh covers the cloud: every point's distance to it is small.
   EXPECT_LT(report["cloud_to_surface_mm"]["p95"].get<double>(), 1.0);
 }

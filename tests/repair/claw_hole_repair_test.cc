@@ -338,6 +338,39 @@ TEST(ClawHoleRepair, LocalPoissonFillsTheHoles) {
   EXPECT_TRUE(added == RepairClawHoles(s.cloud.holey, s.holes, config, nullptr, &index));
 }
 
+TEST(ClawHoleRepair, AHoleNoExplicitSurfaceExplainsIsLeftOpenUnlessPoissonIsAllowed) {
+  // A "hole" whose rim runs all round the cylinder at mid-height (a
+  // boundary round much of the object): its support faces every way, so
+  // neither a sheet, a quadric, a pair of faces nor the thin plate takes it.
+  const Scene s = MakeScene(Shape::kCylinder, GraspWay::kMiddleStraight, 20000);
+  HoleBoundary ring;
+  ring.kind = HoleKind::kClaw;
+  ring.closed = true;
+  const float mid_z = 0.5f * static_cast<float>(s.top_z);
+  for (const Eigen::Vector3f& p : s.cloud.holey) {
+    if (std::abs(p.z() - mid_z) < 0.001f) {
+      ring.points_V.push_back(p);
+      ring.source_indices.push_back(-1);
+    }
+  }
+  ASSERT_GT(ring.points_V.size(), 50u);
+  int left_open = -1;
+  const PointList open = RepairClawHoles(s.cloud.holey, {ring}, ClawRepairConfig{}, nullptr,
+                                         nullptr, &left_open);
+  EXPECT_EQ(left_open, 1);
+  EXPECT_TRUE(open.empty());
+  // Allowed, Poisson takes it (not counted open); it samples only where the
+  // cloud has a gap, and this wall has none: anything it adds is on it.
+  ClawRepairConfig with_poisson;
+  with_poisson.poisson_fallback = true;
+  const PointList filled = RepairClawHoles(s.cloud.holey, {ring}, with_poisson, nullptr, nullptr,
+                                           &left_open);
+  EXPECT_EQ(left_open, 0);
+  if (!filled.empty()) {
+    for (const double d : eval::NearestDistances(filled, s.dense_truth)) EXPECT_LT(d, kSurfaceTolM);
+  }
+}
+
 TEST(ClawHoleRepair, PaperSettingsFillTheHolesCoarsely) {
   // One Poisson surface of all the side points, depth 6, scale 4.0: cells
   // of ~9 mm on this 14 cm object, so the fill is smooth but a few mm off
