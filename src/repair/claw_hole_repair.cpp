@@ -228,6 +228,7 @@ ClawRepairConfig ClawRepairConfig::Paper() {
   config.local_reconstruction = false;
   config.poisson_depth = 6;
   config.poisson_scale = 4.0;
+  config.max_support_share = 1.0;  // no such rule in the paper
   return config;
 }
 
@@ -237,6 +238,7 @@ void ClawRepairConfig::Validate() const {
   Require(exclude_top_band_m >= 0.0 && std::isfinite(exclude_top_band_m),
           p + "exclude_top_band_m must be >= 0");
   Require(min_support_points >= 3, p + "min_support_points must be >= 3");
+  Require(max_support_share > 0.0 && max_support_share <= 1.0, p + "max_support_share must be in (0, 1]");
   Require(polynomial_degree >= 1 && polynomial_degree <= 5,
           p + "polynomial_degree must be in [1, 5]");
   Require(max_fit_sigma_m > 0.0, p + "max_fit_sigma_m must be > 0");
@@ -319,6 +321,10 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
       }
     }
     if (static_cast<int>(support.size()) < config.min_support_points) continue;
+    if (static_cast<double>(support.size()) > config.max_support_share * static_cast<double>(points_V.size())) {
+      if (holes_left_open != nullptr) ++*holes_left_open;
+      continue;
+    }
     const Spacing spacing = EstimateSpacing(index, support, 200);
     if (spacing.mean_nn_m <= 0.0 || spacing.density_per_m2 <= 0.0) continue;
     const double d = spacing.mean_nn_m;

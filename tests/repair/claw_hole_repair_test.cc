@@ -371,6 +371,34 @@ TEST(ClawHoleRepair, AHoleNoExplicitSurfaceExplainsIsLeftOpenUnlessPoissonIsAllo
   }
 }
 
+TEST(ClawHoleRepair, AHoleWhoseSupportIsMostOfTheCloudIsNoFingersAndLeftOpen) {
+  // The rim of the cylinder's whole lower half (a cloud seen half way):
+  // the hole's box holds most of the cloud.
+  const Scene s = MakeScene(Shape::kCylinder, GraspWay::kMiddleStraight, 20000);
+  HoleBoundary rim;
+  rim.kind = HoleKind::kClaw;
+  rim.closed = true;
+  for (const Eigen::Vector3f& p : s.cloud.holey) {
+    if (p.z() < 0.002f || (p.x() > 0.0f && p.x() < 0.002f)) {
+      rim.points_V.push_back(p);
+      rim.source_indices.push_back(-1);
+    }
+  }
+  int left_open = -1;
+  EXPECT_TRUE(RepairClawHoles(s.cloud.holey, {rim}, ClawRepairConfig{}, nullptr, nullptr, &left_open)
+                  .empty());
+  EXPECT_EQ(left_open, 1);
+  // Without the limit it is handed to the fits (and counted open only if
+  // none explains it).
+  ClawRepairConfig no_limit;
+  no_limit.max_support_share = 1.0;
+  RepairClawHoles(s.cloud.holey, {rim}, no_limit, nullptr, nullptr, &left_open);
+  EXPECT_EQ(left_open, 0);
+  ClawRepairConfig bad;
+  bad.max_support_share = 0.0;
+  EXPECT_THROW(bad.Validate(), std::invalid_argument);
+}
+
 TEST(ClawHoleRepair, PaperSettingsFillTheHolesCoarsely) {
   // One Poisson surface of all the side points, depth 6, scale 4.0: cells
   // of ~9 mm on this 14 cm object, so the fill is smooth but a few mm off

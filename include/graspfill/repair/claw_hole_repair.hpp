@@ -73,6 +73,13 @@ struct ClawRepairConfig {
   double exclude_top_band_m{0.0};
   /// Holes with fewer support points than this are skipped.
   int min_support_points{30};
+  /// A "hole" whose support holds more than this share of the cloud is no
+  /// finger's: a rim round much of a partly seen object (the open side of
+  /// a cloud extracted half way through the turn). It is left open and
+  /// counted, as the planner's safe bound holds that space; filling it
+  /// took up to 5 s and drew 61k points for a 20k-point cloud (a can at
+  /// 150 of 300 frames, `bench live`'s full repairs). 1 = no limit (paper).
+  double max_support_share{0.5};
 
   // --- kLocalFit ---
   /// Degree of the height fields (1 to 5). 4 follows a 7 cm cylinder's side
@@ -165,8 +172,9 @@ struct ClawRepairConfig {
 ///        a claw holds).
 /// @param index_V optional neighbour index built over points_V (the same
 ///        vector object); built here when null.
-/// @param holes_left_open optional; receives how many holes kLocalFit left
-///   open (no explicit surface explains them and `poisson_fallback` is off).
+/// @param holes_left_open optional; receives how many holes were left open:
+///   support over `max_support_share`, or (kLocalFit) no explicit surface
+///   explains them and `poisson_fallback` is off.
 /// @return the new points in V, hole after hole (empty if no holes).
 /// @throws std::invalid_argument on a bad config, non-finite coordinates,
 ///         normals of the wrong size or an index over another cloud.
