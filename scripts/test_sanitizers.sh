@@ -41,6 +41,7 @@ asan_tests="
   io_fuzz_regressions_test
   claw_model_test claw_mask_test claw_loader_test claw_validation_test urdf_claw_test mesh_file_test
   pose_interpolation_test raycaster_test bit_grid_test tsdf_fusion_test workspace_crop_test
+  closest_point_grid_test
   visibility_record_test safe_bound_test pipeline_test
   repair_neighbor_index_test repair_analysis_cloud_test repair_outlier_removal_test
   repair_boundary_detection_test repair_boundary_linking_test repair_virtual_frame_test
