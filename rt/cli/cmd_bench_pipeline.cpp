@@ -133,7 +133,7 @@ nlohmann::ordered_json StepsJson(const std::vector<StageTiming>& steps) {
 int RunBenchRepairPipeline(const Args& args) {
   bool json = false, verbose = false;
   std::string only;
-  std::string dump_dir;  // each case's fused and repaired clouds as PLY
+  std::string dump_dir;  // each case's truth, fused and repaired clouds as PLY
   int frames = 90;
   for (size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--pipeline") continue;

@@ -68,7 +68,7 @@ PointList KeepNewAndUnseen(const PointList& candidates, const NeighborIndex& ind
 }
 
 // The dome over a tapered top (fruit, a ball): z = f(x, y), quadratic,
-// fitted to the observed points within `support_m` of the top `z_wall`,
+// fitted to the observed points within config.dome_support_m of the top `z_wall`,
 // sampled on a grid inside the top band's outline `hull`. Empty unless f
 // curves down on every side with its apex inside the outline, where it
 // may rise no more than the config's search reach above the wall.

@@ -137,7 +137,9 @@ struct RepairReport {
   bool symmetric{false};        ///< a symmetry plane was found and used
   std::string symmetry_reason;  ///< why not, when !symmetric
   int outliers_ignored{0};      ///< kept in the output, not used to repair
-  int claw_holes_left_open{0};  ///< no explicit surface explains them (ClawRepairConfig::poisson_fallback)
+  /// Claw holes left open: no explicit surface explains them (ClawRepairConfig::poisson_fallback)
+  /// or their support is most of the cloud (max_support_share).
+  int claw_holes_left_open{0};
   int boundary_points{0};
   int boundary_lines{0};
   VirtualFrame frame;           ///< valid when status == kRepaired
