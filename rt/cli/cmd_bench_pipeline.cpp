@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -168,6 +169,28 @@ int RunBenchRepairPipeline(const Args& args) {
       cases.push_back(c);
     }
   }
+  // --dump: checked before any work, and nothing there overwritten.
+  const auto dump_path = [&](const ZooCase& c, const char* what) {
+    std::string name = c.label;
+    std::replace(name.begin(), name.end(), ' ', '_');
+    return dump_dir + "/" + name + "_" + what + ".ply";
+  };
+  if (!dump_dir.empty()) {
+    if (!std::filesystem::is_directory(dump_dir)) {
+      std::fprintf(stderr, "graspfill bench repair --pipeline: --dump '%s' is not a directory\n",
+                   dump_dir.c_str());
+      return 1;
+    }
+    for (const ZooCase& c : cases) {
+      for (const char* what : {"truth", "fused", "cloud_only", "evidence"}) {
+        if (std::filesystem::exists(dump_path(c, what))) {
+          std::fprintf(stderr, "graspfill bench repair --pipeline: '%s' exists (not overwritten)\n",
+                       dump_path(c, what).c_str());
+          return 1;
+        }
+      }
+    }
+  }
   ProgressLine progress("bench repair --pipeline", "objects", static_cast<int64_t>(cases.size()));
   for (size_t done = 0; done < cases.size(); ++done) {
     const ZooCase& c = cases[done];
@@ -222,17 +245,14 @@ int RunBenchRepairPipeline(const Args& args) {
       result[with_evidence].note = Note(report);
       result[with_evidence].steps = report.timings;
       if (!dump_dir.empty()) {
-        std::string name = c.label;
-        std::replace(name.begin(), name.end(), ' ', '_');
         if (with_evidence == 0) {
-          io::WriteCloudPly(dump_dir + "/" + name + "_fused.ply", fused);
+          io::WriteCloudPly(dump_path(c, "fused"), fused);
           ObjectCloud truth_cloud;
           truth_cloud.points_G = truth_samples.points;
           truth_cloud.normals_G = truth_samples.normals;
-          io::WriteCloudPly(dump_dir + "/" + name + "_truth.ply", truth_cloud);
+          io::WriteCloudPly(dump_path(c, "truth"), truth_cloud);
         }
-        io::WriteCloudPly(dump_dir + "/" + name + (with_evidence ? "_evidence.ply" : "_cloud_only.ply"),
-                          cloud);
+        io::WriteCloudPly(dump_path(c, with_evidence ? "evidence" : "cloud_only"), cloud);
       }
     }
     const double fused_coverage = eval::FractionWithin(eval::NearestDistances(truth, fused.points_G), 0.002);

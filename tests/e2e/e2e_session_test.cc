@@ -228,6 +228,8 @@ TEST(SessionE2E, NumbersAreParsedStrictlyEverywhere) {
       {"live --depth-from-lcm --publish-every 3.5", "--publish-every '3.5': not an integer"},
       {"live --depth-from-lcm --duration-s abc", "--duration-s 'abc': not a number"},
       {"live --depth-from-lcm --idle-exit-s -1", "--idle-exit-s '-1': out of range, expected 0..604800 s"},
+      {"live --depth-from-lcm --heap-reserve-mb abc", "--heap-reserve-mb 'abc': not an integer"},
+      {"bench live --heap-reserve-mb -1", "--heap-reserve-mb '-1': out of range, expected 0..65536"},
       {"bench " + log + " --repeat 0", "--repeat '0': out of range, expected 1..1000"},
       {"bench " + log + " --repeat x", "--repeat 'x': not an integer"},
       // bench repair, bench repair --pipeline and repair --up (were std::stoi/stod/istream).
@@ -254,6 +256,23 @@ TEST(SessionE2E, NumbersAreParsedStrictlyEverywhere) {
   }
   EXPECT_FALSE(std::filesystem::exists(dir + "/x.ply"));
   EXPECT_FALSE(std::filesystem::exists(dir + "/s"));
+}
+
+// --dump: a directory that is not there, or a file of the dump already
+// there, is refused before any work, and the file is left as it was.
+TEST(SessionE2E, BenchPipelineDumpRefusesAMissingDirectoryAndExistingFiles) {
+  const std::string dir = ScratchDir("bench_dump");
+  const auto missing = RunCli("bench repair --pipeline --case plum --dump " + dir + "/nothing");
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.output.find("is not a directory"), std::string::npos) << missing.output;
+  const std::string kept = dir + "/plum_evidence.ply";
+  { std::ofstream(kept) << "mine"; }
+  const auto taken = RunCli("bench repair --pipeline --case plum --dump " + dir);
+  EXPECT_EQ(taken.exit_code, 1);
+  EXPECT_NE(taken.output.find("exists (not overwritten)"), std::string::npos) << taken.output;
+  std::ifstream in(kept);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "mine");
+  EXPECT_FALSE(std::filesystem::exists(dir + "/plum_fused.ply"));
 }
 
 }  // namespace
