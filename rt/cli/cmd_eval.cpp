@@ -31,6 +31,7 @@ void PrintEvalUsage(std::FILE* out) {
       "          read as its vertices only\n"
       "  --json  print one JSON object instead of the summary\n"
       "prints the chamfer distance (paper Eq. 6) in mm^2, F-scores at 1 and\n"
+      "2 mm, coverage (share of GT within 2 mm of PRED) and precision at\n"
       "2 mm, 95th-percentile NN distances in mm and the point counts\n");
 }
 
@@ -104,6 +105,8 @@ nlohmann::json ToJson(const eval::CloudMetrics& m, const std::string& pred,
       {"gt_to_pred_mean_sq_mm2", m.gt_to_pred_mean_sq_mm2},
       {"fscore_1mm", m.fscore_1mm},
       {"fscore_2mm", m.fscore_2mm},
+      {"coverage_2mm", m.coverage_2mm},
+      {"precision_2mm", m.precision_2mm},
       {"p95_pred_to_gt_mm", m.p95_pred_to_gt_mm},
       {"p95_gt_to_pred_mm", m.p95_gt_to_pred_mm},
       {"max_pred_to_gt_mm", m.max_pred_to_gt_mm},
@@ -156,12 +159,12 @@ int RunEval(const Args& args) {
       "pred: %s (%zu points)\n"
       "gt:   %s (%zu points)\n"
       "chamfer (Eq. 6): %.6g mm^2 (pred->gt %.6g + gt->pred %.6g)\n"
-      "F-score: %.4f @1mm, %.4f @2mm\n"
+      "F-score: %.4f @1mm, %.4f @2mm; at 2 mm: coverage %.4f, precision %.4f\n"
       "p95 distance: pred->gt %.4g mm, gt->pred %.4g mm; max pred->gt %.4g "
       "mm\n",
       pred_path.c_str(), m.num_pred, gt_path.c_str(), m.num_gt, m.chamfer_mm2,
       m.pred_to_gt_mean_sq_mm2, m.gt_to_pred_mean_sq_mm2, m.fscore_1mm,
-      m.fscore_2mm, m.p95_pred_to_gt_mm, m.p95_gt_to_pred_mm,
+      m.fscore_2mm, m.coverage_2mm, m.precision_2mm, m.p95_pred_to_gt_mm, m.p95_gt_to_pred_mm,
       m.max_pred_to_gt_mm);
   return 0;
 }

@@ -134,6 +134,8 @@ CloudMetrics Compare(const std::vector<Eigen::Vector3f>& pred,
   m.chamfer_mm2 = m.pred_to_gt_mean_sq_mm2 + m.gt_to_pred_mean_sq_mm2;
   m.fscore_1mm = FScore(pred_to_gt, gt_to_pred, 1.0 / kMetersToMm);
   m.fscore_2mm = FScore(pred_to_gt, gt_to_pred, 2.0 / kMetersToMm);
+  m.coverage_2mm = FractionWithin(gt_to_pred, 2.0 / kMetersToMm);
+  m.precision_2mm = FractionWithin(pred_to_gt, 2.0 / kMetersToMm);
   m.p95_pred_to_gt_mm = Percentile(pred_to_gt, 95.0) * kMetersToMm;
   m.p95_gt_to_pred_mm = Percentile(gt_to_pred, 95.0) * kMetersToMm;
   m.max_pred_to_gt_mm =

@@ -65,6 +65,8 @@ TEST_F(CmdEvalTest, JsonHasTheShiftedGridMetrics) {
   EXPECT_NEAR(j.at("chamfer_mm2").get<double>(), 4.5, 1e-5);
   EXPECT_EQ(j.at("fscore_1mm").get<double>(), 0.0);
   EXPECT_EQ(j.at("fscore_2mm").get<double>(), 1.0);
+  EXPECT_EQ(j.at("coverage_2mm").get<double>(), 1.0);
+  EXPECT_EQ(j.at("precision_2mm").get<double>(), 1.0);
   EXPECT_NEAR(j.at("p95_pred_to_gt_mm").get<double>(), 1.5, 1e-5);
   EXPECT_EQ(j.at("num_pred").get<size_t>(), 225u);
   EXPECT_EQ(j.at("num_gt").get<size_t>(), 225u);

@@ -85,6 +85,9 @@ TEST(MetricsTest, HalfMissingGivesHalfRecallFullPrecision) {
   const double f = 2.0 * precision * recall / (precision + recall);  // = 2/3
   EXPECT_NEAR(m.fscore_1mm, f, 1e-12);
   EXPECT_NEAR(m.fscore_1mm, 2.0 / 3.0, 1e-12);
+  // The missing half is >= one 5 mm column from the kept one: not covered.
+  EXPECT_EQ(m.coverage_2mm, 0.5);
+  EXPECT_EQ(m.precision_2mm, 1.0);
   EXPECT_EQ(m.pred_to_gt_mean_sq_mm2, 0.0);
   // A gt point in missing column kN/2 - 1 + k is k columns from the nearest
   // kept column: distance k * spacing, kN points per column.
@@ -123,6 +126,8 @@ TEST(MetricsTest, OutlierRaisesMaxOnly) {
   EXPECT_EQ(m.gt_to_pred_mean_sq_mm2, 0.0);
   EXPECT_EQ(m.fscore_2mm, 2.0 * (1.0 - 1.0 / pred.size()) /
                               (2.0 - 1.0 / pred.size()));
+  EXPECT_EQ(m.coverage_2mm, 1.0);
+  EXPECT_EQ(m.precision_2mm, 1.0 - 1.0 / pred.size());
 }
 
 TEST(MetricsTest, NearestDistancesMatchBruteForce) {

@@ -28,6 +28,11 @@ struct CloudMetrics {
   double fscore_1mm{0.0};
   /// F-score at tau = 2 mm (same definition as fscore_1mm).
   double fscore_2mm{0.0};
+  /// Recall at 2 mm: the share of gt within 2 mm of pred (the issues'
+  /// "coverage" of the true surface). In [0, 1].
+  double coverage_2mm{0.0};
+  /// Precision at 2 mm: the share of pred within 2 mm of gt. In [0, 1].
+  double precision_2mm{0.0};
   /// 95th percentile of the pred->gt NN distances [mm] (linear
   /// interpolation between order statistics, as numpy's default).
   double p95_pred_to_gt_mm{0.0};
