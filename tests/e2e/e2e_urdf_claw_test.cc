@@ -92,7 +92,7 @@ TEST(UrdfClawE2E, BrokenClawFileIsAnErrorNamingIt) {
                                      "property list uchar int vertex_indices\nend_header\n"
                                      "0 0 0\n1 0 0\n0 1 0\n3 0 1 1000000\n";
   std::ofstream(dir + "/claw.json") << R"({"links": [{"name": "palm", "mesh": "bad.ply"}]})";
-  for (const std::string command : {"claw " + dir + "/claw.json -o " + dir + "/out.ply",
+  for (const std::string& command : {"claw " + dir + "/claw.json -o " + dir + "/out.ply",
                                     "synth --shape cylinder --frames 2 --claw " + dir +
                                         "/claw.json -o " + dir + "/rec"}) {
     const auto run = RunCli(command);
