@@ -1,8 +1,17 @@
 // The claw registration recovers a known pose error from noisy depth, and
-// says so when the claw is not in view.
+// says so when the claw is not in view; Open3D's point-to-plane ICP on the
+// same frames, beside it.
 #include "graspfill/refine/claw_registration.hpp"
 
 #include <gtest/gtest.h>
+#include <open3d/geometry/PointCloud.h>
+#include <open3d/pipelines/registration/Registration.h>
+#include <open3d/pipelines/registration/RobustKernel.h>
+#include <open3d/pipelines/registration/TransformationEstimation.h>
+
+#include <chrono>
+#include <cstdio>
+#include <memory>
 
 #include "refine_fixtures.hpp"
 
@@ -47,6 +56,81 @@ TEST_F(ClawRegistrationTest, RecoversAHandEyeSizedErrorFromNoisyDepth) {
     // correction_C maps the initial pose onto the registered one.
     EXPECT_LT(ClawOffsetM(r.correction_C * initial, r.T_C_G), 1e-9);
   }
+}
+
+// The issue's choice, "Open3D's registration or your own on Eigen, whichever
+// measures better", measured: the same four frames and the same ~10 mm
+// start, Open3D's RegistrationICP (point-to-plane, Huber kernel at our
+// 1.5 mm, its KD-tree of the model built per call as its API does) given
+// the depth points ours considers (those near the predicted claw, an even
+// subsample of about 1500) and our gate schedule (25 mm shrinking by 0.6
+// to 4 mm, then to convergence there). Both must land within 0.2 mm and
+// 0.25 deg of the truth on every frame (1 mm depth noise); the offsets and
+// the times are printed (README, "Imperfect robots": the same accuracy,
+// ours ~40x faster, its lookup table built once per claw where Open3D
+// builds a KD-tree per call).
+TEST_F(ClawRegistrationTest, MatchesOpen3DsICPOnTheSameFrames) {
+  namespace reg = open3d::pipelines::registration;
+  open3d::geometry::PointCloud model;
+  for (size_t i = 0; i < registration_.model_points_G().size(); ++i) {
+    model.points_.push_back(registration_.model_points_G()[i].cast<double>());
+    model.normals_.push_back(registration_.model_normals_G()[i].cast<double>());
+  }
+  Eigen::AlignedBox3d box_G;
+  for (const Eigen::Vector3d& p : model.points_) box_G.extend(p);
+  const double gate0 = 0.025;
+  box_G.min().array() -= gate0;
+  box_G.max().array() += gate0;
+  const double thetas[] = {0.0, 0.7, 1.9, 3.0};
+  double ours_ms = 0.0, open3d_ms = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Isometry3d truth = TrueT_C_G(thetas[k]);
+    const DepthFrame frame = RenderFrame(raycaster_, truth, 0.001, 17 + k);
+    const Eigen::Isometry3d initial =
+        CameraError(3.0, Eigen::Vector3d(1, -2, 0.5), 1.0, Eigen::Vector3d(0.3, 1, -0.2)) * truth;
+    auto start = std::chrono::steady_clock::now();
+    const RegistrationResult ours = registration_.Register(frame, initial, gate0);
+    ours_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    ASSERT_EQ(ours.status, RegistrationStatus::kConverged);
+
+    // The depth points near the predicted claw, in G at the initial pose.
+    const CameraIntrinsics& K = frame.intrinsics;
+    const Eigen::Isometry3d T_G_C = initial.inverse();
+    open3d::geometry::PointCloud source;
+    for (int v = 0; v < K.height; ++v) {
+      for (int u = 0; u < K.width; ++u) {
+        const double z = frame.at(u, v);
+        if (!(z > 0.0)) continue;
+        const Eigen::Vector3d p_G = T_G_C * Eigen::Vector3d((u - K.cx) / K.fx * z, (v - K.cy) / K.fy * z, z);
+        if (box_G.contains(p_G)) source.points_.push_back(p_G);
+      }
+    }
+    ASSERT_GT(source.points_.size(), 1500u);
+    source = *source.UniformDownSample(source.points_.size() / 1500);
+    start = std::chrono::steady_clock::now();
+    Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
+    const auto estimation = reg::TransformationEstimationPointToPlane(std::make_shared<reg::HuberLoss>(0.0015));
+    for (double gate = gate0; gate > 0.004; gate *= 0.6) {
+      T = reg::RegistrationICP(source, model, gate, T, estimation, reg::ICPConvergenceCriteria(1e-9, 1e-9, 1))
+              .transformation_;
+    }
+    T = reg::RegistrationICP(source, model, 0.004, T, estimation, reg::ICPConvergenceCriteria(1e-9, 1e-9, 30))
+            .transformation_;
+    open3d_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    // T moves the points (G at the initial pose) onto the model: T_G_C = T * initial^-1.
+    const Eigen::Isometry3d open3d_T_C_G = initial * Eigen::Isometry3d(T).inverse();
+    const double ours_mm = 1000 * ClawOffsetM(ours.T_C_G, truth);
+    const double open3d_mm = 1000 * ClawOffsetM(open3d_T_C_G, truth);
+    std::printf("theta %.1f, %zu points: ours %.3f mm / %.3f deg off, Open3D's ICP %.3f mm / %.3f deg off\n",
+                thetas[k], source.points_.size(), ours_mm, AngleDeg(ours.T_C_G, truth), open3d_mm,
+                AngleDeg(open3d_T_C_G, truth));
+    // Both at the depth noise's floor: what decides is the time.
+    EXPECT_LT(ours_mm, 0.2) << "theta " << thetas[k];
+    EXPECT_LT(open3d_mm, 0.2) << "theta " << thetas[k];
+    EXPECT_LT(AngleDeg(open3d_T_C_G, truth), 0.25) << "theta " << thetas[k];
+  }
+  std::printf("per frame: ours %.2f ms (one thread), Open3D's ICP %.2f ms (its OpenMP threads)\n",
+              ours_ms / 4, open3d_ms / 4);
 }
 
 TEST_F(ClawRegistrationTest, ReportsAClawThatIsNotInView) {
