@@ -13,6 +13,12 @@ namespace {
 // How far past a claw side's end its points may still be interleaved with
 // the rim's (positions along the line).
 constexpr int kInterleave = 8;
+// ... until this many rim points come in a row: beyond them a point below
+// the level is the rim dipping, not the side (a prism's corner 13 mm from
+// the side of a finger hole in its face, after 5 rim points: taken in, the
+// hole's mouth spanned the face's whole edge and the hole was left open;
+// from 3 on, an elliptic cylinder's claw sides lost interleaved points).
+constexpr int kRimRun = 4;
 
 // A z-monotone segment [start, end] of a line (positions in the line).
 struct Leg {
@@ -170,16 +176,20 @@ std::vector<Range> ClawRanges(const std::vector<Leg>& legs, const std::vector<do
       const double level = highest(std::max(floor, r.start - kInterleave), r.start) - tol;
       while (r.end < ceiling && z[static_cast<size_t>(r.end)] < level) ++r.end;
       const int last = std::min(ceiling, r.end + kInterleave);  // fixed: no creeping
-      for (int k = r.end + 1; k <= last; ++k) {
-        if (z[static_cast<size_t>(k)] < level) r.end = k;
+      int rim_run = 0;
+      for (int k = r.end + 1; k <= last && rim_run < kRimRun; ++k) {
+        if (z[static_cast<size_t>(k)] < level) r.end = k, rim_run = 0;
+        else ++rim_run;
       }
     }
     if (!r.low_start) {
       const double level = highest(r.end, std::min(n - 1, r.end + kInterleave)) - tol;
       while (r.start > floor && z[static_cast<size_t>(r.start)] < level) --r.start;
       const int first = std::max(floor, r.start - kInterleave);
-      for (int k = r.start - 1; k >= first; --k) {
-        if (z[static_cast<size_t>(k)] < level) r.start = k;
+      int rim_run = 0;
+      for (int k = r.start - 1; k >= first && rim_run < kRimRun; --k) {
+        if (z[static_cast<size_t>(k)] < level) r.start = k, rim_run = 0;
+        else ++rim_run;
       }
     }
     // Ranges come in order; one reaching back into the previous merges.

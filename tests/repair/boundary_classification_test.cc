@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -161,6 +162,58 @@ TEST(ClassifyBoundaries, JoinsAClawHoleSplitAcrossTwoLines) {
   split[1].indices.assign(all.begin() + static_cast<long>(cut), all.end());
   ExpectOnePerHole(ClassifyBoundaries(f.points_O, split, ClassifyConfig()), f.hole_centres_O,
                    f.holes.top_z, "split");
+}
+
+// A finger hole in a box's face, opening into the top, as a fused cloud
+// showed it (the triangular prism in the parallel claw, with pose errors
+// refined): the rim dips 4.5 mm at the face's corner, 13-17 mm and five
+// rim points before the hole's side. The dip is rim: taken into the hole
+// (within the 8 positions a zig-zag may interleave), the hole's mouth
+// spanned the face's whole edge, the rim curve bulged 50 mm over it and
+// the hole was left open.
+TEST(ClassifyBoundaries, ARimDipBesideAClawSideStaysRim) {
+  constexpr double kDeg = M_PI / 180.0, kRadius = 0.04, kStep = 0.0015;
+  PointList points;
+  std::vector<int> dip, sides;
+  auto add = [&](double theta_deg, double z, std::vector<int>* tag = nullptr) {
+    if (tag) tag->push_back(static_cast<int>(points.size()));
+    points.emplace_back(static_cast<float>(kRadius * std::cos(theta_deg * kDeg)),
+                        static_cast<float>(kRadius * std::sin(theta_deg * kDeg)),
+                        static_cast<float>(z));
+  };
+  const double step_deg = kStep / kRadius / kDeg;  // ~2.1 degrees
+  // Walking clockwise from 190 degrees: rim, the dip at 31-34 degrees, the
+  // sag to the hole's side at 12, the side down, the bottom, the other side
+  // up at -12 and the rim round to the start.
+  for (double t = 190.0; t > 34.0; t -= step_deg) add(t, 0.0);
+  for (double t = 34.0; t >= 31.0; t -= 1.0) add(t, -0.0045, &dip);
+  for (double t = 30.0; t > 12.0; t -= step_deg) add(t, -0.003 * (30.0 - t) / 18.0);
+  for (double z = -0.003; z > -0.045; z -= kStep) add(12.0, z, &sides);
+  for (double t = 12.0; t > -12.0; t -= step_deg) add(t, -0.045);
+  for (double z = -0.045; z < 0.0; z += kStep) add(-12.0, z, &sides);
+  for (double t = -12.0 - step_deg; t > -170.0; t -= step_deg) add(t, 0.0);
+  BoundaryLine line;
+  line.closed = true;
+  for (size_t i = 0; i < points.size(); ++i) line.indices.push_back(static_cast<int>(i));
+
+  const auto out = ClassifyBoundaries(points, {line}, ClassifyConfig());
+  ASSERT_EQ(out.size(), 2u);
+  ASSERT_EQ(out[0].kind, HoleKind::kMissingSurface);
+  ASSERT_EQ(out[1].kind, HoleKind::kClaw);
+  auto holds = [](const HoleBoundary& b, int index) {
+    return std::find(b.source_indices.begin(), b.source_indices.end(), index) !=
+           b.source_indices.end();
+  };
+  for (int i : dip) {
+    EXPECT_TRUE(holds(out[0], i)) << "dip point " << i << " is not rim";
+    EXPECT_FALSE(holds(out[1], i)) << "dip point " << i << " taken into the claw hole";
+  }
+  for (int i : sides) EXPECT_TRUE(holds(out[1], i)) << "side point " << i;
+  // The hole's points lie between its sides, give or take the sag's start.
+  for (const Eigen::Vector3f& p : out[1].points_V) {
+    const double theta = std::atan2(p.y(), p.x()) / kDeg;
+    EXPECT_LT(std::abs(theta), 20.0) << "claw point at " << theta << " deg";
+  }
 }
 
 // Short lines and flat loops (e.g. a flagged bottom outline) are noise.

@@ -17,6 +17,9 @@
 //    segment must also drop `min_segment_height_m` at a slope of at least
 //    `min_segment_slope` (rise over chord), so that a rim which V tilts by
 //    a few degrees is not taken for a claw side.
+//  - A side's end takes in the side points a zig-zag interleaves with the
+//    rim's first points, up to 8 places on, until 4 rim points come in a
+//    row: a dip of the rim beyond them (a fused box's corner) stays rim.
 //  - A descent without its ascent (a line broken at the bottom of a hole)
 //    ends where the line is back at the rim's level, or at the line's end;
 //    such open halves are joined across lines when their low ends meet.
