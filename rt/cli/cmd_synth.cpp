@@ -62,6 +62,9 @@ constexpr const char* kUsage =
     "  --size WxDxH      bounding box in meters, e.g. 0.07x0.07x0.14\n"
     "                    (default per shape; cuboid 0.07x0.07x0.14)\n"
     "  --mesh FILE       object mesh (.ply/.obj/.stl) in meters, +z up\n"
+    "  --mesh-scale S    multiply the mesh's coordinates by S (0.001: a mesh in mm)\n"
+    "  --mesh-up AXIS    z (default) or y: the mesh's up axis (y: many OBJ and\n"
+    "                    glTF exports), turned onto +z\n"
     "  --claw SPEC       three-finger (default), parallel, or a claw file: a description\n"
     "                    (.json), a URDF or a URDF claw config (README \"Claws from URDF\")\n"
     "  --claw-mesh-root DIR  where a claw file's meshes (and a config's URDF) are\n"
@@ -111,6 +114,9 @@ struct SynthOptions {
   std::optional<std::string> shape;
   std::optional<std::string> size;
   std::optional<std::string> mesh_path;
+  double mesh_scale{1.0};     ///< --mesh-scale
+  bool mesh_y_up{false};      ///< --mesh-up y
+  bool mesh_transform_given{false};
   std::optional<std::string> grasps;  ///< --grasps S1,S2,...
   std::string claw{"three-finger"};
   std::string claw_mesh_root;  ///< --claw-mesh-root, for a claw file
@@ -176,7 +182,8 @@ SynthOptions Parse(const Args& args) {
       if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
       return args[++i];
     };
-    const bool recording_only = a == "--mesh" || a == "--claw" || a == "--frames" ||
+    const bool recording_only = a == "--mesh" || a == "--mesh-scale" || a == "--mesh-up" ||
+                                a == "--claw" || a == "--frames" ||
                                 a == "--ideal" || a == "--wall-m" ||
                                 a == "--hand-eye-error" || a == "--pose-noise" ||
                                 a == "--clock-offset-ms" || a == "--width" || a == "--height" ||
@@ -187,6 +194,15 @@ SynthOptions Parse(const Args& args) {
     else if (a == "--shape") o.shape = value();
     else if (a == "--size") o.size = value();
     else if (a == "--mesh") o.mesh_path = value();
+    else if (a == "--mesh-scale") {
+      o.mesh_scale = ParseDouble(a, value(), 1e-6, 1e6, "");
+      o.mesh_transform_given = true;
+    } else if (a == "--mesh-up") {
+      o.mesh_transform_given = true;
+      const std::string axis = value();
+      if (axis != "y" && axis != "z") throw UsageError("--mesh-up must be y or z, not '" + axis + "'");
+      o.mesh_y_up = axis == "y";
+    }
     else if (a == "--grasps") o.grasps = value();
     else if (a == "--claw") o.claw = value();
     else if (a == "--claw-mesh-root") {
@@ -246,6 +262,9 @@ SynthOptions Parse(const Args& args) {
     throw UsageError("give exactly one of --shape and --mesh");
   }
   if (o.mesh_path && o.size) throw UsageError("--size applies to --shape only");
+  if (!o.mesh_path && o.mesh_transform_given) {
+    throw UsageError("--mesh-scale and --mesh-up apply to --mesh only");
+  }
   if (o.output_dir.empty()) throw UsageError("missing -o DIR");
   return o;
 }
@@ -361,6 +380,8 @@ json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::Chann
   if (o.mesh_path) {
     object["source"] = "mesh";
     object["mesh_path"] = fs::absolute(*o.mesh_path).string();
+    object["mesh_scale"] = o.mesh_scale;
+    object["mesh_up"] = o.mesh_y_up ? "y" : "z";
   } else {
     object["source"] = "shape";
     object["shape"] = synth::ShapeName(c.shape);
@@ -491,6 +512,11 @@ int Run(const SynthOptions& o) {
   } else {
     try {
       config.mesh = io::ReadMesh(*o.mesh_path);
+      for (Eigen::Vector3f& v : config.mesh.vertices) v *= static_cast<float>(o.mesh_scale);
+      if (o.mesh_y_up) {  // +90 deg about x: +y onto +z
+        config.mesh = config.mesh.Transformed(
+            Eigen::Isometry3d(Eigen::AngleAxisd(0.5 * 3.14159265358979323846, Eigen::Vector3d::UnitX())));
+      }
     } catch (const std::exception& e) {
       std::fprintf(stderr, "graspfill synth: cannot read mesh: %s\n", ErrorText(e).c_str());
       return 1;
@@ -500,7 +526,7 @@ int Run(const SynthOptions& o) {
     if (extent.maxCoeff() > 0.5) {
       std::fprintf(stderr,
                    "graspfill synth: mesh '%s' is %.3g m across; graspfill expects meters "
-                   "and objects a claw can hold (scale the mesh)\n",
+                   "and objects a claw can hold (--mesh-scale 0.001 for a mesh in mm)\n",
                    o.mesh_path->c_str(), extent.maxCoeff());
       return 1;
     }

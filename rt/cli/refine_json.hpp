@@ -60,7 +60,8 @@ inline nlohmann::ordered_json RefineJson(const Pipeline& pipeline) {
       {"applied", clock.applied},
       {"offset_ms", estimable ? nlohmann::ordered_json(1000.0 * clock.offset_s) : nlohmann::ordered_json(nullptr)},
       {"stderr_ms", estimable ? nlohmann::ordered_json(1000.0 * clock.stderr_s) : nlohmann::ordered_json(nullptr)},
-      {"frames", clock.frames}};
+      {"frames", clock.frames},
+      {"jump_frames_in_fit", r.clock_only_samples}};
   j["ms_per_frame"] = stats.refine_time.mean_ms();
   return j;
 }

@@ -93,6 +93,21 @@ Eigen::Vector3d PoseRefiner::Rate::VelocityAt(const Eigen::Vector3d& p_C) const 
   return valid ? Eigen::Vector3d((motion * p_C - p_C) / dt_s) : Eigen::Vector3d::Zero();
 }
 
+bool PoseRefiner::ClockExplains(const Eigen::Isometry3d& residual_C, const Rate& rate) const {
+  if (!rate.valid) return false;
+  double m, deg;
+  MotionAt(residual_C, last_.centroid_C, &m, &deg);
+  if (m > config_.max_jump_m) return false;
+  const Eigen::Vector3d omega = rate.Angular();
+  const double omega_norm = omega.norm();
+  if (!(omega_norm > 0.0)) return false;
+  const Eigen::Vector3d r = RotationVector(residual_C.linear());
+  const double along = r.dot(omega) / omega_norm;
+  const double across_deg = (r - along * omega / omega_norm).norm() * kRadToDeg;
+  return across_deg <= config_.max_jump_deg &&
+         std::abs(along) <= omega_norm * config_.max_clock_offset_s;
+}
+
 Eigen::Isometry3d PoseRefiner::ClockShift(const Rate& rate) const {
   Eigen::Isometry3d E = Eigen::Isometry3d::Identity();
   if (shift_s_ == 0.0 || !rate.valid) return E;
@@ -166,6 +181,7 @@ void PoseRefiner::UpdateClockOffset() {
   clock_ = ClockOffsetEstimate{};
   clock_.frames = n;
   clock_.stderr_s = std::numeric_limits<double>::infinity();
+  const bool was_applied = shift_s_ != 0.0;
   shift_s_ = 0.0;
   if (n < config_.clock_min_frames) return;
   mean_rate /= n;
@@ -187,8 +203,10 @@ void PoseRefiner::UpdateClockOffset() {
   }
   clock_.offset_s = -slope;  // the stamps run behind by what the pose leads
   clock_.stderr_s = std::sqrt(residual / (3.0 * n - 4.0) / spread);
-  clock_.applied = clock_.stderr_s <= config_.max_clock_stderr_s &&
-                   std::abs(slope) <= config_.max_clock_offset_s;
+  // Once applied, it stays so while its standard error is under twice the
+  // bound: dropping it for a frame moves the prediction by the whole offset.
+  const double stderr_bound = (was_applied ? 2.0 : 1.0) * config_.max_clock_stderr_s;
+  clock_.applied = clock_.stderr_s <= stderr_bound && std::abs(slope) <= config_.max_clock_offset_s;
   if (clock_.applied) shift_s_ = slope;
 }
 
@@ -236,6 +254,15 @@ RefineOutcome PoseRefiner::Refine(const DepthFrame& frame, const Eigen::Isometry
                                 : (corr_m > config_.max_correction_m ||
                                    corr_deg > config_.max_correction_deg);
   if (too_far) {
+    // Beyond the bound along the motion's turn only, and the clock offset
+    // not applied yet: what an unknown clock offset does at this rate. Not
+    // fused, but the clock fit learns from it; without such frames the fit
+    // sees only the slow part of a varying turn and underestimates the
+    // offset (a sphere at -30 ms: -21 ms, half its frames lost).
+    if (tracking && !clock_.applied && ClockExplains(last_.correction_C, rate)) {
+      AddSample(correction, last_.centroid_C, fit_rate);
+      ++stats_.clock_only_samples;
+    }
     ++stats_.rejected_jump;
     return RefineOutcome::kJump;
   }

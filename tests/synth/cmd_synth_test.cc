@@ -234,6 +234,38 @@ TEST_F(SynthCliTest, SynthesizesFromAMeshFile) {
   EXPECT_EQ(RunSynth({"--mesh", mm_path, "-o", (dir_ / "mm").string()}), 1);
 }
 
+// --mesh-scale and --mesh-up: a mesh in millimetres with +y up (as many
+// OBJ and glTF exports are) comes out as the same object in meters, +z up.
+TEST_F(SynthCliTest, ScalesAndTurnsAMeshFileUp) {
+  fs::create_directories(dir_);
+  // An egg 60 x 40 mm across and 100 mm tall, its height along +y, in mm.
+  const TriangleMesh egg = synth::MakeShape(synth::Shape::kEllipsoid, Eigen::Vector3d(0.06, 0.04, 0.1), 48);
+  const Eigen::Isometry3d z_to_y(Eigen::AngleAxisd(-0.5 * M_PI, Eigen::Vector3d::UnitX()));
+  TriangleMesh mm = egg.Transformed(z_to_y);
+  for (Eigen::Vector3f& v : mm.vertices) v *= 1000.0f;
+  const Eigen::Vector3d file_size = synth::Bounds(mm).sizes();
+  ASSERT_NEAR(file_size.y(), 100.0, 1e-3);  // the height along y, in mm
+  const std::string mm_path = (dir_ / "egg_mm_y_up.ply").string();
+  io::WriteMeshPly(mm_path, mm);
+  const std::string out = (dir_ / "out").string();
+  ASSERT_EQ(RunSynth({"--mesh", mm_path, "--mesh-scale", "0.001", "--mesh-up", "y", "--claw", "parallel",
+                      "--frames", "2", "-o", out}), 0);
+  const nlohmann::json scene = nlohmann::json::parse(std::ifstream(dir_ / "out" / "scene.json"));
+  EXPECT_EQ(scene["object"]["mesh_scale"].get<double>(), 0.001);
+  EXPECT_EQ(scene["object"]["mesh_up"], "y");
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(scene["object"]["size_m"][k].get<double>(), synth::Bounds(egg).sizes()[k], 1e-6) << k;
+  }
+  // The ground truth is the egg standing up, in meters.
+  const Eigen::Vector3d gt_size = synth::Bounds(io::ReadMesh((dir_ / "out" / "gt_mesh.ply").string())).sizes();
+  EXPECT_NEAR(gt_size.z(), 0.1, 1e-4);
+  // Bad values, and the options without --mesh, are usage errors.
+  EXPECT_EQ(RunSynth({"--mesh", mm_path, "--mesh-scale", "0", "-o", (dir_ / "a").string()}), 2);
+  EXPECT_EQ(RunSynth({"--mesh", mm_path, "--mesh-up", "x", "-o", (dir_ / "a").string()}), 2);
+  EXPECT_EQ(RunSynth({"--shape", "cuboid", "--mesh-scale", "0.001", "-o", (dir_ / "a").string()}), 2);
+  EXPECT_FALSE(fs::exists(dir_ / "a"));
+}
+
 // ---- --protocol paper ----
 
 std::string FileBytes(const fs::path& path) {

@@ -66,7 +66,10 @@ struct RefineConfig {
   /// (the prediction moves the logged pose by T along the motion, and the
   /// hand-eye part is the median of the corrections without it) once at
   /// least `clock_min_frames` frames have a rate and its standard error is
-  /// below `max_clock_stderr_s` [s].
+  /// below `max_clock_stderr_s`, and stays applied while it is below twice
+  /// that [s]. Until then, a frame beyond the jump bound only by a turn
+  /// about the motion's axis (within rate x max_clock_offset_s) is not
+  /// fused but enters the fits: it is where the offset shows most.
   int clock_min_frames{20};
   double max_clock_stderr_s{0.001};
   /// Estimates beyond this are not applied [s].
@@ -127,6 +130,9 @@ struct RefineStats {
   double residual_sum_m{0.0};
   double residual_sum_deg{0.0};
   double max_residual_m{0.0};
+  /// Rejected as jumps, but a turn along the motion that a clock offset not
+  /// yet applied explains: in the clock and hand-eye fits, not fused.
+  int64_t clock_only_samples{0};
 
   int64_t rejected() const { return rejected_claw_not_seen + rejected_not_converged + rejected_jump; }
 };
@@ -183,6 +189,10 @@ class PoseRefiner {
                  const Rate& rate);
   void UpdateEstimate();
   void UpdateClockOffset();
+  // Whether a registration's deviation from the prediction (`residual_C`)
+  // is a turn about the motion's axis that a clock offset within
+  // max_clock_offset_s explains, the rest within the jump bounds.
+  bool ClockExplains(const Eigen::Isometry3d& residual_C, const Rate& rate) const;
   // The logged pose moved along its motion by the applied clock offset.
   Eigen::Isometry3d ClockShift(const Rate& rate) const;
 
