@@ -17,6 +17,7 @@ inline nlohmann::ordered_json EvidenceJson(const repair::EvidenceReport& e) {
   j["mirror_free_share"] = std::isnan(e.mirror_free_share) ? nlohmann::ordered_json(nullptr)
                                                            : nlohmann::ordered_json(e.mirror_free_share);
   j["mirror_plane_drop_mm"] = 1000.0 * e.mirror_plane_drop_m;
+  j["mirror_lift_mm"] = 1000.0 * e.mirror_lift_m;
   j["rejected_free"] = e.rejected_free;
   j["moved_out_of_claw"] = e.moved_out_of_claw;
   j["rejected_in_claw"] = e.rejected_in_claw;

@@ -120,6 +120,22 @@ std::vector<Leg> SignificantLegs(const PointList& points_V, const std::vector<in
   return legs;
 }
 
+// The line's height about position k: the median of k and its two
+// neighbours on either side (fewer at the line's ends). A single point a
+// few mm over the rim (a fused cloud's rim varies by 3-5 mm) must not set
+// the level a descent from it has to come back to: the whole line became
+// one claw hole (the prism box at 60 frames, its top left open).
+double LocalLevel(const std::vector<double>& z, int k) {
+  const int n = static_cast<int>(z.size());
+  double window[5];
+  int count = 0;
+  for (int i = std::max(0, k - 2); i <= std::min(n - 1, k + 2); ++i) {
+    window[count++] = z[static_cast<size_t>(i)];
+  }
+  std::nth_element(window, window + count / 2, window + count);
+  return window[count / 2];
+}
+
 // The claw holes of a line that reaches the top, as position ranges: from
 // a descent's start to the end of the next ascent (further descents or
 // ascents in between, e.g. a step in a hole's bottom, belong to it). A
@@ -140,7 +156,7 @@ std::vector<Range> ClawRanges(const std::vector<Leg>& legs, const std::vector<do
       if (j < legs.size()) {
         while (j < legs.size() && !legs[j].descending) r.end = legs[j++].end;
       } else {
-        const double level = z[static_cast<size_t>(r.start)];
+        const double level = LocalLevel(z, r.start);
         r.end = -1;
         for (int k = legs[j - 1].end; k < n && r.end < 0; ++k) {
           if (z[static_cast<size_t>(k)] >= level - tol) r.end = k;
@@ -151,7 +167,7 @@ std::vector<Range> ClawRanges(const std::vector<Leg>& legs, const std::vector<do
     } else {
       size_t j = i;
       while (j < legs.size() && !legs[j].descending) r.end = legs[j++].end;
-      const double level = z[static_cast<size_t>(r.end)];
+      const double level = LocalLevel(z, r.end);
       r.start = -1;
       for (int k = legs[i].start; k >= 0 && r.start < 0; --k) {
         if (z[static_cast<size_t>(k)] >= level - tol) r.start = k;
@@ -166,10 +182,11 @@ std::vector<Range> ClawRanges(const std::vector<Leg>& legs, const std::vector<do
     const int ceiling = i < legs.size() ? legs[i].start : n - 1;
     // Side points below that level a few places further on (a zig-zag
     // interleaves them with the rim's first points) belong to the hole too.
-    // The rim's local height: the highest point just outside the range.
+    // The rim's local height: the highest of its local medians just
+    // outside the range.
     auto highest = [&z](int from, int to) {
       double h = -std::numeric_limits<double>::infinity();
-      for (int k = from; k <= to; ++k) h = std::max(h, z[static_cast<size_t>(k)]);
+      for (int k = from; k <= to; ++k) h = std::max(h, LocalLevel(z, k));
       return h;
     };
     if (!r.low_end) {
