@@ -164,6 +164,31 @@ TEST(ClassifyBoundaries, JoinsAClawHoleSplitAcrossTwoLines) {
                    f.holes.top_z, "split");
 }
 
+// A closed boundary line drawn round a 40 mm circle, clockwise, one point
+// every 1.5 mm: rim at given heights, a finger hole's sides and bottom.
+struct CircleLine {
+  static constexpr double kDeg = M_PI / 180.0, kRadius = 0.04, kStep = 0.0015;
+  static constexpr double kStepDeg = kStep / kRadius / kDeg;  // ~2.1 degrees
+  PointList points;
+  // Adds the point at `theta_deg`, height `z`; its index to `tag` if given.
+  void Add(double theta_deg, double z, std::vector<int>* tag = nullptr) {
+    if (tag) tag->push_back(static_cast<int>(points.size()));
+    points.emplace_back(static_cast<float>(kRadius * std::cos(theta_deg * kDeg)),
+                        static_cast<float>(kRadius * std::sin(theta_deg * kDeg)),
+                        static_cast<float>(z));
+  }
+  BoundaryLine Closed() const {
+    BoundaryLine line;
+    line.closed = true;
+    for (size_t i = 0; i < points.size(); ++i) line.indices.push_back(static_cast<int>(i));
+    return line;
+  }
+};
+
+bool Holds(const HoleBoundary& b, int index) {
+  return std::find(b.source_indices.begin(), b.source_indices.end(), index) != b.source_indices.end();
+}
+
 // A finger hole in a box's face, opening into the top, as a fused cloud
 // showed it (the triangular prism in the parallel claw, with pose errors
 // refined): the rim dips 4.5 mm at the face's corner, 13-17 mm and five
@@ -172,46 +197,32 @@ TEST(ClassifyBoundaries, JoinsAClawHoleSplitAcrossTwoLines) {
 // spanned the face's whole edge, the rim curve bulged 50 mm over it and
 // the hole was left open.
 TEST(ClassifyBoundaries, ARimDipBesideAClawSideStaysRim) {
-  constexpr double kDeg = M_PI / 180.0, kRadius = 0.04, kStep = 0.0015;
-  PointList points;
+  CircleLine c;
+  const double step = CircleLine::kStepDeg;
   std::vector<int> dip, sides;
-  auto add = [&](double theta_deg, double z, std::vector<int>* tag = nullptr) {
-    if (tag) tag->push_back(static_cast<int>(points.size()));
-    points.emplace_back(static_cast<float>(kRadius * std::cos(theta_deg * kDeg)),
-                        static_cast<float>(kRadius * std::sin(theta_deg * kDeg)),
-                        static_cast<float>(z));
-  };
-  const double step_deg = kStep / kRadius / kDeg;  // ~2.1 degrees
   // Walking clockwise from 190 degrees: rim, the dip at 31-34 degrees, the
   // sag to the hole's side at 12, the side down, the bottom, the other side
   // up at -12 and the rim round to the start.
-  for (double t = 190.0; t > 34.0; t -= step_deg) add(t, 0.0);
-  for (double t = 34.0; t >= 31.0; t -= 1.0) add(t, -0.0045, &dip);
-  for (double t = 30.0; t > 12.0; t -= step_deg) add(t, -0.003 * (30.0 - t) / 18.0);
-  for (double z = -0.003; z > -0.045; z -= kStep) add(12.0, z, &sides);
-  for (double t = 12.0; t > -12.0; t -= step_deg) add(t, -0.045);
-  for (double z = -0.045; z < 0.0; z += kStep) add(-12.0, z, &sides);
-  for (double t = -12.0 - step_deg; t > -170.0; t -= step_deg) add(t, 0.0);
-  BoundaryLine line;
-  line.closed = true;
-  for (size_t i = 0; i < points.size(); ++i) line.indices.push_back(static_cast<int>(i));
+  for (double t = 190.0; t > 34.0; t -= step) c.Add(t, 0.0);
+  for (double t = 34.0; t >= 31.0; t -= 1.0) c.Add(t, -0.0045, &dip);
+  for (double t = 30.0; t > 12.0; t -= step) c.Add(t, -0.003 * (30.0 - t) / 18.0);
+  for (double z = -0.003; z > -0.045; z -= CircleLine::kStep) c.Add(12.0, z, &sides);
+  for (double t = 12.0; t > -12.0; t -= step) c.Add(t, -0.045);
+  for (double z = -0.045; z < 0.0; z += CircleLine::kStep) c.Add(-12.0, z, &sides);
+  for (double t = -12.0 - step; t > -170.0; t -= step) c.Add(t, 0.0);
 
-  const auto out = ClassifyBoundaries(points, {line}, ClassifyConfig());
+  const auto out = ClassifyBoundaries(c.points, {c.Closed()}, ClassifyConfig());
   ASSERT_EQ(out.size(), 2u);
   ASSERT_EQ(out[0].kind, HoleKind::kMissingSurface);
   ASSERT_EQ(out[1].kind, HoleKind::kClaw);
-  auto holds = [](const HoleBoundary& b, int index) {
-    return std::find(b.source_indices.begin(), b.source_indices.end(), index) !=
-           b.source_indices.end();
-  };
   for (int i : dip) {
-    EXPECT_TRUE(holds(out[0], i)) << "dip point " << i << " is not rim";
-    EXPECT_FALSE(holds(out[1], i)) << "dip point " << i << " taken into the claw hole";
+    EXPECT_TRUE(Holds(out[0], i)) << "dip point " << i << " is not rim";
+    EXPECT_FALSE(Holds(out[1], i)) << "dip point " << i << " taken into the claw hole";
   }
-  for (int i : sides) EXPECT_TRUE(holds(out[1], i)) << "side point " << i;
+  for (int i : sides) EXPECT_TRUE(Holds(out[1], i)) << "side point " << i;
   // The hole's points lie between its sides, give or take the sag's start.
   for (const Eigen::Vector3f& p : out[1].points_V) {
-    const double theta = std::atan2(p.y(), p.x()) / kDeg;
+    const double theta = std::atan2(p.y(), p.x()) / CircleLine::kDeg;
     EXPECT_LT(std::abs(theta), 20.0) << "claw point at " << theta << " deg";
   }
 }
@@ -223,44 +234,30 @@ TEST(ClassifyBoundaries, ARimDipBesideAClawSideStaysRim) {
 // missing surface, the top left open. The level is now the highest of the
 // rim's local medians.
 TEST(ClassifyBoundaries, OnePointOverTheRimDoesNotTakeTheRimIntoAClawHole) {
-  constexpr double kDeg = M_PI / 180.0, kRadius = 0.04, kStep = 0.0015;
-  PointList points;
+  CircleLine c;
+  const double step = CircleLine::kStepDeg;
   std::vector<int> rim, sides;
-  auto add = [&](double theta_deg, double z, std::vector<int>* tag = nullptr) {
-    if (tag) tag->push_back(static_cast<int>(points.size()));
-    points.emplace_back(static_cast<float>(kRadius * std::cos(theta_deg * kDeg)),
-                        static_cast<float>(kRadius * std::sin(theta_deg * kDeg)),
-                        static_cast<float>(z));
-  };
-  const double step_deg = kStep / kRadius / kDeg;
   // Clockwise from 190 degrees: a rim that wavers by +-1 mm, one point 3 mm
   // over it four places before the hole's side at 12 degrees, the side
   // down, the bottom, the other side up at -12 and the rim round.
   int k = 0;
   auto wavering = [&k] { return 0.001 * std::sin(0.7 * k++); };
-  for (double t = 190.0; t > 12.0 + 4.5 * step_deg; t -= step_deg) add(t, wavering(), &rim);
-  add(12.0 + 4.0 * step_deg, 0.003);
-  for (double t = 12.0 + 3.0 * step_deg; t > 12.0; t -= step_deg) add(t, wavering());
-  for (double z = -0.002; z > -0.045; z -= kStep) add(12.0, z, &sides);
-  for (double t = 12.0; t > -12.0; t -= step_deg) add(t, -0.045);
-  for (double z = -0.045; z < -0.002; z += kStep) add(-12.0, z, &sides);
-  for (double t = -12.0 - step_deg; t > -170.0; t -= step_deg) add(t, wavering(), &rim);
-  BoundaryLine line;
-  line.closed = true;
-  for (size_t i = 0; i < points.size(); ++i) line.indices.push_back(static_cast<int>(i));
+  for (double t = 190.0; t > 12.0 + 4.5 * step; t -= step) c.Add(t, wavering(), &rim);
+  c.Add(12.0 + 4.0 * step, 0.003);
+  for (double t = 12.0 + 3.0 * step; t > 12.0; t -= step) c.Add(t, wavering());
+  for (double z = -0.002; z > -0.045; z -= CircleLine::kStep) c.Add(12.0, z, &sides);
+  for (double t = 12.0; t > -12.0; t -= step) c.Add(t, -0.045);
+  for (double z = -0.045; z < -0.002; z += CircleLine::kStep) c.Add(-12.0, z, &sides);
+  for (double t = -12.0 - step; t > -170.0; t -= step) c.Add(t, wavering(), &rim);
 
-  const auto out = ClassifyBoundaries(points, {line}, ClassifyConfig());
+  const auto out = ClassifyBoundaries(c.points, {c.Closed()}, ClassifyConfig());
   ASSERT_EQ(out.size(), 2u);
   ASSERT_EQ(out[0].kind, HoleKind::kMissingSurface);
   ASSERT_EQ(out[1].kind, HoleKind::kClaw);
-  auto holds = [](const HoleBoundary& b, int index) {
-    return std::find(b.source_indices.begin(), b.source_indices.end(), index) !=
-           b.source_indices.end();
-  };
   int rim_in_claw = 0;
-  for (int i : rim) rim_in_claw += holds(out[1], i);
+  for (int i : rim) rim_in_claw += Holds(out[1], i);
   EXPECT_LE(rim_in_claw, 8) << "of " << rim.size() << " rim points";
-  for (int i : sides) EXPECT_TRUE(holds(out[1], i)) << "side point " << i;
+  for (int i : sides) EXPECT_TRUE(Holds(out[1], i)) << "side point " << i;
 }
 
 // Short lines and flat loops (e.g. a flagged bottom outline) are noise.
