@@ -93,11 +93,9 @@ Eigen::Vector3d PoseRefiner::Rate::VelocityAt(const Eigen::Vector3d& p_C) const 
   return valid ? Eigen::Vector3d((motion * p_C - p_C) / dt_s) : Eigen::Vector3d::Zero();
 }
 
-bool PoseRefiner::ClockExplains(const Eigen::Isometry3d& residual_C, const Rate& rate) const {
-  if (!rate.valid) return false;
-  double m, deg;
-  MotionAt(residual_C, last_.centroid_C, &m, &deg);
-  if (m > config_.max_jump_m) return false;
+bool PoseRefiner::ClockExplains(const Eigen::Isometry3d& residual_C, double residual_m,
+                                 const Rate& rate) const {
+  if (!rate.valid || residual_m > config_.max_jump_m) return false;
   const Eigen::Vector3d omega = rate.Angular();
   const double omega_norm = omega.norm();
   if (!(omega_norm > 0.0)) return false;
@@ -259,7 +257,7 @@ RefineOutcome PoseRefiner::Refine(const DepthFrame& frame, const Eigen::Isometry
     // fused, but the clock fit learns from it; without such frames the fit
     // sees only the slow part of a varying turn and underestimates the
     // offset (a sphere at -30 ms: -21 ms, half its frames lost).
-    if (tracking && !clock_.applied && ClockExplains(last_.correction_C, rate)) {
+    if (tracking && !clock_.applied && ClockExplains(last_.correction_C, res_m, rate)) {
       AddSample(correction, last_.centroid_C, fit_rate);
       ++stats_.clock_only_samples;
     }

@@ -219,20 +219,20 @@ TEST(RefineE2E, DISABLED_Table) {
   const std::string models = "/usr/share/assimp/models/";
   struct Case {
     std::string label, object, claw;
+    std::string mesh_file;  ///< a mesh file the object needs, else empty
   };
+  const std::string pig = models + "STL/Wuson.stl", ball = models + "STL/sphereWithHole.stl";
   const std::vector<Case> cases = {
-      {"cuboid", "--shape cuboid", "three-finger"},
-      {"triangular-prism", "--shape triangular-prism", "parallel"},
-      {"cylinder", "--shape cylinder", "three-finger"},
-      {"sphere", "--shape sphere", "parallel"},
-      {"elliptic-cylinder", "--shape elliptic-cylinder", "three-finger"},
-      {"ellipsoid", "--shape ellipsoid", "parallel"},
-      {"bottle", "--shape bottle", "three-finger"},
-      {"mug", "--shape mug", "parallel"},
-      {"mesh Wuson.stl (x 0.05, y up)", "--mesh " + models + "STL/Wuson.stl --mesh-scale 0.05 --mesh-up y",
-       "three-finger"},
-      {"mesh sphereWithHole.stl (x 0.02)", "--mesh " + models + "STL/sphereWithHole.stl --mesh-scale 0.02",
-       "parallel"}};
+      {"cuboid", "--shape cuboid", "three-finger", ""},
+      {"triangular-prism", "--shape triangular-prism", "parallel", ""},
+      {"cylinder", "--shape cylinder", "three-finger", ""},
+      {"sphere", "--shape sphere", "parallel", ""},
+      {"elliptic-cylinder", "--shape elliptic-cylinder", "three-finger", ""},
+      {"ellipsoid", "--shape ellipsoid", "parallel", ""},
+      {"bottle", "--shape bottle", "three-finger", ""},
+      {"mug", "--shape mug", "parallel", ""},
+      {"mesh Wuson.stl (x 0.05, y up)", "--mesh " + pig + " --mesh-scale 0.05 --mesh-up y", "three-finger", pig},
+      {"mesh sphereWithHole.stl (x 0.02)", "--mesh " + ball + " --mesh-scale 0.02", "parallel", ball}};
   std::printf("| shape, claw | p95 mm: no errors / refined / logged poses | claw pts: refined / "
               "logged | coverage: no errors / refined / logged | frames refined / rejected | "
               "hand-eye+clock correction found | refine ms/frame |\n|---|---|---|---|---|---|---|\n");
@@ -241,11 +241,9 @@ TEST(RefineE2E, DISABLED_Table) {
   for (size_t index = 0; index < cases.size(); ++index) {
     const Case& c = cases[index];
     if (from && static_cast<int>(index) < std::atoi(from)) continue;
-    const bool is_mesh = c.object.rfind("--mesh ", 0) == 0;
-    const std::string mesh = is_mesh ? c.object.substr(7, c.object.find(' ', 7) - 7) : "";
-    if (!mesh.empty() && !std::filesystem::exists(mesh)) {
+    if (!c.mesh_file.empty() && !std::filesystem::exists(c.mesh_file)) {
       std::printf("| %s, %s | not measured: %s is missing (apt-get install assimp-testmodels) |\n",
-                  c.label.c_str(), c.claw.c_str(), mesh.c_str());
+                  c.label.c_str(), c.claw.c_str(), c.mesh_file.c_str());
       continue;
     }
     const std::string name = std::to_string(index) + "_" + c.claw;

@@ -189,10 +189,11 @@ class PoseRefiner {
                  const Rate& rate);
   void UpdateEstimate();
   void UpdateClockOffset();
-  // Whether a registration's deviation from the prediction (`residual_C`)
-  // is a turn about the motion's axis that a clock offset within
-  // max_clock_offset_s explains, the rest within the jump bounds.
-  bool ClockExplains(const Eigen::Isometry3d& residual_C, const Rate& rate) const;
+  // Whether a registration's deviation from the prediction (`residual_C`,
+  // moving the claw by `residual_m`) is a turn about the motion's axis that
+  // a clock offset within max_clock_offset_s explains, the rest within the
+  // jump bounds.
+  bool ClockExplains(const Eigen::Isometry3d& residual_C, double residual_m, const Rate& rate) const;
   // The logged pose moved along its motion by the applied clock offset.
   Eigen::Isometry3d ClockShift(const Rate& rate) const;
 
