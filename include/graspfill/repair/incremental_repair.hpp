@@ -42,8 +42,8 @@ struct IncrementalConfig {
   /// dropped (measured since, or seen free).
   double max_dropped_share{0.25};
   /// ... or when the record has this many key frames more than the base's
-  /// repair saw (new views carve the top and the fills: a full repair 6
-  /// frames later had a 10% lower chamfer on the test's box; 0 = never).
+  /// repair saw (new views carve the fills and fix the top's height; 0 =
+  /// never).
   int max_new_key_frames{2};
 
   /// Throws std::invalid_argument naming the bad field.
