@@ -18,6 +18,10 @@ void AxisRefineConfig::Validate() const {
           "AxisRefineConfig.min_side_fraction must be in [0, 1]");
   require(max_change_rad > 0.0 && max_change_rad <= M_PI / 2,
           "AxisRefineConfig.max_change_rad must be in (0, pi/2]");
+  require(straight_wall_share >= 0.0 && straight_wall_share <= 1.0 / 3.0,
+          "AxisRefineConfig.straight_wall_share must be in [0, 1/3]");
+  require(straight_max_change_rad > 0.0 && straight_max_change_rad <= M_PI / 2,
+          "AxisRefineConfig.straight_max_change_rad must be in (0, pi/2]");
   require(iterations >= 1 && iterations <= 100, "AxisRefineConfig.iterations must be in [1, 100]");
 }
 
@@ -56,9 +60,12 @@ AxisRefinement RefineAxis(const std::vector<Eigen::Vector3f>& normals,
     axis = next;
   }
   const double change = std::acos(std::min(1.0, axis.dot(initial_axis)));
-  if (change > config.max_change_rad) {
+  const Eigen::Vector3d eigenvalues = solver.eigenvalues();
+  result.smallest_share = eigenvalues.sum() > 0.0 ? eigenvalues(0) / eigenvalues.sum() : 1.0;
+  const bool straight = result.smallest_share <= config.straight_wall_share;
+  if (change > (straight ? config.straight_max_change_rad : config.max_change_rad)) {
     result.note = "refined axis moved " + std::to_string(change * 180.0 / M_PI) +
-                  " degrees: kept the rim plane's";
+                  " degrees: kept the initial one";
     return result;
   }
   result.axis = axis;

@@ -73,6 +73,37 @@ TEST(AxisRefinement, BodiesOfRevolutionDoNotDrift) {
   EXPECT_LT(Degrees(rs.axis, start), 3.0);
 }
 
+TEST(AxisRefinement, StraightWallsTurnATiltedAxisBackFurtherThanARoundBody) {
+  // An object hanging tilted in an oblique grasp (20 degrees off the
+  // claw's axis) or under a leaning rim plane: past max_change_rad, but
+  // straight walls fix the axis.
+  for (const synth::Shape shape : {synth::Shape::kCuboid, synth::Shape::kCylinder}) {
+    const Case c = ProtocolCase(shape, 3);
+    const Eigen::Vector3d start = Tilted(c.true_axis, 25.0);
+    const AxisRefinement r = RefineAxis(c.normals, start, AxisRefineConfig{});
+    SCOPED_TRACE(synth::ShapeName(shape));
+    std::printf("%s: 25.0 -> %.2f degrees off, smallest share %.4f\n", synth::ShapeName(shape).c_str(),
+                Degrees(r.axis, c.true_axis), r.smallest_share);
+    ASSERT_TRUE(r.refined) << r.note;
+    EXPECT_LT(Degrees(r.axis, c.true_axis), 0.5);
+    EXPECT_LT(r.smallest_share, AxisRefineConfig{}.straight_wall_share);
+    // Without the straight-wall rule the 10 degrees hold.
+    AxisRefineConfig strict;
+    strict.straight_wall_share = 0.0;
+    const AxisRefinement kept = RefineAxis(c.normals, start, strict);
+    EXPECT_FALSE(kept.refined);
+    EXPECT_EQ(kept.axis, start);
+  }
+  // A sphere's band says little: it may not carry the axis 25 degrees.
+  const Case s = ProtocolCase(synth::Shape::kSphere, 3);
+  const Eigen::Vector3d start = Tilted(s.true_axis, 25.0);
+  const AxisRefinement rs = RefineAxis(s.normals, start, AxisRefineConfig{});
+  std::printf("sphere: moved %.2f degrees, smallest share %.4f\n", Degrees(rs.axis, start),
+              rs.smallest_share);
+  EXPECT_GT(rs.smallest_share, AxisRefineConfig{}.straight_wall_share);
+  EXPECT_LE(Degrees(rs.axis, start), 10.0);
+}
+
 TEST(AxisRefinement, DisabledOrTooFewSidesKeepsTheInitialAxis) {
   const Case c = ProtocolCase(synth::Shape::kCylinder, 1);
   const Eigen::Vector3d start = Tilted(c.true_axis, 4.0);
@@ -94,6 +125,9 @@ TEST(AxisRefinement, BadInputThrows) {
   AxisRefineConfig bad;
   bad.iterations = 0;
   EXPECT_THROW(RefineAxis(normals, Eigen::Vector3d(0, 0, 1), bad), std::invalid_argument);
+  AxisRefineConfig bad_share;
+  bad_share.straight_wall_share = 0.5;
+  EXPECT_THROW(RefineAxis(normals, Eigen::Vector3d(0, 0, 1), bad_share), std::invalid_argument);
 }
 
 }  // namespace

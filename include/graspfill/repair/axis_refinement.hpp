@@ -15,7 +15,9 @@
 // smallest eigenvalue of sum(n n^T) over the points whose normal is within
 // `side_band_rad` of orthogonal to the current axis, a few times over.
 // Thousands of side points average the noise out; a sphere's band gives
-// back the axis it was given (no information, no harm).
+// back the axis it was given (no information, no harm). The refined axis
+// may move 10 degrees from the rim plane's, or 40 when the side walls are
+// straight enough to fix it (a tilted grasp).
 //
 // Pure and single-threaded.
 #pragma once
@@ -39,6 +41,17 @@ struct AxisRefineConfig {
   /// The refined axis may move at most this far from the initial one
   /// [rad] (10 degrees): beyond it step 4's plane is the better guess.
   double max_change_rad{0.17453292519943295};
+  /// ... unless the side walls fix the axis: the smallest eigenvalue of
+  /// their normals' scatter is at most this share of its trace (straight
+  /// walls: 0.002-0.006 on the zoo's cans, boxes, prisms and bottles; round
+  /// bodies, whose band says little: 0.037-0.041) ...
+  double straight_wall_share{0.015};
+  /// ... then it may move up to this: an object hanging tilted in an
+  /// oblique grasp, 20 degrees off the claw's axis (the hint), or under a
+  /// rim plane that leans the other way (a cuboid's: 31.5 degrees off);
+  /// under 45 degrees, so never onto a box's other pair of faces [rad] (40
+  /// degrees).
+  double straight_max_change_rad{0.6981317007977318};
   int iterations{4};
 
   /// Throws std::invalid_argument naming the bad field.
@@ -49,6 +62,9 @@ struct AxisRefinement {
   Eigen::Vector3d axis{0, 0, 1};  ///< unit, same side as the initial one
   bool refined{false};            ///< false: the initial axis, unchanged
   double change_rad{0.0};         ///< angle between initial and refined
+  /// The side normals' smallest scatter eigenvalue over its trace (0 for
+  /// walls exactly parallel to the axis).
+  double smallest_share{0.0};
   std::string note;               ///< why not, when !refined
 };
 
