@@ -443,7 +443,6 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
   }
   // 4. The virtual frame V from the lines' points.
   std::optional<VirtualFrame> frame;
-  bool frame_from_hint = lines.empty();
   if (lines.empty()) {
     frame = WithAxis(VirtualFrame{}, config.up_hint->normalized(), points);
   } else {
@@ -457,7 +456,6 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
                                  config.up_hint ? &*config.up_hint : nullptr, &reason);
     if (!frame && evidence_frame) {
       frame = WithAxis(VirtualFrame{}, config.up_hint->normalized(), points);
-      frame_from_hint = true;
     }
     if (!frame) {
       report.status = RepairStatus::kNoFrame;
@@ -465,9 +463,9 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
       return result;
     }
   }
-  if (config.axis.enabled && (!lines.empty() || frame_from_hint)) {
-    // Also from the hint (the claw's axis): the object may hang tilted in
-    // an oblique grasp.
+  if (config.axis.enabled) {
+    // Also on V from the hint (the claw's axis): the object may hang tilted
+    // in an oblique grasp.
     StepTimer t(&report, "axis");
     const AxisRefinement axis =
         RefineAxis(normals, frame->T_in_V.linear().col(2), config.axis);
