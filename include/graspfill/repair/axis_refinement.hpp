@@ -16,8 +16,9 @@
 // `side_band_rad` of orthogonal to the current axis, a few times over.
 // Thousands of side points average the noise out; a sphere's band gives
 // back the axis it was given (no information, no harm). The refined axis
-// may move 10 degrees from the rim plane's, or 40 when the side walls are
-// straight enough to fix it (a tilted grasp).
+// may move 10 degrees from the initial one (the rim plane's, or the up
+// hint's), or 40 when the side walls are straight enough to fix it (a
+// tilted grasp).
 //
 // Pure and single-threaded.
 #pragma once
