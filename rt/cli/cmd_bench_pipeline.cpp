@@ -9,11 +9,13 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
+#include "evidence_json.hpp"
 #include "progress.hpp"
 #include "number_parsing.hpp"
 #include "graspfill/eval/metrics.hpp"
@@ -86,6 +88,8 @@ struct Outcome {
   double ms{0.0};
   std::string note;
   std::vector<StageTiming> steps;
+  repair::EvidenceReport evidence;
+  Eigen::Vector3d up_axis{Eigen::Vector3d::Zero()};  // V's +z in G (0 when not repaired)
 };
 
 // Coverage and the added points' errors of `cloud` (first `fused` points
@@ -140,6 +144,7 @@ int RunBenchRepairPipeline(const Args& args) {
   std::string only;
   std::string dump_dir;  // each case's truth, fused and repaired clouds as PLY
   int frames = 90;
+  uint64_t seed = 11;  // the scenes' sensor noise and wobble phases: the README's tables use 11
   for (size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--pipeline") continue;
     if (args[i] == "--json") json = true;
@@ -149,6 +154,13 @@ int RunBenchRepairPipeline(const Args& args) {
     else if (args[i] == "--frames" && i + 1 < args.size()) {
       try {
         frames = ParseInteger<int>("--frames", args[++i], 10, 3000);
+      } catch (const UsageError& e) {
+        std::fprintf(stderr, "graspfill bench repair --pipeline: %s\n", e.what());
+        return 2;
+      }
+    } else if (args[i] == "--seed" && i + 1 < args.size()) {
+      try {
+        seed = ParseInteger<uint64_t>("--seed", args[++i], 0, std::numeric_limits<uint64_t>::max());
       } catch (const UsageError& e) {
         std::fprintf(stderr, "graspfill bench repair --pipeline: %s\n", e.what());
         return 2;
@@ -210,7 +222,7 @@ int RunBenchRepairPipeline(const Args& args) {
     sc.claw = c.claw;
     sc.grasp = c.grasp;
     sc.num_frames = frames;
-    sc.seed = 11;
+    sc.seed = seed;
     const synth::Scene scene(sc);
     const synth::SceneRenderer renderer(scene);
     Pipeline pipeline(PipelineConfig{}, scene.MakeClawModel());
@@ -248,6 +260,10 @@ int RunBenchRepairPipeline(const Args& args) {
       result[with_evidence].ms = ms;
       result[with_evidence].note = Note(report);
       result[with_evidence].steps = report.timings;
+      result[with_evidence].evidence = report.evidence;
+      if (report.status == repair::RepairStatus::kRepaired) {
+        result[with_evidence].up_axis = report.frame.T_in_V.linear().col(2);
+      }
       if (!dump_dir.empty()) {
         if (with_evidence == 0) {
           io::WriteCloudPly(dump_path(c, "fused"), fused);
@@ -267,7 +283,9 @@ int RunBenchRepairPipeline(const Args& args) {
         return nlohmann::ordered_json{{"points", o.points}, {"added", o.added}, {"coverage", o.coverage},
                                       {"added_p95_mm", o.added_p95_mm}, {"added_wrong", o.added_wrong},
                                       {"added_in_seen_free", o.added_in_free}, {"ms", o.ms},
-                                      {"steps_ms", StepsJson(o.steps)}, {"note", o.note}};
+                                      {"steps_ms", StepsJson(o.steps)}, {"note", o.note},
+                                      {"up_axis", {o.up_axis.x(), o.up_axis.y(), o.up_axis.z()}},
+                                      {"evidence_report", EvidenceJson(o.evidence)}};
       };
       rows.push_back({{"object", c.label}, {"shape", c.shape},
                       {"claw", synth::ClawTypeName(c.claw)}, {"grasp", synth::GraspWayName(c.grasp)},

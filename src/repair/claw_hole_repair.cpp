@@ -259,17 +259,20 @@ void ClawRepairConfig::Validate() const {
 PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBoundary>& claw_holes,
                           const ClawRepairConfig& config,
                           const std::vector<Eigen::Vector3f>* normals_V,
-                          const NeighborIndex* index_V, int* holes_left_open) {
+                          const NeighborIndex* index_V, std::vector<size_t>* holes_left_open) {
   config.Validate();
   CheckInputs(points_V, normals_V, index_V, "RepairClawHoles");
-  if (holes_left_open != nullptr) *holes_left_open = 0;
+  if (holes_left_open != nullptr) holes_left_open->clear();
   PointList out;
   if (points_V.empty()) return out;
   std::vector<const HoleBoundary*> holes;
-  for (const HoleBoundary& hole : claw_holes) {
+  std::vector<size_t> hole_index;  // into claw_holes
+  for (size_t k = 0; k < claw_holes.size(); ++k) {
+    const HoleBoundary& hole = claw_holes[k];
     if (hole.kind == HoleKind::kClaw && hole.points_V.size() >= 3) {
       CheckFinite(hole.points_V, "RepairClawHoles: claw-hole boundary");
       holes.push_back(&hole);
+      hole_index.push_back(k);
     }
   }
   if (holes.empty()) return out;
@@ -322,7 +325,7 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
     }
     if (static_cast<int>(support.size()) < config.min_support_points) continue;
     if (static_cast<double>(support.size()) > config.max_support_share * static_cast<double>(points_V.size())) {
-      if (holes_left_open != nullptr) ++*holes_left_open;
+      if (holes_left_open != nullptr) holes_left_open->push_back(hole_index[h]);
       continue;
     }
     const Spacing spacing = EstimateSpacing(index, support, 200);
@@ -390,7 +393,7 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
       filled = true;
     }
     if (!filled && config.surface == ClawSurface::kLocalFit && !config.poisson_fallback) {
-      if (holes_left_open != nullptr) ++*holes_left_open;
+      if (holes_left_open != nullptr) holes_left_open->push_back(hole_index[h]);
       continue;
     }
     // The last resort (and the paper's surface): Poisson, ~0.3-0.8 s.

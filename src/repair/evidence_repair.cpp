@@ -124,6 +124,41 @@ PointList DomeCandidates(const PointList& points_V, float z_wall, const Ring& hu
   return candidates;
 }
 
+// The top's height from the rings on the outline `ring` above the highest
+// observed point `z_wall`: sets top->outcome and top->top_z_V.
+void FindTopHeight(const Ring& ring, float z_wall, const evidence::VisibilityRecord& record,
+                   const Eigen::Isometry3f& T_in_V, const EvidenceConfig& config, EvidenceTop* top) {
+  // The free share of the outline at height z: ~constant along the
+  // observed wall (where the hull cuts across concave parts), jumping up
+  // once the rings pass the top and the grazing rays carve them.
+  const auto free_share = [&](double z) {
+    int n = 0;
+    for (const Eigen::Vector2d& r : ring) n += record.SeenFree(T_in_V * At(r, z));
+    return static_cast<double>(n) / static_cast<double>(ring.size());
+  };
+  // The baseline comes from well below the highest point and the search
+  // starts below it too: the TSDF's truncation band behind the wall spills
+  // up to ~3 mm over a top edge that rays pass over (sdf_trunc * sin of
+  // the view's elevation), leaving a phantom layer above the true top.
+  const double below = config.phantom_m;
+  double base = 0.0;
+  int rings = 0;
+  for (double z = z_wall - below - config.top_band_m; z <= z_wall - below + 1e-9;
+       z += config.top_step_m, ++rings) {
+    base += free_share(z);
+  }
+  base /= std::max(1, rings);
+  top->outcome = TopEvidence::kNotObservable;
+  for (double z = z_wall - below + config.top_step_m; z <= z_wall + config.top_search_m + 1e-9;
+       z += config.top_step_m) {
+    if (free_share(z) >= base + config.top_free_jump) {
+      top->outcome = TopEvidence::kHeightFound;
+      top->top_z_V = static_cast<float>(z - config.top_step_m);  // the highest ring not carved
+      break;
+    }
+  }
+}
+
 }  // namespace
 
 void EvidenceConfig::Validate() const {
@@ -145,6 +180,13 @@ void EvidenceConfig::Validate() const {
   if (!(taper_drop_m > 0.0 && taper_drop_m < 0.2)) throw std::invalid_argument("EvidenceConfig: taper_drop_m must be in (0, 0.2) m");
   if (!(dome_support_m >= 0.0 && dome_support_m < 0.2)) throw std::invalid_argument("EvidenceConfig: dome_support_m must be in [0, 0.2) m");
   if (!(mirror_low_m >= 0.0 && mirror_low_m < 0.1)) throw std::invalid_argument("EvidenceConfig: mirror_low_m must be in [0, 0.1) m");
+  share(max_cap_free_share, "max_cap_free_share");
+  if (!(carve_onset_m >= 0.0 && carve_onset_m < 0.01)) throw std::invalid_argument("EvidenceConfig: carve_onset_m must be in [0, 0.01) m");
+  if (!(max_mirror_lift_m >= 0.0 && max_mirror_lift_m < 0.05)) {
+    throw std::invalid_argument("EvidenceConfig: max_mirror_lift_m must be in [0, 0.05) m");
+  }
+  if (!(ring_trust_m >= 0.0 && ring_trust_m < 0.05)) throw std::invalid_argument("EvidenceConfig: ring_trust_m must be in [0, 0.05) m");
+  if (min_cap_points < 1) throw std::invalid_argument("EvidenceConfig: min_cap_points must be >= 1");
   if (!(max_plane_drop_m >= 0.0 && max_plane_drop_m < 0.05)) {
     throw std::invalid_argument("EvidenceConfig: max_plane_drop_m must be in [0, 0.05) m");
   }
@@ -188,6 +230,64 @@ double LowerMirrorOutOfFree(const evidence::VisibilityRecord& record, const Evid
     }
   }
   return std::numeric_limits<double>::quiet_NaN();
+}
+
+ImageTop TopOfImage(const PointList& image_V, double layer_m) {
+  ImageTop top;
+  if (image_V.empty()) return top;
+  // The layer hangs from the height 1% of the image exceeds: a few strays
+  // over the cap (the image of a fin at a bottom corner) would leave it a
+  // handful of points.
+  std::vector<float> z;
+  z.reserve(image_V.size());
+  for (const Eigen::Vector3f& p : image_V) z.push_back(p.z());
+  top.highest_z_V = *std::max_element(z.begin(), z.end());
+  const auto near_top = z.begin() + static_cast<long>(0.99 * static_cast<double>(z.size() - 1));
+  std::nth_element(z.begin(), near_top, z.end());
+  top.layer_from_z_V = *near_top - static_cast<float>(layer_m);
+  std::vector<float> layer_z;
+  for (const Eigen::Vector3f& p : image_V) {
+    if (p.z() > top.layer_from_z_V) layer_z.push_back(p.z());
+  }
+  const auto middle = layer_z.begin() + static_cast<long>(layer_z.size() / 2);
+  std::nth_element(layer_z.begin(), middle, layer_z.end());
+  top.cap_z_V = *middle;
+  top.layer_points = static_cast<int>(layer_z.size());
+  return top;
+}
+
+void StretchImageTop(const ImageTop& top, float cap_z_V, const EvidenceConfig& config, PointList* image_V) {
+  const float base = top.cap_z_V - static_cast<float>(2.0 * config.top_band_m);
+  const float stretch = (cap_z_V - base) / (top.cap_z_V - base);
+  for (Eigen::Vector3f& p : *image_V) {
+    if (p.z() > base) p.z() = base + (p.z() - base) * stretch;
+  }
+}
+
+double MirrorLiftFromCarving(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
+                             const Eigen::Isometry3f& T_in_V, const ImageTop& top,
+                             const PointList& image_V) {
+  constexpr double kNoAnswer = std::numeric_limits<double>::quiet_NaN();
+  if (top.layer_points < config.min_cap_points) return kNoAnswer;
+  // The top layer, evenly thinned: a few hundred points tell a share of 1%.
+  constexpr int kMaxTested = 512;
+  const int stride = std::max(1, top.layer_points / kMaxTested);
+  PointList layer;
+  int seen = 0;
+  for (const Eigen::Vector3f& p : image_V) {
+    if (p.z() > top.layer_from_z_V && seen++ % stride == 0) layer.push_back(p);
+  }
+  const int steps = static_cast<int>(std::floor(config.max_mirror_lift_m / config.top_step_m + 1e-9));
+  PointList lifted;
+  for (int k = 0; k <= steps; ++k) {
+    const double lift = k * config.top_step_m;
+    lifted = layer;
+    StretchImageTop(top, top.cap_z_V + static_cast<float>(lift), config, &lifted);
+    if (SeenFreeShare(record, lifted, T_in_V) > config.max_cap_free_share) {
+      return std::max(0.0, (k - 1) * config.top_step_m - config.carve_onset_m);
+    }
+  }
+  return kNoAnswer;
 }
 
 int DropSeenFree(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
@@ -271,36 +371,7 @@ EvidenceTop CloseTopFromEvidence(const PointList& points_V, const PointList& exi
     return top;
   }
   const Ring ring = SampleOutline(hull, spacing_m);
-
-  // The free share of the outline at height z: ~constant along the
-  // observed wall (where the hull cuts across concave parts), jumping up
-  // once the rings pass the top and the grazing rays carve them.
-  const auto free_share = [&](double z) {
-    int n = 0;
-    for (const Eigen::Vector2d& r : ring) n += record.SeenFree(T_in_V * At(r, z));
-    return static_cast<double>(n) / static_cast<double>(ring.size());
-  };
-  // The baseline comes from well below the highest point and the search
-  // starts below it too: the TSDF's truncation band behind the wall spills
-  // up to ~3 mm over a top edge that rays pass over (sdf_trunc * sin of
-  // the view's elevation), leaving a phantom layer above the true top.
-  const double below = config.phantom_m;
-  double base = 0.0;
-  int rings = 0;
-  for (double z = z_wall - below - config.top_band_m; z <= z_wall - below + 1e-9;
-       z += config.top_step_m, ++rings) {
-    base += free_share(z);
-  }
-  base /= std::max(1, rings);
-  top.outcome = TopEvidence::kNotObservable;
-  for (double z = z_wall - below + config.top_step_m; z <= z_wall + config.top_search_m + 1e-9;
-       z += config.top_step_m) {
-    if (free_share(z) >= base + config.top_free_jump) {
-      top.outcome = TopEvidence::kHeightFound;
-      top.top_z_V = static_cast<float>(z - config.top_step_m);  // the highest ring not carved
-      break;
-    }
-  }
+  FindTopHeight(ring, z_wall, record, T_in_V, config, &top);
 
   // Candidates: the outline from the wall's top up to the top, then the cap.
   PointList candidates;

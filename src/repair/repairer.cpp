@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <chrono>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -167,59 +168,72 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
       report->rejected_in_claw += DropInsideClaw(record, T_in_V, &symmetry->added_V);
     }
   }
+  // The mirror closes low: the walls are seen only up to a few mm below
+  // the top, and the plane is the middle of what was seen. Its top 2 x
+  // top_band_m are stretched so that its cap (the median height of its top
+  // layer, not its highest point) rises to the top the rays give: first
+  // its own cap's, raised until they carve it.
+  PointList& m = symmetry->added_V;
+  const bool mirrored = symmetry->symmetric && !m.empty();
+  const double layer = 2.0 * spacing_m;
+  const ImageTop image_top = mirrored ? TopOfImage(m, layer) : ImageTop{};
+  std::optional<float> carved_top;
+  if (mirrored) {
+    const double lift = MirrorLiftFromCarving(record, config, T_in_V, image_top, m);
+    if (!std::isnan(lift)) carved_top = image_top.cap_z_V + static_cast<float>(lift);
+  }
   PointList existing = points_V;
   existing.insert(existing.end(), surface_V->begin(), surface_V->end());
   EvidenceTop top = CloseTopFromEvidence(points_V, existing, record, T_in_V, spacing_m, config);
+  // The rings' top stands when it is just under the carve (the hull is the
+  // top's outline); far under it, the hull is wider than the top, and over
+  // it the image would be carved.
+  const float carve_starts = carved_top ? *carved_top + static_cast<float>(config.carve_onset_m) : 0.0f;
+  if (carved_top && top.outcome == TopEvidence::kHeightFound && top.top_z_V <= carve_starts &&
+      top.top_z_V >= carve_starts - static_cast<float>(config.ring_trust_m)) {
+    carved_top.reset();
+  }
   report->top = TopEvidenceName(top.outcome);
   report->top_above_wall_m = top.top_z_V - top.wall_top_z_V;
-  if (symmetry->symmetric && !symmetry->added_V.empty()) {
-    PointList& m = symmetry->added_V;
-    float mirror_top = -std::numeric_limits<float>::infinity();
-    for (const Eigen::Vector3f& p : m) mirror_top = std::max(mirror_top, p.z());
-    if (top.outcome != TopEvidence::kHeightFound ||
-        mirror_top >= top.top_z_V - static_cast<float>(config.mirror_low_m)) {
-      return {};  // the mirror's top holds
+  if (mirrored) {
+    float cap_z = image_top.cap_z_V;
+    bool keep_evidence_top = false;
+    if (carved_top) {
+      // The image alone: the rings' points, at another outline, left a
+      // sparse second sheet (the e2e prism's mesh 1.45 mm from its cloud).
+      cap_z = *carved_top;
+    } else if (top.outcome == TopEvidence::kHeightFound &&
+               image_top.cap_z_V < top.top_z_V - static_cast<float>(config.mirror_low_m)) {
+      // Else the rings' top, when the image closes under it.
+      cap_z = top.top_z_V;
+      keep_evidence_top = true;
     }
-    // The mirror closes low: the walls are seen only up to a few mm below
-    // the top, and the plane is the middle of what was seen. The image's
-    // top 2 x top_band_m are stretched so that its cap (the median height
-    // of its top layer, not its highest point) lands on the evidence's
-    // top and its walls rise to it; the evidence's top keeps its points
-    // only where the image has none within 2 spacings (under the claw,
-    // past the image's outline). Cutting the image at the top band and
-    // adding the evidence's top left the image's cap 1-2 mm under the
-    // evidence's as a second layer wherever the phantom layer over the top
-    // edge raised the band (a cuboid: 7% of its cloud over 1.2 mm from its
-    // collision mesh).
-    const float layer = static_cast<float>(2.0 * spacing_m);
-    std::vector<float> cap_z;
-    for (const Eigen::Vector3f& p : m) {
-      if (p.z() > mirror_top - layer) cap_z.push_back(p.z());
+    if (cap_z > image_top.cap_z_V) {
+      StretchImageTop(image_top, cap_z, config, &m);
+      report->rejected_free += DropSeenFree(record, T_in_V, &m);
+      report->rejected_in_claw += DropInsideClaw(record, T_in_V, &m);
+      report->mirror_lift_m = cap_z - image_top.cap_z_V;
+      char text[112];
+      std::snprintf(text, sizeof(text), "; its top raised %.1f mm to where the rays %s",
+                    1000.0 * report->mirror_lift_m, carved_top ? "carve it" : "carve the top's outline");
+      symmetry->reason += text;
     }
-    std::nth_element(cap_z.begin(), cap_z.begin() + static_cast<long>(cap_z.size() / 2), cap_z.end());
-    const float cap = cap_z[cap_z.size() / 2];
-    const float base = cap - static_cast<float>(2.0 * config.top_band_m);
-    const float stretch = (top.top_z_V - base) / (cap - base);
-    for (Eigen::Vector3f& p : m) {
-      if (p.z() > base) p.z() = base + (p.z() - base) * stretch;
-    }
+    if (!keep_evidence_top) return {};  // the mirror's top holds
+    // The evidence's top keeps its points only where the image has none
+    // within 2 spacings (under the claw, past the image's outline).
+    // Cutting the image at the top band and adding the evidence's top
+    // instead left the image's cap 1-2 mm under the evidence's as a second
+    // layer wherever the phantom layer over the top edge raised the band
+    // (a cuboid: 7% of its cloud over 1.2 mm from its collision mesh).
     const NeighborIndex image(m);
     std::vector<int> near;
     PointList& t = top.added_V;
     t.erase(std::remove_if(t.begin(), t.end(),
                            [&](const Eigen::Vector3f& p) {
-                             image.Radius(p, layer, &near);
+                             image.Radius(p, static_cast<float>(layer), &near);
                              return !near.empty();
                            }),
             t.end());
-    report->rejected_free += DropSeenFree(record, T_in_V, &m);
-    report->rejected_in_claw += DropInsideClaw(record, T_in_V, &m);
-    report->mirror_lift_m = top.top_z_V - cap;
-    char text[112];
-    std::snprintf(text, sizeof(text),
-                  "; its top closed %.1f mm below the evidence's: stretched up to it",
-                  1000.0 * report->mirror_lift_m);
-    symmetry->reason += text;
   }
   report->top_points_added = static_cast<int>(top.added_V.size());
   report->rejected_free += top.rejected_free;
@@ -519,12 +533,20 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
     }
   }
   PointList surface_V;
+  std::vector<Eigen::AlignedBox3f> open_holes_V;  // the claw holes no surface fit explained
   {
     StepTimer t(&report, "claw_holes");
     index_V.emplace(points_V);
     if (!claw_holes.empty()) {
-      surface_V = RepairClawHoles(points_V, claw_holes, config.claw, nullptr, &*index_V,
-                                  &report.claw_holes_left_open);
+      std::vector<size_t> left_open;
+      surface_V = RepairClawHoles(points_V, claw_holes, config.claw, nullptr, &*index_V, &left_open);
+      report.claw_holes_left_open = static_cast<int>(left_open.size());
+      for (size_t k : left_open) {
+        Eigen::AlignedBox3f box;
+        box.setEmpty();
+        for (const Eigen::Vector3f& p : claw_holes[k].points_V) box.extend(p);
+        open_holes_V.push_back(box);
+      }
     }
   }
   // 8. The missing top by symmetry, from the observed and surface points.
@@ -533,7 +555,10 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
     StepTimer t(&report, "symmetry");
     if (missing) {
       // The claw fills first take the holes' dents out of the cross-sections.
-      symmetry = RepairMissingSurface(points_V, *missing, config.symmetry, &*index_V, &surface_V);
+      // A hole no fit explained (a finger's that opens into the top, two
+      // faces at once) is the mirror's to fill, as the top is.
+      symmetry = RepairMissingSurface(points_V, *missing, config.symmetry, &*index_V, &surface_V,
+                                      config.mode == RepairMode::kBest ? &open_holes_V : nullptr);
     } else {
       symmetry.reason = "no missing surface found";
     }

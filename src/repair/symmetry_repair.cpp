@@ -7,6 +7,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -329,7 +330,8 @@ void SymmetryConfig::Validate() const {
 
 SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundary& missing_surface,
                                     const SymmetryConfig& config, const NeighborIndex* index_V,
-                                    const PointList* added_before_V) {
+                                    const PointList* added_before_V,
+                                    const std::vector<Eigen::AlignedBox3f>* open_holes_V) {
   config.Validate();
   CheckFinite(points_V, "the cloud");
   CheckFinite(missing_surface.points_V, "the missing-surface boundary");
@@ -575,9 +577,35 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
   // The original points a mirrored one could overlap, on an xy grid of
   // cell `gap` over the box (a few cell lookups instead of a KD query).
   const GapGrid near(all, Eigen::AlignedBox3f(box_min - g, box_max + g), gap);
+  std::vector<Eigen::AlignedBox3f> open_boxes;  // padded as the top's box
+  std::vector<GapGrid> near_open;
+  if (open_holes_V != nullptr) {
+    for (const Eigen::AlignedBox3f& b : *open_holes_V) {
+      if (b.isEmpty()) continue;
+      const Eigen::Vector3f p3 = Eigen::Vector3f::Constant(pad);
+      open_boxes.emplace_back(b.min() - p3, b.max() + p3);
+      near_open.emplace_back(all, Eigen::AlignedBox3f(open_boxes.back().min() - g, open_boxes.back().max() + g),
+                             gap);
+    }
+  }
+  std::vector<size_t> in_open(open_boxes.size(), 0);
   for (const Eigen::Vector3f& p : all) {
     const Eigen::Vector3f q(p.x(), p.y(), static_cast<float>(2.0 * z_s - p.z()));
-    if (box.contains(q) && !near.AnyWithin(q)) result.added_V.push_back(q);
+    if (box.contains(q)) {
+      if (!near.AnyWithin(q)) result.added_V.push_back(q);
+      continue;
+    }
+    for (size_t k = 0; k < open_boxes.size(); ++k) {
+      if (open_boxes[k].contains(q)) {
+        if (!near_open[k].AnyWithin(q)) result.added_V.push_back(q), ++in_open[k];
+        break;
+      }
+    }
+  }
+  const size_t holes_filled = static_cast<size_t>(std::count_if(in_open.begin(), in_open.end(), [](size_t n) { return n > 0; }));
+  if (holes_filled > 0) {
+    how += "; the image also fills " + std::to_string(holes_filled) + " claw hole(s) no surface fit explained (" +
+           std::to_string(std::accumulate(in_open.begin(), in_open.end(), size_t{0})) + " points)";
   }
   result.symmetric = true;
   result.reason = how;

@@ -354,10 +354,10 @@ TEST(ClawHoleRepair, AHoleNoExplicitSurfaceExplainsIsLeftOpenUnlessPoissonIsAllo
     }
   }
   ASSERT_GT(ring.points_V.size(), 50u);
-  int left_open = -1;
+  std::vector<size_t> left_open(3, 7);  // cleared by the call
   const PointList open = RepairClawHoles(s.cloud.holey, {ring}, ClawRepairConfig{}, nullptr,
                                          nullptr, &left_open);
-  EXPECT_EQ(left_open, 1);
+  EXPECT_EQ(left_open, std::vector<size_t>{0});
   EXPECT_TRUE(open.empty());
   // Allowed, Poisson takes it (not counted open); it samples only where the
   // cloud has a gap, and this wall has none: anything it adds is on it.
@@ -365,7 +365,7 @@ TEST(ClawHoleRepair, AHoleNoExplicitSurfaceExplainsIsLeftOpenUnlessPoissonIsAllo
   with_poisson.poisson_fallback = true;
   const PointList filled = RepairClawHoles(s.cloud.holey, {ring}, with_poisson, nullptr, nullptr,
                                            &left_open);
-  EXPECT_EQ(left_open, 0);
+  EXPECT_TRUE(left_open.empty());
   if (!filled.empty()) {
     for (const double d : eval::NearestDistances(filled, s.dense_truth)) EXPECT_LT(d, kSurfaceTolM);
   }
@@ -384,16 +384,19 @@ TEST(ClawHoleRepair, AHoleWhoseSupportIsMostOfTheCloudIsNoFingersAndLeftOpen) {
       rim.source_indices.push_back(-1);
     }
   }
-  int left_open = -1;
-  EXPECT_TRUE(RepairClawHoles(s.cloud.holey, {rim}, ClawRepairConfig{}, nullptr, nullptr, &left_open)
+  std::vector<size_t> left_open;
+  // After a hole that is not a claw's: the index counts in the list given.
+  HoleBoundary top = rim;
+  top.kind = HoleKind::kMissingSurface;
+  EXPECT_TRUE(RepairClawHoles(s.cloud.holey, {top, rim}, ClawRepairConfig{}, nullptr, nullptr, &left_open)
                   .empty());
-  EXPECT_EQ(left_open, 1);
+  EXPECT_EQ(left_open, std::vector<size_t>{1});
   // Without the limit it is handed to the fits (and counted open only if
   // none explains it).
   ClawRepairConfig no_limit;
   no_limit.max_support_share = 1.0;
   RepairClawHoles(s.cloud.holey, {rim}, no_limit, nullptr, nullptr, &left_open);
-  EXPECT_EQ(left_open, 0);
+  EXPECT_TRUE(left_open.empty());
   ClawRepairConfig bad;
   bad.max_support_share = 0.0;
   EXPECT_THROW(bad.Validate(), std::invalid_argument);

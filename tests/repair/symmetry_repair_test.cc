@@ -298,6 +298,48 @@ TEST(SymmetryRepair, OpenClawHolesMoveThePlaneLittle) {
   }
 }
 
+// Claw holes no surface fit explained (passed as open) are the mirror's to
+// fill too: the image of the bottom lands in them, on the surface; without
+// their boxes they stay open.
+TEST(SymmetryRepair, OpenClawHolesAreFilledByTheImage) {
+  const Case c = ProtocolCase(Shape::kCuboid, 0.0, 3);
+  std::vector<Eigen::AlignedBox3f> open_V;
+  PointList in_holes;  // the true surface inside the holes' boxes, under the cut
+  for (const HoleBoundary& h : c.claw_holes) {
+    ASSERT_GT(h.points_V.size(), 20u);
+    Eigen::AlignedBox3f box;
+    box.setEmpty();
+    for (const Eigen::Vector3f& p : h.points_V) box.extend(p);
+    open_V.push_back(box);
+    for (const Eigen::Vector3f& p : c.dense_truth) {
+      if (box.contains(p) && p.z() <= c.top_z - 3 * c.d) in_holes.push_back(p);
+    }
+  }
+  ASSERT_GT(in_holes.size(), 1000u);
+  const NeighborIndex index(c.cloud);
+  const auto hole_cover = [&](const SymmetryResult& r) {
+    PointList repaired = c.cloud;
+    repaired.insert(repaired.end(), r.added_V.begin(), r.added_V.end());
+    return eval::FractionWithin(eval::NearestDistances(in_holes, repaired), kCoverD * c.d);
+  };
+  const SymmetryResult closed_top = RepairMissingSurface(c.cloud, c.top, SymmetryConfig{}, &index);
+  const SymmetryResult filled = RepairMissingSurface(c.cloud, c.top, SymmetryConfig{}, &index, nullptr, &open_V);
+  ASSERT_TRUE(filled.symmetric) << filled.reason;
+  std::printf("[sym] cuboid, 3 claw holes open: covered %.3f by the top's image alone, %.3f with the "
+              "holes' boxes (+%zu pts)\n      %s\n",
+              hole_cover(closed_top), hole_cover(filled), filled.added_V.size() - closed_top.added_V.size(),
+              filled.reason.c_str());
+  EXPECT_LT(hole_cover(closed_top), 0.5);
+  EXPECT_GE(hole_cover(filled), kCoverFraction);
+  EXPECT_NE(filled.reason.find("claw hole"), std::string::npos);
+  const MirrorStats st = Evaluate(c, filled.added_V);
+  EXPECT_GE(st.on_surface, kSurfaceFraction);
+  // An empty box changes nothing.
+  const std::vector<Eigen::AlignedBox3f> empty_box(1, Eigen::AlignedBox3f());
+  EXPECT_EQ(RepairMissingSurface(c.cloud, c.top, SymmetryConfig{}, &index, nullptr, &empty_box).added_V,
+            closed_top.added_V);
+}
+
 // The protocol's 8% band cut off a cylinder. The band's height cannot be
 // observed on a constant cross-section, so the plane is the middle of the
 // observed height (H/2 - cut/2, within "a few mm" of H/2: 5.6 mm here) and

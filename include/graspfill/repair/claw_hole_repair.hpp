@@ -172,9 +172,9 @@ struct ClawRepairConfig {
 ///        a claw holds).
 /// @param index_V optional neighbour index built over points_V (the same
 ///        vector object); built here when null.
-/// @param holes_left_open optional; receives how many holes were left open:
-///   support over `max_support_share`, or (kLocalFit) no explicit surface
-///   explains them and `poisson_fallback` is off.
+/// @param holes_left_open optional; receives the holes left open (indices
+///   into `claw_holes`): support over `max_support_share`, or (kLocalFit)
+///   no explicit surface explains them and `poisson_fallback` is off.
 /// @return the new points in V, hole after hole (empty if no holes).
 /// @throws std::invalid_argument on a bad config, non-finite coordinates,
 ///         normals of the wrong size or an index over another cloud.
@@ -182,6 +182,7 @@ PointList RepairClawHoles(const PointList& points_V,
                           const std::vector<HoleBoundary>& claw_holes,
                           const ClawRepairConfig& config,
                           const std::vector<Eigen::Vector3f>* normals_V = nullptr,
-                          const NeighborIndex* index_V = nullptr, int* holes_left_open = nullptr);
+                          const NeighborIndex* index_V = nullptr,
+                          std::vector<size_t>* holes_left_open = nullptr);
 
 }  // namespace graspfill::repair

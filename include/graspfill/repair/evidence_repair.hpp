@@ -69,8 +69,33 @@ struct EvidenceConfig {
   /// bowl) with its apex inside the outline; 0 = no dome [m].
   double dome_support_m{0.012};
   /// A mirrored top closing more than this below the evidence's top is
-  /// replaced by the evidence's (flat) top [m].
+  /// replaced by the evidence's (flat) top [m] (when the image's own cap
+  /// cannot be tested against the rays: see max_cap_free_share).
   double mirror_low_m{0.001};
+  /// The mirror image's cap (its top layer) is raised while at most this
+  /// share of it lies in seen-free space: the walls are seen only up to a
+  /// few mm below the top, so the image of the bottom closes 1-4 mm low,
+  /// and the rays that graze over the true top carve the cap once it
+  /// passes it. The image's own outline, unlike the top band's hull, keeps
+  /// a rounded edge's inset and ignores fins.
+  double max_cap_free_share{0.01};
+  /// The carve starts this far over the true top (a ray passing a point
+  /// carves it only when it measured something free_margin behind: just
+  /// over a face that is the face itself), so the cap lands this much
+  /// under the highest uncarved lift [m].
+  double carve_onset_m{0.0005};
+  /// The cap is raised at most this far; when no step up to it is carved
+  /// (no ray passes over the top) the evidence's ring top decides [m].
+  double max_mirror_lift_m{0.008};
+  /// The rings' top (on the top band's hull) is kept when it lies at most
+  /// this under the carved cap (+ carve_onset_m): hull and image outline
+  /// then agree, and the rings grazed from the side are the sharper test
+  /// (a can's cap carves up to 2 mm over its top). Farther under, the hull
+  /// is wider than the top (a rounded edge, fins) and the carve decides [m].
+  double ring_trust_m{0.0015};
+  /// The cap test needs at least this many points in the image's top
+  /// layer (a flat cap: ~1,000-4,000; a round top ~100).
+  int min_cap_points{50};
 
   /// Throws std::invalid_argument naming the bad field.
   void Validate() const;
@@ -102,6 +127,30 @@ struct EvidenceTop {
 /// `added_V` as it was, when no drop meets it.
 double LowerMirrorOutOfFree(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
                             const Eigen::Isometry3f& T_in_V, float floor_z_V, PointList* added_V);
+
+/// A mirror image's top: its highest point and its cap, the median height
+/// of its top layer (the points within `layer_m` under the height that 1%
+/// of the image exceeds, and those over it).
+struct ImageTop {
+  float highest_z_V{0.0f};
+  float layer_from_z_V{0.0f};  ///< the top layer: z above this
+  float cap_z_V{0.0f};
+  int layer_points{0};
+};
+ImageTop TopOfImage(const PointList& image_V, double layer_m);
+
+/// Raises the image's cap from `top.cap_z_V` to `cap_z_V`: its top
+/// 2 x top_band_m are stretched, so that its walls rise with the cap.
+void StretchImageTop(const ImageTop& top, float cap_z_V, const EvidenceConfig& config, PointList* image_V);
+
+/// How far the image's cap can rise before the rays carve it: the highest
+/// lift (steps of top_step_m) at which at most max_cap_free_share of the
+/// top layer is seen free, less carve_onset_m, at least 0. NaN when the
+/// test cannot tell: fewer than min_cap_points in the layer, or no lift up
+/// to max_mirror_lift_m carved.
+double MirrorLiftFromCarving(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
+                             const Eigen::Isometry3f& T_in_V, const ImageTop& top,
+                             const PointList& image_V);
 
 /// Share of `points_V` the record sees free (0 for an empty list).
 double SeenFreeShare(const evidence::VisibilityRecord& record, const PointList& points_V,

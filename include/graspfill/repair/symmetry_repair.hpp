@@ -59,8 +59,10 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "graspfill/repair/neighbor_index.hpp"
 #include "graspfill/repair/repair_types.hpp"
@@ -157,6 +159,10 @@ struct SymmetryResult {
 ///        mirroring). Pass them: they take the claw holes' dents out of the
 ///        cross-sections (the protocol's ellipsoid: plane 0.64 mm low
 ///        without them, 0.01 mm with).
+/// @param open_holes_V optional boxes (V) of claw holes that no surface fit
+///        explained (RepairClawHoles' left-open ones, e.g. a finger's hole
+///        that opens into the missing top): the mirror image fills them
+///        too, where it lands in them beside no original point.
 /// @return the mirrored points and the plane; on an empty cloud, a
 ///         boundary of fewer than 3 points or an implausible symmetry,
 ///         nothing added and the reason.
@@ -166,6 +172,7 @@ SymmetryResult RepairMissingSurface(const PointList& points_V,
                                     const HoleBoundary& missing_surface,
                                     const SymmetryConfig& config,
                                     const NeighborIndex* index_V = nullptr,
-                                    const PointList* added_before_V = nullptr);
+                                    const PointList* added_before_V = nullptr,
+                                    const std::vector<Eigen::AlignedBox3f>* open_holes_V = nullptr);
 
 }  // namespace graspfill::repair
