@@ -270,7 +270,7 @@ double MirrorLiftFromCarving(const evidence::VisibilityRecord& record, const Evi
   constexpr double kNoAnswer = std::numeric_limits<double>::quiet_NaN();
   if (top.layer_points < config.min_cap_points) return kNoAnswer;
   // The top layer, evenly thinned: a few hundred points tell a share of 1%.
-  constexpr int kMaxTested = 512;
+  constexpr int kMaxTested = 256;
   const int stride = std::max(1, top.layer_points / kMaxTested);
   PointList layer;
   int seen = 0;
