@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -82,6 +83,35 @@ TEST(Repairer, NonFiniteInputThrowsNamingThePoint) {
 // A protocol cylinder (object frame) with its true outward normals: the
 // input's normals come back unchanged, the added points get normals that
 // match the surface there and point out.
+// A bottle cut through its neck: no mirror (its widest section is low),
+// so the cloud-only repair closes it flat at the rim. That cap's normals
+// are the axis itself, not a neighbourhood's estimate.
+TEST(Repairer, AFlatCapsNormalsAreTheAxis) {
+  const Eigen::Vector3d size(0.07, 0.07, 0.2);
+  const synth::SurfaceSamples s = synth::SampleSurface(synth::MakeShape(synth::Shape::kBottle, size), 30000, 9);
+  ObjectCloud in;
+  for (size_t i = 0; i < s.points.size(); ++i) {
+    if (s.points[i].z() > 0.19f) continue;  // the top 10 mm of the neck cut off
+    in.points_G.push_back(s.points[i]);
+    in.normals_G.push_back(s.normals[i]);
+  }
+  RepairConfig config;
+  config.up_hint = Eigen::Vector3d::UnitZ();
+  const RepairResult r = Repair(in, config);
+  ASSERT_EQ(r.report.status, RepairStatus::kRepaired);
+  ASSERT_EQ(r.cloud.normals_G.size(), r.cloud.size());
+  ASSERT_EQ(r.report.evidence.top, "closed at the rim") << r.report.symmetry_reason;
+  float cap_z = -1.0f;
+  for (size_t i = in.size(); i < r.cloud.size(); ++i) cap_z = std::max(cap_z, r.cloud.points_G[i].z());
+  size_t on_cap = 0;
+  for (size_t i = in.size(); i < r.cloud.size(); ++i) {
+    if (r.cloud.points_G[i].z() < cap_z - 1e-6f) continue;
+    ++on_cap;
+    EXPECT_GT(r.cloud.normals_G[i].z(), 0.9999f) << r.cloud.normals_G[i].transpose();
+  }
+  EXPECT_GT(on_cap, 50u);
+}
+
 TEST(Repairer, KeepsInputNormalsAndEstimatesTheAddedOnes) {
   synth::PaperProtocolConfig pc;
   pc.shape = synth::Shape::kCylinder;
