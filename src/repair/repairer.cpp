@@ -540,10 +540,43 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
     }
   }
   PointList surface_V;
-  std::vector<Eigen::AlignedBox3f> open_holes_V;  // the claw holes no surface fit explained
+  std::vector<Eigen::AlignedBox3f> open_holes_V;  // holes no fit explained or no line took
   {
     StepTimer t(&report, "claw_holes");
     index_V.emplace(points_V);
+
+    // Boundary points in no line and not in the rim, in clusters: holes the
+    // linking missed (finger pads that open into the top, their sides
+    // never closed into a line). The mirror's to fill, as the open holes.
+    std::vector<char> taken(points_V.size(), 0);
+    for (const BoundaryLine& l : lines) {
+      for (int i : l.indices) taken[i] = 1;
+    }
+    if (missing) {
+      for (int i : missing->source_indices) {
+        if (i >= 0 && static_cast<size_t>(i) < taken.size()) taken[i] = 1;
+      }
+    }
+    std::vector<char> loose(points_V.size(), 0);
+    for (int i : boundary) loose[i] = !taken[i];
+    constexpr double kClusterRadiusM = 0.004;
+    constexpr size_t kMinClusterPoints = 20;
+    std::vector<int> queue, near;
+    for (int seed : boundary) {
+      if (!loose[seed]) continue;
+      loose[seed] = 0;
+      queue.assign(1, seed);
+      Eigen::AlignedBox3f box;
+      box.setEmpty();
+      for (size_t q = 0; q < queue.size(); ++q) {
+        box.extend(points_V[queue[q]]);
+        index_V->Radius(points_V[queue[q]], kClusterRadiusM, &near);
+        for (int j : near) {
+          if (loose[j]) loose[j] = 0, queue.push_back(j);
+        }
+      }
+      if (queue.size() >= kMinClusterPoints) open_holes_V.push_back(box);
+    }
     if (!claw_holes.empty()) {
       std::vector<size_t> left_open;
       surface_V = RepairClawHoles(points_V, claw_holes, config.claw, nullptr, &*index_V, &left_open);
@@ -563,7 +596,7 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
     if (missing) {
       // The claw fills first take the holes' dents out of the cross-sections.
       // A hole no fit explained (a finger's that opens into the top, two
-      // faces at once) is the mirror's to fill, as the top is.
+      // faces at once) or no line took is the mirror's to fill, as the top is.
       symmetry = RepairMissingSurface(points_V, *missing, config.symmetry, &*index_V, &surface_V,
                                       config.mode == RepairMode::kBest ? &open_holes_V : nullptr);
     } else {

@@ -159,10 +159,11 @@ struct SymmetryResult {
 ///        mirroring). Pass them: they take the claw holes' dents out of the
 ///        cross-sections (the protocol's ellipsoid: plane 0.64 mm low
 ///        without them, 0.01 mm with).
-/// @param open_holes_V optional boxes (V) of claw holes that no surface fit
-///        explained (RepairClawHoles' left-open ones, e.g. a finger's hole
-///        that opens into the missing top): the mirror image fills them
-///        too, where it lands in them beside no original point.
+/// @param open_holes_V optional boxes (V) of holes beside the top that no
+///        surface fit explained (RepairClawHoles' left-open ones) or that
+///        no boundary line took (clusters of loose boundary points: finger
+///        pads that open into the missing top): the mirror image fills
+///        them too, where it lands in them beside no original point.
 /// @return the mirrored points and the plane; on an empty cloud, a
 ///         boundary of fewer than 3 points or an implausible symmetry,
 ///         nothing added and the reason.
