@@ -237,7 +237,7 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
     PointList& t = top.added_V;
     t.erase(std::remove_if(t.begin(), t.end(),
                            [&](const Eigen::Vector3f& p) {
-                             image.Radius(p, static_cast<float>(layer), &near);
+                             image.Radius(p, layer, &near);
                              return !near.empty();
                            }),
             t.end());

@@ -91,9 +91,10 @@ struct EvidenceReport {
   /// How far the symmetry plane was lowered to take the mirror's top out of
   /// seen-free space (EvidenceConfig::max_plane_drop_m) [m].
   double mirror_plane_drop_m{0.0};
-  /// How far the mirror image's cap was raised to close at the evidence's
-  /// top (it closed more than EvidenceConfig::mirror_low_m below it; the
-  /// image's top band stretched) [m].
+  /// How far the mirror image's cap was raised, its top band stretched:
+  /// to where the rays carve it (EvidenceConfig::max_cap_free_share), or
+  /// to the rings' top when that decides and the cap closed more than
+  /// EvidenceConfig::mirror_low_m under it [m].
   double mirror_lift_m{0.0};
   /// Proposed points dropped as seen free, over all fills.
   int rejected_free{0};
