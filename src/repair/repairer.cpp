@@ -103,6 +103,46 @@ void AppendAddedNormals(size_t first_added, const std::vector<Eigen::Vector3f>& 
   }
 }
 
+// Boundary points in no line and not in the rim, in clusters of at least
+// 20 (4 mm apart at most): holes the linking missed (finger pads that open
+// into the top, their sides never closed into a line). Their boxes (V),
+// for the mirror to fill as it fills the claw holes no fit explained.
+std::vector<Eigen::AlignedBox3f> LooseBoundaryBoxes(const PointList& points_V, const std::vector<int>& boundary,
+                                                    const std::vector<BoundaryLine>& lines,
+                                                    const HoleBoundary* missing, const NeighborIndex& index_V) {
+  constexpr double kClusterRadiusM = 0.004;
+  constexpr size_t kMinClusterPoints = 20;
+  std::vector<char> taken(points_V.size(), 0);
+  for (const BoundaryLine& l : lines) {
+    for (int i : l.indices) taken[i] = 1;
+  }
+  if (missing) {
+    for (int i : missing->source_indices) {
+      if (i >= 0 && static_cast<size_t>(i) < taken.size()) taken[i] = 1;
+    }
+  }
+  std::vector<char> loose(points_V.size(), 0);
+  for (int i : boundary) loose[i] = !taken[i];
+  std::vector<Eigen::AlignedBox3f> boxes;
+  std::vector<int> queue, near;
+  for (int seed : boundary) {
+    if (!loose[seed]) continue;
+    loose[seed] = 0;
+    queue.assign(1, seed);
+    Eigen::AlignedBox3f box;
+    box.setEmpty();
+    for (size_t q = 0; q < queue.size(); ++q) {
+      box.extend(points_V[queue[q]]);
+      index_V.Radius(points_V[queue[q]], kClusterRadiusM, &near);
+      for (int j : near) {
+        if (loose[j]) loose[j] = 0, queue.push_back(j);
+      }
+    }
+    if (queue.size() >= kMinClusterPoints) boxes.push_back(box);
+  }
+  return boxes;
+}
+
 // Observed points tested to tell whether a record matches the cloud.
 constexpr size_t kRecordCheckPoints = 2000;
 
@@ -544,39 +584,7 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
   {
     StepTimer t(&report, "claw_holes");
     index_V.emplace(points_V);
-
-    // Boundary points in no line and not in the rim, in clusters: holes the
-    // linking missed (finger pads that open into the top, their sides
-    // never closed into a line). The mirror's to fill, as the open holes.
-    std::vector<char> taken(points_V.size(), 0);
-    for (const BoundaryLine& l : lines) {
-      for (int i : l.indices) taken[i] = 1;
-    }
-    if (missing) {
-      for (int i : missing->source_indices) {
-        if (i >= 0 && static_cast<size_t>(i) < taken.size()) taken[i] = 1;
-      }
-    }
-    std::vector<char> loose(points_V.size(), 0);
-    for (int i : boundary) loose[i] = !taken[i];
-    constexpr double kClusterRadiusM = 0.004;
-    constexpr size_t kMinClusterPoints = 20;
-    std::vector<int> queue, near;
-    for (int seed : boundary) {
-      if (!loose[seed]) continue;
-      loose[seed] = 0;
-      queue.assign(1, seed);
-      Eigen::AlignedBox3f box;
-      box.setEmpty();
-      for (size_t q = 0; q < queue.size(); ++q) {
-        box.extend(points_V[queue[q]]);
-        index_V->Radius(points_V[queue[q]], kClusterRadiusM, &near);
-        for (int j : near) {
-          if (loose[j]) loose[j] = 0, queue.push_back(j);
-        }
-      }
-      if (queue.size() >= kMinClusterPoints) open_holes_V.push_back(box);
-    }
+    open_holes_V = LooseBoundaryBoxes(points_V, boundary, lines, missing, *index_V);
     if (!claw_holes.empty()) {
       std::vector<size_t> left_open;
       surface_V = RepairClawHoles(points_V, claw_holes, config.claw, nullptr, &*index_V, &left_open);

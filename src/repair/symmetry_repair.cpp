@@ -602,7 +602,8 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
       }
     }
   }
-  const size_t holes_filled = static_cast<size_t>(std::count_if(in_open.begin(), in_open.end(), [](size_t n) { return n > 0; }));
+  const auto filled = [](size_t n) { return n > 0; };
+  const size_t holes_filled = static_cast<size_t>(std::count_if(in_open.begin(), in_open.end(), filled));
   if (holes_filled > 0) {
     how += "; the image also fills " + std::to_string(holes_filled) + " claw hole(s) no fit or line closed (" +
            std::to_string(std::accumulate(in_open.begin(), in_open.end(), size_t{0})) + " points)";
