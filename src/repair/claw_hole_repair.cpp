@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "hole_fill.hpp"
 #include "local_surfaces.hpp"
 #include "poisson_surface.hpp"
+#include "slab_profile.hpp"
 
 // Costs measured on the 2-core dev machine (Open3D 0.16.1, one thread,
 // other builds running, so wall times vary by up to 2x; protocol clouds):
@@ -220,6 +222,49 @@ bool FitSheets(const NeighborIndex& index, const std::vector<int>& support, cons
   return true;
 }
 
+// A hole whose rim's plane has a normal within 45 degrees of horizontal
+// is in a wall (V's z is up).
+constexpr double kMaxWallNormalZ = 0.7071;
+
+// The convex outline of the observed points around each height (slabs of
+// `slab_m`, built on first use). A wall's hole is filled by a surface that
+// bounds the object from the side: its samples deep inside the outline at
+// their height are not on that wall. A hole that opens into the missing
+// top takes part of the top's rim into its boundary, and its surface,
+// sampled over that rim's shadow, can cross under the top (the pudding
+// box at seed 16: a thin plate 3-9 mm under its top, 440 samples); a
+// sheet over a rounded box's wall can bend into it (the soft box at seed
+// 14, 60 frames: 127 samples).
+class ObservedOutlines {
+ public:
+  ObservedOutlines(const PointList& points_V, double slab_m) {
+    if (points_V.empty()) return;
+    float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+    for (const Eigen::Vector3f& p : points_V) lo = std::min(lo, p.z()), hi = std::max(hi, p.z());
+    const int count = static_cast<int>(std::floor((hi - lo) / slab_m)) + 1;
+    profile_.emplace(points_V, lo, slab_m, count);
+    hulls_.resize(static_cast<size_t>(count));
+    built_.assign(static_cast<size_t>(count), 0);
+  }
+  // Deeper than `depth_m` inside the outline at p's height; false where
+  // too few points give no outline.
+  bool Inside(const Eigen::Vector3f& p, double depth_m) {
+    const int k = profile_ ? profile_->SlabOf(p.z()) : -1;
+    if (k < 0) return false;
+    if (!built_[static_cast<size_t>(k)]) {
+      hulls_[static_cast<size_t>(k)] = profile_->Hull(k, kMinPoints);
+      built_[static_cast<size_t>(k)] = 1;
+    }
+    return DepthInsideConvex(hulls_[static_cast<size_t>(k)], p.head<2>().cast<double>()) > depth_m;
+  }
+
+ private:
+  static constexpr int kMinPoints = 20;
+  std::optional<SlabProfile> profile_;
+  std::vector<std::vector<Eigen::Vector2d>> hulls_;
+  std::vector<char> built_;
+};
+
 }  // namespace
 
 ClawRepairConfig ClawRepairConfig::Paper() {
@@ -229,6 +274,7 @@ ClawRepairConfig ClawRepairConfig::Paper() {
   config.poisson_depth = 6;
   config.poisson_scale = 4.0;
   config.max_support_share = 1.0;  // no such rule in the paper
+  config.max_inside_outline_m = 0.0;
   return config;
 }
 
@@ -238,6 +284,8 @@ void ClawRepairConfig::Validate() const {
   Require(exclude_top_band_m >= 0.0 && std::isfinite(exclude_top_band_m),
           p + "exclude_top_band_m must be >= 0");
   Require(min_support_points >= 3, p + "min_support_points must be >= 3");
+  Require(max_inside_outline_m >= 0.0 && std::isfinite(max_inside_outline_m),
+          p + "max_inside_outline_m must be >= 0");
   Require(max_support_share > 0.0 && max_support_share <= 1.0, p + "max_support_share must be in (0, 1]");
   Require(polynomial_degree >= 1 && polynomial_degree <= 5,
           p + "polynomial_degree must be in [1, 5]");
@@ -306,6 +354,8 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
   // fuzz_repair: a fill point ~1e33 m away).
   Box by_object = RobustBox(points_V);
   by_object = Box(by_object.min() - by_object.sizes(), by_object.max() + by_object.sizes());
+
+  std::optional<ObservedOutlines> outlines;  // built for the first hole in a wall
 
   std::unique_ptr<AddedPoints> earlier;  // the fills of the holes before
   for (size_t h = 0; h < holes.size(); ++h) {
@@ -421,8 +471,18 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
       region.hi.z() += n_pad;
       SampleMesh(*surface->mesh, frame, region, true, cos_max, nullptr, density, &rng, &gap, &fill);
     }
+    // Only a wall's samples: a horizontal face (a bottom) lies inside its
+    // own outline.
+    const bool in_wall =
+        config.max_inside_outline_m > 0.0 && std::abs(frame.n.z()) < kMaxWallNormalZ;
+    if (in_wall && !outlines) {
+      // Slabs of 2 D: a point lies within D of its slab's middle, so a
+      // wall leaning up to ~70 degrees stays within 3 mm of its outline.
+      outlines.emplace(points_V, std::max(2.0 * MeanNearestDistance(index, 256), 0.001));
+    }
     for (const Eigen::Vector3f& p : fill) {
       if (!by_object.contains(p)) continue;
+      if (in_wall && outlines->Inside(p, config.max_inside_outline_m)) continue;
       earlier->Add(p);
       out.push_back(p);
     }

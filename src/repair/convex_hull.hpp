@@ -1,9 +1,11 @@
-// The 2D convex hull both the virtual frame (the cloud's outline) and the
-// symmetry step (each slab's outline) need. Internal to src/repair.
+// The 2D convex hull the virtual frame (the cloud's outline), the symmetry
+// step, the claw-hole fills and the evidence's top (slab outlines) need,
+// and tests against it. Internal to src/repair.
 #pragma once
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <limits>
 #include <vector>
 
 namespace graspfill::repair {
@@ -34,6 +36,32 @@ inline std::vector<Eigen::Vector2d> ConvexHull2d(std::vector<Eigen::Vector2d>* p
   }
   hull.resize(k - 1);
   return hull;
+}
+
+/// How deep `p` lies inside the counter-clockwise convex polygon `hull`:
+/// its distance to the nearest edge's line, negative outside; -infinity
+/// for a hull of fewer than 3 points.
+inline double DepthInsideConvex(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& p) {
+  if (hull.size() < 3) return -std::numeric_limits<double>::infinity();
+  double depth = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < hull.size(); ++i) {
+    const Eigen::Vector2d& a = hull[i];
+    const Eigen::Vector2d edge = hull[(i + 1) % hull.size()] - a;
+    const double length = edge.norm();
+    if (!(length > 0.0)) continue;
+    depth = std::min(depth, (edge.x() * (p.y() - a.y()) - edge.y() * (p.x() - a.x())) / length);
+  }
+  return depth;
+}
+
+/// Inside the counter-clockwise convex polygon `hull`, or on it.
+inline bool InsideConvex(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& p) {
+  for (size_t i = 0; i < hull.size(); ++i) {
+    const Eigen::Vector2d& a = hull[i];
+    const Eigen::Vector2d& b = hull[(i + 1) % hull.size()];
+    if ((b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x()) < 0.0) return false;
+  }
+  return true;
 }
 
 }  // namespace graspfill::repair

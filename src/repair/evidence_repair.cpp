@@ -35,15 +35,6 @@ double Area(const Ring& polygon) {
   return 0.5 * std::abs(twice);
 }
 
-// Inside the counter-clockwise convex polygon `hull` (or on it).
-bool InsideConvex(const Ring& hull, const Eigen::Vector2d& p) {
-  for (size_t i = 0; i < hull.size(); ++i) {
-    const Eigen::Vector2d a = hull[i], b = hull[(i + 1) % hull.size()];
-    if ((b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x()) < 0.0) return false;
-  }
-  return true;
-}
-
 Eigen::Vector3f At(const Eigen::Vector2d& xy, double z) {
   return Eigen::Vector3f(static_cast<float>(xy.x()), static_cast<float>(xy.y()), static_cast<float>(z));
 }

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "convex_hull.hpp"
+#include "slab_profile.hpp"
 
 namespace graspfill::repair {
 namespace {
@@ -37,13 +37,6 @@ std::string Mm(double m) {
   char buf[32];
   std::snprintf(buf, sizeof(buf), "%.1f mm", m * 1e3);
   return buf;
-}
-
-// The outline of a slab: its hull, or nothing for fewer than 3 points.
-Polygon ConvexHull(std::vector<Point2>* pts) {
-  Polygon hull = ConvexHull2d(pts);
-  if (hull.size() < 3) hull.clear();
-  return hull;
 }
 
 Point2 AreaCentroid(const Polygon& poly) {
@@ -137,49 +130,6 @@ double OutlineMismatch(const Polygon& a, const Polygon& b) {
   return mean > 0.0 ? diff[kDirections / 2] / mean : 1.0;
 }
 
-// The cloud cut into K horizontal slabs of thickness h from z0 up.
-class SlabProfile {
- public:
-  SlabProfile(const PointList& points, double z0, double h, int count)
-      : points_(points), z0_(z0), h_(h), slabs_(count) {
-    for (size_t i = 0; i < points.size(); ++i) {
-      const double k = std::floor((points[i].z() - z0) / h);
-      if (k >= 0.0 && k < count) slabs_[static_cast<size_t>(k)].push_back(static_cast<int>(i));
-    }
-  }
-  int count() const { return static_cast<int>(slabs_.size()); }
-  double Centre(int k) const { return z0_ + (k + 0.5) * h_; }
-  // Convex hull (xOy) of the points with |z - zc| < h / 2; empty when fewer
-  // than `min_points` fall there.
-  Polygon HullAt(double zc, int min_points) const {
-    const int k0 = std::max(0, static_cast<int>(std::floor((zc - 0.5 * h_ - z0_) / h_)));
-    const int k1 = std::min(count() - 1, static_cast<int>(std::floor((zc + 0.5 * h_ - z0_) / h_)));
-    std::vector<Point2> pts;
-    for (int k = k0; k <= k1; ++k) {
-      for (int i : slabs_[k]) {
-        const Eigen::Vector3f& p = points_[i];
-        if (std::abs(p.z() - zc) < 0.5 * h_) pts.emplace_back(p.x(), p.y());
-      }
-    }
-    if (static_cast<int>(pts.size()) < min_points) return {};
-    // A thin-walled slab has all its points on the hull; 512 of them place
-    // its outline to ~r (1 - cos(pi / 512)), far below the sampling noise.
-    if (pts.size() > 1024) {
-      const size_t stride = pts.size() / 512;
-      size_t m = 0;
-      for (size_t i = 0; i < pts.size(); i += stride) pts[m++] = pts[i];
-      pts.resize(m);
-    }
-    return ConvexHull(&pts);
-  }
-  Polygon Hull(int k, int min_points) const { return HullAt(Centre(k), min_points); }
-
- private:
-  const PointList& points_;
-  double z0_, h_;
-  std::vector<std::vector<int>> slabs_;
-};
-
 // The points of a box, bucketed on an xy grid of cell `gap`, to ask "is
 // any within `gap` of q?" (q inside the box) in nine cell lookups instead
 // of a KD-tree query.
@@ -239,6 +189,46 @@ class GapGrid {
   std::vector<int> start_;
   PointList pts_;
 };
+
+// The size of every slab's outline (0: too few points) relative to the
+// outline at the median height, or the nearest slab with enough points;
+// false when no slab has enough. first/last: the slabs with a size.
+bool SectionSizes(const SlabProfile& profile, int median_slab, int min_points,
+                  std::vector<double>* size, int* first_valid, int* last_valid) {
+  const int slabs = profile.count();
+  std::vector<Polygon> hulls(slabs);
+  for (int k = 0; k < slabs; ++k) hulls[k] = profile.Hull(k, min_points);
+  int ref = -1;
+  for (int off = 0; off < slabs && ref < 0; ++off) {
+    if (median_slab + off < slabs && hulls[median_slab + off].size() >= 3) ref = median_slab + off;
+    else if (median_slab - off >= 0 && hulls[median_slab - off].size() >= 3) ref = median_slab - off;
+  }
+  if (ref < 0) return false;
+  const Support reference = SupportFunction(hulls[ref], AreaCentroid(hulls[ref]));
+  size->assign(slabs, 0.0);
+  *first_valid = *last_valid = -1;
+  for (int k = 0; k < slabs; ++k) {
+    (*size)[k] = SectionSize(hulls[k], reference);
+    if ((*size)[k] > 0.0) {
+      if (*first_valid < 0) *first_valid = k;
+      *last_valid = k;
+    }
+  }
+  return true;
+}
+
+// How many of the slabs with a size are within `tolerance` of their
+// median size (near), of how many (valid).
+void CountNearMedian(const std::vector<double>& size, double tolerance, int* near, int* valid) {
+  std::vector<double> sizes;
+  for (double v : size) if (v > 0.0) sizes.push_back(v);
+  *near = 0;
+  *valid = static_cast<int>(sizes.size());
+  if (sizes.empty()) return;
+  std::nth_element(sizes.begin(), sizes.begin() + static_cast<long>(sizes.size() / 2), sizes.end());
+  const double median_size = sizes[sizes.size() / 2];
+  for (double v : sizes) *near += std::abs(v - median_size) <= tolerance * median_size;
+}
 
 // The size profile (slab k centred at z0 + (k + 0.5) h; 0 = no data) at
 // height z, linearly interpolated; NaN outside the data.
@@ -398,25 +388,11 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
   const SlabProfile profile(all, z_min, h, slabs);
   const int median_slab =
       std::clamp(static_cast<int>(std::floor((z_median - z_min) / h)), 0, slabs - 1);
-  // Sizes relative to the outline at the median height (or the nearest
-  // slab with enough points).
-  std::vector<Polygon> hulls(slabs);
-  for (int k = 0; k < slabs; ++k) hulls[k] = profile.Hull(k, config.min_slab_points);
-  int ref = -1;
-  for (int off = 0; off < slabs && ref < 0; ++off) {
-    if (median_slab + off < slabs && hulls[median_slab + off].size() >= 3) ref = median_slab + off;
-    else if (median_slab - off >= 0 && hulls[median_slab - off].size() >= 3) ref = median_slab - off;
-  }
-  if (ref < 0) return NotSymmetric("no cross-section has enough points", kNaN);
-  const Support reference = SupportFunction(hulls[ref], AreaCentroid(hulls[ref]));
-  std::vector<double> size(slabs, 0.0);
+  std::vector<double> size;
   int first_valid = -1, last_valid = -1;
-  for (int k = 0; k < slabs; ++k) {
-    size[k] = SectionSize(hulls[k], reference);
-    if (size[k] > 0.0) {
-      if (first_valid < 0) first_valid = k;
-      last_valid = k;
-    }
+  if (!SectionSizes(profile, median_slab, config.min_slab_points, &size, &first_valid,
+                    &last_valid)) {
+    return NotSymmetric("no cross-section has enough points", kNaN);
   }
 
   double z_s = 0.0;
@@ -425,16 +401,24 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
   // median slab's size. The largest section can then be anywhere (a fused
   // cloud's claw fills bulge the top slabs by 15%), and the middle of the
   // observed height is the plane: the mirror closes the object at the rim.
+  // Asked of the observed points alone: a fill ~1 mm proud of a box's
+  // narrow face moves the outline's corners, so every direction (the
+  // pudding box at seed 15: the claw zone's sections 3-9% larger with the
+  // fills, a plane 35 mm too high), while a claw hole's dent is only in
+  // the directions it faces, which the median over them ignores.
   int near_median = 0, valid = 0;
-  {
-    std::vector<double> sizes;
-    for (double v : size) if (v > 0.0) sizes.push_back(v);
-    std::nth_element(sizes.begin(), sizes.begin() + static_cast<long>(sizes.size() / 2), sizes.end());
-    const double median_size = sizes[sizes.size() / 2];
-    for (double v : sizes) near_median += std::abs(v - median_size) <= config.plateau_tolerance * median_size;
-    valid = static_cast<int>(sizes.size());
+  if (merged.empty()) {
+    CountNearMedian(size, config.plateau_tolerance, &near_median, &valid);
+  } else {
+    std::vector<double> observed;
+    int first = -1, last = -1;
+    if (SectionSizes(SlabProfile(points_V, z_min, h, slabs), median_slab,
+                     config.min_slab_points, &observed, &first, &last)) {
+      CountNearMedian(observed, config.plateau_tolerance, &near_median, &valid);
+    }
   }
-  const bool prism_like = config.plateau_search && near_median >= config.prism_fraction * valid;
+  const bool prism_like =
+      config.plateau_search && valid > 0 && near_median >= config.prism_fraction * valid;
   bool constant_section = prism_like;
   if (prism_like) {
     z_s = 0.5 * (z_min + z_b);

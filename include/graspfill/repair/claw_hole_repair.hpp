@@ -80,6 +80,15 @@ struct ClawRepairConfig {
   /// took up to 5 s and drew 61k points for a 20k-point cloud (a can at
   /// 150 of 300 frames, `bench live`'s full repairs). 1 = no limit (paper).
   double max_support_share{0.5};
+  /// The fill of a hole in a wall (its rim's normal within 45 degrees of
+  /// horizontal) bounds the object from the side: its samples deeper than
+  /// this [m] inside the convex outline of the observed points at their
+  /// height (a slab 2 D thick) are inside the object and dropped (a hole
+  /// that opens into the top, sampled over the top rim's shadow, ran under
+  /// the top; a sheet over a rounded box bent into it). 3 mm: the zoo's
+  /// "wrong" distance; a wall leaning up to ~70 degrees keeps its own
+  /// samples. 0 = no test (paper).
+  double max_inside_outline_m{0.003};
 
   // --- kLocalFit ---
   /// Degree of the height fields (1 to 5). 4 follows a 7 cm cylinder's side

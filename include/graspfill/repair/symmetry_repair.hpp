@@ -19,8 +19,8 @@
 //
 // Symmetry plane: when at least `prism_fraction` of the slabs are within
 // `plateau_tolerance` of the median slab's size (a prism-like shape, even
-// with a few odd slabs by the claw holes), the middle of the observed
-// height. Otherwise the slabs within `plateau_tolerance` of the largest
+// with a few odd slabs by the claw holes; sizes of the observed points
+// alone), the middle of the observed height. Otherwise the slabs within `plateau_tolerance` of the largest
 // size form runs; the run nearest the median z (the paper starts there) is the
 // largest cross-section. z_s is then refined, within the run, to the
 // height about which the size profile is most symmetric (least squared
@@ -156,9 +156,11 @@ struct SymmetryResult {
 ///        vector object); built here when null. Only D is taken from it.
 /// @param added_before_V optional points added by earlier steps (step 7's
 ///        claw-hole fills), used like the cloud's (cross-sections, overlap,
-///        mirroring). Pass them: they take the claw holes' dents out of the
-///        cross-sections (the protocol's ellipsoid: plane 0.64 mm low
-///        without them, 0.01 mm with).
+///        mirroring), except in the constant-section test, which asks the
+///        observed points alone (fills ~1 mm proud of a box's narrow face
+///        widen its sections by 3-9%). Pass them: they take the claw
+///        holes' dents out of the cross-sections (the protocol's
+///        ellipsoid: plane 0.64 mm low without them, 0.01 mm with).
 /// @param open_holes_V optional boxes (V) of holes beside the top that no
 ///        surface fit explained (RepairClawHoles' left-open ones) or that
 ///        no boundary line took (clusters of loose boundary points: finger
