@@ -333,7 +333,9 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
   const NeighborIndex& index = *index_V;
   const Eigen::Vector3f centroid = Centroid(points_V);
   float max_z = -std::numeric_limits<float>::infinity();
-  for (const Eigen::Vector3f& p : points_V) max_z = std::max(max_z, p.z());
+  float min_z = std::numeric_limits<float>::infinity();
+  for (const Eigen::Vector3f& p : points_V) max_z = std::max(max_z, p.z()), min_z = std::min(min_z, p.z());
+  const float mid_z = 0.5f * (min_z + max_z);
   const float z_cut = config.exclude_top_band_m > 0.0
                           ? max_z - static_cast<float>(config.exclude_top_band_m)
                           : std::numeric_limits<float>::infinity();
@@ -355,7 +357,7 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
   Box by_object = RobustBox(points_V);
   by_object = Box(by_object.min() - by_object.sizes(), by_object.max() + by_object.sizes());
 
-  std::optional<ObservedOutlines> outlines;  // built for the first hole in a wall
+  std::optional<ObservedOutlines> outlines;  // built for the first hole tested
 
   std::unique_ptr<AddedPoints> earlier;  // the fills of the holes before
   for (size_t h = 0; h < holes.size(); ++h) {
@@ -471,18 +473,19 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
       region.hi.z() += n_pad;
       SampleMesh(*surface->mesh, frame, region, true, cos_max, nullptr, density, &rng, &gap, &fill);
     }
-    // Only a wall's samples: a horizontal face (a bottom) lies inside its
-    // own outline.
-    const bool in_wall =
-        config.max_inside_outline_m > 0.0 && std::abs(frame.n.z()) < kMaxWallNormalZ;
-    if (in_wall && !outlines) {
+    // A wall's samples, and those of any hole reaching the upper half (a
+    // round body's shoulder under the missing top); a horizontal face
+    // lower down (a bottom) lies inside its own outline.
+    const bool tested = config.max_inside_outline_m > 0.0 &&
+                        (std::abs(frame.n.z()) < kMaxWallNormalZ || box.max().z() > mid_z);
+    if (tested && !outlines) {
       // Slabs of 2 D: a point lies within D of its slab's middle, so a
       // wall leaning up to ~70 degrees stays within 3 mm of its outline.
       outlines.emplace(points_V, std::max(2.0 * MeanNearestDistance(index, 256), 0.001));
     }
     for (const Eigen::Vector3f& p : fill) {
       if (!by_object.contains(p)) continue;
-      if (in_wall && outlines->Inside(p, config.max_inside_outline_m)) continue;
+      if (tested && outlines->Inside(p, config.max_inside_outline_m)) continue;
       earlier->Add(p);
       out.push_back(p);
     }

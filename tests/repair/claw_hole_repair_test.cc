@@ -264,6 +264,35 @@ TEST(ClawHoleRepair, AWallsFillOnTheWallLosesNoSampleToTheOutlineTest) {
   }
 }
 
+// A bottom face lies inside its own outline: a hole there (its rim
+// horizontal, in the lower half) is not tested, and its fill stays.
+TEST(ClawHoleRepair, AHoleInTheBottomKeepsItsFill) {
+  Scene s = MakeScene(Shape::kCuboid, GraspWay::kTopStraight);
+  float bottom = std::numeric_limits<float>::infinity();
+  for (const Eigen::Vector3f& p : s.cloud.holey) bottom = std::min(bottom, p.z());
+  constexpr float kRadius = 0.012f;
+  PointList cloud;
+  HoleBoundary hole;
+  hole.kind = HoleKind::kClaw;
+  hole.closed = true;
+  size_t removed = 0;
+  for (const Eigen::Vector3f& p : s.cloud.holey) {
+    const float r = p.head<2>().norm();
+    if (p.z() < bottom + 1e-4f && r < kRadius) {
+      ++removed;
+      continue;
+    }
+    if (p.z() < bottom + 1e-4f && r < kRadius + 0.0015f) hole.points_V.push_back(p);
+    cloud.push_back(p);
+  }
+  ASSERT_GT(removed, 200u);
+  const NeighborIndex index(cloud);
+  const PointList added = RepairClawHoles(cloud, {hole}, ClawRepairConfig{}, nullptr, &index);
+  std::printf("[claw] bottom hole: %zu points removed, %zu added\n", removed, added.size());
+  EXPECT_GT(added.size(), removed / 2);
+  for (const Eigen::Vector3f& p : added) EXPECT_NEAR(p.z(), bottom, 0.001);
+}
+
 TEST(ClawHoleRepair, EveryProtocolShapeAndGraspIsFilled) {
   for (Shape shape : synth::AllShapes()) {
     for (GraspWay grasp :

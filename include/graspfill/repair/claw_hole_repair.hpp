@@ -81,13 +81,15 @@ struct ClawRepairConfig {
   /// 150 of 300 frames, `bench live`'s full repairs). 1 = no limit (paper).
   double max_support_share{0.5};
   /// The fill of a hole in a wall (its rim's normal within 45 degrees of
-  /// horizontal) bounds the object from the side: its samples deeper than
-  /// this [m] inside the convex outline of the observed points at their
-  /// height (a slab 2 D thick) are inside the object and dropped (a hole
-  /// that opens into the top, sampled over the top rim's shadow, ran under
-  /// the top; a sheet over a rounded box bent into it). 3 mm: the zoo's
-  /// "wrong" distance; a wall leaning up to ~70 degrees keeps its own
-  /// samples. 0 = no test (paper).
+  /// horizontal) or reaching the cloud's upper half: its samples deeper
+  /// than this [m] inside the convex outline of the observed points at
+  /// their height (a slab 2 D thick) are inside the object and dropped (a
+  /// hole that opens into the top, sampled over the top rim's shadow, ran
+  /// under the top; a sheet over a rounded box, or under a round top,
+  /// bent into it). A horizontal face lower down (a bottom) lies inside
+  /// its own outline: not tested. 3 mm: the zoo's "wrong" distance; a
+  /// wall leaning up to ~70 degrees keeps its own samples. 0 = no test
+  /// (paper).
   double max_inside_outline_m{0.003};
 
   // --- kLocalFit ---
