@@ -192,9 +192,11 @@ class GapGrid {
 
 // The size of every slab's outline (0: too few points) relative to the
 // outline at the median height, or the nearest slab with enough points;
-// false when no slab has enough. first/last: the slabs with a size.
+// false when no slab has enough. first/last (optional): the first and
+// last slabs with a size.
 bool SectionSizes(const SlabProfile& profile, int median_slab, int min_points,
-                  std::vector<double>* size, int* first_valid, int* last_valid) {
+                  std::vector<double>* size, int* first_valid = nullptr,
+                  int* last_valid = nullptr) {
   const int slabs = profile.count();
   std::vector<Polygon> hulls(slabs);
   for (int k = 0; k < slabs; ++k) hulls[k] = profile.Hull(k, min_points);
@@ -206,14 +208,16 @@ bool SectionSizes(const SlabProfile& profile, int median_slab, int min_points,
   if (ref < 0) return false;
   const Support reference = SupportFunction(hulls[ref], AreaCentroid(hulls[ref]));
   size->assign(slabs, 0.0);
-  *first_valid = *last_valid = -1;
+  int first = -1, last = -1;
   for (int k = 0; k < slabs; ++k) {
     (*size)[k] = SectionSize(hulls[k], reference);
     if ((*size)[k] > 0.0) {
-      if (*first_valid < 0) *first_valid = k;
-      *last_valid = k;
+      if (first < 0) first = k;
+      last = k;
     }
   }
+  if (first_valid != nullptr) *first_valid = first;
+  if (last_valid != nullptr) *last_valid = last;
   return true;
 }
 
@@ -411,9 +415,8 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
     CountNearMedian(size, config.plateau_tolerance, &near_median, &valid);
   } else {
     std::vector<double> observed;
-    int first = -1, last = -1;
     if (SectionSizes(SlabProfile(points_V, z_min, h, slabs), median_slab,
-                     config.min_slab_points, &observed, &first, &last)) {
+                     config.min_slab_points, &observed)) {
       CountNearMedian(observed, config.plateau_tolerance, &near_median, &valid);
     }
   }
