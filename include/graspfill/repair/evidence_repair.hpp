@@ -70,7 +70,9 @@ struct EvidenceConfig {
   double dome_support_m{0.012};
   /// A mirrored top closing more than this below the evidence's top is
   /// replaced by the evidence's (flat) top [m] (when the image's own cap
-  /// cannot be tested against the rays: see max_cap_free_share).
+  /// cannot be tested against the rays: see max_cap_free_share). Where
+  /// the rays confirm the rings' top (it lies within ring_trust_m under
+  /// the carve), the image rises to it from any depth, its points alone.
   double mirror_low_m{0.001};
   /// The mirror image's cap (its top layer) is raised while at most this
   /// share of it lies in seen-free space: the walls are seen only up to a
