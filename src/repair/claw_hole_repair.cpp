@@ -237,22 +237,18 @@ constexpr double kMaxWallNormalZ = 0.7071;
 // 14, 60 frames: 127 samples).
 class ObservedOutlines {
  public:
-  ObservedOutlines(const PointList& points_V, double slab_m) {
-    if (points_V.empty()) return;
-    float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-    for (const Eigen::Vector3f& p : points_V) lo = std::min(lo, p.z()), hi = std::max(hi, p.z());
-    const int count = static_cast<int>(std::floor((hi - lo) / slab_m)) + 1;
-    profile_.emplace(points_V, lo, slab_m, count);
-    hulls_.resize(static_cast<size_t>(count));
-    built_.assign(static_cast<size_t>(count), 0);
-  }
+  // Over the points' heights min_z..max_z.
+  ObservedOutlines(const PointList& points_V, float min_z, float max_z, double slab_m)
+      : profile_(points_V, min_z, slab_m, static_cast<int>(std::floor((max_z - min_z) / slab_m)) + 1),
+        hulls_(static_cast<size_t>(profile_.count())),
+        built_(static_cast<size_t>(profile_.count()), 0) {}
   // Deeper than `depth_m` inside the outline at p's height; false where
   // too few points give no outline.
   bool Inside(const Eigen::Vector3f& p, double depth_m) {
-    const int k = profile_ ? profile_->SlabOf(p.z()) : -1;
+    const int k = profile_.SlabOf(p.z());
     if (k < 0) return false;
     if (!built_[static_cast<size_t>(k)]) {
-      hulls_[static_cast<size_t>(k)] = profile_->Hull(k, kMinPoints);
+      hulls_[static_cast<size_t>(k)] = profile_.Hull(k, kMinPoints);
       built_[static_cast<size_t>(k)] = 1;
     }
     return DepthInsideConvex(hulls_[static_cast<size_t>(k)], p.head<2>().cast<double>()) > depth_m;
@@ -260,7 +256,7 @@ class ObservedOutlines {
 
  private:
   static constexpr int kMinPoints = 20;
-  std::optional<SlabProfile> profile_;
+  SlabProfile profile_;
   std::vector<std::vector<Eigen::Vector2d>> hulls_;
   std::vector<char> built_;
 };
@@ -481,7 +477,7 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
     if (tested && !outlines) {
       // Slabs of 2 D: a point lies within D of its slab's middle, so a
       // wall leaning up to ~70 degrees stays within 3 mm of its outline.
-      outlines.emplace(points_V, std::max(2.0 * MeanNearestDistance(index, 256), 0.001));
+      outlines.emplace(points_V, min_z, max_z, std::max(2.0 * MeanNearestDistance(index, 256), 0.001));
     }
     for (const Eigen::Vector3f& p : fill) {
       if (!by_object.contains(p)) continue;

@@ -93,8 +93,9 @@ struct EvidenceReport {
   double mirror_plane_drop_m{0.0};
   /// How far the mirror image's cap was raised, its top band stretched:
   /// to where the rays carve it (EvidenceConfig::max_cap_free_share), or
-  /// to the rings' top when that decides and the cap closed more than
-  /// EvidenceConfig::mirror_low_m under it [m].
+  /// to the rings' top when that decides: from any depth where the carve
+  /// confirms it (EvidenceConfig::ring_trust_m), else when the cap closed
+  /// more than EvidenceConfig::mirror_low_m under it [m].
   double mirror_lift_m{0.0};
   /// Proposed points dropped as seen free, over all fills.
   int rejected_free{0};

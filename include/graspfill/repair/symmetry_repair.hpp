@@ -20,8 +20,8 @@
 // Symmetry plane: when at least `prism_fraction` of the slabs are within
 // `plateau_tolerance` of the median slab's size (a prism-like shape, even
 // with a few odd slabs by the claw holes; sizes of the observed points
-// alone), the middle of the observed height. Otherwise the slabs within `plateau_tolerance` of the largest
-// size form runs; the run nearest the median z (the paper starts there) is the
+// alone), the middle of the observed height. Otherwise the slabs within
+// `plateau_tolerance` of the largest size form runs; the run nearest the median z (the paper starts there) is the
 // largest cross-section. z_s is then refined, within the run, to the
 // height about which the size profile is most symmetric (least squared
 // difference of the sizes at z_s + t and z_s - t): on a sphere or an
