@@ -247,12 +247,13 @@ ImageTop TopOfImage(const PointList& image_V, double layer_m) {
   return top;
 }
 
-void StretchImageTop(const ImageTop& top, float cap_z_V, const EvidenceConfig& config, PointList* image_V) {
+float StretchImageTop(const ImageTop& top, float cap_z_V, const EvidenceConfig& config, PointList* image_V) {
   const float base = top.cap_z_V - static_cast<float>(2.0 * config.top_band_m);
   const float stretch = (cap_z_V - base) / (top.cap_z_V - base);
   for (Eigen::Vector3f& p : *image_V) {
     if (p.z() > base) p.z() = base + (p.z() - base) * stretch;
   }
+  return base;
 }
 
 double MirrorLiftFromCarving(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
@@ -282,10 +283,12 @@ double MirrorLiftFromCarving(const evidence::VisibilityRecord& record, const Evi
 }
 
 int DropSeenFree(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                 PointList* points_V) {
+                 PointList* points_V, float above_z_V) {
   const size_t before = points_V->size();
   points_V->erase(std::remove_if(points_V->begin(), points_V->end(),
-                                 [&](const Eigen::Vector3f& p) { return record.SeenFree(T_in_V * p); }),
+                                 [&](const Eigen::Vector3f& p) {
+                                   return p.z() > above_z_V && record.SeenFree(T_in_V * p);
+                                 }),
                   points_V->end());
   return static_cast<int>(before - points_V->size());
 }
@@ -316,12 +319,13 @@ int PushOutOfClaw(const evidence::VisibilityRecord& record, const Eigen::Isometr
 }
 
 int DropInsideClaw(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                   PointList* points_V) {
+                   PointList* points_V, float above_z_V) {
   if (!record.has_claw()) return 0;
   const size_t before = points_V->size();
   points_V->erase(std::remove_if(points_V->begin(), points_V->end(),
                                  [&](const Eigen::Vector3f& p) {
-                                   return record.ExitClaw(T_in_V * p, Inward(T_in_V, p)).has_value();
+                                   return p.z() > above_z_V &&
+                                          record.ExitClaw(T_in_V * p, Inward(T_in_V, p)).has_value();
                                  }),
                   points_V->end());
   return static_cast<int>(before - points_V->size());

@@ -263,9 +263,10 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
       cap_z = top.top_z_V;
     }
     if (cap_z > image_top.cap_z_V) {
-      StretchImageTop(image_top, cap_z, config, &m);
-      report->rejected_free += DropSeenFree(record, T_in_V, &m);
-      report->rejected_in_claw += DropInsideClaw(record, T_in_V, &m);
+      // Only the stretched points moved; the rest passed both tests above.
+      const float moved_above = StretchImageTop(image_top, cap_z, config, &m);
+      report->rejected_free += DropSeenFree(record, T_in_V, &m, moved_above);
+      report->rejected_in_claw += DropInsideClaw(record, T_in_V, &m, moved_above);
       report->mirror_lift_m = cap_z - image_top.cap_z_V;
       char text[112];
       std::snprintf(text, sizeof(text), "; its top raised %.1f mm to where the rays %s",

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -143,7 +144,8 @@ ImageTop TopOfImage(const PointList& image_V, double layer_m);
 
 /// Raises the image's cap from `top.cap_z_V` to `cap_z_V`: its top
 /// 2 x top_band_m are stretched, so that its walls rise with the cap.
-void StretchImageTop(const ImageTop& top, float cap_z_V, const EvidenceConfig& config, PointList* image_V);
+/// Returns the height [m, V] above which points moved.
+float StretchImageTop(const ImageTop& top, float cap_z_V, const EvidenceConfig& config, PointList* image_V);
 
 /// How far the image's cap can rise before the rays carve it: the highest
 /// lift (steps of top_step_m) at which at most max_cap_free_share of the
@@ -158,9 +160,11 @@ double MirrorLiftFromCarving(const evidence::VisibilityRecord& record, const Evi
 double SeenFreeShare(const evidence::VisibilityRecord& record, const PointList& points_V,
                      const Eigen::Isometry3f& T_in_V);
 
-/// Removes the points the record sees free; returns how many.
+/// Removes the points the record sees free; returns how many. Only
+/// those above `above_z_V` are tested (the others passed before).
 int DropSeenFree(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                 PointList* points_V);
+                 PointList* points_V,
+                 float above_z_V = -std::numeric_limits<float>::infinity());
 
 /// Moves each point inside the record's claw to where the ray from it
 /// towards V's axis leaves the claw: a fill that bulged into a finger lands
@@ -168,9 +172,11 @@ int DropSeenFree(const evidence::VisibilityRecord& record, const Eigen::Isometry
 int PushOutOfClaw(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
                   PointList* points_V);
 
-/// Removes the points inside the record's claw; returns how many.
+/// Removes the points inside the record's claw; returns how many. Only
+/// those above `above_z_V` are tested (the others passed before).
 int DropInsideClaw(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                   PointList* points_V);
+                   PointList* points_V,
+                   float above_z_V = -std::numeric_limits<float>::infinity());
 
 /// Closes the top of the cloud (`points_V`: observed, +z up in V) at the
 /// height the evidence gives: a wall band on the top outline from the
