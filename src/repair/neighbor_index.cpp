@@ -40,6 +40,9 @@ struct NeighborIndex::Impl {
   // points a kilometre away do not coarsen the grid into one cell.
   Eigen::AlignedBox3f box;
   std::vector<int> far;  // indices of the points outside `box`
+  // Median distance to the 21st neighbour, measured when the grid is
+  // built (0: not measured): AllKnn's block must reach past it.
+  double typical_k_radius{0.0};
 
   // Grid over `box` with cubic cells of `cell` [m] (coarsened until the
   // grid has at most ~4 cells per point), points counting-sorted by cell.
@@ -140,6 +143,7 @@ NeighborIndex::NeighborIndex(const PointList& points)
     std::nth_element(radius.begin(), radius.begin() + static_cast<long>(radius.size() / 2),
                      radius.end());
     const double cell = 1.25 * radius[radius.size() / 2];
+    impl_->typical_k_radius = radius[radius.size() / 2];
     if (cell > 0.0 && cell < impl_->cell) impl_->Build(points, cell);
   }
 }
@@ -246,16 +250,23 @@ KnnTable NeighborIndex::AllKnn(int k) const {
   std::vector<Candidate> exact;
   std::vector<int> fallback_nn;
   std::vector<double> fallback_d2;
+  float guess = 0.0f;  // squared; 0: none yet
+  // The block around a cell: one cell each way, two where a typical k-th
+  // distance (scaled from the 21st's as on a surface) exceeds a cell, as
+  // on a sparse copy, which keeps the finer first grid: one cell each way
+  // sent up to 90% of its queries to Knn.
+  const double k_radius = g.typical_k_radius * std::sqrt(static_cast<double>(table.k) / 21.0);
+  const int reach = k_radius > g.cell ? 2 : 1;
   for (int z = 0; z < g.n[2]; ++z) {
     for (int y = 0; y < g.n[1]; ++y) {
       for (int x = 0; x < g.n[0]; ++x) {
         const int c = g.Flat(x, y, z);
         if (g.cell_start[c] == g.cell_start[c + 1]) continue;
         cx.clear(), cy.clear(), cz.clear(), cid.clear();
-        const int x0 = std::max(0, x - 1), x1 = std::min(g.n[0] - 1, x + 1);
-        for (int bz = std::max(0, z - 1); bz <= std::min(g.n[2] - 1, z + 1); ++bz) {
-          for (int by = std::max(0, y - 1); by <= std::min(g.n[1] - 1, y + 1); ++by) {
-            // Three cells along x are contiguous in `sorted`.
+        const int x0 = std::max(0, x - reach), x1 = std::min(g.n[0] - 1, x + reach);
+        for (int bz = std::max(0, z - reach); bz <= std::min(g.n[2] - 1, z + reach); ++bz) {
+          for (int by = std::max(0, y - reach); by <= std::min(g.n[1] - 1, y + reach); ++by) {
+            // A row of cells along x is contiguous in `sorted`.
             for (int m = g.cell_start[g.Flat(x0, by, bz)]; m < g.cell_start[g.Flat(x1, by, bz) + 1]; ++m) {
               cx.push_back(g.sorted[m].x());
               cy.push_back(g.sorted[m].y());
@@ -267,7 +278,6 @@ KnnTable NeighborIndex::AllKnn(int k) const {
         const size_t num = cid.size();
         dist.resize(num);
         const int centre[3] = {x, y, z};
-        float guess = 0.0f;  // squared; 0: none yet in this cell
         for (int j = g.cell_start[c]; j < g.cell_start[c + 1]; ++j) {
           const Eigen::Vector3f& qf = g.sorted[j];
           const int point = g.order[j];
@@ -277,47 +287,43 @@ KnnTable NeighborIndex::AllKnn(int k) const {
             const float dx = cx[m] - qf.x(), dy = cy[m] - qf.y(), dz = cz[m] - qf.z();
             dist[m] = dx * dx + dy * dy + dz * dz;
           }
-          // The k-th smallest float distance, with a margin for rounding.
-          // Selected among the candidates within a guess first (the last
-          // query's k-th distance x 1.1: neighbouring points have similar
-          // ones), which holds ~k of the ~100-200; all of them only when
-          // fewer than k fall within it. The same k-th either way.
-          float kth = std::numeric_limits<float>::infinity();
-          if (num >= want) {
-            scratch.resize(num);
-            size_t within = 0;
-            if (guess > 0.0f) {
-              for (size_t m = 0; m < num; ++m) {
-                scratch[within] = dist[m];
-                within += dist[m] <= guess ? 1 : 0;
+          // The k nearest, ranked exactly. First among the candidates
+          // within a guess (the last query's k-th distance x 1.1:
+          // neighbouring points have similar ones), ~k of the ~100-200:
+          // they hold the k nearest when the k-th of them lies clearly
+          // inside the guess (float rounding is ~1e-6 relative). Else among
+          // those within the k-th smallest float distance of all of them.
+          const Eigen::Vector3d q = qf.cast<double>();
+          const auto rank_within = [&](float limit_d2) {
+            exact.clear();
+            for (size_t m = 0; m < num; ++m) {
+              if (dist[m] <= limit_d2) {
+                const int slot = cid[m];
+                exact.emplace_back((g.sorted[slot].cast<double>() - q).squaredNorm(), g.order[slot]);
               }
             }
-            if (within < want) {
-              std::copy(dist.begin(), dist.end(), scratch.begin());
-              within = num;
+            std::sort(exact.begin(), exact.end());  // a few dozen: insertion sort
+          };
+          double kth = std::numeric_limits<double>::infinity();
+          if (num >= want) {
+            if (guess > 0.0f) rank_within(guess);
+            if (guess <= 0.0f || exact.size() < want ||
+                !(exact[want - 1].first * (1.0 + 1e-5) < static_cast<double>(guess))) {
+              scratch.assign(dist.begin(), dist.end());
+              std::nth_element(scratch.begin(), scratch.begin() + static_cast<long>(want - 1), scratch.end());
+              rank_within(scratch[want - 1] * (1.0f + 1e-5f) + 1e-30f);
             }
-            std::nth_element(scratch.begin(), scratch.begin() + static_cast<long>(want - 1),
-                             scratch.begin() + static_cast<long>(within));
-            guess = 1.21f * scratch[want - 1];
-            kth = scratch[want - 1] * (1.0f + 1e-5f) + 1e-30f;
+            kth = exact[want - 1].first;
+            guess = static_cast<float>(1.21 * kth);
           }
           // Exact only if nothing outside the block can be nearer.
-          const Eigen::Vector3d q = qf.cast<double>();
-          const double bound = std::min(g.Unsearched(centre, 1, q), g.FarBound(q));
+          const double bound = std::min(g.Unsearched(centre, reach, q), g.FarBound(q));
           if (!(std::isinf(bound) ? num >= want : kth < 0.999 * bound * bound)) {
             Knn(points_[static_cast<size_t>(point)], table.k, &fallback_nn, &fallback_d2);
             std::copy(fallback_nn.begin(), fallback_nn.end(), row);
             std::copy(fallback_d2.begin(), fallback_d2.end(), row_d2);
             continue;
           }
-          exact.clear();
-          for (size_t m = 0; m < num; ++m) {
-            if (dist[m] <= kth) {
-              const int slot = cid[m];
-              exact.emplace_back((g.sorted[slot].cast<double>() - q).squaredNorm(), g.order[slot]);
-            }
-          }
-          std::sort(exact.begin(), exact.end());  // ~k of them: insertion sort
           for (size_t m = 0; m < want; ++m) {
             row[m] = exact[m].second;
             row_d2[m] = exact[m].first;

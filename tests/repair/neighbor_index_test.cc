@@ -254,6 +254,44 @@ TEST(NeighborIndex, FarStrayPointsKeepResultsExactAndTheGridFine) {
   EXPECT_LT(stray_ms, 3.0 * clean_ms + 2.0);
 }
 
+// The analysis copy of a box: a 3 mm lattice on its faces. Its grid (one cell per point over the box) has cells smaller
+// than the distance to the 21st neighbour, so the table looks two cells
+// each way: it must still be exact, row for row the one Knn gives.
+TEST(NeighborIndex, TableOfASparseBoxSurfaceIsExact) {
+  PointList points;
+  const Eigen::Vector3f size(0.090f, 0.050f, 0.100f);
+  const float step = 0.003f;
+  for (int a = 0; a < 3; ++a) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    for (const float side : {0.0f, size[a]}) {
+      for (float u = 0.0f; u <= size[b] + 1e-6f; u += step) {
+        for (float v = 0.0f; v <= size[c] + 1e-6f; v += step) {
+          Eigen::Vector3f p;
+          p[a] = side, p[b] = u, p[c] = v;
+          points.push_back(p);
+        }
+      }
+    }
+  }
+  const NeighborIndex index(points);
+  const KnnTable table = index.AllKnn(21);
+  ASSERT_EQ(table.size(), points.size());
+  std::vector<int> nn;
+  std::vector<double> d2;
+  size_t mismatches = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    index.Knn(points[i], 21, &nn, &d2);
+    for (size_t j = 0; j < 21; ++j) {
+      mismatches += table.Row(i)[j] != nn[j] || table.RowDistances(i)[j] != d2[j];
+    }
+  }
+  EXPECT_EQ(mismatches, 0u);
+  for (size_t i = 0; i < points.size(); i += 101) {
+    const auto truth = BruteForce(points, points[i]);
+    for (size_t j = 0; j < 21; ++j) EXPECT_DOUBLE_EQ(table.RowDistances(i)[j], truth[j].first) << i;
+  }
+}
+
 // A cloud scaled to 1e-38 m: the grid's cell has no fixed floor (it was
 // 1e-7 m: every point in one cell).
 TEST(NeighborIndex, TinyScaleCloudIsAsCheapAsAnyOther) {
