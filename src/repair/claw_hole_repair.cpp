@@ -271,6 +271,7 @@ ClawRepairConfig ClawRepairConfig::Paper() {
   config.poisson_scale = 4.0;
   config.max_support_share = 1.0;  // no such rule in the paper
   config.max_inside_outline_m = 0.0;
+  config.max_inside_top_rim_m = 0.0;
   return config;
 }
 
@@ -282,6 +283,8 @@ void ClawRepairConfig::Validate() const {
   Require(min_support_points >= 3, p + "min_support_points must be >= 3");
   Require(max_inside_outline_m >= 0.0 && std::isfinite(max_inside_outline_m),
           p + "max_inside_outline_m must be >= 0");
+  Require(max_inside_top_rim_m >= 0.0 && std::isfinite(max_inside_top_rim_m),
+          p + "max_inside_top_rim_m must be >= 0");
   Require(max_support_share > 0.0 && max_support_share <= 1.0, p + "max_support_share must be in (0, 1]");
   Require(polynomial_degree >= 1 && polynomial_degree <= 5,
           p + "polynomial_degree must be in [1, 5]");
@@ -298,6 +301,32 @@ void ClawRepairConfig::Validate() const {
           p + "fill_density_factor must be in (0, 100]");
   Require(min_gap_d >= 0.0 && min_gap_d <= 100.0, p + "min_gap_d must be in [0, 100]");
   Require(box_pad_d >= 0.0 && box_pad_d <= 100.0, p + "box_pad_d must be in [0, 100]");
+}
+
+size_t DropFillsOnTheTop(const PointList& rim_V, double max_inside_m, PointList* fills_V) {
+  if (rim_V.size() < 3 || !(max_inside_m > 0.0)) return 0;
+  std::vector<Eigen::Vector2d> xy;
+  for (const Eigen::Vector3f& p : rim_V) xy.push_back(p.head<2>().cast<double>());
+  const std::vector<Eigen::Vector2d> outline = ConvexHull2d(&xy);
+  // The rim's highest point per 5 degrees around V's axis; a fill is
+  // compared with the highest within 15 degrees of it (a ragged rim).
+  constexpr int kBins = 72, kReach = 3;
+  const auto bin_of = [](const Eigen::Vector3f& p) {
+    const double a = std::atan2(static_cast<double>(p.y()), static_cast<double>(p.x())) + M_PI;
+    return std::clamp(static_cast<int>(a / (2.0 * M_PI) * kBins), 0, kBins - 1);
+  };
+  std::vector<float> top(kBins, -std::numeric_limits<float>::infinity());
+  for (const Eigen::Vector3f& p : rim_V) top[bin_of(p)] = std::max(top[bin_of(p)], p.z());
+  const size_t before = fills_V->size();
+  const auto on_top = [&](const Eigen::Vector3f& p) {
+    const int b = bin_of(p);
+    float rim_z = -std::numeric_limits<float>::infinity();
+    for (int k = -kReach; k <= kReach; ++k) rim_z = std::max(rim_z, top[(b + k + kBins) % kBins]);
+    return std::isfinite(rim_z) && p.z() > rim_z &&
+           DepthInsideConvex(outline, p.head<2>().cast<double>()) > max_inside_m;
+  };
+  fills_V->erase(std::remove_if(fills_V->begin(), fills_V->end(), on_top), fills_V->end());
+  return before - fills_V->size();
 }
 
 PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBoundary>& claw_holes,

@@ -596,6 +596,7 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
     if (!claw_holes.empty()) {
       std::vector<size_t> left_open;
       surface_V = RepairClawHoles(points_V, claw_holes, config.claw, nullptr, &*index_V, &left_open);
+      if (missing) DropFillsOnTheTop(missing->points_V, config.claw.max_inside_top_rim_m, &surface_V);
       report.claw_holes_left_open = static_cast<int>(left_open.size());
       for (size_t k : left_open) {
         Eigen::AlignedBox3f box;

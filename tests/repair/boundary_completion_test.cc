@@ -253,6 +253,25 @@ TEST(CompleteBoundaries, MiddleGraspLeavesClosedBoundaries) {
   EXPECT_TRUE(c.after[0].closed);
 }
 
+// A round top's rim seen over 158 degrees only (the zoo's ball at seed
+// 17): the gap's chord lies behind the axis and cannot bound the spline
+// there; taken for a lower bound it threw samples 0.3 m out.
+TEST(CompleteBoundaries, ARimSeenOverLessThanHalfATurnStaysNearIt) {
+  const double radius = 0.021;
+  const double seen = 158.0 * M_PI / 180.0;
+  HoleBoundary rim;
+  rim.kind = HoleKind::kMissingSurface;
+  rim.points_V = EllipseWithGaps(radius, radius, 0.07, 0.0003, {{M_PI, M_PI - 0.5 * seen}}, 9);
+  for (size_t i = 0; i < rim.points_V.size(); ++i) rim.source_indices.push_back(static_cast<int>(i));
+  ASSERT_GT(rim.points_V.size(), 40u);
+  std::vector<HoleBoundary> holes = {rim};
+  CompleteBoundaries(&holes, CompletionConfig());
+  ASSERT_GT(holes[0].points_V.size(), rim.points_V.size());
+  for (const Eigen::Vector3f& p : holes[0].points_V) {
+    EXPECT_LT(p.head<2>().norm(), 1.5 * radius) << p.transpose();
+  }
+}
+
 // No missing surface (or no usable curve): straight closures.
 TEST(CompleteBoundaries, WithoutACurveClosesStraight) {
   Completed c = CompleteCylinder(GraspWay::kTopStraight);

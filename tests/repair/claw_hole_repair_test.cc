@@ -166,6 +166,52 @@ TEST(ClawHoleRepair, DefaultsValidateAndBadValuesThrow) {
   c = {};
   c.max_inside_outline_m = -0.001;
   EXPECT_THROW(c.Validate(), std::invalid_argument);
+  c = {};
+  c.max_inside_top_rim_m = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(c.Validate(), std::invalid_argument);
+  EXPECT_EQ(ClawRepairConfig::Paper().max_inside_top_rim_m, 0.0);
+}
+
+// A 70 mm ball's top rim, 36 degrees from its pole and seen over three
+// quarters of its turn, tilted like a fused one's (its height varies by 2 mm around it).
+// Fills over the rim on the cap go; a wall rising past the rim, fills
+// under it, and a cap fill where no rim point is near stay.
+TEST(ClawHoleRepair, FillsOnTheTopAboveItsRimAreDropped) {
+  const double radius = 0.035, polar = 36.0 * M_PI / 180.0;
+  const auto on_sphere = [&](double polar_rad, double azimuth) {
+    return Eigen::Vector3f(static_cast<float>(radius * std::sin(polar_rad) * std::cos(azimuth)),
+                           static_cast<float>(radius * std::sin(polar_rad) * std::sin(azimuth)),
+                           static_cast<float>(radius * std::cos(polar_rad)));
+  };
+  PointList rim;
+  for (int k = 0; k < 91; ++k) {
+    const double azimuth = -0.75 * M_PI + 1.5 * M_PI * k / 90.0;  // three quarters
+    Eigen::Vector3f p = on_sphere(polar, azimuth);
+    p.z() += 0.001f * static_cast<float>(std::sin(azimuth));
+    rim.push_back(p);
+  }
+  const float rim_r = static_cast<float>(radius * std::sin(polar));
+  PointList fills, kept;
+  for (double a = -0.5; a <= 0.5; a += 0.1) {
+    for (double cap_deg = 15.0; cap_deg <= 31.0; cap_deg += 4.0) fills.push_back(on_sphere(cap_deg * M_PI / 180.0, a));
+    // A wall rising 2 mm past the rim, just outside and on the outline.
+    for (const float dz : {0.0005f, 0.001f, 0.002f}) {
+      kept.emplace_back(rim_r * static_cast<float>(std::cos(a)), rim_r * static_cast<float>(std::sin(a)),
+                        rim[45].z() + 0.0015f + dz);
+    }
+    // Under the rim, deep inside its outline.
+    kept.emplace_back(0.5f * rim_r * static_cast<float>(std::cos(a)), 0.5f * rim_r * static_cast<float>(std::sin(a)),
+                      rim[45].z() - 0.0015f);
+  }
+  // Inside the outline, but no rim point within 15 degrees of it.
+  kept.emplace_back(-0.003f, 0.0f, static_cast<float>(radius) - 0.001f);
+  const size_t cap_fills = fills.size();
+  fills.insert(fills.end(), kept.begin(), kept.end());
+  EXPECT_EQ(DropFillsOnTheTop(rim, 0.001, &fills), cap_fills);
+  EXPECT_EQ(fills, kept);
+  EXPECT_EQ(DropFillsOnTheTop(rim, 0.0, &fills), 0u);
+  EXPECT_EQ(DropFillsOnTheTop(PointList(rim.begin(), rim.begin() + 2), 0.001, &fills), 0u);
+  EXPECT_EQ(fills, kept);
 }
 
 TEST(ClawHoleRepair, BadInputThrowsAndEmptyInputIsANoOp) {

@@ -91,6 +91,15 @@ struct ClawRepairConfig {
   /// wall leaning up to ~70 degrees keeps its own samples. 0 = no test
   /// (paper).
   double max_inside_outline_m{0.003};
+  /// Fills above the missing top's rim (its highest point within 15
+  /// degrees around V's axis) and more than this [m] inside its convex
+  /// outline are on the top, which the top's repair closes: dropped by
+  /// DropFillsOnTheTop. A finger's hole that opens into a round top is
+  /// sampled over its rim's box, which reaches over the rim into the cap,
+  /// where a surface fitted to the side below sags (the ball at seed 17:
+  /// 60 samples 3-4 mm inside). A wall rising past the rim stays on the
+  /// outline. 0 = no test (paper).
+  double max_inside_top_rim_m{0.001};
 
   // --- kLocalFit ---
   /// Degree of the height fields (1 to 5). 4 follows a 7 cm cylinder's side
@@ -189,6 +198,12 @@ struct ClawRepairConfig {
 /// @return the new points in V, hole after hole (empty if no holes).
 /// @throws std::invalid_argument on a bad config, non-finite coordinates,
 ///         normals of the wrong size or an index over another cloud.
+/// Drops the `fills_V` that lie on the missing top (see
+/// ClawRepairConfig::max_inside_top_rim_m), the top's rim given as
+/// `rim_V`; returns how many. A no-op for a rim of fewer than 3 points or
+/// a depth of 0.
+size_t DropFillsOnTheTop(const PointList& rim_V, double max_inside_m, PointList* fills_V);
+
 PointList RepairClawHoles(const PointList& points_V,
                           const std::vector<HoleBoundary>& claw_holes,
                           const ClawRepairConfig& config,
