@@ -178,6 +178,9 @@ void EvidenceConfig::Validate() const {
   }
   if (!(ring_trust_m >= 0.0 && ring_trust_m < 0.05)) throw std::invalid_argument("EvidenceConfig: ring_trust_m must be in [0, 0.05) m");
   if (min_cap_points < 1) throw std::invalid_argument("EvidenceConfig: min_cap_points must be >= 1");
+  if (!(near_observed_m >= 0.0 && near_observed_m < 0.05)) {
+    throw std::invalid_argument("EvidenceConfig: near_observed_m must be in [0, 0.05) m");
+  }
   if (!(max_plane_drop_m >= 0.0 && max_plane_drop_m < 0.05)) {
     throw std::invalid_argument("EvidenceConfig: max_plane_drop_m must be in [0, 0.05) m");
   }
@@ -203,20 +206,35 @@ double SeenFreeShare(const evidence::VisibilityRecord& record, const PointList& 
 }
 
 double LowerMirrorOutOfFree(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
-                            const Eigen::Isometry3f& T_in_V, float floor_z_V, PointList* added_V) {
+                            const Eigen::Isometry3f& T_in_V, float floor_z_V, PointList* added_V,
+                            std::vector<char>* uncounted) {
+  if (uncounted != nullptr && uncounted->size() != added_V->size()) {
+    throw std::invalid_argument("LowerMirrorOutOfFree: one uncounted flag per point is needed");
+  }
   const int steps = static_cast<int>(std::floor(config.max_plane_drop_m / config.top_step_m + 1e-9));
   PointList lowered;
+  std::vector<char> lowered_uncounted;
   lowered.reserve(added_V->size());
   for (int k = 0; k <= steps; ++k) {
     const float drop = static_cast<float>(k * config.top_step_m);
     lowered.clear();
-    for (const Eigen::Vector3f& p : *added_V) {
+    lowered_uncounted.clear();
+    size_t counted = 0, free = 0;
+    for (size_t i = 0; i < added_V->size(); ++i) {
+      const Eigen::Vector3f& p = (*added_V)[i];
       const Eigen::Vector3f q(p.x(), p.y(), p.z() - 2.0f * drop);
-      if (k == 0 || q.z() >= floor_z_V) lowered.push_back(q);
+      if (k > 0 && q.z() < floor_z_V) continue;
+      lowered.push_back(q);
+      const char skip = uncounted != nullptr ? (*uncounted)[i] : 0;
+      lowered_uncounted.push_back(skip);
+      if (skip) continue;
+      ++counted;
+      free += record.SeenFree(T_in_V * q);
     }
-    if (lowered.empty()) break;
-    if (SeenFreeShare(record, lowered, T_in_V) <= config.max_mirror_free_share) {
+    if (counted == 0) break;
+    if (static_cast<double>(free) <= config.max_mirror_free_share * static_cast<double>(counted)) {
       added_V->swap(lowered);
+      if (uncounted != nullptr) uncounted->swap(lowered_uncounted);
       return drop;
     }
   }

@@ -180,24 +180,58 @@ const evidence::VisibilityRecord* UsableRecord(const ObjectCloud& input,
   return record;
 }
 
+// Per point of `image_V`: an observed point at least as high lies within
+// `radius_m` of it (beside a seen surface; a cap over the highest seen
+// points is not).
+std::vector<char> BesideObserved(const NeighborIndex& observed, double radius_m, const PointList& image_V) {
+  std::vector<char> beside(image_V.size(), 0);
+  if (!(radius_m > 0.0)) return beside;
+  std::vector<int> nn;
+  for (size_t i = 0; i < image_V.size(); ++i) {
+    observed.Radius(image_V[i], radius_m, &nn);
+    for (int j : nn) {
+      if (observed.points()[static_cast<size_t>(j)].z() >= image_V[i].z()) {
+        beside[i] = 1;
+        break;
+      }
+    }
+  }
+  return beside;
+}
+
 // The evidence's part of steps 7-8 (evidence_repair.hpp): fills in seen-
 // free space dropped, a contradicted mirror refused, and the top closed at
 // the height the rays give unless the mirror's top holds. Returns the top's
 // points (V) and sets *top_confidence.
 PointList ApplyEvidence(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
-                        const Eigen::Isometry3f& T_in_V, const PointList& points_V,
+                        const Eigen::Isometry3f& T_in_V, const NeighborIndex& index_V,
                         double spacing_m, PointList* surface_V, SymmetryResult* symmetry,
                         EvidenceReport* report, float* top_confidence) {
+  const PointList& points_V = index_V.points();
   report->rejected_free += DropSeenFree(record, T_in_V, surface_V);
   report->moved_out_of_claw += PushOutOfClaw(record, T_in_V, surface_V);
   report->mirror_free_share = std::numeric_limits<double>::quiet_NaN();
   if (symmetry->symmetric) {
-    report->mirror_free_share = SeenFreeShare(record, symmetry->added_V, T_in_V);
-    const double drop = LowerMirrorOutOfFree(record, config, T_in_V, symmetry->box_min_V.z(),
-                                             &symmetry->added_V);
+    // The image apart from its points beside the observed surface
+    // (EvidenceConfig::near_observed_m) answers for it.
+    PointList& m = symmetry->added_V;
+    std::vector<char> beside = BesideObserved(index_V, config.near_observed_m, m);
+    const auto counted_free_share = [&] {
+      size_t counted = 0, free = 0;
+      for (size_t i = 0; i < m.size(); ++i) {
+        if (beside[i]) continue;
+        ++counted;
+        free += record.SeenFree(T_in_V * m[i]);
+      }
+      return counted > 0 ? static_cast<double>(free) / static_cast<double>(counted) : 0.0;
+    };
+    report->mirror_free_share = counted_free_share();
+    const bool any_counted = std::find(beside.begin(), beside.end(), 0) != beside.end();
+    const double drop =
+        any_counted ? LowerMirrorOutOfFree(record, config, T_in_V, symmetry->box_min_V.z(), &m, &beside) : 0.0;
     if (drop > 0.0) {
       report->mirror_plane_drop_m = drop;
-      report->mirror_free_share = SeenFreeShare(record, symmetry->added_V, T_in_V);
+      report->mirror_free_share = counted_free_share();
       symmetry->symmetry_plane_z -= drop;
       char text[96];
       std::snprintf(text, sizeof(text), "; plane lowered %.2f mm: the mirror's top lay in seen-free space",
@@ -628,7 +662,7 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
   if (record) {
     StepTimer t(&report, "evidence");
     const double spacing_m = MeanNearestDistance(*index_V, config.symmetry.spacing_samples);
-    top_V = ApplyEvidence(*record, config.evidence, T_in_V, points_V, spacing_m, &surface_V,
+    top_V = ApplyEvidence(*record, config.evidence, T_in_V, *index_V, spacing_m, &surface_V,
                           &symmetry, &report.evidence, &top_confidence);
   }
   if (!record && config.mode == RepairMode::kBest && config.close_unknown_top && missing &&

@@ -86,7 +86,9 @@ struct EvidenceReport {
   /// Share of the observed points the record sees free (a matching
   /// record: < 1%).
   double observed_free_share{0.0};
-  /// Share of the mirror image in seen-free space (NaN when no mirror).
+  /// Share of the mirror image in seen-free space, of its points not
+  /// beside the observed ones (EvidenceConfig::near_observed_m), after any
+  /// lowering (NaN when no mirror).
   double mirror_free_share{0.0};
   /// How far the symmetry plane was lowered to take the mirror's top out of
   /// seen-free space (EvidenceConfig::max_plane_drop_m) [m].
