@@ -198,11 +198,14 @@ std::string TopEvidenceName(TopEvidence outcome) {
 }
 
 double SeenFreeShare(const evidence::VisibilityRecord& record, const PointList& points_V,
-                     const Eigen::Isometry3f& T_in_V) {
-  if (points_V.empty()) return 0.0;
-  size_t n = 0;
-  for (const Eigen::Vector3f& p : points_V) n += record.SeenFree(T_in_V * p);
-  return static_cast<double>(n) / static_cast<double>(points_V.size());
+                     const Eigen::Isometry3f& T_in_V, const std::vector<char>* uncounted) {
+  size_t counted = 0, free = 0;
+  for (size_t i = 0; i < points_V.size(); ++i) {
+    if (uncounted != nullptr && (*uncounted)[i]) continue;
+    ++counted;
+    free += record.SeenFree(T_in_V * points_V[i]);
+  }
+  return counted > 0 ? static_cast<double>(free) / static_cast<double>(counted) : 0.0;
 }
 
 double LowerMirrorOutOfFree(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
@@ -219,20 +222,15 @@ double LowerMirrorOutOfFree(const evidence::VisibilityRecord& record, const Evid
     const float drop = static_cast<float>(k * config.top_step_m);
     lowered.clear();
     lowered_uncounted.clear();
-    size_t counted = 0, free = 0;
     for (size_t i = 0; i < added_V->size(); ++i) {
       const Eigen::Vector3f& p = (*added_V)[i];
       const Eigen::Vector3f q(p.x(), p.y(), p.z() - 2.0f * drop);
       if (k > 0 && q.z() < floor_z_V) continue;
       lowered.push_back(q);
-      const char skip = uncounted != nullptr ? (*uncounted)[i] : 0;
-      lowered_uncounted.push_back(skip);
-      if (skip) continue;
-      ++counted;
-      free += record.SeenFree(T_in_V * q);
+      lowered_uncounted.push_back(uncounted != nullptr ? (*uncounted)[i] : 0);
     }
-    if (counted == 0) break;
-    if (static_cast<double>(free) <= config.max_mirror_free_share * static_cast<double>(counted)) {
+    if (std::find(lowered_uncounted.begin(), lowered_uncounted.end(), 0) == lowered_uncounted.end()) break;
+    if (SeenFreeShare(record, lowered, T_in_V, &lowered_uncounted) <= config.max_mirror_free_share) {
       added_V->swap(lowered);
       if (uncounted != nullptr) uncounted->swap(lowered_uncounted);
       return drop;

@@ -216,22 +216,13 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
     // (EvidenceConfig::near_observed_m) answers for it.
     PointList& m = symmetry->added_V;
     std::vector<char> beside = BesideObserved(index_V, config.near_observed_m, m);
-    const auto counted_free_share = [&] {
-      size_t counted = 0, free = 0;
-      for (size_t i = 0; i < m.size(); ++i) {
-        if (beside[i]) continue;
-        ++counted;
-        free += record.SeenFree(T_in_V * m[i]);
-      }
-      return counted > 0 ? static_cast<double>(free) / static_cast<double>(counted) : 0.0;
-    };
-    report->mirror_free_share = counted_free_share();
+    report->mirror_free_share = SeenFreeShare(record, m, T_in_V, &beside);
     const bool any_counted = std::find(beside.begin(), beside.end(), 0) != beside.end();
     const double drop =
         any_counted ? LowerMirrorOutOfFree(record, config, T_in_V, symmetry->box_min_V.z(), &m, &beside) : 0.0;
     if (drop > 0.0) {
       report->mirror_plane_drop_m = drop;
-      report->mirror_free_share = counted_free_share();
+      report->mirror_free_share = SeenFreeShare(record, m, T_in_V, &beside);
       symmetry->symmetry_plane_z -= drop;
       char text[96];
       std::snprintf(text, sizeof(text), "; plane lowered %.2f mm: the mirror's top lay in seen-free space",

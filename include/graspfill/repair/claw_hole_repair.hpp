@@ -198,17 +198,17 @@ struct ClawRepairConfig {
 /// @return the new points in V, hole after hole (empty if no holes).
 /// @throws std::invalid_argument on a bad config, non-finite coordinates,
 ///         normals of the wrong size or an index over another cloud.
-/// Drops the `fills_V` that lie on the missing top (see
-/// ClawRepairConfig::max_inside_top_rim_m), the top's rim given as
-/// `rim_V`; returns how many. A no-op for a rim of fewer than 3 points or
-/// a depth of 0.
-size_t DropFillsOnTheTop(const PointList& rim_V, double max_inside_m, PointList* fills_V);
-
 PointList RepairClawHoles(const PointList& points_V,
                           const std::vector<HoleBoundary>& claw_holes,
                           const ClawRepairConfig& config,
                           const std::vector<Eigen::Vector3f>* normals_V = nullptr,
                           const NeighborIndex* index_V = nullptr,
                           std::vector<size_t>* holes_left_open = nullptr);
+
+/// Drops the `fills_V` that lie on the missing top (see
+/// ClawRepairConfig::max_inside_top_rim_m), the top's rim given as
+/// `rim_V`; returns how many. A no-op for a rim of fewer than 3 points or
+/// a depth of 0.
+size_t DropFillsOnTheTop(const PointList& rim_V, double max_inside_m, PointList* fills_V);
 
 }  // namespace graspfill::repair

@@ -169,9 +169,10 @@ double MirrorLiftFromCarving(const evidence::VisibilityRecord& record, const Evi
                              const Eigen::Isometry3f& T_in_V, const ImageTop& top,
                              const PointList& image_V);
 
-/// Share of `points_V` the record sees free (0 for an empty list).
+/// Share of `points_V` the record sees free (0 for an empty list), of
+/// those not flagged in `uncounted` (one flag per point) if given.
 double SeenFreeShare(const evidence::VisibilityRecord& record, const PointList& points_V,
-                     const Eigen::Isometry3f& T_in_V);
+                     const Eigen::Isometry3f& T_in_V, const std::vector<char>* uncounted = nullptr);
 
 /// Removes the points the record sees free; returns how many. Only
 /// those above `above_z_V` are tested (the others passed before).
