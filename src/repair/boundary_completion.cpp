@@ -9,6 +9,8 @@
 #include <string>
 #include <utility>
 
+#include "circle_fit.hpp"
+
 namespace graspfill::repair {
 namespace {
 
@@ -281,8 +283,7 @@ std::optional<RimCurve> RimCurve::Fit(const PointList& points_in, const Completi
                 std::to_string(config.min_fit_points) + " needed");
   }
   // The axis: V's z-axis, unless the points do not surround it; then the
-  // centre of the circle fitted to them (Kasa's algebraic fit), which for
-  // an arc is its own centre, not a point in front of it.
+  // centre of the circle fitted to them.
   RimCurve curve;
   auto max_gap = [&points](const Eigen::Vector2d& c) {
     std::vector<double> a;
@@ -294,17 +295,11 @@ std::optional<RimCurve> RimCurve::Fit(const PointList& points_in, const Completi
   };
   double gap = max_gap(curve.axis_xy_);
   if (gap > M_PI) {
-    // x^2 + y^2 + D x + E y + F = 0 in least squares; centre (-D/2, -E/2).
-    Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d atb = Eigen::Vector3d::Zero();
-    for (const Eigen::Vector3f& p : points) {
-      const Eigen::Vector3d row(p.x(), p.y(), 1.0);
-      ata += row * row.transpose();
-      atb -= row * (static_cast<double>(p.x()) * p.x() + static_cast<double>(p.y()) * p.y());
-    }
-    const Eigen::Vector3d def = ata.ldlt().solve(atb);
-    if (!def.allFinite()) return fail("rim curve: no circle through the points");
-    curve.axis_xy_ = Eigen::Vector2d(-0.5 * def.x(), -0.5 * def.y());
+    CircleFit fit;
+    for (const Eigen::Vector3f& p : points) fit.Add(p.x(), p.y());
+    const std::optional<Eigen::Vector2d> centre = fit.Centre();
+    if (!centre) return fail("rim curve: no circle through the points");
+    curve.axis_xy_ = *centre;
     gap = max_gap(curve.axis_xy_);
   }
   if (kTwoPi - gap < config.min_coverage_rad) {

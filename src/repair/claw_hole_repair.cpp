@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "circle_fit.hpp"
 #include "gap_test.hpp"
 #include "hole_fill.hpp"
 #include "local_surfaces.hpp"
@@ -227,21 +228,59 @@ bool FitSheets(const NeighborIndex& index, const std::vector<int>& support, cons
 constexpr double kMaxWallNormalZ = 0.7071;
 
 // The convex outline of the observed points around each height (slabs of
-// `slab_m`, built on first use). A wall's hole is filled by a surface that
-// bounds the object from the side: its samples deep inside the outline at
-// their height are not on that wall. A hole that opens into the missing
-// top takes part of the top's rim into its boundary, and its surface,
-// sampled over that rim's shadow, can cross under the top (the pudding
-// box at seed 16: a thin plate 3-9 mm under its top, 440 samples); a
-// sheet over a rounded box's wall can bend into it (the soft box at seed
-// 14, 60 frames: 127 samples).
+// `slab_m`, built on first use), and their widest distance from the
+// slab's centre.
+// A wall's hole is filled by a surface that bounds the object from the
+// side: its samples deep inside the outline at their height are not on
+// that wall. A hole that opens into the missing top takes part of the
+// top's rim into its boundary, and its surface, sampled over that rim's
+// shadow, can cross under the top (the pudding box at seed 16: a thin
+// plate 3-9 mm under its top, 440 samples); a sheet over a rounded box's
+// wall can bend into it (the soft box at seed 14, 60 frames: 127
+// samples). Nor does it reach past the widest observed point
+// (ClawRepairConfig::max_outside_widest_m).
 class ObservedOutlines {
  public:
   // Over the points' heights min_z..max_z.
   ObservedOutlines(const PointList& points_V, float min_z, float max_z, double slab_m)
       : profile_(points_V, min_z, slab_m, static_cast<int>(std::floor((max_z - min_z) / slab_m)) + 1),
         hulls_(static_cast<size_t>(profile_.count())),
-        built_(static_cast<size_t>(profile_.count()), 0) {}
+        built_(static_cast<size_t>(profile_.count()), 0),
+        centres_(static_cast<size_t>(profile_.count()), Eigen::Vector2f::Zero()),
+        widest_(static_cast<size_t>(profile_.count()), 0.0f),
+        roundness_rms_(static_cast<size_t>(profile_.count()), 0.0f),
+        counts_(static_cast<size_t>(profile_.count()), 0) {
+    // Each slab's centre: its circle's, unless that lies past its widest
+    // point from V's axis (a flat face alone), then the axis. V's axis
+    // misses a bottle's neck by 2-3 mm (tilted by the body below it).
+    std::vector<CircleFit> fits(centres_.size());
+    std::vector<float> from_axis(centres_.size(), 0.0f);
+    for (const Eigen::Vector3f& p : points_V) {
+      const int k = profile_.SlabOf(p.z());
+      if (k < 0) continue;
+      fits[static_cast<size_t>(k)].Add(p.x(), p.y());
+      from_axis[static_cast<size_t>(k)] = std::max(from_axis[static_cast<size_t>(k)], p.head<2>().norm());
+      ++counts_[static_cast<size_t>(k)];
+    }
+    for (size_t k = 0; k < fits.size(); ++k) {
+      const std::optional<Eigen::Vector2d> c = fits[k].Centre();
+      if (c && c->norm() < from_axis[k]) centres_[k] = c->cast<float>();
+    }
+    std::vector<double> sum_r(centres_.size(), 0.0), sum_r2(centres_.size(), 0.0);
+    for (const Eigen::Vector3f& p : points_V) {
+      const int k = profile_.SlabOf(p.z());
+      if (k < 0) continue;
+      const float r = (p.head<2>() - centres_[static_cast<size_t>(k)]).norm();
+      widest_[static_cast<size_t>(k)] = std::max(widest_[static_cast<size_t>(k)], r);
+      sum_r[static_cast<size_t>(k)] += r;
+      sum_r2[static_cast<size_t>(k)] += static_cast<double>(r) * r;
+    }
+    for (size_t k = 0; k < centres_.size(); ++k) {
+      if (counts_[k] == 0) continue;
+      const double mean = sum_r[k] / counts_[k];
+      roundness_rms_[k] = static_cast<float>(std::sqrt(std::max(0.0, sum_r2[k] / counts_[k] - mean * mean)));
+    }
+  }
   // Deeper than `depth_m` inside the outline at p's height; false where
   // too few points give no outline.
   bool Inside(const Eigen::Vector3f& p, double depth_m) {
@@ -253,12 +292,29 @@ class ObservedOutlines {
     }
     return DepthInsideConvex(hulls_[static_cast<size_t>(k)], p.head<2>().cast<double>()) > depth_m;
   }
+  // Farther than `margin_m` from its slab's centre than every point of
+  // the slab, where they lie on a circle: a box's or an ellipse's widest
+  // points may be the ones the claw hides (the protocol's elliptic
+  // cylinder: 10% of its fills). An ellipse's distances from its centre
+  // have an RMS of ~(a - b) / 2.8 and its hidden extreme lies up to a - b
+  // past the widest seen point: within the margin where that RMS is under
+  // margin / 2.8. False where too few points lie there.
+  bool BeyondWidest(const Eigen::Vector3f& p, double margin_m) const {
+    const int k = profile_.SlabOf(p.z());
+    if (k < 0 || counts_[static_cast<size_t>(k)] < kMinPoints) return false;
+    const size_t s = static_cast<size_t>(k);
+    return roundness_rms_[s] <= margin_m / (2.0 * M_SQRT2) && (p.head<2>() - centres_[s]).norm() > widest_[s] + margin_m;
+  }
 
  private:
   static constexpr int kMinPoints = 20;
   SlabProfile profile_;
   std::vector<std::vector<Eigen::Vector2d>> hulls_;
   std::vector<char> built_;
+  std::vector<Eigen::Vector2f> centres_;
+  std::vector<float> widest_;         // from the centre [m]
+  std::vector<float> roundness_rms_;  // of the distances from the centre [m]
+  std::vector<int> counts_;
 };
 
 }  // namespace
@@ -271,6 +327,7 @@ ClawRepairConfig ClawRepairConfig::Paper() {
   config.poisson_scale = 4.0;
   config.max_support_share = 1.0;  // no such rule in the paper
   config.max_inside_outline_m = 0.0;
+  config.max_outside_widest_m = 0.0;
   config.max_inside_top_rim_m = 0.0;
   return config;
 }
@@ -283,6 +340,8 @@ void ClawRepairConfig::Validate() const {
   Require(min_support_points >= 3, p + "min_support_points must be >= 3");
   Require(max_inside_outline_m >= 0.0 && std::isfinite(max_inside_outline_m),
           p + "max_inside_outline_m must be >= 0");
+  Require(max_outside_widest_m >= 0.0 && std::isfinite(max_outside_widest_m),
+          p + "max_outside_widest_m must be >= 0");
   Require(max_inside_top_rim_m >= 0.0 && std::isfinite(max_inside_top_rim_m),
           p + "max_inside_top_rim_m must be >= 0");
   Require(max_support_share > 0.0 && max_support_share <= 1.0, p + "max_support_share must be in (0, 1]");
@@ -501,7 +560,7 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
     // A wall's samples, and those of any hole reaching the upper half (a
     // round body's shoulder under the missing top); a horizontal face
     // lower down (a bottom) lies inside its own outline.
-    const bool tested = config.max_inside_outline_m > 0.0 &&
+    const bool tested = (config.max_inside_outline_m > 0.0 || config.max_outside_widest_m > 0.0) &&
                         (std::abs(frame.n.z()) < kMaxWallNormalZ || box.max().z() > mid_z);
     if (tested && !outlines) {
       // Slabs of 2 D: a point lies within D of its slab's middle, so a
@@ -510,7 +569,10 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
     }
     for (const Eigen::Vector3f& p : fill) {
       if (!by_object.contains(p)) continue;
-      if (tested && outlines->Inside(p, config.max_inside_outline_m)) continue;
+      if (tested && config.max_inside_outline_m > 0.0 && outlines->Inside(p, config.max_inside_outline_m)) continue;
+      if (tested && config.max_outside_widest_m > 0.0 && outlines->BeyondWidest(p, config.max_outside_widest_m)) {
+        continue;
+      }
       earlier->Add(p);
       out.push_back(p);
     }

@@ -169,7 +169,11 @@ TEST(ClawHoleRepair, DefaultsValidateAndBadValuesThrow) {
   c = {};
   c.max_inside_top_rim_m = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(c.Validate(), std::invalid_argument);
+  c = {};
+  c.max_outside_widest_m = -0.001;
+  EXPECT_THROW(c.Validate(), std::invalid_argument);
   EXPECT_EQ(ClawRepairConfig::Paper().max_inside_top_rim_m, 0.0);
+  EXPECT_EQ(ClawRepairConfig::Paper().max_outside_widest_m, 0.0);
 }
 
 // A 70 mm ball's top rim, 36 degrees from its pole and seen over three
@@ -290,9 +294,12 @@ TEST(ClawHoleRepair, CuboidTopGraspHolesOpenIntoTheTopAreFilled) {
 // evidence_repair_test). A good fill lies on the outline, curved walls and
 // walls leaning towards the top included, and a hole whose boundary runs
 // on along the top's rim is still a wall's: none of their samples goes.
-TEST(ClawHoleRepair, AWallsFillOnTheWallLosesNoSampleToTheOutlineTest) {
+// Neither the outline's test nor the widest point's drops a sample that
+// is on the wall.
+TEST(ClawHoleRepair, AWallsFillOnTheWallLosesNoSampleToTheOutlineTests) {
   ClawRepairConfig untested;
   untested.max_inside_outline_m = 0.0;
+  untested.max_outside_widest_m = 0.0;
   for (Shape shape : synth::AllShapes()) {
     Scene s = MakeScene(shape, GraspWay::kTopStraight);
     if (shape == Shape::kCuboid) {

@@ -91,6 +91,15 @@ struct ClawRepairConfig {
   /// wall leaning up to ~70 degrees keeps its own samples. 0 = no test
   /// (paper).
   double max_inside_outline_m{0.003};
+  /// The same fills' samples farther than this [m] from V's axis than
+  /// every observed point at their height (the same slab) are outside the
+  /// object and dropped: a surface fitted over a hole whose rim climbs a
+  /// shoulder bulges out over a narrow neck (the bottle at seed 14: 100
+  /// samples 3-5 mm outside its 12 mm neck, 1-4 mm past its widest
+  /// observed point there). The widest point bounds any convex section
+  /// around the axis, wherever the hole is: unlike the outline, whose
+  /// chord across a wide hole cuts inside the object. 0 = no test (paper).
+  double max_outside_widest_m{0.002};
   /// Fills above the missing top's rim (its highest point within 15
   /// degrees around V's axis) and more than this [m] inside its convex
   /// outline are on the top, which the top's repair closes: dropped by
