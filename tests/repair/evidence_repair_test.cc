@@ -511,6 +511,19 @@ TEST(EvidenceRepair, AFillOverANarrowNeckStaysWithinItsWidestSeenPoint) {
   ExpectTargets(h);
 }
 
+// The zoo's tuna can (85 mm wide, 45 mm tall, parallel claw, top grasp),
+// seed 14, 90 frames: single rim points 3-5 mm over the rest, far from
+// the pads, hid three of the pads' four sides from the classification;
+// one pad became rim, the missing surface reached the can's bottom half,
+// the mirror was refused (86% of its image seen free) and both pads
+// stayed open (coverage 0.966).
+TEST(EvidenceRepair, BothPadsOfAShortCanAreFilled) {
+  const HeldOut h = RepairHeldOut(synth::Shape::kCylinder, Eigen::Vector3d(0.085, 0.085, 0.045),
+                                  synth::ClawType::kParallel, 90, 14, synth::GraspWay::kTopStraight);
+  EXPECT_TRUE(h.repaired.report.symmetric) << h.repaired.report.symmetry_reason;
+  ExpectTargets(h);
+}
+
 TEST(EvidenceRepair, TopWithoutOutlineAndBadConfig) {
   const Fused& can = Can();
   const EvidenceTop none = CloseTopFromEvidence({}, {}, can.record, Eigen::Isometry3f::Identity(), 0.001, {});
