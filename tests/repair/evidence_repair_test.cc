@@ -512,7 +512,7 @@ TEST(EvidenceRepair, AFillOverANarrowNeckStaysWithinItsWidestSeenPoint) {
 }
 
 // The zoo's tuna can (85 mm wide, 45 mm tall, parallel claw, top grasp),
-// seed 14, 90 frames: single rim points 3-5 mm over the rest, far from
+// seed 14, 90 frames: a few rim points 3-5 mm over the rest, far from
 // the pads, hid three of the pads' four sides from the classification;
 // one pad became rim, the missing surface reached the can's bottom half,
 // the mirror was refused (86% of its image seen free) and both pads
