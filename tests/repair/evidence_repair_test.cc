@@ -52,6 +52,7 @@ const Fused& Can() {
 RepairConfig InG() {
   RepairConfig config;
   config.up_hint = Eigen::Vector3d(0, 0, -1);  // in G the unseen top faces the palm
+  config.claw.max_fit_sigma_m = 0.001;  // as the live loop and the zoo (rt/module/cloud_repair.cpp)
   return config;
 }
 
