@@ -272,6 +272,56 @@ TEST(CompleteBoundaries, ARimSeenOverLessThanHalfATurnStaysNearIt) {
   }
 }
 
+// A finger pad's U-shaped boundary taken for the whole rim (the plum at
+// seed 14, 60 frames, in a trial classification that found no sides): 24
+// points over 35 degrees, their height 24-40 mm. The rim curve's plane,
+// fitted to them, tilted steeply and its samples reached 110 mm over
+// them. A curve that strays beyond its points' box grown by its size is
+// no rim: the boundary closes straight.
+TEST(CompleteBoundaries, ARimCurveNeverStraysFromItsPoints) {
+  const double u_mm[][3] = {
+      {25.1, 3.0, 39.9},
+      {25.1, 3.1, 39.7},
+      {26.1, 3.9, 36.6},
+      {26.0, 4.5, 35.6},
+      {26.9, 5.8, 31.4},
+      {26.7, 8.2, 28.9},
+      {26.4, 7.2, 27.8},
+      {26.7, 7.2, 25.8},
+      {27.3, 4.6, 25.7},
+      {27.7, 4.1, 25.7},
+      {28.2, 2.5, 25.6},
+      {28.0, 1.0, 25.6},
+      {27.8, -2.0, 24.2},
+      {27.0, -4.9, 25.9},
+      {26.3, -7.0, 26.0},
+      {25.9, -7.8, 26.1},
+      {25.9, -9.3, 26.1},
+      {25.1, -9.4, 29.3},
+      {25.4, -9.2, 31.1},
+      {25.7, -8.7, 32.3},
+      {26.0, -7.8, 33.7},
+      {26.1, -7.3, 33.7},
+      {25.1, -6.0, 36.2},
+      {25.3, -5.3, 36.9}};
+  HoleBoundary rim;
+  rim.kind = HoleKind::kMissingSurface;
+  Eigen::AlignedBox3f box;
+  box.setEmpty();
+  for (const auto& p : u_mm) {
+    rim.points_V.emplace_back(static_cast<float>(1e-3 * p[0]), static_cast<float>(1e-3 * p[1]),
+                              static_cast<float>(1e-3 * p[2]));
+    rim.source_indices.push_back(static_cast<int>(rim.source_indices.size()));
+    box.extend(rim.points_V.back());
+  }
+  const Eigen::Vector3f reach = Eigen::Vector3f::Constant(box.sizes().maxCoeff());
+  const Eigen::AlignedBox3f near(box.min() - reach, box.max() + reach);
+  std::vector<HoleBoundary> holes = {rim};
+  CompleteBoundaries(&holes, CompletionConfig());
+  EXPECT_TRUE(holes[0].closed);
+  for (const Eigen::Vector3f& p : holes[0].points_V) EXPECT_TRUE(near.contains(p)) << 1e3 * p.transpose();
+}
+
 // No missing surface (or no usable curve): straight closures.
 TEST(CompleteBoundaries, WithoutACurveClosesStraight) {
   Completed c = CompleteCylinder(GraspWay::kTopStraight);
