@@ -248,37 +248,32 @@ class ObservedOutlines {
         built_(static_cast<size_t>(profile_.count()), 0),
         centres_(static_cast<size_t>(profile_.count()), Eigen::Vector2f::Zero()),
         widest_(static_cast<size_t>(profile_.count()), 0.0f),
-        roundness_rms_(static_cast<size_t>(profile_.count()), 0.0f),
-        counts_(static_cast<size_t>(profile_.count()), 0) {
-    // Each slab's centre: its circle's, unless that lies past its widest
-    // point from V's axis (a flat face alone), then the axis. V's axis
-    // misses a bottle's neck by 2-3 mm (tilted by the body below it).
-    std::vector<CircleFit> fits(centres_.size());
-    std::vector<float> from_axis(centres_.size(), 0.0f);
-    for (const Eigen::Vector3f& p : points_V) {
-      const int k = profile_.SlabOf(p.z());
-      if (k < 0) continue;
-      fits[static_cast<size_t>(k)].Add(p.x(), p.y());
-      from_axis[static_cast<size_t>(k)] = std::max(from_axis[static_cast<size_t>(k)], p.head<2>().norm());
-      ++counts_[static_cast<size_t>(k)];
-    }
-    for (size_t k = 0; k < fits.size(); ++k) {
-      const std::optional<Eigen::Vector2d> c = fits[k].Centre();
-      if (c && c->norm() < from_axis[k]) centres_[k] = c->cast<float>();
-    }
-    std::vector<double> sum_r(centres_.size(), 0.0), sum_r2(centres_.size(), 0.0);
-    for (const Eigen::Vector3f& p : points_V) {
-      const int k = profile_.SlabOf(p.z());
-      if (k < 0) continue;
-      const float r = (p.head<2>() - centres_[static_cast<size_t>(k)]).norm();
-      widest_[static_cast<size_t>(k)] = std::max(widest_[static_cast<size_t>(k)], r);
-      sum_r[static_cast<size_t>(k)] += r;
-      sum_r2[static_cast<size_t>(k)] += static_cast<double>(r) * r;
-    }
-    for (size_t k = 0; k < centres_.size(); ++k) {
-      if (counts_[k] == 0) continue;
-      const double mean = sum_r[k] / counts_[k];
-      roundness_rms_[k] = static_cast<float>(std::sqrt(std::max(0.0, sum_r2[k] / counts_[k] - mean * mean)));
+        roundness_rms_(static_cast<size_t>(profile_.count()), 0.0f) {
+    for (int k = 0; k < profile_.count(); ++k) {
+      const std::vector<int>& slab = profile_.Indices(k);
+      if (slab.empty()) continue;
+      // The slab's centre: its circle's, unless that lies past its widest
+      // point from V's axis (a flat face alone), then the axis. V's axis
+      // misses a bottle's neck by 2-3 mm (tilted by the body below it).
+      CircleFit fit;
+      float from_axis = 0.0f;
+      for (int i : slab) {
+        const Eigen::Vector3f& p = points_V[static_cast<size_t>(i)];
+        fit.Add(p.x(), p.y());
+        from_axis = std::max(from_axis, p.head<2>().norm());
+      }
+      const size_t s = static_cast<size_t>(k);
+      const std::optional<Eigen::Vector2d> c = fit.Centre();
+      if (c && c->norm() < from_axis) centres_[s] = c->cast<float>();
+      double sum_r = 0.0, sum_r2 = 0.0;
+      for (int i : slab) {
+        const float r = (points_V[static_cast<size_t>(i)].head<2>() - centres_[s]).norm();
+        widest_[s] = std::max(widest_[s], r);
+        sum_r += r;
+        sum_r2 += static_cast<double>(r) * r;
+      }
+      const double mean = sum_r / static_cast<double>(slab.size());
+      roundness_rms_[s] = static_cast<float>(std::sqrt(std::max(0.0, sum_r2 / static_cast<double>(slab.size()) - mean * mean)));
     }
   }
   // Deeper than `depth_m` inside the outline at p's height; false where
@@ -301,7 +296,7 @@ class ObservedOutlines {
   // margin / 2.8. False where too few points lie there.
   bool BeyondWidest(const Eigen::Vector3f& p, double margin_m) const {
     const int k = profile_.SlabOf(p.z());
-    if (k < 0 || counts_[static_cast<size_t>(k)] < kMinPoints) return false;
+    if (k < 0 || static_cast<int>(profile_.Indices(k).size()) < kMinPoints) return false;
     const size_t s = static_cast<size_t>(k);
     return roundness_rms_[s] <= margin_m / (2.0 * M_SQRT2) && (p.head<2>() - centres_[s]).norm() > widest_[s] + margin_m;
   }
@@ -314,7 +309,6 @@ class ObservedOutlines {
   std::vector<Eigen::Vector2f> centres_;
   std::vector<float> widest_;         // from the centre [m]
   std::vector<float> roundness_rms_;  // of the distances from the centre [m]
-  std::vector<int> counts_;
 };
 
 }  // namespace

@@ -25,6 +25,8 @@ class SlabProfile {
     }
   }
   int count() const { return static_cast<int>(slabs_.size()); }
+  /// The indices (into the points) of slab k's points.
+  const std::vector<int>& Indices(int k) const { return slabs_[static_cast<size_t>(k)]; }
   double Centre(int k) const { return z0_ + (k + 0.5) * h_; }
   /// The slab holding height z, or -1 outside them all.
   int SlabOf(double z) const {

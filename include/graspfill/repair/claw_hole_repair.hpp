@@ -91,14 +91,17 @@ struct ClawRepairConfig {
   /// wall leaning up to ~70 degrees keeps its own samples. 0 = no test
   /// (paper).
   double max_inside_outline_m{0.003};
-  /// The same fills' samples farther than this [m] from V's axis than
-  /// every observed point at their height (the same slab) are outside the
-  /// object and dropped: a surface fitted over a hole whose rim climbs a
-  /// shoulder bulges out over a narrow neck (the bottle at seed 14: 100
-  /// samples 3-5 mm outside its 12 mm neck, 1-4 mm past its widest
-  /// observed point there). The widest point bounds any convex section
-  /// around the axis, wherever the hole is: unlike the outline, whose
-  /// chord across a wide hole cuts inside the object. 0 = no test (paper).
+  /// The same fills' samples farther than this [m] past the widest
+  /// observed point of their slab, measured from the slab's centre (the
+  /// centre of the circle fitted to its points), are outside the object
+  /// and dropped; only where the slab is round (the RMS of its points'
+  /// distances from the centre under this / 2.8: an ellipse's or a box's
+  /// widest points may be the ones the claw hides). A surface fitted over
+  /// a hole whose rim climbs a shoulder bulges out over a narrow neck (the
+  /// bottle at seed 14: 100 samples 3-5 mm outside its 24 mm neck, whose
+  /// axis V's misses by 2-3 mm). Unlike the outline's chord across a wide
+  /// hole, the widest point bounds a round section wherever the hole is.
+  /// 0 = no test (paper).
   double max_outside_widest_m{0.002};
   /// Fills above the missing top's rim (its highest point within 15
   /// degrees around V's axis) and more than this [m] inside its convex
