@@ -17,7 +17,7 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr float kMinZ = 0.01f;
 
 // Where `p_G` falls in key frame `k`: false if out of its rectangle.
-bool Project(const KeyFrame& k, const Eigen::Vector3f& p_G, size_t* index, float* z) {
+inline bool Project(const KeyFrame& k, const Eigen::Vector3f& p_G, size_t* index, float* z) {
   const Eigen::Vector3f p = k.T_C_G * p_G;
   if (!(p.z() > kMinZ)) return false;
   const CameraIntrinsics& K = k.intrinsics;
@@ -225,9 +225,10 @@ bool VisibilityRecord::SeenFree(const Eigen::Vector3f& p_G, float extra_m, bool 
                                 size_t* first_key_frame) const {
   const size_t n = key_frames_.size();
   const size_t first = first_key_frame && *first_key_frame < n ? *first_key_frame : 0;
-  for (size_t k = 0; k < n; ++k) {
-    const size_t f = (first + k) % n;
-    if (SeenFreeBy(f, p_G, extra_m, coarse)) {
+  // The repair asks this for every point it proposes, mostly of space no
+  // key frame saw free (all of them asked): no division in the walk.
+  for (size_t k = 0, f = first; k < n; ++k, f = f + 1 == n ? 0 : f + 1) {
+    if (FreeIn(*key_frames_[f], p_G, extra_m, coarse)) {
       if (first_key_frame) *first_key_frame = f;
       return true;
     }
@@ -237,7 +238,11 @@ bool VisibilityRecord::SeenFree(const Eigen::Vector3f& p_G, float extra_m, bool 
 
 bool VisibilityRecord::SeenFreeBy(size_t key_frame, const Eigen::Vector3f& p_G, float extra_m,
                                   bool coarse) const {
-  const KeyFrame& kf = *key_frames_.at(key_frame);
+  return FreeIn(*key_frames_.at(key_frame), p_G, extra_m, coarse);
+}
+
+bool VisibilityRecord::FreeIn(const KeyFrame& kf, const Eigen::Vector3f& p_G, float extra_m,
+                              bool coarse) const {
   size_t i = 0;
   float z = 0.0f;
   if (!Project(kf, p_G, &i, &z)) return false;

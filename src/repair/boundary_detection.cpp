@@ -194,14 +194,25 @@ std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const Boundary
     throw std::invalid_argument("DetectBoundaryPoints: the kNN table does not match the index");
   }
   const size_t count = candidates != nullptr ? candidates->size() : n;
+  // The candidates' first neighbours in one batch (same answers as a query
+  // each, a few times faster).
+  KnnTable candidate_table;
+  if (candidates != nullptr && table == nullptr) {
+    for (int i : *candidates) {
+      if (i < 0 || static_cast<size_t>(i) >= n) throw std::invalid_argument("DetectBoundaryPoints: candidate out of range");
+    }
+    candidate_table = index.KnnOf(*candidates, config.k + 1);
+  }
   for (size_t c = 0; c < count; ++c) {
     const size_t i = candidates != nullptr ? static_cast<size_t>((*candidates)[c]) : c;
     if (i >= n) throw std::invalid_argument("DetectBoundaryPoints: candidate out of range");
     const Eigen::Vector3f& p = points[i];
-    if (table != nullptr) {
-      const size_t cols = std::min(first_k, static_cast<size_t>(table->k));
-      nn.assign(table->Row(i), table->Row(i) + cols);
-      d2.assign(table->RowDistances(i), table->RowDistances(i) + cols);
+    if (table != nullptr || candidate_table.k > 0) {
+      const KnnTable& t = table != nullptr ? *table : candidate_table;
+      const size_t r = table != nullptr ? i : c;
+      const size_t cols = std::min(first_k, static_cast<size_t>(t.k));
+      nn.assign(t.Row(r), t.Row(r) + cols);
+      d2.assign(t.RowDistances(r), t.RowDistances(r) + cols);
     } else {
       index.Knn(p, config.k + 1, &nn, &d2);
     }

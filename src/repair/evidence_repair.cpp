@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "convex_hull.hpp"
@@ -39,16 +40,21 @@ Eigen::Vector3f At(const Eigen::Vector2d& xy, double z) {
   return Eigen::Vector3f(static_cast<float>(xy.x()), static_cast<float>(xy.y()), static_cast<float>(z));
 }
 
-// Keeps the candidates with no point of `index` within 0.75 spacing and
-// not seen free (counted in *rejected_free).
-PointList KeepNewAndUnseen(const PointList& candidates, const NeighborIndex& index, double spacing_m,
+// Keeps the candidates with no point of `observed` or `fills` (may be
+// null) within 0.75 spacing and not seen free (counted in *rejected_free).
+PointList KeepNewAndUnseen(const PointList& candidates, const NeighborIndex& observed,
+                           const NeighborIndex* fills, double spacing_m,
                            const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
                            int* rejected_free) {
   PointList kept;
   std::vector<int> near;
   for (const Eigen::Vector3f& c : candidates) {
-    index.Radius(c, 0.75 * spacing_m, &near);
+    observed.Radius(c, 0.75 * spacing_m, &near);
     if (!near.empty()) continue;
+    if (fills) {
+      fills->Radius(c, 0.75 * spacing_m, &near);
+      if (!near.empty()) continue;
+    }
     if (record.SeenFree(T_in_V * c)) {
       ++*rejected_free;
       continue;
@@ -347,11 +353,12 @@ int DropInsideClaw(const evidence::VisibilityRecord& record, const Eigen::Isomet
   return static_cast<int>(before - points_V->size());
 }
 
-EvidenceTop CloseTopFromEvidence(const PointList& points_V, const PointList& existing_V,
+EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointList& fills_V,
                                  const evidence::VisibilityRecord& record,
                                  const Eigen::Isometry3f& T_in_V, double spacing_m,
                                  const EvidenceConfig& config) {
   config.Validate();
+  const PointList& points_V = observed_V.points();
   EvidenceTop top;
   if (points_V.empty() || !(spacing_m > 0.0)) return top;
   float z_wall = -std::numeric_limits<float>::infinity();
@@ -369,14 +376,17 @@ EvidenceTop CloseTopFromEvidence(const PointList& points_V, const PointList& exi
     if (p.z() <= lower_top && p.z() >= lower_top - config.top_band_m) lower_band.emplace_back(p.x(), p.y());
   }
   const Ring lower = ConvexHull2d(&lower_band);
-  const NeighborIndex index(existing_V.empty() ? points_V : existing_V);
+  // The fills apart: the cloud's index is the caller's.
+  std::optional<NeighborIndex> fills;
+  if (!fills_V.empty()) fills.emplace(fills_V);
+  const NeighborIndex* fills_index = fills ? &*fills : nullptr;
   if (lower.size() >= 3 && Area(hull) < config.min_flat_area_ratio * Area(lower)) {
     top.outcome = TopEvidence::kTapered;
     if (config.dome_support_m > 0.0) {
       const PointList dome = DomeCandidates(points_V, z_wall, hull, spacing_m, config);
       if (!dome.empty()) {
         top.outcome = TopEvidence::kDome;
-        top.added_V = KeepNewAndUnseen(dome, index, spacing_m, record, T_in_V, &top.rejected_free);
+        top.added_V = KeepNewAndUnseen(dome, observed_V, fills_index, spacing_m, record, T_in_V, &top.rejected_free);
       }
     }
     return top;
@@ -397,7 +407,7 @@ EvidenceTop CloseTopFromEvidence(const PointList& points_V, const PointList& exi
       if (InsideConvex(hull, {x, y})) candidates.push_back(At({x, y}, top.top_z_V));
     }
   }
-  top.added_V = KeepNewAndUnseen(candidates, index, spacing_m, record, T_in_V, &top.rejected_free);
+  top.added_V = KeepNewAndUnseen(candidates, observed_V, fills_index, spacing_m, record, T_in_V, &top.rejected_free);
   return top;
 }
 

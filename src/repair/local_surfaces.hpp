@@ -62,11 +62,13 @@ struct HeightField {
   }
   // Whether the sheet vouches for a point it made (always).
   bool Holds(const Eigen::Vector3d&) const { return true; }
-  // Area element sqrt(1 + h_u^2 + h_v^2) of the height field at (u, v).
-  double AreaElement(double u, double v) const {
+  // Area element sqrt(1 + h_u^2 + h_v^2) of the height field at (u, v),
+  // and the height there (Point's) when asked.
+  double AreaElement(double u, double v, double* height = nullptr) const {
     BasisVec f, fu, fv;
     Basis(u, v, &f, &fu, &fv);
     const double hu = fu.dot(coeffs), hv = fv.dot(coeffs);
+    if (height) *height = f.dot(coeffs);
     return std::sqrt(1.0 + hu * hu + hv * hv);
   }
 };
@@ -218,9 +220,12 @@ struct ThinPlateSheet {
     const double top = column_top[static_cast<size_t>(fv) * nu + static_cast<size_t>(fu)];
     return std::isnan(top) || std::abs(l.z() - top) <= column_tol_m;
   }
-  double AreaElement(double u, double v) const {
+  // The area element at (u, v), and the height there when asked (one pass
+  // over the centres for both).
+  double AreaElement(double u, double v, double* height = nullptr) const {
     Eigen::Vector2d g;
-    Height(u, v, &g);
+    const double w = Height(u, v, &g);
+    if (height) *height = w;
     return std::sqrt(1.0 + g.squaredNorm());
   }
 };
@@ -266,8 +271,9 @@ void SampleHeightField(const Sheet& hf, const FillRegion& region, double density
   for (long i = 0; i < count; ++i) {
     const double u = u0 + (u1 - u0) * (*rng)();
     const double v = v0 + (v1 - v0) * (*rng)();
-    if ((*rng)() * j_max > hf.AreaElement(u, v)) continue;
-    Eigen::Vector3d q = hf.Point(u, v);
+    double w = 0.0;
+    if ((*rng)() * j_max > hf.AreaElement(u, v, &w)) continue;
+    Eigen::Vector3d q = hf.frame.World(u, v, w);  // hf.Point(u, v)
     if (!hf.Holds(q)) continue;
     if (snap != nullptr && !snap->Project(&q, max_snap_m)) continue;
     if (!region.InZ(q.z())) continue;

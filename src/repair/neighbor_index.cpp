@@ -135,7 +135,7 @@ NeighborIndex::NeighborIndex(const PointList& points)
     std::vector<int> nn;
     std::vector<double> d2;
     std::vector<double> radius;
-    const size_t stride = std::max<size_t>(1, points.size() / 256);
+    const size_t stride = std::max<size_t>(1, points.size() / 64);
     for (size_t i = 0; i < points.size(); i += stride) {
       Knn(points[i], kTypicalK, &nn, &d2);
       radius.push_back(std::sqrt(d2.back()));
@@ -234,14 +234,32 @@ void NeighborIndex::Knn(const Eigen::Vector3f& query, int k, std::vector<int>* i
   }
 }
 
-KnnTable NeighborIndex::AllKnn(int k) const {
+KnnTable NeighborIndex::AllKnn(int k) const { return Table(k, nullptr); }
+
+KnnTable NeighborIndex::KnnOf(const std::vector<int>& queries, int k) const {
+  std::vector<int> row_of(points_.size(), -1);
+  for (size_t r = 0; r < queries.size(); ++r) {
+    const int i = queries[r];
+    if (i < 0 || static_cast<size_t>(i) >= points_.size() || row_of[static_cast<size_t>(i)] >= 0) {
+      throw std::invalid_argument("NeighborIndex::KnnOf: a query is out of range or repeated");
+    }
+    row_of[static_cast<size_t>(i)] = static_cast<int>(r);
+  }
+  return Table(k, &row_of);
+}
+
+KnnTable NeighborIndex::Table(int k, const std::vector<int>* row_of) const {
   const Impl& g = *impl_;
   KnnTable table;
   table.k = std::max(0, std::min(k, static_cast<int>(points_.size())));
   if (table.k == 0) return table;
   const size_t want = static_cast<size_t>(table.k);
-  table.indices.resize(points_.size() * want);
-  table.squared_distances.resize(points_.size() * want);
+  // Point -> its row (-1: not asked); every point, in order, without `row_of`.
+  const auto row_at = [&](int point) { return row_of ? (*row_of)[static_cast<size_t>(point)] : point; };
+  size_t rows = points_.size();
+  if (row_of) rows = static_cast<size_t>(std::count_if(row_of->begin(), row_of->end(), [](int r) { return r >= 0; }));
+  table.indices.resize(rows * want);
+  table.squared_distances.resize(rows * want);
   // The candidates of one cell (its 3 x 3 x 3 block) as float columns, so
   // that the distances of a query to all of them vectorize; the few that
   // can be among the k nearest are then ranked exactly, in double.
@@ -262,6 +280,10 @@ KnnTable NeighborIndex::AllKnn(int k) const {
       for (int x = 0; x < g.n[0]; ++x) {
         const int c = g.Flat(x, y, z);
         if (g.cell_start[c] == g.cell_start[c + 1]) continue;
+        if (row_of && std::none_of(g.order.begin() + g.cell_start[c], g.order.begin() + g.cell_start[c + 1],
+                                   [&](int point) { return row_at(point) >= 0; })) {
+          continue;
+        }
         cx.clear(), cy.clear(), cz.clear(), cid.clear();
         const int x0 = std::max(0, x - reach), x1 = std::min(g.n[0] - 1, x + reach);
         for (int bz = std::max(0, z - reach); bz <= std::min(g.n[2] - 1, z + reach); ++bz) {
@@ -281,8 +303,10 @@ KnnTable NeighborIndex::AllKnn(int k) const {
         for (int j = g.cell_start[c]; j < g.cell_start[c + 1]; ++j) {
           const Eigen::Vector3f& qf = g.sorted[j];
           const int point = g.order[j];
-          int* row = table.indices.data() + static_cast<size_t>(point) * want;
-          double* row_d2 = table.squared_distances.data() + static_cast<size_t>(point) * want;
+          const int r = row_at(point);
+          if (r < 0) continue;
+          int* row = table.indices.data() + static_cast<size_t>(r) * want;
+          double* row_d2 = table.squared_distances.data() + static_cast<size_t>(r) * want;
           for (size_t m = 0; m < num; ++m) {
             const float dx = cx[m] - qf.x(), dy = cy[m] - qf.y(), dz = cz[m] - qf.z();
             dist[m] = dx * dx + dy * dy + dz * dz;
@@ -302,7 +326,13 @@ KnnTable NeighborIndex::AllKnn(int k) const {
                 exact.emplace_back((g.sorted[slot].cast<double>() - q).squaredNorm(), g.order[slot]);
               }
             }
-            std::sort(exact.begin(), exact.end());  // a few dozen: insertion sort
+            // Only the k nearest need an order (a few dozen of up to ~100).
+            if (exact.size() > want) {
+              std::nth_element(exact.begin(), exact.begin() + static_cast<long>(want - 1), exact.end());
+              std::sort(exact.begin(), exact.begin() + static_cast<long>(want));
+            } else {
+              std::sort(exact.begin(), exact.end());
+            }
           };
           double kth = std::numeric_limits<double>::infinity();
           if (num >= want) {
@@ -333,10 +363,12 @@ KnnTable NeighborIndex::AllKnn(int k) const {
     }
   }
   for (int point : g.far) {
+    const int r = row_at(point);
+    if (r < 0) continue;
     Knn(points_[static_cast<size_t>(point)], table.k, &fallback_nn, &fallback_d2);
-    std::copy(fallback_nn.begin(), fallback_nn.end(), table.indices.data() + static_cast<size_t>(point) * want);
+    std::copy(fallback_nn.begin(), fallback_nn.end(), table.indices.data() + static_cast<size_t>(r) * want);
     std::copy(fallback_d2.begin(), fallback_d2.end(),
-              table.squared_distances.data() + static_cast<size_t>(point) * want);
+              table.squared_distances.data() + static_cast<size_t>(r) * want);
   }
   return table;
 }
@@ -391,7 +423,9 @@ Eigen::AlignedBox3f RobustBox(const PointList& points) {
     }
     std::nth_element(values.begin(), values.begin() + static_cast<long>(lo_rank), values.end());
     const float lo = values[lo_rank];
-    std::nth_element(values.begin(), values.begin() + static_cast<long>(hi_rank), values.end());
+    // The high rank lies among those after the low one (partitioned above).
+    std::nth_element(values.begin() + static_cast<long>(lo_rank) + 1, values.begin() + static_cast<long>(hi_rank),
+                     values.end());
     const float hi = values[hi_rank];
     const double margin = 0.5 * (static_cast<double>(hi) - lo);
     box.min()[a] = std::max(box.min()[a], static_cast<float>(lo - margin));

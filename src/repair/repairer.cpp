@@ -77,8 +77,14 @@ void AppendAddedNormals(size_t first_added, const std::vector<Eigen::Vector3f>& 
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3f& p : points) centroid += p.cast<double>();
   centroid /= static_cast<double>(points.size());
-  std::optional<NeighborIndex> index;  // only when some normal is not known
-  std::vector<int> nn;
+  // The neighbours of the points whose normal is not known, in one batch.
+  std::vector<int> unknown;
+  for (size_t i = first_added; i < points.size(); ++i) {
+    if (known_G[i - first_added].isZero()) unknown.push_back(static_cast<int>(i));
+  }
+  KnnTable table;
+  if (!unknown.empty()) table = NeighborIndex(points).KnnOf(unknown, kNeighbors);
+  size_t row = 0;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
   for (size_t i = first_added; i < points.size(); ++i) {
     const Eigen::Vector3f& known = known_G[i - first_added];
@@ -86,14 +92,15 @@ void AppendAddedNormals(size_t first_added, const std::vector<Eigen::Vector3f>& 
       cloud->normals_G.push_back(known);
       continue;
     }
-    if (!index) index.emplace(points);
-    index->Knn(points[i], kNeighbors, &nn);
+    const int* nn = table.Row(row);
+    const int* nn_end = nn + table.k;
+    ++row;
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (int j : nn) mean += points[j].cast<double>();
-    mean /= static_cast<double>(nn.size());
+    for (const int* j = nn; j != nn_end; ++j) mean += points[*j].cast<double>();
+    mean /= static_cast<double>(table.k);
     Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-    for (int j : nn) {
-      const Eigen::Vector3d d = points[j].cast<double>() - mean;
+    for (const int* j = nn; j != nn_end; ++j) {
+      const Eigen::Vector3d d = points[*j].cast<double>() - mean;
       covariance += d * d.transpose();
     }
     solver.computeDirect(covariance);
@@ -207,7 +214,6 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
                         const Eigen::Isometry3f& T_in_V, const NeighborIndex& index_V,
                         double spacing_m, PointList* surface_V, SymmetryResult* symmetry,
                         EvidenceReport* report, float* top_confidence) {
-  const PointList& points_V = index_V.points();
   report->rejected_free += DropSeenFree(record, T_in_V, surface_V);
   report->moved_out_of_claw += PushOutOfClaw(record, T_in_V, surface_V);
   report->mirror_free_share = std::numeric_limits<double>::quiet_NaN();
@@ -254,9 +260,7 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
     const double lift = MirrorLiftFromCarving(record, config, T_in_V, image_top, m);
     if (!std::isnan(lift)) carved_top = image_top.cap_z_V + static_cast<float>(lift);
   }
-  PointList existing = points_V;
-  existing.insert(existing.end(), surface_V->begin(), surface_V->end());
-  EvidenceTop top = CloseTopFromEvidence(points_V, existing, record, T_in_V, spacing_m, config);
+  EvidenceTop top = CloseTopFromEvidence(index_V, *surface_V, record, T_in_V, spacing_m, config);
   // The rings' top stands when it is just under the carve (the hull is the
   // top's outline); far under it, the hull is wider than the top, and over
   // it the image would be carved.
@@ -662,10 +666,8 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
     // it sees (walls rising straight to it only) rather than leave it open.
     StepTimer t(&report, "rim_cap");
     static const evidence::VisibilityRecord kNothingSeen;
-    PointList existing = points_V;
-    existing.insert(existing.end(), surface_V.begin(), surface_V.end());
     EvidenceTop top = CloseTopFromEvidence(
-        points_V, existing, kNothingSeen, T_in_V,
+        *index_V, surface_V, kNothingSeen, T_in_V,
         MeanNearestDistance(*index_V, config.symmetry.spacing_samples), config.evidence);
     report.evidence.top = top.outcome == TopEvidence::kNotObservable ? "closed at the rim"
                                                                      : TopEvidenceName(top.outcome);

@@ -196,6 +196,45 @@ TEST(DetectBoundaryPoints, PaperCylinderRimsOnly) {
   EXPECT_GT(boundary.size(), 0.5 / spacing);
 }
 
+// Testing some points only (the candidates near a coarse copy's boundary)
+// answers for each as the full pass does: the same boundary points among
+// them, in their order, with the same gap directions and spacings.
+TEST(DetectBoundaryPoints, CandidatesAreAnsweredAsInTheFullPass) {
+  synth::PaperProtocolConfig protocol;
+  protocol.shape = synth::Shape::kCylinder;
+  const synth::PaperProtocolCloud cloud = synth::MakePaperProtocolCloud(protocol);
+  const NeighborIndex index(cloud.holey);
+  // Without the wider look too: then the first look alone decides.
+  for (const int confirm_k : {BoundaryConfig{}.confirm_k, 0}) {
+    BoundaryConfig config;
+    config.confirm_k = confirm_k;
+    std::vector<BoundaryPointInfo> full_info;
+    const std::vector<int> full = DetectBoundaryPoints(index, config, nullptr, &full_info);
+    ASSERT_GT(full.size(), 50u);
+    // Every third point, and every boundary point's successor.
+    std::vector<char> asked(cloud.holey.size(), 0);
+    for (size_t i = 0; i < asked.size(); i += 3) asked[i] = 1;
+    for (int b : full) asked[static_cast<size_t>(b + 1) % asked.size()] = 1;
+    std::vector<int> candidates;
+    for (size_t i = 0; i < asked.size(); ++i) {
+      if (asked[i]) candidates.push_back(static_cast<int>(i));
+    }
+    std::vector<BoundaryPointInfo> info;
+    const std::vector<int> some = DetectBoundaryPoints(index, config, nullptr, &info, nullptr, &candidates);
+    std::vector<int> expected;
+    std::vector<BoundaryPointInfo> expected_info;
+    for (size_t b = 0; b < full.size(); ++b) {
+      if (asked[static_cast<size_t>(full[b])]) expected.push_back(full[b]), expected_info.push_back(full_info[b]);
+    }
+    ASSERT_EQ(some, expected) << "confirm_k " << confirm_k;
+    ASSERT_EQ(info.size(), expected_info.size());
+    for (size_t b = 0; b < info.size(); ++b) {
+      EXPECT_EQ(info[b].gap_direction, expected_info[b].gap_direction) << b;
+      EXPECT_EQ(info[b].spacing_m, expected_info[b].spacing_m) << b;
+    }
+  }
+}
+
 TEST(DetectBoundaryPoints, DegenerateNeighbourhoods) {
   // All points coincide: no plane, no boundary, zero normals.
   const PointList same(30, Eigen::Vector3f(0.1f, 0.2f, 0.3f));

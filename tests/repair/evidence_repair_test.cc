@@ -290,8 +290,8 @@ TEST(EvidenceRepair, ARoundTopGetsADomeOnTheBall) {
   // cap flat. With nothing seen (no evidence) the dome alone closes it.
   const PointList open = Ball([](const Eigen::Vector3f& p) { return p.z() <= 0.024f; });
   const evidence::VisibilityRecord nothing_seen;
-  const EvidenceTop top = CloseTopFromEvidence(open, open, nothing_seen, Eigen::Isometry3f::Identity(),
-                                               0.001, EvidenceConfig{});
+  const EvidenceTop top = CloseTopFromEvidence(NeighborIndex(open), {}, nothing_seen,
+                                               Eigen::Isometry3f::Identity(), 0.001, EvidenceConfig{});
   ASSERT_EQ(top.outcome, TopEvidence::kDome);
   ASSERT_GT(top.added_V.size(), 300u);  // the cap is ~1,100 mm^2
   double worst = 0.0;
@@ -303,8 +303,8 @@ TEST(EvidenceRepair, ARoundTopGetsADomeOnTheBall) {
   // Without the dome the same top stays open.
   EvidenceConfig no_dome;
   no_dome.dome_support_m = 0.0;
-  const EvidenceTop flat = CloseTopFromEvidence(open, open, nothing_seen, Eigen::Isometry3f::Identity(),
-                                                0.001, no_dome);
+  const EvidenceTop flat = CloseTopFromEvidence(NeighborIndex(open), {}, nothing_seen,
+                                                Eigen::Isometry3f::Identity(), 0.001, no_dome);
   EXPECT_EQ(flat.outcome, TopEvidence::kTapered);
   EXPECT_TRUE(flat.added_V.empty());
 }
@@ -314,7 +314,7 @@ TEST(EvidenceRepair, ADomeNeverLeavesTheBallWhereItsApexIsNotOverTheHole) {
   // band's paraboloid peaks off it. Whatever comes out stays on the ball.
   const Eigen::Vector3f tilt(std::sin(0.7f), 0.0f, std::cos(0.7f));
   const PointList open = Ball([&](const Eigen::Vector3f& p) { return p.dot(tilt) <= 0.02f; });
-  const EvidenceTop top = CloseTopFromEvidence(open, open, evidence::VisibilityRecord{},
+  const EvidenceTop top = CloseTopFromEvidence(NeighborIndex(open), {}, evidence::VisibilityRecord{},
                                                Eigen::Isometry3f::Identity(), 0.001, EvidenceConfig{});
   for (const Eigen::Vector3f& p : top.added_V) ASSERT_LT(OffBall(p), 0.0015) << p.transpose();
 }
@@ -527,7 +527,10 @@ TEST(EvidenceRepair, BothPadsOfAShortCanAreFilled) {
 
 TEST(EvidenceRepair, TopWithoutOutlineAndBadConfig) {
   const Fused& can = Can();
-  const EvidenceTop none = CloseTopFromEvidence({}, {}, can.record, Eigen::Isometry3f::Identity(), 0.001, {});
+  // Points on a line: no outline to close.
+  const PointList line = {{0.0f, 0.0f, 0.01f}, {0.01f, 0.0f, 0.01f}, {0.02f, 0.0f, 0.01f}};
+  const EvidenceTop none =
+      CloseTopFromEvidence(NeighborIndex(line), {}, can.record, Eigen::Isometry3f::Identity(), 0.001, {});
   EXPECT_EQ(none.outcome, TopEvidence::kNoOutline);
   EXPECT_TRUE(none.added_V.empty());
   EvidenceConfig bad;

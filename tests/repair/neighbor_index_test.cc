@@ -290,6 +290,32 @@ TEST(NeighborIndex, TableOfASparseBoxSurfaceIsExact) {
   }
 }
 
+// KnnOf: the table's rows for a subset, in the subset's order (any order,
+// stray points included), each the Knn query's answer; bad subsets throw.
+TEST(NeighborIndex, TableOfASubsetIsKnnRowForRow) {
+  PointList points = RandomCloud(4000, 11);
+  points.emplace_back(50.0f, 50.0f, 50.0f);  // outside the grid's box
+  const NeighborIndex index(points);
+  std::vector<int> subset = {4000, 17, 3999, 0, 2500};
+  for (int i = 1; i < 4000; i += 37) subset.push_back(i);
+  const KnnTable table = index.KnnOf(subset, 16);
+  ASSERT_EQ(table.k, 16);
+  ASSERT_EQ(table.size(), subset.size());
+  std::vector<int> nn;
+  std::vector<double> d2;
+  size_t unlike = 0;
+  for (size_t r = 0; r < subset.size(); ++r) {
+    index.Knn(points[static_cast<size_t>(subset[r])], 16, &nn, &d2);
+    for (size_t j = 0; j < 16; ++j) unlike += table.Row(r)[j] != nn[j] || table.RowDistances(r)[j] != d2[j];
+  }
+  EXPECT_EQ(unlike, 0u);
+  EXPECT_EQ(table.Row(3)[0], 0);  // a point is its own nearest
+  EXPECT_EQ(index.KnnOf({}, 16).size(), 0u);
+  EXPECT_THROW(index.KnnOf({3, 5, 3}, 16), std::invalid_argument);
+  EXPECT_THROW(index.KnnOf({4001}, 16), std::invalid_argument);
+  EXPECT_THROW(index.KnnOf({-1}, 16), std::invalid_argument);
+}
+
 // A cloud scaled to 1e-38 m: the grid's cell has no fixed floor (it was
 // 1e-7 m: every point in one cell).
 TEST(NeighborIndex, TinyScaleCloudIsAsCheapAsAnyOther) {

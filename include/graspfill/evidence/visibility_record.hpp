@@ -141,6 +141,8 @@ class VisibilityRecord {
   void Reset();
 
  private:
+  bool FreeIn(const KeyFrame& kf, const Eigen::Vector3f& p_G, float extra_m, bool coarse) const;
+
   VisibilityConfig config_;
   fusion::WorkspaceBox workspace_;
   std::vector<std::shared_ptr<const KeyFrame>> key_frames_;

@@ -99,14 +99,15 @@ struct BoundaryPointInfo {
 /// (same order), its gap direction and local spacing: LinkBoundaryPoints
 /// uses them to keep two close holes apart and to scale its reach.
 /// Cost: one k+1 nearest-neighbour query per point, and one confirm_k+1
-/// query per point that passes the first test; no allocation per point here
-/// (Open3D's KDTreeFlann allocates one small vector inside each query).
+/// query per point that passes the first test; no allocation per point
+/// here (Open3D's KDTreeFlann allocates one small vector inside each query).
 /// Throws std::invalid_argument on an invalid config.
 /// `table`, if given, is index.AllKnn(>= k + 1) (shared with the outlier
 /// filter): the first pass reads it instead of querying (same answers).
 /// `candidates`, if given (increasing indices), are the only points tested
 /// (e.g. those near the boundary found on a coarser copy); the result is
-/// in their order and `normals` is set for them only.
+/// in their order and `normals` is set for them only. Without `table`
+/// their first queries run as one batch (NeighborIndex::KnnOf).
 std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const BoundaryConfig& config,
                                       std::vector<Eigen::Vector3f>* normals = nullptr,
                                       std::vector<BoundaryPointInfo>* info = nullptr,

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "graspfill/evidence/visibility_record.hpp"
+#include "graspfill/repair/neighbor_index.hpp"
 #include "graspfill/repair/repair_types.hpp"
 
 namespace graspfill::repair {
@@ -192,12 +193,12 @@ int DropInsideClaw(const evidence::VisibilityRecord& record, const Eigen::Isomet
                    PointList* points_V,
                    float above_z_V = -std::numeric_limits<float>::infinity());
 
-/// Closes the top of the cloud (`points_V`: observed, +z up in V) at the
-/// height the evidence gives: a wall band on the top outline from the
-/// highest observed point up to that height, and a cap there, sampled at
-/// `spacing_m`, skipping places within 0.75 spacing of `existing_V` (the
-/// cloud and earlier fills) and any point the record sees free.
-EvidenceTop CloseTopFromEvidence(const PointList& points_V, const PointList& existing_V,
+/// Closes the top of the cloud (`observed_V`'s points: observed, +z up in
+/// V) at the height the evidence gives: a wall band on the top outline from
+/// the highest observed point up to that height, and a cap there, sampled
+/// at `spacing_m`, skipping places within 0.75 spacing of the cloud or of
+/// `fills_V` (earlier fills) and any point the record sees free.
+EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointList& fills_V,
                                  const evidence::VisibilityRecord& record,
                                  const Eigen::Isometry3f& T_in_V, double spacing_m,
                                  const EvidenceConfig& config);

@@ -54,11 +54,18 @@ class NeighborIndex {
   /// size): the points of one grid cell share their candidates, several
   /// times faster than one query per point. Same answers as Knn.
   KnnTable AllKnn(int k) const;
+  /// The same for the points `queries` only (indices into the cloud,
+  /// distinct; row r is queries[r]'s): the batch's speed for a subset.
+  /// Throws std::invalid_argument on an index out of range or repeated.
+  KnnTable KnnOf(const std::vector<int>& queries, int k) const;
 
   const PointList& points() const { return points_; }
   size_t size() const { return points_.size(); }
 
  private:
+  // AllKnn (row_of null) and KnnOf: row_of[point] its row, or -1.
+  KnnTable Table(int k, const std::vector<int>* row_of) const;
+
   const PointList& points_;
   struct Impl;
   std::unique_ptr<Impl> impl_;
