@@ -144,6 +144,7 @@ int RunBenchRepairPipeline(const Args& args) {
   std::string only;
   std::string dump_dir;  // each case's truth, fused and repaired clouds as PLY
   int frames = 90;
+  int repeat = 3;  // repairs per row and mode, the fastest timed
   uint64_t seed = 11;  // the scenes' sensor noise and wobble phases: the README's tables use 11
   for (size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--pipeline") continue;
@@ -151,7 +152,14 @@ int RunBenchRepairPipeline(const Args& args) {
     else if (args[i] == "--verbose") verbose = true;
     else if (args[i] == "--case" && i + 1 < args.size()) only = args[++i];
     else if (args[i] == "--dump" && i + 1 < args.size()) dump_dir = args[++i];
-    else if (args[i] == "--frames" && i + 1 < args.size()) {
+    else if (args[i] == "--repeat" && i + 1 < args.size()) {
+      try {
+        repeat = ParseInteger<int>("--repeat", args[++i], 1, 100);
+      } catch (const UsageError& e) {
+        std::fprintf(stderr, "graspfill bench repair --pipeline: %s\n", e.what());
+        return 2;
+      }
+    } else if (args[i] == "--frames" && i + 1 < args.size()) {
       try {
         frames = ParseInteger<int>("--frames", args[++i], 10, 3000);
       } catch (const UsageError& e) {
@@ -251,15 +259,34 @@ int RunBenchRepairPipeline(const Args& args) {
 
     Outcome result[2];
     for (int with_evidence = 0; with_evidence < 2; ++with_evidence) {
-      ObjectCloud cloud = fused;
-      const Clock::time_point start = Clock::now();
-      const repair::RepairReport report = rt::RepairObjectCloud(
-          rt::GripperFrameRepairConfig(), &cloud, with_evidence ? &record : nullptr);
-      const double ms = MsSince(start);
+      // The fastest of `repeat` repairs of the same cloud (a shared VM's
+      // times move by tens of % between runs), each of which must give the
+      // same cloud.
+      ObjectCloud cloud;
+      repair::RepairReport report;
+      double best_ms = std::numeric_limits<double>::infinity();
+      std::vector<StageTiming> best_steps;
+      for (int r = 0; r < repeat; ++r) {
+        ObjectCloud attempt = fused;
+        const Clock::time_point start = Clock::now();
+        repair::RepairReport attempt_report = rt::RepairObjectCloud(
+            rt::GripperFrameRepairConfig(), &attempt, with_evidence ? &record : nullptr);
+        const double ms = MsSince(start);
+        if (ms < best_ms) best_ms = ms, best_steps = attempt_report.timings;
+        if (r == 0) {
+          cloud = std::move(attempt);
+          report = std::move(attempt_report);
+        } else if (attempt.points_G != cloud.points_G || attempt.normals_G != cloud.normals_G ||
+                   attempt.confidence != cloud.confidence) {
+          std::fprintf(stderr, "graspfill bench repair --pipeline: %s: repair %d of the same cloud differs from the first\n",
+                       c.label.c_str(), r + 1);
+          return 1;
+        }
+      }
       result[with_evidence] = Measure(cloud, fused.size(), truth, record);
-      result[with_evidence].ms = ms;
+      result[with_evidence].ms = best_ms;
       result[with_evidence].note = Note(report);
-      result[with_evidence].steps = report.timings;
+      result[with_evidence].steps = best_steps;
       result[with_evidence].evidence = report.evidence;
       if (report.status == repair::RepairStatus::kRepaired) {
         result[with_evidence].up_axis = report.frame.T_in_V.linear().col(2);

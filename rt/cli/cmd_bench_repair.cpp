@@ -94,10 +94,12 @@ int RunBenchRepair(const Args& args) {
       if (args[i] == "--help" || args[i] == "-h") {
         std::printf("usage: graspfill bench repair [--points N] [--seed S] [--case TEXT] [--verbose] [--json]\n"
                     "       graspfill bench repair --pipeline [--frames N] [--seed S] [--case TEXT] [--verbose]\n"
-                    "                                         [--json] [--dump DIR]\n"
+                    "                                         [--json] [--dump DIR] [--repeat N]\n"
                     "  --pipeline   the shape zoo through the whole pipeline, cloud-only vs with evidence\n"
                     "  --dump DIR   (--pipeline) each case's truth, fused, cloud-only and evidence clouds as PLY\n"
                     "  --seed S     (--pipeline) the scenes' noise and wobble (default 11, the README's tables)\n"
+                    "  --repeat N   (--pipeline) repairs of each cloud, the fastest timed (default 3; each must\n"
+                    "               give the same cloud)\n"
                     "  the paper's Tables 1-3 next to graspfill's numbers on the same protocol\n"
                     "  --case TEXT  only the rows whose label contains TEXT\n"
                     "  --top-cut F  cut every shape's top band above (1 - F) x its height (0.02, 0.15)\n"

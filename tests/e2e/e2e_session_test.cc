@@ -242,6 +242,7 @@ TEST(SessionE2E, NumbersAreParsedStrictlyEverywhere) {
       {"bench repair --top-cut nan", "--top-cut 'nan': out of range"},
       {"bench repair --pipeline --frames 12x", "--frames '12x': not an integer"},
       {"bench repair --pipeline --frames 5", "--frames '5': out of range, expected 10..3000"},
+      {"bench repair --pipeline --repeat 0", "--repeat '0': out of range, expected 1..100"},
       {"repair " + dir + "/in.ply -o " + dir + "/x.ply --up 0,0,1x", "--up '1x': not a number"},
       {"repair " + dir + "/in.ply -o " + dir + "/x.ply --up 0,0", "--up '0,0': expected X,Y,Z"},
       {"repair " + dir + "/in.ply -o " + dir + "/x.ply --up 0,0,0",
