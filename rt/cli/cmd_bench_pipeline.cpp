@@ -146,37 +146,25 @@ int RunBenchRepairPipeline(const Args& args) {
   int frames = 90;
   int repeat = 3;  // repairs per row and mode, the fastest timed
   uint64_t seed = 11;  // the scenes' sensor noise and wobble phases: the README's tables use 11
-  for (size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--pipeline") continue;
-    if (args[i] == "--json") json = true;
-    else if (args[i] == "--verbose") verbose = true;
-    else if (args[i] == "--case" && i + 1 < args.size()) only = args[++i];
-    else if (args[i] == "--dump" && i + 1 < args.size()) dump_dir = args[++i];
-    else if (args[i] == "--repeat" && i + 1 < args.size()) {
-      try {
-        repeat = ParseInteger<int>("--repeat", args[++i], 1, 100);
-      } catch (const UsageError& e) {
-        std::fprintf(stderr, "graspfill bench repair --pipeline: %s\n", e.what());
-        return 2;
-      }
-    } else if (args[i] == "--frames" && i + 1 < args.size()) {
-      try {
-        frames = ParseInteger<int>("--frames", args[++i], 10, 3000);
-      } catch (const UsageError& e) {
-        std::fprintf(stderr, "graspfill bench repair --pipeline: %s\n", e.what());
-        return 2;
-      }
-    } else if (args[i] == "--seed" && i + 1 < args.size()) {
-      try {
+  try {
+    for (size_t i = 0; i < args.size(); ++i) {
+      if (args[i] == "--pipeline") continue;
+      if (args[i] == "--json") json = true;
+      else if (args[i] == "--verbose") verbose = true;
+      else if (args[i] == "--case" && i + 1 < args.size()) only = args[++i];
+      else if (args[i] == "--dump" && i + 1 < args.size()) dump_dir = args[++i];
+      else if (args[i] == "--repeat" && i + 1 < args.size()) repeat = ParseInteger<int>("--repeat", args[++i], 1, 100);
+      else if (args[i] == "--frames" && i + 1 < args.size()) frames = ParseInteger<int>("--frames", args[++i], 10, 3000);
+      else if (args[i] == "--seed" && i + 1 < args.size()) {
         seed = ParseInteger<uint64_t>("--seed", args[++i], 0, std::numeric_limits<uint64_t>::max());
-      } catch (const UsageError& e) {
-        std::fprintf(stderr, "graspfill bench repair --pipeline: %s\n", e.what());
+      } else {
+        std::fprintf(stderr, "graspfill bench repair --pipeline: bad option '%s'\n", args[i].c_str());
         return 2;
       }
-    } else {
-      std::fprintf(stderr, "graspfill bench repair --pipeline: bad option '%s'\n", args[i].c_str());
-      return 2;
     }
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "graspfill bench repair --pipeline: %s\n", e.what());
+    return 2;
   }
   nlohmann::ordered_json rows = nlohmann::json::array();
   if (!json) {
