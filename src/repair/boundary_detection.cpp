@@ -70,17 +70,31 @@ struct Gap {
 // sectors of [0, 4). DiamondAngle turns at most 2 rad per key unit (dθ/dk
 // is 1 to 2 within a quadrant), so a gap of angle a between consecutive
 // directions leaves an open key interval longer than a / 2 empty, which
-// holds at least floor(a / 2 / w) - 1 whole sectors of width w. False when
-// no such run of empty sectors exists: then no gap is wider than the
-// threshold and the point is interior (most are).
+// holds at least floor(a / 2 / w) - 1 whole sectors of width w.
 constexpr int kSectors = 32;
-bool MayHaveGap(uint32_t occupied, float threshold_key) {
-  // The threshold as an angle: keys below 1 are the first quadrant's,
+
+// The threshold as a DiamondAngle key, and the run of empty sectors a gap
+// wider than it leaves (computed once per call, not per point).
+struct GapThreshold {
+  float key{0.0f};
+  int empty_run{0};
+};
+
+GapThreshold MakeGapThreshold(double angle_rad) {
+  GapThreshold t;
+  t.key = DiamondAngle(static_cast<float>(std::cos(angle_rad)), static_cast<float>(std::sin(angle_rad)));
+  // The key back as an angle: keys below 1 are the first quadrant's,
   // tan(angle) = k / (1 - k); past pi/2 each quadrant adds pi/2.
-  const float quadrants = std::floor(threshold_key);
-  const float k = threshold_key - quadrants;
+  const float quadrants = std::floor(t.key);
+  const float k = t.key - quadrants;
   const double angle = quadrants * M_PI_2 + std::atan2(k, 1.0f - k);
-  const int run = static_cast<int>(std::floor(angle / 2.0 / (4.0 / kSectors))) - 1;
+  t.empty_run = static_cast<int>(std::floor(angle / 2.0 / (4.0 / kSectors))) - 1;
+  return t;
+}
+
+// False when no run of `run` empty sectors exists: then no gap is wider
+// than the threshold and the point is interior (most are).
+bool MayHaveGap(uint32_t occupied, int run) {
   if (run < 1) return true;
   uint32_t empty_run = ~occupied;
   for (int r = 1; r < run && empty_run != 0; ++r) {
@@ -91,11 +105,10 @@ bool MayHaveGap(uint32_t occupied, float threshold_key) {
 
 // The maximum-angle criterion at P: true when the directions from P to its
 // neighbours `nn`, projected on the plane of `normal`, leave an angular gap
-// wider than the threshold (given as `threshold_key`, the DiamondAngle of
-// its cosine and sine); then `gap` gets that widest gap [rad] and its unit
+// wider than the threshold; then `gap` gets that widest gap [rad] and its unit
 // bisector, in the plane. `dirs` is scratch space.
 bool HasWideGap(const PointList& points, const std::vector<int>& nn, const Eigen::Vector3f& p,
-                const Eigen::Vector3f& normal, float threshold_key, std::vector<Direction2>* dirs,
+                const Eigen::Vector3f& normal, const GapThreshold& threshold, std::vector<Direction2>* dirs,
                 Gap* gap) {
   // Any orthonormal basis (u, v) of the tangent plane will do: the
   // criterion only looks at differences of angles.
@@ -116,7 +129,7 @@ bool HasWideGap(const PointList& points, const std::vector<int>& nn, const Eigen
     occupied |= 1u << std::min(static_cast<int>(key * (kSectors / 4.0f)), kSectors - 1);
   }
   if (dirs->empty()) return false;
-  if (!MayHaveGap(occupied, threshold_key)) return false;
+  if (!MayHaveGap(occupied, threshold.empty_run)) return false;
   // Insertion sort: a few dozen directions, mostly short moves.
   for (size_t a = 1; a < dirs->size(); ++a) {
     const Direction2 dir = (*dirs)[a];
@@ -149,7 +162,7 @@ bool HasWideGap(const PointList& points, const std::vector<int>& nn, const Eigen
       }
     }
   }
-  if (widest_key <= threshold_key) return false;
+  if (widest_key <= threshold.key) return false;
   // Only now the true angles, for the few boundary points.
   const Direction2& d0 = (*dirs)[widest];
   const Direction2& d1 = (*dirs)[(widest + 1) % n];
@@ -175,9 +188,7 @@ std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const Boundary
   if (normals != nullptr) normals->assign(n, Eigen::Vector3f::Zero());
   if (info != nullptr) info->clear();
 
-  const float threshold_key =
-      DiamondAngle(static_cast<float>(std::cos(config.angle_threshold_rad)),
-                   static_cast<float>(std::sin(config.angle_threshold_rad)));
+  const GapThreshold threshold = MakeGapThreshold(config.angle_threshold_rad);
   const size_t max_k = static_cast<size_t>(std::max(config.k, config.confirm_k)) + 1;
   // Buffers reused across points: no allocation in the loop once they have
   // grown to max_k.
@@ -219,7 +230,7 @@ std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const Boundary
     const Eigen::Vector3f normal = PlaneNormal(points, nn, p);
     if (normals != nullptr) (*normals)[i] = normal;
     Gap gap;
-    if (normal.isZero() || !HasWideGap(points, nn, p, normal, threshold_key, &dirs, &gap)) {
+    if (normal.isZero() || !HasWideGap(points, nn, p, normal, threshold, &dirs, &gap)) {
       continue;
     }
     if (config.confirm_k > 0) {
@@ -228,7 +239,7 @@ std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const Boundary
       index.Knn(p, config.confirm_k + 1, &nn, &d2);
       const Eigen::Vector3f wide_normal = PlaneNormal(points, nn, p);
       if (wide_normal.isZero() ||
-          !HasWideGap(points, nn, p, wide_normal, threshold_key, &dirs, &gap)) {
+          !HasWideGap(points, nn, p, wide_normal, threshold, &dirs, &gap)) {
         continue;
       }
     }
