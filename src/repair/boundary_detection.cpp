@@ -208,15 +208,14 @@ std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const Boundary
   // The candidates' first neighbours in one batch (same answers as a query
   // each, a few times faster).
   KnnTable candidate_table;
-  if (candidates != nullptr && table == nullptr) {
+  if (candidates != nullptr) {
     for (int i : *candidates) {
       if (i < 0 || static_cast<size_t>(i) >= n) throw std::invalid_argument("DetectBoundaryPoints: candidate out of range");
     }
-    candidate_table = index.KnnOf(*candidates, config.k + 1);
+    if (table == nullptr) candidate_table = index.KnnOf(*candidates, config.k + 1);
   }
   for (size_t c = 0; c < count; ++c) {
     const size_t i = candidates != nullptr ? static_cast<size_t>((*candidates)[c]) : c;
-    if (i >= n) throw std::invalid_argument("DetectBoundaryPoints: candidate out of range");
     const Eigen::Vector3f& p = points[i];
     if (table != nullptr || candidate_table.k > 0) {
       const KnnTable& t = table != nullptr ? *table : candidate_table;

@@ -233,6 +233,13 @@ TEST(DetectBoundaryPoints, CandidatesAreAnsweredAsInTheFullPass) {
       EXPECT_EQ(info[b].spacing_m, expected_info[b].spacing_m) << b;
     }
   }
+  // A candidate that is no point of the cloud, with or without a table.
+  const std::vector<int> bad = {0, static_cast<int>(cloud.holey.size())};
+  EXPECT_THROW(DetectBoundaryPoints(index, BoundaryConfig{}, nullptr, nullptr, nullptr, &bad),
+               std::invalid_argument);
+  const KnnTable table = index.AllKnn(BoundaryConfig{}.k + 1);
+  EXPECT_THROW(DetectBoundaryPoints(index, BoundaryConfig{}, nullptr, nullptr, &table, &bad),
+               std::invalid_argument);
 }
 
 TEST(DetectBoundaryPoints, DegenerateNeighbourhoods) {
