@@ -167,12 +167,14 @@ std::vector<Leg> SignificantLegs(const PointList& points_V, const std::vector<in
 
 // The claw holes of a line that reaches the top, as position ranges: from
 // a descent's start to the end of the next ascent (further descents or
-// ascents in between, e.g. a step in a hole's bottom, belong to it). A
+// ascents in between, e.g. a step in a hole's bottom, belong to it),
+// unless the line is back at the level it left within fewer than
+// `min_side_points` positions of the descent's end (a dip of the rim). A
 // descent never followed by an ascent ends where the line is back at the
 // level it left (or at the line's end); an ascent with no descent before it
 // begins where the line was last at the level it reaches (or at the start).
 std::vector<Range> ClawRanges(const std::vector<Leg>& legs, const std::vector<double>& z,
-                              double tol) {
+                              double tol, int min_side_points) {
   const int n = static_cast<int>(z.size());
   std::vector<Range> ranges;
   size_t i = 0;
@@ -180,16 +182,33 @@ std::vector<Range> ClawRanges(const std::vector<Leg>& legs, const std::vector<do
     Range r{0, n - 1, false, false};
     if (legs[i].descending) {
       r.start = legs[i].start;
-      size_t j = i;
-      while (j < legs.size() && legs[j].descending) ++j;
-      if (j < legs.size()) {
-        while (j < legs.size() && !legs[j].descending) r.end = legs[j++].end;
-      } else {
-        const double level = LocalLevel(z, r.start);
-        r.end = -1;
-        for (int k = legs[j - 1].end; k < n && r.end < 0; ++k) {
-          if (z[static_cast<size_t>(k)] >= level - tol) r.end = k;
+      const double level = LocalLevel(z, r.start) - tol;
+      // The first position in [from, to) where the line is back at the
+      // level the descent left, or -1.
+      const auto back_at_level = [&z, level](int from, int to) {
+        for (int k = from; k < to; ++k) {
+          if (z[static_cast<size_t>(k)] >= level) return k;
         }
+        return -1;
+      };
+      // The legs that follow belong to the hole (a step in its bottom, its
+      // other side), unless the line first climbs back to that level in
+      // fewer points than a side has: a dip of the rim (the prism box at
+      // seed 14: the rim dipped 6 mm at a corner and was back in 2 points;
+      // the hole reached from there along the face's whole top edge to the
+      // next finger's).
+      size_t j = i + 1;
+      r.end = -1;
+      while (j < legs.size() && r.end < 0) {
+        const int from = legs[j - 1].end;
+        r.end = back_at_level(from, std::min(legs[j].start, from + min_side_points));
+        if (r.end >= 0 || !legs[j].descending) break;
+        ++j;
+      }
+      if (r.end < 0 && j < legs.size()) {
+        while (j < legs.size() && !legs[j].descending) r.end = legs[j++].end;
+      } else if (r.end < 0) {
+        r.end = back_at_level(legs[j - 1].end, n);
         if (r.end < 0) r.end = n - 1, r.low_end = true;
       }
       i = j;
@@ -363,7 +382,7 @@ std::vector<HoleBoundary> ClassifyBoundaries(const PointList& points_V,
     std::vector<double> z(seq.size());
     for (size_t k = 0; k < seq.size(); ++k) z[k] = points_V[static_cast<size_t>(seq[k])].z();
     const std::vector<Leg> legs = SignificantLegs(points_V, seq, z, config);
-    const std::vector<Range> ranges = ClawRanges(legs, z, config.monotone_tolerance_m);
+    const std::vector<Range> ranges = ClawRanges(legs, z, config.monotone_tolerance_m, config.min_segment_points);
 
     int next = 0;  // first position not yet assigned
     std::vector<std::vector<int>> pieces;

@@ -20,6 +20,9 @@
 //  - A side's end takes in the side points a zig-zag interleaves with the
 //    rim's first points, up to 8 places on, until 4 rim points come in a
 //    row: a dip of the rim beyond them (a fused box's corner) stays rim.
+//  - A descent after which the line is back at the level it left in fewer
+//    points than a side has (a dip of the rim at a box's corner) ends
+//    there: it does not take the rim up to the next side into its hole.
 //  - A descent without its ascent (a line broken at the bottom of a hole)
 //    ends where the line is back at the rim's level, or at the line's end;
 //    such open halves are joined across lines when their low ends meet.
