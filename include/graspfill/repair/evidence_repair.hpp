@@ -76,9 +76,10 @@ struct EvidenceConfig {
   double taper_drop_m{0.01};
   /// A tapered top is closed by a dome instead: a quadratic height field
   /// over V's x-y fitted to the observed points within this of the highest
-  /// one, sampled inside the top band's outline where the cloud has no
-  /// point, if it curves down on every side (a dome, not a saddle or a
-  /// bowl) with its apex inside the outline; 0 = no dome [m].
+  /// one, sampled inside the outline of those points where none of them
+  /// lies within a spacing in x-y, if it explains them to 1.5 mm RMS (not
+  /// a bowl's upright rim) and curves down on every side (a dome, not a
+  /// saddle or a bowl) with its apex inside the outline; 0 = no dome [m].
   double dome_support_m{0.012};
   /// A mirrored top closing more than this below the evidence's top is
   /// replaced by the evidence's (flat) top [m] (when the image's own cap
