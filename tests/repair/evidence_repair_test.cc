@@ -540,14 +540,26 @@ TEST(EvidenceRepair, AnImageProudOfTheSeenSurfaceIsNotLowered) {
 // bottom's middle was never seen, so its mirror image leaves the top's
 // middle open (3% of the surface, coverage 0.969), and the highest points
 // seen lie to one side of it. The dome, over its support's outline, now
-// also closes the columns the image leaves open.
+// also closes the columns the image leaves open, fitted to the seen band
+// and the image together (over the seen band alone it sagged 1.6 mm,
+// median, under the apple's top: added p95 2.0008 mm).
 TEST(EvidenceRepair, AMirroredRoundTopsOpenMiddleGetsTheDome) {
   const HeldOut h = RepairHeldOut(synth::Shape::kBlob, Eigen::Vector3d::Zero(), synth::ClawType::kThreeFinger, 90,
                                   12, synth::GraspWay::kTopStraight);
   EXPECT_TRUE(h.repaired.report.symmetric) << h.repaired.report.symmetry_reason;
   EXPECT_EQ(h.repaired.report.evidence.top, "dome");
   EXPECT_GE(h.coverage, 0.99);
-  EXPECT_LE(h.added_wrong, 0.02);
+  ExpectTargets(h);
+  // The dome's points (confidence 0.5) lie nearer the apple's top.
+  const ObjectCloud& cloud = h.repaired.cloud;
+  std::vector<Eigen::Vector3f> dome;
+  for (size_t i = h.fused.size(); i < cloud.size(); ++i) {
+    if (cloud.confidence[i] == 0.5f) dome.push_back(cloud.points_G[i]);
+  }
+  ASSERT_GT(dome.size(), 100u);
+  const double median_mm = 1000.0 * eval::Percentile(eval::NearestDistances(dome, h.truth), 50.0);
+  std::printf("dome: %zu points, median %.2f mm off the apple\n", dome.size(), median_mm);
+  EXPECT_LT(median_mm, 1.5);  // 1.53 over the seen band alone
 }
 
 // The zoo's bowl (open, parallel claw, top grasp), seed 11, 60 frames: its
