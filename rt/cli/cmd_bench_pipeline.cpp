@@ -44,6 +44,7 @@ struct ZooCase {
   synth::ClawType claw;
   synth::GraspWay grasp;
   bool closed_symmetric;  // the targets apply (else: nothing wrong added)
+  double camera_elevation_deg{25.0};  // camera below the object (> 0), above it (< 0)
 };
 
 // Household-like objects in several sizes, both claws, all three grasps.
@@ -71,6 +72,10 @@ std::vector<ZooCase> ZooCases() {
       {"prism box", "triangular-prism", {0, 0, 0}, two, top, true},
       {"mug", "mug", {0, 0, 0}, three, top, false},
       {"bowl", "bowl", {0, 0, 0}, two, top, false},
+      // The bowl seen from a camera above the workspace, where the rays
+      // reach into it (from below its opening and a lid look the same).
+      {"bowl above", "bowl", {0, 0, 0}, two, top, false, -25.0},
+      {"basin above", "bowl", {0.15, 0.15, 0.07}, three, top, false, -30.0},
       // Held out (added after the repair's rules were set): a box hanging
       // 20 degrees off the claw's axis in each claw.
       {"tall box", "cuboid", {0.05, 0.07, 0.12}, three, oblique, true},
@@ -217,6 +222,7 @@ int RunBenchRepairPipeline(const Args& args) {
     sc.size_m = c.size_m;
     sc.claw = c.claw;
     sc.grasp = c.grasp;
+    sc.motion.camera_elevation_deg = c.camera_elevation_deg;
     sc.num_frames = frames;
     sc.seed = seed;
     const synth::Scene scene(sc);

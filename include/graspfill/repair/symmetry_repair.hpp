@@ -124,6 +124,17 @@ struct SymmetryConfig {
   double min_gap_d{1.0};
   /// Points used to estimate D.
   int spacing_samples{1000};
+  /// The image is moved radially onto the observed walls where the two
+  /// overlap above the plane (a fruit that leans, a top a little wider
+  /// than the base; see FitImageToObserved in the source), on a polar grid
+  /// of slabs and this many sectors; 0: the mirror as it is (the paper).
+  int fit_sectors{36};
+  /// An image point takes the mean offset of the cells within this many
+  /// slabs and sectors of its own (a claw hole is up to ~4 sectors wide).
+  int fit_reach_cells{2};
+  /// Cells whose observed and image walls lie farther apart than this are
+  /// another part of the object, not the same wall off by a lean [m].
+  double fit_max_offset_m{0.004};
 
   /// The paper as written: hill climb from the median, no checks.
   static SymmetryConfig Paper();
