@@ -310,7 +310,8 @@ int RunBenchRepairPipeline(const Args& args) {
       };
       rows.push_back({{"object", c.label}, {"shape", c.shape},
                       {"claw", synth::ClawTypeName(c.claw)}, {"grasp", synth::GraspWayName(c.grasp)},
-                      {"closed_symmetric", c.closed_symmetric}, {"fused_points", fused.size()},
+                      {"closed_symmetric", c.closed_symmetric},
+                      {"camera_elevation_deg", c.camera_elevation_deg}, {"fused_points", fused.size()},
                       {"fused_coverage", fused_coverage}, {"cloud_only", outcome(result[0])},
                       {"evidence", outcome(result[1])},
                       {"visibility_ms_per_frame", stats.visibility.mean_ms()},
