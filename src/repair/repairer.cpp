@@ -255,11 +255,14 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
   const bool mirrored = symmetry->symmetric && !m.empty();
   const double layer = 2.0 * spacing_m;
   const ImageTop image_top = mirrored ? TopOfImage(m, layer) : ImageTop{};
-  std::optional<float> carved_top;
+  // The height the rays carve the image's cap at, when `carved`. A plain
+  // float: GCC's -Wmaybe-uninitialized took an optional<float> for unset.
+  float carved_top = std::numeric_limits<float>::quiet_NaN();
   if (mirrored) {
     const double lift = MirrorLiftFromCarving(record, config, T_in_V, image_top, m);
     if (!std::isnan(lift)) carved_top = image_top.cap_z_V + static_cast<float>(lift);
   }
+  bool carved = !std::isnan(carved_top);
   EvidenceTop top = CloseTopFromEvidence(index_V, *surface_V, record, T_in_V, spacing_m, config);
   if (mirrored && top.outcome == TopEvidence::kDome) {
     // Under a mirror the dome is fitted to the seen band and the image
@@ -276,11 +279,11 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
   // The rings' top stands when it is just under the carve (the hull is the
   // top's outline); far under it, the hull is wider than the top, and over
   // it the image would be carved.
-  const float carve_starts = carved_top ? *carved_top + static_cast<float>(config.carve_onset_m) : 0.0f;
+  const float carve_starts = carved ? carved_top + static_cast<float>(config.carve_onset_m) : 0.0f;
   bool rings_agree = false;
-  if (carved_top && top.outcome == TopEvidence::kHeightFound && top.top_z_V <= carve_starts &&
+  if (carved && top.outcome == TopEvidence::kHeightFound && top.top_z_V <= carve_starts &&
       top.top_z_V >= carve_starts - static_cast<float>(config.ring_trust_m)) {
-    carved_top.reset();
+    carved = false;
     rings_agree = true;
   }
   report->top = TopEvidenceName(top.outcome);
@@ -288,10 +291,10 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
   if (mirrored) {
     float cap_z = image_top.cap_z_V;
     bool keep_evidence_top = false;
-    if (carved_top) {
+    if (carved) {
       // The image alone: the rings' points, at another outline, left a
       // sparse second sheet (the e2e prism's mesh 1.45 mm from its cloud).
-      cap_z = *carved_top;
+      cap_z = carved_top;
     } else if (top.outcome == TopEvidence::kHeightFound &&
                image_top.cap_z_V < top.top_z_V - static_cast<float>(config.mirror_low_m)) {
       // Else the rings' top, when the image closes under it.
@@ -311,7 +314,7 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
       report->mirror_lift_m = cap_z - image_top.cap_z_V;
       char text[112];
       std::snprintf(text, sizeof(text), "; its top raised %.1f mm to where the rays %s",
-                    1000.0 * report->mirror_lift_m, carved_top ? "carve it" : "carve the top's outline");
+                    1000.0 * report->mirror_lift_m, carved ? "carve it" : "carve the top's outline");
       symmetry->reason += text;
     }
     // The mirror's top holds, but for a dome: the image of a bottom the
