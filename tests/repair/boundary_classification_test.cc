@@ -293,6 +293,58 @@ TEST(ClassifyBoundaries, ARimDipThatClimbsBackOpensNoHole) {
   EXPECT_TRUE(Holds(*merged, slow_dip[6])) << "a slow climb back closed the descent's hole";
 }
 
+// Two finger holes 40 degrees apart that reach to `bridge_m` under the rim:
+// clockwise from 190 degrees, rim, hole A's side down at 60 degrees, its
+// bottom, its side up at 36 to the bridge between the holes (never back at
+// the rim), hole B's side down at 20, its bottom, its side up at -20, rim
+// round. The sides' points go to `a` and `b`.
+CircleLine TwoHolesUnderABridge(double bridge_m, std::vector<int>* a, std::vector<int>* b) {
+  CircleLine c;
+  const double step = CircleLine::kStepDeg;
+  for (double t = 190.0; t > 60.0; t -= step) c.Add(t, 0.0);
+  for (double z = -0.002; z > -0.045; z -= CircleLine::kStep) c.Add(60.0, z, a);
+  for (double t = 60.0; t > 36.0; t -= step) c.Add(t, -0.045);
+  for (double z = -0.045; z < -bridge_m; z += CircleLine::kStep) c.Add(36.0, z, a);
+  for (double t = 36.0 - step; t > 20.0; t -= step) c.Add(t, -bridge_m);
+  for (double z = -bridge_m - CircleLine::kStep; z > -0.045; z -= CircleLine::kStep) c.Add(20.0, z, b);
+  for (double t = 20.0; t > -20.0; t -= step) c.Add(t, -0.045);
+  for (double z = -0.045; z < -0.002; z += CircleLine::kStep) c.Add(-20.0, z, b);
+  for (double t = -20.0 - step; t > -170.0; t -= step) c.Add(t, 0.0);
+  return c;
+}
+
+// The protocol's ellipsoid with its top cut at 2% of its height: its three
+// finger holes reach to 3 mm under the cut, and the line between two of
+// them runs along the bridge of surface between them, 3-4 mm under the
+// rim. Taken as one hole, its mouth was closed the long way round the rim
+// and half of one hole left open (chamfer 0.76 mm^2, 2.6x the floor; 0.34
+// with the two holes apart). A ridge in one hole's bottom, lower than the
+// rim's band, keeps the hole one.
+TEST(ClassifyBoundaries, TwoHolesUnderABridgeAreTwo) {
+  std::vector<int> a, b;
+  const CircleLine c = TwoHolesUnderABridge(0.0035, &a, &b);
+  const auto out = ClassifyBoundaries(c.points, {c.Closed()}, ClassifyConfig());
+  ASSERT_EQ(out.size(), 3u);
+  ASSERT_EQ(out[0].kind, HoleKind::kMissingSurface);
+  const HoleBoundary* hole_a = ClawHolding(out, a.front());
+  const HoleBoundary* hole_b = ClawHolding(out, b.front());
+  ASSERT_NE(hole_a, nullptr);
+  ASSERT_NE(hole_b, nullptr);
+  EXPECT_NE(hole_a, hole_b);
+  for (int i : a) EXPECT_TRUE(Holds(*hole_a, i)) << "hole A's side point " << i;
+  for (int i : b) EXPECT_TRUE(Holds(*hole_b, i)) << "hole B's side point " << i;
+  for (const Eigen::Vector3f& p : hole_b->points_V) {
+    EXPECT_LT(std::abs(std::atan2(p.y(), p.x()) / CircleLine::kDeg), 36.0) << "hole B reaches into A";
+  }
+
+  std::vector<int> ridge_a, ridge_b;
+  const CircleLine ridge = TwoHolesUnderABridge(0.02, &ridge_a, &ridge_b);
+  const auto ridge_out = ClassifyBoundaries(ridge.points, {ridge.Closed()}, ClassifyConfig());
+  ASSERT_EQ(ridge_out.size(), 2u);
+  EXPECT_EQ(ClawHolding(ridge_out, ridge_a.front()), ClawHolding(ridge_out, ridge_b.front()))
+      << "a ridge 20 mm under the rim split one hole";
+}
+
 // A fused cloud's rim varies by 3-5 mm, and one point can stand 3 mm over
 // the rest (the prism box at 60 frames). Just before a claw hole's side,
 // that point set the rim's level the hole's range stretches to, the rest
