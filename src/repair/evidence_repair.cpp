@@ -184,6 +184,9 @@ void EvidenceConfig::Validate() const {
   };
   share(max_observed_free_share, "max_observed_free_share");
   share(max_mirror_free_share, "max_mirror_free_share");
+  if (!(max_outline_mismatch >= 0.0 && max_outline_mismatch <= 10.0)) {
+    throw std::invalid_argument("EvidenceConfig: max_outline_mismatch must be in [0, 10]");
+  }
   share(top_free_jump, "top_free_jump");
   if (!(phantom_m >= 0.0 && phantom_m < 0.05)) throw std::invalid_argument("EvidenceConfig: phantom_m must be in [0, 0.05) m");
   if (!(top_band_m > 0.0 && top_band_m < 0.1)) throw std::invalid_argument("EvidenceConfig: top_band_m must be in (0, 0.1) m");

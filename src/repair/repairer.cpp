@@ -668,7 +668,14 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
       // The claw fills first take the holes' dents out of the cross-sections.
       // A hole no fit explained (a finger's that opens into the top, two
       // faces at once) or no line took is the mirror's to fill, as the top is.
-      symmetry = RepairMissingSurface(points_V, *missing, config.symmetry, &*index_V, &surface_V,
+      // With the record the cloud's outline check is only a first sieve:
+      // the record judges the image (ApplyEvidence).
+      SymmetryConfig symmetry_config = config.symmetry;
+      if (record) {
+        symmetry_config.max_outline_mismatch =
+            std::max(symmetry_config.max_outline_mismatch, config.evidence.max_outline_mismatch);
+      }
+      symmetry = RepairMissingSurface(points_V, *missing, symmetry_config, &*index_V, &surface_V,
                                       config.mode == RepairMode::kBest ? &open_holes_V : nullptr);
     } else {
       symmetry.reason = "no missing surface found";
