@@ -36,11 +36,12 @@ struct EvidenceConfig {
   double max_mirror_free_share{0.05};
   /// With the record, the cloud's outline check (SymmetryConfig::
   /// max_outline_mismatch, 5%) lets a mirror through up to this mismatch
-  /// (or that one, if larger): the record then judges the image. A fused plum's outlines differ from
-  /// their images by 5-7% (the fingers' dents, a lean), and its refused
-  /// mirror left the fingers' holes open (coverage 0.970 at seed 15, 60
-  /// frames; 1.000 mirrored). Clearly asymmetric clouds stay refused by
-  /// the cloud (a bowl from below: 14%, from above: 16%).
+  /// (or that one, if larger): the record then judges the image. A fused
+  /// plum's outlines differ from their images by 5-7% (the fingers' dents,
+  /// a lean), and its refused mirror left the fingers' holes open
+  /// (coverage 0.970 at seed 15, 60 frames; 1.000 mirrored). Clearly
+  /// asymmetric clouds stay refused by the cloud (a bowl from below: 14%,
+  /// from above: 16%).
   double max_outline_mismatch{0.10};
   /// A contradicted mirror image is first lowered: the plane of a prism-like
   /// shape is the middle of the observed height, and the fused cloud's
