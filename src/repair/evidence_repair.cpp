@@ -157,20 +157,30 @@ void FindTopHeight(const Ring& ring, float z_wall, const evidence::VisibilityRec
   // starts below it too: the TSDF's truncation band behind the wall spills
   // up to ~3 mm over a top edge that rays pass over (sdf_trunc * sin of
   // the view's elevation), leaving a phantom layer above the true top.
+  const double step = config.top_step_m;
   const double below = config.phantom_m;
   double base = 0.0;
   int rings = 0;
-  for (double z = z_wall - below - config.top_band_m; z <= z_wall - below + 1e-9;
-       z += config.top_step_m, ++rings) {
+  for (double z = z_wall - below - config.top_band_m; z <= z_wall - below + 1e-9; z += step, ++rings) {
     base += free_share(z);
   }
   base /= std::max(1, rings);
+  // The jump counts over the baseline and over the ring a window lower:
+  // where the hull runs a little outside the wall (a few points beside a
+  // finger widen it), rays carve a share of it that rises slowly towards
+  // the top, and the baseline alone is passed millimetres under it.
+  const int window = std::max(1, static_cast<int>(std::lround(config.top_jump_window_m / step)));
+  const double first = z_wall - below + step;
+  std::vector<double> shares;  // shares[i]: at first + (i - window) * step
+  for (int i = 0; i < window; ++i) shares.push_back(free_share(first + (i - window) * step));
   top->outcome = TopEvidence::kNotObservable;
-  for (double z = z_wall - below + config.top_step_m; z <= z_wall + config.top_search_m + 1e-9;
-       z += config.top_step_m) {
-    if (free_share(z) >= base + config.top_free_jump) {
+  for (double z = first; z <= z_wall + config.top_search_m + 1e-9; z += step) {
+    const double share = free_share(z);
+    const double lower = shares[shares.size() - window];
+    shares.push_back(share);
+    if (share >= std::max(base, lower) + config.top_free_jump) {
       top->outcome = TopEvidence::kHeightFound;
-      top->top_z_V = static_cast<float>(z - config.top_step_m);  // the highest ring not carved
+      top->top_z_V = static_cast<float>(z - step);  // the highest ring not carved
       break;
     }
   }
@@ -192,6 +202,9 @@ void EvidenceConfig::Validate() const {
   if (!(top_band_m > 0.0 && top_band_m < 0.1)) throw std::invalid_argument("EvidenceConfig: top_band_m must be in (0, 0.1) m");
   if (!(top_step_m > 0.0 && top_step_m <= top_band_m)) {
     throw std::invalid_argument("EvidenceConfig: top_step_m must be in (0, top_band_m]");
+  }
+  if (!(top_jump_window_m >= 0.0 && top_jump_window_m <= top_search_m)) {
+    throw std::invalid_argument("EvidenceConfig: top_jump_window_m must be in [0, top_search_m] m");
   }
   if (!(top_search_m >= top_step_m && top_search_m < 0.5)) {
     throw std::invalid_argument("EvidenceConfig: top_search_m must be in [top_step_m, 0.5) m");

@@ -74,9 +74,12 @@ struct EvidenceConfig {
   double top_step_m{0.0005};
   /// ... up to this far above the highest observed point [m].
   double top_search_m{0.03};
-  /// The top is where a ring's free share first exceeds the share of the
-  /// rings on the observed wall by this much.
+  /// The top is where a ring's free share first exceeds both the share of
+  /// the rings on the observed wall and that of the ring
+  /// top_jump_window_m under it by this much ...
   double top_free_jump{0.15};
+  /// ... [m] (at least one top_step_m).
+  double top_jump_window_m{0.0015};
   /// A flat cap needs walls that rise straight to the top: the outline of
   /// the top band must keep at least this share of the area of the outline
   /// `taper_drop_m` lower (cans, boxes, a bottle's neck: ~1; a round top
