@@ -307,6 +307,12 @@ class OpenNI2Source::Impl {
     }
     frame_.release();
     if (started_) stream_.stop();
+    // OpenNI2's file player (libOniFile) walks its stream list without its
+    // lock, and past the end of a file it does so in a busy loop: a stream
+    // destroyed under it crashed that thread (1 in ~16 `live --device
+    // FILE.oni` runs under load). Stopped, its stream sends the loop to
+    // 10 ms sleeps; this waits for it to get there.
+    if (started_ && recording_) std::this_thread::sleep_for(std::chrono::milliseconds(50));
     started_ = false;
     stream_.destroy();
     device_.close();
