@@ -643,12 +643,12 @@ TEST(EvidenceRepair, BothPadsOfAShortCanAreFilled) {
 }
 
 // The zoo's cereal box (90 x 50 x 160 mm, three-finger claw, middle
-// grasp), seed 11, 60 frames: a few points beside a finger widen the top
-// band's hull past the wall, where the rays carve a share of the rings
-// that rises slowly towards the top. Over the wall's baseline alone that
-// share passed the jump 1.5 mm under the true top, and the palm-side face
-// closed there (added p95 1.98 mm). Taken against the ring 1.5 mm lower,
-// the jump is the top's.
+// grasp), seed 11, 60 frames: where a few points beside a finger widen the
+// top band's hull past the wall, the rays carve a share of the rings that
+// rises slowly towards the top. Over the wall's baseline alone the jump
+// came at the highest fused point, and the palm-side face closed there
+// (added p95 2.02 mm); taken against the ring 1.5 mm lower as well, it
+// comes 1.5 mm higher.
 TEST(EvidenceRepair, ATopIsWhereTheRingsJumpNotWhereTheyCreep) {
   const HeldOut h = RepairHeldOut(synth::Shape::kCuboid, Eigen::Vector3d(0.09, 0.05, 0.16),
                                   synth::ClawType::kThreeFinger, 60, 11, synth::GraspWay::kMiddleStraight);
