@@ -6,6 +6,12 @@
 #include <stdexcept>
 
 namespace graspfill {
+namespace {
+
+// GCC's own 128-bit integer; __extension__ keeps -Wpedantic quiet about it.
+__extension__ typedef __int128 Int128;
+
+}  // namespace
 
 Eigen::Isometry3d InterpolatePose(const Eigen::Isometry3d& a,
                                   const Eigen::Isometry3d& b, double alpha) {
@@ -77,9 +83,9 @@ PoseLookup GripperStateBuffer::Lookup(int64_t utime, GripperState* out) const {
   const GripperState& before = at(lo - 1);  // lo > 0: utime > oldest
   // Differences in 128 bits: states at INT64_MIN and INT64_MAX must not
   // wrap into a small "gap" and interpolate a bogus pose.
-  const __int128 gap = static_cast<__int128>(after.utime) - before.utime;
+  const Int128 gap = static_cast<Int128>(after.utime) - before.utime;
   if (gap > max_gap_us_) return PoseLookup::kGap;
-  const double alpha = static_cast<double>(static_cast<__int128>(utime) - before.utime) /
+  const double alpha = static_cast<double>(static_cast<Int128>(utime) - before.utime) /
                        static_cast<double>(gap);
   out->utime = utime;
   out->T_C_G = InterpolatePose(before.T_C_G, after.T_C_G, alpha);
