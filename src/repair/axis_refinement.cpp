@@ -1,10 +1,11 @@
 #include "graspfill/repair/axis_refinement.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+
+#include "geometry/plane_fit.hpp"
 
 namespace graspfill::repair {
 
@@ -39,7 +40,7 @@ AxisRefinement RefineAxis(const std::vector<Eigen::Vector3f>& normals,
   }
   const double max_dot = std::sin(config.side_band_rad);  // |n . axis| of a side point
   Eigen::Vector3d axis = initial_axis;
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+  Eigen::Vector3d eigenvalues = Eigen::Vector3d::Zero();
   for (int it = 0; it < config.iterations; ++it) {
     Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
     size_t sides = 0;
@@ -54,13 +55,12 @@ AxisRefinement RefineAxis(const std::vector<Eigen::Vector3f>& normals,
       result.note = "too few side points (" + std::to_string(sides) + ")";
       return result;
     }
-    solver.computeDirect(scatter);
-    Eigen::Vector3d next = solver.eigenvectors().col(0).normalized();
+    Eigen::Vector3d next =
+        geometry::SmallestEigenvector(scatter, geometry::EigenSolve::kClosedForm, &eigenvalues);
     if (next.dot(initial_axis) < 0.0) next = -next;
     axis = next;
   }
   const double change = std::acos(std::min(1.0, axis.dot(initial_axis)));
-  const Eigen::Vector3d eigenvalues = solver.eigenvalues();
   result.smallest_share = eigenvalues.sum() > 0.0 ? eigenvalues(0) / eigenvalues.sum() : 1.0;
   const bool straight = result.smallest_share <= config.straight_wall_share;
   if (change > (straight ? config.straight_max_change_rad : config.max_change_rad)) {

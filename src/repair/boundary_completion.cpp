@@ -9,7 +9,7 @@
 #include <string>
 #include <utility>
 
-#include "circle_fit.hpp"
+#include "geometry/circle_fit.hpp"
 
 namespace graspfill::repair {
 namespace {
@@ -308,7 +308,7 @@ std::optional<RimCurve> RimCurve::Fit(const PointList& points_in, const Completi
   };
   double gap = max_gap(curve.axis_xy_);
   if (gap > M_PI) {
-    CircleFit fit;
+    geometry::CircleFit fit;
     for (const Eigen::Vector3f& p : points) fit.Add(p.x(), p.y());
     const std::optional<Eigen::Vector2d> centre = fit.Centre();
     if (!centre) return fail("rim curve: no circle through the points");

@@ -1,10 +1,11 @@
 #include "graspfill/repair/boundary_detection.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+
+#include "geometry/plane_fit.hpp"
 
 namespace graspfill::repair {
 
@@ -25,26 +26,15 @@ void BoundaryConfig::Validate() const {
 namespace {
 
 // Unit normal of the least-squares plane of `points[nn]`, or zero when they
-// all coincide. Offsets from `origin` (a point of the set) keep the float
-// sums well conditioned; the 3x3 solve is in double because the smallest
-// eigenvalue of a near-planar set is tiny next to the others.
-Eigen::Vector3f PlaneNormal(const PointList& points, const std::vector<int>& nn,
-                            const Eigen::Vector3f& origin) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d sum_sq = Eigen::Matrix3d::Zero();
-  for (const int j : nn) {
-    const Eigen::Vector3d d = (points[static_cast<size_t>(j)] - origin).cast<double>();
-    sum += d;
-    sum_sq.noalias() += d * d.transpose();
-  }
-  const double n = static_cast<double>(nn.size());
-  const Eigen::Vector3d mean = sum / n;
-  const Eigen::Matrix3d cov = sum_sq / n - mean * mean.transpose();
-  if (!(cov.trace() > 0.0)) return Eigen::Vector3f::Zero();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
-  solver.computeDirect(cov, Eigen::ComputeEigenvectors);
-  // Eigenvalues come in increasing order: column 0 is the plane normal.
-  return solver.eigenvectors().col(0).normalized().cast<float>();
+// all coincide.
+Eigen::Vector3f PlaneNormal(const PointList& points, const std::vector<int>& nn) {
+  const auto neighbour = [&](size_t i) -> Eigen::Vector3d {
+    return points[static_cast<size_t>(nn[i])].cast<double>();
+  };
+  const geometry::PlaneFit fit =
+      geometry::FitPlane(nn.size(), neighbour, geometry::EigenSolve::kClosedForm);
+  if (!(fit.eigenvalues.sum() > 0.0)) return Eigen::Vector3f::Zero();
+  return fit.normal.cast<float>();
 }
 
 // A direction's "diamond angle" in [0, 4): monotone in its polar angle
@@ -226,7 +216,7 @@ std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const Boundary
     } else {
       index.Knn(p, config.k + 1, &nn, &d2);
     }
-    const Eigen::Vector3f normal = PlaneNormal(points, nn, p);
+    const Eigen::Vector3f normal = PlaneNormal(points, nn);
     if (normals != nullptr) (*normals)[i] = normal;
     Gap gap;
     if (normal.isZero() || !HasWideGap(points, nn, p, normal, threshold, &dirs, &gap)) {
@@ -236,7 +226,7 @@ std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const Boundary
       // The wider look, only for the few points the first one flagged; its
       // gap direction is the steadier one.
       index.Knn(p, config.confirm_k + 1, &nn, &d2);
-      const Eigen::Vector3f wide_normal = PlaneNormal(points, nn, p);
+      const Eigen::Vector3f wide_normal = PlaneNormal(points, nn);
       if (wide_normal.isZero() ||
           !HasWideGap(points, nn, p, wide_normal, threshold, &dirs, &gap)) {
         continue;

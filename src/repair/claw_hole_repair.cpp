@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "circle_fit.hpp"
+#include "geometry/circle_fit.hpp"
 #include "gap_test.hpp"
 #include "hole_fill.hpp"
 #include "local_surfaces.hpp"
@@ -255,7 +255,7 @@ class ObservedOutlines {
       // The slab's centre: its circle's, unless that lies past its widest
       // point from V's axis (a flat face alone), then the axis. V's axis
       // misses a bottle's neck by 2-3 mm (tilted by the body below it).
-      CircleFit fit;
+      geometry::CircleFit fit;
       float from_axis = 0.0f;
       for (int i : slab) {
         const Eigen::Vector3f& p = points_V[static_cast<size_t>(i)];
@@ -285,7 +285,7 @@ class ObservedOutlines {
       hulls_[static_cast<size_t>(k)] = profile_.Hull(k, kMinPoints);
       built_[static_cast<size_t>(k)] = 1;
     }
-    return DepthInsideConvex(hulls_[static_cast<size_t>(k)], p.head<2>().cast<double>()) > depth_m;
+    return geometry::DepthInsideConvex(hulls_[static_cast<size_t>(k)], p.head<2>().cast<double>()) > depth_m;
   }
   // Farther than `margin_m` from its slab's centre than every point of
   // the slab, where they lie on a circle: a box's or an ellipse's widest
@@ -360,7 +360,7 @@ size_t DropFillsOnTheTop(const PointList& rim_V, double max_inside_m, PointList*
   if (rim_V.size() < 3 || !(max_inside_m > 0.0)) return 0;
   std::vector<Eigen::Vector2d> xy;
   for (const Eigen::Vector3f& p : rim_V) xy.push_back(p.head<2>().cast<double>());
-  const std::vector<Eigen::Vector2d> outline = ConvexHull2d(&xy);
+  const std::vector<Eigen::Vector2d> outline = geometry::ConvexHull2d(&xy);
   // The rim's highest point per 5 degrees around V's axis; a fill is
   // compared with the highest within 15 degrees of it (a ragged rim).
   constexpr int kBins = 72, kReach = 3;
@@ -376,7 +376,7 @@ size_t DropFillsOnTheTop(const PointList& rim_V, double max_inside_m, PointList*
     float rim_z = -std::numeric_limits<float>::infinity();
     for (int k = -kReach; k <= kReach; ++k) rim_z = std::max(rim_z, top[(b + k + kBins) % kBins]);
     return std::isfinite(rim_z) && p.z() > rim_z &&
-           DepthInsideConvex(outline, p.head<2>().cast<double>()) > max_inside_m;
+           geometry::DepthInsideConvex(outline, p.head<2>().cast<double>()) > max_inside_m;
   };
   fills_V->erase(std::remove_if(fills_V->begin(), fills_V->end(), on_top), fills_V->end());
   return before - fills_V->size();

@@ -6,7 +6,7 @@
 #include <optional>
 #include <stdexcept>
 
-#include "convex_hull.hpp"
+#include "geometry/polygon_2d.hpp"
 #include "graspfill/repair/neighbor_index.hpp"
 #include "local_surfaces.hpp"
 
@@ -24,16 +24,6 @@ Ring SampleOutline(const Ring& hull, double spacing) {
     for (int s = 0; s < n; ++s) ring.push_back(a + (b - a) * (static_cast<double>(s) / n));
   }
   return ring;
-}
-
-// Area of a simple polygon (shoelace).
-double Area(const Ring& polygon) {
-  double twice = 0.0;
-  for (size_t i = 0; i < polygon.size(); ++i) {
-    const Eigen::Vector2d a = polygon[i], b = polygon[(i + 1) % polygon.size()];
-    twice += a.x() * b.y() - a.y() * b.x();
-  }
-  return 0.5 * std::abs(twice);
 }
 
 Eigen::Vector3f At(const Eigen::Vector2d& xy, double z) {
@@ -87,7 +77,7 @@ PointList DomeCandidates(const PointList& points_V, float z_wall, double spacing
     outline.emplace_back(p.x(), p.y());
     columns.emplace_back(p.x(), p.y(), 0.0f);
   }
-  outline = ConvexHull2d(&outline);
+  outline = geometry::ConvexHull2d(&outline);
   if (outline.size() < 3) return {};
   fill::HoleFrame frame;  // V's axes about the band's centre
   frame.origin = centre / static_cast<double>(support.size());
@@ -112,7 +102,7 @@ PointList DomeCandidates(const PointList& points_V, float z_wall, double spacing
   if (!(curvature.eigenvalues().maxCoeff() < 0.0)) return {};  // no dome
   const Eigen::Vector2d apex_scaled = hessian.ldlt().solve(-Eigen::Vector2d(c(1), c(2)));
   const Eigen::Vector2d apex = frame.origin.head<2>() + f.scale * apex_scaled;
-  if (!InsideConvex(outline, apex)) return {};
+  if (!geometry::InsideConvex(outline, apex)) return {};
   if (f.Point(f.scale * apex_scaled.x(), f.scale * apex_scaled.y()).z() > z_wall + config.top_search_m) {
     return {};
   }
@@ -131,7 +121,7 @@ PointList DomeCandidates(const PointList& points_V, float z_wall, double spacing
   for (const Eigen::Vector2d& h : outline) box.extend(h);
   for (double x = box.min().x() + 0.5 * spacing_m; x < box.max().x(); x += spacing_m) {
     for (double y = box.min().y() + 0.5 * spacing_m; y < box.max().y(); y += spacing_m) {
-      if (!InsideConvex(outline, {x, y})) continue;
+      if (!geometry::InsideConvex(outline, {x, y})) continue;
       Eigen::Vector3d p = f.Point(x - frame.origin.x(), y - frame.origin.y());
       if (on_quadric && !quadric.Project(&p, kMaxMoveM)) continue;
       seen.Radius(At(p.head<2>(), 0.0), spacing_m, &near);
@@ -404,19 +394,20 @@ EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointLis
   for (const Eigen::Vector3f& p : points_V) {
     if (p.z() >= z_wall - config.top_band_m) band.emplace_back(p.x(), p.y());
   }
-  const Ring hull = ConvexHull2d(&band);
+  const Ring hull = geometry::ConvexHull2d(&band);
   if (hull.size() < 3) return top;
   Ring lower_band;
   const double lower_top = z_wall - config.taper_drop_m;
   for (const Eigen::Vector3f& p : points_V) {
     if (p.z() <= lower_top && p.z() >= lower_top - config.top_band_m) lower_band.emplace_back(p.x(), p.y());
   }
-  const Ring lower = ConvexHull2d(&lower_band);
+  const Ring lower = geometry::ConvexHull2d(&lower_band);
   // The fills apart: the cloud's index is the caller's.
   std::optional<NeighborIndex> fills;
   if (!fills_V.empty()) fills.emplace(fills_V);
   const NeighborIndex* fills_index = fills ? &*fills : nullptr;
-  if (lower.size() >= 3 && Area(hull) < config.min_flat_area_ratio * Area(lower)) {
+  if (lower.size() >= 3 &&
+      geometry::PolygonArea(hull) < config.min_flat_area_ratio * geometry::PolygonArea(lower)) {
     top.outcome = TopEvidence::kTapered;
     if (config.dome_support_m > 0.0) {
       const PointList dome = DomeCandidates(points_V, z_wall, spacing_m, config);
@@ -440,7 +431,7 @@ EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointLis
   for (const Eigen::Vector2d& h : hull) box.extend(h);
   for (double x = box.min().x() + 0.5 * spacing_m; x < box.max().x(); x += spacing_m) {
     for (double y = box.min().y() + 0.5 * spacing_m; y < box.max().y(); y += spacing_m) {
-      if (InsideConvex(hull, {x, y})) candidates.push_back(At({x, y}, top.top_z_V));
+      if (geometry::InsideConvex(hull, {x, y})) candidates.push_back(At({x, y}, top.top_z_V));
     }
   }
   top.added_V = KeepNewAndUnseen(candidates, observed_V, fills_index, spacing_m, record, T_in_V, &top.rejected_free);

@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "geometry/gap_grid.hpp"
 #include "hole_fill.hpp"
 
 namespace graspfill::repair::fill {
@@ -76,21 +77,15 @@ class GapTest {
   bool IsNew(const Eigen::Vector3f& p);
 
  private:
-  bool GridHas(const Eigen::Vector3f& p, const Eigen::Vector3d& local) const;
-
   const NeighborIndex& index_;
   const AddedPoints* earlier_;
   double gap_m_;
   std::vector<int> nn_;
   std::vector<double> d2_;
-  // The grid (empty when not built).
+  // The grid (none when frame_ is null).
   const HoleFrame* frame_{nullptr};
   Box trusted_;  // candidates inside it are decided by the grid alone
-  Eigen::Vector2d lo_{0, 0};
-  double cell_{1.0};
-  int nu_{0}, nv_{0};
-  std::vector<int> start_;  // CSR: cell c holds pts_[start_[c], start_[c + 1])
-  PointList pts_;
+  geometry::GapGrid grid_;
 };
 
 }  // namespace graspfill::repair::fill

@@ -1,10 +1,11 @@
 #include "hole_fill.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include "geometry/plane_fit.hpp"
 
 namespace graspfill::repair::fill {
 
@@ -67,19 +68,6 @@ Spacing EstimateSpacing(const NeighborIndex& index, const std::vector<int>& subs
   return out;
 }
 
-Eigen::Vector3d PlaneOf(const std::vector<Eigen::Vector3d>& pts, Eigen::Vector3d* mean,
-                        Eigen::Vector3d* eigenvalues) {
-  *mean = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : pts) *mean += p;
-  *mean /= static_cast<double>(std::max<size_t>(1, pts.size()));
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3d& p : pts) cov += (p - *mean) * (p - *mean).transpose();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-  eig.computeDirect(cov);
-  *eigenvalues = eig.eigenvalues();
-  return eig.eigenvectors().col(0);
-}
-
 std::vector<Eigen::Vector3f> EstimateNormals(const NeighborIndex& index,
                                              const std::vector<int>& subset, int k,
                                              const Eigen::Vector3f& centre) {
@@ -87,14 +75,12 @@ std::vector<Eigen::Vector3f> EstimateNormals(const NeighborIndex& index,
   std::vector<Eigen::Vector3f> normals(subset.size());
   std::vector<int> nn;
   std::vector<double> d2;
-  std::vector<Eigen::Vector3d> near;
-  Eigen::Vector3d mean, eigenvalues;
   for (size_t i = 0; i < subset.size(); ++i) {
     const Eigen::Vector3f& p = points[subset[i]];
     index.Knn(p, k, &nn, &d2);
-    near.clear();
-    for (int j : nn) near.push_back(points[j].cast<double>());
-    Eigen::Vector3f n = PlaneOf(near, &mean, &eigenvalues).cast<float>();
+    const auto neighbour = [&](size_t j) -> Eigen::Vector3d { return points[nn[j]].cast<double>(); };
+    Eigen::Vector3f n =
+        geometry::FitPlane(nn.size(), neighbour, geometry::EigenSolve::kClosedForm).normal.cast<float>();
     if (n.dot(p - centre) < 0.0f) n = -n;
     normals[i] = n;
   }
@@ -124,17 +110,17 @@ Eigen::Vector3f Centroid(const PointList& points) {
 
 HoleFrame MakeHoleFrame(const PointList& rim, const PointList& points,
                         const std::vector<int>& support, const Eigen::Vector3d& outward_hint) {
-  std::vector<Eigen::Vector3d> pts;
-  for (const Eigen::Vector3f& p : rim) pts.push_back(p.cast<double>());
-  HoleFrame f;
-  Eigen::Vector3d eigenvalues;
-  f.n = PlaneOf(pts, &f.origin, &eigenvalues);
+  constexpr geometry::EigenSolve kSolve = geometry::EigenSolve::kClosedForm;
+  const auto rim_point = [&](size_t i) -> Eigen::Vector3d { return rim[i].cast<double>(); };
+  geometry::PlaneFit plane = geometry::FitPlane(rim.size(), rim_point, kSolve);
   // A rim too thin to span a plane (a degenerate boundary): the support's.
-  if (!(eigenvalues(1) > 1e-4 * eigenvalues(2))) {
-    pts.clear();
-    for (int i : support) pts.push_back(points[i].cast<double>());
-    f.n = PlaneOf(pts, &f.origin, &eigenvalues);
+  if (!(plane.eigenvalues(1) > 1e-4 * plane.eigenvalues(2))) {
+    const auto support_point = [&](size_t i) -> Eigen::Vector3d { return points[support[i]].cast<double>(); };
+    plane = geometry::FitPlane(support.size(), support_point, kSolve);
   }
+  HoleFrame f;
+  f.n = plane.normal;
+  f.origin = plane.mean;
   if (f.n.dot(outward_hint) < 0.0) f.n = -f.n;
   Eigen::Vector3d e2 = Eigen::Vector3d::UnitZ() - f.n.z() * f.n;
   if (e2.norm() < 0.1) e2 = Eigen::Vector3d::UnitX() - f.n.x() * f.n;
@@ -144,9 +130,12 @@ HoleFrame MakeHoleFrame(const PointList& rim, const PointList& points,
 }
 
 HoleFrame FrameFromPlane(const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3f& centroid) {
+  const geometry::PlaneFit plane =
+      geometry::FitPlane(pts.size(), [&](size_t i) -> const Eigen::Vector3d& { return pts[i]; },
+                         geometry::EigenSolve::kClosedForm);
   HoleFrame f;
-  Eigen::Vector3d eigenvalues;
-  f.n = PlaneOf(pts, &f.origin, &eigenvalues);
+  f.n = plane.normal;
+  f.origin = plane.mean;
   if ((f.origin - centroid.cast<double>()).dot(f.n) < 0.0) f.n = -f.n;
   Eigen::Vector3d e2 = Eigen::Vector3d::UnitZ() - f.n.z() * f.n;
   if (e2.norm() < 0.1) e2 = Eigen::Vector3d::UnitX() - f.n.x() * f.n;

@@ -51,12 +51,6 @@ struct Spacing {
 Spacing EstimateSpacing(const NeighborIndex& index, const std::vector<int>& subset,
                         size_t max_queries);
 
-// Least-squares plane of `pts` (PCA): its normal, the eigenvector of the
-// covariance's smallest eigenvalue; also the mean and the eigenvalues
-// (increasing).
-Eigen::Vector3d PlaneOf(const std::vector<Eigen::Vector3d>& pts, Eigen::Vector3d* mean,
-                        Eigen::Vector3d* eigenvalues);
-
 // PCA normals of `subset` (knn over the whole cloud), oriented away from
 // `centre`: right for the convex-ish objects a claw holds, and cheap, where
 // Open3D's consistent tangent-plane orientation takes seconds.

@@ -84,22 +84,37 @@ struct NeighborIndex::Impl {
     }
   }
 
-  // Adds the cells at Chebyshev distance exactly `r` from `centre`.
-  void CollectShell(const int centre[3], int r, const Eigen::Vector3d& q,
-                    std::vector<Candidate>* out) const {
+  // Calls visit(c) for each cell c at Chebyshev distance exactly `r` from
+  // `centre`, until one returns true (then true).
+  template <typename Visit>
+  bool VisitShell(const int centre[3], int r, const Visit& visit) const {
     const int z0 = std::max(0, centre[2] - r), z1 = std::min(n[2] - 1, centre[2] + r);
     const int y0 = std::max(0, centre[1] - r), y1 = std::min(n[1] - 1, centre[1] + r);
     const int x0 = std::max(0, centre[0] - r), x1 = std::min(n[0] - 1, centre[0] + r);
     for (int z = z0; z <= z1; ++z) {
       for (int y = y0; y <= y1; ++y) {
         if (std::abs(z - centre[2]) == r || std::abs(y - centre[1]) == r) {
-          for (int x = x0; x <= x1; ++x) Collect(x, y, z, q, out);
+          for (int x = x0; x <= x1; ++x) {
+            if (visit(Flat(x, y, z))) return true;
+          }
         } else {  // inside the shell's slab only its two x faces are new
-          if (centre[0] - r >= 0) Collect(centre[0] - r, y, z, q, out);
-          if (centre[0] + r < n[0]) Collect(centre[0] + r, y, z, q, out);
+          if (centre[0] - r >= 0 && visit(Flat(centre[0] - r, y, z))) return true;
+          if (centre[0] + r < n[0] && visit(Flat(centre[0] + r, y, z))) return true;
         }
       }
     }
+    return false;
+  }
+
+  // Adds the points of the cells at Chebyshev distance exactly `r`.
+  void CollectShell(const int centre[3], int r, const Eigen::Vector3d& q,
+                    std::vector<Candidate>* out) const {
+    VisitShell(centre, r, [&](int c) {
+      for (int j = cell_start[c]; j < cell_start[c + 1]; ++j) {
+        out->emplace_back((sorted[j].cast<double>() - q).squaredNorm(), order[j]);
+      }
+      return false;
+    });
   }
 
   // Distance from q to the nearest cell outside the block of half-width r
@@ -399,6 +414,32 @@ void NeighborIndex::Radius(const Eigen::Vector3f& query, double radius_m,
     indices->push_back(c.second);
     if (squared_distances) squared_distances->push_back(c.first);
   }
+}
+
+bool NeighborIndex::AnyWithin(const Eigen::Vector3f& query, double radius_m) const {
+  const Impl& g = *impl_;
+  if (!(radius_m >= 0.0)) return false;
+  const Eigen::Vector3d q = query.cast<double>();
+  const double r2 = radius_m * radius_m;
+  const auto near = [&](const Eigen::Vector3f& p) { return (p.cast<double>() - q).squaredNorm() <= r2; };
+  const int centre[3] = {g.CellOf(query.x(), 0), g.CellOf(query.y(), 1), g.CellOf(query.z(), 2)};
+  const auto cell_has = [&](int c) {
+    for (int j = g.cell_start[c]; j < g.cell_start[c + 1]; ++j) {
+      if (near(g.sorted[j])) return true;
+    }
+    return false;
+  };
+  // The cells Radius searches, shell by shell, until a hit.
+  if (cell_has(g.Flat(centre[0], centre[1], centre[2]))) return true;
+  for (int r = 1; g.Unsearched(centre, r - 1, q) <= radius_m; ++r) {
+    if (g.VisitShell(centre, r, cell_has)) return true;
+  }
+  if (g.FarBound(q) <= radius_m) {
+    for (int i : g.far) {
+      if (near(points_[static_cast<size_t>(i)])) return true;
+    }
+  }
+  return false;
 }
 
 // The box the grid covers: the points' bounding box, cut down around the

@@ -1,6 +1,5 @@
 #include "graspfill/repair/repairer.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cstdio>
 #include <chrono>
@@ -11,6 +10,7 @@
 
 #include "graspfill/evidence/safe_bound.hpp"
 #include "graspfill/repair/neighbor_index.hpp"
+#include "geometry/plane_fit.hpp"
 
 namespace graspfill::repair {
 namespace {
@@ -85,26 +85,18 @@ void AppendAddedNormals(size_t first_added, const std::vector<Eigen::Vector3f>& 
   KnnTable table;
   if (!unknown.empty()) table = NeighborIndex(points).KnnOf(unknown, kNeighbors);
   size_t row = 0;
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
   for (size_t i = first_added; i < points.size(); ++i) {
     const Eigen::Vector3f& known = known_G[i - first_added];
     if (!known.isZero()) {
       cloud->normals_G.push_back(known);
       continue;
     }
-    const int* nn = table.Row(row);
-    const int* nn_end = nn + table.k;
-    ++row;
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (const int* j = nn; j != nn_end; ++j) mean += points[*j].cast<double>();
-    mean /= static_cast<double>(table.k);
-    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-    for (const int* j = nn; j != nn_end; ++j) {
-      const Eigen::Vector3d d = points[*j].cast<double>() - mean;
-      covariance += d * d.transpose();
-    }
-    solver.computeDirect(covariance);
-    Eigen::Vector3d n = solver.eigenvectors().col(0).normalized();  // smallest eigenvalue
+    const int* nn = table.Row(row++);
+    const auto neighbour = [&](size_t j) -> Eigen::Vector3d {
+      return points[static_cast<size_t>(nn[j])].cast<double>();
+    };
+    Eigen::Vector3d n =
+        geometry::FitPlane(static_cast<size_t>(table.k), neighbour, geometry::EigenSolve::kClosedForm).normal;
     if (n.dot(points[i].cast<double>() - centroid) < 0.0) n = -n;
     cloud->normals_G.push_back(n.cast<float>());
   }

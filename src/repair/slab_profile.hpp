@@ -8,7 +8,7 @@
 #include <cmath>
 #include <vector>
 
-#include "convex_hull.hpp"
+#include "geometry/polygon_2d.hpp"
 #include "graspfill/repair/repair_types.hpp"
 
 namespace graspfill::repair {
@@ -55,7 +55,7 @@ class SlabProfile {
       for (size_t i = 0; i < pts.size(); i += stride) pts[m++] = pts[i];
       pts.resize(m);
     }
-    std::vector<Eigen::Vector2d> hull = ConvexHull2d(&pts);
+    std::vector<Eigen::Vector2d> hull = geometry::ConvexHull2d(&pts);
     if (hull.size() < 3) hull.clear();
     return hull;
   }

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/gap_grid.hpp"
 #include "slab_profile.hpp"
 
 namespace graspfill::repair {
@@ -37,19 +38,6 @@ std::string Mm(double m) {
   char buf[32];
   std::snprintf(buf, sizeof(buf), "%.1f mm", m * 1e3);
   return buf;
-}
-
-Point2 AreaCentroid(const Polygon& poly) {
-  double a = 0.0;
-  Point2 c(0, 0);
-  for (size_t i = 0; i < poly.size(); ++i) {
-    const Point2& p = poly[i];
-    const Point2& q = poly[(i + 1) % poly.size()];
-    const double w = p.x() * q.y() - q.x() * p.y();
-    a += w;
-    c += w * (p + q);
-  }
-  return std::abs(a) > 0.0 ? Point2(c / (3.0 * a)) : poly.front();
 }
 
 // The outline of a cross-section, described by the support function of
@@ -102,7 +90,7 @@ Support SupportFunction(const Polygon& hull, const Point2& centre) {
 // few percent, which moved the plane of an ellipsoid by ~1.3 mm).
 double SectionSize(const Polygon& hull, const Support& reference) {
   if (hull.size() < 3) return 0.0;
-  const Support h = SupportFunction(hull, AreaCentroid(hull));
+  const Support h = SupportFunction(hull, geometry::PolygonCentroid(hull));
   std::array<double, kDirections> ratio;
   for (int j = 0; j < kDirections; ++j) {
     ratio[j] = reference[j] > 0.0 ? h[j] / reference[j] : 0.0;
@@ -118,7 +106,7 @@ double SectionSize(const Polygon& hull, const Support& reference) {
 // square and the same square turned by 45 degrees; a lateral shift counts.
 double OutlineMismatch(const Polygon& a, const Polygon& b) {
   if (a.size() < 3 || b.size() < 3) return 1.0;
-  const Point2 centre = 0.5 * (AreaCentroid(a) + AreaCentroid(b));
+  const Point2 centre = 0.5 * (geometry::PolygonCentroid(a) + geometry::PolygonCentroid(b));
   const Support ha = SupportFunction(a, centre), hb = SupportFunction(b, centre);
   std::array<double, kDirections> diff;
   double mean = 0.0;
@@ -129,66 +117,6 @@ double OutlineMismatch(const Polygon& a, const Polygon& b) {
   std::nth_element(diff.begin(), diff.begin() + kDirections / 2, diff.end());
   return mean > 0.0 ? diff[kDirections / 2] / mean : 1.0;
 }
-
-// The points of a box, bucketed on an xy grid of cell `gap`, to ask "is
-// any within `gap` of q?" (q inside the box) in nine cell lookups instead
-// of a KD-tree query.
-class GapGrid {
- public:
-  GapGrid(const PointList& points, const Eigen::AlignedBox3f& box, double gap)
-      : box_(box), gap_(gap) {
-    if (!(gap > 0.0)) return;
-    const Eigen::Vector3f size = box.sizes();
-    const double cells = std::ceil(size.x() / gap) * std::ceil(size.y() / gap);
-    if (!(cells > 0.0) || cells > 4e6) {  // an absurd box: one cell
-      cell_ = std::max<double>(size.x(), size.y()) + 1.0;
-    } else {
-      cell_ = gap;
-      nx_ = std::max(1, static_cast<int>(std::ceil(size.x() / gap)));
-      ny_ = std::max(1, static_cast<int>(std::ceil(size.y() / gap)));
-    }
-    std::vector<std::pair<int, Eigen::Vector3f>> binned;
-    for (const Eigen::Vector3f& p : points) {
-      if (box.contains(p)) binned.emplace_back(Cell(p), p);
-    }
-    start_.assign(static_cast<size_t>(nx_) * ny_ + 1, 0);
-    for (const auto& b : binned) ++start_[b.first + 1];
-    for (size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
-    pts_.resize(binned.size());
-    std::vector<int> fill(start_.begin(), start_.end() - 1);
-    for (const auto& b : binned) pts_[fill[b.first]++] = b.second;
-  }
-  bool AnyWithin(const Eigen::Vector3f& q) const {
-    if (start_.empty()) return false;
-    const int ix = CellX(q), iy = CellY(q);
-    const float r2 = static_cast<float>(gap_ * gap_);
-    for (int y = std::max(0, iy - 1); y <= std::min(ny_ - 1, iy + 1); ++y) {
-      for (int x = std::max(0, ix - 1); x <= std::min(nx_ - 1, ix + 1); ++x) {
-        const int c = y * nx_ + x;
-        for (int k = start_[c]; k < start_[c + 1]; ++k) {
-          if ((pts_[k] - q).squaredNorm() <= r2) return true;
-        }
-      }
-    }
-    return false;
-  }
-
- private:
-  int CellX(const Eigen::Vector3f& p) const {
-    return std::clamp(static_cast<int>((p.x() - box_.min().x()) / cell_), 0, nx_ - 1);
-  }
-  int CellY(const Eigen::Vector3f& p) const {
-    return std::clamp(static_cast<int>((p.y() - box_.min().y()) / cell_), 0, ny_ - 1);
-  }
-  int Cell(const Eigen::Vector3f& p) const { return CellY(p) * nx_ + CellX(p); }
-
-  Eigen::AlignedBox3f box_;
-  double gap_;
-  double cell_{1.0};
-  int nx_{1}, ny_{1};
-  std::vector<int> start_;
-  PointList pts_;
-};
 
 // The size of every slab's outline (0: too few points) relative to the
 // outline at the median height, or the nearest slab with enough points;
@@ -206,7 +134,7 @@ bool SectionSizes(const SlabProfile& profile, int median_slab, int min_points,
     else if (median_slab - off >= 0 && hulls[median_slab - off].size() >= 3) ref = median_slab - off;
   }
   if (ref < 0) return false;
-  const Support reference = SupportFunction(hulls[ref], AreaCentroid(hulls[ref]));
+  const Support reference = SupportFunction(hulls[ref], geometry::PolygonCentroid(hulls[ref]));
   size->assign(slabs, 0.0);
   int first = -1, last = -1;
   for (int k = 0; k < slabs; ++k) {
@@ -659,28 +587,37 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
   const Eigen::Vector3f g = Eigen::Vector3f::Constant(static_cast<float>(gap));
   // The original points a mirrored one could overlap, on an xy grid of
   // cell `gap` over the box (a few cell lookups instead of a KD query).
-  const GapGrid near(all, Eigen::AlignedBox3f(box_min - g, box_max + g), gap);
+  const auto xy = [](const Eigen::Vector3f& p) { return Eigen::Vector2d(p.x(), p.y()); };
+  const auto points_in = [&](const Eigen::AlignedBox3f& b) {
+    geometry::GapGrid grid(xy(b.min()), xy(b.max()), gap);
+    for (const Eigen::Vector3f& p : all) {
+      if (b.contains(p)) grid.Add(xy(p), p);
+    }
+    grid.Build();
+    return grid;
+  };
+  const geometry::GapGrid near = points_in(Eigen::AlignedBox3f(box_min - g, box_max + g));
   std::vector<Eigen::AlignedBox3f> open_boxes;  // padded as the top's box
-  std::vector<GapGrid> near_open;
+  std::vector<geometry::GapGrid> near_open;
   if (open_holes_V != nullptr) {
     for (const Eigen::AlignedBox3f& b : *open_holes_V) {
       if (b.isEmpty()) continue;
       const Eigen::Vector3f p3 = Eigen::Vector3f::Constant(pad);
       open_boxes.emplace_back(b.min() - p3, b.max() + p3);
-      near_open.emplace_back(all, Eigen::AlignedBox3f(open_boxes.back().min() - g, open_boxes.back().max() + g),
-                             gap);
+      near_open.push_back(
+          points_in(Eigen::AlignedBox3f(open_boxes.back().min() - g, open_boxes.back().max() + g)));
     }
   }
   std::vector<size_t> in_open(open_boxes.size(), 0);
   for (const Eigen::Vector3f& p : all) {
     const Eigen::Vector3f q(p.x(), p.y(), static_cast<float>(2.0 * z_s - p.z()));
     if (box.contains(q)) {
-      if (!near.AnyWithin(q)) result.added_V.push_back(q);
+      if (!near.AnyWithin(xy(q), q)) result.added_V.push_back(q);
       continue;
     }
     for (size_t k = 0; k < open_boxes.size(); ++k) {
       if (open_boxes[k].contains(q)) {
-        if (!near_open[k].AnyWithin(q)) result.added_V.push_back(q), ++in_open[k];
+        if (!near_open[k].AnyWithin(xy(q), q)) result.added_V.push_back(q), ++in_open[k];
         break;
       }
     }

@@ -1,44 +1,28 @@
 #include "graspfill/repair/virtual_frame.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 #include <optional>
-#include <random>
 #include <stdexcept>
-#include <utility>
 
-#include "convex_hull.hpp"
+#include "geometry/polygon_2d.hpp"
+#include "geometry/ransac_planes.hpp"
+#include "graspfill/repair/neighbor_index.hpp"
 
 namespace graspfill::repair {
 namespace {
 
 using Vec3 = Eigen::Vector3d;
 using Vec2 = Eigen::Vector2d;
+using geometry::FitPlaneOf;
+using geometry::PlaneInliers;
+using geometry::RansacPlane;
+using geometry::RansacPlanes;
 
-// RANSAC hypotheses are scored on this many evenly strided boundary points
-// (the winner is then refitted on all of them): scoring every point of a
-// 2-3k boundary for every hypothesis would cost ~1 ms per plane...
-constexpr size_t kScoringPoints = 384;
-// ... and first on this many, to drop hopeless hypotheses cheaply.
-constexpr size_t kPreemptivePoints = 64;
-// Cloud points against which a hypothesis is checked for being a cut.
-constexpr size_t kSideSamplePoints = 2048;
-// Cut-mode seeds: directions, and the share of the boundary points (at
-// least kSeedMinPoints) farthest along each that a seed plane is fitted to.
-constexpr int kSeedDirections = 64;
-constexpr size_t kSeedFraction = 12;
-constexpr size_t kSeedMinPoints = 24;
 // A plane with at most this fraction of the cloud beyond it (strays) has
 // the cloud on one side.
 constexpr double kStrayFraction = 0.002;
-// A hypothesis with more than this fraction of its inliers on one plane
-// already found is that plane again (a shifted or tilted copy through the
-// same band). Two genuine planes share only their intersection line: a
-// cuboid's top shares a quarter of its rim with each face.
-constexpr double kMaxSharedFraction = 0.5;
 // The most a cut's refit may turn it (see RefineCut).
 constexpr double kMaxRefineAngleRad = 10.0 * M_PI / 180.0;
 // Cuts less open than this are not refitted (they are no top).
@@ -56,428 +40,6 @@ std::vector<Vec3> FinitePoints(const PointList& points) {
   }
   return out;
 }
-
-// "Is any of the points within r of q": a dense grid of cell size >= r over
-// the points' bounding box, so a query looks at the 27 cells around q.
-class NearGrid {
- public:
-  NearGrid(const std::vector<Vec3>& points, double r) : points_(points), r2_(r * r) {
-    Eigen::AlignedBox3d box;
-    for (const Vec3& p : points) box.extend(p);
-    if (points.empty()) box.extend(Vec3::Zero());
-    origin_ = box.min();
-    const Vec3 extent = box.sizes();
-    // A radius that is not a positive length finds nothing (r2_ is NaN or
-    // 0); the grid still needs a usable cell.
-    cell_ = r > 0.0 && std::isfinite(r) ? r : 1.0;
-    // Stray points could make the box huge; coarser cells keep the grid
-    // small and the 27-cell query still covers the radius. Doubled until
-    // the grid fits (a cube-root rescale undershoots a long thin box: one
-    // axis of 1e10 cells overflowed int and asked for 7 GB).
-    constexpr double kMaxCells = 1 << 21;
-    auto volume_cells = [&] {
-      double v = 1.0;
-      for (int a = 0; a < 3; ++a) v *= std::floor(extent[a] / cell_) + 1.0;
-      return v;
-    };
-    while (!(volume_cells() <= kMaxCells)) cell_ *= 2.0;
-    for (int a = 0; a < 3; ++a) dims_[a] = static_cast<int>(std::floor(extent[a] / cell_)) + 1;
-    const size_t cells = static_cast<size_t>(dims_[0]) * dims_[1] * dims_[2];
-    start_.assign(cells + 1, 0);
-    std::vector<size_t> cell_of(points.size());
-    for (size_t i = 0; i < points.size(); ++i) {
-      cell_of[i] = Flat(Cell(points[i]));
-      ++start_[cell_of[i] + 1];
-    }
-    for (size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
-    order_.resize(points.size());
-    std::vector<size_t> fill(start_.begin(), start_.end() - 1);
-    for (size_t i = 0; i < points.size(); ++i) order_[fill[cell_of[i]]++] = static_cast<int>(i);
-  }
-
-  bool AnyWithin(const Vec3& q) const {
-    const Eigen::Vector3i c = Cell(q);
-    for (int dx = -1; dx <= 1; ++dx) {
-      for (int dy = -1; dy <= 1; ++dy) {
-        for (int dz = -1; dz <= 1; ++dz) {
-          const Eigen::Vector3i n = c + Eigen::Vector3i(dx, dy, dz);
-          if ((n.array() < 0).any() || n.x() >= dims_[0] || n.y() >= dims_[1] ||
-              n.z() >= dims_[2]) {
-            continue;
-          }
-          const size_t f = Flat(n);
-          for (size_t k = start_[f]; k < start_[f + 1]; ++k) {
-            if ((points_[static_cast<size_t>(order_[k])] - q).squaredNorm() <= r2_) return true;
-          }
-        }
-      }
-    }
-    return false;
-  }
-
- private:
-  Eigen::Vector3i Cell(const Vec3& p) const {
-    Eigen::Vector3i c;
-    for (int a = 0; a < 3; ++a) {
-      // Points outside the box map to out-of-range cells, which are skipped.
-      const double v = std::floor((p[a] - origin_[a]) / cell_);
-      c[a] = v == v ? static_cast<int>(std::clamp(v, -2.0, static_cast<double>(dims_[a]) + 1.0)) : -2;
-    }
-    return c;
-  }
-  size_t Flat(const Eigen::Vector3i& c) const {
-    return (static_cast<size_t>(c.z()) * dims_[1] + c.y()) * dims_[0] + c.x();
-  }
-
-  const std::vector<Vec3>& points_;
-  double r2_;
-  double cell_;
-  Vec3 origin_;
-  int dims_[3]{1, 1, 1};
-  std::vector<size_t> start_;
-  std::vector<int> order_;
-};
-
-// Least-squares plane through points[idx]: the eigenvector of the smallest
-// eigenvalue of their covariance. False when fewer than 3 points.
-bool FitPlane(const std::vector<Vec3>& points, const std::vector<int>& idx, Vec3* normal,
-              double* offset) {
-  if (idx.size() < 3) return false;
-  Vec3 mean = Vec3::Zero();
-  for (int i : idx) mean += points[static_cast<size_t>(i)];
-  mean /= static_cast<double>(idx.size());
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (int i : idx) {
-    const Vec3 d = points[static_cast<size_t>(i)] - mean;
-    cov += d * d.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-  *normal = eig.eigenvectors().col(0).normalized();
-  *offset = normal->dot(mean);
-  return true;
-}
-
-std::vector<int> Inliers(const std::vector<Vec3>& points, const std::vector<int>& candidates,
-                         const Vec3& normal, double offset, double threshold) {
-  std::vector<int> out;
-  for (int i : candidates) {
-    if (std::abs(normal.dot(points[static_cast<size_t>(i)]) - offset) <= threshold)
-      out.push_back(i);
-  }
-  return out;
-}
-
-std::vector<int> Strided(const std::vector<int>& indices, size_t at_most) {
-  const size_t stride = std::max<size_t>(1, (indices.size() + at_most - 1) / at_most);
-  std::vector<int> out;
-  for (size_t k = 0; k < indices.size(); k += stride) out.push_back(indices[k]);
-  return out;
-}
-
-struct ExtractedPlane {
-  Vec3 normal;
-  double offset;
-  int inliers;
-};
-
-// Sequential RANSAC over the boundary points, with local optimisation
-// (LO-RANSAC: a triple from a thin rim band is tilted by up to the band's
-// width over the rim's span, which costs a large flat rim many inliers
-// against a compact side patch; the least-squares plane of its inliers is
-// not) and preemptive scoring (a hypothesis is counted on a small sample
-// first, on the larger one only if it can compete).
-//
-// Two modes:
-//  - kFresh (the paper): the best plane among the points no plane explains
-//    yet; its inliers are then explained.
-//  - kCut: the best plane among all boundary points that has the cloud on
-//    one side (the cloud was cut there) and is not one already found, i.e.
-//    does not share most of its inliers with one. Points are shared
-//    because a cuboid's or prism's top rim also lies on the face planes,
-//    which are found first and would otherwise explain the rim away; and
-//    the side test keeps out the many planes through curved claw outlines
-//    that cut through the cloud.
-class PlaneExtractor {
- public:
-  enum class Mode { kFresh, kCut };
-
-  PlaneExtractor(const std::vector<Vec3>& points, const std::vector<Vec3>& cloud,
-                 const VirtualFrameConfig& config, int min_inliers, std::optional<Vec3> hint)
-      : points_(points),
-        config_(config),
-        min_inliers_(min_inliers),
-        hint_(hint),
-        rng_(config.seed),
-        explained_(points.size(), 0) {
-    for (size_t i = 0; i < points.size(); ++i) all_.push_back(static_cast<int>(i));
-    all_scoring_ = Pack(Strided(all_, kScoringPoints));
-    std::vector<Vec3> side;
-    const size_t stride =
-        std::max<size_t>(1, (cloud.size() + kSideSamplePoints - 1) / kSideSamplePoints);
-    for (size_t i = 0; i < cloud.size(); i += stride) side.push_back(cloud[i]);
-    // Shuffled, so that a plane through the cloud meets points on both of
-    // its sides within the first few and is dropped early.
-    for (size_t i = side.size(); i > 1; --i) std::swap(side[i - 1], side[rng_() % i]);
-    side_sample_ = Pack(side);
-    side_limit_ = static_cast<int>(kStrayFraction * static_cast<double>(side.size()));
-  }
-
-  // Seeds for the cut mode: for directions spread over the sphere
-  // (Fibonacci lattice), the least-squares plane of the boundary points
-  // farthest along it. Within the top's cone of directions these are arcs
-  // of the rim, and the local optimisation grows them to the whole rim: a
-  // small rim among many boundary points (an ellipsoid's, or a prism's
-  // among flagged edges) is found at once instead of after thousands of
-  // random triples.
-  // With an up hint, the hint and a ring of directions around it come
-  // first.
-  void MakeSeeds(const std::optional<Vec3>& hint) {
-    const size_t n = points_.size();
-    const size_t k = std::min(n, std::max<size_t>(kSeedMinPoints, n / kSeedFraction));
-    std::vector<std::pair<double, int>> heights(n);
-    std::vector<Vec3> dirs;
-    if (hint) {
-      dirs.push_back(*hint);
-      const Vec3 u = hint->unitOrthogonal(), v = hint->cross(u);
-      for (int i = 0; i < 6; ++i) {
-        const double a = M_PI / 3 * i;
-        dirs.push_back((*hint + std::tan(kMaxRefineAngleRad) * (std::cos(a) * u + std::sin(a) * v))
-                           .normalized());
-      }
-    }
-    const double golden = M_PI * (3.0 - std::sqrt(5.0));
-    for (int s = 0; s < kSeedDirections; ++s) {
-      const double z = 1.0 - 2.0 * (s + 0.5) / kSeedDirections;
-      const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-      dirs.emplace_back(r * std::cos(golden * s), r * std::sin(golden * s), z);
-    }
-    for (const Vec3& dir : dirs) {
-      for (size_t i = 0; i < n; ++i) heights[i] = {-dir.dot(points_[i]), static_cast<int>(i)};
-      std::nth_element(heights.begin(), heights.begin() + static_cast<long>(k) - 1, heights.end());
-      std::vector<int> top(k);
-      for (size_t i = 0; i < k; ++i) top[i] = heights[i].second;
-      Vec3 normal;
-      double offset;
-      if (FitPlane(points_, top, &normal, &offset)) seeds_.push_back({normal, offset});
-    }
-  }
-
-  const std::vector<ExtractedPlane>& planes() const { return planes_; }
-  ExtractedPlane& mutable_plane(size_t k) { return planes_[k]; }
-
-  /// Adds the next plane; false when there is none with enough inliers.
-  bool FindNext(Mode mode) {
-    const bool cut = mode == Mode::kCut;
-    std::vector<int> pool;
-    if (cut) {
-      pool = all_;
-    } else {
-      for (int i : all_) {
-        if (!explained_[static_cast<size_t>(i)]) pool.push_back(i);
-      }
-    }
-    if (static_cast<int>(pool.size()) < min_inliers_) return false;
-    const Packed scoring = cut ? all_scoring_ : Pack(Strided(pool, kScoringPoints));
-    const Packed preemptive = Pack(Strided(scoring.index, kPreemptivePoints));
-    const double threshold = config_.plane_distance_m;
-    const double log_miss = std::log(1.0 - config_.ransac_confidence);
-    const double pre_scale =
-        static_cast<double>(preemptive.size()) / static_cast<double>(scoring.size());
-    const double min_score =
-        min_inliers_ * static_cast<double>(scoring.size()) / static_cast<double>(pool.size());
-
-    int best_score = static_cast<int>(std::ceil(min_score)) - 1;
-    bool found = false;
-    Vec3 best_normal = Vec3::UnitZ();
-    double best_offset = 0.0;
-    int needed = config_.max_ransac_iterations;
-    std::vector<int> support;
-    if (cut && seeds_.empty()) MakeSeeds(hint_);
-    const int n_seeds = cut ? static_cast<int>(seeds_.size()) : 0;
-    for (int it = 0; it < n_seeds + needed; ++it) {
-      Vec3 n;
-      double d;
-      if (it < n_seeds) {
-        n = seeds_[static_cast<size_t>(it)].first;
-        d = seeds_[static_cast<size_t>(it)].second;
-      } else {
-        // Portable draws: mt19937_64's output is fixed by the standard, the
-        // distributions are not; the modulo bias is negligible here.
-        const Vec3& a = points_[static_cast<size_t>(pool[rng_() % pool.size()])];
-        const Vec3& b = points_[static_cast<size_t>(pool[rng_() % pool.size()])];
-        const Vec3& c = points_[static_cast<size_t>(pool[rng_() % pool.size()])];
-        const Vec3 ab = b - a, ac = c - a;
-        n = ab.cross(ac);
-        const double norm = n.norm();
-        // Repeated or collinear triples (a straight rim edge) fix no plane.
-        if (norm == 0.0 || norm <= 1e-6 * ab.norm() * ac.norm()) continue;
-        n /= norm;
-        d = n.dot(a);
-      }
-      // Tilted rim triples keep about half their inliers (see above).
-      const double floor = 0.4 * std::max<double>(best_score, min_score);
-      if (preemptive.Count(n, d, threshold) < floor * pre_scale) continue;
-      // Most planes through boundary points cut through the cloud: drop
-      // them early (with a looser band, as the triple may still lean).
-      if (cut && !OneSided(n, d, 2.0 * config_.extreme_band_m)) continue;
-      int score = scoring.Count(n, d, threshold);
-      // (No duplicate test yet: a seed or triple leaning over a face's top
-      // edge shares most points with that face until its refit levels it.)
-      if (score < floor) continue;
-      for (int round = 0; round < 2; ++round) {
-        scoring.Within(n, d, threshold, &support);
-        for (int& k : support) k = scoring.index[static_cast<size_t>(k)];
-        Vec3 n_ls;
-        double d_ls;
-        if (!FitPlane(points_, support, &n_ls, &d_ls)) break;
-        const int score_ls = scoring.Count(n_ls, d_ls, threshold);
-        if (score_ls <= score) break;
-        n = n_ls, d = d_ls, score = score_ls;
-      }
-      if (score <= best_score) continue;
-      if (cut && (!OneSided(n, d, config_.extreme_band_m) || Duplicate(n, d))) continue;
-      best_score = score;
-      best_normal = n;
-      best_offset = d;
-      found = true;
-      // Stop once a triple of this plane's points would have been drawn
-      // with the configured confidence.
-      const double w = static_cast<double>(score) / static_cast<double>(scoring.size());
-      const double p_all = w * w * w;
-      needed =
-          p_all >= 1.0
-              ? std::max(0, it + 1 - n_seeds)
-              : static_cast<int>(std::min<double>(config_.max_ransac_iterations,
-                                                  std::ceil(log_miss / std::log(1.0 - p_all))));
-    }
-    if (!found) return false;
-
-    std::vector<int> inliers = Inliers(points_, pool, best_normal, best_offset, threshold);
-    Vec3 n;
-    double d;
-    if (FitPlane(points_, inliers, &n, &d) &&
-        !(cut && (!OneSided(n, d, config_.extreme_band_m) || Duplicate(n, d)))) {
-      std::vector<int> refit = Inliers(points_, pool, n, d, threshold);
-      if (refit.size() >= inliers.size()) {
-        best_normal = n, best_offset = d, inliers = std::move(refit);
-      }
-    }
-    if (static_cast<int>(inliers.size()) < min_inliers_) return false;
-    planes_.push_back({best_normal, best_offset, static_cast<int>(inliers.size())});
-    // Only fresh-mode planes explain points (cut mode shares them).
-    if (!cut) {
-      for (int i : inliers) explained_[static_cast<size_t>(i)] = 1;
-    }
-    std::vector<int> on_plane;
-    all_scoring_.Within(best_normal, best_offset, threshold, &on_plane);
-    std::vector<uint8_t> mask(all_scoring_.size(), 0);
-    for (int k : on_plane) mask[static_cast<size_t>(k)] = 1;
-    masks_.push_back(std::move(mask));
-    return true;
-  }
-
- private:
-  // Points packed as float arrays (the counting loops vectorise), with
-  // their indices into points_.
-  struct Packed {
-    std::vector<float> x, y, z;
-    std::vector<int> index;
-    size_t size() const { return x.size(); }
-    int Count(const Vec3& n, double d, double threshold) const {
-      const float nx = static_cast<float>(n.x()), ny = static_cast<float>(n.y()),
-                  nz = static_cast<float>(n.z()), df = static_cast<float>(d),
-                  t = static_cast<float>(threshold);
-      int count = 0;
-      for (size_t k = 0; k < x.size(); ++k) {
-        count += std::abs(nx * x[k] + ny * y[k] + nz * z[k] - df) <= t;
-      }
-      return count;
-    }
-    // Positions (into this pack) of the points within the threshold.
-    void Within(const Vec3& n, double d, double threshold, std::vector<int>* out) const {
-      out->clear();
-      const float nx = static_cast<float>(n.x()), ny = static_cast<float>(n.y()),
-                  nz = static_cast<float>(n.z()), df = static_cast<float>(d),
-                  t = static_cast<float>(threshold);
-      for (size_t k = 0; k < x.size(); ++k) {
-        if (std::abs(nx * x[k] + ny * y[k] + nz * z[k] - df) <= t)
-          out->push_back(static_cast<int>(k));
-      }
-    }
-  };
-
-  Packed Pack(const std::vector<int>& indices) const {
-    Packed p;
-    for (int i : indices) {
-      const Vec3& q = points_[static_cast<size_t>(i)];
-      p.x.push_back(static_cast<float>(q.x()));
-      p.y.push_back(static_cast<float>(q.y()));
-      p.z.push_back(static_cast<float>(q.z()));
-      p.index.push_back(i);
-    }
-    return p;
-  }
-  static Packed Pack(const std::vector<Vec3>& points) {
-    Packed p;
-    for (const Vec3& q : points) {
-      p.x.push_back(static_cast<float>(q.x()));
-      p.y.push_back(static_cast<float>(q.y()));
-      p.z.push_back(static_cast<float>(q.z()));
-    }
-    return p;
-  }
-
-  // True if at most the strays of the cloud sample lie beyond the plane on
-  // one of its sides.
-  bool OneSided(const Vec3& n, double d, double band) const {
-    const float nx = static_cast<float>(n.x()), ny = static_cast<float>(n.y()),
-                nz = static_cast<float>(n.z()), df = static_cast<float>(d),
-                bf = static_cast<float>(band);
-    int above = 0, below = 0;
-    // Blocks of 16 between the early-exit checks, so the loop vectorises.
-    constexpr size_t kBlock = 16;
-    const size_t n_points = side_sample_.size();
-    for (size_t start = 0; start < n_points; start += kBlock) {
-      const size_t end = std::min(n_points, start + kBlock);
-      for (size_t k = start; k < end; ++k) {
-        const float h =
-            nx * side_sample_.x[k] + ny * side_sample_.y[k] + nz * side_sample_.z[k] - df;
-        above += h > bf;
-        below += h < -bf;
-      }
-      if (above > side_limit_ && below > side_limit_) return false;
-    }
-    return true;
-  }
-
-  // True if more than kMaxSharedFraction of the plane's inliers (in the
-  // scoring sample) are inliers of one plane already found.
-  bool Duplicate(const Vec3& n, double d) const {
-    if (planes_.empty()) return false;
-    all_scoring_.Within(n, d, config_.plane_distance_m, &scratch_);
-    for (const std::vector<uint8_t>& mask : masks_) {
-      int shared = 0;
-      for (int k : scratch_) shared += mask[static_cast<size_t>(k)];
-      if (shared > kMaxSharedFraction * static_cast<double>(scratch_.size())) return true;
-    }
-    return false;
-  }
-
-  const std::vector<Vec3>& points_;
-  const VirtualFrameConfig& config_;
-  const int min_inliers_;
-  const std::optional<Vec3> hint_;
-  std::mt19937_64 rng_;
-  std::vector<int> all_;
-  Packed all_scoring_;
-  Packed side_sample_;
-  int side_limit_{0};
-  std::vector<char> explained_;
-  std::vector<ExtractedPlane> planes_;
-  std::vector<std::vector<uint8_t>> masks_;  // inliers among all_scoring_
-  mutable std::vector<int> scratch_;
-  std::vector<std::pair<Vec3, double>> seeds_;  // cut-mode seed planes
-};
 
 // Number of boundary points within `band` of the highest one along `dir`
 // (the third highest, so that two strays cannot hold the plane).
@@ -507,7 +69,7 @@ int CountAtTop(const std::vector<Vec3>& boundary, const Vec3& dir, double band,
 // search), then a least-squares plane through those points. RANSAC's
 // plane can lean on a claw hole's side; the rim is what was cut level.
 void RefineCut(const std::vector<Vec3>& boundary, double plane_distance, const Vec3& empty,
-               ExtractedPlane* plane) {
+               RansacPlane* plane) {
   std::vector<double> heights;
   Vec3 best = empty;
   int best_count = CountAtTop(boundary, best, plane_distance, &heights);
@@ -535,7 +97,7 @@ void RefineCut(const std::vector<Vec3>& boundary, double plane_distance, const V
   }
   Vec3 n;
   double d;
-  if (!FitPlane(boundary, rim, &n, &d)) return;
+  if (!FitPlaneOf(boundary, rim, &n, &d)) return;
   if (n.dot(empty) < std::cos(kMaxRefineAngleRad) && -n.dot(empty) < std::cos(kMaxRefineAngleRad))
     return;
   if (n.dot(plane->normal) < 0) n = -n, d = -d;
@@ -546,7 +108,7 @@ void RefineCut(const std::vector<Vec3>& boundary, double plane_distance, const V
 // Distance from `centroid` to the line through the centre of the plane's
 // rim (its boundary inliers) along its normal, in units of the rim's RMS
 // radius.
-double AxisOffset(const std::vector<Vec3>& boundary, const ExtractedPlane& plane, double threshold,
+double AxisOffset(const std::vector<Vec3>& boundary, const RansacPlane& plane, double threshold,
                   const Vec3& centroid) {
   Vec3 centre = Vec3::Zero();
   int count = 0;
@@ -588,8 +150,9 @@ struct PackedCloud {
   std::vector<float> x, y, z;
 };
 
-PlaneStats MeasurePlane(const PackedCloud& cloud, const NearGrid& boundary_grid, const Vec3& normal,
-                        double offset, double threshold, double band) {
+PlaneStats MeasurePlane(const PackedCloud& cloud, const NeighborIndex& boundary_index,
+                        double support_radius, const Vec3& normal, double offset, double threshold,
+                        double band) {
   const float nx = static_cast<float>(normal.x()), ny = static_cast<float>(normal.y()),
               nz = static_cast<float>(normal.z()), d = static_cast<float>(offset),
               t = static_cast<float>(threshold), b = static_cast<float>(band);
@@ -610,7 +173,7 @@ PlaneStats MeasurePlane(const PackedCloud& cloud, const NearGrid& boundary_grid,
     const float h = nx * cloud.x[i] + ny * cloud.y[i] + nz * cloud.z[i] - d;
     if (std::abs(h) > t || seen++ % stride != 0) continue;
     ++tested;
-    rim += boundary_grid.AnyWithin(Vec3(cloud.x[i], cloud.y[i], cloud.z[i]));
+    rim += boundary_index.AnyWithin(Eigen::Vector3f(cloud.x[i], cloud.y[i], cloud.z[i]), support_radius);
   }
   stats.open_fraction = static_cast<double>(rim) / tested;
   return stats;
@@ -620,72 +183,6 @@ double Quantile(std::vector<double> values, double q) {
   const size_t k = static_cast<size_t>(q * static_cast<double>(values.size() - 1));
   std::nth_element(values.begin(), values.begin() + static_cast<long>(k), values.end());
   return values[k];
-}
-
-// Convex hull (counter-clockwise, Andrew's monotone chain) of the lowest and
-// highest point of each of `columns` x-columns plus the x extremes: O(n)
-// instead of sorting every point, exact to within a column's width.
-std::vector<Vec2> ApproxHull(const std::vector<Vec2>& q, int columns) {
-  double x_lo = q[0].x(), x_hi = q[0].x();
-  size_t i_lo = 0, i_hi = 0;
-  for (size_t i = 1; i < q.size(); ++i) {
-    if (q[i].x() < x_lo) x_lo = q[i].x(), i_lo = i;
-    if (q[i].x() > x_hi) x_hi = q[i].x(), i_hi = i;
-  }
-  const double width = std::max(x_hi - x_lo, 1e-12);
-  std::vector<int> lowest(static_cast<size_t>(columns), -1),
-      highest(static_cast<size_t>(columns), -1);
-  for (size_t i = 0; i < q.size(); ++i) {
-    const int c = std::min(columns - 1, static_cast<int>((q[i].x() - x_lo) / width * columns));
-    int& lo = lowest[static_cast<size_t>(c)];
-    int& hi = highest[static_cast<size_t>(c)];
-    if (lo < 0 || q[i].y() < q[static_cast<size_t>(lo)].y()) lo = static_cast<int>(i);
-    if (hi < 0 || q[i].y() > q[static_cast<size_t>(hi)].y()) hi = static_cast<int>(i);
-  }
-  std::vector<Vec2> pts = {q[i_lo], q[i_hi]};
-  for (int c = 0; c < columns; ++c) {
-    if (lowest[static_cast<size_t>(c)] >= 0)
-      pts.push_back(q[static_cast<size_t>(lowest[static_cast<size_t>(c)])]);
-    if (highest[static_cast<size_t>(c)] >= 0)
-      pts.push_back(q[static_cast<size_t>(highest[static_cast<size_t>(c)])]);
-  }
-  return ConvexHull2d(&pts);
-}
-
-struct Rect2 {
-  Vec2 axis{1, 0};  // unit, along the longer side
-  Vec2 centre{0, 0};
-};
-
-// Minimum-area enclosing rectangle: one of its sides lies on a hull edge
-// (the theorem behind rotating calipers); with at most 2 * hull_columns + 2
-// hull points, every edge direction is simply tried.
-Rect2 MinAreaRect(const std::vector<Vec2>& hull) {
-  std::vector<Vec2> dirs;
-  const size_t h = hull.size();
-  const size_t edges = h >= 3 ? h : (h == 2 ? 1 : 0);
-  for (size_t i = 0; i < edges; ++i) {
-    const Vec2 e = hull[(i + 1) % h] - hull[i];
-    if (e.norm() > 0) dirs.push_back(e.normalized());
-  }
-  if (dirs.empty()) dirs.push_back(Vec2(1, 0));
-  double best_area = std::numeric_limits<double>::infinity();
-  Rect2 best;
-  for (const Vec2& e : dirs) {
-    const Vec2 n(-e.y(), e.x());
-    double a0 = std::numeric_limits<double>::infinity(), a1 = -a0, b0 = a0, b1 = -a0;
-    for (const Vec2& p : hull) {
-      a0 = std::min(a0, e.dot(p)), a1 = std::max(a1, e.dot(p));
-      b0 = std::min(b0, n.dot(p)), b1 = std::max(b1, n.dot(p));
-    }
-    const double area = (a1 - a0) * (b1 - b0);
-    if (area < best_area) {
-      best_area = area;
-      best.centre = 0.5 * (a0 + a1) * e + 0.5 * (b0 + b1) * n;
-      best.axis = (a1 - a0) >= (b1 - b0) ? e : n;
-    }
-  }
-  return best;
 }
 
 }  // namespace
@@ -748,17 +245,28 @@ std::optional<VirtualFrame> EstimateVirtualFrame(const PointList& cloud_in,
   auto in_hint_cone = [&](const Vec3& n) {
     return !hint || std::abs(n.dot(*hint)) >= hint_min_cos;
   };
-  const NearGrid grid(boundary, config.open_support_radius_m);
+  PointList boundary_f;  // the finite boundary points, as given
+  for (const Vec3& b : boundary) boundary_f.push_back(b.cast<float>());
+  const NeighborIndex boundary_index(boundary_f);
   const PackedCloud packed_cloud(cloud);
   const int stray_limit = static_cast<int>(kStrayFraction * static_cast<double>(cloud.size()));
 
   // 1.-2. The missing-surface plane.
-  PlaneExtractor extractor(boundary, cloud, config, min_inliers, hint);
+  geometry::RansacPlanesConfig ransac;
+  ransac.distance_m = config.plane_distance_m;
+  ransac.confidence = config.ransac_confidence;
+  ransac.max_iterations = config.max_ransac_iterations;
+  ransac.side_band_m = config.extreme_band_m;
+  ransac.stray_fraction = kStrayFraction;
+  ransac.hint_ring_rad = kMaxRefineAngleRad;
+  ransac.seed = config.seed;
+  RansacPlanes extractor(boundary, cloud, ransac, min_inliers, hint);
   std::vector<PlaneStats> stats;
   auto measure_all = [&] {
     for (size_t k = stats.size(); k < extractor.planes().size(); ++k) {
-      const ExtractedPlane& p = extractor.planes()[k];
-      stats.push_back(MeasurePlane(packed_cloud, grid, p.normal, p.offset, config.plane_distance_m,
+      const RansacPlane& p = extractor.planes()[k];
+      stats.push_back(MeasurePlane(packed_cloud, boundary_index, config.open_support_radius_m,
+                                   p.normal, p.offset, config.plane_distance_m,
                                    config.extreme_band_m));
     }
   };
@@ -775,20 +283,20 @@ std::optional<VirtualFrame> EstimateVirtualFrame(const PointList& cloud_in,
     centroid /= static_cast<double>(cloud.size());
     std::vector<char> merged;
     while (static_cast<int>(extractor.planes().size()) < config.max_planes &&
-           extractor.FindNext(PlaneExtractor::Mode::kCut)) {
+           extractor.FindNext(RansacPlanes::Mode::kCut)) {
       measure_all();
       const size_t k = stats.size() - 1;
       merged.push_back(0);
       // Only planes that could be the top are worth the refit.
       if (stats[k].open_fraction < kMinRefineOpenFraction) continue;
-      ExtractedPlane& p = extractor.mutable_plane(k);
+      RansacPlane& p = extractor.mutable_plane(k);
       const bool empty_above = stats[k].above <= stats[k].below;
       RefineCut(boundary, config.plane_distance_m, empty_above ? p.normal : Vec3(-p.normal), &p);
-      stats[k] = MeasurePlane(packed_cloud, grid, p.normal, p.offset, config.plane_distance_m,
-                              config.extreme_band_m);
+      stats[k] = MeasurePlane(packed_cloud, boundary_index, config.open_support_radius_m,
+                              p.normal, p.offset, config.plane_distance_m, config.extreme_band_m);
       // Two refits that met on the same rim are one plane.
       for (size_t i = 0; i < k && !merged[k]; ++i) {
-        const ExtractedPlane& a = extractor.planes()[i];
+        const RansacPlane& a = extractor.planes()[i];
         const double c = a.normal.dot(p.normal);
         merged[k] =
             !merged[i] && std::abs(c) >= std::cos(kMaxRefineAngleRad / 2) &&
@@ -841,7 +349,7 @@ std::optional<VirtualFrame> EstimateVirtualFrame(const PointList& cloud_in,
     // Eq. 4 over all of them.
     const size_t first = extractor.planes().size();
     while (static_cast<int>(extractor.planes().size() - first) < config.max_planes &&
-           extractor.FindNext(PlaneExtractor::Mode::kFresh)) {
+           extractor.FindNext(RansacPlanes::Mode::kFresh)) {
     }
     measure_all();
     for (size_t k = first; k < extractor.planes().size(); ++k) {
@@ -852,7 +360,7 @@ std::optional<VirtualFrame> EstimateVirtualFrame(const PointList& cloud_in,
     }
     use_eq4_of_candidates = false;
   }
-  const std::vector<ExtractedPlane>& extracted = extractor.planes();
+  const std::vector<RansacPlane>& extracted = extractor.planes();
   if (candidates.empty()) {
     return fail("virtual frame: no plane with " + std::to_string(min_inliers) + " of the " +
                 std::to_string(boundary.size()) + " boundary points within " +
@@ -899,7 +407,7 @@ std::optional<VirtualFrame> EstimateVirtualFrame(const PointList& cloud_in,
   for (int round = 0; round < 2; ++round) {
     Vec3 n_ls;
     double d_ls;
-    if (!FitPlane(boundary, Inliers(boundary, all_boundary, n, d, config.plane_distance_m), &n_ls,
+    if (!FitPlaneOf(boundary, PlaneInliers(boundary, all_boundary, n, d, config.plane_distance_m), &n_ls,
                   &d_ls)) {
       break;
     }
@@ -946,7 +454,8 @@ std::optional<VirtualFrame> EstimateVirtualFrame(const PointList& cloud_in,
   const Vec3 v = z.cross(u);
   std::vector<Vec2> projected(cloud.size());
   for (size_t i = 0; i < cloud.size(); ++i) projected[i] = Vec2(u.dot(cloud[i]), v.dot(cloud[i]));
-  const Rect2 rect = MinAreaRect(ApproxHull(projected, config.hull_columns));
+  const geometry::Rect2 rect =
+      geometry::MinAreaRect(geometry::ApproxHull2d(projected, config.hull_columns));
   Vec3 x = rect.axis.x() * u + rect.axis.y() * v;
   int largest = 0;
   x.cwiseAbs().maxCoeff(&largest);

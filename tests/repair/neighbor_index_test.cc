@@ -118,6 +118,35 @@ TEST(NeighborIndex, RadiusMatchesBruteForce) {
   }
 }
 
+// "Any point within r?" is Radius's answer, not empty: queries near and
+// between points, on the grid's edge, beyond it and near stray points.
+TEST(NeighborIndex, AnyWithinIsRadiusNotEmpty) {
+  PointList points = RandomCloud(2000, 9);
+  points.emplace_back(50.0f, 50.0f, 50.0f);  // a stray point, searched apart
+  const NeighborIndex index(points);
+  synth::Rng rng(10);
+  std::vector<int> nn;
+  int hits = 0, misses = 0;
+  for (int t = 0; t < 600; ++t) {
+    const Eigen::Vector3f q(static_cast<float>(1.4 * rng.Uniform() - 0.2),
+                            static_cast<float>(1.4 * rng.Uniform() - 0.2),
+                            static_cast<float>(0.3 * rng.Uniform() - 0.1));
+    for (const double radius : {0.0, 0.005, 0.02, 0.3}) {
+      index.Radius(q, radius, &nn);
+      const bool any = index.AnyWithin(q, radius);
+      EXPECT_EQ(any, !nn.empty()) << q.transpose() << " r " << radius;
+      any ? ++hits : ++misses;
+    }
+  }
+  // Both answers occur, so the comparison could have failed either way.
+  EXPECT_GT(hits, 200);
+  EXPECT_GT(misses, 200);
+  EXPECT_TRUE(index.AnyWithin(Eigen::Vector3f(50.0f, 50.5f, 50.0f), 0.6));
+  EXPECT_FALSE(index.AnyWithin(Eigen::Vector3f(50.0f, 50.5f, 50.0f), 0.4));
+  EXPECT_TRUE(index.AnyWithin(points[17], 0.0));  // a point is within 0 of itself
+  EXPECT_FALSE(index.AnyWithin(points[17], -1.0));
+}
+
 // The cost every step pays, against Open3D's KDTreeFlann on the same
 // queries (printed side by side, not asserted); the answers must agree.
 TEST(NeighborIndex, MatchesKdTreeFlannOn50kAndTiming) {

@@ -50,6 +50,10 @@ class NeighborIndex {
               std::vector<int>* indices,
               std::vector<double>* squared_distances = nullptr) const;
 
+  /// Whether some point lies within `radius_m` of `query` (the search stops
+  /// at the first): Radius's answer, not empty, without collecting it.
+  bool AnyWithin(const Eigen::Vector3f& query, double radius_m) const;
+
   /// Knn(p, k) for every cloud point p at once (k capped at the cloud's
   /// size): the points of one grid cell share their candidates, several
   /// times faster than one query per point. Same answers as Knn.

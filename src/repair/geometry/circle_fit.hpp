@@ -7,7 +7,7 @@
 #include <Eigen/Core>
 #include <optional>
 
-namespace graspfill::repair {
+namespace graspfill::repair::geometry {
 
 /// x^2 + y^2 + D x + E y + F = 0 in least squares over the points added;
 /// the centre is (-D/2, -E/2). For an arc it is the arc's own centre, not
@@ -31,4 +31,4 @@ class CircleFit {
   Eigen::Vector3d atb_ = Eigen::Vector3d::Zero();
 };
 
-}  // namespace graspfill::repair
+}  // namespace graspfill::repair::geometry
