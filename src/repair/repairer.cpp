@@ -346,6 +346,435 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
   return std::move(top.added_V);
 }
 
+// The cloud is one the steps can take (its size, its extent); else the
+// report says why, and the cloud comes back as it is.
+bool Repairable(const PointList& points_G, RepairReport* report) {
+  if (points_G.size() < kMinPoints) {
+    report->status = RepairStatus::kTooFewPoints;
+    report->status_detail = std::to_string(points_G.size()) + " of at least " +
+                            std::to_string(kMinPoints) + ", nothing repaired";
+    return false;
+  }
+  // Bounded work (issue 12): past these limits the steps' grids and
+  // thresholds (in meters) stop making sense; the cloud comes back as is.
+  if (points_G.size() > kMaxRepairPoints) {
+    report->status = RepairStatus::kOutOfRange;
+    report->status_detail = std::to_string(points_G.size()) + " points, more than the " +
+                            std::to_string(kMaxRepairPoints) + " the repair takes";
+    return false;
+  }
+  if (const double extent = RobustBox(points_G).sizes().maxCoeff();
+      !(extent >= kMinRepairExtentM && extent <= kMaxRepairExtentM)) {
+    char text[160];
+    std::snprintf(text, sizeof(text), "the cloud's extent %.3g m is outside %g..%g m", extent,
+                  kMinRepairExtentM, kMaxRepairExtentM);
+    report->status = RepairStatus::kOutOfRange;
+    report->status_detail = text;
+    return false;
+  }
+  return true;
+}
+
+// The steps' products, stage by stage (Repair below chains them).
+
+// Steps 0-3, where the holes are: the points the later steps read (the
+// input's, without its outliers), their boundary points and closed lines.
+struct Boundaries {
+  PointList points;
+  std::vector<int> boundary;  // into points
+  // Unoriented normals of the points the boundary test looked at first (a
+  // large cloud's reduced copy): step 4b's side normals.
+  std::vector<Eigen::Vector3f> normals;
+  std::vector<BoundaryLine> lines;
+  bool reduced{false};  // looked at on a reduced copy first
+};
+
+Boundaries FindBoundaries(const PointList& input_G, const RepairConfig& config, RepairReport* report) {
+  Boundaries out;
+  // 0. Best mode looks for the holes on ~8k voxel centroids of a large
+  // cloud; the fills (7-8) read every input point.
+  std::optional<NeighborIndex> all;
+  AnalysisCloud analysis;
+  {
+    StepTimer t(report, "analysis_cloud");
+    all.emplace(input_G);
+    analysis = MakeAnalysisCloud(*all, config.analysis);
+  }
+  out.reduced = analysis.reduced();
+  std::optional<NeighborIndex> analysis_index;
+  if (analysis.reduced()) analysis_index.emplace(analysis.points);
+  const NeighborIndex& work_index = analysis.reduced() ? *analysis_index : *all;
+  const PointList& work = work_index.points();
+
+  // 1. Outliers are kept in the output but not used to find or fill holes.
+  // One kNN table serves the filter and then, restricted to the points it
+  // keeps (the rows that lost a neighbour are queried afresh), the
+  // boundary detection.
+  std::optional<KnnTable> table;
+  std::vector<int> kept;
+  PointList& points = out.points;
+  std::vector<char> work_kept(work.size(), 0);
+  {
+    StepTimer t(report, "outliers");
+    table = work_index.AllKnn(std::max(config.outliers.nb_neighbors, config.boundary.k) + 1);
+    kept = RemoveOutliers(*table, config.outliers);
+    points.reserve(kept.size());
+    for (int i : kept) {
+      points.push_back(work[i]);
+      work_kept[i] = 1;
+    }
+  }
+  // The input points the later steps read: those of the kept centroids.
+  PointList fill_points;
+  std::vector<int> fill_of_input;  // input index -> fill_points index, or -1
+  if (analysis.reduced()) {
+    fill_of_input.assign(input_G.size(), -1);
+    for (size_t i = 0; i < input_G.size(); ++i) {
+      if (!work_kept[analysis.voxel_of[i]]) continue;
+      fill_of_input[i] = static_cast<int>(fill_points.size());
+      fill_points.push_back(input_G[i]);
+    }
+    report->outliers_ignored = static_cast<int>(input_G.size() - fill_points.size());
+  } else {
+    report->outliers_ignored = static_cast<int>(input_G.size() - kept.size());
+  }
+  // 2-3. Boundary points, then closed boundary lines.
+  std::vector<int>& boundary = out.boundary;
+  std::vector<BoundaryPointInfo> boundary_info;  // which side the hole is on
+  {
+    StepTimer t(report, "boundary_points");
+    // Over the kept points; when the filter kept all, work's index is theirs.
+    std::optional<NeighborIndex> kept_index;
+    const NeighborIndex* index = &work_index;
+    if (kept.size() < work.size()) {
+      index = &kept_index.emplace(points);
+      table = RestrictTable(*table, kept, *index);
+    }
+    boundary = DetectBoundaryPoints(*index, config.boundary, &out.normals, &boundary_info, &*table);
+  }
+  std::optional<NeighborIndex> full_index;
+  if (analysis.reduced()) {
+    // Again at full resolution, but only around the boundary the centroids
+    // show (their voxels and their neighbours'): the rims come out as the
+    // input samples them, for a tenth of the cost of testing every point.
+    StepTimer t(report, "boundary_points_full");
+    std::vector<char> near(work.size(), 0);
+    for (int b : boundary) {
+      const int* row = table->Row(static_cast<size_t>(b));
+      for (int j = 0; j < std::min(table->k, kNearVoxels); ++j) near[kept[row[j]]] = 1;
+    }
+    std::vector<int> candidates;
+    for (size_t i = 0; i < input_G.size(); ++i) {
+      if (fill_of_input[i] >= 0 && near[analysis.voxel_of[i]]) candidates.push_back(fill_of_input[i]);
+    }
+    points = std::move(fill_points);
+    // Without outliers the kept points are the input: its index serves.
+    const NeighborIndex* full = &*all;
+    if (report->outliers_ignored > 0) full = &full_index.emplace(points);
+    boundary_info.clear();
+    boundary = DetectBoundaryPoints(*full, config.boundary, nullptr, &boundary_info, nullptr,
+                                    &candidates);
+  }
+  {
+    StepTimer t(report, "boundary_lines");
+    out.lines = LinkBoundaryPoints(points, boundary, config.link, &boundary_info);
+    // The gap directions keep close holes apart, but one point whose
+    // widest gap lies on the wrong side of a ragged rim can stop the only
+    // line there is (the large can of `bench repair --pipeline`: its rim
+    // and both claw holes, one line, lost; a prism box whose finger hole
+    // opens into its top: 12 of 411 boundary points linked, 162 by the
+    // paper's rule): then the paper's rule alone, when it links far more.
+    if (kPlainLinkFactor * LinkedPoints(out.lines) <= boundary.size()) {
+      std::vector<BoundaryLine> plain = LinkBoundaryPoints(points, boundary, config.link);
+      if (!plain.empty() && LinkedPoints(plain) >= kPlainLinkFactor * LinkedPoints(out.lines)) {
+        out.lines = std::move(plain);
+      }
+    }
+  }
+  report->boundary_points = static_cast<int>(boundary.size());
+  report->boundary_lines = static_cast<int>(out.lines.size());
+  return out;
+}
+
+// Step 4: the virtual frame V, its z towards the missing top; with the
+// record and an up hint, V from the hint when the lines give none (or
+// there are none). nullopt (the report says why) when there is no frame.
+std::optional<VirtualFrame> FindFrame(const Boundaries& found, const RepairConfig& config,
+                                      bool evidence_frame, RepairReport* report) {
+  const PointList& points = found.points;
+  std::optional<VirtualFrame> frame;
+  if (found.lines.empty()) {
+    frame = WithAxis(VirtualFrame{}, config.up_hint->normalized(), points);
+  } else {
+    StepTimer t(report, "virtual_frame");
+    // All detected boundary points, not only the linked ones: measured 54/54
+    // correct frames against 47/54 (6 shapes x 3 grasps x 3 seeds).
+    PointList boundary_points;
+    for (int i : found.boundary) boundary_points.push_back(points[i]);
+    std::string reason;
+    frame = EstimateVirtualFrame(points, boundary_points, config.frame,
+                                 config.up_hint ? &*config.up_hint : nullptr, &reason);
+    if (!frame && evidence_frame) {
+      frame = WithAxis(VirtualFrame{}, config.up_hint->normalized(), points);
+    }
+    if (!frame) {
+      report->status = RepairStatus::kNoFrame;
+      report->status_detail = reason;
+      return std::nullopt;
+    }
+  }
+  if (config.axis.enabled) {
+    // Also on V from the hint (the claw's axis): the object may hang tilted
+    // in an oblique grasp.
+    StepTimer t(report, "axis");
+    const AxisRefinement axis = RefineAxis(found.normals, frame->T_in_V.linear().col(2), config.axis);
+    if (axis.refined) frame = WithAxis(*frame, axis.axis, points);
+  }
+  if (found.reduced) {
+    frame = WithAxis(*frame, frame->T_in_V.linear().col(2), points);  // origin, box: all points
+  }
+  return frame;
+}
+
+// Steps 5-6: the closed boundaries, classified; the missing top's is the
+// first missing surface, or (best mode) the boundary points near V's top.
+struct Holes {
+  std::vector<HoleBoundary> classified;
+  std::vector<HoleBoundary> claw;  // the claw holes among them
+  HoleBoundary rim;                // the boundary points near V's top
+  int top_index{-1};               // the top's among `classified`, or -1
+  bool top_is_rim{false};
+  const HoleBoundary* Top() const {
+    if (top_is_rim) return &rim;
+    return top_index >= 0 ? &classified[static_cast<size_t>(top_index)] : nullptr;
+  }
+};
+
+Holes ClassifyHoles(const PointList& points_V, const Boundaries& found, const VirtualFrame& frame,
+                    const RepairConfig& config, RepairReport* report) {
+  Holes holes;
+  {
+    StepTimer t(report, "classify");
+    holes.classified = ClassifyBoundaries(points_V, found.lines, config.classify);
+  }
+  {
+    StepTimer t(report, "complete");
+    CompleteBoundaries(&holes.classified, config.completion);
+  }
+  for (size_t k = 0; k < holes.classified.size(); ++k) {
+    const HoleBoundary& h = holes.classified[k];
+    if (h.kind == HoleKind::kClaw) holes.claw.push_back(h);
+    else if (holes.top_index < 0) holes.top_index = static_cast<int>(k);
+  }
+  // Best mode: the rim is also every boundary point near the top of V.
+  // On a fused cloud the linking can break the rim into pieces (a ragged
+  // TSDF edge, claw slits), and step 5 then finds a few points of it or
+  // none; steps 7-8 need only the rim's height and extent, not its order.
+  if (config.top_rim_band_m > 0.0) {
+    HoleBoundary& rim = holes.rim;
+    rim.kind = HoleKind::kMissingSurface;
+    rim.closed = true;
+    for (int i : found.boundary) {
+      if (points_V[i].z() >= frame.max_V.z() - config.top_rim_band_m) {
+        rim.points_V.push_back(points_V[i]);
+        rim.source_indices.push_back(i);
+      }
+    }
+    const HoleBoundary* missing = holes.Top();
+    if (rim.points_V.size() >= 3 && (!missing || rim.points_V.size() > missing->points_V.size())) {
+      // Keep the completed line's points too (they close the claw mouths).
+      if (missing) {
+        rim.points_V.insert(rim.points_V.end(), missing->points_V.begin(), missing->points_V.end());
+        rim.source_indices.insert(rim.source_indices.end(), missing->source_indices.begin(),
+                                  missing->source_indices.end());
+      }
+      holes.top_is_rim = true;
+    }
+  }
+  return holes;
+}
+
+// Step 7's product: the claw holes' fills (V), and the boxes of the holes
+// no fit explained or no line took (the mirror's to fill, as the top is).
+struct ClawFills {
+  PointList surface_V;
+  std::vector<Eigen::AlignedBox3f> open_holes_V;
+};
+
+ClawFills FillClawHoles(const PointList& points_V, const Boundaries& found, const Holes& holes,
+                        const NeighborIndex& index_V, const RepairConfig& config, RepairReport* report) {
+  ClawFills fills;
+  const HoleBoundary* missing = holes.Top();
+  fills.open_holes_V = LooseBoundaryBoxes(points_V, found.boundary, found.lines, missing, index_V);
+  if (holes.claw.empty()) return fills;
+  std::vector<size_t> left_open;
+  fills.surface_V = RepairClawHoles(points_V, holes.claw, config.claw, nullptr, &index_V, &left_open);
+  if (missing) DropFillsOnTheTop(missing->points_V, config.claw.max_inside_top_rim_m, &fills.surface_V);
+  report->claw_holes_left_open = static_cast<int>(left_open.size());
+  for (size_t k : left_open) {
+    Eigen::AlignedBox3f box;
+    box.setEmpty();
+    for (const Eigen::Vector3f& p : holes.claw[k].points_V) box.extend(p);
+    fills.open_holes_V.push_back(box);
+  }
+  return fills;
+}
+
+// Step 8: the missing top by symmetry, from the observed and surface points.
+SymmetryResult MirrorTop(const PointList& points_V, const Holes& holes, const NeighborIndex& index_V,
+                         bool with_record, const RepairConfig& config, ClawFills* fills,
+                         RepairReport* report) {
+  StepTimer t(report, "symmetry");
+  SymmetryResult symmetry;
+  if (!holes.Top()) {
+    symmetry.reason = "no missing surface found";
+    return symmetry;
+  }
+  // The claw fills first take the holes' dents out of the cross-sections.
+  // A hole no fit explained (a finger's that opens into the top, two
+  // faces at once) or no line took is the mirror's to fill, as the top is.
+  // With the record the cloud's outline check is only a first sieve:
+  // the record judges the image (ApplyEvidence).
+  SymmetryConfig symmetry_config = config.symmetry;
+  if (with_record) {
+    symmetry_config.max_outline_mismatch =
+        std::max(symmetry_config.max_outline_mismatch, config.evidence.max_outline_mismatch);
+  }
+  return RepairMissingSurface(points_V, *holes.Top(), symmetry_config, &index_V, &fills->surface_V,
+                              config.mode == RepairMode::kBest ? &fills->open_holes_V : nullptr);
+}
+
+// The top closed flat (V) and the confidence of its points.
+struct TopCap {
+  PointList points_V;
+  float confidence{0.0f};
+};
+
+// The camera's evidence: nothing in seen-free space, no contradicted
+// mirror, the top at the rays' height. Without it (best mode), a top the
+// mirror left open is closed at the rim the cloud sees, where the walls
+// rise straight to it: the cloud alone cannot tell a flat top's height.
+TopCap CloseTop(const evidence::VisibilityRecord* record, const RepairConfig& config,
+                const Eigen::Isometry3f& T_in_V, const NeighborIndex& index_V, bool has_top,
+                PointList* surface_V, SymmetryResult* symmetry, RepairReport* report) {
+  TopCap top;
+  if (record) {
+    StepTimer t(report, "evidence");
+    const double spacing_m = MeanNearestDistance(index_V, config.symmetry.spacing_samples);
+    top.points_V = ApplyEvidence(*record, config.evidence, T_in_V, index_V, spacing_m, surface_V,
+                                 symmetry, &report->evidence, &top.confidence);
+    return top;
+  }
+  if (config.mode != RepairMode::kBest || !config.close_unknown_top || !has_top || symmetry->symmetric) {
+    return top;
+  }
+  StepTimer t(report, "rim_cap");
+  static const evidence::VisibilityRecord kNothingSeen;
+  EvidenceTop at_rim = CloseTopFromEvidence(
+      index_V, *surface_V, kNothingSeen, T_in_V,
+      MeanNearestDistance(index_V, config.symmetry.spacing_samples), config.evidence);
+  report->evidence.top = at_rim.outcome == TopEvidence::kNotObservable ? "closed at the rim"
+                                                                        : TopEvidenceName(at_rim.outcome);
+  if (at_rim.outcome == TopEvidence::kNotObservable && !at_rim.added_V.empty()) {
+    top.points_V = std::move(at_rim.added_V);
+    top.confidence = 0.3f;
+    report->evidence.top_points_added = static_cast<int>(top.points_V.size());
+    symmetry->reason += "; the cloud cannot tell the top's height: closed flat at the rim it sees";
+  }
+  return top;
+}
+
+// The added points back in the input's frame, after the input's: the claw
+// fills, the mirror image, the top; each with its provenance, confidence
+// and (when the input has normals) a normal.
+void AppendAdded(const ObjectCloud& input, const ClawFills& fills, const SymmetryResult& symmetry,
+                 const TopCap& top, const Eigen::Isometry3f& T_in_V,
+                 const evidence::VisibilityRecord* record, ObjectCloud* out, RepairReport* report) {
+  for (const Eigen::Vector3f& p : fills.surface_V) {
+    out->points_G.push_back(T_in_V * p);
+    out->provenance.push_back(Provenance::kSurface);
+    const bool hidden_by_claw =
+        record && record->Classify(out->points_G.back()) == evidence::Visibility::kBehindClaw;
+    out->confidence.push_back(hidden_by_claw ? 0.8f : 0.6f);
+  }
+  for (const Eigen::Vector3f& p : symmetry.added_V) {
+    out->points_G.push_back(T_in_V * p);
+    out->provenance.push_back(Provenance::kSymmetry);
+    out->confidence.push_back(record ? 0.6f : 0.5f);
+  }
+  for (const Eigen::Vector3f& p : top.points_V) {
+    out->points_G.push_back(T_in_V * p);
+    out->provenance.push_back(Provenance::kSurface);
+    out->confidence.push_back(top.confidence);
+  }
+  // Normals: the input's are kept; the added points get estimated ones
+  // when the input had them (a planner wants one per point), else none.
+  if (input.normals_G.size() != input.points_G.size() || input.normals_G.empty()) {
+    out->normals_G.clear();
+    return;
+  }
+  StepTimer t(report, "normals");
+  // A flat cap's is V's axis (a bowl's cap: 27k points, 48 ms of kNN);
+  // the other added points' come from their neighbours.
+  std::vector<Eigen::Vector3f> known_G(out->points_G.size() - input.points_G.size(), Eigen::Vector3f::Zero());
+  if (!top.points_V.empty()) {
+    float cap_z = -std::numeric_limits<float>::infinity();
+    for (const Eigen::Vector3f& p : top.points_V) cap_z = std::max(cap_z, p.z());
+    const Eigen::Vector3f up_G = T_in_V.linear().col(2);
+    const size_t first_top = known_G.size() - top.points_V.size();
+    for (size_t k = 0; k < top.points_V.size(); ++k) {
+      if (top.points_V[k].z() == cap_z) known_G[first_top + k] = up_G;
+    }
+  }
+  AppendAddedNormals(input.points_G.size(), known_G, out);
+}
+
+// The report's holes (in the input's frame), with the points added to each.
+void ReportHoles(const Holes& holes, const VirtualFrame& frame, const ClawFills& fills,
+                 const SymmetryResult& symmetry, const TopCap& top, RepairReport* report) {
+  for (const HoleBoundary& h : holes.classified) {
+    if (h.kind == HoleKind::kMissingSurface && holes.top_is_rim) continue;  // reported as the rim
+    HoleSummary s;
+    s.kind = h.kind;
+    s.boundary_points = static_cast<int>(h.points_V.size());
+    BoxInInput(h.points_V, frame, &s);
+    report->holes.push_back(s);
+  }
+  if (holes.top_is_rim) {
+    HoleSummary s;
+    s.kind = HoleKind::kMissingSurface;
+    s.boundary_points = static_cast<int>(holes.rim.points_V.size());
+    BoxInInput(holes.rim.points_V, frame, &s);
+    report->holes.insert(report->holes.begin(), s);
+  }
+  // Each fill point to the claw hole whose box centre is nearest.
+  const Eigen::Isometry3f T_in_V = frame.T_in_V.cast<float>();
+  for (const Eigen::Vector3f& p : fills.surface_V) {
+    const Eigen::Vector3f p_in = T_in_V * p;
+    int best = -1;
+    float best_d = 0.0f;
+    for (size_t i = 0; i < report->holes.size(); ++i) {
+      if (report->holes[i].kind != HoleKind::kClaw) continue;
+      const float d = (0.5f * (report->holes[i].box_min_G + report->holes[i].box_max_G) - p_in).norm();
+      if (best < 0 || d < best_d) best = static_cast<int>(i), best_d = d;
+    }
+    if (best >= 0) ++report->holes[best].points_added;
+  }
+  const auto missing_hole =
+      std::find_if(report->holes.begin(), report->holes.end(),
+                   [](const HoleSummary& h) { return h.kind == HoleKind::kMissingSurface; });
+  if (missing_hole != report->holes.end()) {
+    missing_hole->points_added = static_cast<int>(symmetry.added_V.size() + top.points_V.size());
+  } else if (!top.points_V.empty()) {
+    // The evidence found the top the cloud's boundaries did not show.
+    HoleSummary s;
+    s.kind = HoleKind::kMissingSurface;
+    BoxInInput(top.points_V, frame, &s);
+    s.points_added = static_cast<int>(top.points_V.size());
+    report->holes.insert(report->holes.begin(), s);
+  }
+}
+
 }  // namespace
 
 std::string RepairStatusName(RepairStatus status) {
@@ -422,370 +851,45 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
     result.cloud.safe_bound = evidence::ComputeSafeBound(*record, bound);
     report.evidence.safe_bound_voxels = static_cast<int>(result.cloud.safe_bound.count());
   }
-  if (input.points_G.size() < kMinPoints) {
-    report.status = RepairStatus::kTooFewPoints;
-    report.status_detail = std::to_string(input.points_G.size()) + " of at least " +
-                           std::to_string(kMinPoints) + ", nothing repaired";
-    return result;
-  }
-  // Bounded work (issue 12): past these limits the steps' grids and
-  // thresholds (in meters) stop making sense; the cloud comes back as is.
-  if (input.points_G.size() > kMaxRepairPoints) {
-    report.status = RepairStatus::kOutOfRange;
-    report.status_detail = std::to_string(input.points_G.size()) + " points, more than the " +
-                           std::to_string(kMaxRepairPoints) + " the repair takes";
-    return result;
-  }
-  if (const double extent = RobustBox(input.points_G).sizes().maxCoeff();
-      !(extent >= kMinRepairExtentM && extent <= kMaxRepairExtentM)) {
-    char text[160];
-    std::snprintf(text, sizeof(text), "the cloud's extent %.3g m is outside %g..%g m", extent,
-                  kMinRepairExtentM, kMaxRepairExtentM);
-    report.status = RepairStatus::kOutOfRange;
-    report.status_detail = text;
-    return result;
-  }
+  if (!Repairable(input.points_G, &report)) return result;
 
-  // 0. Best mode looks for the holes on ~8k voxel centroids of a large
-  // cloud; the fills (7-8) read every input point.
-  std::optional<NeighborIndex> all;
-  AnalysisCloud analysis;
-  {
-    StepTimer t(&report, "analysis_cloud");
-    all.emplace(input.points_G);
-    analysis = MakeAnalysisCloud(*all, config.analysis);
-  }
-  std::optional<NeighborIndex> analysis_index;
-  if (analysis.reduced()) analysis_index.emplace(analysis.points);
-  const NeighborIndex& work_index = analysis.reduced() ? *analysis_index : *all;
-  const PointList& work = work_index.points();
-
-  // 1. Outliers are kept in the output but not used to find or fill holes.
-  // One kNN table serves the filter and then, restricted to the points it
-  // keeps (the rows that lost a neighbour are queried afresh), the
-  // boundary detection.
-  std::optional<KnnTable> table;
-  std::vector<int> kept;
-  PointList points;
-  std::vector<char> work_kept(work.size(), 0);
-  {
-    StepTimer t(&report, "outliers");
-    table = work_index.AllKnn(std::max(config.outliers.nb_neighbors, config.boundary.k) + 1);
-    kept = RemoveOutliers(*table, config.outliers);
-    points.reserve(kept.size());
-    for (int i : kept) {
-      points.push_back(work[i]);
-      work_kept[i] = 1;
-    }
-  }
-  // The input points the later steps read: those of the kept centroids.
-  PointList fill_points;
-  std::vector<int> fill_of_input;  // input index -> fill_points index, or -1
-  if (analysis.reduced()) {
-    fill_of_input.assign(input.points_G.size(), -1);
-    for (size_t i = 0; i < input.points_G.size(); ++i) {
-      if (!work_kept[analysis.voxel_of[i]]) continue;
-      fill_of_input[i] = static_cast<int>(fill_points.size());
-      fill_points.push_back(input.points_G[i]);
-    }
-    report.outliers_ignored = static_cast<int>(input.points_G.size() - fill_points.size());
-  } else {
-    report.outliers_ignored = static_cast<int>(input.points_G.size() - kept.size());
-  }
-  // 2-3. Boundary points, then closed boundary lines.
-  std::vector<int> boundary;
-  std::vector<BoundaryPointInfo> boundary_info;  // which side the hole is on
-  std::vector<Eigen::Vector3f> normals;  // unoriented, of every point
-  std::vector<BoundaryLine> lines;
-  {
-    StepTimer t(&report, "boundary_points");
-    // Over the kept points; when the filter kept all, work's index is theirs.
-    std::optional<NeighborIndex> kept_index;
-    const NeighborIndex* index = &work_index;
-    if (kept.size() < work.size()) {
-      index = &kept_index.emplace(points);
-      table = RestrictTable(*table, kept, *index);
-    }
-    boundary = DetectBoundaryPoints(*index, config.boundary, &normals, &boundary_info, &*table);
-  }
-  std::optional<NeighborIndex> full_index;
-  if (analysis.reduced()) {
-    // Again at full resolution, but only around the boundary the centroids
-    // show (their voxels and their neighbours'): the rims come out as the
-    // input samples them, for a tenth of the cost of testing every point.
-    StepTimer t(&report, "boundary_points_full");
-    std::vector<char> near(work.size(), 0);
-    for (int b : boundary) {
-      const int* row = table->Row(static_cast<size_t>(b));
-      for (int j = 0; j < std::min(table->k, kNearVoxels); ++j) near[kept[row[j]]] = 1;
-    }
-    std::vector<int> candidates;
-    for (size_t i = 0; i < input.points_G.size(); ++i) {
-      if (fill_of_input[i] >= 0 && near[analysis.voxel_of[i]]) candidates.push_back(fill_of_input[i]);
-    }
-    points = std::move(fill_points);
-    // Without outliers the kept points are the input: its index serves.
-    const NeighborIndex* full = &*all;
-    if (report.outliers_ignored > 0) full = &full_index.emplace(points);
-    boundary_info.clear();
-    boundary = DetectBoundaryPoints(*full, config.boundary, nullptr, &boundary_info, nullptr,
-                                    &candidates);
-  }
-  {
-    StepTimer t(&report, "boundary_lines");
-    lines = LinkBoundaryPoints(points, boundary, config.link, &boundary_info);
-    // The gap directions keep close holes apart, but one point whose
-    // widest gap lies on the wrong side of a ragged rim can stop the only
-    // line there is (the large can of `bench repair --pipeline`: its rim
-    // and both claw holes, one line, lost; a prism box whose finger hole
-    // opens into its top: 12 of 411 boundary points linked, 162 by the
-    // paper's rule): then the paper's rule alone, when it links far more.
-    if (kPlainLinkFactor * LinkedPoints(lines) <= boundary.size()) {
-      std::vector<BoundaryLine> plain = LinkBoundaryPoints(points, boundary, config.link);
-      if (!plain.empty() && LinkedPoints(plain) >= kPlainLinkFactor * LinkedPoints(lines)) {
-        lines = std::move(plain);
-      }
-    }
-  }
-  report.boundary_points = static_cast<int>(boundary.size());
-  report.boundary_lines = static_cast<int>(lines.size());
+  // 0-3. Where the holes are.
+  const Boundaries found = FindBoundaries(input.points_G, config, &report);
   // With evidence a cloud whose holes the boundary test misses (a can's
   // whole lid, a clean cut) still gets its top: V from the up hint.
   const bool evidence_frame = record && config.up_hint;
-  if (lines.empty() && !evidence_frame) {
+  if (found.lines.empty() && !evidence_frame) {
     report.status = RepairStatus::kNoHoles;
     return result;
   }
-  // 4. The virtual frame V from the lines' points.
-  std::optional<VirtualFrame> frame;
-  if (lines.empty()) {
-    frame = WithAxis(VirtualFrame{}, config.up_hint->normalized(), points);
-  } else {
-    StepTimer t(&report, "virtual_frame");
-    // All detected boundary points, not only the linked ones: measured 54/54
-    // correct frames against 47/54 (6 shapes x 3 grasps x 3 seeds).
-    PointList boundary_points;
-    for (int i : boundary) boundary_points.push_back(points[i]);
-    std::string reason;
-    frame = EstimateVirtualFrame(points, boundary_points, config.frame,
-                                 config.up_hint ? &*config.up_hint : nullptr, &reason);
-    if (!frame && evidence_frame) {
-      frame = WithAxis(VirtualFrame{}, config.up_hint->normalized(), points);
-    }
-    if (!frame) {
-      report.status = RepairStatus::kNoFrame;
-      report.status_detail = reason;
-      return result;
-    }
-  }
-  if (config.axis.enabled) {
-    // Also on V from the hint (the claw's axis): the object may hang tilted
-    // in an oblique grasp.
-    StepTimer t(&report, "axis");
-    const AxisRefinement axis =
-        RefineAxis(normals, frame->T_in_V.linear().col(2), config.axis);
-    if (axis.refined) frame = WithAxis(*frame, axis.axis, points);
-  }
-  if (analysis.reduced()) {
-    frame = WithAxis(*frame, frame->T_in_V.linear().col(2), points);  // origin, box: all points
-  }
+  // 4. The virtual frame V.
+  const std::optional<VirtualFrame> frame = FindFrame(found, config, evidence_frame, &report);
+  if (!frame) return result;
   report.frame = *frame;
-  const PointList points_V = ToVirtualFrame(points, *frame);
+  const PointList points_V = ToVirtualFrame(found.points, *frame);
   // 5-6. Missing surface vs claw holes, then closed boundaries.
-  std::vector<HoleBoundary> holes;
-  {
-    StepTimer t(&report, "classify");
-    holes = ClassifyBoundaries(points_V, lines, config.classify);
-  }
-  {
-    StepTimer t(&report, "complete");
-    CompleteBoundaries(&holes, config.completion);
-  }
+  const Holes holes = ClassifyHoles(points_V, found, *frame, config, &report);
   // 7. Claw holes from a reconstructed surface.
-  std::optional<NeighborIndex> index_V;  // built in the claw step's time
-  std::vector<HoleBoundary> claw_holes;
-  const HoleBoundary* missing = nullptr;
-  for (const HoleBoundary& h : holes) {
-    if (h.kind == HoleKind::kClaw) claw_holes.push_back(h);
-    else if (!missing) missing = &h;
-  }
-  // Best mode: the rim is also every boundary point near the top of V.
-  // On a fused cloud the linking can break the rim into pieces (a ragged
-  // TSDF edge, claw slits), and step 5 then finds a few points of it or
-  // none; steps 7-8 need only the rim's height and extent, not its order.
-  HoleBoundary rim;
-  if (config.top_rim_band_m > 0.0) {
-    rim.kind = HoleKind::kMissingSurface;
-    rim.closed = true;
-    for (int i : boundary) {
-      if (points_V[i].z() >= frame->max_V.z() - config.top_rim_band_m) {
-        rim.points_V.push_back(points_V[i]);
-        rim.source_indices.push_back(i);
-      }
-    }
-    if (rim.points_V.size() >= 3 && (!missing || rim.points_V.size() > missing->points_V.size())) {
-      // Keep the completed line's points too (they close the claw mouths).
-      if (missing) {
-        rim.points_V.insert(rim.points_V.end(), missing->points_V.begin(), missing->points_V.end());
-        rim.source_indices.insert(rim.source_indices.end(), missing->source_indices.begin(),
-                                  missing->source_indices.end());
-      }
-      missing = &rim;
-    }
-  }
-  PointList surface_V;
-  std::vector<Eigen::AlignedBox3f> open_holes_V;  // holes no fit explained or no line took
+  std::optional<NeighborIndex> index_V;  // the steps from here on share it
+  ClawFills fills;
   {
     StepTimer t(&report, "claw_holes");
     index_V.emplace(points_V);
-    open_holes_V = LooseBoundaryBoxes(points_V, boundary, lines, missing, *index_V);
-    if (!claw_holes.empty()) {
-      std::vector<size_t> left_open;
-      surface_V = RepairClawHoles(points_V, claw_holes, config.claw, nullptr, &*index_V, &left_open);
-      if (missing) DropFillsOnTheTop(missing->points_V, config.claw.max_inside_top_rim_m, &surface_V);
-      report.claw_holes_left_open = static_cast<int>(left_open.size());
-      for (size_t k : left_open) {
-        Eigen::AlignedBox3f box;
-        box.setEmpty();
-        for (const Eigen::Vector3f& p : claw_holes[k].points_V) box.extend(p);
-        open_holes_V.push_back(box);
-      }
-    }
+    fills = FillClawHoles(points_V, found, holes, *index_V, config, &report);
   }
-  // 8. The missing top by symmetry, from the observed and surface points.
-  SymmetryResult symmetry;
-  {
-    StepTimer t(&report, "symmetry");
-    if (missing) {
-      // The claw fills first take the holes' dents out of the cross-sections.
-      // A hole no fit explained (a finger's that opens into the top, two
-      // faces at once) or no line took is the mirror's to fill, as the top is.
-      // With the record the cloud's outline check is only a first sieve:
-      // the record judges the image (ApplyEvidence).
-      SymmetryConfig symmetry_config = config.symmetry;
-      if (record) {
-        symmetry_config.max_outline_mismatch =
-            std::max(symmetry_config.max_outline_mismatch, config.evidence.max_outline_mismatch);
-      }
-      symmetry = RepairMissingSurface(points_V, *missing, symmetry_config, &*index_V, &surface_V,
-                                      config.mode == RepairMode::kBest ? &open_holes_V : nullptr);
-    } else {
-      symmetry.reason = "no missing surface found";
-    }
-  }
-  // The camera's evidence: nothing in seen-free space, no contradicted
-  // mirror, the top at the rays' height.
+  // 8. The missing top by symmetry, then where the evidence (or the rim)
+  // puts it.
+  SymmetryResult symmetry =
+      MirrorTop(points_V, holes, *index_V, record != nullptr, config, &fills, &report);
   const Eigen::Isometry3f T_in_V = frame->T_in_V.cast<float>();
-  PointList top_V;
-  float top_confidence = 0.0f;
-  if (record) {
-    StepTimer t(&report, "evidence");
-    const double spacing_m = MeanNearestDistance(*index_V, config.symmetry.spacing_samples);
-    top_V = ApplyEvidence(*record, config.evidence, T_in_V, *index_V, spacing_m, &surface_V,
-                          &symmetry, &report.evidence, &top_confidence);
-  }
-  if (!record && config.mode == RepairMode::kBest && config.close_unknown_top && missing &&
-      !symmetry.symmetric) {
-    // The cloud alone cannot tell a flat top's height: close it at the rim
-    // it sees (walls rising straight to it only) rather than leave it open.
-    StepTimer t(&report, "rim_cap");
-    static const evidence::VisibilityRecord kNothingSeen;
-    EvidenceTop top = CloseTopFromEvidence(
-        *index_V, surface_V, kNothingSeen, T_in_V,
-        MeanNearestDistance(*index_V, config.symmetry.spacing_samples), config.evidence);
-    report.evidence.top = top.outcome == TopEvidence::kNotObservable ? "closed at the rim"
-                                                                     : TopEvidenceName(top.outcome);
-    if (top.outcome == TopEvidence::kNotObservable && !top.added_V.empty()) {
-      top_V = std::move(top.added_V);
-      top_confidence = 0.3f;
-      report.evidence.top_points_added = static_cast<int>(top_V.size());
-      symmetry.reason += "; the cloud cannot tell the top's height: closed flat at the rim it sees";
-    }
-  }
+  const TopCap top = CloseTop(record, config, T_in_V, *index_V, holes.Top() != nullptr,
+                              &fills.surface_V, &symmetry, &report);
   report.symmetric = symmetry.symmetric;
   report.symmetry_reason = symmetry.reason;
 
-  // Back to the input frame, appended after the input points.
-  ObjectCloud& out = result.cloud;
-  for (const Eigen::Vector3f& p : surface_V) {
-    out.points_G.push_back(T_in_V * p);
-    out.provenance.push_back(Provenance::kSurface);
-    const bool hidden_by_claw =
-        record && record->Classify(out.points_G.back()) == evidence::Visibility::kBehindClaw;
-    out.confidence.push_back(hidden_by_claw ? 0.8f : 0.6f);
-  }
-  for (const Eigen::Vector3f& p : symmetry.added_V) {
-    out.points_G.push_back(T_in_V * p);
-    out.provenance.push_back(Provenance::kSymmetry);
-    out.confidence.push_back(record ? 0.6f : 0.5f);
-  }
-  for (const Eigen::Vector3f& p : top_V) {
-    out.points_G.push_back(T_in_V * p);
-    out.provenance.push_back(Provenance::kSurface);
-    out.confidence.push_back(top_confidence);
-  }
-  // Normals: the input's are kept; the added points get estimated ones
-  // when the input had them (a planner wants one per point), else none.
-  if (input.normals_G.size() == input.points_G.size() && !input.normals_G.empty()) {
-    StepTimer t(&report, "normals");
-    // A flat cap's is V's axis (a bowl's cap: 27k points, 48 ms of kNN);
-    // the other added points' come from their neighbours.
-    std::vector<Eigen::Vector3f> known_G(out.points_G.size() - input.points_G.size(), Eigen::Vector3f::Zero());
-    if (!top_V.empty()) {
-      float cap_z = -std::numeric_limits<float>::infinity();
-      for (const Eigen::Vector3f& p : top_V) cap_z = std::max(cap_z, p.z());
-      const Eigen::Vector3f up_G = T_in_V.linear().col(2);
-      const size_t first_top = known_G.size() - top_V.size();
-      for (size_t k = 0; k < top_V.size(); ++k) {
-        if (top_V[k].z() == cap_z) known_G[first_top + k] = up_G;
-      }
-    }
-    AppendAddedNormals(input.points_G.size(), known_G, &result.cloud);
-  } else {
-    result.cloud.normals_G.clear();
-  }
-
-  for (const HoleBoundary& h : holes) {
-    if (h.kind == HoleKind::kMissingSurface && missing == &rim) continue;  // reported as the rim
-    HoleSummary s;
-    s.kind = h.kind;
-    s.boundary_points = static_cast<int>(h.points_V.size());
-    BoxInInput(h.points_V, *frame, &s);
-    report.holes.push_back(s);
-  }
-  if (missing == &rim) {
-    HoleSummary s;
-    s.kind = HoleKind::kMissingSurface;
-    s.boundary_points = static_cast<int>(rim.points_V.size());
-    BoxInInput(rim.points_V, *frame, &s);
-    report.holes.insert(report.holes.begin(), s);
-  }
-  // Attribute each surface point to the claw hole whose box centre is nearest.
-  for (const Eigen::Vector3f& p : surface_V) {
-    const Eigen::Vector3f p_in = T_in_V * p;
-    int best = -1;
-    float best_d = 0.0f;
-    for (size_t i = 0; i < report.holes.size(); ++i) {
-      if (report.holes[i].kind != HoleKind::kClaw) continue;
-      const float d = (0.5f * (report.holes[i].box_min_G + report.holes[i].box_max_G) - p_in).norm();
-      if (best < 0 || d < best_d) best = static_cast<int>(i), best_d = d;
-    }
-    if (best >= 0) ++report.holes[best].points_added;
-  }
-  const auto missing_hole = std::find_if(report.holes.begin(), report.holes.end(), [](const HoleSummary& h) {
-    return h.kind == HoleKind::kMissingSurface;
-  });
-  if (missing_hole != report.holes.end()) {
-    missing_hole->points_added = static_cast<int>(symmetry.added_V.size() + top_V.size());
-  } else if (!top_V.empty()) {
-    // The evidence found the top the cloud's boundaries did not show.
-    HoleSummary s;
-    s.kind = HoleKind::kMissingSurface;
-    BoxInInput(top_V, *frame, &s);
-    s.points_added = static_cast<int>(top_V.size());
-    report.holes.insert(report.holes.begin(), s);
-  }
-  report.status = out.points_G.size() > input.points_G.size() || !lines.empty()
+  AppendAdded(input, fills, symmetry, top, T_in_V, record, &result.cloud, &report);
+  ReportHoles(holes, *frame, fills, symmetry, top, &report);
+  report.status = result.cloud.points_G.size() > input.points_G.size() || !found.lines.empty()
                       ? RepairStatus::kRepaired
                       : RepairStatus::kNoHoles;
   return result;
