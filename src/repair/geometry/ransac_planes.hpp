@@ -36,8 +36,9 @@ struct RansacPlanesConfig {
   uint64_t seed{20210101};
 };
 
-/// Least-squares plane of points[indices] (normal, offset); false when
-/// fewer than 3 points.
+/// Least-squares plane of points[indices] (normal, offset), solved
+/// iteratively (a stray far away may be among them); false when fewer than
+/// 3 points.
 bool FitPlaneOf(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& indices,
                 Eigen::Vector3d* normal, double* offset);
 
