@@ -117,6 +117,9 @@ struct NeighborIndex::Impl {
     });
   }
 
+  // The widest shell that can hold a cell.
+  int MaxShell() const { return std::max({n[0], n[1], n[2]}); }
+
   // Distance from q to the nearest cell outside the block of half-width r
   // (infinite when the block covers the grid).
   double Unsearched(const int centre[3], int r, const Eigen::Vector3d& q) const {
@@ -401,7 +404,9 @@ void NeighborIndex::Radius(const Eigen::Vector3f& query, double radius_m,
   std::vector<Candidate>& found = Scratch();
   found.clear();
   g.Collect(centre[0], centre[1], centre[2], q, &found);
-  for (int r = 1; g.Unsearched(centre, r - 1, q) <= radius_m; ++r) {
+  // (Past the largest grid dimension every cell has been searched: an
+  // infinite radius ends there.)
+  for (int r = 1; r <= g.MaxShell() && g.Unsearched(centre, r - 1, q) <= radius_m; ++r) {
     g.CollectShell(centre, r, q, &found);
   }
   if (g.FarBound(q) <= radius_m) g.CollectFar(points_, q, &found);
@@ -431,7 +436,7 @@ bool NeighborIndex::AnyWithin(const Eigen::Vector3f& query, double radius_m) con
   };
   // The cells Radius searches, shell by shell, until a hit.
   if (cell_has(g.Flat(centre[0], centre[1], centre[2]))) return true;
-  for (int r = 1; g.Unsearched(centre, r - 1, q) <= radius_m; ++r) {
+  for (int r = 1; r <= g.MaxShell() && g.Unsearched(centre, r - 1, q) <= radius_m; ++r) {
     if (g.VisitShell(centre, r, cell_has)) return true;
   }
   if (g.FarBound(q) <= radius_m) {

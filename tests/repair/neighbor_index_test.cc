@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <ctime>
+#include <limits>
 #include <cstdio>
 #include <utility>
 
@@ -145,6 +146,12 @@ TEST(NeighborIndex, AnyWithinIsRadiusNotEmpty) {
   EXPECT_FALSE(index.AnyWithin(Eigen::Vector3f(50.0f, 50.5f, 50.0f), 0.4));
   EXPECT_TRUE(index.AnyWithin(points[17], 0.0));  // a point is within 0 of itself
   EXPECT_FALSE(index.AnyWithin(points[17], -1.0));
+  // An infinite radius holds every point, and the search ends (Radius
+  // looped forever on it before: every shell past the grid is empty).
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_TRUE(index.AnyWithin(Eigen::Vector3f(7.0f, 7.0f, 7.0f), inf));
+  index.Radius(Eigen::Vector3f(7.0f, 7.0f, 7.0f), inf, &nn);
+  EXPECT_EQ(nn.size(), points.size());
 }
 
 // The cost every step pays, against Open3D's KDTreeFlann on the same
