@@ -824,6 +824,7 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
     config.claw = ClawRepairConfig::Paper();
     config.symmetry = SymmetryConfig::Paper();
     config.axis.enabled = false;
+    config.frame.max_boundary_axis_angle_rad = 0.0;
     config.top_rim_band_m = 0.0;
     config.analysis.target_points = 0;
   }

@@ -214,6 +214,10 @@ void VirtualFrameConfig::Validate() const {
     fail("eq4_tie_tolerance must be finite and >= 0");
   if (!(hint_max_angle_rad > 0.0 && hint_max_angle_rad <= M_PI / 2))
     fail("hint_max_angle_rad must be in (0, pi/2]");
+  if (!(max_boundary_axis_angle_rad >= 0.0 && max_boundary_axis_angle_rad <= M_PI / 2))
+    fail("max_boundary_axis_angle_rad must be in [0, pi/2]");
+  if (!(min_boundary_offset >= 0.0) || !std::isfinite(min_boundary_offset))
+    fail("min_boundary_offset must be finite and >= 0");
   if (hull_columns < 2) fail("hull_columns must be >= 2");
 }
 
@@ -413,6 +417,22 @@ std::optional<VirtualFrame> EstimateVirtualFrame(const PointList& cloud_in,
     }
     if (n_ls.dot(n) < 0) n_ls = -n_ls, d_ls = -d_ls;
     n = n_ls, d = d_ls;
+  }
+
+  // 2b. The chosen plane against where the boundary lies (see the config).
+  if (!hint && config.max_boundary_axis_angle_rad > 0.0) {
+    Vec3 boundary_mean = Vec3::Zero(), cloud_mean = Vec3::Zero();
+    Eigen::AlignedBox3d cloud_box;
+    for (const Vec3& b : boundary) boundary_mean += b;
+    for (const Vec3& p : cloud) cloud_mean += p, cloud_box.extend(p);
+    const Vec3 toward = boundary_mean / static_cast<double>(boundary.size()) -
+                        cloud_mean / static_cast<double>(cloud.size());
+    const double offset = toward.norm() / std::max(cloud_box.sizes().norm(), 1e-300);
+    if (offset >= config.min_boundary_offset &&
+        std::abs(n.dot(toward.normalized())) < std::cos(config.max_boundary_axis_angle_rad)) {
+      n = toward.normalized();
+      hint = n;
+    }
   }
 
   // 3. The sign of z: towards the missing surface.

@@ -97,6 +97,15 @@ TEST(VirtualFrameConfig, DefaultsAreValidAndBadValuesThrow) {
   config = VirtualFrameConfig();
   config.min_plane_inliers = 2;
   EXPECT_THROW(config.Validate(), std::invalid_argument);
+  config = VirtualFrameConfig();
+  config.max_boundary_axis_angle_rad = 2.0;  // past pi/2: every axis would agree
+  EXPECT_THROW(config.Validate(), std::invalid_argument);
+  config = VirtualFrameConfig();
+  config.min_boundary_offset = std::nan("");
+  EXPECT_THROW(config.Validate(), std::invalid_argument);
+  config = VirtualFrameConfig();
+  config.max_boundary_axis_angle_rad = 0.0;  // off
+  EXPECT_NO_THROW(config.Validate());
 }
 
 // The requirement: z within a few degrees of the true axis, towards

@@ -29,6 +29,15 @@
 //    1.6 degrees; top-oblique grasps 237 of 240; all failures are on the
 //    ellipsoid (9-15 degrees off: its small top rim is mostly notched
 //    away by the claw holes, and the refit leans on what is left).
+//  - Without an up hint (best mode), the chosen plane is checked against
+//    where the boundary lies: the holes gather at the missing top and a
+//    grasp's claw holes sit about the object's axis, so the direction from
+//    the cloud's centroid to the boundary points' follows the axis (1.5-4
+//    degrees off on the protocol's ellipsoid at the 2% top cut, seeds
+//    1-12; within 17 degrees of the chosen plane on every closed zoo
+//    object). A plane more than 30 degrees from it is taken for a claw
+//    hole's, and z is that direction: where the holes notch the top's rim
+//    away (that ellipsoid, 4 seeds of 12: 33-68 degrees off before).
 //  - +z points to the missing surface: the side of the cut without cloud;
 //    else (paper mode) the end of the cloud where the boundary crowds. An
 //    optional up hint overrides the sign and limits the planes to a cone.
@@ -97,6 +106,15 @@ struct VirtualFrameConfig {
   /// With an up hint, only planes whose normal is within this angle of the
   /// hint are candidates (if there are any) [rad]. Default 30 degrees.
   double hint_max_angle_rad{0.5235987755982988};
+  /// Without an up hint, the chosen plane must agree with where the
+  /// boundary lies: the direction from the cloud's centroid to its
+  /// boundary points' (the holes gather at the missing top, a grasp's claw
+  /// holes sit about its axis). Where the chosen plane's normal is more
+  /// than this from that direction (as an axis) [rad], and the direction is
+  /// clear (the centroids min_boundary_offset of the cloud's bounding-box
+  /// diagonal apart), z is that direction. 0: no check. Default 30 degrees.
+  double max_boundary_axis_angle_rad{0.5235987755982988};
+  double min_boundary_offset{0.15};
   /// Cloud points more than this beyond a plane count as lying beyond it
   /// (at most 0.2% of them may, for a cut); also the band at the cloud's
   /// ends used for the sign of z in paper mode.
