@@ -1,0 +1,33 @@
+// The repair's evidence stage (Repair, best mode, with a record): whether
+// the record given is one to use, and the evidence's part of steps 7-8.
+// The tests of single points and images are evidence_repair.hpp's; this
+// composes them with the claw fills and the mirror image. Internal to
+// graspfill_repair.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include "graspfill/evidence/visibility_record.hpp"
+#include "graspfill/repair/neighbor_index.hpp"
+#include "graspfill/repair/repairer.hpp"
+#include "graspfill/repair/symmetry_repair.hpp"
+
+namespace graspfill::repair {
+
+// The record, if it is given, non-empty and of this cloud (its observed
+// points are not in its free space); else null with the reason reported.
+const evidence::VisibilityRecord* UsableRecord(const ObjectCloud& input,
+                                               const evidence::VisibilityRecord* record,
+                                               const RepairConfig& config, EvidenceReport* report);
+
+// The evidence's part of steps 7-8: fills in seen-free space dropped, a
+// contradicted mirror refused, and the top closed at the height the rays
+// give unless the mirror's top holds. `index_V` is over the observed points
+// (V), `surface_V` the claw fills. Returns the top's points (V) and sets
+// *top_confidence.
+PointList ApplyEvidence(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
+                        const Eigen::Isometry3f& T_in_V, const NeighborIndex& index_V,
+                        double spacing_m, PointList* surface_V, SymmetryResult* symmetry,
+                        EvidenceReport* report, float* top_confidence);
+
+}  // namespace graspfill::repair
