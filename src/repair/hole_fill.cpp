@@ -73,15 +73,15 @@ std::vector<Eigen::Vector3f> EstimateNormals(const NeighborIndex& index,
                                              const Eigen::Vector3f& centre) {
   const PointList& points = index.points();
   std::vector<Eigen::Vector3f> normals(subset.size());
-  std::vector<int> nn;
-  std::vector<double> d2;
+  // One batch: the same neighbours as a query each, for less.
+  const KnnTable table = index.KnnOf(subset, k);
   for (size_t i = 0; i < subset.size(); ++i) {
-    const Eigen::Vector3f& p = points[subset[i]];
-    index.Knn(p, k, &nn, &d2);
+    const int* nn = table.Row(i);
     const auto neighbour = [&](size_t j) -> Eigen::Vector3d { return points[nn[j]].cast<double>(); };
     Eigen::Vector3f n =
-        geometry::FitPlane(nn.size(), neighbour, geometry::EigenSolve::kClosedForm).normal.cast<float>();
-    if (n.dot(p - centre) < 0.0f) n = -n;
+        geometry::FitPlane(static_cast<size_t>(table.k), neighbour, geometry::EigenSolve::kClosedForm)
+            .normal.cast<float>();
+    if (n.dot(points[subset[i]] - centre) < 0.0f) n = -n;
     normals[i] = n;
   }
   return normals;

@@ -51,9 +51,10 @@ struct Spacing {
 Spacing EstimateSpacing(const NeighborIndex& index, const std::vector<int>& subset,
                         size_t max_queries);
 
-// PCA normals of `subset` (knn over the whole cloud), oriented away from
-// `centre`: right for the convex-ish objects a claw holds, and cheap, where
-// Open3D's consistent tangent-plane orientation takes seconds.
+// PCA normals of `subset` (distinct indices; knn over the whole cloud),
+// oriented away from `centre`: right for the convex-ish objects a claw
+// holds, and cheap, where Open3D's consistent tangent-plane orientation
+// takes seconds.
 std::vector<Eigen::Vector3f> EstimateNormals(const NeighborIndex& index,
                                              const std::vector<int>& subset, int k,
                                              const Eigen::Vector3f& centre);

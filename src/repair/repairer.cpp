@@ -11,7 +11,7 @@
 #include "graspfill/evidence/safe_bound.hpp"
 #include "graspfill/repair/neighbor_index.hpp"
 #include "evidence_stage.hpp"
-#include "geometry/plane_fit.hpp"
+#include "hole_fill.hpp"
 
 namespace graspfill::repair {
 namespace {
@@ -67,10 +67,10 @@ void BoxInInput(const PointList& points_V, const VirtualFrame& frame, HoleSummar
   hole->box_max_G = box.max();
 }
 
-// Normals for the points after the first `first_added`: the plane through
-// each one's nearest neighbours among all points (so a small patch borrows
-// its rim's), turned away from the centroid, since a held object is
-// roughly convex about it.
+// Normals for the points after the first `first_added` whose normal is
+// not known: the plane through each one's nearest neighbours among all
+// points (so a small patch borrows its rim's), turned away from the
+// centroid, since a held object is roughly convex about it.
 void AppendAddedNormals(size_t first_added, const std::vector<Eigen::Vector3f>& known_G,
                         ObjectCloud* cloud) {
   constexpr int kNeighbors = 16;  // a few spacings: stable, yet follows a curve
@@ -78,28 +78,18 @@ void AppendAddedNormals(size_t first_added, const std::vector<Eigen::Vector3f>& 
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3f& p : points) centroid += p.cast<double>();
   centroid /= static_cast<double>(points.size());
-  // The neighbours of the points whose normal is not known, in one batch.
   std::vector<int> unknown;
   for (size_t i = first_added; i < points.size(); ++i) {
     if (known_G[i - first_added].isZero()) unknown.push_back(static_cast<int>(i));
   }
-  KnnTable table;
-  if (!unknown.empty()) table = NeighborIndex(points).KnnOf(unknown, kNeighbors);
-  size_t row = 0;
+  std::vector<Eigen::Vector3f> estimated;
+  if (!unknown.empty()) {
+    estimated = fill::EstimateNormals(NeighborIndex(points), unknown, kNeighbors, centroid.cast<float>());
+  }
+  size_t next = 0;
   for (size_t i = first_added; i < points.size(); ++i) {
     const Eigen::Vector3f& known = known_G[i - first_added];
-    if (!known.isZero()) {
-      cloud->normals_G.push_back(known);
-      continue;
-    }
-    const int* nn = table.Row(row++);
-    const auto neighbour = [&](size_t j) -> Eigen::Vector3d {
-      return points[static_cast<size_t>(nn[j])].cast<double>();
-    };
-    Eigen::Vector3d n =
-        geometry::FitPlane(static_cast<size_t>(table.k), neighbour, geometry::EigenSolve::kClosedForm).normal;
-    if (n.dot(points[i].cast<double>() - centroid) < 0.0) n = -n;
-    cloud->normals_G.push_back(n.cast<float>());
+    cloud->normals_G.push_back(known.isZero() ? estimated[next++] : known);
   }
 }
 
