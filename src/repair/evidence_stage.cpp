@@ -68,7 +68,6 @@ const evidence::VisibilityRecord* UsableRecord(const ObjectCloud& input,
   return record;
 }
 
-
 PointList ApplyEvidence(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
                         const Eigen::Isometry3f& T_in_V, const NeighborIndex& index_V,
                         double spacing_m, PointList* surface_V, SymmetryResult* symmetry,
