@@ -254,6 +254,9 @@ std::optional<VirtualFrame> EstimateVirtualFrame(const PointList& cloud_in,
   const NeighborIndex boundary_index(boundary_f);
   const PackedCloud packed_cloud(cloud);
   const int stray_limit = static_cast<int>(kStrayFraction * static_cast<double>(cloud.size()));
+  Vec3 centroid = Vec3::Zero();
+  for (const Vec3& p : cloud) centroid += p;
+  centroid /= static_cast<double>(cloud.size());
 
   // 1.-2. The missing-surface plane.
   geometry::RansacPlanesConfig ransac;
@@ -282,9 +285,6 @@ std::optional<VirtualFrame> EstimateVirtualFrame(const PointList& cloud_in,
     // the symmetry axis; Eq. 4 among those still tied; the inlier count.
     // (Eq. 4 alone fails on an ellipsoid: the claw planes on its two
     // flatter sides are orthogonal to the one on its end.)
-    Vec3 centroid = Vec3::Zero();
-    for (const Vec3& p : cloud) centroid += p;
-    centroid /= static_cast<double>(cloud.size());
     std::vector<char> merged;
     while (static_cast<int>(extractor.planes().size()) < config.max_planes &&
            extractor.FindNext(RansacPlanes::Mode::kCut)) {
@@ -421,12 +421,11 @@ std::optional<VirtualFrame> EstimateVirtualFrame(const PointList& cloud_in,
 
   // 2b. The chosen plane against where the boundary lies (see the config).
   if (!hint && config.max_boundary_axis_angle_rad > 0.0) {
-    Vec3 boundary_mean = Vec3::Zero(), cloud_mean = Vec3::Zero();
+    Vec3 boundary_mean = Vec3::Zero();
     Eigen::AlignedBox3d cloud_box;
     for (const Vec3& b : boundary) boundary_mean += b;
-    for (const Vec3& p : cloud) cloud_mean += p, cloud_box.extend(p);
-    const Vec3 toward = boundary_mean / static_cast<double>(boundary.size()) -
-                        cloud_mean / static_cast<double>(cloud.size());
+    for (const Vec3& p : cloud) cloud_box.extend(p);
+    const Vec3 toward = boundary_mean / static_cast<double>(boundary.size()) - centroid;
     const double offset = toward.norm() / std::max(cloud_box.sizes().norm(), 1e-300);
     if (offset >= config.min_boundary_offset &&
         std::abs(n.dot(toward.normalized())) < std::cos(config.max_boundary_axis_angle_rad)) {
