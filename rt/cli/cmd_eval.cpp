@@ -2,15 +2,19 @@
 // cloud with its ground truth (chamfer distance of paper Eq. 6, F-scores,
 // percentiles) and prints a summary or one JSON object.
 //
-// Both files are read with Open3D's point-cloud reader, so any format it
-// knows (PLY, PCD, XYZ, ...) works. A mesh PLY given as ground truth is read
-// as its vertices only; that is fine for densely sampled meshes, but a coarse
+// A .ply file is read by graspfill's own PLY reader (io/ply.hpp, which
+// checks the header and every count before it allocates; Open3D's crashed
+// on a 44-byte header); other formats Open3D knows (PCD, XYZ, ...) by
+// Open3D's point-cloud reader. A mesh PLY given as ground truth is read as
+// its vertices only; that is fine for densely sampled meshes, but a coarse
 // mesh should be sampled into a cloud first.
 #include <open3d/geometry/PointCloud.h>
 #include <open3d/io/PointCloudIO.h>
 #include <open3d/utility/Logging.h>
 
+#include <cctype>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -19,6 +23,7 @@
 
 #include "commands.hpp"
 #include "graspfill/eval/metrics.hpp"
+#include "graspfill/io/ply.hpp"
 
 namespace graspfill::cli {
 namespace {
@@ -50,6 +55,14 @@ class QuietOpen3D {
   open3d::utility::VerbosityLevel saved_;
 };
 
+// A PLY file by its extension (case-insensitive), as Open3D would pick its
+// reader.
+bool IsPly(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".ply";
+}
+
 // Reads `path` as a cloud of finite points; on failure prints why (naming
 // the file) and returns nothing.
 std::optional<std::vector<Eigen::Vector3f>> LoadCloud(const std::string& path,
@@ -62,16 +75,25 @@ std::optional<std::vector<Eigen::Vector3f>> LoadCloud(const std::string& path,
     return std::nullopt;
   }
   open3d::geometry::PointCloud cloud;
-  bool ok = false;
-  {
-    // Our own message names the file; Open3D's warnings would only repeat it.
-    QuietOpen3D quiet;
-    ok = open3d::io::ReadPointCloud(path, cloud);
-  }
-  if (!ok) {
-    std::fprintf(stderr, "graspfill eval: cannot read %s file '%s'\n", role,
-                 path.c_str());
-    return std::nullopt;
+  if (IsPly(path)) {
+    try {
+      for (const Eigen::Vector3f& p : io::ReadCloudPly(path).points_G) cloud.points_.push_back(p.cast<double>());
+    } catch (const std::exception& e) {  // names the file and what is wrong
+      std::fprintf(stderr, "graspfill eval: %s file: %s\n", role, e.what());
+      return std::nullopt;
+    }
+  } else {
+    bool ok = false;
+    {
+      // Our own message names the file; Open3D's warnings would only repeat it.
+      QuietOpen3D quiet;
+      ok = open3d::io::ReadPointCloud(path, cloud);
+    }
+    if (!ok) {
+      std::fprintf(stderr, "graspfill eval: cannot read %s file '%s'\n", role,
+                   path.c_str());
+      return std::nullopt;
+    }
   }
   if (cloud.points_.empty()) {
     std::fprintf(stderr, "graspfill eval: %s file '%s' has no points\n", role,

@@ -119,6 +119,30 @@ TEST_F(CmdEvalTest, BadFilesNameTheFileAndExit1) {
   EXPECT_NE(err_.find(nan), std::string::npos) << err_;
 }
 
+// The probe's 44-byte PLY (a header cut after `obj_info`, no newline):
+// Open3D's reader segfaulted on it; PLY now goes through graspfill's own.
+TEST_F(CmdEvalTest, ACutHeaderIsACleanErrorNotACrash) {
+  const std::string cut = (dir_ / "cut.ply").string();
+  {
+    std::ofstream out(cut, std::ios::binary);
+    out << "ply\nformat binary_little_endian 1.0\nobj_info";
+  }
+  ASSERT_EQ(fs::file_size(cut), 44u);
+  EXPECT_EQ(Run({cut, gt_}), 1);
+  EXPECT_NE(err_.find("predicted file: cannot read PLY '" + cut + "'"), std::string::npos) << err_;
+  EXPECT_NE(err_.find("end_header"), std::string::npos) << err_;
+  EXPECT_EQ(Run({pred_, cut}), 1);
+  EXPECT_NE(err_.find("ground-truth file: cannot read PLY '" + cut + "'"), std::string::npos) << err_;
+}
+
+// Other formats still go through Open3D's readers.
+TEST_F(CmdEvalTest, NonPlyFormatsAreStillRead) {
+  const std::string xyz = (dir_ / "pred.xyz").string();
+  ASSERT_TRUE(open3d::io::WritePointCloud(xyz, Grid(0.0015)));
+  ASSERT_EQ(Run({xyz, gt_, "--json"}), 0) << err_;
+  EXPECT_NEAR(nlohmann::json::parse(out_).at("chamfer_mm2").get<double>(), 4.5, 1e-5);
+}
+
 TEST_F(CmdEvalTest, WrongArgumentsExit2) {
   EXPECT_EQ(Run({}), 2);
   EXPECT_NE(err_.find("usage"), std::string::npos);
