@@ -1,24 +1,11 @@
-// The text a command prints for an exception: the exception's own message,
-// except for the standard library's allocation failures, whose what()
-// ("std::bad_alloc", "cannot create std::vector larger than max_size()")
-// says nothing to the person who ran the command.
+// The text a command prints for an exception (module/error_text.hpp):
+// allocation failures in words, every other message as it is.
 #pragma once
 
-#include <exception>
-#include <new>
-#include <stdexcept>
-#include <string>
+#include "module/error_text.hpp"
 
 namespace graspfill::cli {
 
-inline std::string ErrorText(const std::exception& e) {
-  if (dynamic_cast<const std::bad_alloc*>(&e) != nullptr) {
-    return "out of memory (the input or an option asks for more than this machine has)";
-  }
-  if (dynamic_cast<const std::length_error*>(&e) != nullptr) {
-    return std::string("a size beyond what can be allocated (") + e.what() + ")";
-  }
-  return e.what();
-}
+using rt::ErrorText;
 
 }  // namespace graspfill::cli

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "module/cloud_repair.hpp"
+#include "module/error_text.hpp"
 
 namespace graspfill::rt {
 
@@ -36,7 +37,7 @@ bool RunGuarded(RepairFn&& repair, std::string* verdict) {
     *verdict = repair();
     return false;
   } catch (const std::exception& e) {
-    *verdict = std::string("failed: ") + e.what();
+    *verdict = "failed: " + ErrorText(e);
   } catch (...) {
     *verdict = "failed: unknown exception";
   }

@@ -165,6 +165,8 @@ TEST(ErrorText, NamesAllocationFailuresInWords) {
   const std::string too_long =
       ErrorText(std::length_error("cannot create std::vector larger than max_size()"));
   EXPECT_EQ(too_long.rfind("a size beyond what can be allocated", 0), 0u) << too_long;
+  // Named in words: the library's "max_size()" means nothing to the user.
+  EXPECT_EQ(too_long.find("max_size"), std::string::npos) << too_long;
   EXPECT_EQ(ErrorText(std::runtime_error("cannot open log 'x'")), "cannot open log 'x'");
 }
 
