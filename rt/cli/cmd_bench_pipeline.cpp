@@ -287,13 +287,14 @@ int RunBenchRepairPipeline(const Args& args) {
       }
       if (!dump_dir.empty()) {
         if (with_evidence == 0) {
-          io::WriteCloudPly(dump_path(c, "fused"), fused);
+          io::WriteCloudPly(dump_path(c, "fused"), fused, io::IfExists::kFail);
           ObjectCloud truth_cloud;
           truth_cloud.points_G = truth_samples.points;
           truth_cloud.normals_G = truth_samples.normals;
-          io::WriteCloudPly(dump_path(c, "truth"), truth_cloud);
+          io::WriteCloudPly(dump_path(c, "truth"), truth_cloud, io::IfExists::kFail);
         }
-        io::WriteCloudPly(dump_path(c, with_evidence ? "evidence" : "cloud_only"), cloud);
+        io::WriteCloudPly(dump_path(c, with_evidence ? "evidence" : "cloud_only"), cloud,
+                          io::IfExists::kFail);
       }
     }
     const double fused_coverage = eval::FractionWithin(eval::NearestDistances(truth, fused.points_G), 0.002);

@@ -83,7 +83,7 @@ int RunClaw(const Args& args) {
   }
   const claw::ClawModel model = MakeClaw(spec, mesh_root);  // throws naming the file
   const TriangleMesh posed = model.Posed(opening, joints);
-  io::WriteMeshPly(out, posed);
+  io::WriteMeshPly(out, posed, io::ReplaceIf(force));
   Eigen::AlignedBox3f box;
   for (const Eigen::Vector3f& v : posed.vertices) box.extend(v);
   std::printf("%s: claw '%s', %zu links, %zu triangles\n", spec.c_str(), model.name().c_str(),

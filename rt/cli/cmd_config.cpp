@@ -77,7 +77,7 @@ int RunConfig(const Args& args) {
   }
   try {
     io::CheckOutputFile(output, force);
-    io::WriteFileAtomically(output, text, "cannot write config");
+    io::WriteFileAtomically(output, text, "cannot write config", io::ReplaceIf(force));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "graspfill config: %s\n", ErrorText(e).c_str());
     return 1;

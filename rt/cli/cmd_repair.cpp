@@ -147,11 +147,11 @@ int RunRepair(const Args& args) {
   if (!preview_dir.empty() && !PreparePreview(preview_dir, out, force, "repair")) return 1;
   const ObjectCloud input = io::ReadCloudPly(in);  // throws with the path
   const repair::RepairResult result = repair::Repair(input, config);
-  io::WriteCloudPly(out, result.cloud);
+  io::WriteCloudPly(out, result.cloud, io::ReplaceIf(force));
   nlohmann::ordered_json report = RepairReportJson(result.report, input.size(), result.cloud.size());
   if (!mesh_out.empty()) {
     try {
-      report["mesh"] = WriteCollisionMesh(mesh_out, result.cloud);
+      report["mesh"] = WriteCollisionMesh(mesh_out, result.cloud, force);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "graspfill repair: collision mesh: %s\n", ErrorText(e).c_str());
       return 1;
@@ -159,7 +159,7 @@ int RunRepair(const Args& args) {
   }
   // Written after the cloud: a picture only of what is on the disk.
   const std::string preview =
-      preview_dir.empty() ? "" : WritePreview(preview_dir, out, &input, result.cloud);
+      preview_dir.empty() ? "" : WritePreview(preview_dir, out, &input, result.cloud, force);
   if (json) {
     std::printf("%s\n", report.dump(2).c_str());
     return 0;

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -284,6 +285,17 @@ int64_t CountDepthFrames(const std::string& path, const std::string& channel) {
   return frames;
 }
 
+// Where an earlier grasp's model goes, beside the output OUT/STEM.EXT:
+// STEM.grasp<ID>.EXT for the first grasp with that id, and
+// STEM.grasp<ID>-<N>.EXT for its N-th (N >= 2; a robot that numbers its
+// grasps 1, 2, 1, 2): no grasp's model replaces another's.
+std::string GraspModelPath(const std::string& output_path, int64_t grasp_id, int occurrence) {
+  const std::filesystem::path out(output_path);
+  std::string name = out.stem().string() + ".grasp" + std::to_string(grasp_id);
+  if (occurrence > 1) name += "-" + std::to_string(occurrence);
+  return (out.parent_path() / (name + out.extension().string())).string();
+}
+
 const char* HoleKindName(HoleKind kind) {
   return kind == HoleKind::kClaw ? "claw" : "missing_surface";
 }
@@ -416,26 +428,24 @@ int RunReplay(const Args& args) {
     return 1;
   }
   // A log of several grasps: every grasp's model but the last beside the
-  // output, as STEM.grasp<ID>.ply (the last is the output itself).
+  // output (the last is the output itself), as GraspModelPath names them.
   nlohmann::ordered_json grasps_json = nlohmann::json::array();
+  std::map<int64_t, int> times_seen;  // by grasp id: a robot may reuse ids
   for (size_t g = 0; g + 1 < ended.size(); ++g) {
     ObjectCloud& model = ended[g].cloud;
-    const std::filesystem::path out(o.output_path);
-    const std::string path =
-        (out.parent_path() / (out.stem().string() + ".grasp" + std::to_string(model.grasp_id) +
-                              out.extension().string())).string();
+    const std::string path = GraspModelPath(o.output_path, model.grasp_id, ++times_seen[model.grasp_id]);
     std::string status = "off";
     if (o.repair) {
       try {
         status = rt::RepairObjectCloud(rt::GripperFrameRepairConfig(o.repair_config), &model,
                                        o.evidence ? &ended[g].seen : nullptr).StatusText();
       } catch (const std::exception& e) {
-        status = std::string("failed: ") + e.what();
+        status = "failed: " + ErrorText(e);
       }
     }
     try {
       io::CheckOutputFile(path, o.force);
-      io::WriteCloudPly(path, model);
+      io::WriteCloudPly(path, model, io::ReplaceIf(o.force));
     } catch (const std::exception& e) {
       std::fprintf(stderr, "graspfill replay: grasp %lld: %s\n",
                    static_cast<long long>(model.grasp_id), ErrorText(e).c_str());
@@ -468,12 +478,17 @@ int RunReplay(const Args& args) {
     }
   }
   const auto t_repaired = std::chrono::steady_clock::now();
-  io::WriteCloudPly(o.output_path, cloud);
+  try {
+    io::WriteCloudPly(o.output_path, cloud, io::ReplaceIf(o.force));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "graspfill replay: %s\n", ErrorText(e).c_str());
+    return 1;
+  }
   const auto t_written = std::chrono::steady_clock::now();
   std::string preview_path;
   if (!o.preview_dir.empty()) {
     try {
-      preview_path = WritePreview(o.preview_dir, o.output_path, fused ? &*fused : nullptr, cloud);
+      preview_path = WritePreview(o.preview_dir, o.output_path, fused ? &*fused : nullptr, cloud, o.force);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "graspfill replay: %s\n", ErrorText(e).c_str());
       return 1;
@@ -488,7 +503,7 @@ int RunReplay(const Args& args) {
   nlohmann::ordered_json mesh_report;
   if (!o.mesh_out.empty()) {
     try {
-      mesh_report = WriteCollisionMesh(o.mesh_out, cloud);
+      mesh_report = WriteCollisionMesh(o.mesh_out, cloud, o.force);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "graspfill replay: collision mesh: %s\n", ErrorText(e).c_str());
       return 1;

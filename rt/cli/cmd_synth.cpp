@@ -298,12 +298,12 @@ json Pose(const Eigen::Isometry3d& T) {
 // The claw model as a description file (config/claws/README.md) with one
 // PLY per link beside it, so `--claw DIR/claw/claw.json` replays with the
 // exact claw, including lengthened fingers.
-void WriteClawDescription(const claw::ClawModel& model, const fs::path& dir) {
+void WriteClawDescription(const claw::ClawModel& model, const fs::path& dir, io::IfExists if_exists) {
   fs::create_directories(dir);
   json links = json::array();
   for (const claw::Link& link : model.links()) {
     const std::string mesh_file = link.name + ".ply";
-    io::WriteMeshPly((dir / mesh_file).string(), link.mesh);
+    io::WriteMeshPly((dir / mesh_file).string(), link.mesh, if_exists);
     json j = {{"name", link.name}, {"mesh", mesh_file}, {"mesh_origin", Pose(link.T_link_mesh)}};
     if (link.parent >= 0) j["parent"] = model.links()[link.parent].name;
     if (link.joint.type != claw::JointType::kFixed) {
@@ -323,7 +323,8 @@ void WriteClawDescription(const claw::ClawModel& model, const fs::path& dir) {
       {"name", model.name()},
       {"opening_doc", "radius of the fingers' inner faces from G's z axis [m]"},
       {"links", links}};
-  io::WriteFileAtomically((dir / "claw.json").string(), description.dump(2) + "\n");
+  io::WriteFileAtomically((dir / "claw.json").string(), description.dump(2) + "\n", "cannot write",
+                          if_exists);
 }
 
 json RigErrorsJson(const synth::RigErrors& rig) {
@@ -584,7 +585,10 @@ int Run(const SynthOptions& o) {
 
   // The truth is where the object ends; with a slip, the same samples
   // moved by the slide (point for point) beside the truth as grasped.
-  io::WriteMeshPly((dir / "gt_mesh.ply").string(), scene.object_G_after_slip());
+  // Created only where nothing is (without --force): a file that appeared
+  // since PrepareOutputs is not replaced.
+  const io::IfExists if_exists = io::ReplaceIf(o.force);
+  io::WriteMeshPly((dir / "gt_mesh.ply").string(), scene.object_G_after_slip(), if_exists);
   const synth::SurfaceSamples samples =
       synth::SampleSurface(scene.object_G(), synth::kDefaultGroundTruthPoints, config.seed);
   ObjectCloud gt;
@@ -593,17 +597,18 @@ int Run(const SynthOptions& o) {
   gt.points_G = samples.points;
   gt.normals_G = samples.normals;
   if (slip) {
-    io::WriteMeshPly((dir / "gt_mesh_before_slip.ply").string(), scene.object_G());
-    io::WriteCloudPly((dir / "gt_cloud_before_slip.ply").string(), gt);
+    io::WriteMeshPly((dir / "gt_mesh_before_slip.ply").string(), scene.object_G(), if_exists);
+    io::WriteCloudPly((dir / "gt_cloud_before_slip.ply").string(), gt, if_exists);
     const Eigen::Vector3f d = scene.slip().Displacement_G().cast<float>();
     for (Eigen::Vector3f& p : gt.points_G) p += d;
   }
-  io::WriteCloudPly((dir / "gt_cloud.ply").string(), gt);
-  io::WriteMeshPly((dir / "claw.ply").string(), scene.claw_G());
-  WriteClawDescription(claw_model, dir / "claw");
+  io::WriteCloudPly((dir / "gt_cloud.ply").string(), gt, if_exists);
+  io::WriteMeshPly((dir / "claw.ply").string(), scene.claw_G(), if_exists);
+  WriteClawDescription(claw_model, dir / "claw", if_exists);
 
   const json scene_json = SceneJson(scene, o, channels, log_bytes, gripper_states, rig);
-  io::WriteFileAtomically((dir / "scene.json").string(), scene_json.dump(2) + "\n");
+  io::WriteFileAtomically((dir / "scene.json").string(), scene_json.dump(2) + "\n", "cannot write",
+                          if_exists);
   const Eigen::AlignedBox3d ws = scene.WorkspaceBoxG(0.02);
   std::printf(
       "wrote %s: %d depth frames + %zu gripper states (%lld bytes), opening %.4f m, "

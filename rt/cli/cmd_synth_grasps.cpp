@@ -117,7 +117,7 @@ int RunSynthGrasps(const SynthGraspsOptions& o) {
       }
       const fs::path gdir = dir / ("grasp" + std::to_string(grasp_id));
       fs::create_directories(gdir);
-      io::WriteMeshPly((gdir / "gt_mesh.ply").string(), scene.object_G());
+      io::WriteMeshPly((gdir / "gt_mesh.ply").string(), scene.object_G(), io::ReplaceIf(o.force));
       const synth::SurfaceSamples samples = synth::SampleSurface(
           scene.object_G(), synth::kDefaultGroundTruthPoints, configs[k].seed);
       ObjectCloud gt;
@@ -125,7 +125,7 @@ int RunSynthGrasps(const SynthGraspsOptions& o) {
       gt.T_C_G = scene.T_C_G(0.0);
       gt.points_G = samples.points;
       gt.normals_G = samples.normals;
-      io::WriteCloudPly((gdir / "gt_cloud.ply").string(), gt);
+      io::WriteCloudPly((gdir / "gt_cloud.ply").string(), gt, io::ReplaceIf(o.force));
       grasps.push_back({{"grasp_id", grasp_id},
                         {"shape", o.shapes[k]},
                         {"seed", configs[k].seed},
@@ -146,7 +146,8 @@ int RunSynthGrasps(const SynthGraspsOptions& o) {
                                         {"grasp", o.grasp},
                                         {"log", "recording.lcmlog"},
                                         {"grasps", grasps}};
-    io::WriteFileAtomically((dir / "grasps.json").string(), doc.dump(2) + "\n");
+    io::WriteFileAtomically((dir / "grasps.json").string(), doc.dump(2) + "\n", "cannot write",
+                            io::ReplaceIf(o.force));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "graspfill synth: error: %s\n", ErrorText(e).c_str());
     return 1;

@@ -111,9 +111,11 @@ int RunSynthProtocol(const SynthProtocolOptions& o) {
   const synth::PaperProtocolCloud cloud = synth::MakePaperProtocolCloud(config);
 
   if (!PrepareOutputs(dir, {kHoleyFile, kTruthFile, kProtocolFile}, o.force, "synth")) return 1;
-  io::WriteCloudPly(holey_path.string(), MakeCloud(cloud.holey));
-  io::WriteCloudPly(truth_path.string(), MakeCloud(cloud.ground_truth));
-  io::WriteFileAtomically(json_path.string(), ProtocolJson(o, cloud).dump(2) + "\n");
+  const io::IfExists if_exists = io::ReplaceIf(o.force);
+  io::WriteCloudPly(holey_path.string(), MakeCloud(cloud.holey), if_exists);
+  io::WriteCloudPly(truth_path.string(), MakeCloud(cloud.ground_truth), if_exists);
+  io::WriteFileAtomically(json_path.string(), ProtocolJson(o, cloud).dump(2) + "\n", "cannot write",
+                          if_exists);
   std::printf("wrote %s: %zu points (%s, top cut, %zu claw holes); truth %s: %zu points; %s\n",
               holey_path.string().c_str(), cloud.holey.size(),
               synth::ShapeName(o.shape).c_str(), cloud.claw_hole_centres.size(),

@@ -81,7 +81,7 @@ int RunView(const Args& args) {
       sheet.push_back({&clouds[i], title});
     }
     const RgbImage image = view::RenderSheet(sheet, o.sheet);
-    io::WritePng(o.output_path, image);
+    io::WritePng(o.output_path, image, io::ReplaceIf(o.force));
     std::printf("wrote %s: %zu cloud(s) x %d view(s), %d x %d pixels\n", o.output_path.c_str(),
                 clouds.size(), o.sheet.views, image.width, image.height);
   } catch (const std::exception& e) {

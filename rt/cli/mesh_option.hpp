@@ -31,16 +31,17 @@ inline void CheckMeshOutOption(const std::string& mesh_path, const std::string& 
   }
 }
 
-/// Builds the collision mesh of `cloud`, writes it to `path` and measures
-/// it against the cloud.
+/// Builds the collision mesh of `cloud`, writes it to `path` (replacing a
+/// file there only with `force`) and measures it against the cloud.
 /// @return the report (--json's "mesh"; PrintCollisionMesh prints it).
 /// @throws std::exception from the mesh (a cloud too small) or the write.
-inline nlohmann::ordered_json WriteCollisionMesh(const std::string& path, const ObjectCloud& cloud) {
+inline nlohmann::ordered_json WriteCollisionMesh(const std::string& path, const ObjectCloud& cloud,
+                                                 bool force) {
   const auto t0 = std::chrono::steady_clock::now();
   const mesh::CollisionMeshConfig config;
   const TriangleMesh m = mesh::BuildCollisionMesh(cloud, config);
   const auto t1 = std::chrono::steady_clock::now();
-  io::WriteMesh(path, m);
+  io::WriteMesh(path, m, io::ReplaceIf(force));
   const mesh::MeshDeviation d = mesh::MeasureDeviation(m, cloud);
   auto mm = [](double meters) { return meters * 1e3; };
   nlohmann::ordered_json j;

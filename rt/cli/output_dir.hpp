@@ -28,7 +28,7 @@ inline bool CreateOutputDir(const std::filesystem::path& dir, const char* comman
 /// writing, before any work: without `force` none of them may exist or be
 /// a symbolic link (all that do are listed); then `dir` and the folders
 /// the names need are created and each file is checked
-/// (io::CheckOutputFile: not a folder, its folder writable). False, after
+/// (io::CheckOutputFile: a regular file or missing, its folder writable). False, after
 /// printing why as "graspfill <command>: ...", when a file cannot be
 /// written.
 inline bool PrepareOutputs(const std::filesystem::path& dir, const std::vector<std::string>& names,
@@ -39,7 +39,10 @@ inline bool PrepareOutputs(const std::filesystem::path& dir, const std::vector<s
     for (const std::string& name : names) {
       std::error_code ec;
       const fs::file_status status = fs::symlink_status(dir / name, ec);
-      if (fs::exists(status)) existing.push_back((dir / name).string());
+      // A folder, device or FIFO is refused below, --force or not.
+      if (fs::is_regular_file(status) || fs::is_symlink(status)) {
+        existing.push_back((dir / name).string());
+      }
     }
     if (!existing.empty()) {
       std::fprintf(stderr, "graspfill %s: refusing to overwrite existing output (use --force):\n",

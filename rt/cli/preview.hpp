@@ -29,15 +29,16 @@ inline bool PreparePreview(const std::string& dir, const std::string& output_pat
 
 /// Writes the preview: `before` beside `after`, or `after` alone when
 /// `before` is null (no repair ran). Returns the path written.
+/// @param force replace an existing file (else one there is an error).
 /// @throws std::runtime_error naming the file if it cannot be written.
 inline std::string WritePreview(const std::string& dir, const std::string& output_path,
-                                const ObjectCloud* before, const ObjectCloud& after) {
+                                const ObjectCloud* before, const ObjectCloud& after, bool force) {
   const std::string name = std::filesystem::path(output_path).filename().string();
   std::vector<view::SheetCloud> clouds;
   if (before != nullptr) clouds.push_back({before, "before repair"});
   clouds.push_back({&after, before != nullptr ? "after: " + name : name});
   const std::string path = PreviewPath(dir, output_path);
-  io::WritePng(path, view::RenderSheet(clouds, view::SheetConfig{}));
+  io::WritePng(path, view::RenderSheet(clouds, view::SheetConfig{}), io::ReplaceIf(force));
   return path;
 }
 

@@ -31,7 +31,9 @@ LcmLogWriter::LcmLogWriter(const std::string& path, bool overwrite)
     throw std::runtime_error("cannot create log '" + path +
                              "': file exists (pass overwrite to replace it)");
   }
-  file_ = std::make_unique<io::AtomicFile>(path, "cannot create log");
+  // Without overwrite, created only where nothing is when the log is
+  // closed: of two recorders racing to one path, one fails.
+  file_ = std::make_unique<io::AtomicFile>(path, "cannot create log", io::ReplaceIf(overwrite));
   // lcm opens the file by name: the temporary file, truncated (it is new).
   log_ = std::make_unique<lcm::LogFile>(file_->temp_path(), "w");
   if (!log_->good()) {

@@ -1,9 +1,13 @@
 // Temporary file + fsync + rename (POSIX rename replaces the target
 // atomically within one file system, which the temporary file's place in
-// the target's folder guarantees).
+// the target's folder guarantees). Without kReplace the temporary file is
+// put in place by renameat2(RENAME_NOREPLACE), or link(2) + unlink where
+// the file system has no such rename: both fail with EEXIST rather than
+// replace what another writer put there meanwhile.
 #include "graspfill/io/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <stdio.h>  // renameat2, RENAME_NOREPLACE (glibc >= 2.28)
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -68,14 +72,64 @@ int CreateTempFile(const std::string& path, std::string* temp_path) {
   return -1;
 }
 
+const char* SpecialFileKind(const std::string& path) {
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) != 0) return nullptr;
+  if (S_ISCHR(st.st_mode)) return "a character device";
+  if (S_ISBLK(st.st_mode)) return "a block device";
+  if (S_ISFIFO(st.st_mode)) return "a FIFO (named pipe)";
+  if (S_ISSOCK(st.st_mode)) return "a socket";
+  return nullptr;
+}
+
 }  // namespace internal
 
-AtomicFile::AtomicFile(const std::string& path, const std::string& what)
-    : what_(what), path_(internal::FollowSymlinks(path)) {
+namespace {
+
+// Puts `temp` at `path` only if nothing is there: 0, or -1 with errno set
+// (EEXIST where something is).
+int PlaceNew(const std::string& temp, const std::string& path) {
+  if (::renameat2(AT_FDCWD, temp.c_str(), AT_FDCWD, path.c_str(), RENAME_NOREPLACE) == 0) return 0;
+  if (errno != EINVAL && errno != ENOSYS && errno != ENOTSUP && errno != EOPNOTSUPP) return -1;
+  // No RENAME_NOREPLACE here (NFS, some FUSE): a hard link fails the same way.
+  if (::link(temp.c_str(), path.c_str()) != 0) return -1;
+  ::unlink(temp.c_str());
+  return 0;
+}
+
+// EEXIST's text, with what to do; `meanwhile`: the file appeared while
+// this one was being written (another writer won the race).
+std::string FileExistsText(bool meanwhile) {
+  return std::string(std::strerror(EEXIST)) + (meanwhile ? " (created while this one was written)" : "") +
+         "; pass --force to overwrite it";
+}
+
+}  // namespace
+
+AtomicFile::AtomicFile(const std::string& path, const std::string& what, IfExists if_exists)
+    : what_(what),
+      if_exists_(if_exists),
+      // kFail: a link at the path is something there, not a way to a file.
+      path_(if_exists == IfExists::kReplace ? internal::FollowSymlinks(path) : path) {
+  CheckTarget(/*at_commit=*/false);
   fd_ = internal::CreateTempFile(path_, &temp_path_);
   if (fd_ < 0) {
     const int error = errno;
     throw std::runtime_error(what_ + " '" + path_ + "': " + std::strerror(error));
+  }
+}
+
+void AtomicFile::CheckTarget(bool at_commit) const {
+  struct stat st {};
+  if (::lstat(path_.c_str(), &st) != 0) return;  // nothing there (else the write says why)
+  if (const char* kind = internal::SpecialFileKind(path_)) {
+    throw std::runtime_error(what_ + " '" + path_ + "': " + internal::NotWrittenBecause(kind));
+  }
+  if (S_ISDIR(st.st_mode)) {
+    throw std::runtime_error(what_ + " '" + path_ + "': " + std::strerror(EISDIR));
+  }
+  if (if_exists_ == IfExists::kFail) {
+    throw std::runtime_error(what_ + " '" + path_ + "': " + FileExistsText(at_commit));
   }
 }
 
@@ -94,12 +148,26 @@ void AtomicFile::Commit() {
   if (::close(fd) != 0) {
     const int error = errno;
     ::unlink(temp_path_.c_str());
+    temp_path_.clear();
     throw std::runtime_error(what_ + " '" + path_ + "': " + std::strerror(error));
   }
-  if (std::rename(temp_path_.c_str(), path_.c_str()) != 0) {
+  // Looked at again: a device or FIFO may have appeared since the start.
+  try {
+    CheckTarget(/*at_commit=*/true);
+  } catch (const std::exception&) {
+    ::unlink(temp_path_.c_str());
+    temp_path_.clear();
+    throw;
+  }
+  const int placed = if_exists_ == IfExists::kReplace
+                         ? std::rename(temp_path_.c_str(), path_.c_str())
+                         : PlaceNew(temp_path_, path_);
+  if (placed != 0) {
     const int error = errno;
     ::unlink(temp_path_.c_str());
-    throw std::runtime_error(what_ + " '" + path_ + "': " + std::strerror(error));
+    temp_path_.clear();
+    throw std::runtime_error(what_ + " '" + path_ + "': " +
+                             (error == EEXIST ? FileExistsText(true) : std::strerror(error)));
   }
   temp_path_.clear();
   // The rename itself reaches the disk with the folder's next flush; best
@@ -125,8 +193,8 @@ void AtomicFile::Abandon() noexcept {
 }
 
 void WriteFileAtomically(const std::string& path, const std::string& bytes,
-                         const std::string& what) {
-  AtomicFile file(path, what);
+                         const std::string& what, IfExists if_exists) {
+  AtomicFile file(path, what, if_exists);
   const char* data = bytes.data();
   size_t left = bytes.size();
   while (left > 0) {

@@ -15,4 +15,16 @@ std::string FollowSymlinks(const std::string& path);
 /// with errno set.
 int CreateTempFile(const std::string& path, std::string* temp_path);
 
+/// What is at `path` (not following a link) where it is a device, a FIFO
+/// or a socket: "a character device", "a block device", "a FIFO (named
+/// pipe)" or "a socket"; nullptr for anything else (missing, a regular
+/// file, a folder, a symbolic link).
+const char* SpecialFileKind(const std::string& path);
+
+/// The message's end for such a file: graspfill writes regular files only.
+inline std::string NotWrittenBecause(const char* kind) {
+  return "is " + std::string(kind) + ", not a regular file (only regular files are written, "
+         "even with --force)";
+}
+
 }  // namespace graspfill::io::internal

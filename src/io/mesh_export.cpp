@@ -81,19 +81,19 @@ std::optional<MeshFormat> MeshFormatOf(const std::string& path) {
   return std::nullopt;
 }
 
-void WriteMesh(const std::string& path, const TriangleMesh& mesh) {
+void WriteMesh(const std::string& path, const TriangleMesh& mesh, IfExists if_exists) {
   const std::optional<MeshFormat> format = MeshFormatOf(path);
   if (!format) {
     throw std::runtime_error("cannot write mesh '" + path +
                              "': unknown extension (use .ply, .stl or .obj)");
   }
   if (*format == MeshFormat::kPly) {
-    WriteMeshPly(path, mesh);
+    WriteMeshPly(path, mesh, if_exists);
     return;
   }
   CheckIndices(path, mesh);
   WriteFileAtomically(path, *format == MeshFormat::kStl ? StlBytes(mesh) : ObjBytes(mesh),
-                      "cannot write mesh");
+                      "cannot write mesh", if_exists);
 }
 
 }  // namespace graspfill::io

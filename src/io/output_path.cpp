@@ -53,12 +53,17 @@ void CheckOutputFile(const std::string& path, bool overwrite) {
     }
   } else if (fs::is_directory(link)) {
     Refuse(path, "is a folder");
+  } else if (const char* kind = internal::SpecialFileKind(path)) {
+    Refuse(path, internal::NotWrittenBecause(kind));
   } else if (fs::exists(link) && !overwrite) {
     Refuse(path, "exists; pass --force to overwrite it");
   }
   // Where the bytes will go: a link's target (--force), in its own folder.
   const fs::path target(internal::FollowSymlinks(path));
   if (fs::is_directory(target, ec)) Refuse(path, "points to a folder");
+  if (const char* kind = internal::SpecialFileKind(target.string())) {
+    Refuse(path, "points to '" + target.string() + "', which " + internal::NotWrittenBecause(kind));
+  }
   fs::path dir = target.parent_path();
   if (dir.empty()) dir = ".";
   CheckWritableDir(dir, path);

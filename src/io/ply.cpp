@@ -54,8 +54,8 @@ std::string FormatDouble(double v) {
 
 // Atomically: a failed write (full disk) never replaces a good file.
 void WriteFile(const std::string& what, const std::string& path,
-               const std::string& bytes) {
-  WriteFileAtomically(path, bytes, what);
+               const std::string& bytes, IfExists if_exists) {
+  WriteFileAtomically(path, bytes, what, if_exists);
 }
 
 void CheckReadable(const std::string& what, const std::string& path) {
@@ -109,7 +109,7 @@ void ReadHeaderComments(const std::string& path, ObjectCloud* cloud) {
 
 }  // namespace
 
-void WriteCloudPly(const std::string& path, const ObjectCloud& cloud) {
+void WriteCloudPly(const std::string& path, const ObjectCloud& cloud, IfExists if_exists) {
   const size_t n = cloud.points_G.size();
   const bool has_normals = !cloud.normals_G.empty();
   if (has_normals && cloud.normals_G.size() != n) {
@@ -166,7 +166,7 @@ void WriteCloudPly(const std::string& path, const ObjectCloud& cloud) {
     if (has_confidence) AppendFloat(&bytes, cloud.confidence[i]);
     for (const uint8_t c : ProvenanceColor(p)) bytes.push_back(static_cast<char>(c));
   }
-  WriteFile("cannot write PLY", path, bytes);
+  WriteFile("cannot write PLY", path, bytes, if_exists);
 }
 
 ObjectCloud ReadCloudPly(const std::string& path) {
@@ -239,7 +239,7 @@ ObjectCloud ReadCloudPly(const std::string& path) {
   return cloud;
 }
 
-void WriteMeshPly(const std::string& path, const TriangleMesh& mesh) {
+void WriteMeshPly(const std::string& path, const TriangleMesh& mesh, IfExists if_exists) {
   const int64_t num_vertices = static_cast<int64_t>(mesh.vertices.size());
   for (const Eigen::Vector3i& tri : mesh.triangles) {
     for (int k = 0; k < 3; ++k) {
@@ -264,7 +264,7 @@ void WriteMeshPly(const std::string& path, const TriangleMesh& mesh) {
     bytes.push_back(3);
     for (int k = 0; k < 3; ++k) AppendInt32(&bytes, tri[k]);
   }
-  WriteFile("cannot write PLY", path, bytes);
+  WriteFile("cannot write PLY", path, bytes, if_exists);
 }
 
 namespace {

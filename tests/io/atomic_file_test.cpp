@@ -1,13 +1,20 @@
 // WriteFileAtomically and AtomicFile: the target is replaced only by a
 // complete file; a failed write (a full disk, simulated by RLIMIT_FSIZE,
 // see file_size_limit.hpp) leaves it as it was and no temporary file
-// behind; errors name the path and the system's reason.
+// behind; errors name the path and the system's reason. Only regular files
+// are written (a device, FIFO or socket never replaced), and without
+// IfExists::kReplace of writers racing to one new path exactly one wins.
 #include "graspfill/io/atomic_file.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <sys/un.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <functional>
 #include <filesystem>
@@ -15,6 +22,7 @@
 #include <iterator>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "file_size_limit.hpp"
@@ -139,6 +147,125 @@ TEST_F(AtomicFileTest, UncommittedFileLeavesTheTargetAlone) {
   }
   EXPECT_EQ(ReadBytes(Path("log")), "whole");
   EXPECT_EQ(Names(), std::vector<std::string>{"log"});
+}
+
+// The file type at `path` (not following a link), 0 if nothing is there.
+mode_t TypeAt(const std::string& path) {
+  struct stat st {};
+  return ::lstat(path.c_str(), &st) == 0 ? (st.st_mode & S_IFMT) : 0;
+}
+
+TEST_F(AtomicFileTest, WithoutReplaceAnythingThereIsAnErrorAndKeptAsItWas) {
+  WriteFileAtomically(Path("old.ply"), "precious");
+  const std::string error =
+      ErrorOf([&] { WriteFileAtomically(Path("old.ply"), "new", "cannot write PLY", IfExists::kFail); });
+  EXPECT_NE(error.find("cannot write PLY '" + Path("old.ply") + "': " + std::strerror(EEXIST)),
+            std::string::npos) << error;
+  EXPECT_NE(error.find("--force"), std::string::npos) << error;
+  EXPECT_EQ(ReadBytes(Path("old.ply")), "precious");
+  // A link, even a dangling one, is something there: not written through.
+  fs::create_symlink("nowhere.ply", Path("link.ply"));
+  EXPECT_NE(ErrorOf([&] { WriteFileAtomically(Path("link.ply"), "x", "cannot write", IfExists::kFail); })
+                .find(std::strerror(EEXIST)),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(Path("nowhere.ply")));
+  // Where nothing is, the file is made.
+  WriteFileAtomically(Path("new.ply"), "fresh", "cannot write", IfExists::kFail);
+  EXPECT_EQ(ReadBytes(Path("new.ply")), "fresh");
+  EXPECT_EQ(Names(), (std::vector<std::string>{"link.ply", "new.ply", "old.ply"}));
+}
+
+// Two writers that both found the path free when they began: the second
+// to finish fails with EEXIST instead of replacing the first one's file
+// (both used to succeed, and one file was lost).
+TEST_F(AtomicFileTest, OfTwoWritersToOneNewPathTheSecondToFinishFails) {
+  AtomicFile first(Path("cloud.ply"), "cannot write PLY", IfExists::kFail);
+  AtomicFile second(Path("cloud.ply"), "cannot write PLY", IfExists::kFail);
+  std::ofstream(first.temp_path()) << "first";
+  std::ofstream(second.temp_path()) << "second";
+  first.Commit();
+  const std::string error = ErrorOf([&] { second.Commit(); });
+  EXPECT_NE(error.find("cannot write PLY '" + Path("cloud.ply") + "': " + std::strerror(EEXIST)),
+            std::string::npos) << error;
+  EXPECT_EQ(ReadBytes(Path("cloud.ply")), "first");
+  EXPECT_EQ(Names(), std::vector<std::string>{"cloud.ply"});  // no temporary file left
+}
+
+TEST_F(AtomicFileTest, OfManyThreadsRacingToOneNewPathExactlyOneWins) {
+  constexpr int kWriters = 8;
+  for (int round = 0; round < 20; ++round) {
+    const std::string path = Path("race" + std::to_string(round) + ".ply");
+    std::atomic<int> ready{0};
+    std::vector<std::string> errors(kWriters);
+    std::vector<std::thread> writers;
+    for (int w = 0; w < kWriters; ++w) {
+      writers.emplace_back([&, w] {
+        ++ready;
+        while (ready.load() < kWriters) std::this_thread::yield();  // all start together
+        errors[static_cast<size_t>(w)] = ErrorOf([&] {
+          WriteFileAtomically(path, "writer " + std::to_string(w) + std::string(4096, 'x'),
+                              "cannot write PLY", IfExists::kFail);
+        });
+      });
+    }
+    for (std::thread& t : writers) t.join();
+    int winners = 0;
+    std::string winner_bytes;
+    for (int w = 0; w < kWriters; ++w) {
+      const std::string& e = errors[static_cast<size_t>(w)];
+      if (e.empty()) {
+        ++winners;
+        winner_bytes = "writer " + std::to_string(w) + std::string(4096, 'x');
+      } else {
+        EXPECT_NE(e.find(std::strerror(EEXIST)), std::string::npos) << e;
+      }
+    }
+    EXPECT_EQ(winners, 1) << "round " << round;
+    EXPECT_EQ(ReadBytes(path), winner_bytes) << "round " << round;
+  }
+  EXPECT_EQ(Names().size(), 20u);  // the 20 files, no temporary ones
+}
+
+// A FIFO, a device or a socket where the file should go is refused, even
+// with kReplace (a command's --force), and stays what it was: it used to
+// be replaced by a regular file.
+TEST_F(AtomicFileTest, DevicesFifosAndSocketsAreNeverReplaced) {
+  std::vector<std::pair<std::string, std::string>> specials;  // path, kind in the message
+  ASSERT_EQ(::mkfifo(Path("fifo").c_str(), 0666), 0) << std::strerror(errno);
+  specials.emplace_back(Path("fifo"), "is a FIFO (named pipe)");
+  // /dev/null's twin, where this process may make one (root, not in every
+  // container).
+  if (::mknod(Path("null").c_str(), S_IFCHR | 0666, makedev(1, 3)) == 0) {
+    specials.emplace_back(Path("null"), "is a character device");
+  }
+  const int sock = ::socket(AF_UNIX, SOCK_STREAM, 0);
+  ASSERT_GE(sock, 0);
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  const std::string socket_path = Path("sock");
+  if (socket_path.size() < sizeof(address.sun_path)) {
+    std::strncpy(address.sun_path, socket_path.c_str(), sizeof(address.sun_path) - 1);
+    if (::bind(sock, reinterpret_cast<const sockaddr*>(&address), sizeof(address)) == 0) {
+      specials.emplace_back(socket_path, "is a socket");
+    }
+  }
+  ::close(sock);
+  for (const auto& [path, kind] : specials) {
+    const mode_t type = TypeAt(path);
+    for (const IfExists if_exists : {IfExists::kReplace, IfExists::kFail}) {
+      const std::string error = ErrorOf([&] { WriteFileAtomically(path, "x", "cannot write PLY", if_exists); });
+      EXPECT_NE(error.find("cannot write PLY '" + path + "': " + kind), std::string::npos) << error;
+      EXPECT_EQ(TypeAt(path), type) << path;
+    }
+    // Through a link too (a link's target is written with kReplace).
+    const std::string link = path + ".link";
+    fs::create_symlink(path, link);
+    EXPECT_NE(ErrorOf([&] { WriteFileAtomically(link, "x", "cannot write", IfExists::kReplace); }).find(kind),
+              std::string::npos);
+    EXPECT_EQ(TypeAt(path), type) << path;
+  }
+  // Nothing but the specials and their links: no temporary file.
+  EXPECT_EQ(Names().size(), 2 * specials.size());
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 #include "graspfill/io/output_path.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 
 #include <cstring>
 #include <filesystem>
@@ -80,6 +82,28 @@ TEST_F(OutputPathTest, UnwritablePlacesAreRefusedWithTheReason) {
             std::string::npos)
       << proc;
   EXPECT_EQ(ErrorOf([&] { CheckOutputFile("", true); }), "empty output path");
+}
+
+// A FIFO or a device is no output, --force or not: it used to pass with
+// --force and be replaced by a regular file at the end of the command.
+TEST_F(OutputPathTest, FifosAndDevicesAreRefusedEvenWithForce) {
+  ASSERT_EQ(::mkfifo(Path("fifo").c_str(), 0666), 0) << std::strerror(errno);
+  for (const bool force : {false, true}) {
+    const std::string error = ErrorOf([&] { CheckOutputFile(Path("fifo"), force); });
+    EXPECT_NE(error.find("'" + Path("fifo") + "' is a FIFO (named pipe), not a regular file"),
+              std::string::npos) << error;
+    // /dev/null itself is only looked at here, never written.
+    EXPECT_NE(ErrorOf([&] { CheckOutputFile("/dev/null", force); }).find("is a character device"),
+              std::string::npos);
+  }
+  // Through a link (--force follows links).
+  fs::create_symlink(Path("fifo"), Path("to_fifo.ply"));
+  fs::create_symlink("/dev/null", Path("to_null.ply"));
+  EXPECT_NE(ErrorOf([&] { CheckOutputFile(Path("to_fifo.ply"), true); }).find("which is a FIFO"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { CheckOutputFile(Path("to_null.ply"), true); })
+                .find("points to '/dev/null', which is a character device"),
+            std::string::npos);
 }
 
 TEST_F(OutputPathTest, PrepareOutputDirCreatesFoldersOrSaysWhyNot) {

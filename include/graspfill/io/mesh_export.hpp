@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "graspfill/io/atomic_file.hpp"
 #include "graspfill/types.hpp"
 
 namespace graspfill::io {
@@ -24,8 +25,11 @@ std::optional<MeshFormat> MeshFormatOf(const std::string& path);
 /// normal (from its winding; zero for a degenerate triangle) and an 80-byte
 /// header naming graspfill; OBJ writes `v` and `f` lines (1-based indices)
 /// with nine significant digits; PLY is WriteMeshPly's.
+/// @param if_exists kFail: refuse to replace anything at `path` (see
+///   io/atomic_file.hpp; a command without --force).
 /// @throws std::runtime_error (with the path) on an unknown extension, a
 ///   triangle that indexes a missing vertex, or a failed write.
-void WriteMesh(const std::string& path, const TriangleMesh& mesh);
+void WriteMesh(const std::string& path, const TriangleMesh& mesh,
+               IfExists if_exists = IfExists::kReplace);
 
 }  // namespace graspfill::io

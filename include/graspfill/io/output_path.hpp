@@ -9,8 +9,10 @@ namespace graspfill::io {
 
 /// Checks that the file `path` can be written as an output.
 ///
-/// Refused: a directory; an existing file or any symbolic link (even a
-/// dangling one) unless `overwrite`; a folder that does not exist, is not a
+/// Refused: a directory, a character or block device, a FIFO or a socket
+/// (or a link to one), even with `overwrite`: only regular files are
+/// written; an existing file or any symbolic link (even a dangling one)
+/// unless `overwrite`; a folder that does not exist, is not a
 /// folder or cannot be written to (tried by creating and removing a
 /// temporary file in it, which tells the truth for root and read-only
 /// mounts alike).

@@ -10,6 +10,7 @@
 
 #include <string>
 
+#include "graspfill/io/atomic_file.hpp"
 #include "graspfill/types.hpp"
 
 namespace graspfill::io {
@@ -30,9 +31,12 @@ namespace graspfill::io {
 /// Written by hand rather than with Open3D's t::io::WritePointCloud: the
 /// latter writes the uchar property correctly but refuses zero-point
 /// clouds (Open3D 0.16) and gives no control over the header.
+/// @param if_exists kFail: refuse to replace anything at `path` (see
+///   io/atomic_file.hpp; a command without --force).
 /// @throws std::runtime_error (with the path) if the file cannot be
 ///   written or normals/provenance are non-empty and not one per point.
-void WriteCloudPly(const std::string& path, const ObjectCloud& cloud);
+void WriteCloudPly(const std::string& path, const ObjectCloud& cloud,
+                   IfExists if_exists = IfExists::kReplace);
 
 /// Reads a point cloud PLY (any PLY Open3D reads: ascii or binary, float or
 /// double coordinates).
@@ -49,9 +53,11 @@ ObjectCloud ReadCloudPly(const std::string& path);
 
 /// Writes a triangle mesh as binary little-endian PLY (float x y z, faces as
 /// `list uchar int vertex_indices`). Deterministic; an empty mesh is written.
+/// @param if_exists as WriteCloudPly's.
 /// @throws std::runtime_error (with the path) if the file cannot be written
 ///   or a triangle indexes a missing vertex.
-void WriteMeshPly(const std::string& path, const TriangleMesh& mesh);
+void WriteMeshPly(const std::string& path, const TriangleMesh& mesh,
+                  IfExists if_exists = IfExists::kReplace);
 
 /// Reads a triangle mesh from STL, OBJ or PLY (by extension, through
 /// open3d::io::ReadTriangleMesh). Units are whatever the file uses; the

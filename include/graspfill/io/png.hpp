@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "graspfill/io/atomic_file.hpp"
 #include "graspfill/types.hpp"
 
 namespace graspfill::io {
@@ -15,7 +16,10 @@ namespace graspfill::io {
 /// image I/O (libpng); the same image always gives the same bytes.
 /// @throws std::runtime_error "cannot write PNG '<path>': <why>" on an
 ///   empty image, a pixel buffer that is not width * height * 3 bytes, or a
-///   failed write.
-void WritePng(const std::string& path, const RgbImage& image);
+///   failed write (with the system's reason where it gave one).
+/// @param if_exists kFail: refuse to replace anything at `path` (see
+///   io/atomic_file.hpp; a command without --force).
+void WritePng(const std::string& path, const RgbImage& image,
+              IfExists if_exists = IfExists::kReplace);
 
 }  // namespace graspfill::io
