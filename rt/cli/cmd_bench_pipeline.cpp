@@ -6,36 +6,27 @@
 // them farther than 3 mm ("wrong"), the points added in seen-free space
 // (must be 0 with evidence), and the repair times.
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
-#include <filesystem>
+#include <exception>
 #include <limits>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "bench_pipeline_parts.hpp"
 #include "commands.hpp"
 #include "evidence_json.hpp"
 #include "progress.hpp"
 #include "number_parsing.hpp"
 #include "graspfill/eval/metrics.hpp"
-#include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
-#include "graspfill/repair/repairer.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
-#include "graspfill/synth/renderer.hpp"
 #include "graspfill/synth/scene.hpp"
-#include "module/cloud_repair.hpp"
 
 namespace graspfill::cli {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double MsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 struct ZooCase {
   std::string label;
@@ -81,65 +72,6 @@ std::vector<ZooCase> ZooCases() {
       {"tall box", "cuboid", {0.05, 0.07, 0.12}, three, oblique, true},
       {"tea box", "cuboid", {0.05, 0.07, 0.12}, two, oblique, true},
   };
-}
-
-struct Outcome {
-  size_t points{0};
-  size_t added{0};
-  double coverage{0.0};
-  double added_p95_mm{0.0};
-  double added_wrong{0.0};  // share > 3 mm
-  int added_in_free{0};
-  double ms{0.0};
-  std::string note;
-  std::vector<StageTiming> steps;
-  repair::EvidenceReport evidence;
-  Eigen::Vector3d up_axis{Eigen::Vector3d::Zero()};  // V's +z in G (0 when not repaired)
-};
-
-// Coverage and the added points' errors of `cloud` (first `fused` points
-// observed) against dense samples of the truth.
-Outcome Measure(const ObjectCloud& cloud, size_t fused, const std::vector<Eigen::Vector3f>& truth,
-                const evidence::VisibilityRecord& record) {
-  Outcome o;
-  o.points = cloud.size();
-  o.added = cloud.size() - fused;
-  const std::vector<double> gt_to_cloud = eval::NearestDistances(truth, cloud.points_G);
-  o.coverage = eval::FractionWithin(gt_to_cloud, 0.002);
-  if (o.added > 0) {
-    const std::vector<Eigen::Vector3f> added(cloud.points_G.begin() + static_cast<long>(fused),
-                                             cloud.points_G.end());
-    const std::vector<double> d = eval::NearestDistances(added, truth);
-    o.added_p95_mm = 1000.0 * eval::Percentile(d, 95.0);
-    o.added_wrong = 1.0 - eval::FractionWithin(d, 0.003);
-    for (const Eigen::Vector3f& p : added) o.added_in_free += record.SeenFree(p);
-  }
-  return o;
-}
-
-std::string Note(const repair::RepairReport& r) {
-  std::string note = r.StatusText();
-  if (!r.symmetric && !r.symmetry_reason.empty()) note += "; " + r.symmetry_reason;
-  if (!r.evidence.top.empty()) note += "; top: " + r.evidence.top;
-  if (r.claw_holes_left_open > 0) note += "; claw holes left open: " + std::to_string(r.claw_holes_left_open);
-  return note;
-}
-
-// The repair's steps and their times: " outliers 12.3 boundary_points 4.5 ...".
-std::string StepsText(const std::vector<StageTiming>& steps) {
-  std::string text;
-  char step[96];
-  for (const StageTiming& t : steps) {
-    std::snprintf(step, sizeof(step), " %s %.1f", t.stage.c_str(), t.ms);
-    text += step;
-  }
-  return text;
-}
-
-nlohmann::ordered_json StepsJson(const std::vector<StageTiming>& steps) {
-  nlohmann::ordered_json out = nlohmann::ordered_json::object();
-  for (const StageTiming& t : steps) out[t.stage] = t.ms;
-  return out;
 }
 
 }  // namespace
@@ -193,19 +125,14 @@ int RunBenchRepairPipeline(const Args& args) {
     return dump_dir + "/" + name + "_" + what + ".ply";
   };
   if (!dump_dir.empty()) {
-    if (!std::filesystem::is_directory(dump_dir)) {
-      std::fprintf(stderr, "graspfill bench repair --pipeline: --dump '%s' is not a directory\n",
-                   dump_dir.c_str());
-      return 1;
-    }
+    std::vector<std::string> paths;
     for (const ZooCase& c : cases) {
-      for (const char* what : {"truth", "fused", "cloud_only", "evidence"}) {
-        if (std::filesystem::exists(dump_path(c, what))) {
-          std::fprintf(stderr, "graspfill bench repair --pipeline: '%s' exists (not overwritten)\n",
-                       dump_path(c, what).c_str());
-          return 1;
-        }
-      }
+      for (const char* what : {"truth", "fused", "cloud_only", "evidence"}) paths.push_back(dump_path(c, what));
+    }
+    const std::string problem = CheckDumpPaths(dump_dir, paths);
+    if (!problem.empty()) {
+      std::fprintf(stderr, "graspfill bench repair --pipeline: %s\n", problem.c_str());
+      return 1;
     }
   }
   ProgressLine progress("bench repair --pipeline", "objects", static_cast<int64_t>(cases.size()));
@@ -226,61 +153,35 @@ int RunBenchRepairPipeline(const Args& args) {
     sc.num_frames = frames;
     sc.seed = seed;
     const synth::Scene scene(sc);
-    const synth::SceneRenderer renderer(scene);
-    Pipeline pipeline(PipelineConfig{}, scene.MakeClawModel());
-    DepthFrame frame;
-    for (const synth::TimelineEvent& e : scene.Timeline()) {
-      if (e.kind == synth::TimelineEvent::Kind::kDepth) {
-        // Through the wire format, so that depth is quantized as in a recording.
-        const std::vector<uint8_t> bytes =
-            io::EncodeDepthImage(renderer.Render(e.index), io::DepthEncoding::kZlib16, 0.001);
-        std::string error;
-        if (!io::DecodeDepthImage(bytes.data(), bytes.size(), &frame, &error)) {
-          std::fprintf(stderr, "graspfill bench repair --pipeline: %s\n", error.c_str());
-          return 1;
-        }
-        pipeline.AddDepthFrame(frame);
-      } else {
-        pipeline.AddGripperState(scene.GripperStateAt(e.utime));
-      }
+    std::unique_ptr<Pipeline> pipeline_run;
+    try {
+      pipeline_run = RunSceneThroughPipeline(scene, PipelineConfig{});
+    } catch (const std::runtime_error& e) {
+      std::fprintf(stderr, "graspfill bench repair --pipeline: %s\n", e.what());
+      return 1;
     }
-    pipeline.Flush();
+    Pipeline& pipeline = *pipeline_run;
     const ObjectCloud fused = pipeline.ExtractCloud();
     const PipelineStats& stats = pipeline.stats();
-    const synth::SurfaceSamples truth_samples = synth::SampleSurface(scene.object_G(), 200000, 5);
+    const synth::SurfaceSamples truth_samples = TruthSamples(scene);
     const std::vector<Eigen::Vector3f>& truth = truth_samples.points;
     const evidence::VisibilityRecord& record = pipeline.visibility();
 
     Outcome result[2];
     for (int with_evidence = 0; with_evidence < 2; ++with_evidence) {
-      // The fastest of `repeat` repairs of the same cloud (a shared VM's
-      // times move by tens of % between runs), each of which must give the
-      // same cloud.
-      ObjectCloud cloud;
-      repair::RepairReport report;
-      double best_ms = std::numeric_limits<double>::infinity();
-      std::vector<StageTiming> best_steps;
-      for (int r = 0; r < repeat; ++r) {
-        ObjectCloud attempt = fused;
-        const Clock::time_point start = Clock::now();
-        repair::RepairReport attempt_report = rt::RepairObjectCloud(
-            rt::GripperFrameRepairConfig(), &attempt, with_evidence ? &record : nullptr);
-        const double ms = MsSince(start);
-        if (ms < best_ms) best_ms = ms, best_steps = attempt_report.timings;
-        if (r == 0) {
-          cloud = std::move(attempt);
-          report = std::move(attempt_report);
-        } else if (attempt.points_G != cloud.points_G || attempt.normals_G != cloud.normals_G ||
-                   attempt.confidence != cloud.confidence) {
-          std::fprintf(stderr, "graspfill bench repair --pipeline: %s: repair %d of the same cloud differs from the first\n",
-                       c.label.c_str(), r + 1);
-          return 1;
-        }
+      TimedRepair repaired;
+      try {
+        repaired = RepairTimed(fused, with_evidence ? &record : nullptr, repeat);
+      } catch (const std::runtime_error& e) {
+        std::fprintf(stderr, "graspfill bench repair --pipeline: %s: %s\n", c.label.c_str(), e.what());
+        return 1;
       }
+      const ObjectCloud& cloud = repaired.cloud;
+      const repair::RepairReport& report = repaired.report;
       result[with_evidence] = Measure(cloud, fused.size(), truth, record);
-      result[with_evidence].ms = best_ms;
-      result[with_evidence].note = Note(report);
-      result[with_evidence].steps = best_steps;
+      result[with_evidence].ms = repaired.best_ms;
+      result[with_evidence].note = RepairNote(report);
+      result[with_evidence].steps = repaired.best_steps;
       result[with_evidence].evidence = report.evidence;
       if (report.status == repair::RepairStatus::kRepaired) {
         result[with_evidence].up_axis = report.frame.T_in_V.linear().col(2);
@@ -297,7 +198,7 @@ int RunBenchRepairPipeline(const Args& args) {
                           io::IfExists::kFail);
       }
     }
-    const double fused_coverage = eval::FractionWithin(eval::NearestDistances(truth, fused.points_G), 0.002);
+    const double fused_coverage = eval::FractionWithin(eval::NearestDistances(truth, fused.points_G), kCoverageRadiusM);
     const double frame_ms = stats.crop.mean_ms() + stats.mask.mean_ms() + stats.integrate.mean_ms() +
                             stats.visibility.mean_ms();
     if (json) {

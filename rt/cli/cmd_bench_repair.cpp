@@ -83,7 +83,14 @@ void PrintReport(const std::string& label, const repair::RepairReport& r) {
 }  // namespace
 
 int RunBenchRepair(const Args& args) {
-  if (std::find(args.begin(), args.end(), "--pipeline") != args.end()) return RunBenchRepairPipeline(args);
+  const bool pipeline = std::find(args.begin(), args.end(), "--pipeline") != args.end();
+  const bool objects = std::find(args.begin(), args.end(), "--objects") != args.end();
+  if (pipeline && objects) {
+    std::fprintf(stderr, "graspfill bench repair: --objects and --pipeline are two benchmarks: give one\n");
+    return 2;
+  }
+  if (pipeline) return RunBenchRepairPipeline(args);
+  if (objects) return RunBenchRepairObjects(args);
   int num_points = 50000;
   uint64_t seed = 1;
   bool json = false, verbose = false;
@@ -95,7 +102,10 @@ int RunBenchRepair(const Args& args) {
         std::printf("usage: graspfill bench repair [--points N] [--seed S] [--case TEXT] [--verbose] [--json]\n"
                     "       graspfill bench repair --pipeline [--frames N] [--seed S] [--case TEXT] [--verbose]\n"
                     "                                         [--json] [--dump DIR] [--repeat N]\n"
+                    "       graspfill bench repair --objects DIR [...]   (graspfill bench repair --objects --help)\n"
                     "  --pipeline   the shape zoo through the whole pipeline, cloud-only vs with evidence\n"
+                    "  --objects DIR  the meshes DIR/objects.json lists (e.g. scanned objects) through the\n"
+                    "               whole pipeline and the repair, against their kind's targets\n"
                     "  --dump DIR   (--pipeline) each case's truth, fused, cloud-only and evidence clouds as PLY\n"
                     "  --seed S     (--pipeline) the scenes' noise and wobble (default 11, the README's tables)\n"
                     "  --repeat N   (--pipeline) repairs of each cloud, the fastest timed (default 3; each must\n"

@@ -35,6 +35,7 @@
 #include "commands.hpp"
 #include "error_text.hpp"
 #include "number_parsing.hpp"
+#include "object_mesh.hpp"
 #include "output_dir.hpp"
 #include "progress.hpp"
 #include "graspfill/io/atomic_file.hpp"
@@ -512,19 +513,14 @@ int Run(const SynthOptions& o) {
     if (o.size) config.size_m = ParseSize(*o.size);
   } else {
     try {
-      config.mesh = io::ReadMesh(*o.mesh_path);
-      for (Eigen::Vector3f& v : config.mesh.vertices) v *= static_cast<float>(o.mesh_scale);
-      if (o.mesh_y_up) {  // +90 deg about x: +y onto +z
-        config.mesh = config.mesh.Transformed(
-            Eigen::Isometry3d(Eigen::AngleAxisd(0.5 * 3.14159265358979323846, Eigen::Vector3d::UnitX())));
-      }
+      config.mesh = ReadObjectMesh(*o.mesh_path, o.mesh_scale, o.mesh_y_up);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "graspfill synth: cannot read mesh: %s\n", ErrorText(e).c_str());
       return 1;
     }
     config.mesh_name = *o.mesh_path;
     const Eigen::Vector3d extent = synth::Bounds(config.mesh).sizes();
-    if (extent.maxCoeff() > 0.5) {
+    if (extent.maxCoeff() > kMaxObjectExtentM) {
       std::fprintf(stderr,
                    "graspfill synth: mesh '%s' is %.3g m across; graspfill expects meters "
                    "and objects a claw can hold (--mesh-scale 0.001 for a mesh in mm)\n",

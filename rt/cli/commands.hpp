@@ -25,6 +25,7 @@ int RunOniRecord(const Args& args);  // cmd_oni_record.cpp
 int RunRepair(const Args& args);  // cmd_repair.cpp
 int RunBenchRepair(const Args& args);  // cmd_bench_repair.cpp
 int RunBenchRepairPipeline(const Args& args);  // cmd_bench_pipeline.cpp
+int RunBenchRepairObjects(const Args& args);  // cmd_bench_objects.cpp
 int RunBenchLive(const Args& args);  // cmd_bench_live.cpp
 int RunClaw(const Args& args);    // cmd_claw.cpp
 int RunConfig(const Args& args);  // cmd_config.cpp

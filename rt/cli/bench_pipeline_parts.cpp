@@ -1,0 +1,124 @@
+#include "bench_pipeline_parts.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+#include "graspfill/eval/metrics.hpp"
+#include "graspfill/io/messages.hpp"
+#include "graspfill/synth/renderer.hpp"
+#include "module/cloud_repair.hpp"
+
+namespace graspfill::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+std::unique_ptr<Pipeline> RunSceneThroughPipeline(const synth::Scene& scene,
+                                                  const PipelineConfig& config) {
+  const synth::SceneRenderer renderer(scene);
+  auto pipeline = std::make_unique<Pipeline>(config, scene.MakeClawModel());
+  DepthFrame frame;
+  for (const synth::TimelineEvent& e : scene.Timeline()) {
+    if (e.kind == synth::TimelineEvent::Kind::kDepth) {
+      const std::vector<uint8_t> bytes =
+          io::EncodeDepthImage(renderer.Render(e.index), io::DepthEncoding::kZlib16, 0.001);
+      std::string error;
+      if (!io::DecodeDepthImage(bytes.data(), bytes.size(), &frame, &error)) {
+        throw std::runtime_error(error);
+      }
+      pipeline->AddDepthFrame(frame);
+    } else {
+      pipeline->AddGripperState(scene.GripperStateAt(e.utime));
+    }
+  }
+  pipeline->Flush();
+  return pipeline;
+}
+
+synth::SurfaceSamples TruthSamples(const synth::Scene& scene) {
+  return synth::SampleSurface(scene.object_G(), 200000, 5);
+}
+
+Outcome Measure(const ObjectCloud& cloud, size_t fused, const std::vector<Eigen::Vector3f>& truth,
+                const evidence::VisibilityRecord& record) {
+  Outcome o;
+  o.points = cloud.size();
+  o.added = cloud.size() - fused;
+  const std::vector<double> gt_to_cloud = eval::NearestDistances(truth, cloud.points_G);
+  o.coverage = eval::FractionWithin(gt_to_cloud, kCoverageRadiusM);
+  if (o.added > 0) {
+    const std::vector<Eigen::Vector3f> added(cloud.points_G.begin() + static_cast<long>(fused),
+                                             cloud.points_G.end());
+    const std::vector<double> d = eval::NearestDistances(added, truth);
+    o.added_p95_mm = 1000.0 * eval::Percentile(d, 95.0);
+    o.added_wrong = 1.0 - eval::FractionWithin(d, kWrongDistanceM);
+    for (const Eigen::Vector3f& p : added) o.added_in_free += record.SeenFree(p);
+  }
+  return o;
+}
+
+TimedRepair RepairTimed(const ObjectCloud& fused, const evidence::VisibilityRecord* record,
+                        int repeat) {
+  TimedRepair out;
+  out.best_ms = std::numeric_limits<double>::infinity();
+  for (int r = 0; r < repeat; ++r) {
+    ObjectCloud attempt = fused;
+    const Clock::time_point start = Clock::now();
+    repair::RepairReport report = rt::RepairObjectCloud(rt::GripperFrameRepairConfig(), &attempt, record);
+    const double ms = MsSince(start);
+    if (ms < out.best_ms) out.best_ms = ms, out.best_steps = report.timings;
+    if (r == 0) {
+      out.cloud = std::move(attempt);
+      out.report = std::move(report);
+    } else if (attempt.points_G != out.cloud.points_G || attempt.normals_G != out.cloud.normals_G ||
+               attempt.confidence != out.cloud.confidence) {
+      throw std::runtime_error("repair " + std::to_string(r + 1) +
+                               " of the same cloud differs from the first");
+    }
+  }
+  return out;
+}
+
+std::string RepairNote(const repair::RepairReport& r) {
+  std::string note = r.StatusText();
+  if (!r.symmetric && !r.symmetry_reason.empty()) note += "; " + r.symmetry_reason;
+  if (!r.evidence.top.empty()) note += "; top: " + r.evidence.top;
+  if (r.claw_holes_left_open > 0) note += "; claw holes left open: " + std::to_string(r.claw_holes_left_open);
+  return note;
+}
+
+std::string StepsText(const std::vector<StageTiming>& steps) {
+  std::string text;
+  char step[96];
+  for (const StageTiming& t : steps) {
+    std::snprintf(step, sizeof(step), " %s %.1f", t.stage.c_str(), t.ms);
+    text += step;
+  }
+  return text;
+}
+
+nlohmann::ordered_json StepsJson(const std::vector<StageTiming>& steps) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  for (const StageTiming& t : steps) out[t.stage] = t.ms;
+  return out;
+}
+
+std::string CheckDumpPaths(const std::string& dump_dir, const std::vector<std::string>& paths) {
+  if (!std::filesystem::is_directory(dump_dir)) return "--dump '" + dump_dir + "' is not a directory";
+  for (const std::string& path : paths) {
+    if (std::filesystem::exists(path)) return "'" + path + "' exists (not overwritten)";
+  }
+  return "";
+}
+
+}  // namespace graspfill::cli

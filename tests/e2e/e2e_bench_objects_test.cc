@@ -1,0 +1,305 @@
+// bench repair --objects end to end: a tiny set made here from two real
+// scans (../shared/assets/objects: a PLY from the tune split and an OBJ
+// from the check split), one claw, one grasp, one seed. Its rows are
+// checked against the clouds it dumps (coverage, the fused cloud's p99,
+// the added points' errors measured here from the files), the targets'
+// verdict against the issue's thresholds, the summary against the rows, a
+// second run for the same bytes. Then the manifest's and the options'
+// errors, and a row whose object the claw cannot hold.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_runner.hpp"
+#include "cloud_parts.hpp"
+#include "graspfill/eval/metrics.hpp"
+#include "graspfill/io/ply.hpp"
+
+namespace graspfill {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::ObservedPoints;
+using testing::RunCli;
+using testing::ScratchDir;
+
+const fs::path kAssets = fs::path(GRASPFILL_SOURCE_DIR) / ".." / "shared" / "assets" / "objects";
+
+std::string ReadText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void WriteText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+// The JSON document a command printed (stdout and stderr are merged: it
+// starts at the first '{' that starts a line).
+nlohmann::json JsonOf(const std::string& output) {
+  const size_t start = output.rfind('{', 0) == 0 ? 0 : output.find("\n{") + 1;
+  return nlohmann::json::parse(output.substr(start));
+}
+
+// A closed axis-aligned box mesh, W x D x H meters, as OBJ.
+std::string BoxObj(double w, double d, double h) {
+  std::ostringstream obj;
+  for (int i = 0; i < 8; ++i) {
+    obj << "v " << ((i & 1) ? w / 2 : -w / 2) << " " << ((i & 2) ? d / 2 : -d / 2) << " " << ((i & 4) ? h : 0.0)
+        << "\n";
+  }
+  // Outward faces, 1-based.
+  obj << "f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 1 2 6\nf 1 6 5\n"
+         "f 3 7 8\nf 3 8 4\nf 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\n";
+  return obj.str();
+}
+
+double Get(const nlohmann::json& row, const char* key) { return row.at(key).get<double>(); }
+
+TEST(BenchObjectsE2E, TwoScansOneClawGraspSeedRowsMatchTheirDumpedClouds) {
+  if (!fs::exists(kAssets / "objects.json")) {
+    GTEST_SKIP() << "the real scans are not here (" << kAssets.string()
+                 << "/objects.json: ../shared/assets is absent); nothing to run on";
+  }
+  const std::string dir = ScratchDir("bench_objects");
+  const std::string set = dir + "/set";
+  fs::create_directories(set);
+  fs::copy_file(kAssets / "058_golf_ball.ply", set + "/058_golf_ball.ply");
+  fs::copy_file(kAssets / "005_tomato_soup_can.obj", set + "/005_tomato_soup_can.obj");
+  WriteText(set + "/objects.json", R"({"_about": "two scans, one of each format",
+    "objects": {
+      "058_golf_ball": {"file": "058_golf_ball.ply", "kind": "closed_symmetric", "split": "tune"},
+      "005_tomato_soup_can": {"file": "005_tomato_soup_can.obj", "kind": "closed_symmetric", "split": "check"}}})");
+  fs::create_directories(dir + "/dump");
+  const std::string args = "bench repair --objects " + set +
+                           " --claw three-finger --grasp top-straight --seeds 1 --repeat 1 --json --dump ";
+  const auto run = RunCli(args + dir + "/dump");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json out = JsonOf(run.output);
+  const nlohmann::json& rows = out.at("rows");
+  // objects x claws x grasps x seeds, in the manifest's order.
+  ASSERT_EQ(rows.size(), 2u * 1u * 1u * 1u) << run.output;
+  EXPECT_EQ(rows[0]["object"], "058_golf_ball");
+  EXPECT_EQ(rows[1]["object"], "005_tomato_soup_can");
+  EXPECT_EQ(rows[0]["split"], "tune");
+  EXPECT_EQ(rows[1]["split"], "check");
+
+  const char* names[] = {"058_golf_ball", "005_tomato_soup_can"};
+  const double extent_m[] = {0.0427, 0.1019};  // the scans' largest sizes (assets README)
+  int met = 0;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const nlohmann::json& row = rows[i];
+    SCOPED_TRACE(row.dump());
+    EXPECT_EQ(row["kind"], "closed_symmetric");
+    EXPECT_EQ(row["claw"], "three-finger");
+    EXPECT_EQ(row["grasp"], "top-straight");
+    EXPECT_EQ(row["seed"], 1);
+    ASSERT_TRUE(row["ran"].get<bool>());  // both fit the three-finger claw
+    EXPECT_FALSE(row["workspace_grown"].get<bool>());
+
+    const std::string stem = dir + "/dump/" + names[i] + "_three-finger_top-straight_s1_";
+    const ObjectCloud truth = io::ReadCloudPly(stem + "truth.ply");
+    const ObjectCloud fused = io::ReadCloudPly(stem + "fused.ply");
+    const ObjectCloud repaired = io::ReadCloudPly(stem + "repaired.ply");
+    // The mesh read in meters and whole: the truth spans the scan's size.
+    Eigen::AlignedBox3f box;
+    for (const Eigen::Vector3f& p : truth.points_G) box.extend(p);
+    EXPECT_NEAR(box.sizes().maxCoeff(), extent_m[i], 0.002);
+    ASSERT_GT(fused.size(), 1000u);
+    EXPECT_EQ(row["fused_points"].get<size_t>(), fused.size());
+    EXPECT_EQ(row["points"].get<size_t>(), repaired.size());
+    EXPECT_EQ(row["added"].get<size_t>(), repaired.size() - fused.size());
+    // The repair keeps the fused points first, as they were.
+    ASSERT_GE(repaired.size(), fused.size());
+    EXPECT_TRUE(std::equal(fused.points_G.begin(), fused.points_G.end(), repaired.points_G.begin()));
+    EXPECT_EQ(ObservedPoints(repaired).size(), fused.size());
+
+    // The row's numbers, measured here from the files.
+    const double fused_p99_mm =
+        1000.0 * eval::Percentile(eval::NearestDistances(fused.points_G, truth.points_G), 99.0);
+    const double fused_coverage =
+        eval::FractionWithin(eval::NearestDistances(truth.points_G, fused.points_G), 0.002);
+    const double coverage = eval::FractionWithin(eval::NearestDistances(truth.points_G, repaired.points_G), 0.002);
+    EXPECT_NEAR(Get(row, "fused_p99_mm"), fused_p99_mm, 1e-6);
+    EXPECT_NEAR(Get(row, "fused_coverage"), fused_coverage, 1e-9);
+    EXPECT_NEAR(Get(row, "coverage_2mm"), coverage, 1e-9);
+    EXPECT_GT(fused_p99_mm, 0.0);
+    EXPECT_LT(fused_p99_mm, 20.0);  // a fused cloud on the object, not beside it
+    EXPECT_GT(coverage, 0.5);
+    EXPECT_LE(coverage, 1.0);
+    EXPECT_GE(coverage, fused_coverage);
+    double added_p95_mm = 0.0, wrong = 0.0;
+    if (repaired.size() > fused.size()) {
+      const std::vector<Eigen::Vector3f> added(repaired.points_G.begin() + fused.size(), repaired.points_G.end());
+      const std::vector<double> d = eval::NearestDistances(added, truth.points_G);
+      added_p95_mm = 1000.0 * eval::Percentile(d, 95.0);
+      wrong = 1.0 - eval::FractionWithin(d, 0.003);
+    }
+    EXPECT_NEAR(Get(row, "added_p95_mm"), added_p95_mm, 1e-6);
+    EXPECT_NEAR(Get(row, "wrong_share"), wrong, 1e-9);
+    EXPECT_GE(Get(row, "seen_free_points"), 0.0);
+    EXPECT_GT(Get(row, "repair_ms"), 0.0);
+    // The verdict: the issue's closed_symmetric targets.
+    const bool meets = coverage >= 0.97 && added_p95_mm <= 2.0 && wrong <= 0.02 &&
+                       row["seen_free_points"].get<int>() == 0;
+    EXPECT_EQ(row["meets"].get<bool>(), meets);
+    EXPECT_EQ(row["failed"].empty(), meets);
+    met += meets;
+  }
+  const nlohmann::json& summary = out.at("summary");
+  EXPECT_EQ(summary["all"]["rows"], 2);
+  EXPECT_EQ(summary["all"]["met"], met);
+  EXPECT_EQ(summary["by_split"]["tune"]["rows"], 1);
+  EXPECT_EQ(summary["by_split"]["check"]["rows"], 1);
+  EXPECT_EQ(summary["by_split"]["tune"]["met"], rows[0]["meets"].get<bool>() ? 1 : 0);
+  EXPECT_EQ(summary["by_kind"]["closed_symmetric"]["rows"], 2);
+  EXPECT_NEAR(summary["by_object"]["058_golf_ball"]["fused_p99_mm_max"].get<double>(),
+              Get(rows[0], "fused_p99_mm"), 1e-12);
+
+  // Deterministic for a seed: the tune split alone gives the same clouds.
+  fs::create_directories(dir + "/again");
+  const auto again = RunCli("bench repair --objects " + set +
+                            " --split tune --claw three-finger --grasp top-straight --seeds 1 --repeat 1 --json"
+                            " --dump " + dir + "/again");
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  const nlohmann::json rows2 = JsonOf(again.output).at("rows");
+  ASSERT_EQ(rows2.size(), 1u);
+  for (const char* what : {"truth", "fused", "repaired"}) {
+    const std::string name = std::string("058_golf_ball_three-finger_top-straight_s1_") + what + ".ply";
+    EXPECT_EQ(ReadText(dir + "/dump/" + name), ReadText(dir + "/again/" + name)) << name;
+  }
+  for (const char* key : {"fused_p99_mm", "coverage_2mm", "added_p95_mm", "wrong_share"}) {
+    EXPECT_EQ(rows2[0][key], rows[0][key]) << key;
+  }
+  // The dump is never written over.
+  const auto taken = RunCli(args + dir + "/dump");
+  EXPECT_EQ(taken.exit_code, 1);
+  EXPECT_NE(taken.output.find("exists (not overwritten)"), std::string::npos) << taken.output;
+}
+
+// An object the claw cannot hold stays in the table: not met, and why.
+TEST(BenchObjectsE2E, AnObjectTooBigForTheClawIsARowNotMet) {
+  const std::string dir = ScratchDir("bench_objects_big");
+  WriteText(dir + "/crate.obj", BoxObj(0.24, 0.24, 0.10));  // 24 cm square: past the 8 cm opening
+  WriteText(dir + "/objects.json",
+            R"({"objects": {"crate": {"file": "crate.obj", "kind": "closed_symmetric", "split": "check"}}})");
+  const auto r = RunCli("bench repair --objects " + dir + " --claw three-finger,parallel --grasp top-straight --seeds 4");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("crate"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("no: too big for the claw"), std::string::npos) << r.output;
+  const auto j = RunCli("bench repair --objects " + dir + " --claw three-finger,parallel --grasp top-straight "
+                        "--seeds 4 --json");
+  ASSERT_EQ(j.exit_code, 0) << j.output;
+  const nlohmann::json out = JsonOf(j.output);
+  ASSERT_EQ(out["rows"].size(), 2u);
+  for (const nlohmann::json& row : out["rows"]) {
+    EXPECT_FALSE(row["ran"].get<bool>());
+    EXPECT_FALSE(row["meets"].get<bool>());
+    EXPECT_TRUE(row["coverage_2mm"].is_null());
+    EXPECT_GT(Get(row, "opening_mm"), 80.0);
+    EXPECT_NE(row["reason"].get<std::string>().find("too big for the claw"), std::string::npos);
+    EXPECT_EQ(row["failed"][0]["field"], "grasped");
+  }
+  EXPECT_EQ(out["summary"]["all"]["rows"], 2);
+  EXPECT_EQ(out["summary"]["all"]["met"], 0);
+}
+
+// A set that cannot be used is refused before any work, exit 2, with a
+// message that names the file and the problem.
+TEST(BenchObjectsE2E, ManifestErrorsAreNamedAndExitTwo) {
+  const std::string root = ScratchDir("bench_objects_bad");
+  struct Case {
+    std::string name;
+    std::string manifest;  // "" : no objects.json at all
+    std::string message;
+  };
+  const std::string box = R"("file": "box.obj")";
+  const std::vector<Case> cases = {
+      {"missing", "", "/objects.json: not found"},
+      {"not_json", "{\"objects\": {", "/objects.json: not valid JSON"},
+      {"array", "[1, 2]", "/objects.json: expected a JSON object"},
+      {"no_objects", R"({"_about": "x"})", "/objects.json: no \"objects\""},
+      {"empty", R"({"objects": {}})", "\"objects\" must be a non-empty object"},
+      {"top_key", R"({"objects": {"a": {)" + box + R"(, "kind": "open", "split": "tune"}}, "extra": 1})",
+       "unknown key 'extra'"},
+      {"kind", R"({"objects": {"a": {)" + box + R"(, "kind": "round", "split": "tune"}}})",
+       "object 'a': unknown kind 'round' (closed_symmetric, closed_asymmetric or open)"},
+      {"split", R"({"objects": {"a": {)" + box + R"(, "kind": "open", "split": "train"}}})",
+       "object 'a': unknown split 'train' (tune or check)"},
+      {"no_kind", R"({"objects": {"a": {)" + box + R"(, "split": "tune"}}})", "object 'a': no \"kind\""},
+      {"file_type", R"({"objects": {"a": {"file": 3, "kind": "open", "split": "tune"}}})",
+       "object 'a': \"file\" must be a string"},
+      {"entry_key", R"({"objects": {"a": {)" + box + R"(, "kind": "open", "split": "tune", "knd": 1}}})",
+       "object 'a': unknown key 'knd'"},
+      {"no_mesh", R"({"objects": {"a": {"file": "gone.ply", "kind": "open", "split": "tune"}}})",
+       "object 'a': mesh '"},
+      {"scale", R"({"objects": {"a": {)" + box + R"(, "kind": "open", "split": "tune", "mesh_scale": -1}}})",
+       "object 'a': \"mesh_scale\" must be a number"},
+      {"up", R"({"objects": {"a": {)" + box + R"(, "kind": "open", "split": "tune", "mesh_up": "x"}}})",
+       "object 'a': \"mesh_up\" must be \"z\" or \"y\""},
+      {"bad_mesh", R"({"objects": {"a": {"file": "junk.ply", "kind": "open", "split": "tune"}}})",
+       "object 'a' in "},
+      {"huge", R"({"objects": {"a": {)" + box + R"(, "kind": "open", "split": "tune", "mesh_scale": 1000}}})",
+       "graspfill expects meters"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string dir = root + "/" + c.name;
+    fs::create_directories(dir);
+    WriteText(dir + "/box.obj", BoxObj(0.05, 0.05, 0.08));
+    WriteText(dir + "/junk.ply", "ply\nformat nonsense\n");
+    if (!c.manifest.empty()) WriteText(dir + "/objects.json", c.manifest);
+    const auto r = RunCli("bench repair --objects " + dir);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(dir + "/objects.json"), std::string::npos) << r.output;
+  }
+  // A folder that is not there.
+  const auto gone = RunCli("bench repair --objects " + root + "/nowhere");
+  EXPECT_EQ(gone.exit_code, 2);
+  EXPECT_NE(gone.output.find("'" + root + "/nowhere' is not a directory"), std::string::npos) << gone.output;
+
+  // Options on a good set: an object it does not list, a split with none.
+  const std::string good = root + "/good";
+  fs::create_directories(good);
+  WriteText(good + "/box.obj", BoxObj(0.05, 0.05, 0.08));
+  WriteText(good + "/objects.json",
+            R"({"objects": {"box": {"file": "box.obj", "kind": "closed_symmetric", "split": "tune"}}})");
+  const std::vector<std::pair<std::string, std::string>> usage = {
+      {"--object cup", "--object 'cup': not in " + good + "/objects.json"},
+      {"--split check", "no object of " + good + "/objects.json is in split 'check'"},
+      {"--split train", "--split 'train': expected tune or check"},
+      {"--claw robotiq", "--claw 'robotiq': expected three-finger or parallel"},
+      {"--grasp side", "--grasp 'side': expected top-straight"},
+      {"--seeds 1,,2", "--seeds '1,,2': an empty item"},
+      {"--seeds 1,1", "--seeds '1,1': '1' twice"},
+      {"--seeds x", "--seeds 'x': not an integer"},
+      {"--frames 5", "--frames '5': out of range, expected 10..3000"},
+      {"--dump", "--dump needs a value"},
+      {"--bogus", "bad option '--bogus'"},
+  };
+  for (const auto& [option, message] : usage) {
+    SCOPED_TRACE(option);
+    const auto r = RunCli("bench repair --objects " + good + " " + option);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+  }
+  const auto no_dir = RunCli("bench repair --objects");
+  EXPECT_EQ(no_dir.exit_code, 2);
+  EXPECT_NE(no_dir.output.find("--objects needs a value"), std::string::npos) << no_dir.output;
+  const auto both = RunCli("bench repair --objects " + good + " --pipeline");
+  EXPECT_EQ(both.exit_code, 2);
+  EXPECT_NE(both.output.find("--objects and --pipeline"), std::string::npos) << both.output;
+  const auto dump = RunCli("bench repair --objects " + good + " --dump " + root + "/nodir");
+  EXPECT_EQ(dump.exit_code, 1);
+  EXPECT_NE(dump.output.find("is not a directory"), std::string::npos) << dump.output;
+}
+
+}  // namespace
+}  // namespace graspfill
