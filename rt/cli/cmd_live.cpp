@@ -46,6 +46,7 @@
 #include <string>
 
 #include "camera_options.hpp"
+#include "channel_options.hpp"
 #include "claw_option.hpp"
 #include "commands.hpp"
 #include "config_option.hpp"
@@ -96,7 +97,7 @@ constexpr const char* kUsage =
     "                        grasp's new memory does not fault in on the frame path\n"
     "                        (default 256; 0: the allocator's defaults), 0..65536\n"
     "  --depth-channel C / --gripper-channel C / --cloud-channel C / --status-channel C /\n"
-    "  --session-channel C\n";
+    "  --session-channel C   channel names: 1..63 of A-Z a-z 0-9 _ - /, each its own\n";
 
 std::atomic<bool> g_interrupted{false};
 
@@ -226,6 +227,7 @@ int RunLive(const Args& args) {
       else if (a == "--session-channel" && has_value) channels.session = args[++i];
       else throw UsageError("bad option '" + a + "'");
     }
+    CheckChannelOptions(channels);  // the config's and the flags'
   } catch (const UsageError& e) {
     std::fprintf(stderr, "graspfill live: %s\n%s", e.what(), kUsage);
     return 2;

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "channel_options.hpp"
 #include "claw_option.hpp"
 #include "commands.hpp"
 #include "config_option.hpp"
@@ -78,6 +79,7 @@ constexpr const char* kUsage =
     "  --gripper-channel NAME   default GRASPFILL_GRIPPER_STATE\n"
     "  --cloud-channel NAME     default GRASPFILL_OBJECT_CLOUD\n"
     "  --session-channel NAME   default GRASPFILL_SESSION\n"
+    "                           (names: 1..63 of A-Z a-z 0-9 _ - /, each its own)\n"
     "  --voxel-m V              TSDF voxel size, 0.0005..0.01 m (default: the recording's, else 0.0015)\n"
     "  --skip-bad-frames        skip malformed events instead of failing\n"
     "  --refine                 correct each frame's gripper pose by registering the claw\n"
@@ -199,6 +201,7 @@ bool Parse(const Args& args, ReplayOptions* o) {
     throw UsageError("need LOG and -o CLOUD.ply");
   }
   if (!o->mesh_out.empty()) CheckMeshOutOption(o->mesh_out, o->output_path);
+  CheckChannelOptions(o->channels);  // the config's and the flags'
   return true;
 }
 

@@ -1,11 +1,10 @@
 #include "config/rig_config.hpp"
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
-#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <functional>
 #include <set>
 #include <sstream>
@@ -13,7 +12,9 @@
 #include <vector>
 
 #include "cli/number_parsing.hpp"
+#include "graspfill/core/regular_file.hpp"
 #include "graspfill/fusion/tsdf_fusion.hpp"
+#include "graspfill/io/channel_names.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "graspfill/repair/repairer.hpp"
 
@@ -52,6 +53,9 @@ constexpr Range kCorrectionDeg{0.0, 2.0, "deg"};
 constexpr Range kPublishEvery{0, 100000, "frames"};
 constexpr Range kStatusPeriodS{0.05, 60.0, "s"};
 constexpr double kUnitTolerance = 1e-3;  // |norm - 1| of a typed quaternion
+// yaml-cpp's parser refuses deeper nesting (its DepthGuard's default);
+// named in the message instead of the library's "bad file".
+constexpr int kMaxYamlDepth = 2000;
 
 std::string FormatNumber(double v) {
   char buffer[64];
@@ -72,8 +76,28 @@ void CheckRange(const std::string& field, double v, const Range& r) {
   }
 }
 
-void CheckNotEmpty(const std::string& field, const std::string& v) {
+// One channel name, as LCM takes it (io/channel_names.hpp).
+void CheckChannel(const std::string& field, const std::string& v) {
   if (v.empty()) throw ConfigError(field, field + ": must not be empty");
+  if (const std::string defect = io::ChannelNameDefect(v); !defect.empty()) {
+    throw ConfigError(field, field + " '" + v + "': " + defect);
+  }
+}
+
+ConfigError SameChannelError(const std::string& role, const std::string& name,
+                             const std::string& other_role) {
+  const std::string field = "channels." + role;
+  return ConfigError(field, field + " '" + name + "': the same name as channels." + other_role +
+                                " (each channel needs its own)");
+}
+
+// The five names each as LCM takes it, and no two the same.
+void CheckChannels(const RigConfig::Channels& channels) {
+  const std::optional<io::ChannelNameProblem> problem =
+      io::FindChannelNameProblem(ToChannelNames(channels));
+  if (!problem) return;
+  CheckChannel("channels." + problem->role, problem->name);
+  throw SameChannelError(problem->role, problem->name, problem->same_as);
 }
 
 void CheckOneOf(const std::string& field, const std::string& v,
@@ -227,11 +251,7 @@ void RigConfig::Validate() const {
   CheckRange("repair.top_rim_band_m", repair.top_rim_band_m, kRimBandM);
   CheckRange("refine.min_correction_m", refine.min_correction_m, kCorrectionM);
   CheckRange("refine.min_correction_deg", refine.min_correction_deg, kCorrectionDeg);
-  CheckNotEmpty("channels.depth", channels.depth);
-  CheckNotEmpty("channels.gripper_state", channels.gripper_state);
-  CheckNotEmpty("channels.object_cloud", channels.object_cloud);
-  CheckNotEmpty("channels.status", channels.status);
-  CheckNotEmpty("channels.session", channels.session);
+  CheckChannels(channels);
   CheckRange("rates.publish_every_n_frames", rates.publish_every_n_frames, kPublishEvery);
   CheckRange("rates.status_period_s", rates.status_period_s, kStatusPeriodS);
 }
@@ -587,7 +607,22 @@ class Reader {
 RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
   YAML::Node root;
   try {
-    root = YAML::Load(text);
+    const std::vector<YAML::Node> documents = YAML::LoadAll(text);
+    if (documents.size() > 1) {
+      // yaml-cpp's Load would take the first and drop the rest unread.
+      const YAML::Mark mark = documents[1].Mark();
+      throw ConfigError("", name + (mark.is_null() ? "" : ":" + std::to_string(mark.line + 1)) +
+                                ": a second YAML document (after '---'): a rig config is one "
+                                "document; put everything in the first");
+    }
+    if (!documents.empty()) root = documents[0];
+  } catch (const YAML::DeepRecursion& e) {
+    // yaml-cpp words its depth limit "bad file".
+    throw ConfigError("", name + ":" + std::to_string(e.mark.line + 1) +
+                              ": not a rig config: nested more than " +
+                              std::to_string(kMaxYamlDepth) +
+                              " levels deep (a rig config nests 4: camera.intrinsics_override.fx_px, "
+                              "robot.T_C_B.translation_m[0])");
   } catch (const YAML::Exception& e) {
     throw ConfigError("", name + ":" + std::to_string(e.mark.line + 1) + ": not YAML: " + e.msg);
   }
@@ -695,13 +730,21 @@ RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
       r.Map(v, path, {"depth", "gripper_state", "object_cloud", "status", "session"},
             [&](const std::string& k, const YAML::Node& x, const std::string& f) {
         std::string value = r.String(x, f);
-        r.Check(x, [&] { CheckNotEmpty(f, value); });
+        r.Check(x, [&] { CheckChannel(f, value); });
         if (k == "depth") c.channels.depth = value;
         else if (k == "gripper_state") c.channels.gripper_state = value;
         else if (k == "object_cloud") c.channels.object_cloud = value;
         else if (k == "status") c.channels.status = value;
         else c.channels.session = value;
       });
+      // Two the same: named at the line of the later one the file sets
+      // (the other may be a default).
+      if (const auto problem = io::FindChannelNameProblem(ToChannelNames(c.channels))) {
+        const bool later_set = v[problem->role].IsDefined();
+        const std::string& role = later_set ? problem->role : problem->same_as;
+        const std::string& other = later_set ? problem->same_as : problem->role;
+        r.Check(v[role], [&] { throw SameChannelError(role, problem->name, other); });
+      }
     } else {  // rates
       r.Map(v, path, {"publish_every_n_frames", "status_period_s"},
             [&](const std::string& k, const YAML::Node& x, const std::string& f) {
@@ -722,22 +765,14 @@ RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
 }
 
 RigConfig LoadRigConfig(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw ConfigError("", "cannot read config '" + path + "': " +
-                              std::generic_category().message(errno));
-  }
-  // A config is a few kB; refuse anything huge (a wrong path, /dev/zero).
-  constexpr std::streamsize kMaxBytes = 1 << 20;
-  std::string text(static_cast<size_t>(kMaxBytes) + 1, '\0');
-  in.read(text.data(), kMaxBytes + 1);
-  if (in.bad()) {
-    throw ConfigError("", "cannot read config '" + path + "': " +
-                              std::generic_category().message(errno));
-  }
-  text.resize(static_cast<size_t>(in.gcount()));
-  if (static_cast<std::streamsize>(text.size()) > kMaxBytes) {
-    throw ConfigError("", "config '" + path + "': larger than 1 MiB, not a rig config");
+  // A config is a few kB; anything huge is a wrong path. A FIFO or a device
+  // is refused unopened (it could block or never end).
+  constexpr int64_t kMaxBytes = 1 << 20;
+  std::string text;
+  try {
+    text = ReadRegularFile(path, kMaxBytes, "cannot read config");
+  } catch (const std::runtime_error& e) {
+    throw ConfigError("", e.what());
   }
   return ParseRigConfig(text, path);
 }

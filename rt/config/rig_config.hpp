@@ -159,6 +159,8 @@ struct RigConfig {
     bool track_object{false};
     bool operator==(const Refine& o) const;
   };
+  /// LCM channel names: each 1..63 characters of A-Z a-z 0-9 _ - /, no
+  /// two the same (io/channel_names.hpp says why).
   struct Channels {
     std::string depth{"GRASPFILL_DEPTH"};
     std::string gripper_state{"GRASPFILL_GRIPPER_STATE"};
@@ -208,10 +210,13 @@ std::string DumpRigConfig(const RigConfig& config);
 ///   an unknown or duplicate key, a value of the wrong kind (a map for a
 ///   number, a quoted number, "yes" for a boolean), a number with trailing
 ///   text, NaN or out of range, a bad enum value, a box with min >= max, a
-///   quaternion that is not unit length.
+///   quaternion that is not unit length, a channel name LCM would not
+///   take as it is or two channels of one name, a second YAML document, YAML
+///   nested beyond yaml-cpp's 2000 levels.
 RigConfig ParseRigConfig(const std::string& text, const std::string& name);
 
-/// Reads and parses `path`.
+/// Reads and parses `path`: a regular file of at most 1 MiB (a FIFO or a
+/// device is refused unopened: it could block or never end).
 /// @throws ConfigError as ParseRigConfig, and "cannot read config '<path>':
 ///   <reason>" when the file cannot be read.
 RigConfig LoadRigConfig(const std::string& path);

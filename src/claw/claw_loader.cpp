@@ -3,16 +3,17 @@
 // files are written by hand for each robot.
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <initializer_list>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "graspfill/claw/claw_limits.hpp"
 #include "graspfill/claw/claw_model.hpp"
 #include "graspfill/claw/mesh_check.hpp"
 #include "graspfill/claw/mesh_file.hpp"
 #include "graspfill/claw/urdf_claw.hpp"
+#include "graspfill/core/regular_file.hpp"
 
 namespace graspfill::claw {
 namespace {
@@ -20,9 +21,13 @@ namespace {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
-// Builds "file: field: what" messages.
+// Builds "file: field: what" messages, and counts the triangles read.
 class Context {
  public:
+  /// Every mesh's so far: each file is read against what is left of
+  /// kMaxClawTriangles.
+  mutable int64_t triangles_read{0};
+
   explicit Context(std::string file) : file_(std::move(file)) {}
   [[noreturn]] void Fail(const std::string& field,
                          const std::string& what) const {
@@ -34,6 +39,45 @@ class Context {
  private:
   std::string file_;
 };
+
+// ---- limits (claw_limits.hpp): each check names the field ----
+
+void CheckLimit(const Context& ctx, const std::string& field, const std::string& defect) {
+  if (!defect.empty()) ctx.Fail(field, defect);
+}
+
+void CheckEach(const Context& ctx, const Eigen::Vector3d& v, const std::string& field,
+               std::string (*defect)(double)) {
+  for (int k = 0; k < 3; ++k) CheckLimit(ctx, field + "[" + std::to_string(k) + "]", defect(v[k]));
+}
+
+// A movable joint's limits: meters (prismatic) or radians (revolute).
+void CheckJointLimits(const Context& ctx, const Joint& joint, const std::string& field) {
+  const auto defect = joint.type == JointType::kPrismatic ? DistanceDefect : AngleDefect;
+  CheckLimit(ctx, field + ".lower", defect(joint.lower));
+  CheckLimit(ctx, field + ".upper", defect(joint.upper));
+}
+
+// Before any mesh is read.
+void CheckLinkCount(const Context& ctx, size_t count) {
+  CheckLimit(ctx, "links", LinkCountDefect(static_cast<int64_t>(count)));
+}
+
+// A claw of frames only would hide nothing from the camera.
+void CheckHasGeometry(const Context& ctx, const std::vector<Link>& links) {
+  for (const Link& link : links) {
+    if (!link.mesh.empty()) return;
+  }
+  ctx.Fail("links", "no link has a mesh (a claw of frames only would hide nothing from the camera)");
+}
+
+// The whole claw, once built: no point beyond kMaxClawReachM in any pose.
+ClawModel WithinReach(const Context& ctx, ClawModel model) {
+  if (const std::string defect = ClawReachDefect(model); !defect.empty()) ctx.Fail("", defect);
+  return model;
+}
+
+// ---- fields ----
 
 double ReadNumber(const Context& ctx, const json& j, const std::string& field) {
   if (!j.is_number()) ctx.Fail(field, "expected a number");
@@ -72,9 +116,12 @@ Eigen::Isometry3d ReadPose(const Context& ctx, const json& j,
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   if (j.contains("xyz")) {
     T.translation() = ReadVector3(ctx, j["xyz"], field + ".xyz");
+    CheckEach(ctx, T.translation(), field + ".xyz", DistanceDefect);
   }
   if (j.contains("rpy")) {
-    T.linear() = RotationFromRpy(ReadVector3(ctx, j["rpy"], field + ".rpy"));
+    const Eigen::Vector3d rpy = ReadVector3(ctx, j["rpy"], field + ".rpy");
+    CheckEach(ctx, rpy, field + ".rpy", AngleDefect);
+    T.linear() = RotationFromRpy(rpy);
   }
   return T;
 }
@@ -147,6 +194,7 @@ Joint ReadJoint(const Context& ctx, const json& j, const std::string& field) {
   if (upper == nullptr) ctx.Fail(field + ".limits.upper", "missing");
   joint.lower = ReadNumber(ctx, *lower, field + ".limits.lower");
   joint.upper = ReadNumber(ctx, *upper, field + ".limits.upper");
+  CheckJointLimits(ctx, joint, field + ".limits");
   if (joint.lower > joint.upper) {
     ctx.Fail(field + ".limits", "lower > upper");
   }
@@ -171,8 +219,11 @@ Joint ReadJoint(const Context& ctx, const json& j, const std::string& field) {
   joint.offset =
       offset ? ReadNumber(ctx, *offset, field + ".drive.opening_offset") : 0.0;
   if (index != nullptr) {
-    if (!index->is_number_integer() || index->get<int>() < 0) {
-      ctx.Fail(field + ".drive.joint_index", "expected an integer >= 0");
+    if (!index->is_number_integer() || index->get<int64_t>() < 0 ||
+        index->get<int64_t>() >= kMaxClawLinks) {
+      ctx.Fail(field + ".drive.joint_index",
+               "expected an integer 0.." + std::to_string(kMaxClawLinks - 1) +
+                   " (one per joint; claw_limits.hpp)");
     }
     joint.joint_index = index->get<int>();
   }
@@ -184,14 +235,18 @@ TriangleMesh ReadMesh(const Context& ctx, const fs::path& path, double scale,
                       const std::string& field, int* degenerate_dropped) {
   TriangleMesh mesh;
   try {
-    mesh = ReadMeshFile(path.string());
+    mesh = ReadMeshFile(path.string(), kMaxClawTriangles - ctx.triangles_read);
   } catch (const std::runtime_error& e) {
     ctx.Fail(field, e.what());
   }
+  ctx.triangles_read += static_cast<int64_t>(mesh.triangles.size());
   if (const std::string defect = MeshDefect(mesh); !defect.empty()) {
     ctx.Fail(field, path.string() + ": " + defect);
   }
   for (Eigen::Vector3f& v : mesh.vertices) v *= static_cast<float>(scale);
+  if (const std::string defect = MeshExtentDefect(mesh); !defect.empty()) {
+    ctx.Fail(field, path.string() + ": " + defect);
+  }
   *degenerate_dropped = DropDegenerateTriangles(&mesh);
   if (mesh.empty()) ctx.Fail(field, path.string() + ": every triangle has zero area");
   return mesh;
@@ -203,11 +258,12 @@ ClawModel ClawModel::Load(const std::string& description_path,
                           const std::string& mesh_root) {
   if (IsUrdfClaw(description_path)) return LoadUrdfClaw(description_path, mesh_root);
   const Context ctx(description_path);
-  std::ifstream in(description_path);
-  if (!in) ctx.Fail("", "cannot open claw description file");
+  // "cannot open claw description file 'F': <why>" (a FIFO refused unopened).
+  const std::string text =
+      ReadRegularFile(description_path, kMaxClawFileBytes, "cannot open claw description file");
   json doc;
   try {
-    doc = json::parse(in);
+    doc = json::parse(text);
   } catch (const json::exception& e) {  // also a number out of range
     ctx.Fail("", std::string("bad JSON: ") + e.what());
   }
@@ -227,6 +283,7 @@ ClawModel ClawModel::Load(const std::string& description_path,
   if (links_json == nullptr || !links_json->is_array() || links_json->empty()) {
     ctx.Fail("links", "missing or empty (expected an array of links)");
   }
+  CheckLinkCount(ctx, links_json->size());
 
   const fs::path mesh_dir = mesh_root.empty()
                                 ? fs::path(description_path).parent_path()
@@ -263,6 +320,7 @@ ClawModel ClawModel::Load(const std::string& description_path,
     if (const json* s = Find(j, "mesh_scale")) {
       scale = ReadNumber(ctx, *s, field + ".mesh_scale");
       if (!(scale > 0.0)) ctx.Fail(field + ".mesh_scale", "must be > 0");
+      CheckLimit(ctx, field + ".mesh_scale", ScaleDefect(scale));
     }
     if (const json* mesh = Find(j, "mesh")) {
       const fs::path rel = ReadString(ctx, *mesh, field + ".mesh");
@@ -304,6 +362,7 @@ ClawModel ClawModel::Load(const std::string& description_path,
       order.push_back(*it);
     }
   }
+  CheckHasGeometry(ctx, parsed);
   std::vector<Link> links;
   links.reserve(n);
   for (const int i : order) {
@@ -315,7 +374,7 @@ ClawModel ClawModel::Load(const std::string& description_path,
     }
     links.push_back(std::move(link));
   }
-  return ClawModel(name, std::move(links), opening_doc);
+  return WithinReach(ctx, ClawModel(name, std::move(links), opening_doc));
 }
 
 }  // namespace graspfill::claw

@@ -15,6 +15,9 @@
 #include <map>
 #include <stdexcept>
 
+#include "graspfill/claw/claw_limits.hpp"
+#include "graspfill/core/regular_file.hpp"
+
 namespace graspfill::claw {
 namespace {
 
@@ -65,13 +68,56 @@ Eigen::Matrix3f UpToZ(UpAxis up) {
   return Eigen::Matrix3f::Identity();
 }
 
+std::runtime_error TooManyTriangles(const std::string& path, int64_t triangles) {
+  return std::runtime_error("mesh file " + path + ": " + std::to_string(triangles) +
+                            " triangles, over the claw's limit of " +
+                            std::to_string(kMaxClawTriangles) +
+                            " (claw_limits.hpp; simplify the mesh)");
+}
+
+// A binary STL's triangle count (its header's, when the file's size agrees:
+// 84 bytes and 50 per triangle), or -1 for any other file.
+int64_t BinaryStlTriangles(const std::string& path, int64_t bytes) {
+  if (bytes < 84) return -1;
+  std::ifstream in(path, std::ios::binary);
+  unsigned char header[84];
+  if (!in.read(reinterpret_cast<char*>(header), sizeof(header))) return -1;
+  const int64_t count = int64_t{header[80]} | int64_t{header[81]} << 8 | int64_t{header[82]} << 16 |
+                        int64_t{header[83]} << 24;
+  return bytes == 84 + 50 * count ? count : -1;
+}
+
+// Before assimp opens it: a regular file (assimp would block on a FIFO),
+// small enough to hold no more triangles than the claw has left (a binary
+// STL, the usual claw mesh, is counted from its header).
+void CheckMeshFile(const std::string& path, int64_t max_triangles) {
+  const std::string why = NotARegularFile(path);
+  if (why == "no such file") throw std::runtime_error("mesh file not found: " + path);
+  if (!why.empty()) throw std::runtime_error("cannot read mesh file: " + path + ": " + why);
+  std::error_code ec;
+  const auto bytes = static_cast<int64_t>(fs::file_size(path, ec));
+  if (!ec && bytes > kMaxMeshFileBytes) {
+    throw std::runtime_error("mesh file " + path + ": " + std::to_string(bytes) +
+                             " bytes, over the limit of " + std::to_string(kMaxMeshFileBytes) +
+                             " for a claw mesh (claw_limits.hpp; simplify the mesh)");
+  }
+  if (const int64_t stl = ec ? -1 : BinaryStlTriangles(path, bytes); stl > max_triangles) {
+    throw TooManyTriangles(path, stl);
+  }
+}
+
+// Before the vertices are merged (the costly part): the file's faces
+// against what is left of the claw's triangle budget.
+void CheckTriangleCount(const aiScene& scene, const std::string& path, int64_t max_triangles) {
+  int64_t faces = 0;
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m) faces += scene.mMeshes[m]->mNumFaces;
+  if (faces > max_triangles) throw TooManyTriangles(path, faces);
+}
+
 }  // namespace
 
-TriangleMesh ReadMeshFile(const std::string& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) {
-    throw std::runtime_error("mesh file not found: " + path);
-  }
+TriangleMesh ReadMeshFile(const std::string& path, int64_t max_triangles) {
+  CheckMeshFile(path, max_triangles);
   Assimp::Importer importer;
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
   // ValidateDataStructure runs first and rejects out-of-range indices
@@ -84,6 +130,7 @@ TriangleMesh ReadMeshFile(const std::string& path) {
   if (scene == nullptr) {
     throw std::runtime_error("cannot read mesh file: " + path + ": " + importer.GetErrorString());
   }
+  CheckTriangleCount(*scene, path, max_triangles);
   const bool collada = Lower(fs::path(path).extension().string()) == ".dae";
   const Eigen::Matrix3f R = collada ? UpToZ(ColladaUpAxis(path)) : Eigen::Matrix3f::Identity();
 

@@ -10,7 +10,6 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -18,9 +17,11 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "graspfill/claw/claw_limits.hpp"
 #include "graspfill/claw/mesh_check.hpp"
 #include "graspfill/claw/mesh_file.hpp"
 #include "graspfill/claw/primitive_meshes.hpp"
+#include "graspfill/core/regular_file.hpp"
 
 namespace graspfill::claw {
 namespace {
@@ -32,12 +33,9 @@ namespace fs = std::filesystem;
   throw std::runtime_error(label + ": " + what);
 }
 
+// A regular file only (a FIFO would block), of at most kMaxClawFileBytes.
 std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot open file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  return ReadRegularFile(path, kMaxClawFileBytes, "cannot open file");
 }
 
 std::string Lower(std::string s) {
@@ -70,6 +68,104 @@ class CapturedUrdfLog : public console_bridge::OutputHandler {
   console_bridge::OutputHandler* previous_;
   std::string errors_;
 };
+
+// ---- limits (claw_limits.hpp) ---------------------------------------------
+
+void CheckLimit(const std::string& label, const std::string& field, const std::string& defect) {
+  if (!defect.empty()) Fail(label, field + ": " + defect);
+}
+
+void CheckEach(const std::string& label, const Eigen::Vector3d& v, const std::string& field,
+               std::string (*defect)(double)) {
+  for (int k = 0; k < 3; ++k) CheckLimit(label, field + "[" + std::to_string(k) + "]", defect(v[k]));
+}
+
+// urdfdom turns every rpy into a quaternion (any angle gives a valid one):
+// the angles are checked in the text, each rpy="r p y" attribute, before it
+// is parsed. Values that are not three numbers are left to urdfdom.
+void CheckUrdfAngles(const std::string& label, const std::string& text) {
+  for (size_t at = text.find("rpy"); at != std::string::npos; at = text.find("rpy", at + 3)) {
+    if (at == 0 || !std::isspace(static_cast<unsigned char>(text[at - 1]))) continue;
+    size_t i = text.find_first_not_of(" \t\r\n", at + 3);
+    if (i == std::string::npos || text[i] != '=') continue;
+    i = text.find_first_not_of(" \t\r\n", i + 1);
+    if (i == std::string::npos || (text[i] != '"' && text[i] != '\'')) continue;
+    const size_t end = text.find(text[i], i + 1);
+    if (end == std::string::npos) break;
+    std::istringstream values(text.substr(i + 1, end - i - 1));
+    double angle = 0.0;
+    for (int k = 0; k < 3 && values >> angle; ++k) {
+      const std::string defect = AngleDefect(angle);
+      if (defect.empty()) continue;
+      const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + at, '\n'));
+      Fail(label, "line " + std::to_string(line) + ": rpy[" + std::to_string(k) + "]: " + defect);
+    }
+  }
+}
+
+// A <box>, <cylinder>, <sphere> or <mesh scale>, before it is meshed or read.
+void CheckGeometryLimits(const std::string& label, const std::string& what,
+                         const urdf::Geometry& geometry) {
+  switch (geometry.type) {
+    case urdf::Geometry::BOX: {
+      const urdf::Vector3& d = static_cast<const urdf::Box&>(geometry).dim;
+      CheckEach(label, Eigen::Vector3d(d.x, d.y, d.z), what + "box size", SizeDefect);
+      break;
+    }
+    case urdf::Geometry::CYLINDER: {
+      const auto& cylinder = static_cast<const urdf::Cylinder&>(geometry);
+      CheckLimit(label, what + "cylinder radius", SizeDefect(cylinder.radius));
+      CheckLimit(label, what + "cylinder length", SizeDefect(cylinder.length));
+      break;
+    }
+    case urdf::Geometry::SPHERE:
+      CheckLimit(label, what + "sphere radius",
+                 SizeDefect(static_cast<const urdf::Sphere&>(geometry).radius));
+      break;
+    case urdf::Geometry::MESH: {
+      const urdf::Vector3& scale = static_cast<const urdf::Mesh&>(geometry).scale;
+      for (const double v : {scale.x, scale.y, scale.z}) {
+        CheckLimit(label, what + "mesh", ScaleDefect(v));
+      }
+      break;
+    }
+    default:
+      break;  // refused where it is meshed
+  }
+}
+
+// An element's or a joint's origin.
+void CheckOriginLimits(const std::string& label, const std::string& what, const urdf::Pose& origin) {
+  const urdf::Vector3& p = origin.position;
+  CheckEach(label, Eigen::Vector3d(p.x, p.y, p.z), what + "origin xyz", DistanceDefect);
+}
+
+// A movable joint's limits (the URDF's or the config's): meters for a
+// prismatic joint, radians for a revolute one; a continuous one has none.
+void CheckJointTravel(const std::string& label, const Joint& joint, const std::string& name) {
+  if (!std::isfinite(joint.lower) && !std::isfinite(joint.upper)) return;  // continuous
+  const auto defect = joint.type == JointType::kPrismatic ? DistanceDefect : AngleDefect;
+  CheckLimit(label, "joint '" + name + "': lower limit", defect(joint.lower));
+  CheckLimit(label, "joint '" + name + "': upper limit", defect(joint.upper));
+}
+
+// The whole claw, once built: no point beyond kMaxClawReachM in any pose.
+ClawModel WithinReach(const std::string& label, ClawModel model) {
+  if (const std::string defect = ClawReachDefect(model); !defect.empty()) Fail(label, defect);
+  return model;
+}
+
+// Every link's meshes so far, against kMaxClawTriangles (each mesh file is
+// read against the whole limit first, before its vertices are merged).
+void CheckTriangleTotal(const std::string& label, const std::vector<Link>& links) {
+  int64_t total = 0;
+  for (const Link& link : links) total += static_cast<int64_t>(link.mesh.triangles.size());
+  if (total > kMaxClawTriangles) {
+    Fail(label, std::to_string(total) + " triangles, over the claw's limit of " +
+                    std::to_string(kMaxClawTriangles) +
+                    " (claw_limits.hpp; simplify the meshes, or use the collision geometry)");
+  }
+}
 
 // ---- the config (JSON) -----------------------------------------------------
 
@@ -115,8 +211,15 @@ Eigen::Matrix3d RotationFromRpy(const Eigen::Vector3d& rpy) {
 Eigen::Isometry3d ReadPose(const std::string& label, const json& j, const std::string& field) {
   CheckKeys(label, j, field, {"xyz", "rpy"});
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  if (j.contains("xyz")) T.translation() = ReadVector3(label, j["xyz"], field + ".xyz");
-  if (j.contains("rpy")) T.linear() = RotationFromRpy(ReadVector3(label, j["rpy"], field + ".rpy"));
+  if (j.contains("xyz")) {
+    T.translation() = ReadVector3(label, j["xyz"], field + ".xyz");
+    CheckEach(label, T.translation(), field + ".xyz", DistanceDefect);
+  }
+  if (j.contains("rpy")) {
+    const Eigen::Vector3d rpy = ReadVector3(label, j["rpy"], field + ".rpy");
+    CheckEach(label, rpy, field + ".rpy", AngleDefect);
+    T.linear() = RotationFromRpy(rpy);
+  }
   return T;
 }
 
@@ -195,8 +298,10 @@ UrdfClawConfig ParseConfig(const std::string& label, const json& doc) {
         if (m.lower > m.upper) Fail(label, field + ".limits: lower > upper");
       }
       if (j.contains("joint_index")) {
-        if (!j["joint_index"].is_number_integer() || j["joint_index"].get<int>() < 0) {
-          Fail(label, field + ".joint_index: expected an integer >= 0");
+        if (!j["joint_index"].is_number_integer() || j["joint_index"].get<int64_t>() < 0 ||
+            j["joint_index"].get<int64_t>() >= kMaxClawLinks) {
+          Fail(label, field + ".joint_index: expected an integer 0.." +
+                          std::to_string(kMaxClawLinks - 1) + " (one per joint; claw_limits.hpp)");
         }
         m.joint_index = j["joint_index"].get<int>();
       }
@@ -265,6 +370,7 @@ void ReadLinkGeometry(const std::string& label, const urdf::Link& in, const Urdf
   }
   for (const auto& [origin, geometry] : elements) {
     const std::string what = std::string("link '") + in.name + "': " + kind + " ";
+    CheckGeometryLimits(label, what, *geometry);
     TriangleMesh mesh;
     switch (geometry->type) {
       case urdf::Geometry::MESH: {
@@ -308,6 +414,8 @@ void ReadLinkGeometry(const std::string& label, const urdf::Link& in, const Urdf
     if (const std::string defect = MeshDefect(mesh); !defect.empty()) {
       Fail(label, what + "geometry: " + defect);
     }
+    CheckLimit(label, what + "geometry", MeshExtentDefect(mesh));
+    CheckOriginLimits(label, what, origin);
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.translation() = Eigen::Vector3d(origin.position.x, origin.position.y, origin.position.z);
     T.linear() = Eigen::Quaterniond(origin.rotation.w, origin.rotation.x, origin.rotation.y,
@@ -352,11 +460,52 @@ double MeanRadius(const ClawModel& model, const std::vector<int>& links,
   return n == 0 ? 0.0 : sum / static_cast<double>(n);
 }
 
+// Xacro saved as .urdf (urdfdom skips its elements, or finds no robot
+// name): said when such a file fails.
+std::string XacroHint(const std::string& urdf_text) {
+  if (urdf_text.find("<xacro:") == std::string::npos) return "";
+  return ": this is xacro, not URDF: run xacro first (xacro FILE.xacro > FILE.urdf)";
+}
+
+// No geometry of the chosen kind in any link: a claw that hides nothing.
+// Xacro saved as .urdf is the usual cause (urdfdom skips its elements).
+void CheckHasGeometry(const std::string& label, const std::vector<Link>& links,
+                      const UrdfClawConfig& c, const urdf::ModelInterface& model) {
+  for (const Link& link : links) {
+    if (!link.mesh.empty()) return;
+  }
+  const bool collision = c.geometry == GeometryKind::kCollision;
+  const char* kind = collision ? "collision" : "visual";
+  std::string why = std::string("no link has <") + kind + "> geometry (" +
+                    std::to_string(links.size()) + " link" + (links.size() == 1 ? "" : "s") +
+                    ", 0 triangles)";
+  if (const std::string hint = XacroHint(c.urdf_text); !hint.empty()) {
+    why += hint;
+  } else {
+    bool other = false;
+    for (const auto& [name, link] : model.links_) {
+      other = other || (collision ? !link->visual_array.empty() : !link->collision_array.empty());
+    }
+    if (other) {
+      why += std::string(": it has <") + (collision ? "visual" : "collision") +
+             "> geometry: a URDF claw config with \"geometry\": \"" +
+             (collision ? "visual" : "collision") + "\" takes that";
+    }
+  }
+  Fail(label, why);
+}
+
 ClawModel Build(const std::string& label, const UrdfClawConfig& c, const fs::path& mesh_root) {
+  CheckUrdfAngles(label, c.urdf_text);
   CapturedUrdfLog log;
   const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(c.urdf_text);
   if (!model) {
-    Fail(label, "not a valid URDF" + (log.errors().empty() ? "" : " (" + log.errors() + ")"));
+    Fail(label, "not a valid URDF" + (log.errors().empty() ? "" : " (" + log.errors() + ")") +
+                    XacroHint(c.urdf_text));
+  }
+  if (const std::string defect = LinkCountDefect(static_cast<int64_t>(model->links_.size()));
+      !defect.empty()) {
+    Fail(label, defect);
   }
   const urdf::LinkConstSharedPtr root = model->getRoot();
   if (!root) Fail(label, "URDF has no root link");
@@ -410,12 +559,14 @@ ClawModel Build(const std::string& label, const UrdfClawConfig& c, const fs::pat
     out.name = in.name;
     out.parent = parent_of[i];
     ReadLinkGeometry(label, in, c, root_dir, &out);
+    CheckTriangleTotal(label, links);
     if (out.parent < 0) {
       out.joint.T_parent_joint = c.T_G_root;
       continue;
     }
     const urdf::Joint& j = *in.parent_joint;
     link_of_joint[j.name] = static_cast<int>(i);
+    CheckOriginLimits(label, "joint '" + j.name + "': ", j.parent_to_joint_origin_transform);
     out.joint.T_parent_joint = ToIsometry(j.parent_to_joint_origin_transform);
     if (j.type == urdf::Joint::FIXED) continue;
     out.joint.type = j.type == urdf::Joint::PRISMATIC ? JointType::kPrismatic : JointType::kRevolute;
@@ -436,10 +587,12 @@ ClawModel Build(const std::string& label, const UrdfClawConfig& c, const fs::pat
       out.joint.lower = m->second.lower;
       out.joint.upper = m->second.upper;
     }
+    CheckJointTravel(label, out.joint, j.name);
     if (!(out.joint.lower <= out.joint.upper)) {
       Fail(label, "joint '" + j.name + "': limits lower > upper");
     }
   }
+  CheckHasGeometry(label, links, c, *model);
 
   // Opening drive of every actuated joint: q = open + (closed - open) * opening.
   struct Drive {
@@ -589,7 +742,7 @@ ClawModel Build(const std::string& label, const UrdfClawConfig& c, const fs::pat
         "between; mimic joints follow. joint_values order: [" + order_text + "]";
   }
   try {
-    return ClawModel(name, std::move(links), opening_doc);
+    return WithinReach(label, ClawModel(name, std::move(links), opening_doc));
   } catch (const std::invalid_argument& e) {
     Fail(label, e.what());
   }
@@ -653,12 +806,11 @@ ClawModel FromConfig(const std::string& label, const json& doc, const std::strin
 
 bool IsUrdfClaw(const std::string& path) {
   if (IsUrdfFileName(path)) return true;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
   try {
-    const json doc = json::parse(in);
+    // Not a regular file (a FIFO): no, and the description loader says why.
+    const json doc = json::parse(ReadText(path));
     return doc.is_object() && (doc.contains("urdf") || doc.contains("urdf_text"));
-  } catch (const json::exception&) {
+  } catch (const std::exception&) {
     return false;
   }
 }

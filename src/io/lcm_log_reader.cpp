@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "graspfill/core/regular_file.hpp"
+
 namespace graspfill::io {
 namespace {
 
@@ -26,14 +28,7 @@ uint64_t BigEndian(const uint8_t* p, int n) {
 
 LcmLogReader::LcmLogReader(const std::string& path) : owns_file_(true), name_(path) {
   // fopen of a FIFO blocks until a writer appears: look before opening.
-  struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) {
-    CannotOpen(path, errno == ENOENT ? std::string("no such file") : std::strerror(errno));
-  }
-  if (S_ISDIR(st.st_mode)) CannotOpen(path, "is a directory");
-  if (!S_ISREG(st.st_mode)) {
-    CannotOpen(path, "not a regular file (a FIFO, socket or device cannot be replayed)");
-  }
+  if (const std::string why = NotARegularFile(path); !why.empty()) CannotOpen(path, why);
   file_ = std::fopen(path.c_str(), "rb");
   if (file_ == nullptr) CannotOpen(path, std::strerror(errno));
   struct stat opened {};

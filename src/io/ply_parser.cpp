@@ -1,15 +1,14 @@
 #include "ply_parser.hpp"
 
-#include <sys/stat.h>
-
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+
+#include "graspfill/core/regular_file.hpp"
 
 namespace graspfill::io::ply {
 namespace {
@@ -183,24 +182,7 @@ bool ParseCount(const std::string& s, int64_t* count) {
 }  // namespace
 
 std::string ReadWholeFile(const std::string& path, const std::string& what) {
-  struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) {
-    Fail(what, path, errno == ENOENT ? std::string("no such file") : std::strerror(errno));
-  }
-  if (S_ISDIR(st.st_mode)) Fail(what, path, "is a directory");
-  if (!S_ISREG(st.st_mode)) Fail(what, path, "not a regular file");
-  if (st.st_size > kMaxFileBytes) {
-    Fail(what, path, "file of " + std::to_string(st.st_size) + " bytes, over the limit of " +
-                         std::to_string(kMaxFileBytes));
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) Fail(what, path, std::strerror(errno));
-  std::string bytes(static_cast<size_t>(st.st_size), '\0');
-  in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  if (in.gcount() != static_cast<std::streamsize>(bytes.size())) {
-    Fail(what, path, "read failed (the file changed while being read?)");
-  }
-  return bytes;
+  return ReadRegularFile(path, kMaxFileBytes, what);
 }
 
 Parsed Parse(const std::string& bytes, const std::string& path, const std::string& what,

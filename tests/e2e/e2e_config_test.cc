@@ -16,6 +16,7 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <vector>
 
@@ -384,6 +385,96 @@ TEST(ConfigE2E, TheClockOffsetMovesTheStatesOntoTheCamerasClock) {
   ASSERT_EQ(corrected.exit_code, 0) << corrected.output;
   EXPECT_LT(corrected.p95_m, 0.002);
   EXPECT_LT(corrected.p95_m, 0.5 * off.p95_m);
+}
+
+// Issue 36: hangs and silence. A FIFO as the config blocked forever (each
+// command runs under `timeout`, so that a regression fails rather than
+// hangs); channel names LCM would subscribe to as a broken regular
+// expression, or not publish at all, or one channel twice, were taken; a
+// second YAML document was dropped; deep nesting read "bad file".
+TEST(ConfigE2E, FifosBadChannelsSecondDocumentsAndDeepNestingAreRefusedInWords) {
+  const std::string dir = ScratchDir("config_faults");
+  const std::string fifo = dir + "/rig.yaml";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string timeout = "timeout 20 ";
+  const auto check = RunShell("LCM_DEFAULT_URL=memq:// " + timeout + GRASPFILL_CLI " config --check " +
+                              fifo + " 2>&1");
+  EXPECT_EQ(check.exit_code, 2) << check.output;
+  EXPECT_NE(check.output.find("cannot read config '" + fifo + "': not a regular file"),
+            std::string::npos) << check.output;
+  // replay reads --config before the log (which need not exist).
+  const auto replay = RunShell("LCM_DEFAULT_URL=memq:// " + timeout + GRASPFILL_CLI " replay " + dir +
+                               "/none.lcmlog -o " + dir + "/out.ply --no-publish --config " + fifo +
+                               " 2>&1");
+  EXPECT_EQ(replay.exit_code, 2) << replay.output;
+  EXPECT_NE(replay.output.find("graspfill replay: --config: cannot read config '" + fifo +
+                               "': not a regular file"), std::string::npos) << replay.output;
+
+  struct Case {
+    std::string yaml;
+    std::string message;  ///< after "FILE:"
+  };
+  const std::vector<Case> cases = {
+      {"channels:\n  depth: \"GRASPFILL_DEPTH(\"\n",
+       "2: channels.depth 'GRASPFILL_DEPTH(': '(' is not allowed"},
+      {"channels:\n  status: " + std::string(300, 'S') + "\n",
+       "2: channels.status '" + std::string(300, 'S') + "': 300 characters, over LCM's limit of 63"},
+      {"channels:\n  status: GRASPFILL_DEPTH\n",
+       "2: channels.status 'GRASPFILL_DEPTH': the same name as channels.depth"},
+      {"tsdf:\n  voxel_m: 0.002\n---\ntsdf:\n  voxel_m: 0.003\n", "4: a second YAML document"},
+      {std::string(3000, '['), "1: not a rig config: nested more than 2000 levels deep"},
+  };
+  const std::string path = dir + "/bad.yaml";
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.yaml.substr(0, 80));
+    WriteText(path, c.yaml);
+    const auto r = RunCli("config --check " + path);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("graspfill config: " + path + ":" + c.message), std::string::npos)
+        << r.output;
+    EXPECT_EQ(r.output.find("bad file"), std::string::npos) << r.output;
+  }
+}
+
+// The same names through the flags: refused before anything is opened.
+TEST(ConfigE2E, BadChannelFlagsAreUsageErrors) {
+  const std::string dir = ScratchDir("config_channel_flags");
+  const std::string long_name(300, 'C');
+  struct Case {
+    std::string flags;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {"--depth-channel 'GRASPFILL_DEPTH('", "--depth-channel 'GRASPFILL_DEPTH(': '(' is not allowed"},
+      {"--cloud-channel " + long_name,
+       "--cloud-channel '" + long_name + "': 300 characters, over LCM's limit of 63"},
+      {"--gripper-channel GRASPFILL_DEPTH",
+       "the depth and gripper_state channels are both 'GRASPFILL_DEPTH'"},
+      {"--session-channel 'A.B'", "--session-channel 'A.B': '.' is not allowed"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.flags);
+    const auto live = RunCli("live --depth-from-lcm --duration-s 0.1 " + c.flags);
+    EXPECT_EQ(live.exit_code, 2) << live.output;
+    EXPECT_NE(live.output.find("graspfill live: " + c.message), std::string::npos) << live.output;
+    const auto replay = RunCli("replay " + dir + "/none.lcmlog -o " + dir + "/out.ply " + c.flags);
+    EXPECT_EQ(replay.exit_code, 2) << replay.output;
+    EXPECT_NE(replay.output.find("graspfill replay: " + c.message), std::string::npos)
+        << replay.output;
+  }
+  // live's own --status-channel, and a flag against the config's name.
+  const auto status = RunCli("live --depth-from-lcm --duration-s 0.1 --status-channel "
+                             "GRASPFILL_OBJECT_CLOUD");
+  EXPECT_EQ(status.exit_code, 2) << status.output;
+  EXPECT_NE(status.output.find("the object_cloud and status channels are both "
+                               "'GRASPFILL_OBJECT_CLOUD'"), std::string::npos) << status.output;
+  WriteText(dir + "/rig.yaml", "channels:\n  session: MY_SESSION\n");
+  const auto mixed = RunCli("replay " + dir + "/none.lcmlog -o " + dir + "/out.ply --config " + dir +
+                            "/rig.yaml --depth-channel MY_SESSION");
+  EXPECT_EQ(mixed.exit_code, 2) << mixed.output;
+  EXPECT_NE(mixed.output.find("the depth and session channels are both 'MY_SESSION'"),
+            std::string::npos) << mixed.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out.ply"));
 }
 
 }  // namespace

@@ -3,10 +3,12 @@
 // description carries, to a clean cloud; `graspfill claw` writes the posed
 // claw; a broken claw file is a clear error (issue 12), not a crash.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "cli_runner.hpp"
 #include "cloud_parts.hpp"
@@ -100,6 +102,86 @@ TEST(UrdfClawE2E, BrokenClawFileIsAnErrorNamingIt) {
     EXPECT_NE(run.output.find("claw.json"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("(palm)"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("out of range"), std::string::npos) << run.output;
+  }
+}
+
+// Issue 36, through `graspfill claw`: a FIFO as the URDF or description
+// blocked forever (run under `timeout`, so that a regression fails rather
+// than hangs); xacro saved as .urdf gave a claw of 1 link and 0 triangles,
+// exit 0; rpy 1e300, a 1e6 m box, a mesh scale of 1e30, an origin of 1e30
+// and a prismatic travel of 1e12 m loaded (or ended in "cannot create
+// std::vector larger than max_size()" later). Each is now exit 1 naming
+// the value and the limit in words.
+TEST(UrdfClawE2E, FifosXacroAndClawsBeyondTheLimitsAreErrorsInWords) {
+  const std::string dir = ScratchDir("e2e_claw_limits");
+  const auto claw = [&](const std::string& spec) {
+    return testing::RunShell("LCM_DEFAULT_URL=memq:// timeout 20 " GRASPFILL_CLI " claw " + spec +
+                             " -o " + dir + "/out.ply --force 2>&1");
+  };
+  for (const char* name : {"fifo.urdf", "fifo.json"}) {
+    const std::string fifo = dir + "/" + name;
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    const auto r = claw(fifo);
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("'" + fifo + "': not a regular file"), std::string::npos) << r.output;
+  }
+  std::ofstream(dir + "/xacro.urdf") << R"(<?xml version="1.0"?>
+<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="hand">
+  <xacro:macro name="hand" params="prefix">
+    <link name="${prefix}hand"><collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+  </xacro:macro>
+  <link name="hand_root"/>
+</robot>)";
+  const auto xacro = claw(dir + "/xacro.urdf");
+  EXPECT_EQ(xacro.exit_code, 1) << xacro.output;
+  EXPECT_NE(xacro.output.find("this is xacro, not URDF: run xacro first"), std::string::npos)
+      << xacro.output;
+
+  const auto urdf = [&](const std::string& name, const std::string& base, const std::string& joint) {
+    std::ofstream(dir + "/" + name) << R"(<robot name="t">
+  <link name="base"><collision>)" + base + R"(</collision></link>
+  <link name="finger"><collision><geometry><box size="0.01 0.02 0.06"/></geometry></collision></link>
+  <joint name="slide" type="prismatic"><parent link="base"/><child link="finger"/>)" + joint + R"(
+    <axis xyz="1 0 0"/></joint>
+</robot>)";
+    return dir + "/" + name;
+  };
+  const std::string limit = R"(<limit lower="0" upper="0.04" effort="1" velocity="1"/>)";
+  const std::string box = R"(<geometry><box size="0.1 0.1 0.02"/></geometry>)";
+  std::ofstream(dir + "/tet.obj") << "v 0 0 0\nv 0.05 0 0\nv 0 0.05 0\nv 0 0 0.05\n"
+                                     "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  std::ofstream(dir + "/rpy.json") << R"({"T_G_root": {"rpy": [1e300, 0, 0]},
+      "links": [{"name": "palm", "mesh": "tet.obj"}]})";
+  std::ofstream(dir + "/origin.json") << R"({"links": [{"name": "palm", "mesh": "tet.obj"},
+      {"name": "finger", "parent": "palm", "mesh": "tet.obj",
+       "joint": {"type": "fixed", "origin": {"xyz": [1e30, 0, 0]}}}]})";
+  struct Case {
+    std::string spec;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {urdf("ok.urdf", box, limit), ""},
+      {dir + "/rpy.json", "T_G_root.rpy[0]: 1e+300 rad is beyond the 12.5664 rad (4 pi) limit"},
+      {urdf("box.urdf", R"(<geometry><box size="1e6 0.1 0.1"/></geometry>)", limit),
+       "link 'base': collision box size[0]: 1e+06 m is beyond the 0.5 m limit"},
+      {urdf("scale.urdf", R"(<geometry><mesh filename="tet.obj" scale="1e30 1e30 1e30"/></geometry>)",
+            limit),
+       "link 'base': collision mesh: scale 1e+30 is beyond the limit of 1000"},
+      {dir + "/origin.json", "links[1] (finger).joint.origin.xyz[0]: 1e+30 m is beyond the 0.5 m limit"},
+      {urdf("travel.urdf", box, R"(<limit lower="0" upper="1e12" effort="1" velocity="1"/>)"),
+       "joint 'slide': upper limit: 1e+12 m is beyond the 0.5 m limit"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.spec);
+    const auto r = claw(c.spec);
+    if (c.message.empty()) {
+      EXPECT_EQ(r.exit_code, 0) << r.output;
+      continue;
+    }
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("graspfill claw: error: " + c.spec + ": " + c.message),
+              std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("max_size"), std::string::npos) << r.output;
   }
 }
 

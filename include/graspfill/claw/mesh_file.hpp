@@ -3,8 +3,10 @@
 // descriptions and URDFs).
 #pragma once
 
+#include <cstdint>
 #include <string>
 
+#include "graspfill/claw/claw_limits.hpp"
 #include "graspfill/types.hpp"
 
 namespace graspfill::claw {
@@ -16,7 +18,11 @@ namespace graspfill::claw {
 /// convention). Vertices at the same position are merged (STL stores three
 /// per triangle); points and lines are ignored. No other check: see
 /// mesh_check.hpp. Throws std::runtime_error("<reason>: <path>...") when
-/// the file is missing, unreadable or holds no triangles.
-TriangleMesh ReadMeshFile(const std::string& path);
+/// the file is missing, not a regular file (a FIFO or device is refused
+/// unopened), unreadable or holds no triangles, is larger than
+/// kMaxMeshFileBytes or has more than `max_triangles` faces (the part of
+/// kMaxClawTriangles the claw's other meshes leave; claw_limits.hpp),
+/// counted before its vertices are merged.
+TriangleMesh ReadMeshFile(const std::string& path, int64_t max_triangles = kMaxClawTriangles);
 
 }  // namespace graspfill::claw

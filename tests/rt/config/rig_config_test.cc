@@ -262,6 +262,17 @@ TEST(RigConfig, EveryBadValueIsRefusedNamingItsField) {
       {"camera:\n  fps: +30\n", "camera.fps", "camera.fps '+30': not an integer", 2},
       {"camera:\n  device: {uri: x}\n", "camera.device", "camera.device: expected a string, got a map", 2},
       {"channels:\n  depth: \"\"\n", "channels.depth", "channels.depth: must not be empty", 2},
+      // LCM subscribes to a channel name as a regular expression: "(" would
+      // subscribe to nothing, "." to more than the name.
+      {"channels:\n  depth: \"GRASPFILL_DEPTH(\"\n", "channels.depth",
+       "channels.depth 'GRASPFILL_DEPTH(': '(' is not allowed (channel names are A-Z a-z 0-9 _ - / "
+       "only", 2},
+      {"channels:\n  status: A.B\n", "channels.status", "channels.status 'A.B': '.' is not allowed",
+       2},
+      {"channels:\n  object_cloud: \"" + std::string(300, 'C') + "\"\n", "channels.object_cloud",
+       "300 characters, over LCM's limit of 63", 2},
+      {"channels:\n  gripper_state: GRASPFILL_STATUS\n", "channels.gripper_state",
+       "channels.gripper_state 'GRASPFILL_STATUS': the same name as channels.status", 2},
       {"rates:\n  publish_every_n_frames: 3.5\n", "rates.publish_every_n_frames",
        "rates.publish_every_n_frames '3.5': not an integer", 2},
       {"rates:\n  status_period_s: 0\n", "rates.status_period_s",
@@ -280,6 +291,69 @@ TEST(RigConfig, EveryBadValueIsRefusedNamingItsField) {
       EXPECT_EQ(e.field(), c.field) << what;
       EXPECT_EQ(what.rfind("bad.yaml:" + std::to_string(c.line) + ": ", 0), 0u) << what;
       EXPECT_NE(what.find(c.message), std::string::npos) << what;
+    }
+  }
+}
+
+TEST(RigConfig, ChannelNamesAreCheckedAsLcmTakesThem) {
+  // 63 characters of every allowed kind: taken; 64: not.
+  const std::string longest = "abc-XYZ_0123/" + std::string(50, 'n');
+  ASSERT_EQ(longest.size(), 63u);
+  EXPECT_EQ(ParseRigConfig("channels:\n  depth: " + longest + "\n", "ok.yaml").channels.depth,
+            longest);
+  EXPECT_THROW(ParseRigConfig("channels:\n  depth: " + longest + "x\n", "bad.yaml"), ConfigError);
+  // Two the same, both in the file: named at the later one's line.
+  try {
+    ParseRigConfig("channels:\n  depth: X\n  gripper_state: G\n  status: X\n", "dup.yaml");
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.field(), "channels.status");
+    EXPECT_EQ(std::string(e.what()).rfind("dup.yaml:4: channels.status 'X': the same name as "
+                                          "channels.depth", 0), 0u) << e.what();
+  }
+  // Validate (a struct built in code) checks them too.
+  RigConfig c;
+  c.channels.session = c.channels.depth;
+  try {
+    c.Validate();
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.field(), "channels.session");
+  }
+  c.channels.session = "SESSION (2)";
+  EXPECT_THROW(c.Validate(), ConfigError);
+}
+
+TEST(RigConfig, ASecondYamlDocumentIsAnError) {
+  // yaml-cpp's Load reads the first document and drops the rest: the
+  // second one's voxel would be lost without a word.
+  try {
+    ParseRigConfig("tsdf:\n  voxel_m: 0.002\n---\ntsdf:\n  voxel_m: 0.003\n", "two.yaml");
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("two.yaml:4: a second YAML document", 0), 0u) << e.what();
+  }
+  EXPECT_THROW(ParseRigConfig("tsdf: {}\n---\n", "empty_second.yaml"), ConfigError);
+  // A document marker at the start is still one document.
+  EXPECT_EQ(*ParseRigConfig("---\ntsdf:\n  voxel_m: 0.002\n", "one.yaml").tsdf.voxel_m, 0.002);
+}
+
+TEST(RigConfig, DeepNestingIsNamedNotBadFile) {
+  for (const std::string& deep :
+       {std::string(5000, '['), "tsdf: " + std::string(3000, '{'),
+        [] {
+          std::string nested;
+          for (int i = 0; i < 2500; ++i) nested += std::string(i, ' ') + "a:\n";
+          return nested;
+        }()}) {
+    try {
+      ParseRigConfig(deep, "deep.yaml");
+      ADD_FAILURE() << "accepted";
+    } catch (const ConfigError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("nested more than 2000 levels deep"), std::string::npos) << what;
+      EXPECT_EQ(what.find("bad file"), std::string::npos) << what;
+      EXPECT_EQ(what.rfind("deep.yaml:", 0), 0u) << what;
     }
   }
 }
@@ -314,6 +388,20 @@ TEST(RigConfig, LoadNamesAFileItCannotRead) {
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("cannot read config '" + dir + "/missing.yaml'"),
               std::string::npos) << e.what();
+  }
+  // Not a regular file: refused unopened (a FIFO would block the read
+  // until a writer came; /dev/zero would never end).
+  for (const std::string& special : {dir, std::string("/dev/zero"), std::string("/dev/null")}) {
+    try {
+      LoadRigConfig(special);
+      ADD_FAILURE() << special << " accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("cannot read config '" + special + "': ", 0), 0u)
+          << e.what();
+      EXPECT_TRUE(std::string(e.what()).find("not a regular file") != std::string::npos ||
+                  std::string(e.what()).find("is a directory") != std::string::npos)
+          << e.what();
+    }
   }
   const std::string path = dir + "/rig.yaml";
   std::ofstream(path) << "tsdf:\n  voxel_m: 0.003\n";
