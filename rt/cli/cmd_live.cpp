@@ -163,6 +163,7 @@ int RunLive(const Args& args) {
         d.intrinsics.cy = c.camera.intrinsics_override->cy_px;
       }
       session_config.intrinsics = rt::IntrinsicsOverride(c);  // the bus's depth images
+      session_config.max_depth_pixels = c.camera.max_depth_pixels;
       if (c.robot.T_C_B) {
         session_config.T_C_B = c.robot.T_C_B->ToIsometry();
         camera.T_C_B = session_config.T_C_B;

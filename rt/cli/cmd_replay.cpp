@@ -106,6 +106,7 @@ struct ReplayOptions {
   std::optional<Eigen::Isometry3d> T_C_B;
   std::optional<CameraIntrinsics> intrinsics;
   int64_t clock_offset_us{0};
+  int64_t max_depth_pixels{io::kDefaultMaxDepthPixels};  ///< the config's camera.max_depth_pixels
   std::string lcm_url;
   bool publish{true};
   bool skip_bad_frames{false};
@@ -141,6 +142,7 @@ void ApplyConfig(const rt::RigConfig& c, ReplayOptions* o) {
   if (c.robot.T_C_B) o->T_C_B = c.robot.T_C_B->ToIsometry();
   o->intrinsics = rt::IntrinsicsOverride(c);
   o->clock_offset_us = rt::ClockOffsetUs(c);
+  o->max_depth_pixels = c.camera.max_depth_pixels;
 }
 
 // Throws UsageError (printed with the usage text, exit code 2).
@@ -337,6 +339,7 @@ int RunReplay(const Args& args) {
     source_config.intrinsics_from_session = false;
   }
   source_config.gripper_clock_offset_us = o.clock_offset_us;
+  source_config.max_depth_pixels = o.max_depth_pixels;
   auto log_source = std::make_unique<rt::LcmLogSource>(source_config);  // throws on a bad file
   const rt::LcmLogSource& log = *log_source;  // for its counters, once at the end
   // Decoding runs ahead on a second thread, overlapping the pipeline.

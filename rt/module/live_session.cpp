@@ -45,6 +45,7 @@ LiveSession::LiveSession(const LiveSessionConfig& config)
     bus.intrinsics_from_session = false;
   }
   bus.gripper_clock_offset_us = config.gripper_clock_offset_us;
+  bus.max_depth_pixels = config.max_depth_pixels;
   subscriber_ = std::make_unique<LcmBusSubscriber>(
       bus, [this](const GripperState& s) { OnGripperState(s); },
       config.depth_from_bus ? LcmBusSubscriber::DepthCallback(

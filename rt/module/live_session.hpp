@@ -57,6 +57,10 @@ struct LiveSessionConfig {
   /// Added to every gripper state's utime [us] (the robot's clock onto the
   /// camera's).
   int64_t gripper_clock_offset_us{0};
+  /// Depth images from the bus with more pixels are dropped (counted as
+  /// bad_size) before their decoded size is allocated (a rig config's
+  /// camera.max_depth_pixels).
+  int64_t max_depth_pixels{io::kDefaultMaxDepthPixels};
   GraspModuleConfig module;
   /// Repair each cloud before it is published (config for clouds in G).
   bool repair{true};

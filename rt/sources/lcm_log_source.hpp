@@ -51,6 +51,10 @@ class LcmLogSource : public FrameSource {
     /// Hand session descriptions to the caller as SourceEvent::Kind::kSession
     /// events (false: they are read and applied as above, not returned).
     bool session_events{false};
+    /// Depth images with more pixels are bad frames (kBadSize), refused
+    /// before their decoded size is allocated (a rig config's
+    /// camera.max_depth_pixels; io::DecodeDepthImage).
+    int64_t max_depth_pixels{io::kDefaultMaxDepthPixels};
   };
 
   /// Opens the log.
