@@ -388,9 +388,17 @@ int RunReplay(const Args& args) {
   const std::optional<io::SessionDescription>& session = feed.session();
   const int64_t sessions = feed.sessions();
   const int64_t bad_events = feed.bad_events();
-  if (log.truncated()) {
-    std::fprintf(stderr, "graspfill replay: log '%s' is truncated after %lld events\n",
-                 o.log_path.c_str(), static_cast<long long>(log.events_read()));
+  if (log.partial_last_event()) {
+    // A recording cut short (crash, kill, power cut, full disk): the whole
+    // events before its partial last one are the log.
+    std::fprintf(stderr, "graspfill replay: note: log '%s' ends in a partial event (%lld bytes "
+                 "after its %lld whole events: a recording cut short), skipped\n",
+                 o.log_path.c_str(), static_cast<long long>(log.unread_bytes()),
+                 static_cast<long long>(log.events_read()));
+  } else if (log.truncated()) {
+    std::fprintf(stderr, "graspfill replay: log '%s' is truncated after %lld events (%s)\n",
+                 o.log_path.c_str(), static_cast<long long>(log.events_read()),
+                 log.stop_reason().c_str());
     return 1;
   }
   if (feed.depth_events() == 0) {

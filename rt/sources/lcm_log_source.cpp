@@ -21,6 +21,7 @@ FrameResult LcmLogSource::Next(SourceEvent* event) {
     if (read != io::LogReadResult::kEvent) {
       ended_ = true;
       truncated_ = read != io::LogReadResult::kEnd;
+      partial_last_event_ = read == io::LogReadResult::kTruncated;
       break;
     }
     ++events_read_;
