@@ -92,6 +92,9 @@ struct LiveSessionSummary {
   size_t final_points{0};    ///< points of the last cloud published
   int64_t records_written{0};
   int64_t records_dropped{0};
+  /// Why the recording stopped early (a full disk), "" if it did not; the
+  /// log keeps the records written.
+  std::string record_failure;
   io::ModuleStatus status;   ///< the last status published
   /// Arrival of each published cloud's newest frame -> its publication [ms]
   /// (the last 4096 clouds).
