@@ -90,7 +90,7 @@ constexpr const char* kUsage =
     "  --record LOG          write what the session receives (session description, depth,\n"
     "                        gripper states) as an LCM log that `graspfill replay` and\n"
     "                        lcm-logplayer play\n"
-    "  --force               overwrite the --record LOG if it exists\n"
+    "  --force               overwrite the --record LOG if it exists (a regular file only)\n"
     "  --duration-s S        stop after S seconds (default: until Ctrl-C or end of .oni)\n"
     "  --heap-reserve-mb N   ready the heap for the frame path at start: one arena, nothing\n"
     "                        returned to the system, N MB touched ahead so that the first\n"
@@ -164,6 +164,7 @@ int RunLive(const Args& args) {
         d.intrinsics.cy = c.camera.intrinsics_override->cy_px;
       }
       session_config.intrinsics = rt::IntrinsicsOverride(c);  // the bus's depth images
+      session_config.max_depth_pixels = c.camera.max_depth_pixels;
       if (c.robot.T_C_B) {
         session_config.T_C_B = c.robot.T_C_B->ToIsometry();
         camera.T_C_B = session_config.T_C_B;
@@ -251,6 +252,7 @@ int RunLive(const Args& args) {
   if (camera_source) GateFramesOnRoom(camera_source.get(), live, module_config.frame_queue_capacity);
   std::signal(SIGINT, [](int) { g_interrupted = true; });
   std::signal(SIGTERM, [](int) { g_interrupted = true; });
+  std::signal(SIGHUP, [](int) { g_interrupted = true; });  // a closed terminal: end cleanly
 
   // Without --claw, depth from the bus: the session description or the
   // first depth frame, whichever comes first.
@@ -369,10 +371,12 @@ int RunLive(const Args& args) {
     std::printf("live: decode errors by reason: %s\n", reasons.c_str());
   }
   if (!session_config.record.path.empty()) {
-    std::printf("record: %lld events written to %s, %lld dropped\n",
+    std::printf("record: %lld events written to %s, %lld dropped%s%s\n",
                 static_cast<long long>(summary.records_written),
                 session_config.record.path.c_str(),
-                static_cast<long long>(summary.records_dropped));
+                static_cast<long long>(summary.records_dropped),
+                summary.record_failure.empty() ? "" : "; stopped early: ",
+                summary.record_failure.c_str());
   }
   if (summary.repair && summary.repair->submitted == 0) {
     std::printf("repair: no cloud to repair\n");
@@ -391,6 +395,12 @@ int RunLive(const Args& args) {
                 r.full_ms.p50, r.full_ms.p99);
   } else {
     std::printf("repair: off (--no-repair)\n");
+  }
+  if (!summary.record_failure.empty()) {
+    std::fprintf(stderr, "graspfill live: the recording stopped early: %s (the log keeps the "
+                 "%lld events written before)\n", summary.record_failure.c_str(),
+                 static_cast<long long>(summary.records_written));
+    return 1;
   }
   return 0;
 }

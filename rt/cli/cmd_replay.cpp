@@ -109,6 +109,7 @@ struct ReplayOptions {
   std::optional<Eigen::Isometry3d> T_C_B;
   std::optional<CameraIntrinsics> intrinsics;
   int64_t clock_offset_us{0};
+  int64_t max_depth_pixels{io::kDefaultMaxDepthPixels};  ///< the config's camera.max_depth_pixels
   std::string lcm_url;
   bool publish{true};
   bool skip_bad_frames{false};
@@ -144,6 +145,7 @@ void ApplyConfig(const rt::RigConfig& c, ReplayOptions* o) {
   if (c.robot.T_C_B) o->T_C_B = c.robot.T_C_B->ToIsometry();
   o->intrinsics = rt::IntrinsicsOverride(c);
   o->clock_offset_us = rt::ClockOffsetUs(c);
+  o->max_depth_pixels = c.camera.max_depth_pixels;
 }
 
 // Throws UsageError (printed with the usage text, exit code 2).
@@ -352,6 +354,7 @@ int RunReplay(const Args& args) {
     source_config.intrinsics_from_session = false;
   }
   source_config.gripper_clock_offset_us = o.clock_offset_us;
+  source_config.max_depth_pixels = o.max_depth_pixels;
   auto log_source = std::make_unique<rt::LcmLogSource>(source_config);  // throws on a bad file
   const rt::LcmLogSource& log = *log_source;  // for its counters, once at the end
   // Decoding runs ahead on a second thread, overlapping the pipeline.
@@ -400,9 +403,17 @@ int RunReplay(const Args& args) {
   const std::optional<io::SessionDescription>& session = feed.session();
   const int64_t sessions = feed.sessions();
   const int64_t bad_events = feed.bad_events();
-  if (log.truncated()) {
-    std::fprintf(stderr, "graspfill replay: log '%s' is truncated after %lld events\n",
-                 o.log_path.c_str(), static_cast<long long>(log.events_read()));
+  if (log.partial_last_event()) {
+    // A recording cut short (crash, kill, power cut, full disk): the whole
+    // events before its partial last one are the log.
+    std::fprintf(stderr, "graspfill replay: note: log '%s' ends in a partial event (%lld bytes "
+                 "after its %lld whole events: a recording cut short), skipped\n",
+                 o.log_path.c_str(), static_cast<long long>(log.unread_bytes()),
+                 static_cast<long long>(log.events_read()));
+  } else if (log.truncated()) {
+    std::fprintf(stderr, "graspfill replay: log '%s' is truncated after %lld events (%s)\n",
+                 o.log_path.c_str(), static_cast<long long>(log.events_read()),
+                 log.stop_reason().c_str());
     return 1;
   }
   if (feed.depth_events() == 0) {

@@ -33,6 +33,7 @@ struct Range {
 constexpr Range kVideoPx{0, 16384, "pixels"};
 constexpr Range kFps{0, 1000, "frames/s"};
 constexpr Range kImagePx{1, 16384, "pixels"};
+constexpr Range kDepthPixels{1, static_cast<double>(io::kMaxDepthPixels), "pixels"};
 constexpr Range kFocalPx{1.0, 100000.0, "pixels"};
 constexpr Range kCentrePx{-100000.0, 100000.0, "pixels"};
 constexpr Range kTranslationM{-10.0, 10.0, "m"};
@@ -174,7 +175,7 @@ bool RigConfig::Intrinsics::operator==(const Intrinsics& o) const {
 bool RigConfig::Camera::operator==(const Camera& o) const {
   return device == o.device && width_px == o.width_px && height_px == o.height_px &&
          fps == o.fps && depth_units == o.depth_units &&
-         intrinsics_override == o.intrinsics_override;
+         intrinsics_override == o.intrinsics_override && max_depth_pixels == o.max_depth_pixels;
 }
 bool RigConfig::Pose::operator==(const Pose& o) const {
   return translation_m == o.translation_m && rotation_wxyz == o.rotation_wxyz;
@@ -237,6 +238,7 @@ void RigConfig::Validate() const {
   if (camera.intrinsics_override) {
     CheckIntrinsics("camera.intrinsics_override", *camera.intrinsics_override);
   }
+  CheckRange("camera.max_depth_pixels", camera.max_depth_pixels, kDepthPixels);
   if (robot.T_C_B) CheckPose("robot.T_C_B", *robot.T_C_B);
   CheckRange("robot.clock_offset_s", robot.clock_offset_s, kClockOffsetS);
   CheckRange("robot.max_pose_gap_s", robot.max_pose_gap_s, kPoseGapS);
@@ -350,6 +352,12 @@ std::string DumpRigConfig(const RigConfig& c) {
   } else {
     w.Key(1, "intrinsics_override", "null");
   }
+  w.Comment(1, "Depth images (bus, log) with more pixels are refused before they are decoded,");
+  w.Comment(1, "counted as bad_size; 1.." + std::to_string(io::kMaxDepthPixels) + " (default " +
+                   std::to_string(d.camera.max_depth_pixels) + " = 8 MP: the largest common");
+  w.Comment(1, "depth sensors are ~5 MP; a 4096 x 4096 stream needs " +
+                   std::to_string(io::kMaxDepthPixels) + ").");
+  w.Key(1, "max_depth_pixels", std::to_string(c.camera.max_depth_pixels));
   w.Blank();
 
   w.Key(0, "robot", "");
@@ -633,10 +641,12 @@ RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
         {"camera", "robot", "claw", "workspace", "tsdf", "repair", "refine", "channels", "rates"},
         [&](const std::string& key, const YAML::Node& v, const std::string& path) {
     if (key == "camera") {
-      r.Map(v, path, {"device", "width_px", "height_px", "fps", "depth_units", "intrinsics_override"},
+      r.Map(v, path, {"device", "width_px", "height_px", "fps", "depth_units", "intrinsics_override",
+                      "max_depth_pixels"},
             [&](const std::string& k, const YAML::Node& x, const std::string& f) {
         RigConfig::Camera& cam = c.camera;
         if (k == "device") cam.device = r.String(x, f);
+        else if (k == "max_depth_pixels") cam.max_depth_pixels = r.Integer(x, f, kDepthPixels);
         else if (k == "width_px") cam.width_px = r.Integer(x, f, kVideoPx);
         else if (k == "height_px") cam.height_px = r.Integer(x, f, kVideoPx);
         else if (k == "fps") cam.fps = r.Integer(x, f, kFps);

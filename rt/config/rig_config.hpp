@@ -78,6 +78,10 @@ struct RigConfig {
     std::string depth_units{"mm"};
     /// none = the session description's override, else the images' own.
     std::optional<Intrinsics> intrinsics_override;
+    /// Depth images (bus, log) with more pixels are refused before they are
+    /// decoded (counted as bad_size): 1..2^24; 2^23 (8 MP) by default, room
+    /// for the largest common depth sensors (~5 MP) (io::kDefaultMaxDepthPixels).
+    int max_depth_pixels{static_cast<int>(io::kDefaultMaxDepthPixels)};
     bool operator==(const Camera& o) const;
   };
   /// A rigid transform: p_C = R(rotation_wxyz) * p_B + translation_m.

@@ -45,6 +45,7 @@ LiveSession::LiveSession(const LiveSessionConfig& config)
     bus.intrinsics_from_session = false;
   }
   bus.gripper_clock_offset_us = config.gripper_clock_offset_us;
+  bus.max_depth_pixels = config.max_depth_pixels;
   subscriber_ = std::make_unique<LcmBusSubscriber>(
       bus, [this](const GripperState& s) { OnGripperState(s); },
       config.depth_from_bus ? LcmBusSubscriber::DepthCallback(
@@ -233,6 +234,14 @@ io::ModuleStatus LiveSession::Status() const {
   } else {
     status.state_code = io::ModuleState::kFusing;
   }
+  if (recorder_) {
+    // A recording that stopped (a full disk) is said while fusing goes on.
+    const std::string failure = recorder_->failure();
+    if (!failure.empty()) {
+      status.state_detail += (status.state_detail.empty() ? "" : "; ") +
+                             ("recording stopped: " + failure);
+    }
+  }
   status.state = StateName(status.state_code);
   if (!status.state_detail.empty()) status.state += ": " + status.state_detail;
   return status;
@@ -274,9 +283,10 @@ LiveSessionSummary LiveSession::Run(FrameSource* source, std::function<void()> o
       begun_ = false;
     }
     summary.records_written = recorder_->events_written();
-    recorder_->Close();  // throws naming the path if a write failed
+    recorder_->Close();  // throws naming the path if closing the log failed
     summary.records_written = recorder_->events_written();
     summary.records_dropped = recorder_->events_dropped();
+    summary.record_failure = recorder_->failure();
   }
   return summary;
 }

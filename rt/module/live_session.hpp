@@ -57,6 +57,10 @@ struct LiveSessionConfig {
   /// Added to every gripper state's utime [us] (the robot's clock onto the
   /// camera's).
   int64_t gripper_clock_offset_us{0};
+  /// Depth images from the bus with more pixels are dropped (counted as
+  /// bad_size) before their decoded size is allocated (a rig config's
+  /// camera.max_depth_pixels).
+  int64_t max_depth_pixels{io::kDefaultMaxDepthPixels};
   GraspModuleConfig module;
   /// Repair each cloud before it is published (config for clouds in G).
   bool repair{true};
@@ -88,6 +92,9 @@ struct LiveSessionSummary {
   size_t final_points{0};    ///< points of the last cloud published
   int64_t records_written{0};
   int64_t records_dropped{0};
+  /// Why the recording stopped early (a full disk), "" if it did not; the
+  /// log keeps the records written.
+  std::string record_failure;
   io::ModuleStatus status;   ///< the last status published
   /// Arrival of each published cloud's newest frame -> its publication [ms]
   /// (the last 4096 clouds).

@@ -1,5 +1,7 @@
 #include "sinks/session_recorder.hpp"
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <exception>
 #include <stdexcept>
@@ -8,14 +10,32 @@
 #include "sinks/lcm_log_writer.hpp"
 
 namespace graspfill::rt {
+namespace {
+
+constexpr int64_t kMinQueueBytes = int64_t{1} << 20;
+
+// Bytes the buffers of `e` hold (their capacity, not their size).
+int64_t BufferBytes(const SourceEvent& e) {
+  return static_cast<int64_t>(e.depth.depth_m.capacity() * sizeof(float) +
+                              e.gripper.joint_values.capacity() * sizeof(double));
+}
+
+}  // namespace
 
 SessionRecorder::SessionRecorder(const Config& config, const io::SessionDescription& session)
     : config_(config), session_(session) {
   if (config.queue_capacity < 1) {
     throw std::invalid_argument("SessionRecorder: queue_capacity must be >= 1");
   }
+  if (config.queue_bytes < kMinQueueBytes) {
+    throw std::invalid_argument("SessionRecorder: queue_bytes must be >= 1 MiB");
+  }
+  if (config.sync_period_ms < 0) {
+    throw std::invalid_argument("SessionRecorder: sync_period_ms must be >= 0");
+  }
   io::EncodeSessionDescription(session_);  // a bad description fails now, not in the thread
-  writer_ = std::make_unique<LcmLogWriter>(config.path, config.overwrite);
+  writer_ = std::make_unique<LcmLogWriter>(
+      config.path, LcmLogWriter::Options{config.overwrite, LcmLogWriter::Mode::kInPlace});
   slots_.resize(static_cast<size_t>(config.queue_capacity));
   thread_ = std::thread(&SessionRecorder::WriterLoop, this);
 }
@@ -30,11 +50,54 @@ SessionRecorder::~SessionRecorder() {
 
 SourceEvent* SessionRecorder::Reserve() {
   if (closed_) return nullptr;
-  if (count_ == slots_.size()) {
+  if (!failure_.empty() || count_ == slots_.size()) {
     ++dropped_;
     return nullptr;
   }
   return &slots_[(head_ + count_) % slots_.size()];
+}
+
+void SessionRecorder::ReleaseBuffers(SourceEvent* slot) {
+  std::vector<float>().swap(slot->depth.depth_m);
+  std::vector<double>().swap(slot->gripper.joint_values);
+}
+
+bool SessionRecorder::MakeRoom(size_t slot, size_t depth_values, size_t joint_values) {
+  SourceEvent& target = slots_[slot];
+  const size_t n = slots_.size();
+  // What the slots hold once `target` holds the event.
+  auto after = [&] {
+    const size_t depth = std::max(target.depth.depth_m.capacity(), depth_values);
+    const size_t joints = std::max(target.gripper.joint_values.capacity(), joint_values);
+    return slot_bytes_ - BufferBytes(target) +
+           static_cast<int64_t>(depth * sizeof(float) + joints * sizeof(double));
+  };
+  if (after() <= config_.queue_bytes) return true;
+  // A free slot's buffer that is large enough (slots at ring offsets past
+  // count_ hold no event): reused, nothing allocated.
+  if (target.depth.depth_m.capacity() < depth_values) {
+    for (size_t k = count_ + 1; k < n; ++k) {
+      SourceEvent& free = slots_[(head_ + k) % n];
+      if (free.depth.depth_m.capacity() >= depth_values) {
+        std::swap(free.depth.depth_m, target.depth.depth_m);  // the slots' sum unchanged
+        break;
+      }
+    }
+    if (after() <= config_.queue_bytes) return true;
+  }
+  // The free slots give their buffers back, and so does `target` where
+  // they are too small (not to hold old and new at once).
+  for (size_t k = count_ + 1; k < n; ++k) {
+    SourceEvent& free = slots_[(head_ + k) % n];
+    slot_bytes_ -= BufferBytes(free);
+    ReleaseBuffers(&free);
+  }
+  if (target.depth.depth_m.capacity() < depth_values ||
+      target.gripper.joint_values.capacity() < joint_values) {
+    slot_bytes_ -= BufferBytes(target);
+    ReleaseBuffers(&target);
+  }
+  return after() <= config_.queue_bytes || count_ == 0;  // one event always fits
 }
 
 void SessionRecorder::RecordDepth(const DepthFrame& frame) {
@@ -42,10 +105,18 @@ void SessionRecorder::RecordDepth(const DepthFrame& frame) {
     std::lock_guard<std::mutex> lock(mutex_);
     SourceEvent* slot = Reserve();
     if (slot == nullptr) return;
+    const size_t index = (head_ + count_) % slots_.size();
+    if (!MakeRoom(index, frame.depth_m.size(), 0)) {
+      ++dropped_;
+      return;
+    }
+    slot_bytes_ -= BufferBytes(*slot);
     slot->kind = SourceEvent::Kind::kDepth;
     slot->depth.utime = frame.utime;
     slot->depth.intrinsics = frame.intrinsics;
     slot->depth.depth_m.assign(frame.depth_m.begin(), frame.depth_m.end());  // reuses capacity
+    slot_bytes_ += BufferBytes(*slot);
+    slot_bytes_peak_ = std::max(slot_bytes_peak_, slot_bytes_);
     ++count_;
   }
   wake_writer_.notify_one();
@@ -56,12 +127,20 @@ void SessionRecorder::RecordGripperState(const GripperState& state) {
     std::lock_guard<std::mutex> lock(mutex_);
     SourceEvent* slot = Reserve();
     if (slot == nullptr) return;
+    const size_t index = (head_ + count_) % slots_.size();
+    if (!MakeRoom(index, 0, state.joint_values.size())) {
+      ++dropped_;
+      return;
+    }
+    slot_bytes_ -= BufferBytes(*slot);
     slot->kind = SourceEvent::Kind::kGripperState;
     slot->gripper.utime = state.utime;
     slot->gripper.T_C_G = state.T_C_G;
     slot->gripper.opening_m = state.opening_m;
     slot->gripper.joint_values.assign(state.joint_values.begin(), state.joint_values.end());
     slot->gripper.grasp_id = state.grasp_id;
+    slot_bytes_ += BufferBytes(*slot);
+    slot_bytes_peak_ = std::max(slot_bytes_peak_, slot_bytes_);
     ++count_;
   }
   wake_writer_.notify_one();
@@ -72,54 +151,105 @@ void SessionRecorder::Record(const SourceEvent& event) {
   else if (event.kind == SourceEvent::Kind::kGripperState) RecordGripperState(event.gripper);
 }
 
+void SessionRecorder::StopAfterFailure(const std::string& why) {
+  if (!failure_.empty()) return;
+  failure_ = why;
+  dropped_ += static_cast<int64_t>(count_);  // what waited is not written
+  count_ = 0;
+  for (SourceEvent& slot : slots_) ReleaseBuffers(&slot);
+  slot_bytes_ = 0;
+  std::fprintf(stderr,
+               "graspfill: recording stopped after %lld events: %s; the log keeps them "
+               "(graspfill replay and lcm-logplayer play it); the session goes on\n",
+               static_cast<long long>(written_), why.c_str());
+}
+
 void SessionRecorder::WriterLoop() {
-  SourceEvent event;  // the writer's copy, swapped with a slot
+  using Clock = std::chrono::steady_clock;
+  const auto sync_period = std::chrono::milliseconds(config_.sync_period_ms);
+  SourceEvent event;  // the writer's copy, buffers swapped with a slot
   bool session_written = false;
+  bool unsynced = false;  // events written since the last fdatasync
+  Clock::time_point last_sync = Clock::now();
+  // Writes (lock not held); "" or why it failed.
+  auto write = [&]() -> std::string {
+    try {
+      const bool depth = event.kind == SourceEvent::Kind::kDepth;
+      const int64_t utime = depth ? event.depth.utime : event.gripper.utime;
+      if (!session_written) {
+        session_.utime = utime;
+        writer_->Write(config_.channels.session, utime, io::EncodeSessionDescription(session_));
+        session_written = true;
+      }
+      if (depth) {
+        writer_->Write(config_.channels.depth, utime,
+                       io::EncodeDepthImage(event.depth, io::DepthEncoding::kZlib16, 0.001));
+      } else {
+        writer_->Write(config_.channels.gripper_state, utime,
+                       io::EncodeGripperState(event.gripper));
+      }
+      unsynced = true;
+      if (Clock::now() - last_sync >= sync_period) {
+        writer_->Flush();
+        unsynced = false;
+        last_sync = Clock::now();
+      }
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "";
+  };
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
-    wake_writer_.wait(lock, [&] { return stop_ || count_ > 0; });
-    if (count_ == 0) return;  // stop_ and nothing left
-    std::swap(event.depth.depth_m, slots_[head_].depth.depth_m);
-    std::swap(event.gripper.joint_values, slots_[head_].gripper.joint_values);
-    event.kind = slots_[head_].kind;
-    event.depth.utime = slots_[head_].depth.utime;
-    event.depth.intrinsics = slots_[head_].depth.intrinsics;
-    event.gripper.utime = slots_[head_].gripper.utime;
-    event.gripper.T_C_G = slots_[head_].gripper.T_C_G;
-    event.gripper.opening_m = slots_[head_].gripper.opening_m;
-    event.gripper.grasp_id = slots_[head_].gripper.grasp_id;
-    head_ = (head_ + 1) % slots_.size();
-    --count_;
-    busy_ = true;
-    const bool failed = !failure_.empty();
-    lock.unlock();
-    std::string failure;
-    if (!failed) {
+    const auto ready = [&] { return stop_ || count_ > 0; };
+    if (unsynced && failure_.empty()) {
+      wake_writer_.wait_until(lock, last_sync + sync_period, ready);
+    } else {
+      wake_writer_.wait(lock, ready);
+    }
+    if (count_ == 0) {
+      if (stop_) return;  // Close() flushes and closes the log
+      if (!unsynced || !failure_.empty() || Clock::now() - last_sync < sync_period) continue;
+      // Idle past the period with events not yet durable.
+      lock.unlock();
+      std::string failure;
       try {
-        const bool depth = event.kind == SourceEvent::Kind::kDepth;
-        const int64_t utime = depth ? event.depth.utime : event.gripper.utime;
-        if (!session_written) {
-          session_.utime = utime;
-          writer_->Write(config_.channels.session, utime, io::EncodeSessionDescription(session_));
-          session_written = true;
-        }
-        if (depth) {
-          writer_->Write(config_.channels.depth, utime,
-                         io::EncodeDepthImage(event.depth, io::DepthEncoding::kZlib16, 0.001));
-        } else {
-          writer_->Write(config_.channels.gripper_state, utime,
-                         io::EncodeGripperState(event.gripper));
-        }
+        writer_->Flush();
       } catch (const std::exception& e) {
         failure = e.what();
       }
+      unsynced = false;
+      last_sync = Clock::now();
+      lock.lock();
+      if (!failure.empty()) StopAfterFailure(failure);
+      continue;
     }
+    SourceEvent& slot = slots_[head_];
+    slot_bytes_ -= BufferBytes(slot);
+    std::swap(event.depth.depth_m, slot.depth.depth_m);
+    std::swap(event.gripper.joint_values, slot.gripper.joint_values);
+    // The slot now holds the writer's previous buffers: given back where
+    // they would take the ring over its budget.
+    if (slot_bytes_ + BufferBytes(slot) > config_.queue_bytes) ReleaseBuffers(&slot);
+    slot_bytes_ += BufferBytes(slot);
+    event.kind = slot.kind;
+    event.depth.utime = slot.depth.utime;
+    event.depth.intrinsics = slot.depth.intrinsics;
+    event.gripper.utime = slot.gripper.utime;
+    event.gripper.T_C_G = slot.gripper.T_C_G;
+    event.gripper.opening_m = slot.gripper.opening_m;
+    event.gripper.grasp_id = slot.gripper.grasp_id;
+    head_ = (head_ + 1) % slots_.size();
+    --count_;
+    lock.unlock();
+    const std::string failure = write();
     lock.lock();
-    if (!failure.empty() && failure_.empty()) failure_ = failure;
-    if (failed || !failure.empty()) ++dropped_;
-    else ++written_;
-    busy_ = false;
-    idle_.notify_all();
+    if (failure.empty()) {
+      ++written_;
+    } else {
+      ++dropped_;
+      StopAfterFailure(failure);
+    }
   }
 }
 
@@ -132,10 +262,7 @@ void SessionRecorder::Close() {
   }
   wake_writer_.notify_all();
   thread_.join();
-  if (!failure_.empty()) {
-    writer_.reset();  // abandoned: the temporary file is removed
-    throw std::runtime_error("recording '" + config_.path + "' failed: " + failure_);
-  }
+  if (!failure_.empty()) return;  // stopped: the failed write closed the log
   if (written_ == 0) {
     // Nothing received: still a valid log that says what the session was.
     writer_->Write(config_.channels.session, session_.utime,
@@ -152,6 +279,21 @@ int64_t SessionRecorder::events_written() const {
 int64_t SessionRecorder::events_dropped() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return dropped_;
+}
+
+std::string SessionRecorder::failure() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return failure_;
+}
+
+int64_t SessionRecorder::queue_bytes() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return slot_bytes_;
+}
+
+int64_t SessionRecorder::queue_bytes_peak() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return slot_bytes_peak_;
 }
 
 }  // namespace graspfill::rt

@@ -94,7 +94,8 @@ LcmBusSubscriber::LcmBusSubscriber(const Config& config, StateCallback on_state,
         config.channels.depth,
         +[](const lcm::ReceiveBuffer* rbuf, const std::string&, LcmBusSubscriber* self) {
           Impl& s = *self->impl_;
-          if (!io::DecodeDepthImage(rbuf->data, rbuf->data_size, &s.depth, &s.error, &s.reason)) {
+          if (!io::DecodeDepthImage(rbuf->data, rbuf->data_size, &s.depth, &s.error, &s.reason,
+                                    s.config.max_depth_pixels)) {
             self->CountBad(s.reason);
             return;
           }

@@ -41,6 +41,9 @@ class LcmBusSubscriber {
     /// Added to every gripper state's utime [us]: the robot's clock onto
     /// the camera's.
     int64_t gripper_clock_offset_us{0};
+    /// Depth images with more pixels are counted as kBadSize and dropped,
+    /// before their decoded size is allocated (io::DecodeDepthImage).
+    int64_t max_depth_pixels{io::kDefaultMaxDepthPixels};
   };
   using StateCallback = std::function<void(const GripperState&)>;
   using DepthCallback = std::function<void(const DepthFrame&)>;

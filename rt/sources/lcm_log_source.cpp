@@ -21,6 +21,7 @@ FrameResult LcmLogSource::Next(SourceEvent* event) {
     if (read != io::LogReadResult::kEvent) {
       ended_ = true;
       truncated_ = read != io::LogReadResult::kEnd;
+      partial_last_event_ = read == io::LogReadResult::kTruncated;
       break;
     }
     ++events_read_;
@@ -34,8 +35,8 @@ FrameResult LcmLogSource::Next(SourceEvent* event) {
     const uint8_t* data = log_event->data.data();
     if (channel == config_.channels.depth) {
       event->kind = SourceEvent::Kind::kDepth;
-      if (!io::DecodeDepthImage(data, size, &event->depth,
-                                &event->error) ||
+      if (!io::DecodeDepthImage(data, size, &event->depth, &event->error, nullptr,
+                                config_.max_depth_pixels) ||
           !ApplyIntrinsicsOverride(intrinsics_, &event->depth, &event->error)) {
         return FrameResult::kBadFrame;
       }

@@ -51,6 +51,10 @@ class LcmLogSource : public FrameSource {
     /// Hand session descriptions to the caller as SourceEvent::Kind::kSession
     /// events (false: they are read and applied as above, not returned).
     bool session_events{false};
+    /// Depth images with more pixels are bad frames (kBadSize), refused
+    /// before their decoded size is allocated (a rig config's
+    /// camera.max_depth_pixels; io::DecodeDepthImage).
+    int64_t max_depth_pixels{io::kDefaultMaxDepthPixels};
   };
 
   /// Opens the log.
@@ -78,6 +82,14 @@ class LcmLogSource : public FrameSource {
   /// is cut short (a log copied while being written, a full disk) or the
   /// bytes after an event are not an event.
   bool truncated() const { return truncated_; }
+  /// True when reading stopped at a partial last event (a recording cut by
+  /// a crash, a kill, a power cut or a full disk): every event before it
+  /// was whole and was read; a note for the caller, not an error. False for
+  /// bytes that are not an event (corrupt), which truncated() also flags.
+  bool partial_last_event() const { return partial_last_event_; }
+  /// Bytes after the last whole event that were not read (the partial
+  /// event, or from the corrupt bytes on).
+  int64_t unread_bytes() const { return reader_->file_size() - reader_->offset(); }
   /// Why reading stopped early (see truncated()), naming the file, the
   /// byte offset and the field; "" otherwise.
   const std::string& stop_reason() const { return reader_->error(); }
@@ -96,6 +108,7 @@ class LcmLogSource : public FrameSource {
   io::LogEvent log_event_;                    // reused
   bool ended_{false};
   bool truncated_{false};
+  bool partial_last_event_{false};
   int64_t events_read_{0};
   int64_t skipped_other_channels_{0};
   std::vector<std::string> channels_seen_;

@@ -12,8 +12,6 @@
 namespace graspfill::io {
 namespace {
 
-constexpr uint32_t kLogSync = 0xEDA1DA01u;
-
 [[noreturn]] void CannotOpen(const std::string& path, const std::string& why) {
   throw std::runtime_error("cannot open log '" + path + "': " + why);
 }
@@ -41,7 +39,7 @@ LcmLogReader::LcmLogReader(const std::string& path) : owns_file_(true), name_(pa
     uint8_t magic[4] = {0, 0, 0, 0};
     const size_t got = std::fread(magic, 1, sizeof(magic), file_);
     std::rewind(file_);
-    if (got != 4 || BigEndian(magic, 4) != kLogSync) {
+    if (got != 4 || BigEndian(magic, 4) != kLogEventSync) {
       std::fclose(file_);
       throw std::runtime_error("'" + path +
                                "' is not an LCM log (no event sync word at "
@@ -79,7 +77,7 @@ LogReadResult LcmLogReader::Next(LogEvent* event) {
   if (std::fread(header, 1, sizeof(header), file_) != sizeof(header)) {
     return Stop(LogReadResult::kTruncated, "read failed in the header");
   }
-  if (BigEndian(header, 4) != kLogSync) {
+  if (BigEndian(header, 4) != kLogEventSync) {
     return Stop(LogReadResult::kCorrupt, "no sync word");
   }
   const auto event_number = static_cast<int64_t>(BigEndian(header + 4, 8));

@@ -259,7 +259,9 @@ ZlibScratch& Scratch() {
   return scratch;
 }
 
-// Inflates exactly `out_size` bytes from a complete zlib stream.
+// Inflates exactly `out_size` bytes from a complete zlib stream; never
+// writes past `out_size` (a stream that would inflate to more, a zlib bomb,
+// stops there and is refused).
 bool Inflate(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_size,
              std::string* error) {
   ZlibScratch& s = Scratch();
@@ -384,7 +386,7 @@ std::vector<uint8_t> EncodeDepthImage(const DepthFrame& frame,
 }
 
 static bool DecodeDepthImageImpl(const void* data, size_t size, DepthFrame* out,
-                      std::string* error) {
+                                 std::string* error, int64_t max_depth_pixels) {
   if (!CheckBuffer(data, size, out, "depth_image_t", error)) return false;
   // Parsed in place (see the file comment); the layout is depth_image_t's.
   WireReader r(data, size);
@@ -410,10 +412,18 @@ static bool DecodeDepthImageImpl(const void* data, size_t size, DepthFrame* out,
                         " trailing bytes");
     return false;
   }
-  if (width <= 0 || height <= 0 ||
-      int64_t{width} * height > kMaxDepthPixels) {
+  if (width <= 0 || height <= 0) {
     SetError(error, "depth_image_t: bad image size " + std::to_string(width) +
                         "x" + std::to_string(height),
+             MessageError::kBadSize);
+    return false;
+  }
+  // Before anything of the decoded size is allocated.
+  const int64_t limit = std::clamp<int64_t>(max_depth_pixels, 1, kMaxDepthPixels);
+  if (int64_t{width} * height > limit) {
+    SetError(error, "depth_image_t: bad image size " + std::to_string(width) + "x" +
+                        std::to_string(height) + ": over the limit of " + std::to_string(limit) +
+                        " pixels (max_depth_pixels)",
              MessageError::kBadSize);
     return false;
   }
@@ -445,6 +455,16 @@ static bool DecodeDepthImageImpl(const void* data, size_t size, DepthFrame* out,
     }
     samples = payload;
   } else if (encoding == graspfill::depth_image_t::ZLIB16) {
+    // A payload that cannot inflate to the declared image is refused
+    // before the scratch grows to it (a few bytes declaring 8 MP).
+    if (2 * static_cast<int64_t>(num_pixels) > kMaxDeflateRatio * num_bytes) {
+      SetError(error, "depth_image_t: ZLIB16 data of " + std::to_string(num_bytes) +
+                          " bytes cannot inflate to the image's " +
+                          std::to_string(2 * num_pixels) + " bytes (deflate expands at most " +
+                          std::to_string(kMaxDeflateRatio) + " times)",
+               MessageError::kBadEncoding);
+      return false;
+    }
     std::vector<uint8_t>& raw = Scratch().raw;
     raw.resize(2 * num_pixels);  // grows once, then reused
     if (!Inflate(payload, static_cast<size_t>(num_bytes), raw.data(),
@@ -1068,8 +1088,9 @@ bool WithReason(MessageError* reason, F decode) {
 }  // namespace
 
 bool DecodeDepthImage(const void* data, size_t size, DepthFrame* out, std::string* error,
-                      MessageError* reason) {
-  return WithReason(reason, [&] { return DecodeDepthImageImpl(data, size, out, error); });
+                      MessageError* reason, int64_t max_depth_pixels) {
+  return WithReason(reason,
+                    [&] { return DecodeDepthImageImpl(data, size, out, error, max_depth_pixels); });
 }
 bool DecodeGripperState(const void* data, size_t size, const Eigen::Isometry3d& T_C_B,
                         GripperState* out, std::string* error, MessageError* reason) {

@@ -13,6 +13,7 @@
 #include "cli_runner.hpp"
 #include "cloud_parts.hpp"
 #include "graspfill/eval/metrics.hpp"
+#include "graspfill/io/lcm_log_reader.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
 #include "sinks/lcm_log_writer.hpp"
@@ -191,15 +192,38 @@ TEST(ReplayE2E, MissingLogIsAClearError) {
   EXPECT_NE(r.output.find("nope.lcmlog"), std::string::npos) << r.output;
 }
 
-TEST(ReplayE2E, TruncatedLogIsAClearError) {
+// A recording cut short (a crash, a kill, a power cut or a full disk while
+// it was written; issue 36): its partial last event is skipped with a note
+// and the whole events before it replay. Bytes that are not an event
+// before the end are still an error.
+TEST(ReplayE2E, CutLogReplaysItsWholeEventsAndACorruptOneIsAnError) {
   const std::string dir = ScratchDir("truncated");
   const std::string bytes = ReadBytes(kReplayDir + "/default/recording.lcmlog");
   std::ofstream(dir + "/cut.lcmlog", std::ios::binary)
       .write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 2));
-  const auto r = RunCli("replay " + dir + "/cut.lcmlog -o " + dir + "/c.ply --no-publish");
+  auto r = RunCli("replay " + dir + "/cut.lcmlog -o " + dir + "/c.ply --no-publish");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("note: log '" + dir + "/cut.lcmlog' ends in a partial event"),
+            std::string::npos) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/c.ply"));
+
+  // The sync word of the 20th event zeroed: corrupt, as before.
+  size_t offset = 0;
+  {
+    io::LcmLogReader reader(kReplayDir + "/default/recording.lcmlog");
+    io::LogEvent event;
+    for (int i = 0; i < 20; ++i) ASSERT_EQ(reader.Next(&event), io::LogReadResult::kEvent);
+    offset = static_cast<size_t>(reader.offset());
+  }
+  std::string corrupt = bytes;
+  corrupt.replace(offset, 4, 4, '\0');
+  std::ofstream(dir + "/corrupt.lcmlog", std::ios::binary)
+      .write(corrupt.data(), static_cast<std::streamsize>(corrupt.size()));
+  r = RunCli("replay " + dir + "/corrupt.lcmlog -o " + dir + "/d.ply --no-publish");
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.output.find("truncated"), std::string::npos) << r.output;
-  EXPECT_FALSE(std::filesystem::exists(dir + "/c.ply"));
+  EXPECT_NE(r.output.find("is truncated after 20 events"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("no sync word"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/d.ply"));
 }
 
 TEST(ReplayE2E, UnknownDepthChannelNamesTheChannelsSeen) {

@@ -11,6 +11,9 @@
 #include <stdexcept>
 #include <vector>
 
+#include <lcm/lcm-cpp.hpp>
+#include <sys/stat.h>
+
 #include "../io/file_size_limit.hpp"
 
 #include "graspfill/io/messages.hpp"
@@ -257,8 +260,8 @@ TEST_F(LcmLogTest, WriterRefusesToClobber) {
   ExpectThrowsWith([&] { writer.Write("", 1, {}); }, "bad channel name");
 }
 
-// Atomic logs: the events go to a temporary file renamed into place on
-// Close() (or destruction); a full disk (RLIMIT_FSIZE, see
+// Atomic logs (synth's): the events go to a temporary file renamed into
+// place on Close() (or destruction); a full disk (RLIMIT_FSIZE, see
 // file_size_limit.hpp) or an exception unwinding past the writer leaves the
 // previous log and no temporary file.
 size_t FilesIn(const std::string& dir) {
@@ -498,6 +501,195 @@ TEST_F(LcmLogTest, EventDeclaringHugeDataIsTruncationNotACrash) {
     EXPECT_NE(source.stop_reason().find("log '" + path + "', event at byte 0: "), std::string::npos)
         << source.stop_reason();
   }
+}
+
+TEST_F(LcmLogTest, DepthOverTheConfiguredPixelLimitIsABadFrame) {
+  WriteSampleLog(Path("sample.lcmlog"));  // 8 x 6 images
+  LcmLogSource::Config config = SourceConfig(Path("sample.lcmlog"));
+  config.max_depth_pixels = 47;
+  LcmLogSource source(config);
+  SourceEvent event;
+  EXPECT_EQ(source.Next(&event), FrameResult::kBadFrame);
+  EXPECT_NE(event.error.find("bad image size 8x6: over the limit of 47 pixels"), std::string::npos)
+      << event.error;
+  config.max_depth_pixels = 48;
+  LcmLogSource at_limit(config);
+  EXPECT_EQ(at_limit.Next(&event), FrameResult::kOk) << event.error;
+}
+
+// ---- In-place logs (live recordings, issue 36) ----------------------------------
+
+LcmLogWriter::Options InPlace(bool overwrite = false) {
+  return LcmLogWriter::Options{overwrite, LcmLogWriter::Mode::kInPlace};
+}
+
+// Reads `path` to its end: whole events read, and whether it ended in a
+// partial event.
+struct ReadBack {
+  int64_t events{0};
+  bool truncated{false};
+  bool partial_last_event{false};
+  int64_t unread_bytes{0};
+};
+ReadBack ReadAll(const std::string& path) {
+  LcmLogSource source(SourceConfig(path));
+  SourceEvent event;
+  while (source.Next(&event) != FrameResult::kEndOfStream) {
+  }
+  return {source.events_read(), source.truncated(), source.partial_last_event(),
+          source.unread_bytes()};
+}
+
+// A killed recorder leaves the log as it was after its last write: at its
+// name (no temporary file), every event written whole and readable.
+TEST_F(LcmLogTest, InPlaceLogIsAtItsNameAndReadableWhileItIsWritten) {
+  const std::string path = Path("live.lcmlog");
+  LcmLogWriter writer(path, InPlace());
+  EXPECT_TRUE(fs::exists(path));
+  EXPECT_EQ(FilesIn(dir_.string()), 1u);
+  const io::ChannelNames channels;
+  for (int i = 0; i < 5; ++i) {
+    writer.Write(channels.depth, 100 + i, io::EncodeDepthImage(SmallDepth(100 + i, 1.0f)));
+  }
+  // No Close(): as a SIGKILL leaves it.
+  EXPECT_EQ(static_cast<int64_t>(fs::file_size(path)), writer.bytes_written());
+  const ReadBack back = ReadAll(path);
+  EXPECT_EQ(back.events, 5);
+  EXPECT_FALSE(back.truncated);
+  EXPECT_EQ(FilesIn(dir_.string()), 1u);
+}
+
+// What a kill in the middle of a write(2), or a power cut, can leave: a
+// partial last event. The reader ends there with a note; the events before
+// it are all read. A corrupt event in the middle still stops as before.
+TEST_F(LcmLogTest, PartialLastEventEndsTheLogAndTheEventsBeforeItAreRead) {
+  const uintmax_t last = WriteSampleLog(Path("full.lcmlog"));
+  const auto full_size = fs::file_size(Path("full.lcmlog"));
+  for (uintmax_t keep : {uintmax_t{1}, uintmax_t{27}, uintmax_t{40}, last - 1}) {
+    SCOPED_TRACE(keep);
+    const std::string path = Path("cut" + std::to_string(keep) + ".lcmlog");
+    fs::copy_file(Path("full.lcmlog"), path);
+    fs::resize_file(path, full_size - last + keep);
+    const ReadBack back = ReadAll(path);
+    EXPECT_EQ(back.events, 3);  // the 3 whole events before the cut one
+    EXPECT_TRUE(back.truncated);
+    EXPECT_TRUE(back.partial_last_event);
+    EXPECT_EQ(back.unread_bytes, static_cast<int64_t>(keep));
+  }
+  // A sync word broken in the second event: corrupt, not a partial tail.
+  const std::string corrupt = Path("corrupt.lcmlog");
+  fs::copy_file(Path("full.lcmlog"), corrupt);
+  {
+    io::LcmLogReader reader(Path("full.lcmlog"));
+    io::LogEvent e;
+    ASSERT_EQ(reader.Next(&e), io::LogReadResult::kEvent);
+    std::fstream f(corrupt, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(reader.offset());
+    f.put('\0');
+  }
+  const ReadBack back = ReadAll(corrupt);
+  EXPECT_EQ(back.events, 1);
+  EXPECT_TRUE(back.truncated);
+  EXPECT_FALSE(back.partial_last_event);
+}
+
+// The bytes are lcm-logger's: liblcm's own writer makes the same file.
+TEST_F(LcmLogTest, InPlaceLogIsByteForByteWhatLiblcmWrites) {
+  struct Event {
+    std::string channel;
+    int64_t utime;
+    std::vector<uint8_t> data;
+  };
+  const std::vector<Event> events = {
+      {"GRASPFILL_SESSION", 90, {}},
+      {"GRASPFILL_DEPTH", 100, io::EncodeDepthImage(SmallDepth(100, 1.0f))},
+      {"GRASPFILL_GRIPPER_STATE", -5, io::EncodeGripperState(SomeGripper(110, 0.2))},
+      {std::string(255, 'c'), int64_t{1} << 62, std::vector<uint8_t>(70000, 0xab)}};
+  {
+    LcmLogWriter ours(Path("ours.lcmlog"), InPlace());
+    for (const Event& e : events) ours.Write(e.channel, e.utime, e.data);
+    ours.Close();
+  }
+  {
+    lcm::LogFile theirs(Path("lcm.lcmlog"), "w");
+    ASSERT_TRUE(theirs.good());
+    for (const Event& e : events) {
+      lcm::LogEvent event;
+      event.eventnum = 0;
+      event.timestamp = e.utime;
+      event.channel = e.channel;
+      event.datalen = static_cast<int32_t>(e.data.size());
+      event.data = const_cast<uint8_t*>(e.data.data());
+      ASSERT_EQ(theirs.writeEvent(&event), 0);
+    }
+  }
+  std::ifstream a(Path("ours.lcmlog"), std::ios::binary), b(Path("lcm.lcmlog"), std::ios::binary);
+  const std::vector<char> ours((std::istreambuf_iterator<char>(a)), std::istreambuf_iterator<char>());
+  const std::vector<char> theirs((std::istreambuf_iterator<char>(b)), std::istreambuf_iterator<char>());
+  EXPECT_GT(ours.size(), 70000u);
+  EXPECT_TRUE(ours == theirs);
+}
+
+// O_EXCL without overwrite: an existing file (or link) is never touched.
+// With overwrite, only a regular file is replaced: a FIFO, a device or a
+// folder is refused (a FIFO would block the open or swallow the log).
+TEST_F(LcmLogTest, InPlaceWriterNeverClobbersAndWritesOnlyRegularFiles) {
+  const std::string old_log = Path("old.lcmlog");
+  WriteSampleLog(old_log);
+  const auto old_size = fs::file_size(old_log);
+  ExpectThrowsWith([&] { LcmLogWriter writer(old_log, InPlace()); },
+                   "cannot create log '" + old_log + "': file exists");
+  EXPECT_EQ(fs::file_size(old_log), old_size);
+  fs::create_symlink(Path("elsewhere.lcmlog"), Path("link.lcmlog"));
+  ExpectThrowsWith([&] { LcmLogWriter writer(Path("link.lcmlog"), InPlace()); }, "file exists");
+  EXPECT_FALSE(fs::exists(Path("elsewhere.lcmlog")));
+
+  ASSERT_EQ(::mkfifo(Path("fifo").c_str(), 0600), 0);
+  for (bool overwrite : {false, true}) {
+    SCOPED_TRACE(overwrite);
+    ExpectThrowsWith([&] { LcmLogWriter writer(Path("fifo"), InPlace(overwrite)); },
+                     "cannot create log '" + Path("fifo") + "': not a regular file");
+    ExpectThrowsWith([&] { LcmLogWriter writer(dir_.string(), InPlace(overwrite)); },
+                     "is a directory");
+    ExpectThrowsWith([&] { LcmLogWriter writer("/dev/null", InPlace(overwrite)); },
+                     "cannot create log '/dev/null': not a regular file");
+  }
+  EXPECT_TRUE(fs::is_fifo(Path("fifo")));
+
+  {
+    LcmLogWriter writer(old_log, InPlace(/*overwrite=*/true));
+    writer.Write("X", 1, {1, 2, 3});
+  }
+  EXPECT_EQ(ReadAll(old_log).events, 1);
+}
+
+// A full disk (RLIMIT_FSIZE here; ENOSPC in live_record_faults.sh): the
+// write fails with the system's reason, the log is cut back to its last
+// whole event and closed, and keeps every event written before.
+TEST_F(LcmLogTest, InPlaceLogKeepsItsWholeEventsWhenTheDiskIsFull) {
+  const std::string path = Path("full.lcmlog");
+  int64_t written = 0;
+  int64_t bytes = 0;
+  {
+    testing::FileSizeLimit full(10000);
+    ASSERT_TRUE(full.ok());
+    LcmLogWriter writer(path, InPlace());
+    ExpectThrowsWith(
+        [&] {
+          for (int i = 0; i < 100; ++i) {
+            writer.Write("X", i, std::vector<uint8_t>(1000, 7));
+            ++written;
+          }
+        },
+        "cannot write log '" + path + "': " + std::strerror(EFBIG));
+    bytes = writer.bytes_written();
+    ExpectThrowsWith([&] { writer.Write("X", 1, {}); }, "an earlier write failed");
+  }
+  EXPECT_EQ(written, 9);  // 9 x 1029 bytes fit in 10000
+  EXPECT_EQ(static_cast<int64_t>(fs::file_size(path)), bytes);
+  const ReadBack back = ReadAll(path);
+  EXPECT_EQ(back.events, written);
+  EXPECT_FALSE(back.truncated);
 }
 
 }  // namespace

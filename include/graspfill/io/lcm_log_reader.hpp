@@ -24,6 +24,8 @@ constexpr int32_t kMaxLogChannelBytes = 1024;
 constexpr int64_t kMaxLogEventDataBytes = int64_t{256} << 20;
 /// Bytes of an event header: sync, event number, timestamp, two lengths.
 constexpr int64_t kLogEventHeaderBytes = 4 + 8 + 8 + 4 + 4;
+/// The sync word that starts every event.
+constexpr uint32_t kLogEventSync = 0xEDA1DA01u;
 
 /// One event of a log. Buffers are reused across LcmLogReader::Next calls.
 struct LogEvent {
@@ -37,7 +39,9 @@ struct LogEvent {
 enum class LogReadResult {
   kEvent,      ///< *event holds the next event
   kEnd,        ///< clean end: nothing left after the last event
-  kTruncated,  ///< the last event is cut short (a log copied while written)
+  kTruncated,  ///< the last event is cut short (a log copied while written, or
+               ///< a recording cut by a crash, a kill, a power cut, a full disk):
+               ///< the events before it are whole
   kCorrupt,    ///< the bytes at the current offset are not an event
 };
 

@@ -50,7 +50,7 @@ struct ChannelNames {
 enum class MessageError : int {
   kNone = 0,
   kMalformed,           ///< wrong type hash, truncated, trailing bytes, bad counts
-  kBadSize,             ///< image width/height <= 0 or over kMaxDepthPixels
+  kBadSize,             ///< image width/height <= 0 or over the pixel limit (max_depth_pixels)
   kBadIntrinsics,       ///< focal length or principal point out of range
   kBadDepthScale,       ///< depth scale out of range
   kBadEncoding,         ///< unknown encoding, corrupt zlib, data size mismatch
@@ -83,8 +83,21 @@ struct BadMessageCounts {
 };
 
 /// Input limits checked by the decoders (README "Input limits").
-/// Largest depth image: 4096 x 4096 pixels.
+/// Largest depth image anything accepts: 4096 x 4096 pixels (the encoder's
+/// limit, and the most a config's max_depth_pixels may be).
 constexpr int64_t kMaxDepthPixels = int64_t{1} << 24;
+/// Largest depth image the decoder accepts by default (max_depth_pixels):
+/// 2^23 = 8,388,608 pixels (4096 x 2048, or 3840 x 2160). The largest
+/// common depth sensors are ~5 MP (structured-light cameras such as Zivid 2+
+/// at 2448 x 2048); RealSense D4xx (1280 x 720) and Azure Kinect (1024 x
+/// 1024) are ~1 MP. A frame at the limit is 32 MiB decoded (4 bytes a
+/// pixel), 16 MiB raw: what one bus message can make the module hold.
+constexpr int64_t kDefaultMaxDepthPixels = int64_t{1} << 23;
+/// Deflate's largest possible expansion (zlib's documented 1032:1): a
+/// ZLIB16 payload of N bytes cannot inflate to more than this times N, so
+/// a payload too short for its declared image is refused before anything
+/// is allocated for it.
+constexpr int64_t kMaxDeflateRatio = 1032;
 /// Focal lengths fx, fy accepted [pixels].
 constexpr double kMinFocalPx = 1.0;
 constexpr double kMaxFocalPx = 1e5;
@@ -130,18 +143,28 @@ std::vector<uint8_t> EncodeDepthImage(
 /// Decodes a depth_image_t into *out, reusing out->depth_m's capacity.
 ///
 /// Rejects malformed bytes (wrong type hash, truncated, trailing bytes),
-/// bad sizes (width/height <= 0, more than 2^24 pixels, data size not
-/// matching the encoding), unknown encodings, corrupt zlib streams,
-/// intrinsics outside the limits above (IntrinsicsInRange), a depth scale
-/// outside [kMinDepthScaleM, kMaxDepthScaleM] and a utime outside
+/// bad sizes (width/height <= 0, more than `max_depth_pixels` pixels, data
+/// size not matching the encoding), unknown encodings, corrupt zlib
+/// streams, intrinsics outside the limits above (IntrinsicsInRange), a depth
+/// scale outside [kMinDepthScaleM, kMaxDepthScaleM] and a utime outside
 /// [0, kMaxUtime]. `reason`, if not null, gets why (kNone on success).
+///
+/// Memory: the size is checked before anything of the decoded size is
+/// allocated; a ZLIB16 payload inflates into the declared size only (never
+/// more: a zlib bomb ends there, kBadEncoding), and one shorter than the
+/// declared size / kMaxDeflateRatio is refused before any allocation. At
+/// most 6 bytes a pixel of the limit are held: out->depth_m (4) and this
+/// thread's inflate scratch (2, ZLIB16 only), both reused.
 /// @param data, size  one encoded message (LCM payload).
 /// @param out  receives the frame (depth in meters, 0 = invalid); on failure
 ///   its contents are unspecified.
 /// @param error  if not null, set to a one-line reason on failure.
+/// @param max_depth_pixels  largest width x height accepted, 1..kMaxDepthPixels
+///   (larger values count as kMaxDepthPixels): kBadSize beyond it.
 /// @return true on success.
 bool DecodeDepthImage(const void* data, size_t size, DepthFrame* out,
-                      std::string* error, MessageError* reason = nullptr);
+                      std::string* error, MessageError* reason = nullptr,
+                      int64_t max_depth_pixels = kDefaultMaxDepthPixels);
 
 /// Encodes a gripper state as gripper_state_t with frame = FRAME_CAMERA
 /// (the pose written is state.T_C_G; the quaternion is normalized).

@@ -30,6 +30,7 @@ RigConfig EveryFieldChanged() {
   c.camera.fps = 60;
   c.camera.depth_units = "100um";
   c.camera.intrinsics_override = RigConfig::Intrinsics{848, 480, 421.1 + 1e-13, 421.3, 424.7, 239.1};
+  c.camera.max_depth_pixels = 4096 * 4096;
   const double s = std::sqrt(0.5);
   c.robot.T_C_B = RigConfig::Pose{{0.1 + 0.2, -0.25, 0.8}, {s, 0.0, s, 0.0}};
   c.robot.clock_offset_s = -0.0123;
@@ -161,6 +162,7 @@ TEST(RigConfig, DumpThenParseGivesTheSameStruct) {
 TEST(RigConfig, TheDumpDocumentsEveryKeyWithItsUnit) {
   const std::string text = DumpRigConfig(RigConfig{});
   for (const char* key : {"device:", "width_px:", "depth_units:", "intrinsics_override: null",
+                          "max_depth_pixels: 8388608",
                           "T_C_B: null", "clock_offset_s: 0", "max_pose_gap_s: 0.05", "spec: \"\"",
                           "workspace: null", "voxel_m: null", "sdf_trunc_voxels: 4",
                           "mode: best", "publish_every_n_frames: 30", "status_period_s: 1",
@@ -260,6 +262,10 @@ TEST(RigConfig, EveryBadValueIsRefusedNamingItsField) {
       {"tsdf:\n  max_fusion_pixels: 100\n", "tsdf.max_fusion_pixels",
        "tsdf.max_fusion_pixels '100': out of range, expected 3072..16777216", 2},
       {"camera:\n  fps: +30\n", "camera.fps", "camera.fps '+30': not an integer", 2},
+      {"camera:\n  max_depth_pixels: 16777217\n", "camera.max_depth_pixels",
+       "camera.max_depth_pixels '16777217': out of range, expected 1..16777216", 2},
+      {"camera:\n  max_depth_pixels: 0\n", "camera.max_depth_pixels",
+       "camera.max_depth_pixels '0': out of range", 2},
       {"camera:\n  device: {uri: x}\n", "camera.device", "camera.device: expected a string, got a map", 2},
       {"channels:\n  depth: \"\"\n", "channels.depth", "channels.depth: must not be empty", 2},
       // LCM subscribes to a channel name as a regular expression: "(" would

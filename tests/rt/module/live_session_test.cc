@@ -6,11 +6,14 @@
 
 #include <gtest/gtest.h>
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <lcm/lcm-cpp.hpp>
 #include <optional>
 #include <vector>
 
+#include "../../io/file_size_limit.hpp"
 #include "claw_option.hpp"
 #include "graspfill/io/messages.hpp"
 #include "module/cloud_repair.hpp"
@@ -164,6 +167,82 @@ TEST(LiveSession, RecordThenReplayGivesTheSessionsFinalCloud) {
             summary.repair->published);
   EXPECT_EQ(status.repair_updates, summary.repair->updates);
   EXPECT_GT(status.rss_mb, 10.0);
+}
+
+// A full disk while recording (issue 36; RLIMIT_FSIZE here, a real
+// ENOSPC in live_record_faults.sh): the recording stops and keeps what it
+// wrote, the status says so, and the session fuses on to the same final
+// cloud as the recording's replay.
+TEST(LiveSession, AFullDiskStopsTheRecordingNotTheSession) {
+  const std::filesystem::path dir =
+      std::filesystem::path(GRASPFILL_BINARY_DIR) / "test_scratch" / "live_session_full_disk";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string record = (dir / "session.lcmlog").string();
+
+  LiveSessionConfig config;
+  config.lcm_url = "memq://";
+  config.module.frame_queue_capacity = 1000;  // no drops: the cloud is the recording's
+  config.module.state_queue_capacity = 10000;
+  config.module.extract_every_n_frames = 10;
+  config.repair_config = GripperFrameRepairConfig(repair::RepairConfig{});
+  config.record.path = record;
+  config.record.queue_capacity = 10000;
+  config.record.queue_bytes = int64_t{1} << 30;
+  LiveSession live(config);
+  std::vector<ObjectCloud> clouds;
+  std::vector<io::ModuleStatus> statuses;
+  lcm::LCM* bus = live.publisher().lcm_instance();
+  bus->subscribeFunction(
+      config.channels.object_cloud,
+      +[](const lcm::ReceiveBuffer* rbuf, const std::string&, std::vector<ObjectCloud>* out) {
+        ObjectCloud c;
+        std::string error;
+        ASSERT_TRUE(io::DecodeObjectCloud(rbuf->data, rbuf->data_size, &c, &error)) << error;
+        out->push_back(std::move(c));
+      },
+      &clouds);
+  bus->subscribeFunction(
+      config.channels.status,
+      +[](const lcm::ReceiveBuffer* rbuf, const std::string&, std::vector<io::ModuleStatus>* out) {
+        io::ModuleStatus s;
+        std::string error;
+        ASSERT_TRUE(io::DecodeModuleStatus(rbuf->data, rbuf->data_size, &s, &error)) << error;
+        out->push_back(std::move(s));
+      },
+      &statuses);
+
+  LiveSessionSummary summary;
+  {
+    testing::FileSizeLimit full(256 << 10);
+    ASSERT_TRUE(full.ok());
+    live.Begin(claw::ClawModel::ThreeFinger(), Description());
+    LcmLogSource source(LogConfig(kBundled));
+    summary = live.Run(&source);  // does not throw: the recording's failure is reported
+  }
+  while (bus->handleTimeout(50) > 0) {
+  }
+  EXPECT_NE(summary.record_failure.find("cannot write log '" + record + "': " +
+                                        std::strerror(EFBIG)),
+            std::string::npos)
+      << summary.record_failure;
+  EXPECT_GE(summary.records_written, 1);
+  EXPECT_GT(summary.records_dropped, 0);
+  ASSERT_FALSE(statuses.empty());
+  const io::ModuleStatus& status = statuses.back();
+  EXPECT_EQ(status.state_code, io::ModuleState::kFusing);
+  EXPECT_EQ(status.state, "fusing: recording stopped: " + summary.record_failure);
+  // Fusion went on: the same final cloud as the recording's replay.
+  ASSERT_FALSE(clouds.empty());
+  EXPECT_TRUE(clouds.back().is_final);
+  EXPECT_EQ(summary.module.frames_dropped, 0);
+  EXPECT_TRUE(ReplayFinalCloud(kBundled, nullptr).points_G == clouds.back().points_G);
+  // The log keeps what was written before: whole events, readable.
+  LcmLogSource kept(LogConfig(record));
+  int64_t events = 0;
+  for (SourceEvent e; kept.Next(&e) == FrameResult::kOk;) ++events;
+  EXPECT_EQ(events, summary.records_written + 1);  // and the session description
+  EXPECT_FALSE(kept.truncated());
 }
 
 }  // namespace
