@@ -200,9 +200,10 @@ class ClawLoaderFileTest : public ::testing::Test {
          std::string(
              ::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::create_directories(dir_);
-    // A unit right tetrahedron, outward-facing.
+    // A right tetrahedron of 0.1 m legs, outward-facing (within the claw
+    // limits' reach).
     Write("tet.obj",
-          "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+          "v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 0.1\n"
           "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
     Write("empty.ply",
           "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
@@ -285,11 +286,11 @@ TEST_F(ClawLoaderFileTest, KinematicsConventions) {
   const std::string path = Write("claw.json", R"({
     "name": "toy",
     "opening_doc": "radians",
-    "T_G_root": {"xyz": [0, 0, -0.5]},
+    "T_G_root": {"xyz": [0, 0, -0.1]},
     "links": [
-      {"name": "arm", "parent": "base", "mesh": "tet.obj", "mesh_scale": 0.1,
-       "mesh_origin": {"xyz": [0.2, 0, 0]},
-       "joint": {"type": "revolute", "origin": {"xyz": [0, 0, 1],
+      {"name": "arm", "parent": "base", "mesh": "tet.obj", "mesh_scale": 0.5,
+       "mesh_origin": {"xyz": [0.05, 0, 0]},
+       "joint": {"type": "revolute", "origin": {"xyz": [0, 0, 0.15],
                  "rpy": [0.1, 0.2, 0.3]}, "axis": [0, 0, 2],
                  "limits": {"lower": -1, "upper": 1},
                  "drive": {"opening_gain": 2.0, "opening_offset": 0.1}}},
@@ -303,7 +304,7 @@ TEST_F(ClawLoaderFileTest, KinematicsConventions) {
   const double opening = 0.2;
   const double q = 0.1 + 2.0 * opening;
   Eigen::Isometry3d expected = Eigen::Isometry3d::Identity();
-  expected.translation() = Eigen::Vector3d(0, 0, 0.5);
+  expected.translation() = Eigen::Vector3d(0, 0, 0.05);
   expected.linear() = (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) *
                        Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()) *
                        Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()) *
@@ -311,9 +312,9 @@ TEST_F(ClawLoaderFileTest, KinematicsConventions) {
                           .toRotationMatrix();
   const auto poses = model.LinkPoses(opening);
   EXPECT_TRUE(poses[1].isApprox(expected, 1e-12));
-  EXPECT_NEAR(poses[0].translation().z(), -0.5, 1e-12);
-  // Scaled mesh: the tetrahedron's far vertex at 0.1 m.
-  EXPECT_NEAR(Bounds(model.links()[1].mesh).max().x(), 0.1f, 1e-6f);
+  EXPECT_NEAR(poses[0].translation().z(), -0.1, 1e-12);
+  // Scaled mesh: the tetrahedron's far vertex at 0.05 m.
+  EXPECT_NEAR(Bounds(model.links()[1].mesh).max().x(), 0.05f, 1e-6f);
   // Clamped: opening 10 gives q = upper = 1.
   EXPECT_TRUE(model.LinkPoses(10.0)[1].linear().isApprox(
       (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) *

@@ -42,7 +42,7 @@ class ClawValidationTest : public ::testing::Test {
   }
   // A two-link description whose finger link uses `mesh`.
   std::string Description(const std::string& mesh) {
-    Write("tet.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+    Write("tet.obj", "v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 0.1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
     return Write("claw.json", R"({"name": "test", "links": [
         {"name": "palm", "mesh": "tet.obj"},
         {"name": "finger", "parent": "palm", "mesh": ")" + mesh + R"("}]})");
@@ -63,7 +63,7 @@ class ClawValidationTest : public ::testing::Test {
   fs::path dir_;
 };
 
-const char* kTetVertices = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+const char* kTetVertices = "0 0 0\n0.1 0 0\n0 0.1 0\n0 0 0.1\n";
 
 TEST_F(ClawValidationTest, FaceIndexOutOfRangeNamesFileAndLink) {
   Ply("bad_index.ply", kTetVertices, 4, "3 0 2 1\n3 0 1 1000000\n", 2);
@@ -72,7 +72,7 @@ TEST_F(ClawValidationTest, FaceIndexOutOfRangeNamesFileAndLink) {
 }
 
 TEST_F(ClawValidationTest, NanVertexNamesFileAndLink) {
-  Ply("nan.ply", "0 0 0\nnan 0 0\n0 1 0\n0 0 1\n", 4, "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n", 4);
+  Ply("nan.ply", "0 0 0\nnan 0 0\n0 0.1 0\n0 0 0.1\n", 4, "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n", 4);
   const std::string description = Description("nan.ply");
   ExpectLoadError(description, {description, "(finger)", "nan.ply", "not finite"});
 }
@@ -80,7 +80,7 @@ TEST_F(ClawValidationTest, NanVertexNamesFileAndLink) {
 TEST_F(ClawValidationTest, DegenerateTrianglesAreDroppedAndCounted) {
   // The tetrahedron plus a repeated-index face and a collinear one.
   Write("degenerate.obj",
-        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 2 0 0\n"
+        "v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 0.1\nv 0.2 0 0\n"
         "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 1 2 2\nf 1 2 5\n");
   const ClawModel model = ClawModel::Load(Description("degenerate.obj"));
   ASSERT_EQ(model.links().size(), 2u);
@@ -92,7 +92,7 @@ TEST_F(ClawValidationTest, DegenerateTrianglesAreDroppedAndCounted) {
 }
 
 TEST_F(ClawValidationTest, AllDegenerateMeshIsAnError) {
-  Write("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+  Write("flat.obj", "v 0 0 0\nv 0.1 0 0\nv 0.2 0 0\nf 1 2 3\n");
   const std::string description = Description("flat.obj");
   ExpectLoadError(description, {description, "(finger)", "flat.obj", "zero area"});
 }
