@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "clamped_int.hpp"
 #include "geometry/circle_fit.hpp"
 
 namespace graspfill::repair {
@@ -75,7 +76,7 @@ double MedianStep(const PointList& points) {
 // Points strictly between a and b on the segment, `spacing` apart (evenly).
 PointList Segment(const Eigen::Vector3f& a, const Eigen::Vector3f& b, double spacing) {
   PointList out;
-  const int n = static_cast<int>(std::round((b - a).norm() / spacing));
+  const int n = RoundToInt((b - a).norm() / spacing, 0, std::numeric_limits<int>::max());
   for (int i = 1; i < n; ++i)
     out.push_back(a + (b - a) * (static_cast<float>(i) / static_cast<float>(n)));
   return out;
@@ -441,8 +442,7 @@ PointList RimCurve::Resample(double spacing_m, std::vector<double>* angles) cons
   double r_max = 0.0;
   for (int i = 0; i < r_.size(); ++i) r_max = std::max(r_max, std::abs(r_[i]));
   const int dense =
-      std::clamp(static_cast<int>(std::ceil(kTwoPi * r_max / spacing_m * kDensePerSpacing)),
-                 kMinDense, kMaxDense);
+      CeilToInt(kTwoPi * r_max / spacing_m * kDensePerSpacing, kMinDense, kMaxDense);
   std::vector<double> theta(static_cast<size_t>(dense) + 1),
       length(static_cast<size_t>(dense) + 1, 0.0);
   Eigen::Vector3f previous = At(-M_PI);
@@ -454,7 +454,7 @@ PointList RimCurve::Resample(double spacing_m, std::vector<double>* angles) cons
     previous = p;
   }
   const double total = length.back();
-  const int count = std::max(3, static_cast<int>(std::lround(total / spacing_m)));
+  const int count = RoundToInt(total / spacing_m, 3, std::numeric_limits<int>::max());
   PointList out;
   if (angles) angles->clear();
   size_t seg = 0;

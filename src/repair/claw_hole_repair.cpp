@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "clamped_int.hpp"
 #include "geometry/circle_fit.hpp"
 #include "gap_test.hpp"
 #include "hole_fill.hpp"
@@ -241,9 +242,10 @@ constexpr double kMaxWallNormalZ = 0.7071;
 // (ClawRepairConfig::max_outside_widest_m).
 class ObservedOutlines {
  public:
-  // Over the points' heights min_z..max_z.
+  // Over the heights min_z..max_z (points outside them are left out), in
+  // at most kMaxProfileSlabs slabs.
   ObservedOutlines(const PointList& points_V, float min_z, float max_z, double slab_m)
-      : profile_(points_V, min_z, slab_m, static_cast<int>(std::floor((max_z - min_z) / slab_m)) + 1),
+      : profile_(points_V, min_z, slab_m, FloorToInt((max_z - min_z) / slab_m, 0, kMaxProfileSlabs - 1) + 1),
         hulls_(static_cast<size_t>(profile_.count())),
         built_(static_cast<size_t>(profile_.count()), 0),
         centres_(static_cast<size_t>(profile_.count()), Eigen::Vector2f::Zero()),
@@ -559,7 +561,16 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
     if (tested && !outlines) {
       // Slabs of 2 D: a point lies within D of its slab's middle, so a
       // wall leaning up to ~70 degrees stays within 3 mm of its outline.
-      outlines.emplace(points_V, min_z, max_z, std::max(2.0 * MeanNearestDistance(index, 256), 0.001));
+      const double slab_m = std::max(2.0 * MeanNearestDistance(index, 256), 0.001);
+      // Over the cloud's heights; where a stray far above or below makes
+      // them more than kMaxProfileSlabs slabs (2.4e35, found by
+      // fuzz_repair), over those a fill point can have (by_object's).
+      float lo_z = min_z, hi_z = max_z;
+      if (!((hi_z - lo_z) / slab_m < kMaxProfileSlabs)) {
+        lo_z = std::max(lo_z, by_object.min().z());
+        hi_z = std::min(hi_z, by_object.max().z());
+      }
+      outlines.emplace(points_V, lo_z, hi_z, slab_m);
     }
     for (const Eigen::Vector3f& p : fill) {
       if (!by_object.contains(p)) continue;

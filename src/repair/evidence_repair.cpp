@@ -6,6 +6,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "clamped_int.hpp"
 #include "geometry/polygon_2d.hpp"
 #include "graspfill/repair/neighbor_index.hpp"
 #include "local_surfaces.hpp"
@@ -20,7 +21,7 @@ Ring SampleOutline(const Ring& hull, double spacing) {
   Ring ring;
   for (size_t i = 0; i < hull.size(); ++i) {
     const Eigen::Vector2d a = hull[i], b = hull[(i + 1) % hull.size()];
-    const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / spacing)));
+    const int n = CeilToInt((b - a).norm() / spacing, 1, std::numeric_limits<int>::max());
     for (int s = 0; s < n; ++s) ring.push_back(a + (b - a) * (static_cast<double>(s) / n));
   }
   return ring;

@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "clamped_int.hpp"
 #include "geometry/gap_grid.hpp"
 #include "hole_fill.hpp"
 
@@ -43,9 +44,7 @@ class AddedPoints {
   // Clamped into int's range: a cloud far from the origin must not
   // overflow the cast (its cells then share keys, which only costs time).
   Eigen::Vector3i Cell(const Eigen::Vector3f& p) const {
-    const auto index = [this](float v) {
-      return static_cast<int>(std::clamp(std::floor(v / cell_), -1e9, 1e9));
-    };
+    const auto index = [this](float v) { return FloorToInt(v / cell_, -1000000000, 1000000000); };
     return Eigen::Vector3i(index(p.x()), index(p.y()), index(p.z()));
   }
   static uint64_t Key(const Eigen::Vector3i& c) {

@@ -8,10 +8,16 @@
 #include <cmath>
 #include <vector>
 
+#include "clamped_int.hpp"
 #include "geometry/polygon_2d.hpp"
 #include "graspfill/repair/repair_types.hpp"
 
 namespace graspfill::repair {
+
+/// Most slabs a profile of the repair is cut into: 20 m of 1 mm slabs, past
+/// any object the repair takes (its extent is at most kMaxRepairExtentM);
+/// a stray point far from the object stretches no profile beyond it.
+constexpr int kMaxProfileSlabs = 20000;
 
 /// `count` slabs of thickness h from z0 up; points outside them are left out.
 class SlabProfile {
@@ -37,8 +43,8 @@ class SlabProfile {
   /// Counter-clockwise convex hull (xOy) of the points with |z - zc| < h / 2;
   /// empty when fewer than `min_points` fall there or they span no area.
   std::vector<Eigen::Vector2d> HullAt(double zc, int min_points) const {
-    const int k0 = std::max(0, static_cast<int>(std::floor((zc - 0.5 * h_ - z0_) / h_)));
-    const int k1 = std::min(count() - 1, static_cast<int>(std::floor((zc + 0.5 * h_ - z0_) / h_)));
+    const int k0 = FloorToInt((zc - 0.5 * h_ - z0_) / h_, 0, count());
+    const int k1 = FloorToInt((zc + 0.5 * h_ - z0_) / h_, -1, count() - 1);
     std::vector<Eigen::Vector2d> pts;
     for (int k = k0; k <= k1; ++k) {
       for (int i : slabs_[static_cast<size_t>(k)]) {

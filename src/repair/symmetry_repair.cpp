@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "clamped_int.hpp"
 #include "geometry/gap_grid.hpp"
 #include "slab_profile.hpp"
 
@@ -166,7 +167,7 @@ void CountNearMedian(const std::vector<double>& size, double tolerance, int* nea
 // height z, linearly interpolated; NaN outside the data.
 double SizeAt(const std::vector<double>& size, double z0, double h, double z) {
   const double x = (z - z0) / h - 0.5;
-  const int k = static_cast<int>(std::floor(x));
+  const int k = FloorToInt(x, -1, static_cast<int>(size.size()));
   if (k < 0 || k + 1 >= static_cast<int>(size.size())) return std::nan("");
   if (size[k] <= 0.0 || size[k + 1] <= 0.0) return std::nan("");
   const double f = x - k;
@@ -224,8 +225,9 @@ double RefinePlane(const std::vector<double>& size, double z0, double h, double 
 void FitImageToObserved(const PointList& observed, const PointList& all, double z_s, double h, double z_top,
                         const SymmetryConfig& config, PointList* image) {
   const int sectors = config.fit_sectors;
-  const int slabs = static_cast<int>(std::ceil((z_top - z_s) / h));
-  if (sectors <= 0 || slabs <= 0 || image->empty()) return;
+  // No fit over a span of more than kMaxProfileSlabs (a stray far above).
+  const int slabs = CeilToInt((z_top - z_s) / h, 0, kMaxProfileSlabs + 1);
+  if (sectors <= 0 || slabs <= 0 || slabs > kMaxProfileSlabs || image->empty()) return;
   const double sector = 2.0 * M_PI / sectors;
   struct Polar {
     int cell{-1};
@@ -233,7 +235,7 @@ void FitImageToObserved(const PointList& observed, const PointList& all, double 
   };
   const auto polar = [&](double x, double y, double z) {
     Polar p;
-    const int k = static_cast<int>(std::floor((z - z_s) / h));
+    const int k = FloorToInt((z - z_s) / h, -1, slabs);
     if (k < 0 || k >= slabs) return p;
     const double angle = std::atan2(y, x) + M_PI;
     const int s = std::clamp(static_cast<int>(std::floor(angle / sector)), 0, sectors - 1);
@@ -407,7 +409,12 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
 
   // Cross-section profile between the bottom and the boundary.
   const double h = std::max(config.slab_thickness_d * d, config.min_slab_thickness_m);
-  const int slabs = static_cast<int>(std::floor((z_b - z_min) / h));
+  const int slabs = FloorToInt((z_b - z_min) / h, 0, kMaxProfileSlabs + 1);
+  if (slabs > kMaxProfileSlabs) {
+    return NotSymmetric("the cloud reaches " + Mm(z_b - z_min) + " below the boundary: more than " +
+                            std::to_string(kMaxProfileSlabs) + " cross-sections to compare",
+                        kNaN);
+  }
   if (slabs < 3) {
     return NotSymmetric("the boundary is only " + Mm(z_b - z_min) +
                             " above the lowest point: no cross-sections to compare",
@@ -415,7 +422,7 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
   }
   const SlabProfile profile(all, z_min, h, slabs);
   const int median_slab =
-      std::clamp(static_cast<int>(std::floor((z_median - z_min) / h)), 0, slabs - 1);
+      FloorToInt((z_median - z_min) / h, 0, slabs - 1);
   std::vector<double> size;
   int first_valid = -1, last_valid = -1;
   if (!SectionSizes(profile, median_slab, config.min_slab_points, &size, &first_valid,
