@@ -12,6 +12,7 @@
 #include "graspfill/claw/claw_model.hpp"
 #include "graspfill/claw/mesh_check.hpp"
 #include "graspfill/claw/mesh_file.hpp"
+#include "graspfill/claw/mesh_path.hpp"
 #include "graspfill/claw/urdf_claw.hpp"
 
 namespace graspfill::claw {
@@ -197,23 +198,29 @@ TriangleMesh ReadMesh(const Context& ctx, const fs::path& path, double scale,
   return mesh;
 }
 
-}  // namespace
-
-ClawModel ClawModel::Load(const std::string& description_path,
-                          const std::string& mesh_root) {
-  if (IsUrdfClaw(description_path)) return LoadUrdfClaw(description_path, mesh_root);
-  const Context ctx(description_path);
-  std::ifstream in(description_path);
-  if (!in) ctx.Fail("", "cannot open claw description file");
-  json doc;
-  try {
-    doc = json::parse(in);
-  } catch (const json::exception& e) {  // also a number out of range
-    ctx.Fail("", std::string("bad JSON: ") + e.what());
+// Where a link's mesh file is: a local file's references are the user's
+// own (relative to mesh_dir, or absolute); text from elsewhere is confined
+// to the local mesh root.
+struct MeshPlace {
+  fs::path mesh_dir;
+  bool confined{false};
+  fs::path Resolve(const Context& ctx, const std::string& field, const std::string& ref) const {
+    if (!confined) {
+      const fs::path rel = ref;
+      return rel.is_absolute() ? rel : mesh_dir / rel;
+    }
+    try {
+      return ConfinedMeshPath(mesh_dir.string(), ref);
+    } catch (const std::runtime_error& e) {
+      ctx.Fail(field, e.what());
+    }
   }
-  if (!doc.is_object()) ctx.Fail("", "bad JSON: top level must be an object");
+};
 
-  std::string name = fs::path(description_path).stem().string();
+// The claw of a parsed description; `name` unless it names itself.
+ClawModel FromDescription(const Context& ctx, const json& doc, std::string name,
+                          const MeshPlace& meshes) {
+  if (!doc.is_object()) ctx.Fail("", "bad JSON: top level must be an object");
   if (const json* j = Find(doc, "name")) name = ReadString(ctx, *j, "name");
   std::string opening_doc;
   if (const json* j = Find(doc, "opening_doc")) {
@@ -228,9 +235,6 @@ ClawModel ClawModel::Load(const std::string& description_path,
     ctx.Fail("links", "missing or empty (expected an array of links)");
   }
 
-  const fs::path mesh_dir = mesh_root.empty()
-                                ? fs::path(description_path).parent_path()
-                                : fs::path(mesh_root);
   std::vector<Link> parsed;
   std::vector<std::string> parent_names;
   std::map<std::string, int> index_of;
@@ -265,8 +269,8 @@ ClawModel ClawModel::Load(const std::string& description_path,
       if (!(scale > 0.0)) ctx.Fail(field + ".mesh_scale", "must be > 0");
     }
     if (const json* mesh = Find(j, "mesh")) {
-      const fs::path rel = ReadString(ctx, *mesh, field + ".mesh");
-      link.mesh = ReadMesh(ctx, rel.is_absolute() ? rel : mesh_dir / rel, scale,
+      const std::string ref = ReadString(ctx, *mesh, field + ".mesh");
+      link.mesh = ReadMesh(ctx, meshes.Resolve(ctx, field + ".mesh", ref), scale,
                            field + ".mesh", &link.degenerate_triangles_dropped);
     }
     parsed.push_back(std::move(link));
@@ -316,6 +320,42 @@ ClawModel ClawModel::Load(const std::string& description_path,
     links.push_back(std::move(link));
   }
   return ClawModel(name, std::move(links), opening_doc);
+}
+
+}  // namespace
+
+ClawModel ClawModel::Load(const std::string& description_path,
+                          const std::string& mesh_root) {
+  if (IsUrdfClaw(description_path)) return LoadUrdfClaw(description_path, mesh_root);
+  const Context ctx(description_path);
+  std::ifstream in(description_path);
+  if (!in) ctx.Fail("", "cannot open claw description file");
+  json doc;
+  try {
+    doc = json::parse(in);
+  } catch (const json::exception& e) {  // also a number out of range
+    ctx.Fail("", std::string("bad JSON: ") + e.what());
+  }
+  MeshPlace meshes;
+  meshes.mesh_dir = mesh_root.empty() ? fs::path(description_path).parent_path()
+                                      : fs::path(mesh_root);
+  return FromDescription(ctx, doc, fs::path(description_path).stem().string(), meshes);
+}
+
+ClawModel ClawModel::LoadDescriptionText(const std::string& text, const std::string& name,
+                                         const std::string& label,
+                                         const std::string& mesh_root) {
+  const Context ctx(label);
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::exception& e) {
+    ctx.Fail("", std::string("bad JSON: ") + e.what());
+  }
+  MeshPlace meshes;
+  meshes.mesh_dir = mesh_root;
+  meshes.confined = true;
+  return FromDescription(ctx, doc, name, meshes);
 }
 
 }  // namespace graspfill::claw
