@@ -5,10 +5,7 @@
 // same.
 #pragma once
 
-#include <unistd.h>
-
 #include <Eigen/Geometry>
-#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -21,7 +18,6 @@
 
 #include "graspfill/claw/claw_model.hpp"
 #include "graspfill/claw/urdf_claw.hpp"
-#include "graspfill/io/atomic_file.hpp"
 #include "graspfill/io/messages.hpp"
 
 namespace graspfill::cli {
@@ -188,10 +184,13 @@ inline std::string SessionClawLabel(const io::SessionDescription& session) {
   return session.claw_name;
 }
 
-/// Builds the claw a session description gives. A description's meshes are
-/// looked up under `mesh_root` if given, else the session's claw_mesh_root,
-/// else beside its claw_source (a URDF claw's relative meshes, without a
-/// mesh root, beside the URDF it was made from). Throws std::runtime_error
+/// Builds the claw a session description gives, from its text in memory:
+/// nothing a description (from the bus or a log) says is a path graspfill
+/// writes or reads. A description's or URDF's meshes are read only under
+/// the local `mesh_root` (--claw-mesh-root, the rig config's
+/// claw.mesh_root): relative, no '..' (claw/mesh_path.hpp); the session's
+/// own claw_mesh_root, claw_source and a URDF bundle's urdf_dir are not
+/// used, only named in the error as a hint. Throws std::runtime_error
 /// naming the claw.
 inline claw::ClawModel MakeSessionClaw(const io::SessionDescription& session,
                                        const std::string& mesh_root = "") {
@@ -204,43 +203,22 @@ inline claw::ClawModel MakeSessionClaw(const io::SessionDescription& session,
         if (session.claw_name == "parallel") return claw::ClawModel::Parallel(config);
         throw std::runtime_error("unknown built-in claw");
       }
-      case io::SessionClawKind::kDescription: {
-        std::string root = mesh_root;
-        if (root.empty()) root = session.claw_mesh_root;
-        if (root.empty() && !session.claw_source.empty()) {
-          root = std::filesystem::path(session.claw_source).parent_path().string();
-        }
-        // ClawModel::Load reads files: the text goes to a private folder of
-        // its own for the time of the call.
-        static std::atomic<int> counter{0};
-        const std::filesystem::path dir =
-            std::filesystem::temp_directory_path() /
-            ("graspfill_session_claw_" + std::to_string(::getpid()) + "_" +
-             std::to_string(counter++));
-        std::filesystem::remove_all(dir);
-        std::filesystem::create_directories(dir);
-        const std::filesystem::path file = dir / (session.claw_name + ".json");
-        io::WriteFileAtomically(file.string(), session.claw_text);  // throws with strerror
-        try {
-          claw::ClawModel model = claw::ClawModel::Load(file.string(), root.empty() ? dir.string() : root);
-          std::filesystem::remove_all(dir);
-          return model;
-        } catch (...) {
-          std::error_code ec;
-          std::filesystem::remove_all(dir, ec);
-          throw;
-        }
-      }
-      case io::SessionClawKind::kUrdf: {
-        const std::string root = mesh_root.empty() ? session.claw_mesh_root : mesh_root;
+      case io::SessionClawKind::kDescription:
+        return claw::ClawModel::LoadDescriptionText(
+            session.claw_text, session.claw_name, "claw description '" + session.claw_name + "'",
+            mesh_root);
+      case io::SessionClawKind::kUrdf:
         return claw::LoadUrdfClawText(session.claw_text, "URDF claw '" + session.claw_name + "'",
-                                      root);
-      }
+                                      mesh_root);
     }
     throw std::runtime_error("unknown claw kind");
   } catch (const std::exception& e) {
+    const std::string recorded = session.claw_mesh_root.empty()
+                                     ? ""
+                                     : "; it was made with meshes in " + session.claw_mesh_root;
     throw std::runtime_error("the session description's claw " + label + ": " + e.what() +
-                             " (pass --claw SPEC, or --claw-mesh-root DIR for its meshes)");
+                             " (pass --claw SPEC, or --claw-mesh-root DIR for its meshes" +
+                             recorded + ")");
   }
 }
 

@@ -21,11 +21,19 @@
 // comes before the first depth frame (as lcm-logplayer plays a recording
 // graspfill wrote), with its workspace box and voxel size: the module starts
 // once it has one, or once the first depth frame came without one (then
-// the three-finger default). A session description that arrives later, or
-// whose claw is not --claw's, is warned about. With OpenNI2 depth the bus's
-// session description is not waited for (the claw is --claw or the
+// the three-finger default). Every later session description whose claw is
+// not the one in use is warned about, once per claw. With OpenNI2 depth the
+// bus's session description is not waited for (the claw is --claw or the
 // default). Every session description's hand-eye T_C_B and intrinsics
 // override apply to the gripper states and depth images received after it.
+//
+// Bus input is data, never control (rt/module/live_session.hpp): a session
+// description that is bad (its claw name a path, values beyond the config
+// file's limits) or whose claw cannot be built is rejected, counted in the
+// status and told once per reason; live goes on with the claw it has (or
+// the default, or waits for a better one). A description's claw is built
+// from its text in memory, its meshes read only under the local
+// --claw-mesh-root (claw_option.hpp's MakeSessionClaw).
 //
 // A rig config (--config FILE, rt/config/rig_config.hpp) sets the camera,
 // hand-eye, clock offset, claw, box, TSDF, repair, channels and rates; it
@@ -39,10 +47,9 @@
 #include <csignal>
 #include <cstdio>
 #include <exception>
-#include <fstream>
+#include <functional>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
 
 #include "camera_options.hpp"
@@ -73,7 +80,8 @@ constexpr const char* kUsage =
     "  --claw SPEC           three-finger, parallel, or a claw description .json (default:\n"
     "                        with --depth-from-lcm the claw of the session description on\n"
     "                        the bus before the first depth frame, else three-finger)\n"
-    "  --claw-mesh-root DIR  where the description's meshes are\n"
+    "  --claw-mesh-root DIR  where the description's meshes are (a session description's\n"
+    "                        claw reads its meshes only under this folder)\n"
     "  --publish-every N     publish the cloud every N fused frames, 0..100000 (default 30;\n"
     "                        0: only at the end of each grasp)\n"
     "  --no-repair           publish the fused cloud as is (no hole repair)\n"
@@ -102,22 +110,16 @@ constexpr const char* kUsage =
 std::atomic<bool> g_interrupted{false};
 
 // What heads the recording when the claw is not the bus's session
-// description's: the claw as given, identity hand-eye, the defaults.
+// description's: the claw as given (a file claw as `synth` describes it: a
+// URDF as its bundle), identity hand-eye, the defaults.
 io::SessionDescription DescribeClaw(const std::string& spec, const std::string& mesh_root,
                                     const claw::ClawModel& model) {
   io::SessionDescription session;
   session.software_version = io::SoftwareVersion();
-  if (spec == "three-finger" || spec == "parallel") {
+  if (IsBuiltinClaw(spec)) {
     DescribeBuiltinClaw(spec, claw::ProceduralClawConfig{}, &session);
   } else {
-    session.claw_kind = io::SessionClawKind::kDescription;
-    session.claw_name = model.name();
-    std::ifstream in(spec, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    session.claw_text = text.str();  // MakeClaw read it a moment ago
-    session.claw_source = spec;
-    session.claw_mesh_root = mesh_root;
+    DescribeFileClaw(spec, mesh_root, model, &session);
   }
   return session;
 }
@@ -248,17 +250,35 @@ int RunLive(const Args& args) {
   camera.channels = channels;
   std::unique_ptr<rt::CameraSource> camera_source;
   if (!depth_from_lcm) camera_source = std::make_unique<rt::CameraSource>(camera);  // throws if none
+  // Session descriptions' claws: built from their text, meshes only under
+  // the local mesh root, on the session's claw thread; one that is not the
+  // claw in use is warned about once (the text set below, once it is known).
+  session_config.build_session_claw = [mesh_root](const io::SessionDescription& s) {
+    return MakeSessionClaw(s, mesh_root);
+  };
+  session_config.same_claw = SameClaw;
+  auto other_claw_warning = std::make_shared<std::function<void(const io::SessionDescription&)>>();
+  session_config.on_other_claw = [other_claw_warning](const io::SessionDescription& s) {
+    if (*other_claw_warning) (*other_claw_warning)(s);
+  };
+  session_config.on_notice = [](const std::string& text) {
+    std::fprintf(stderr, "graspfill live: %s\n", text.c_str());
+  };
   rt::LiveSession live(session_config);
   if (camera_source) GateFramesOnRoom(camera_source.get(), live, module_config.frame_queue_capacity);
   std::signal(SIGINT, [](int) { g_interrupted = true; });
   std::signal(SIGTERM, [](int) { g_interrupted = true; });
   std::signal(SIGHUP, [](int) { g_interrupted = true; });  // a closed terminal: end cleanly
 
-  // Without --claw, depth from the bus: the session description or the
-  // first depth frame, whichever comes first.
-  std::optional<io::SessionDescription> session;  // the one the module is made with
+  // Without --claw, depth from the bus: the session description (the first
+  // whose claw could be built) or the first depth frame, whichever comes
+  // first. With OpenNI2 depth, a gripper log alongside may have one.
+  std::optional<rt::DescribedClaw> session;  // the one the module is made with
   if (!claw_spec && depth_from_lcm) session = live.WaitForFirstEvent();
-  if (!claw_spec && camera_source) session = camera_source->session();  // a log alongside
+  if (!claw_spec && camera_source && camera_source->session()) {
+    const io::SessionDescription& logged = *camera_source->session();
+    session = rt::DescribedClaw{logged, MakeSessionClaw(logged, mesh_root)};
+  }
   claw::ClawModel claw_model = claw::ClawModel::ThreeFinger();
   std::string claw_label = "three-finger";
   io::SessionDescription description;  // heads the recording
@@ -271,21 +291,24 @@ int RunLive(const Args& args) {
                     ? "command line"
                     : ("config file " + config_path).c_str());
   } else if (session) {
-    claw_model = MakeSessionClaw(*session, mesh_root);
-    claw_label = SessionClawLabel(*session);
-    description = *session;
-    if (session->workspace_G && !workspace_given) {
-      module_config.pipeline.workspace.min_G = session->workspace_G->min();
-      module_config.pipeline.workspace.max_G = session->workspace_G->max();
+    // Its values are within the config file's limits (the bus subscriber
+    // rejects others; a log's are checked as replay does).
+    const io::SessionDescription& s = session->session;
+    std::string why;
+    if (!io::SessionWithinLimits(s, &why)) {
+      std::fprintf(stderr, "graspfill live: the session description %s\n", why.c_str());
+      return 1;
     }
-    if (session->voxel_m > 0.0 && !voxel_given) {
-      if (session->voxel_m < kMinVoxelM || session->voxel_m > kMaxVoxelM) {
-        std::fprintf(stderr, "graspfill live: the session description asks for a voxel of %g m, "
-                     "outside %g..%g m\n", session->voxel_m, kMinVoxelM, kMaxVoxelM);
-        return 1;
-      }
-      module_config.pipeline.tsdf.voxel_m = session->voxel_m;
-      module_config.pipeline.tsdf.sdf_trunc_m = sdf_trunc_voxels * session->voxel_m;
+    claw_model = session->claw;
+    claw_label = SessionClawLabel(s);
+    description = s;
+    if (s.workspace_G && !workspace_given) {
+      module_config.pipeline.workspace.min_G = s.workspace_G->min();
+      module_config.pipeline.workspace.max_G = s.workspace_G->max();
+    }
+    if (s.voxel_m > 0.0 && !voxel_given) {
+      module_config.pipeline.tsdf.voxel_m = s.voxel_m;
+      module_config.pipeline.tsdf.sdf_trunc_m = sdf_trunc_voxels * s.voxel_m;
     }
     std::printf("live: claw %s (from the session description on %s)\n", claw_label.c_str(),
                 channels.session.c_str());
@@ -299,43 +322,38 @@ int RunLive(const Args& args) {
   description.workspace_G = Eigen::AlignedBox3d(module_config.pipeline.workspace.min_G,
                                                 module_config.pipeline.workspace.max_G);
   description.voxel_m = module_config.pipeline.tsdf.voxel_m;
-  live.Begin(claw_model, description);
-
   // Session descriptions other than the one the module was made with: a
-  // claw that differs from the one in use is warned about, once.
-  bool session_checked = session.has_value();
-  auto check_session = [&] {
-    if (session_checked) return;
-    const std::optional<io::SessionDescription> received = live.first_session();
-    if (!received) return;
-    session_checked = true;
-    bool same = false;
-    try {
-      same = SameClaw(claw_model, MakeSessionClaw(*received, mesh_root));
-    } catch (const std::exception&) {
-      same = claw_model.name() == received->claw_name;
-    }
-    if (same) return;
+  // claw that differs from the one in use is warned about, once per claw
+  // (on the claw checker's thread; the status is never held up by it).
+  const std::string session_channel = channels.session;
+  const bool from_session = session.has_value();
+  *other_claw_warning = [claw_spec, claw_label, session_channel,
+                         from_session](const io::SessionDescription& received) {
     if (claw_spec) {
       std::fprintf(stderr, "graspfill live: warning: --claw %s differs from the claw of the "
                    "session description on %s (%s); using %s\n", claw_spec->c_str(),
-                   channels.session.c_str(), SessionClawLabel(*received).c_str(),
+                   session_channel.c_str(), SessionClawLabel(received).c_str(),
                    claw_spec->c_str());
+    } else if (from_session) {
+      std::fprintf(stderr, "graspfill live: warning: a later session description on %s names "
+                   "another claw (%s); it is ignored, using %s\n", session_channel.c_str(),
+                   SessionClawLabel(received).c_str(), claw_label.c_str());
     } else {
       std::fprintf(stderr, "graspfill live: warning: the session description on %s came after "
                    "the first depth frame; its claw %s is ignored, using %s\n",
-                   channels.session.c_str(), SessionClawLabel(*received).c_str(),
+                   session_channel.c_str(), SessionClawLabel(received).c_str(),
                    claw_label.c_str());
     }
   };
+  live.Begin(claw_model, description);
+
   rt::LiveSessionSummary summary;
   try {
-    summary = live.Run(camera_source.get(), check_session);
+    summary = live.Run(camera_source.get());
   } catch (const std::exception& e) {  // the recording could not be completed
     std::fprintf(stderr, "graspfill live: %s\n", ErrorText(e).c_str());
     return 1;
   }
-  check_session();
   const rt::GraspModuleStatus& s = summary.module;
   std::printf("live: %lld frames in, %lld fused, %lld dropped; %lld gripper states; "
               "cloud of %zu points published on %s\n",

@@ -231,14 +231,19 @@ std::unique_ptr<rt::GraspSequencer> MakeReplayPipeline(
     config.workspace.min_G = session->workspace_G->min();
     config.workspace.max_G = session->workspace_G->max();
   }
-  if (session && session->voxel_m > 0.0 && !o.voxel_given) {
-    if (session->voxel_m < kMinVoxelM || session->voxel_m > kMaxVoxelM) {
-      char message[160];
-      std::snprintf(message, sizeof(message),
-                    "the recording's session description asks for a voxel of %g m, outside "
-                    "%g..%g m (pass --voxel-m)", session->voxel_m, kMinVoxelM, kMaxVoxelM);
-      throw std::runtime_error(message);
+  if (session) {
+    // What of it is used keeps the config file's limits (as on the bus).
+    io::SessionDescription used = *session;
+    if (o.voxel_given) used.voxel_m = 0.0;
+    if (o.workspace_given) used.workspace_G.reset();
+    if (o.T_C_B) used.T_C_B = Eigen::Isometry3d::Identity();
+    std::string why;
+    if (!io::SessionWithinLimits(used, &why)) {
+      throw std::runtime_error("the recording's session description " + why +
+                               " (override it: --voxel-m, --config)");
     }
+  }
+  if (session && session->voxel_m > 0.0 && !o.voxel_given) {
     SetVoxel(session->voxel_m, o.sdf_trunc_voxels, &config);
   }
   if (o.claw) {

@@ -13,14 +13,14 @@
 #include <string>
 #include <system_error>
 
+#include "graspfill/io/session_limits.hpp"
+
 namespace graspfill::cli {
 
 /// The TSDF voxel edges the commands accept [m] (--voxel-m, and a session
-/// description's voxel_m): below 0.5 mm a 10 cm object's volume takes
-/// gigabytes; from ~1.5 cm up a 5-10 cm object is a few voxels across and
-/// its cloud comes out empty.
-constexpr double kMinVoxelM = 0.0005;
-constexpr double kMaxVoxelM = 0.01;
+/// description's voxel_m): session_limits.hpp's.
+constexpr double kMinVoxelM = io::kMinVoxelM;
+constexpr double kMaxVoxelM = io::kMaxVoxelM;
 
 /// A usage error: the command prints it with its usage text and exits 2.
 struct UsageError : std::invalid_argument {

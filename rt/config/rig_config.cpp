@@ -36,12 +36,12 @@ constexpr Range kImagePx{1, 16384, "pixels"};
 constexpr Range kDepthPixels{1, static_cast<double>(io::kMaxDepthPixels), "pixels"};
 constexpr Range kFocalPx{1.0, 100000.0, "pixels"};
 constexpr Range kCentrePx{-100000.0, 100000.0, "pixels"};
-constexpr Range kTranslationM{-10.0, 10.0, "m"};
+constexpr Range kTranslationM{-io::kMaxHandEyeTranslationM, io::kMaxHandEyeTranslationM, "m"};
 constexpr Range kQuaternion{-1.0, 1.0, ""};
 constexpr Range kClockOffsetS{-3600.0, 3600.0, "s"};
 constexpr Range kPoseGapS{0.001, 1.0, "s"};
-constexpr Range kBoxM{-2.0, 2.0, "m"};
-constexpr Range kVoxelM{cli::kMinVoxelM, cli::kMaxVoxelM, "m"};
+constexpr Range kBoxM{-io::kMaxWorkspaceM, io::kMaxWorkspaceM, "m"};  // session_limits.hpp
+constexpr Range kVoxelM{io::kMinVoxelM, io::kMaxVoxelM, "m"};
 constexpr Range kTruncVoxels{1.5, 32.0, "voxels"};
 constexpr Range kBlockResolution{2, 128, "voxels"};
 constexpr Range kStride{1, 16, "pixels"};

@@ -46,19 +46,52 @@ LiveSession::LiveSession(const LiveSessionConfig& config)
   }
   bus.gripper_clock_offset_us = config.gripper_clock_offset_us;
   bus.max_depth_pixels = config.max_depth_pixels;
+  if (!config_.on_notice) {
+    config_.on_notice = [](const std::string& text) {
+      std::fprintf(stderr, "graspfill: %s\n", text.c_str());
+    };
+  }
+  const std::string rejected = "session description on " + config.channels.session + " rejected (";
+  const std::string kept = "; the session keeps its claw and config (further ones of this kind "
+                           "are only counted in the status)";
+  if (config.build_session_claw) {
+    SessionClawChecker::Callbacks callbacks;
+    callbacks.on_unloadable = [this, rejected, kept](const io::SessionDescription&,
+                                                     const std::string& why) {
+      ++claws_unloadable_;
+      NoticeOnce(io::MessageError::kClawUnloadable,
+                 rejected + io::MessageErrorName(io::MessageError::kClawUnloadable) + "): " + why +
+                     kept);
+    };
+    callbacks.on_other_claw = config.on_other_claw;
+    claw_checker_ = std::make_unique<SessionClawChecker>(config.build_session_claw,
+                                                         config.same_claw, std::move(callbacks));
+  }
   subscriber_ = std::make_unique<LcmBusSubscriber>(
       bus, [this](const GripperState& s) { OnGripperState(s); },
       config.depth_from_bus ? LcmBusSubscriber::DepthCallback(
                                   [this](const DepthFrame& f) { OnDepth(f); })
                             : LcmBusSubscriber::DepthCallback(),
       [this](const io::SessionDescription& session) {
-        std::lock_guard<std::mutex> lock(intake_mutex_);
-        if (!first_session_) first_session_ = session;
+        {
+          std::lock_guard<std::mutex> lock(intake_mutex_);
+          if (!first_session_) first_session_ = session;
+        }
+        if (claw_checker_) claw_checker_->Submit(session);  // never waits for the build
+      },
+      [this, rejected, kept](io::MessageError reason, const std::string& why) {
+        NoticeOnce(reason, rejected + io::MessageErrorName(reason) + "): " + why + kept);
       });
 }
 
 LiveSession::~LiveSession() {
-  subscriber_.reset();  // no more events from the bus's thread
+  subscriber_.reset();    // no more events from the bus's thread
+  claw_checker_.reset();  // nor from the checker's (after the build under way)
+}
+
+void LiveSession::NoticeOnce(io::MessageError reason, const std::string& text) {
+  if (noticed_[static_cast<size_t>(reason)].exchange(true)) return;
+  config_.on_notice(text);
 }
 
 std::optional<io::SessionDescription> LiveSession::first_session() const {
@@ -66,14 +99,26 @@ std::optional<io::SessionDescription> LiveSession::first_session() const {
   return first_session_;
 }
 
-std::optional<io::SessionDescription> LiveSession::WaitForFirstEvent() {
+bool LiveSession::WaitSessionChecks(std::chrono::milliseconds timeout) const {
+  return !claw_checker_ || claw_checker_->WaitIdle(timeout);
+}
+
+std::optional<DescribedClaw> LiveSession::WaitForFirstEvent() {
   const auto start = std::chrono::steady_clock::now();
   const SessionLoopLimits& limits = config_.limits;
+  const auto first_built = [this]() -> std::optional<DescribedClaw> {
+    return claw_checker_ ? claw_checker_->FirstBuilt() : std::nullopt;
+  };
   for (;;) {
+    if (std::optional<DescribedClaw> built = first_built()) return built;
+    bool depth_came = false;
     {
       std::lock_guard<std::mutex> lock(intake_mutex_);
-      if (first_session_ || !early_frames_.empty()) return first_session_;
+      depth_came = !early_frames_.empty();
     }
+    // A description received before the frame is in the checker already
+    // (the bus's thread hands them over in order): its claw is waited for.
+    if (depth_came && (!claw_checker_ || claw_checker_->Idle())) return first_built();
     if (limits.interrupted != nullptr && limits.interrupted->load()) break;
     if (limits.duration_s > 0 &&
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
@@ -82,7 +127,7 @@ std::optional<io::SessionDescription> LiveSession::WaitForFirstEvent() {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  return first_session();
+  return first_built();
 }
 
 void LiveSession::PublishCloud(const ObjectCloud& cloud) {
@@ -107,6 +152,7 @@ void LiveSession::PublishCloud(const ObjectCloud& cloud) {
 }
 
 void LiveSession::Begin(claw::ClawModel claw, const io::SessionDescription& description) {
+  if (claw_checker_) claw_checker_->SetClawInUse(claw, description);
   if (config_.repair) {
     repair_stage_ = std::make_unique<RepairStage>(
         config_.repair_config, [this](const ObjectCloud& cloud) { PublishCloud(cloud); },
@@ -196,6 +242,8 @@ io::ModuleStatus LiveSession::Status() const {
   status.last_frame_ms = s.pipeline.crop.last_ms + s.pipeline.mask.last_ms +
                          s.pipeline.integrate.last_ms;
   if (subscriber_) status.bad_messages = subscriber_->bad_messages();
+  status.bad_messages.by_reason[static_cast<size_t>(io::MessageError::kClawUnloadable)] +=
+      claws_unloadable_;
   status.decode_errors = status.bad_messages.total();
   status.clock_jumps = c.clock_jumps;
   status.grasp_id = c.grasp_id;
@@ -257,6 +305,10 @@ LiveSessionSummary LiveSession::Run(FrameSource* source, std::function<void()> o
   if (!module_) throw std::logic_error("LiveSession::Run before Begin");
   on_tick_ = std::move(on_tick);
   loop_->Run(source, this);
+  // A claw check under way (a description that came at the end) has a
+  // moment to tell its verdict; a build that takes longer is not waited for
+  // here (the destructor joins it).
+  WaitSessionChecks(std::chrono::milliseconds(1000));
 
   LiveSessionSummary summary;
   const ObjectCloud fused = module_->Finish();

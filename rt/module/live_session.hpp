@@ -12,13 +12,24 @@
 // runs with), Run (the session loop: until the source ends or a limit), and
 // Finish (the last grasp's model out repaired, the recording closed).
 //
+// Bus input is data, never control: a session description the bus
+// subscriber rejects (it does not decode, its claw name is not a plain
+// name, its values are beyond the config file's limits), or whose claw
+// cannot be built, is counted by reason in the status and told once per
+// reason (on_notice); the session keeps its claw and config. Every
+// description's claw is built and compared with the claw in use on a
+// thread of its own (SessionClawChecker), never on the bus's or the
+// status's: one that differs is told once per distinct claw.
+//
 // Threads: the bus's receive thread calls OnDepth / OnGripperState (so may
 // anyone; they never wait for fusion, repair or the disk); Run and the rest
 // from one thread. The status goes out from Run's thread.
 #pragma once
 
 #include <Eigen/Geometry>
+#include <array>
 #include <atomic>
+#include <chrono>
 #include <deque>
 #include <functional>
 #include <memory>
@@ -31,6 +42,7 @@
 #include "module/grasp_module.hpp"
 #include "module/repair_stage.hpp"
 #include "module/sample_window.hpp"
+#include "module/session_claw_checker.hpp"
 #include "module/session_loop.hpp"
 #include "sinks/lcm_publisher.hpp"
 #include "sinks/session_recorder.hpp"
@@ -71,6 +83,19 @@ struct LiveSessionConfig {
   bool repair_evidence{true};
   /// Record what the session received (path empty: no recording).
   SessionRecorder::Config record;
+  /// How a session description's claw is built (the CLI: MakeSessionClaw
+  /// with the local mesh root) and whether two claws are the same
+  /// (SameClaw); both run on the claw checker's thread. Without
+  /// build_session_claw, descriptions' claws are neither built nor
+  /// compared (and WaitForFirstEvent gives none).
+  SessionClawChecker::Build build_session_claw;
+  SessionClawChecker::Same same_claw;
+  /// A description's claw that is not the claw in use, once per distinct
+  /// claw (the claw checker's thread).
+  std::function<void(const io::SessionDescription&)> on_other_claw;
+  /// One line about bus input rejected: the first rejected session
+  /// description of each reason (any thread). Default: printed on stderr.
+  std::function<void(const std::string&)> on_notice;
   /// Stop rules; on_tick is the session's (the status).
   SessionLoopLimits limits;
   /// This many depth frames in a row not fused: the status says "stalled".
@@ -111,11 +136,17 @@ class LiveSession : private EventSink {
   LiveSession(const LiveSession&) = delete;
   LiveSession& operator=(const LiveSession&) = delete;
 
-  /// Waits until a session description or a depth frame arrived (or a
-  /// limit is reached); returns the first session description, if any.
-  std::optional<io::SessionDescription> WaitForFirstEvent();
-  /// The first session description received so far (any thread).
+  /// Waits until the first session description whose claw was built, or
+  /// a depth frame with no description's claw still being built (or a
+  /// limit); returns that description with its claw, if any. Descriptions
+  /// rejected on the way are counted and skipped.
+  std::optional<DescribedClaw> WaitForFirstEvent();
+  /// The first session description the bus subscriber accepted so far
+  /// (any thread).
   std::optional<io::SessionDescription> first_session() const;
+  /// Waits until no session description's claw waits or is being built
+  /// (or `timeout`); true if none. For tests: the verdicts are then out.
+  bool WaitSessionChecks(std::chrono::milliseconds timeout) const;
 
   /// Starts fusing with `claw` (and the pipeline config in the session
   /// config, which the caller has set from `description` if it wants);
@@ -138,12 +169,16 @@ class LiveSession : private EventSink {
   /// The publisher, for callers that also subscribe on its provider
   /// (memq:// in tests).
   LcmPublisher& publisher() { return publisher_; }
+  /// The bus subscriber, for tests and fuzzers that feed its handlers.
+  LcmBusSubscriber& subscriber() { return *subscriber_; }
 
  private:
   bool OnEvent(const SourceEvent& event) override;
   bool OnBadEvent(const SourceEvent& event) override;
   void PublishCloud(const ObjectCloud& cloud);
   void PublishStatus();
+  /// on_notice(text), the first time for `reason` only.
+  void NoticeOnce(io::MessageError reason, const std::string& text);
 
   static constexpr size_t kMaxEarlyStates = 64;  // as the module's state queue
   static constexpr size_t kMaxEarlyFrames = 4;   // as the module's frame queue
@@ -166,6 +201,11 @@ class LiveSession : private EventSink {
   std::optional<io::SessionDescription> first_session_;
 
   std::atomic<int64_t> source_errors_{0};
+  std::atomic<int64_t> claws_unloadable_{0};  // session descriptions, by the checker
+  std::array<std::atomic<bool>, io::BadMessageCounts::kNumReasons> noticed_{};
+  // Before the subscriber, which feeds it; stopped before the members its
+  // callbacks touch are gone (the destructor).
+  std::unique_ptr<SessionClawChecker> claw_checker_;
   mutable std::mutex latency_mutex_;  // the two below: the publishing thread's
   SampleWindow latency_ms_;
   int64_t clouds_published_{0};

@@ -16,6 +16,7 @@ struct LcmBusSubscriber::Impl {
   StateCallback on_state;
   DepthCallback on_depth;
   SessionCallback on_session;
+  RejectCallback on_session_rejected;
   GripperState state;  // decode targets, reused
   DepthFrame depth;
   io::SessionDescription session;
@@ -57,8 +58,64 @@ BadMessageCounts LcmBusSubscriber::bad_messages() const {
   return counts;
 }
 
+void LcmBusSubscriber::HandleGripperState(const void* data, size_t size) {
+  Impl& s = *impl_;
+  if (!io::DecodeGripperState(data, size, s.T_C_B, &s.state, &s.error, &s.reason)) {
+    CountBad(s.reason);
+    return;
+  }
+  s.state.utime += s.config.gripper_clock_offset_us;
+  if (!TakeTime(&s.state_clock, s.state.utime, true, kResyncAfterNonMonotonic)) {
+    CountBad(io::MessageError::kNonMonotonicTime);
+    return;
+  }
+  ++states_received_;
+  if (s.on_state) s.on_state(s.state);
+}
+
+void LcmBusSubscriber::HandleDepth(const void* data, size_t size) {
+  Impl& s = *impl_;
+  if (!s.on_depth) return;  // not subscribed
+  if (!io::DecodeDepthImage(data, size, &s.depth, &s.error, &s.reason,
+                             s.config.max_depth_pixels)) {
+    CountBad(s.reason);
+    return;
+  }
+  if (!ApplyIntrinsicsOverride(s.intrinsics, &s.depth, &s.error)) {
+    CountBad(io::MessageError::kIntrinsicsMismatch);
+    return;
+  }
+  if (!TakeTime(&s.depth_clock, s.depth.utime, false, kResyncAfterNonMonotonic)) {
+    CountBad(io::MessageError::kNonMonotonicTime);
+    return;
+  }
+  ++depth_received_;
+  s.on_depth(s.depth);
+}
+
+void LcmBusSubscriber::HandleSession(const void* data, size_t size) {
+  Impl& s = *impl_;
+  const auto reject = [&](io::MessageError reason, const std::string& why) {
+    CountBad(reason);
+    if (s.on_session_rejected) s.on_session_rejected(reason, why);
+  };
+  if (!io::DecodeSessionDescription(data, size, &s.session, &s.error, &s.reason)) {
+    reject(s.reason, s.error);
+    return;
+  }
+  if (!io::SessionWithinLimits(s.session, &s.error)) {
+    reject(io::MessageError::kOutOfLimits, "session_description_t " + s.error);
+    return;
+  }
+  ++sessions_received_;
+  if (s.config.T_C_B_from_session) s.T_C_B = s.session.T_C_B;
+  if (s.config.intrinsics_from_session) s.intrinsics = s.session.intrinsics;
+  if (s.on_session) s.on_session(s.session);
+}
+
 LcmBusSubscriber::LcmBusSubscriber(const Config& config, StateCallback on_state,
-                                   DepthCallback on_depth, SessionCallback on_session)
+                                   DepthCallback on_depth, SessionCallback on_session,
+                                   RejectCallback on_session_rejected)
     : impl_(std::make_unique<Impl>(config.url)) {
   if (!impl_->lcm.good()) {
     throw std::runtime_error("cannot start LCM on '" +
@@ -68,63 +125,28 @@ LcmBusSubscriber::LcmBusSubscriber(const Config& config, StateCallback on_state,
   impl_->on_state = std::move(on_state);
   impl_->on_depth = std::move(on_depth);
   impl_->on_session = std::move(on_session);
+  impl_->on_session_rejected = std::move(on_session_rejected);
   impl_->T_C_B = config.T_C_B;
   impl_->intrinsics = config.intrinsics;
   // Handlers are called from LCM's C code: they count errors, never throw.
   impl_->lcm.subscribeFunction(
       config.channels.gripper_state,
       +[](const lcm::ReceiveBuffer* rbuf, const std::string&, LcmBusSubscriber* self) {
-        Impl& s = *self->impl_;
-        if (!io::DecodeGripperState(rbuf->data, rbuf->data_size, s.T_C_B, &s.state, &s.error,
-                                    &s.reason)) {
-          self->CountBad(s.reason);
-          return;
-        }
-        s.state.utime += s.config.gripper_clock_offset_us;
-        if (!TakeTime(&s.state_clock, s.state.utime, true, kResyncAfterNonMonotonic)) {
-          self->CountBad(io::MessageError::kNonMonotonicTime);
-          return;
-        }
-        ++self->states_received_;
-        if (s.on_state) s.on_state(s.state);
+        self->HandleGripperState(rbuf->data, rbuf->data_size);
       },
       this);
   if (impl_->on_depth) {
     impl_->lcm.subscribeFunction(
         config.channels.depth,
         +[](const lcm::ReceiveBuffer* rbuf, const std::string&, LcmBusSubscriber* self) {
-          Impl& s = *self->impl_;
-          if (!io::DecodeDepthImage(rbuf->data, rbuf->data_size, &s.depth, &s.error, &s.reason,
-                                    s.config.max_depth_pixels)) {
-            self->CountBad(s.reason);
-            return;
-          }
-          if (!ApplyIntrinsicsOverride(s.intrinsics, &s.depth, &s.error)) {
-            self->CountBad(io::MessageError::kIntrinsicsMismatch);
-            return;
-          }
-          if (!TakeTime(&s.depth_clock, s.depth.utime, false, kResyncAfterNonMonotonic)) {
-            self->CountBad(io::MessageError::kNonMonotonicTime);
-            return;
-          }
-          ++self->depth_received_;
-          s.on_depth(s.depth);
+          self->HandleDepth(rbuf->data, rbuf->data_size);
         },
         this);
   }
   impl_->lcm.subscribeFunction(
       config.channels.session,
       +[](const lcm::ReceiveBuffer* rbuf, const std::string&, LcmBusSubscriber* self) {
-        Impl& s = *self->impl_;
-        if (!io::DecodeSessionDescription(rbuf->data, rbuf->data_size, &s.session, &s.error,
-                                          &s.reason)) {
-          self->CountBad(s.reason);
-          return;
-        }
-        ++self->sessions_received_;
-        if (s.config.T_C_B_from_session) s.T_C_B = s.session.T_C_B;
-        if (s.config.intrinsics_from_session) s.intrinsics = s.session.intrinsics;
-        if (s.on_session) s.on_session(s.session);
+        self->HandleSession(rbuf->data, rbuf->data_size);
       },
       this);
   thread_ = std::thread([this] {

@@ -2,7 +2,10 @@
 // camera driver publishes them, depth images), decoded on a receive thread
 // and handed to callbacks (typically GraspModule::Push*). Session
 // descriptions on the bus set the hand-eye calibration and the intrinsics
-// override for what follows them, and go to their own callback.
+// override for what follows them, and go to their own callback; one that
+// does not decode (a claw name that is not a plain name included) or asks
+// for values beyond io::SessionWithinLimits is rejected whole: counted,
+// handed to the reject callback, and nothing of it applies.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -48,13 +51,16 @@ class LcmBusSubscriber {
   using StateCallback = std::function<void(const GripperState&)>;
   using DepthCallback = std::function<void(const DepthFrame&)>;
   using SessionCallback = std::function<void(const io::SessionDescription&)>;
+  /// A rejected session description: the reason and a one-line why.
+  using RejectCallback = std::function<void(io::MessageError, const std::string&)>;
 
   /// Subscribes and starts the receive thread. `on_depth` may be empty (no
   /// depth subscription), and so may `on_session` (session descriptions are
-  /// still applied, see Config). Callbacks run on the receive thread and must
-  /// not throw. Throws std::runtime_error if LCM cannot start on `url`.
+  /// still applied, see Config) and `on_session_rejected`. Callbacks run on
+  /// the receive thread and must not throw. Throws std::runtime_error if
+  /// LCM cannot start on `url`.
   LcmBusSubscriber(const Config& config, StateCallback on_state, DepthCallback on_depth = {},
-                   SessionCallback on_session = {});
+                   SessionCallback on_session = {}, RejectCallback on_session_rejected = {});
   /// Stops and joins the receive thread.
   ~LcmBusSubscriber();
   LcmBusSubscriber(const LcmBusSubscriber&) = delete;
@@ -76,6 +82,15 @@ class LcmBusSubscriber {
   /// stamp far in the future, must not silence the channel).
   BadMessageCounts bad_messages() const;
   static constexpr int kResyncAfterNonMonotonic = 10;
+
+  /// What the receive thread does with a message on our channels, callable
+  /// without a socket (a test or a fuzzer feeds bytes as the bus would). One
+  /// thread at a time: not while messages also come on the bus. HandleDepth
+  /// drops the message uncounted when constructed without `on_depth`, as
+  /// the bus does (no subscription).
+  void HandleGripperState(const void* data, size_t size);
+  void HandleDepth(const void* data, size_t size);
+  void HandleSession(const void* data, size_t size);
 
  private:
   struct Impl;

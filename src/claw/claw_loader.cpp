@@ -12,6 +12,7 @@
 #include "graspfill/claw/claw_model.hpp"
 #include "graspfill/claw/mesh_check.hpp"
 #include "graspfill/claw/mesh_file.hpp"
+#include "graspfill/claw/mesh_path.hpp"
 #include "graspfill/claw/urdf_claw.hpp"
 #include "graspfill/core/regular_file.hpp"
 
@@ -252,24 +253,29 @@ TriangleMesh ReadMesh(const Context& ctx, const fs::path& path, double scale,
   return mesh;
 }
 
-}  // namespace
-
-ClawModel ClawModel::Load(const std::string& description_path,
-                          const std::string& mesh_root) {
-  if (IsUrdfClaw(description_path)) return LoadUrdfClaw(description_path, mesh_root);
-  const Context ctx(description_path);
-  // "cannot open claw description file 'F': <why>" (a FIFO refused unopened).
-  const std::string text =
-      ReadRegularFile(description_path, kMaxClawFileBytes, "cannot open claw description file");
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::exception& e) {  // also a number out of range
-    ctx.Fail("", std::string("bad JSON: ") + e.what());
+// Where a link's mesh file is: a local file's references are the user's
+// own (relative to mesh_dir, or absolute); text from elsewhere is confined
+// to the local mesh root.
+struct MeshPlace {
+  fs::path mesh_dir;
+  bool confined{false};
+  fs::path Resolve(const Context& ctx, const std::string& field, const std::string& ref) const {
+    if (!confined) {
+      const fs::path rel = ref;
+      return rel.is_absolute() ? rel : mesh_dir / rel;
+    }
+    try {
+      return ConfinedMeshPath(mesh_dir.string(), ref);
+    } catch (const std::runtime_error& e) {
+      ctx.Fail(field, e.what());
+    }
   }
-  if (!doc.is_object()) ctx.Fail("", "bad JSON: top level must be an object");
+};
 
-  std::string name = fs::path(description_path).stem().string();
+// The claw of a parsed description; `name` unless it names itself.
+ClawModel FromDescription(const Context& ctx, const json& doc, std::string name,
+                          const MeshPlace& meshes) {
+  if (!doc.is_object()) ctx.Fail("", "bad JSON: top level must be an object");
   if (const json* j = Find(doc, "name")) name = ReadString(ctx, *j, "name");
   std::string opening_doc;
   if (const json* j = Find(doc, "opening_doc")) {
@@ -285,9 +291,6 @@ ClawModel ClawModel::Load(const std::string& description_path,
   }
   CheckLinkCount(ctx, links_json->size());
 
-  const fs::path mesh_dir = mesh_root.empty()
-                                ? fs::path(description_path).parent_path()
-                                : fs::path(mesh_root);
   std::vector<Link> parsed;
   std::vector<std::string> parent_names;
   std::map<std::string, int> index_of;
@@ -323,8 +326,8 @@ ClawModel ClawModel::Load(const std::string& description_path,
       CheckLimit(ctx, field + ".mesh_scale", ScaleDefect(scale));
     }
     if (const json* mesh = Find(j, "mesh")) {
-      const fs::path rel = ReadString(ctx, *mesh, field + ".mesh");
-      link.mesh = ReadMesh(ctx, rel.is_absolute() ? rel : mesh_dir / rel, scale,
+      const std::string ref = ReadString(ctx, *mesh, field + ".mesh");
+      link.mesh = ReadMesh(ctx, meshes.Resolve(ctx, field + ".mesh", ref), scale,
                            field + ".mesh", &link.degenerate_triangles_dropped);
     }
     parsed.push_back(std::move(link));
@@ -375,6 +378,47 @@ ClawModel ClawModel::Load(const std::string& description_path,
     links.push_back(std::move(link));
   }
   return WithinReach(ctx, ClawModel(name, std::move(links), opening_doc));
+}
+
+}  // namespace
+
+ClawModel ClawModel::Load(const std::string& description_path,
+                          const std::string& mesh_root) {
+  if (IsUrdfClaw(description_path)) return LoadUrdfClaw(description_path, mesh_root);
+  const Context ctx(description_path);
+  // "cannot open claw description file 'F': <why>" (a FIFO refused unopened).
+  const std::string text =
+      ReadRegularFile(description_path, kMaxClawFileBytes, "cannot open claw description file");
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::exception& e) {  // also a number out of range
+    ctx.Fail("", std::string("bad JSON: ") + e.what());
+  }
+  MeshPlace meshes;
+  meshes.mesh_dir = mesh_root.empty() ? fs::path(description_path).parent_path()
+                                      : fs::path(mesh_root);
+  return FromDescription(ctx, doc, fs::path(description_path).stem().string(), meshes);
+}
+
+ClawModel ClawModel::LoadDescriptionText(const std::string& text, const std::string& name,
+                                         const std::string& label,
+                                         const std::string& mesh_root) {
+  const Context ctx(label);
+  if (text.size() > static_cast<size_t>(kMaxClawFileBytes)) {
+    ctx.Fail("", std::to_string(text.size()) + " bytes, beyond the " +
+                     std::to_string(kMaxClawFileBytes) + "-byte limit of a claw file");
+  }
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::exception& e) {
+    ctx.Fail("", std::string("bad JSON: ") + e.what());
+  }
+  MeshPlace meshes;
+  meshes.mesh_dir = mesh_root;
+  meshes.confined = true;
+  return FromDescription(ctx, doc, name, meshes);
 }
 
 }  // namespace graspfill::claw

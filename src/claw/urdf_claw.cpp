@@ -20,6 +20,7 @@
 #include "graspfill/claw/claw_limits.hpp"
 #include "graspfill/claw/mesh_check.hpp"
 #include "graspfill/claw/mesh_file.hpp"
+#include "graspfill/claw/mesh_path.hpp"
 #include "graspfill/claw/primitive_meshes.hpp"
 #include "graspfill/core/regular_file.hpp"
 
@@ -245,6 +246,9 @@ struct UrdfClawConfig {
   std::map<std::string, Eigen::Isometry3d> mesh_origins;  ///< per link
   std::string urdf_text;
   fs::path urdf_dir;  ///< relative meshes, when no mesh root
+  /// Text from elsewhere (a session description): meshes only under the
+  /// local mesh root (mesh_path.hpp), urdf_dir never read.
+  bool confined{false};
 };
 
 UrdfClawConfig ParseConfig(const std::string& label, const json& doc) {
@@ -324,13 +328,23 @@ UrdfClawConfig ParseConfig(const std::string& label, const json& doc) {
 
 // `package://PKG/a/b/file`: ROS would ask the package index; here the first
 // of root/PKG/a/b/file, root/a/b/file, root/b/file, root/file that exists.
+// Confined (text from elsewhere): every candidate inside root, none absolute
+// (file://) or with a '..' part.
 fs::path ResolveMesh(const std::string& label, const std::string& link, const std::string& uri,
-                     const fs::path& root) {
+                     const fs::path& root, bool confined) {
   std::string path = uri;
   const std::string kPackage = "package://";
   const std::string kFile = "file://";
   if (path.compare(0, kFile.size(), kFile) == 0) path = path.substr(kFile.size());
-  if (path.compare(0, kPackage.size(), kPackage) == 0) {
+  const bool package = path.compare(0, kPackage.size(), kPackage) == 0;
+  if (confined) {
+    try {
+      ConfinedMeshPath(root.string(), package ? path.substr(kPackage.size()) : path);
+    } catch (const std::runtime_error& e) {
+      Fail(label, "link '" + link + "': " + e.what());
+    }
+  }
+  if (package) {
     const fs::path rest = path.substr(kPackage.size());
     std::vector<fs::path> parts(rest.begin(), rest.end());
     for (size_t first = 0; first < parts.size(); ++first) {
@@ -375,7 +389,7 @@ void ReadLinkGeometry(const std::string& label, const urdf::Link& in, const Urdf
     switch (geometry->type) {
       case urdf::Geometry::MESH: {
         const auto* m = static_cast<const urdf::Mesh*>(geometry.get());
-        const fs::path file = ResolveMesh(label, in.name, m->filename, root);
+        const fs::path file = ResolveMesh(label, in.name, m->filename, root, c.confined);
         try {
           mesh = ReadMeshFile(file.string());
         } catch (const std::runtime_error& e) {
@@ -509,7 +523,7 @@ ClawModel Build(const std::string& label, const UrdfClawConfig& c, const fs::pat
   }
   const urdf::LinkConstSharedPtr root = model->getRoot();
   if (!root) Fail(label, "URDF has no root link");
-  const fs::path root_dir = mesh_root.empty() ? c.urdf_dir : mesh_root;
+  const fs::path root_dir = mesh_root.empty() && !c.confined ? c.urdf_dir : mesh_root;
 
   // Links parents-first (depth first from the root, children in urdfdom's
   // order, which is by joint name).
@@ -789,8 +803,10 @@ json ConfigWithUrdf(const std::string& path, const std::string& mesh_root) {
   return doc;
 }
 
-ClawModel FromConfig(const std::string& label, const json& doc, const std::string& mesh_root) {
+ClawModel FromConfig(const std::string& label, const json& doc, const std::string& mesh_root,
+                     bool confined) {
   UrdfClawConfig c = ParseConfig(label, doc);
+  c.confined = confined;
   if (!doc.contains("urdf_text") || !doc["urdf_text"].is_string()) {
     Fail(label, "urdf_text: missing (the URDF itself)");
   }
@@ -816,7 +832,7 @@ bool IsUrdfClaw(const std::string& path) {
 }
 
 ClawModel LoadUrdfClaw(const std::string& path, const std::string& mesh_root) {
-  return FromConfig(path, ConfigWithUrdf(path, mesh_root), mesh_root);
+  return FromConfig(path, ConfigWithUrdf(path, mesh_root), mesh_root, false);
 }
 
 std::string UrdfClawBundle(const std::string& path, const std::string& mesh_root) {
@@ -828,8 +844,10 @@ ClawModel LoadUrdfClawText(const std::string& config_text, const std::string& la
   const size_t first = config_text.find_first_not_of(" \t\r\n");
   if (first == std::string::npos) Fail(label, "no URDF (empty text)");
   // Another publisher may carry the URDF itself rather than a config.
-  if (config_text[first] == '<') return FromConfig(label, json{{"urdf_text", config_text}}, mesh_root);
-  return FromConfig(label, ParseJson(label, config_text), mesh_root);
+  if (config_text[first] == '<') {
+    return FromConfig(label, json{{"urdf_text", config_text}}, mesh_root, true);
+  }
+  return FromConfig(label, ParseJson(label, config_text), mesh_root, true);
 }
 
 }  // namespace graspfill::claw

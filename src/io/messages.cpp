@@ -50,6 +50,24 @@ std::string FormatLimit(double v) {
   return buf;
 }
 
+// `text` fit for a one-line message: bytes outside printable ASCII as \xHH,
+// at most `max_chars` of it.
+std::string Printable(const std::string& text, size_t max_chars) {
+  std::string out;
+  for (size_t i = 0; i < text.size() && i < max_chars; ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof(hex), "\\x%02x", c);
+      out += hex;
+    }
+  }
+  if (text.size() > max_chars) out += "...";
+  return out;
+}
+
 bool UtimeInRange(const char* type, int64_t utime, std::string* error) {
   if (utime < 0 || utime > kMaxUtime) {
     SetError(error, std::string(type) + ": utime " + std::to_string(utime) + " outside 0.." +
@@ -932,6 +950,13 @@ bool CheckSession(const SessionDescription& s, std::string* error) {
     SetError(error, std::string(type) + ": empty claw_name");
     return false;
   }
+  if (!IsPlainClawName(s.claw_name)) {
+    SetError(error, std::string(type) + ": claw_name '" + Printable(s.claw_name, 80) +
+                        "' is not a plain name (1..256 bytes, no '/', '\\' or control "
+                        "characters, not '.' or '..')",
+             MessageError::kBadClawName);
+    return false;
+  }
   if (!s.T_C_B.matrix().allFinite()) {
     SetError(error, std::string(type) + ": T_C_B is not finite");
     return false;
@@ -967,6 +992,46 @@ bool CheckSession(const SessionDescription& s, std::string* error) {
 }
 
 }  // namespace
+
+bool IsPlainClawName(const std::string& name) {
+  if (name.empty() || name.size() > 256 || name == "." || name == "..") return false;
+  for (const char c : name) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '/' || c == '\\' || u < 0x20 || u == 0x7f) return false;
+  }
+  return true;
+}
+
+bool SessionWithinLimits(const SessionDescription& s, std::string* why) {
+  auto fail = [&](const std::string& text) {
+    if (why != nullptr) *why = text;
+    return false;
+  };
+  const auto number = FormatLimit;
+  if (s.workspace_G) {
+    static const char* kAxes = "xyz";
+    for (int k = 0; k < 3; ++k) {
+      for (const double v : {s.workspace_G->min()[k], s.workspace_G->max()[k]}) {
+        // Written as an "in range" test so that NaN fails it.
+        if (!(v >= -kMaxWorkspaceM && v <= kMaxWorkspaceM)) {
+          return fail("asks for a workspace box with " + std::string(1, kAxes[k]) + " " +
+                      number(v) + " m, outside -" + number(kMaxWorkspaceM) + ".." +
+                      number(kMaxWorkspaceM) + " m");
+        }
+      }
+    }
+  }
+  if (s.voxel_m != 0.0 && !(s.voxel_m >= kMinVoxelM && s.voxel_m <= kMaxVoxelM)) {
+    return fail("asks for a voxel of " + number(s.voxel_m) + " m, outside " + number(kMinVoxelM) +
+                ".." + number(kMaxVoxelM) + " m");
+  }
+  const Eigen::Vector3d t = s.T_C_B.translation();
+  if (!(t.cwiseAbs().maxCoeff() <= kMaxHandEyeTranslationM)) {
+    return fail("asks for a hand-eye T_C_B translated by " + number(t.cwiseAbs().maxCoeff()) +
+                " m, beyond " + number(kMaxHandEyeTranslationM) + " m");
+  }
+  return true;
+}
 
 std::string SoftwareVersion() { return std::string("graspfill ") + GRASPFILL_VERSION; }
 
@@ -1123,6 +1188,9 @@ const char* MessageErrorName(MessageError reason) {
     case MessageError::kBadTimestamp: return "bad_timestamp";
     case MessageError::kIntrinsicsMismatch: return "intrinsics_mismatch";
     case MessageError::kNonMonotonicTime: return "non_monotonic_time";
+    case MessageError::kBadClawName: return "bad_claw_name";
+    case MessageError::kOutOfLimits: return "out_of_limits";
+    case MessageError::kClawUnloadable: return "claw_unloadable";
     case MessageError::kCount: break;
   }
   return "unknown";

@@ -212,11 +212,13 @@ TEST_F(UrdfFileTest, ConfigMapsJointsAndPlacesTheRoot) {
   EXPECT_NEAR(FingerX(model, "left", 0.0, {9, 9, 0.0}), 0.01, 1e-9);
   EXPECT_NEAR(model.LinkPoses(0.0)[0].translation().z(), 0.02, 1e-12);
   // The bundle (what a session description carries) loads the same claw
-  // without the files.
+  // without the files; its mesh (package://) only under the local mesh
+  // root, not the bundle's urdf_dir.
   const std::string bundle = UrdfClawBundle(config);
   fs::remove(dir_ / "parallel.urdf");
   fs::remove(config);
-  const ClawModel again = LoadUrdfClawText(bundle, "session");
+  EXPECT_THROW(LoadUrdfClawText(bundle, "session"), std::runtime_error);
+  const ClawModel again = LoadUrdfClawText(bundle, "session", dir_.string());
   EXPECT_NEAR(FingerX(again, "left", 0.5), FingerX(model, "left", 0.5), 1e-12);
 }
 

@@ -150,8 +150,11 @@ TEST_F(ParallelRecording, ADescriptionClawInTheSessionIsUsedToo) {
   session.claw_text = ReadText(dir_ + "/claw/claw.json");
   session.claw_source = dir_ + "/claw/claw.json";  // its meshes beside it
   RewriteSession(dir_ + "/recording.lcmlog", dir_ + "/description.lcmlog", &session);
+  // Its meshes are read from the local --claw-mesh-root only (issue 36),
+  // not beside the claw_source the log names.
   const auto r = RunCli("replay " + dir_ + "/description.lcmlog -o " + dir_ +
-                        "/description.ply --force --no-repair --no-publish --json");
+                        "/description.ply --force --no-repair --no-publish --json "
+                        "--claw-mesh-root " + dir_ + "/claw");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const nlohmann::json report = ParseReport(r.output);
   EXPECT_EQ(report["claw"]["from"], "session description");

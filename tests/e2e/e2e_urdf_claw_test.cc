@@ -39,9 +39,18 @@ TEST(UrdfClawE2E, RecordingWithUrdfClawReplaysClean) {
   const auto synth = RunCli("synth --shape cylinder --claw " + kConfig + " --claw-mesh-root " +
                             kRobotiq + " --frames 20 --seed 3 -o " + dir);
   ASSERT_EQ(synth.exit_code, 0) << synth.output;
-  // No --claw: the claw comes from the recording's session description.
+  // No --claw: the claw comes from the recording's session description,
+  // its meshes from the local --claw-mesh-root only (issue 36: a log's
+  // recorded root is never read from).
+  const auto no_root = RunCli("replay " + dir + "/recording.lcmlog -o " + dir +
+                              "/cloud.ply --no-repair --json --lcm-url memq://");
+  EXPECT_EQ(no_root.exit_code, 1) << no_root.output;
+  const std::string recorded_root = fs::absolute(kRobotiq).lexically_normal().string();
+  EXPECT_NE(no_root.output.find("it was made with meshes in " + recorded_root), std::string::npos)
+      << no_root.output;
   const auto replay = RunCli("replay " + dir + "/recording.lcmlog -o " + dir +
-                             "/cloud.ply --no-repair --json --lcm-url memq://");
+                             "/cloud.ply --no-repair --json --lcm-url memq:// --claw-mesh-root " +
+                             kRobotiq);
   ASSERT_EQ(replay.exit_code, 0) << replay.output;
   EXPECT_NE(replay.output.find("robotiq_3f_urdf"), std::string::npos) << replay.output;
   EXPECT_EQ(replay.output.find("warning"), std::string::npos) << replay.output;

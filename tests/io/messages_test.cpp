@@ -926,6 +926,73 @@ TEST(SessionDescriptionMessage, RejectsBadContent) {
   EXPECT_FALSE(decode(msg));
 }
 
+// Issue 36: a claw name from the bus or a log was joined into a path and
+// written to. It is a name: the decoder refuses anything else, with its
+// own reason.
+TEST(SessionDescriptionMessage, ClawNamesAreNamesNotPaths) {
+  for (const std::string& bad : std::vector<std::string>{"../../victim", "/tmp/victim", "a/b", "..",
+                                                         ".", "a\\b", "tab\there",
+                                                         std::string(257, 'x')}) {
+    SCOPED_TRACE(bad);
+    EXPECT_FALSE(IsPlainClawName(bad));
+    graspfill::session_description_t msg{};
+    msg.claw_kind = graspfill::session_description_t::CLAW_DESCRIPTION;
+    msg.claw_name = bad;
+    msg.T_C_B_orientation[0] = 1.0;
+    const auto bytes = Encode(msg);
+    SessionDescription out;
+    std::string error;
+    MessageError reason = MessageError::kNone;
+    EXPECT_FALSE(DecodeSessionDescription(bytes.data(), bytes.size(), &out, &error, &reason));
+    EXPECT_EQ(reason, MessageError::kBadClawName);
+    EXPECT_NE(error.find("is not a plain name"), std::string::npos) << error;
+    EXPECT_EQ(error.find('\t'), std::string::npos) << "control characters are escaped";
+    SessionDescription session = SomeSession();
+    session.claw_name = bad;
+    EXPECT_THROW(EncodeSessionDescription(session), std::invalid_argument);
+  }
+  for (const std::string& good : std::vector<std::string>{"franka_hand", "Robotiq 3F v2",
+                                                          "three-finger", "a..b", "x.json",
+                                                          std::string(256, 'x')}) {
+    EXPECT_TRUE(IsPlainClawName(good)) << good;
+  }
+  EXPECT_STREQ(MessageErrorName(MessageError::kBadClawName), "bad_claw_name");
+  EXPECT_EQ(MessageErrorFromName("claw_unloadable"), MessageError::kClawUnloadable);
+  EXPECT_EQ(MessageErrorFromName("out_of_limits"), MessageError::kOutOfLimits);
+}
+
+// Issue 36: the bus gave a box of +-1e300 m and a voxel of 1 m where the
+// config file allows -2..2 m and 0.5..10 mm. The limits are
+// session_limits.hpp's, the config file's.
+TEST(SessionDescriptionMessage, WithinLimitsIsTheConfigFilesRange) {
+  std::string why;
+  EXPECT_TRUE(SessionWithinLimits(SomeSession(), &why)) << why;
+  SessionDescription s = SomeSession();
+  s.voxel_m = 0.0;  // the receiver's default
+  EXPECT_TRUE(SessionWithinLimits(s, &why)) << why;
+  s.voxel_m = 1.0;
+  EXPECT_FALSE(SessionWithinLimits(s, &why));
+  EXPECT_NE(why.find("voxel of 1 m, outside 0.0005..0.01 m"), std::string::npos) << why;
+  s.voxel_m = kMinVoxelM * 0.99;
+  EXPECT_FALSE(SessionWithinLimits(s, &why));
+  s.voxel_m = kMaxVoxelM;
+  EXPECT_TRUE(SessionWithinLimits(s, &why)) << why;
+  s = SomeSession();
+  s.workspace_G =
+      Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-1e300), Eigen::Vector3d::Constant(1e300));
+  EXPECT_FALSE(SessionWithinLimits(s, &why));
+  EXPECT_NE(why.find("workspace box with x -1e+300 m, outside -2..2 m"), std::string::npos) << why;
+  s.workspace_G = Eigen::AlignedBox3d(Eigen::Vector3d(-2, -2, -2), Eigen::Vector3d(2, 2, 2.0001));
+  EXPECT_FALSE(SessionWithinLimits(s, &why));
+  EXPECT_NE(why.find("z 2.0001"), std::string::npos) << why;
+  s.workspace_G->max().z() = kMaxWorkspaceM;
+  EXPECT_TRUE(SessionWithinLimits(s, &why)) << why;
+  s = SomeSession();
+  s.T_C_B.translation().y() = -10.5;
+  EXPECT_FALSE(SessionWithinLimits(s, &why));
+  EXPECT_NE(why.find("T_C_B"), std::string::npos) << why;
+}
+
 TEST(SessionDescriptionMessage, RejectsMalformedBytes) {
   const auto bytes = EncodeSessionDescription(SomeSession());
   SessionDescription out;

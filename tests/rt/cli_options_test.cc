@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 #include <new>
 #include <stdexcept>
@@ -143,9 +146,19 @@ TEST(SessionClaw, ClawsThatCannotBeBuiltSaySo) {
                       "<mesh filename='package://robotiq/palm.stl'/></geometry></collision>"
                       "</link></robot>";
   session.claw_mesh_root = "/nonexistent/meshes";
+  // The recorded root is a hint, not a place to read from (issue 36).
   EXPECT_NE(message().find("link 'palm'"), std::string::npos) << message();
-  EXPECT_NE(message().find("palm.stl' not found under /nonexistent/meshes"), std::string::npos)
+  EXPECT_NE(message().find("none was given"), std::string::npos) << message();
+  EXPECT_NE(message().find("it was made with meshes in /nonexistent/meshes"), std::string::npos)
       << message();
+  try {
+    MakeSessionClaw(session, "/nonexistent/meshes");  // the local root
+    ADD_FAILURE() << "built";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("palm.stl' not found under /nonexistent/meshes"),
+              std::string::npos)
+        << e.what();
+  }
   DescribeBuiltinClaw("four-finger", {}, &session);
   EXPECT_NE(message().find("unknown built-in claw"), std::string::npos) << message();
   session.claw_kind = io::SessionClawKind::kDescription;
@@ -154,6 +167,48 @@ TEST(SessionClaw, ClawsThatCannotBeBuiltSaySo) {
   session.claw_mesh_root = "/nonexistent/meshes";
   EXPECT_NE(message().find("description 'mine'"), std::string::npos) << message();
   EXPECT_NE(message().find("palm.stl"), std::string::npos) << message();
+}
+
+// Issue 36: a description claw's text went to TMP/dir/<claw_name>.json, so
+// a name "../../victim" wrote outside. It is read in memory now, and its
+// meshes only under the local mesh root, never the recorded one.
+TEST(SessionClaw, ADescriptionClawIsReadInMemoryWithLocalMeshesOnly) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(::testing::TempDir()) / "session_claw_in_memory";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "a" / "b");
+  fs::create_directories(dir / "recorded");
+  std::ofstream(dir / "recorded" / "palm.obj")
+      << "v 0 0 0\nv 0.05 0 0\nv 0 0.05 0\nv 0 0 0.02\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  const char* old_tmpdir = std::getenv("TMPDIR");
+  const std::string saved = old_tmpdir ? old_tmpdir : "";
+  setenv("TMPDIR", (dir / "a" / "b").c_str(), 1);
+
+  io::SessionDescription session;
+  session.claw_kind = io::SessionClawKind::kDescription;
+  session.claw_name = "../../victim";  // as a decoder of old let through
+  session.claw_text = R"({"links": [{"name": "palm"}]})";
+  EXPECT_EQ(MakeSessionClaw(session).links().size(), 1u);
+  EXPECT_FALSE(fs::exists(dir / "a" / "victim.json"));
+  EXPECT_TRUE(fs::is_empty(dir / "a" / "b"));  // nothing written at all
+
+  session.claw_name = "mine";
+  session.claw_text = R"({"links": [{"name": "palm", "mesh": "palm.obj"}]})";
+  session.claw_mesh_root = (dir / "recorded").string();
+  session.claw_source = (dir / "recorded" / "claw.json").string();
+  EXPECT_THROW(MakeSessionClaw(session), std::runtime_error);  // no local root
+  EXPECT_EQ(MakeSessionClaw(session, (dir / "recorded").string()).links()[0].mesh.triangles.size(),
+            4u);
+  session.claw_text = R"({"links": [{"name": "palm", "mesh": ")" +
+                      (dir / "recorded" / "palm.obj").string() + R"("}]})";
+  EXPECT_THROW(MakeSessionClaw(session, (dir / "recorded").string()), std::runtime_error);
+  EXPECT_TRUE(fs::is_empty(dir / "a" / "b"));
+  if (old_tmpdir) {
+    setenv("TMPDIR", saved.c_str(), 1);
+  } else {
+    unsetenv("TMPDIR");
+  }
+  fs::remove_all(dir);
 }
 
 }  // namespace

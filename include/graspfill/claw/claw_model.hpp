@@ -75,6 +75,12 @@ class ClawModel {
   /// input.
   static ClawModel Load(const std::string& description_path,
                         const std::string& mesh_root = "");
+  /// A description's JSON text from elsewhere (a session description on
+  /// the bus or in a log), read from memory: its meshes only under the
+  /// local `mesh_root` (mesh_path.hpp: relative, no '..'; none without a
+  /// root). `name` when the text has none; `label` prefixes the errors.
+  static ClawModel LoadDescriptionText(const std::string& text, const std::string& name,
+                                       const std::string& label, const std::string& mesh_root);
 
   /// The claw's surface in G at this opening (and joint values, if given:
   /// they override the opening for the joints that name an index).

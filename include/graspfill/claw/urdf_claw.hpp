@@ -33,7 +33,10 @@ std::string UrdfClawBundle(const std::string& path, const std::string& mesh_root
 
 /// Loads a URDF claw from a config text (UrdfClawBundle's, or any config
 /// with "urdf_text") or from the URDF's XML itself (default mapping);
-/// `label` names it in errors.
+/// `label` names it in errors. The text comes from elsewhere (a session
+/// description), so its meshes are read only under the local `mesh_root`
+/// (mesh_path.hpp: relative or package://, no '..', none without a root);
+/// its "urdf_dir" is not used.
 ClawModel LoadUrdfClawText(const std::string& config_text, const std::string& label,
                            const std::string& mesh_root = "");
 

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "graspfill/io/session_limits.hpp"
 #include "graspfill/types.hpp"
 
 namespace graspfill::io {
@@ -59,6 +60,9 @@ enum class MessageError : int {
   kBadTimestamp,        ///< utime outside [0, kMaxUtime]
   kIntrinsicsMismatch,  ///< image size differs from the session's intrinsics override
   kNonMonotonicTime,    ///< utime older than the previous one on its channel (subscriber)
+  kBadClawName,         ///< a session's claw_name is not a plain name (a path, "..")
+  kOutOfLimits,         ///< a session asks for values beyond session_limits.hpp's
+  kClawUnloadable,      ///< a session's claw cannot be built (receiver)
   kCount                ///< number of reasons (array size)
 };
 /// A short stable name ("malformed", "bad_intrinsics", ...), for status and logs.
@@ -295,13 +299,25 @@ std::string SoftwareVersion();
 /// Encodes a session description as session_description_t.
 /// @throws std::invalid_argument if a field would not decode (non-finite
 ///   T_C_B, bad intrinsics, an empty or inverted box, voxel_m < 0 or NaN,
-///   an empty claw_name).
+///   a claw_name that is not IsPlainClawName).
 std::vector<uint8_t> EncodeSessionDescription(const SessionDescription& session);
+
+/// True when `name` may name a claw in a session description: 1..256
+/// bytes, no '/', '\\' or control character, not "." or "..". A claw name
+/// is a name, never a path (a publisher must not steer a file).
+bool IsPlainClawName(const std::string& name);
+
+/// True when every value `session` asks for of its receiver is within
+/// session_limits.hpp's limits (the rig config file's): the workspace box,
+/// the voxel (when not 0) and T_C_B's translation; else false and *why, one
+/// line naming the field, its value and the limit.
+bool SessionWithinLimits(const SessionDescription& session, std::string* why);
 
 /// Decodes a session_description_t into *out.
 ///
 /// Rejects malformed bytes (wrong type hash, truncated, bad string lengths,
-/// trailing bytes), unknown claw kinds, an empty claw name, a non-finite or
+/// trailing bytes), unknown claw kinds, a claw name that is not a plain
+/// name (IsPlainClawName; reason kBadClawName), a non-finite or
 /// non-unit T_C_B (as DecodeGripperState), flags other than 0/1, a bad
 /// intrinsics override (size <= 0 or over 2^24 pixels, focal lengths not
 /// finite and > 0, centre not finite), a workspace box that is not finite
