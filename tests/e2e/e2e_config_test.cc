@@ -354,11 +354,12 @@ TEST(ConfigE2E, LiveAppliesTheConfigsHandEyeToTheBus) {
   WriteText(dir + "/rig.yaml", yaml);
   const std::string url = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608";
   const auto live = RunShell(
-      "unshare -n sh -c 'ip link set lo up && ip route add 224.0.0.0/4 dev lo || exit 90; " GRASPFILL_CLI
+      "unshare -n sh -c '. " GRASPFILL_LCM_READY "; "
+      "ip link set lo up && ip route add 224.0.0.0/4 dev lo || exit 90; " GRASPFILL_CLI
       " live --depth-from-lcm --lcm-url \"" + url + "\" --config " + dir + "/rig.yaml --no-repair "
       "--publish-every 0 --idle-exit-s 1.5 --duration-s 25 --record " + dir + "/record.lcmlog > " +
-      dir + "/live.out 2>&1 & live=$!; sleep 1; lcm-logplayer --lcm-url=\"" + url + "\" " + dir +
-      "/base.lcmlog > /dev/null 2>&1 || exit 92; wait $live || exit 93'");
+      dir + "/live.out 2>&1 & live=$!; wait_lcm_subscribed $live || exit 94; "
+      "lcm-logplayer --lcm-url=\"" + url + "\" " + dir + "/base.lcmlog > /dev/null 2>&1 || exit 92; wait $live || exit 93'");
   const std::string live_out = ReadText(dir + "/live.out");
   ASSERT_EQ(live.exit_code, 0) << live.output << live_out;
   EXPECT_NE(live_out.find("published on CONFIG_TEST_CLOUD"), std::string::npos) << live_out;
