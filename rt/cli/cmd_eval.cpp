@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "error_text.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/ply.hpp"
 
@@ -79,7 +80,7 @@ std::optional<std::vector<Eigen::Vector3f>> LoadCloud(const std::string& path,
     try {
       for (const Eigen::Vector3f& p : io::ReadCloudPly(path).points_G) cloud.points_.push_back(p.cast<double>());
     } catch (const std::exception& e) {  // names the file and what is wrong
-      std::fprintf(stderr, "graspfill eval: %s file: %s\n", role, e.what());
+      std::fprintf(stderr, "graspfill eval: %s file: %s\n", role, ErrorText(e).c_str());
       return std::nullopt;
     }
   } else {

@@ -9,6 +9,7 @@
 #include <system_error>
 #include <vector>
 
+#include "error_text.hpp"
 #include "graspfill/io/output_path.hpp"
 
 namespace graspfill::cli {
@@ -59,7 +60,7 @@ inline bool PrepareOutputs(const std::filesystem::path& dir, const std::vector<s
       io::CheckOutputFile((dir / name).string(), force);
     }
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "graspfill %s: %s\n", command, e.what());
+    std::fprintf(stderr, "graspfill %s: %s\n", command, ErrorText(e).c_str());
     return false;
   }
   return true;

@@ -121,7 +121,7 @@ bool RepairStage::RepairInFull(std::string* verdict) {
       base_.Rebase(working_, record);
     } catch (const std::exception& e) {
       base_.Reset();  // full repairs until a cloud fits the change grid
-      std::fprintf(stderr, "graspfill repair stage: no incremental base: %s\n", e.what());
+      std::fprintf(stderr, "graspfill repair stage: no incremental base: %s\n", ErrorText(e).c_str());
     }
   }
   std::lock_guard<std::mutex> lock(mutex_);
@@ -137,7 +137,7 @@ RepairStage::Update RepairStage::UpdateFromBase(std::string* verdict) {
     std::lock_guard<std::mutex> base_lock(base_mutex_);
     report = base_.Update(working_, record, &updated_);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "graspfill repair stage: update failed (%s); repairing in full\n", e.what());
+    std::fprintf(stderr, "graspfill repair stage: update failed (%s); repairing in full\n", ErrorText(e).c_str());
     return Update::kFailed;
   }
   const bool no_base = report.rebase == repair::RebaseReason::kNoBase ||
@@ -230,7 +230,7 @@ void RepairStage::WorkerLoop() {
         on_cloud_(working_);
         published = true;
       } catch (const std::exception& e) {
-        std::fprintf(stderr, "graspfill repair stage: output callback threw: %s\n", e.what());
+        std::fprintf(stderr, "graspfill repair stage: output callback threw: %s\n", ErrorText(e).c_str());
       } catch (...) {
         std::fprintf(stderr, "graspfill repair stage: output callback threw\n");
       }
@@ -278,7 +278,7 @@ void RepairStage::RebaseLoop() {
         std::swap(base_, fresh);
         rebased = true;
       } catch (const std::exception& e) {
-        std::fprintf(stderr, "graspfill repair stage: no incremental base: %s\n", e.what());
+        std::fprintf(stderr, "graspfill repair stage: no incremental base: %s\n", ErrorText(e).c_str());
       }
     } else {
       std::fprintf(stderr, "graspfill repair stage: background repair of cloud seq %lld %s\n",
