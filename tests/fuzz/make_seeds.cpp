@@ -4,7 +4,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <graspfill/session_description_t.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "graspfill/io/messages.hpp"
@@ -22,6 +24,15 @@ void Write(const fs::path& dir, const std::string& name, const std::vector<uint8
 }
 void WriteText(const fs::path& dir, const std::string& name, const std::string& text) {
   Write(dir, name, std::vector<uint8_t>(text.begin(), text.end()));
+}
+
+// fuzz_live_bus's record: channel (0 depth, 1 gripper state, 2 session
+// description), length (2 bytes little-endian), the message.
+void AppendRecord(std::vector<uint8_t>* out, uint8_t channel, const std::vector<uint8_t>& message) {
+  out->push_back(channel);
+  out->push_back(static_cast<uint8_t>(message.size() & 0xff));
+  out->push_back(static_cast<uint8_t>(message.size() >> 8));
+  out->insert(out->end(), message.begin(), message.end());
 }
 
 void PutBigEndian(std::vector<uint8_t>* out, uint64_t v, int n) {
@@ -92,6 +103,44 @@ int main(int argc, char** argv) {
   AppendEvent(&log, 2, channels.gripper_state, io::EncodeGripperState(state));
   AppendEvent(&log, 3, "OTHER", {1, 2, 3});
   Write(root / "lcm_log_reader", "four_events", log);
+  // A session on the bus: a description (built-in, URDF of primitives, a
+  // claw name that is a path), a state, a frame, a state after it.
+  {
+    GripperState before = state, after = state;
+    before.utime = frame.utime - 1000;
+    after.utime = frame.utime + 1000;
+    io::SessionDescription parallel = session;
+    parallel.claw_name = "parallel";
+    io::SessionDescription urdf = session;
+    urdf.claw_kind = io::SessionClawKind::kUrdf;
+    urdf.claw_name = "boxes";
+    urdf.claw_text =
+        "<robot name=\"boxes\"><link name=\"a\"><collision><geometry><box size=\"0.1 0.1 "
+        "0.02\"/></geometry></collision></link><link name=\"b\"><collision><geometry><mesh "
+        "filename=\"package://p/b.stl\"/></geometry></collision></link><joint name=\"j\" "
+        "type=\"prismatic\"><parent link=\"a\"/><child link=\"b\"/><axis xyz=\"1 0 0\"/>"
+        "<limit lower=\"0\" upper=\"0.04\" effort=\"1\" velocity=\"1\"/></joint></robot>";
+    graspfill::session_description_t traversal{};
+    traversal.claw_kind = graspfill::session_description_t::CLAW_DESCRIPTION;
+    traversal.claw_name = "../../victim";
+    traversal.claw_text = R"({"links": [{"name": "palm"}]})";
+    traversal.T_C_B_orientation[0] = 1.0;
+    std::vector<uint8_t> traversal_bytes(static_cast<size_t>(traversal.getEncodedSize()));
+    traversal.encode(traversal_bytes.data(), 0, static_cast<int>(traversal_bytes.size()));
+    for (const auto& [name, description] :
+         std::vector<std::pair<std::string, std::vector<uint8_t>>>{
+             {"builtin", io::EncodeSessionDescription(parallel)},
+             {"urdf", io::EncodeSessionDescription(urdf)},
+             {"traversal", traversal_bytes}}) {
+      std::vector<uint8_t> records;
+      AppendRecord(&records, 2, description);
+      AppendRecord(&records, 1, io::EncodeGripperState(before));
+      AppendRecord(&records, 0, depth_zlib);
+      AppendRecord(&records, 1, io::EncodeGripperState(after));
+      Write(root / "live_bus", name, records);
+    }
+  }
+
   std::vector<uint8_t> huge;  // the issue's 48-byte log: datalen 0x7fffffff
   AppendEvent(&huge, 0, "GRASPFILL_DEPTH", {});
   huge[24] = 0x7f, huge[25] = 0xff, huge[26] = 0xff, huge[27] = 0xff;

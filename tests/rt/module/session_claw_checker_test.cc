@@ -109,7 +109,7 @@ TEST(SessionClawChecker, AFloodKeepsTheNewestWaiting) {
   Rig rig;
   rig.checker.SetClawInUse(claw::ClawModel::ThreeFinger(), Named("three-finger"));
   rig.checker.Submit(Named("slow"));
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // its build under way
+  while (rig.builds == 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));  // under way
   for (int i = 0; i < 20; ++i) rig.checker.Submit(Named("p" + std::to_string(i)));
   EXPECT_EQ(rig.checker.dropped(), 20 - static_cast<int64_t>(SessionClawChecker::kMaxWaiting));
   ASSERT_TRUE(rig.checker.WaitIdle(std::chrono::seconds(10)));
