@@ -187,8 +187,8 @@ TEST(SessionClaw, ADescriptionClawIsReadInMemoryWithLocalMeshesOnly) {
   io::SessionDescription session;
   session.claw_kind = io::SessionClawKind::kDescription;
   session.claw_name = "../../victim";  // as a decoder of old let through
-  session.claw_text = R"({"links": [{"name": "palm"}]})";
-  EXPECT_EQ(MakeSessionClaw(session).links().size(), 1u);
+  session.claw_text = R"({"links": [{"name": "palm", "mesh": "palm.obj"}]})";
+  EXPECT_EQ(MakeSessionClaw(session, (dir / "recorded").string()).links().size(), 1u);
   EXPECT_FALSE(fs::exists(dir / "a" / "victim.json"));
   EXPECT_TRUE(fs::is_empty(dir / "a" / "b"));  // nothing written at all
 
