@@ -12,6 +12,13 @@
 //
 // A grasp's final model (published when the session ends, after the idle
 // rule's wait) is not counted in the cloud rate or the latency.
+//
+// The fault soak (--soak-faults, issue 36): the recording played in a loop
+// into a `graspfill live` process over the bus, once clean (the reference)
+// and once with malformed messages of every kind among the valid ones
+// (bench_live_faults.hpp). The process must live to the end, count every
+// malformed message under its reason, hold its RSS near the clean run's and
+// keep publishing clouds throughout.
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -27,6 +34,7 @@
 #include <fcntl.h>
 #include <filesystem>
 #include <lcm/lcm-cpp.hpp>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -38,6 +46,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "bench_live_faults.hpp"
 #include "claw_option.hpp"
 #include "commands.hpp"
 #include "data_paths.hpp"
@@ -60,7 +69,8 @@ using Clock = std::chrono::steady_clock;
 std::string Usage() {
   return "usage: graspfill bench live [LOG] [--speeds 1,2,4] [--transport memq|udpm|both]\n"
          "                            [--repair incremental|full|both] [--publish-every N]\n"
-         "                            [--soak-s S] [--heap-reserve-mb N] [--json]\n"
+         "                            [--soak-s S [--soak-faults PERCENT] [--soak-speed X]]\n"
+         "                            [--heap-reserve-mb N] [--json]\n"
          "  LOG defaults to the bundled recording " +
          (BundledRecordingDir() / "recording.lcmlog").string() +
          "\n"
@@ -73,6 +83,12 @@ std::string Usage() {
          "  --publish-every N  a cloud every N fused frames, 1..1000 (default 3: 10 Hz at 30 fps)\n"
          "  --soak-s S         long mode: also play the recording in a loop at 1x in-process for\n"
          "                     S seconds (>= 60) and report RSS at minute 1 and at the end\n"
+         "  --soak-faults P    the soak across processes instead (udpm, as above), twice: clean,\n"
+         "                     then with P% (0 < P <= 50) malformed messages of every kind among\n"
+         "                     the valid ones; reports whether `live` lived to the end, its\n"
+         "                     rejects by reason against those sent, RSS against the clean run's\n"
+         "                     and the clouds of every minute (of every tenth when S < 600)\n"
+         "  --soak-speed X     the fault soak's playback speed (default 4)\n"
          "  --heap-reserve-mb N `graspfill live`'s --heap-reserve-mb, in-process and in the child\n"
          "                     (default " + std::to_string(kLiveHeapReserveMb) + "; 0: the allocator's defaults)\n";
 }
@@ -92,6 +108,9 @@ struct Recording {
   io::ChannelNames channels;
   int depth_frames{0};
   int64_t first_utime{0}, last_utime{0};  // of the depth frames
+  // A loop's span: from the first to the last event's utime (gripper states
+  // may begin before and end after the frames), plus a frame period.
+  int64_t loop_span_us{0};
   double duration_s() const { return (last_utime - first_utime) * 1e-6; }
 };
 
@@ -111,8 +130,13 @@ Recording LoadRecording(const std::string& path) {
   rec.path = path;
   const auto source = OpenSource(path);
   rt::SourceEvent event;
+  int64_t min_utime = std::numeric_limits<int64_t>::max(), max_utime = 0;
   for (rt::FrameResult r; (r = source->Next(&event)) != rt::FrameResult::kEndOfStream;) {
     if (r != rt::FrameResult::kOk) continue;  // counted by replay; a benchmark plays the rest
+    if (event.kind != rt::SourceEvent::Kind::kSession) {
+      min_utime = std::min(min_utime, UtimeOf(event));
+      max_utime = std::max(max_utime, UtimeOf(event));
+    }
     if (event.kind == rt::SourceEvent::Kind::kSession) {
       if (!rec.session) rec.session = event.session;
     } else if (event.kind == rt::SourceEvent::Kind::kDepth) {
@@ -122,6 +146,7 @@ Recording LoadRecording(const std::string& path) {
     }
   }
   if (rec.depth_frames < 2) throw std::runtime_error("'" + path + "' has fewer than 2 depth frames");
+  rec.loop_span_us = max_utime - min_utime + (rec.last_utime - rec.first_utime) / (rec.depth_frames - 1);
   io::LcmLogReader reader(path);
   DepthFrame frame;
   std::string error;
@@ -146,6 +171,7 @@ struct RunSpec {
   int publish_every{3};
   double soak_s{0.0};  // > 0: loop the recording this long (memq, 1x)
   int heap_reserve_mb{kLiveHeapReserveMb};
+  double fault_percent{0.0};  // the fault soak's malformed messages (udpm)
 };
 
 struct RunResult {
@@ -158,6 +184,13 @@ struct RunResult {
   double rss_start_mb{0.0}, rss_end_mb{0.0};
   double rss_minute1_mb{0.0};  // soak only
   std::string note;             // why the run did not happen, if it did not
+  // The fault soak (udpm soaks): `live` alive when the play ended, malformed
+  // messages sent by reason, its highest RSS, clouds in each window.
+  bool live_alive_at_end{false};
+  std::array<int64_t, io::BadMessageCounts::kNumReasons> malformed_sent{};
+  double rss_peak_mb{0.0};
+  double window_s{0.0};
+  std::vector<int64_t> clouds_per_window;
 };
 
 // When each depth frame went out (by utime), and the clouds that came back.
@@ -170,9 +203,8 @@ class LatencyProbe {
     sent_ns_ = std::vector<std::atomic<int64_t>>(index_.size());
   }
   static int64_t Shift(const Recording& rec, int64_t utime, int loop) {
-    // One loop after another, a frame period apart: the clock never jumps back.
-    const int64_t period = (rec.last_utime - rec.first_utime) / std::max(1, rec.depth_frames - 1);
-    return utime + loop * (rec.last_utime - rec.first_utime + period);
+    // One loop after another, a frame period apart: no clock ever goes back.
+    return utime + loop * rec.loop_span_us;
   }
   void Sent(int64_t utime) {
     const auto it = index_.find(utime);
@@ -183,6 +215,12 @@ class LatencyProbe {
     const auto it = index_.find(cloud.utime);
     std::lock_guard<std::mutex> lock(mutex_);
     ++clouds_;
+    if (window_s_ > 0.0) {
+      const auto window = static_cast<size_t>(
+          std::chrono::duration<double>(Clock::now() - windows_start_).count() / window_s_);
+      if (window >= clouds_per_window_.size()) clouds_per_window_.resize(window + 1, 0);
+      ++clouds_per_window_[window];
+    }
     if (it == index_.end()) return;
     const int64_t sent = sent_ns_[it->second].load();
     if (sent != 0) latency_.Add((Clock::now().time_since_epoch().count() - sent) * 1e-6);
@@ -191,7 +229,16 @@ class LatencyProbe {
     std::lock_guard<std::mutex> lock(mutex_);
     if (statuses_++ == 0) first_status_ = status;
     last_status_ = status;
+    rss_peak_mb_ = std::max(rss_peak_mb_, status.rss_mb);
   }
+  // From now on, count the clouds received in windows of `window_s`.
+  void CountCloudsInWindows(double window_s) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    window_s_ = window_s;
+    windows_start_ = Clock::now();
+  }
+  std::vector<int64_t> clouds_per_window() const { std::lock_guard<std::mutex> lock(mutex_); return clouds_per_window_; }
+  double rss_peak_mb() const { std::lock_guard<std::mutex> lock(mutex_); return rss_peak_mb_; }
   int64_t clouds() const { std::lock_guard<std::mutex> lock(mutex_); return clouds_; }
   int64_t statuses() const { std::lock_guard<std::mutex> lock(mutex_); return statuses_; }
   rt::Percentiles latency() const { std::lock_guard<std::mutex> lock(mutex_); return latency_.Summary(); }
@@ -206,6 +253,10 @@ class LatencyProbe {
   int64_t statuses_{0};
   rt::SampleWindow latency_{1 << 16};
   io::ModuleStatus first_status_, last_status_;
+  double rss_peak_mb_{0.0};
+  double window_s_{0.0};
+  Clock::time_point windows_start_;
+  std::vector<int64_t> clouds_per_window_;
 };
 
 void SubscribeProbe(lcm::LCM* bus, const io::ChannelNames& channels, LatencyProbe* probe) {
@@ -233,12 +284,17 @@ void WaitForRecordingTime(Clock::time_point start, int64_t offset_us, double spe
       start + std::chrono::microseconds(static_cast<int64_t>(static_cast<double>(offset_us) / speed)));
 }
 
+// How many times a run plays the recording: once, or a soak's length.
+int LoopsOf(const Recording& rec, const RunSpec& spec) {
+  if (spec.soak_s <= 0.0) return 1;
+  const double loop_s = std::max(rec.loop_span_us * 1e-6, 0.1);
+  return std::max(1, static_cast<int>(std::ceil(spec.soak_s * spec.speed / loop_s)));
+}
+
 RunResult RunInProcess(const Recording& rec, const RunSpec& spec) {
   RunResult result;
   result.spec = spec;
-  const int loops = spec.soak_s > 0.0
-                        ? std::max(1, static_cast<int>(std::ceil(spec.soak_s / std::max(rec.duration_s(), 0.1))))
-                        : 1;
+  const int loops = LoopsOf(rec, spec);
   rt::LiveSessionConfig config;
   config.lcm_url = "memq://";
   config.channels = rec.channels;
@@ -338,8 +394,17 @@ class LiveChild {
       waitpid(pid_, nullptr, 0);
     }
   }
+  bool Running() {
+    if (pid_ <= 0) return false;
+    int status = 0;
+    if (waitpid(pid_, &status, WNOHANG) != pid_) return true;
+    exit_status_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    pid_ = -1;
+    return false;
+  }
   // Waits up to `timeout`; the exit status, or -1 if it had to be killed.
   int Wait(Clock::duration timeout) {
+    if (pid_ <= 0) return exit_status_;
     const Clock::time_point until = Clock::now() + timeout;
     for (;;) {
       int status = 0;
@@ -360,6 +425,7 @@ class LiveChild {
 
  private:
   pid_t pid_{-1};
+  int exit_status_{-1};
 };
 
 std::string ReadFile(const std::string& path) {
@@ -377,7 +443,8 @@ RunResult RunAcrossProcesses(const Recording& rec, const RunSpec& spec, const st
   result.spec = spec;
   lcm::LCM bus(url);
   if (!bus.good()) throw std::runtime_error("cannot open LCM on " + url);
-  LatencyProbe probe(rec, 1);
+  const int loops = LoopsOf(rec, spec);
+  LatencyProbe probe(rec, loops);
   SubscribeProbe(&bus, rec.channels, &probe);
   std::atomic<bool> receiving{true};
   std::thread receiver([&] {
@@ -391,7 +458,7 @@ RunResult RunAcrossProcesses(const Recording& rec, const RunSpec& spec, const st
   std::vector<std::string> args = {
       std::filesystem::read_symlink("/proc/self/exe").string(), "live", "--depth-from-lcm",
       "--lcm-url", url, "--publish-every", std::to_string(spec.publish_every), "--idle-exit-s",
-      "1", "--duration-s", std::to_string(static_cast<int>(rec.duration_s() / spec.speed) + 60)};
+      "1", "--duration-s", std::to_string(static_cast<int>(loops * rec.duration_s() / spec.speed) + 60)};
   if (!spec.incremental) args.push_back("--no-incremental");
   args.insert(args.end(), {"--heap-reserve-mb", std::to_string(spec.heap_reserve_mb)});
   if (!rec.session) args.insert(args.end(), {"--claw", "three-finger"});
@@ -428,18 +495,50 @@ RunResult RunAcrossProcesses(const Recording& rec, const RunSpec& spec, const st
   }
   result.rss_start_mb = probe.first_status().rss_mb;
 
-  const Clock::time_point start = Clock::now();
-  int64_t first_log_us = -1;
-  for (size_t i = 0; i < rec.raw.size(); ++i) {
-    const io::LogEvent& e = rec.raw[i];
-    if (first_log_us < 0) first_log_us = e.timestamp_us;
-    WaitForRecordingTime(start, e.timestamp_us - first_log_us, spec.speed);
-    if (rec.raw_depth_utime[i] != 0) {
-      probe.Sent(rec.raw_depth_utime[i]);
-      ++result.frames_sent;
+  std::optional<MalformedMessages> malformed;
+  if (spec.fault_percent > 0.0) {
+    const std::vector<uint8_t>* depth = nullptr;
+    const std::vector<uint8_t>* gripper = nullptr;
+    for (size_t i = 0; i < rec.raw.size(); ++i) {
+      if (!depth && rec.raw_depth_utime[i] != 0) depth = &rec.raw[i].data;
+      if (!gripper && rec.raw[i].channel == rec.channels.gripper_state) gripper = &rec.raw[i].data;
     }
-    bus.publish(e.channel, e.data.data(), static_cast<unsigned>(e.data.size()));
+    if (!depth || !gripper) return finish("the recording has no gripper state to break");
+    malformed.emplace(rec.channels, *depth, *gripper);
   }
+  if (spec.soak_s > 0.0) probe.CountCloudsInWindows(spec.soak_s >= 600.0 ? 60.0 : spec.soak_s / 10.0);
+  const Clock::time_point start = Clock::now();
+  const int64_t first_log_us = rec.raw.empty() ? 0 : rec.raw.front().timestamp_us;
+  double malformed_owed = 0.0;
+  std::vector<uint8_t> shifted;
+  for (int loop = 0; loop < loops; ++loop) {
+    // Each loop a recording's span later, in utime and in log time alike.
+    const int64_t offset_us = LatencyProbe::Shift(rec, 0, loop);
+    if (loop > 0 && !child->Running()) break;
+    for (size_t i = 0; i < rec.raw.size(); ++i) {
+      const io::LogEvent& e = rec.raw[i];
+      if (loop > 0 && e.channel == rec.channels.session) continue;  // the session is described once
+      WaitForRecordingTime(start, e.timestamp_us - first_log_us + offset_us, spec.speed);
+      const std::vector<uint8_t>* data = &e.data;
+      if (loop > 0) {
+        shifted = e.data;
+        ShiftEncodedUtime(&shifted, offset_us);
+        data = &shifted;
+      }
+      if (rec.raw_depth_utime[i] != 0) {
+        probe.Sent(rec.raw_depth_utime[i] + offset_us);
+        ++result.frames_sent;
+      }
+      bus.publish(e.channel, data->data(), static_cast<unsigned>(data->size()));
+      if (!malformed) continue;
+      for (malformed_owed += spec.fault_percent / 100.0; malformed_owed >= 1.0; malformed_owed -= 1.0) {
+        const MalformedMessage& m = malformed->Next();
+        bus.publish(m.channel, m.data.data(), static_cast<unsigned>(m.data.size()));
+        ++result.malformed_sent[static_cast<size_t>(m.reason)];
+      }
+    }
+  }
+  result.live_alive_at_end = child->Running();
   result.play_s = MsBetween(start, Clock::now()) / 1000.0;
   const int rc = child->Wait(std::chrono::seconds(120));
   child.reset();
@@ -448,8 +547,17 @@ RunResult RunAcrossProcesses(const Recording& rec, const RunSpec& spec, const st
   if (rc != 0) return finish("the live process exited with " + std::to_string(rc) + ": " + out);
   result.last = probe.last_status();
   result.rss_end_mb = result.last.rss_mb;
+  result.rss_peak_mb = probe.rss_peak_mb();
   result.clouds = probe.clouds();
   result.latency = probe.latency();
+  if (spec.soak_s > 0.0) {
+    result.window_s = spec.soak_s >= 600.0 ? 60.0 : spec.soak_s / 10.0;
+    result.clouds_per_window = probe.clouds_per_window();
+    // Windows that ended before the play did and received nothing count as 0.
+    const auto played = static_cast<size_t>(result.play_s / result.window_s);
+    if (result.clouds_per_window.size() < played) result.clouds_per_window.resize(played, 0);
+    result.clouds_per_window.resize(std::min(result.clouds_per_window.size(), played));
+  }
   return finish("");
 }
 
@@ -474,9 +582,28 @@ nlohmann::ordered_json ToJson(const RunResult& r) {
   j["update_ms"] = {{"p50", r.last.update_ms_p50}, {"p99", r.last.update_ms_p99}};
   j["full_repair_ms"] = {{"p50", r.last.full_repair_ms_p50}, {"p99", r.last.full_repair_ms_p99}};
   j["rss_mb"] = {{"start", r.rss_start_mb}, {"end", r.rss_end_mb}};
-  if (r.spec.soak_s > 0.0) {
+  if (r.spec.soak_s > 0.0 && r.spec.transport == "memq") {
     j["soak_s"] = r.play_s;
     j["rss_mb"]["minute_1"] = r.rss_minute1_mb;
+  } else if (r.spec.soak_s > 0.0) {
+    j["soak_s"] = r.play_s;
+    j["fault_percent"] = r.spec.fault_percent;
+    j["live_alive_at_end"] = r.live_alive_at_end;
+    j["rss_mb"]["peak"] = r.rss_peak_mb;
+    j["window_s"] = r.window_s;
+    j["clouds_per_window"] = r.clouds_per_window;
+    nlohmann::ordered_json sent = nlohmann::ordered_json::object(), counted = sent;
+    int64_t sent_total = 0;
+    for (size_t i = 1; i < io::BadMessageCounts::kNumReasons; ++i) {
+      const auto reason = static_cast<io::MessageError>(i);
+      sent_total += r.malformed_sent[i];
+      if (r.malformed_sent[i] > 0) sent[io::MessageErrorName(reason)] = r.malformed_sent[i];
+      if (r.last.bad_messages[reason] > 0) counted[io::MessageErrorName(reason)] = r.last.bad_messages[reason];
+    }
+    j["malformed_sent"] = sent_total;
+    j["rejects_counted"] = r.last.decode_errors;
+    j["malformed_sent_by_reason"] = sent;
+    j["rejects_counted_by_reason"] = counted;
   }
   return j;
 }
@@ -496,7 +623,22 @@ void PrintRow(const RunResult& r) {
               r.play_s > 0 ? r.clouds / r.play_s : 0.0, r.latency.p50, r.latency.p95, r.latency.p99,
               r.latency.max, r.last.update_ms_p50, r.last.update_ms_p99, r.last.full_repair_ms_p50,
               r.last.full_repair_ms_p99, r.rss_start_mb, r.rss_end_mb);
-  if (r.spec.soak_s > 0.0) {
+  if (r.spec.soak_s > 0.0 && r.spec.transport != "memq") {
+    int64_t sent = 0, counted_as_sent = 0;
+    for (size_t i = 1; i < io::BadMessageCounts::kNumReasons; ++i) {
+      sent += r.malformed_sent[i];
+      counted_as_sent += std::min(r.malformed_sent[i], r.last.bad_messages.by_reason[i]);
+    }
+    int64_t fewest = r.clouds_per_window.empty() ? 0 : r.clouds_per_window.front();
+    for (const int64_t n : r.clouds_per_window) fewest = std::min(fewest, n);
+    std::printf("  soak %.0f s, %.1f%% malformed: live %s at the end; malformed sent %lld, rejects "
+                "counted %lld (%lld under the reason sent); RSS peak %.1f MB, end %.1f MB; clouds "
+                "per %.0f s: fewest %lld of %zu windows\n",
+                r.play_s, r.spec.fault_percent, r.live_alive_at_end ? "alive" : "NOT alive",
+                static_cast<long long>(sent), static_cast<long long>(r.last.decode_errors),
+                static_cast<long long>(counted_as_sent), r.rss_peak_mb, r.rss_end_mb, r.window_s,
+                static_cast<long long>(fewest), r.clouds_per_window.size());
+  } else if (r.spec.soak_s > 0.0) {
     std::printf("  soak %.0f s: RSS %.1f MB at minute 1, %.1f MB at the end (%+.1f%%)\n", r.play_s,
                 r.rss_minute1_mb, r.rss_end_mb,
                 r.rss_minute1_mb > 0 ? 100.0 * (r.rss_end_mb - r.rss_minute1_mb) / r.rss_minute1_mb : 0.0);
@@ -521,7 +663,7 @@ int RunBenchLive(const Args& args) {
   std::vector<double> speeds = {1.0, 2.0, 4.0};
   std::string transport = "both", repair = "both";
   int publish_every = 3;
-  double soak_s = 0.0;
+  double soak_s = 0.0, soak_faults = 0.0, soak_speed = 4.0;
   int heap_reserve_mb = kLiveHeapReserveMb;
   bool json = false;
   try {
@@ -549,7 +691,11 @@ int RunBenchLive(const Args& args) {
       } else if (a == "--publish-every" && has_value) {
         publish_every = ParseInteger<int>("--publish-every", args[++i], 1, 1000);
       } else if (a == "--soak-s" && has_value) {
-        soak_s = ParseDouble("--soak-s", args[++i], 60.0, 86400.0);
+        soak_s = ParseDouble("--soak-s", args[++i], 10.0, 86400.0);
+      } else if (a == "--soak-faults" && has_value) {
+        soak_faults = ParseDouble("--soak-faults", args[++i], 0.001, 50.0);
+      } else if (a == "--soak-speed" && has_value) {
+        soak_speed = ParseDouble("--soak-speed", args[++i], 0.1, 100.0);
       } else if (a == "--heap-reserve-mb" && has_value) {
         heap_reserve_mb = ParseInteger<int>("--heap-reserve-mb", args[++i], 0, 65536);
       } else if (!a.empty() && a[0] != '-' && !log_given) {
@@ -559,6 +705,10 @@ int RunBenchLive(const Args& args) {
         throw UsageError("unknown or incomplete option '" + a + "'");
       }
     }
+    if (soak_s > 0.0 && soak_s < 60.0 && soak_faults == 0.0) {
+      throw UsageError("--soak-s must be >= 60 (RSS at minute 1), or come with --soak-faults");
+    }
+    if (soak_faults > 0.0 && soak_s == 0.0) throw UsageError("--soak-faults needs --soak-s");
   } catch (const UsageError& e) {
     std::fprintf(stderr, "graspfill bench live: %s\n%s", e.what(), Usage().c_str());
     return 2;
@@ -567,7 +717,7 @@ int RunBenchLive(const Args& args) {
   // The namespace first, while this is the only thread (unshare moves the
   // calling thread only).
   std::string no_bus;
-  if (transport != "memq") no_bus = EnterPrivateNetwork();
+  if (transport != "memq" || soak_faults > 0.0) no_bus = EnterPrivateNetwork();
   const std::string url = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608";
 
   Recording rec;
@@ -613,9 +763,22 @@ int RunBenchLive(const Args& args) {
         }
       }
     }
-    if (soak_s > 0.0) {
+    if (soak_s > 0.0 && soak_faults == 0.0) {
       RunResult r = RunInProcess(
           rec, RunSpec{"memq", 1.0, repair != "full", publish_every, soak_s, heap_reserve_mb});
+      if (!json) PrintRow(r);
+      results.push_back(r);
+    }
+    for (const double percent : {0.0, soak_faults}) {
+      if (soak_faults == 0.0) break;
+      const RunSpec spec{"udpm", soak_speed, repair != "full", publish_every, soak_s, heap_reserve_mb, percent};
+      RunResult r;
+      if (!no_bus.empty()) {
+        r.spec = spec;
+        r.note = "no private network namespace for multicast (" + no_bus + ")";
+      } else {
+        r = RunAcrossProcesses(rec, spec, url);
+      }
       if (!json) PrintRow(r);
       results.push_back(r);
     }

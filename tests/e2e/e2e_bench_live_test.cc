@@ -53,9 +53,49 @@ TEST(BenchLive, ReportsEveryRunItWasAskedFor) {
   }
 }
 
+// The fault soak (issue 36), short: `live` over the bus with 2% malformed
+// messages of every kind among the valid ones lives to the end, counts
+// each under the reason it was sent for, keeps its RSS near the clean
+// run's and publishes clouds in every tenth of the run.
+TEST(BenchLive, FaultSoakCountsEveryRejectAndKeepsPublishing) {
+  const auto r = RunCli(
+      "bench live --speeds 1 --transport memq --repair incremental --soak-s 12 --soak-faults 2 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto json = nlohmann::json::parse(r.output.substr(r.output.find('{')));
+  ASSERT_EQ(json["runs"].size(), 3u);
+  const auto& clean = json["runs"][1];
+  const auto& faulted = json["runs"][2];
+  if (clean.contains("skipped")) {
+    EXPECT_NE(clean["skipped"].get<std::string>().find("network namespace"), std::string::npos);
+    GTEST_SKIP() << "no private network namespace";
+  }
+  SCOPED_TRACE(faulted.dump());
+  EXPECT_EQ(clean["fault_percent"].get<double>(), 0.0);
+  EXPECT_EQ(faulted["fault_percent"].get<double>(), 2.0);
+  EXPECT_EQ(clean["malformed_sent"].get<int>(), 0);
+  EXPECT_EQ(clean["rejects_counted"].get<int>(), 0) << clean.dump();  // the loop itself is valid
+  ASSERT_FALSE(faulted.contains("skipped"));
+  EXPECT_TRUE(clean["live_alive_at_end"].get<bool>());
+  EXPECT_TRUE(faulted["live_alive_at_end"].get<bool>());
+  // Every kind of defect sent at least once (19 in the cycle).
+  EXPECT_GE(faulted["malformed_sent"].get<int>(), 19);
+  EXPECT_EQ(faulted["rejects_counted"], faulted["malformed_sent"]);
+  EXPECT_EQ(faulted["rejects_counted_by_reason"], faulted["malformed_sent_by_reason"]);
+  for (const char* reason : {"malformed", "bad_size", "bad_intrinsics", "bad_depth_scale", "bad_encoding",
+                             "bad_pose", "bad_value", "bad_timestamp", "bad_claw_name", "out_of_limits"}) {
+    EXPECT_TRUE(faulted["malformed_sent_by_reason"].contains(reason)) << reason;
+  }
+  EXPECT_LE(faulted["rss_mb"]["peak"].get<double>(), 1.1 * clean["rss_mb"]["peak"].get<double>());
+  EXPECT_GE(faulted["frames_used"].get<int>(), 10);
+  ASSERT_GE(faulted["clouds_per_window"].size(), 9u);
+  for (const auto& n : faulted["clouds_per_window"]) EXPECT_GT(n.get<int>(), 0);
+}
+
 TEST(BenchLive, BadOptionsAreUsageErrors) {
   for (const char* args : {"--speeds 0", "--speeds x", "--transport tcp", "--repair some",
-                           "--publish-every 0", "--soak-s 5", "--bogus"}) {
+                           "--publish-every 0", "--soak-s 5", "--soak-s 30",
+                           "--soak-faults 1", "--soak-s 60 --soak-faults 0", "--soak-s 60 --soak-faults 80",
+                           "--soak-s 60 --soak-faults 1 --soak-speed 0", "--bogus"}) {
     const auto r = RunCli(std::string("bench live ") + args);
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
     EXPECT_NE(r.output.find("usage: graspfill bench live"), std::string::npos) << args;
