@@ -458,7 +458,7 @@ RunResult RunAcrossProcesses(const Recording& rec, const RunSpec& spec, const st
   std::vector<std::string> args = {
       std::filesystem::read_symlink("/proc/self/exe").string(), "live", "--depth-from-lcm",
       "--lcm-url", url, "--publish-every", std::to_string(spec.publish_every), "--idle-exit-s",
-      "1", "--duration-s", std::to_string(static_cast<int>(loops * rec.duration_s() / spec.speed) + 60)};
+      "1", "--duration-s", std::to_string(static_cast<int>(loops * rec.loop_span_us * 1e-6 / spec.speed) + 60)};
   if (!spec.incremental) args.push_back("--no-incremental");
   args.insert(args.end(), {"--heap-reserve-mb", std::to_string(spec.heap_reserve_mb)});
   if (!rec.session) args.insert(args.end(), {"--claw", "three-finger"});
@@ -469,7 +469,12 @@ RunResult RunAcrossProcesses(const Recording& rec, const RunSpec& spec, const st
     result.note = note;
     return result;
   };
-  auto child = std::make_unique<LiveChild>(args, child_log);
+  std::unique_ptr<LiveChild> child;
+  try {
+    child = std::make_unique<LiveChild>(args, child_log);
+  } catch (const std::exception& e) {
+    return finish(e.what());
+  }
 
   // Until the child answers with a status, offer it the session description
   // (it starts on the first one; without one it has started with --claw).
@@ -504,7 +509,11 @@ RunResult RunAcrossProcesses(const Recording& rec, const RunSpec& spec, const st
       if (!gripper && rec.raw[i].channel == rec.channels.gripper_state) gripper = &rec.raw[i].data;
     }
     if (!depth || !gripper) return finish("the recording has no gripper state to break");
-    malformed.emplace(rec.channels, *depth, *gripper);
+    try {
+      malformed.emplace(rec.channels, *depth, *gripper);
+    } catch (const std::exception& e) {
+      return finish(e.what());
+    }
   }
   if (spec.soak_s > 0.0) probe.CountCloudsInWindows(spec.soak_s >= 600.0 ? 60.0 : spec.soak_s / 10.0);
   const Clock::time_point start = Clock::now();
@@ -570,6 +579,7 @@ nlohmann::ordered_json ToJson(const RunResult& r) {
     j["skipped"] = r.note;
     return j;
   }
+  j["frames_sent"] = r.frames_sent;
   j["frames_in"] = r.last.frames_in;
   j["frames_used"] = r.last.frames_used;
   j["frames_dropped"] = r.last.frames_dropped;
@@ -631,13 +641,16 @@ void PrintRow(const RunResult& r) {
     }
     int64_t fewest = r.clouds_per_window.empty() ? 0 : r.clouds_per_window.front();
     for (const int64_t n : r.clouds_per_window) fewest = std::min(fewest, n);
+    // A valid frame the module never received was lost on the way (a full
+    // socket buffer): malformed messages may have been too.
     std::printf("  soak %.0f s, %.1f%% malformed: live %s at the end; malformed sent %lld, rejects "
-                "counted %lld (%lld under the reason sent); RSS peak %.1f MB, end %.1f MB; clouds "
-                "per %.0f s: fewest %lld of %zu windows\n",
+                "counted %lld (%lld under the reason sent); valid frames lost on the way %lld; RSS "
+                "peak %.1f MB, end %.1f MB; clouds per %.0f s: fewest %lld of %zu windows\n",
                 r.play_s, r.spec.fault_percent, r.live_alive_at_end ? "alive" : "NOT alive",
                 static_cast<long long>(sent), static_cast<long long>(r.last.decode_errors),
-                static_cast<long long>(counted_as_sent), r.rss_peak_mb, r.rss_end_mb, r.window_s,
-                static_cast<long long>(fewest), r.clouds_per_window.size());
+                static_cast<long long>(counted_as_sent),
+                static_cast<long long>(r.frames_sent - r.last.frames_in), r.rss_peak_mb, r.rss_end_mb,
+                r.window_s, static_cast<long long>(fewest), r.clouds_per_window.size());
   } else if (r.spec.soak_s > 0.0) {
     std::printf("  soak %.0f s: RSS %.1f MB at minute 1, %.1f MB at the end (%+.1f%%)\n", r.play_s,
                 r.rss_minute1_mb, r.rss_end_mb,

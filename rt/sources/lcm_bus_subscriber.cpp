@@ -34,6 +34,9 @@ struct LcmBusSubscriber::Impl {
 };
 
 namespace {
+// Gripper states LCM may queue for this subscriber (see the constructor).
+constexpr int kStateQueueCapacity = 2048;
+
 // True if `utime` may follow what `clock` took last (strictly newer when
 // `strict`); updates the clock.
 template <typename ClockT>
@@ -129,12 +132,17 @@ LcmBusSubscriber::LcmBusSubscriber(const Config& config, StateCallback on_state,
   impl_->T_C_B = config.T_C_B;
   impl_->intrinsics = config.intrinsics;
   // Handlers are called from LCM's C code: they count errors, never throw.
-  impl_->lcm.subscribeFunction(
+  lcm::Subscription* states = impl_->lcm.subscribeFunction(
       config.channels.gripper_state,
       +[](const lcm::ReceiveBuffer* rbuf, const std::string&, LcmBusSubscriber* self) {
         self->HandleGripperState(rbuf->data, rbuf->data_size);
       },
       this);
+  // LCM drops what a subscription has queued beyond 30 messages, silently:
+  // 75 ms of states at 4x a 100 Hz arm, which one slow depth frame on this
+  // thread (decoding it) can outlast, and a frame without the states around
+  // it is lost. States are ~100 bytes: 2,048 hold 5 s at 4x for 200 kB.
+  states->setQueueCapacity(kStateQueueCapacity);
   if (impl_->on_depth) {
     impl_->lcm.subscribeFunction(
         config.channels.depth,

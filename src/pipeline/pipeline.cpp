@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "graspfill/core/pose_interpolation.hpp"
+#include "graspfill/evidence/seen_free_carve.hpp"
 
 namespace graspfill {
 
@@ -282,6 +283,10 @@ ObjectCloud Pipeline::ExtractCloud() {
     ScopedStageTimer t(&s.stats.extract);
     s.fusion.ExtractCloud(&cloud);
   }
+  {
+    ScopedStageTimer t(&s.stats.carve);
+    s.stats.points_carved_last = static_cast<int64_t>(evidence::CarveSeenFree(s.visibility, &cloud));
+  }
   cloud.utime = s.last_utime;
   cloud.seq = s.seq++;
   cloud.T_C_G = s.last_T_C_G;
@@ -289,7 +294,8 @@ ObjectCloud Pipeline::ExtractCloud() {
                    {"mask", s.stats.mask.mean_ms()},
                    {"integrate", s.stats.integrate.mean_ms()},
                    {"visibility", s.stats.visibility.mean_ms()},
-                   {"extract", s.stats.extract.last_ms}};
+                   {"extract", s.stats.extract.last_ms},
+                   {"carve", s.stats.carve.last_ms}};
   return cloud;
 }
 

@@ -79,8 +79,23 @@ TEST(BenchLive, FaultSoakCountsEveryRejectAndKeepsPublishing) {
   EXPECT_TRUE(faulted["live_alive_at_end"].get<bool>());
   // Every kind of defect sent at least once (19 in the cycle).
   EXPECT_GE(faulted["malformed_sent"].get<int>(), 19);
-  EXPECT_EQ(faulted["rejects_counted"], faulted["malformed_sent"]);
-  EXPECT_EQ(faulted["rejects_counted_by_reason"], faulted["malformed_sent_by_reason"]);
+  // Every malformed message that arrived is counted under its reason. The
+  // kernel drops datagrams when the socket's buffer is full (a loaded
+  // machine, frames of 200 kB at 4x): then valid frames are missing too,
+  // and the counts may fall short of what was sent, never exceed it.
+  const auto& sent = faulted["malformed_sent_by_reason"];
+  const auto& counted = faulted["rejects_counted_by_reason"];
+  if (faulted["frames_in"] == faulted["frames_sent"]) {
+    EXPECT_EQ(faulted["rejects_counted"], faulted["malformed_sent"]);
+    EXPECT_EQ(counted, sent);
+  } else {
+    EXPECT_LE(faulted["rejects_counted"].get<int>(), faulted["malformed_sent"].get<int>());
+    for (auto it = counted.begin(); it != counted.end(); ++it) {
+      ASSERT_TRUE(sent.contains(it.key())) << it.key() << " counted, none sent";
+      EXPECT_LE(it.value().get<int>(), sent[it.key()].get<int>()) << it.key();
+    }
+    EXPECT_GT(faulted["rejects_counted"].get<int>(), 0);
+  }
   for (const char* reason : {"malformed", "bad_size", "bad_intrinsics", "bad_depth_scale", "bad_encoding",
                              "bad_pose", "bad_value", "bad_timestamp", "bad_claw_name", "out_of_limits"}) {
     EXPECT_TRUE(faulted["malformed_sent_by_reason"].contains(reason)) << reason;

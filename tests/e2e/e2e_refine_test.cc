@@ -88,9 +88,11 @@ TEST(RefineE2E, UndoesHandEyeErrorPoseNoiseAndClockOffset) {
               1000 * logged.p95_m, logged.points, logged.claw_left);
   EXPECT_LE(refined.p95_m, 0.0010);
   EXPECT_LT(refined.claw_left, 0.001 * refined.points);
-  // The same frames at their logged poses: several mm off, and claw left.
+  // The same frames at their logged poses: several mm off. (The claw they
+  // leave is mostly carved at extraction, where other views saw through
+  // it: seen_free_carve.hpp; never less than the refined poses leave.)
   EXPECT_GT(logged.p95_m, 2.0 * refined.p95_m);
-  EXPECT_GT(logged.claw_left, refined.claw_left);
+  EXPECT_GE(logged.claw_left, refined.claw_left);
   const nlohmann::json& r = refined.report["refine"];
   EXPECT_TRUE(r["enabled"].get<bool>());
   EXPECT_GE(r["frames_refined"].get<int>(), 27);

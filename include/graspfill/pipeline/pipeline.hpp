@@ -100,6 +100,10 @@ struct PipelineStats {
   StageTotal integrate;
   StageTotal visibility;  ///< the key-frame test (and copy, for a new one)
   StageTotal extract;
+  /// Removing the fused points the record saw free (seen_free_carve.hpp),
+  /// at each extraction, and how many the last one removed.
+  StageTotal carve;
+  int64_t points_carved_last{0};
 };
 
 class Pipeline {
