@@ -458,7 +458,9 @@ RunResult RunAcrossProcesses(const Recording& rec, const RunSpec& spec, const st
   std::vector<std::string> args = {
       std::filesystem::read_symlink("/proc/self/exe").string(), "live", "--depth-from-lcm",
       "--lcm-url", url, "--publish-every", std::to_string(spec.publish_every), "--idle-exit-s",
-      "1", "--duration-s", std::to_string(static_cast<int>(loops * rec.loop_span_us * 1e-6 / spec.speed) + 60)};
+      // A soak outlasts the stalls of a loaded machine (seconds): `live`
+      // must not end the session on one, as it rightly does after 1 s idle.
+      spec.soak_s > 0.0 ? "10" : "1", "--duration-s", std::to_string(static_cast<int>(loops * rec.loop_span_us * 1e-6 / spec.speed) + 60)};
   if (!spec.incremental) args.push_back("--no-incremental");
   args.insert(args.end(), {"--heap-reserve-mb", std::to_string(spec.heap_reserve_mb)});
   if (!rec.session) args.insert(args.end(), {"--claw", "three-finger"});
