@@ -759,36 +759,11 @@ int RunBenchLive(const Args& args) {
   if (repair != "full") modes.push_back(true);
   if (repair != "incremental") modes.push_back(false);
   try {
-    for (const std::string bus : {"memq", "udpm"}) {
-      if (transport != "both" && transport != bus) continue;
-      for (const double speed : speeds) {
-        for (const bool incremental : modes) {
-          RunSpec spec{bus, speed, incremental, publish_every, 0.0, heap_reserve_mb};
-          RunResult r;
-          if (bus == std::string("memq")) {
-            r = RunInProcess(rec, spec);
-          } else if (!no_bus.empty()) {
-            r.spec = spec;
-            r.note = "no private network namespace for multicast (" + no_bus + ")";
-          } else {
-            r = RunAcrossProcesses(rec, spec, url);
-          }
-          if (!json) PrintRow(r);
-          results.push_back(r);
-        }
-      }
-    }
-    if (soak_s > 0.0 && soak_faults == 0.0) {
-      RunResult r = RunInProcess(
-          rec, RunSpec{"memq", 1.0, repair != "full", publish_every, soak_s, heap_reserve_mb});
-      if (!json) PrintRow(r);
-      results.push_back(r);
-    }
-    for (const double percent : {0.0, soak_faults}) {
-      if (soak_faults == 0.0) break;
-      const RunSpec spec{"udpm", soak_speed, repair != "full", publish_every, soak_s, heap_reserve_mb, percent};
+    const auto run = [&](const RunSpec& spec) {
       RunResult r;
-      if (!no_bus.empty()) {
+      if (spec.transport == "memq") {
+        r = RunInProcess(rec, spec);
+      } else if (!no_bus.empty()) {
         r.spec = spec;
         r.note = "no private network namespace for multicast (" + no_bus + ")";
       } else {
@@ -796,6 +771,21 @@ int RunBenchLive(const Args& args) {
       }
       if (!json) PrintRow(r);
       results.push_back(r);
+    };
+    for (const std::string bus : {"memq", "udpm"}) {
+      if (transport != "both" && transport != bus) continue;
+      for (const double speed : speeds) {
+        for (const bool incremental : modes) {
+          run(RunSpec{bus, speed, incremental, publish_every, 0.0, heap_reserve_mb});
+        }
+      }
+    }
+    if (soak_s > 0.0 && soak_faults == 0.0) {
+      run(RunSpec{"memq", 1.0, repair != "full", publish_every, soak_s, heap_reserve_mb});
+    }
+    for (const double percent : {0.0, soak_faults}) {
+      if (soak_faults == 0.0) break;
+      run(RunSpec{"udpm", soak_speed, repair != "full", publish_every, soak_s, heap_reserve_mb, percent});
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "graspfill bench live: %s\n", ErrorText(e).c_str());

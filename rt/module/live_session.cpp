@@ -73,10 +73,6 @@ LiveSession::LiveSession(const LiveSessionConfig& config)
                                   [this](const DepthFrame& f) { OnDepth(f); })
                             : LcmBusSubscriber::DepthCallback(),
       [this](const io::SessionDescription& session) {
-        {
-          std::lock_guard<std::mutex> lock(intake_mutex_);
-          if (!first_session_) first_session_ = session;
-        }
         if (claw_checker_) claw_checker_->Submit(session);  // never waits for the build
       },
       [this, rejected, kept](io::MessageError reason, const std::string& why) {
@@ -92,11 +88,6 @@ LiveSession::~LiveSession() {
 void LiveSession::NoticeOnce(io::MessageError reason, const std::string& text) {
   if (noticed_[static_cast<size_t>(reason)].exchange(true)) return;
   config_.on_notice(text);
-}
-
-std::optional<io::SessionDescription> LiveSession::first_session() const {
-  std::lock_guard<std::mutex> lock(intake_mutex_);
-  return first_session_;
 }
 
 bool LiveSession::WaitSessionChecks(std::chrono::milliseconds timeout) const {

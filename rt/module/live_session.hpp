@@ -141,9 +141,6 @@ class LiveSession : private EventSink {
   /// limit); returns that description with its claw, if any. Descriptions
   /// rejected on the way are counted and skipped.
   std::optional<DescribedClaw> WaitForFirstEvent();
-  /// The first session description the bus subscriber accepted so far
-  /// (any thread).
-  std::optional<io::SessionDescription> first_session() const;
   /// Waits until no session description's claw waits or is being built
   /// (or `timeout`); true if none. For tests: the verdicts are then out.
   bool WaitSessionChecks(std::chrono::milliseconds timeout) const;
@@ -198,7 +195,6 @@ class LiveSession : private EventSink {
   bool begun_{false};
   std::deque<GripperState> early_states_;
   std::deque<DepthFrame> early_frames_;
-  std::optional<io::SessionDescription> first_session_;
 
   std::atomic<int64_t> source_errors_{0};
   std::atomic<int64_t> claws_unloadable_{0};  // session descriptions, by the checker

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <stdexcept>
 #include <vector>
 
 #include "graspfill/evidence/visibility_record.hpp"
@@ -50,6 +51,16 @@ inline Eigen::Vector3f PointAt(double u, double v, float z) {
   const CameraIntrinsics K;
   return Eigen::Vector3f(static_cast<float>((u - K.cx) / K.fx) * z,
                          static_cast<float>((v - K.cy) / K.fy) * z, z);
+}
+
+// A record holding the plate frame as its one key frame (G = C).
+inline evidence::VisibilityRecord RecordOfPlate() {
+  evidence::VisibilityRecord record(evidence::VisibilityConfig{}, TestBox());
+  const TestFrame f = PlateFrame();
+  if (!record.Offer(f.raw, f.claw_depth, Eigen::Isometry3d::Identity())) {
+    throw std::logic_error("RecordOfPlate: the first frame must become a key frame");
+  }
+  return record;
 }
 
 }  // namespace graspfill::testing

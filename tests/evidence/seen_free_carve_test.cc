@@ -7,16 +7,9 @@
 namespace graspfill::evidence {
 namespace {
 
-using testing::PlateFrame;
 using testing::PointAt;
+using testing::RecordOfPlate;
 using testing::TestBox;
-
-VisibilityRecord RecordOfPlate() {
-  VisibilityRecord record(VisibilityConfig{}, TestBox());
-  const auto f = PlateFrame();
-  EXPECT_TRUE(record.Offer(f.raw, f.claw_depth, Eigen::Isometry3d::Identity()));
-  return record;
-}
 
 // A cloud of the plate's surface, a phantom layer in front of it (the ray
 // passed it and measured the plate farther), points hidden behind the plate

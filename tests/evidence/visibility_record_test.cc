@@ -12,14 +12,8 @@ namespace {
 
 using testing::PlateFrame;
 using testing::PointAt;
+using testing::RecordOfPlate;
 using testing::TestBox;
-
-VisibilityRecord RecordOfPlate() {
-  VisibilityRecord record(VisibilityConfig{}, TestBox());
-  const auto f = PlateFrame();
-  EXPECT_TRUE(record.Offer(f.raw, f.claw_depth, Eigen::Isometry3d::Identity()));
-  return record;
-}
 
 TEST(VisibilityRecord, ClassifiesFreeSurfaceOccludedAndBehindClaw) {
   const VisibilityRecord record = RecordOfPlate();
