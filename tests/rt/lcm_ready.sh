@@ -1,4 +1,21 @@
-# Sourced by the namespace scripts: waits until process $1 has bound LCM's
+# Sourced by the namespace scripts.
+
+# Returns 1 (after saying why, as a SKIP line) unless this machine can run
+# them: unshare, ip and lcm-logplayer installed, and a network namespace of
+# our own allowed. Multicast is never tried on the host's network.
+require_private_network() {
+  if ! command -v unshare >/dev/null 2>&1 || ! command -v ip >/dev/null 2>&1 ||
+     ! command -v lcm-logplayer >/dev/null 2>&1; then
+    echo "SKIP: needs unshare (util-linux), ip (iproute2) and lcm-logplayer (liblcm-bin)"
+    return 1
+  fi
+  if ! unshare -n true 2>/dev/null; then
+    echo "SKIP: cannot create a network namespace; multicast is never tried on the host network"
+    return 1
+  fi
+}
+
+# wait_lcm_subscribed PID: waits until process $1 has bound LCM's
 # UDP multicast port (LCM binds it with the first subscription), so that
 # nothing is published before the subscriber listens. A fixed sleep was
 # not enough on a loaded 2-core machine. Returns 1 after 20 s.

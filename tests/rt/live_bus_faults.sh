@@ -75,15 +75,8 @@ if [ "$CASE" = replay_traversal ]; then
   exit 0
 fi
 
-if ! command -v unshare >/dev/null 2>&1 || ! command -v ip >/dev/null 2>&1 ||
-   ! command -v lcm-logplayer >/dev/null 2>&1; then
-  echo "SKIP: needs unshare (util-linux), ip (iproute2) and lcm-logplayer (liblcm-bin)"
-  exit $SKIP
-fi
-if ! unshare -n true 2>/dev/null; then
-  echo "SKIP: cannot create a network namespace; multicast is never tried on the host network"
-  exit $SKIP
-fi
+. "$(dirname "$0")/lcm_ready.sh"
+require_private_network || exit $SKIP
 
 FLAGS="--idle-exit-s 1.5"
 case "$CASE" in

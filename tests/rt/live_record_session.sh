@@ -10,15 +10,8 @@
 set -u
 GRASPFILL=$1
 SKIP=77
-if ! command -v unshare >/dev/null 2>&1 || ! command -v ip >/dev/null 2>&1 ||
-   ! command -v lcm-logplayer >/dev/null 2>&1; then
-  echo "SKIP: needs unshare (util-linux), ip (iproute2) and lcm-logplayer (liblcm-bin)"
-  exit $SKIP
-fi
-if ! unshare -n true 2>/dev/null; then
-  echo "SKIP: cannot create a network namespace; multicast is never tried on the host network"
-  exit $SKIP
-fi
+. "$(dirname "$0")/lcm_ready.sh"
+require_private_network || exit $SKIP
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 "$GRASPFILL" synth --shape cylinder --frames 20 --wall-m 0 --seed 4 -o "$TMP/rec" \
