@@ -15,6 +15,12 @@ require_private_network() {
   fi
 }
 
+# Inside the namespace: brings loopback up with a multicast route on it,
+# for LCM's udpm. Returns non-zero if either step fails.
+loopback_multicast_up() {
+  ip link set lo up && ip route add 224.0.0.0/4 dev lo
+}
+
 # wait_lcm_subscribed PID: waits until process $1 has bound LCM's
 # UDP multicast port (LCM binds it with the first subscription), so that
 # nothing is published before the subscriber listens. A fixed sleep was

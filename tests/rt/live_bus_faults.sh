@@ -87,9 +87,8 @@ export GRASPFILL STATUS TMP FLAGS
 export LCM_READY="$(cd "$(dirname "$0")" && pwd)/lcm_ready.sh"
 export URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608'
 unshare -n sh -c '
-  ip link set lo up || exit 90
-  ip route add 224.0.0.0/4 dev lo || exit 91
   . "$LCM_READY"
+  loopback_multicast_up || exit 90
   "$STATUS" "$URL" GRASPFILL_STATUS 60000 90000 GRASPFILL_DEPTH >"$TMP/status.out" 2>&1 &
   status=$!
   TMPDIR="$TMP/a/b" "$GRASPFILL" live --depth-from-lcm --lcm-url "$URL" --no-repair \

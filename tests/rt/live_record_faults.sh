@@ -43,9 +43,8 @@ export LCM_READY="$(cd "$(dirname "$0")" && pwd)/lcm_ready.sh"
 export URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608'
 
 unshare -m -n sh -c '
-  ip link set lo up || exit 90
-  ip route add 224.0.0.0/4 dev lo || exit 91
   . "$LCM_READY"
+  loopback_multicast_up || exit 90
   live() {  # name, options: live in the background, its pid in $live
     name=$1
     shift

@@ -20,9 +20,8 @@ export GRASPFILL TMP
 export LCM_READY="$(cd "$(dirname "$0")" && pwd)/lcm_ready.sh"
 export URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608'
 unshare -n sh -c '
-  ip link set lo up || exit 90
-  ip route add 224.0.0.0/4 dev lo || exit 91
   . "$LCM_READY"
+  loopback_multicast_up || exit 90
   "$GRASPFILL" live --depth-from-lcm --lcm-url "$URL" --publish-every 0 --idle-exit-s 1.5 \
       --duration-s 40 --record "$TMP/session.lcmlog" >"$TMP/live.out" 2>"$TMP/live.err" &
   live=$!

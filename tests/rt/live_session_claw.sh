@@ -28,9 +28,8 @@ run() {
   name=$1
   shift
   NAME=$name FLAGS="$*" unshare -n sh -c '
-    ip link set lo up || exit 90
-    ip route add 224.0.0.0/4 dev lo || exit 91
     . "$LCM_READY"
+    loopback_multicast_up || exit 90
     "$GRASPFILL" live --depth-from-lcm --lcm-url "$URL" --no-repair --publish-every 0 \
         --idle-exit-s 1.5 --duration-s 25 $FLAGS >"$TMP/$NAME.out" 2>"$TMP/$NAME.err" &
     live=$!

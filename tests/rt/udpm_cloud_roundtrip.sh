@@ -30,9 +30,8 @@ export CHANNEL=GRASPFILL_TEST_UDPM_CLOUD
 
 # 20000 points with normals: ~500 KB, so LCM fragments the message.
 unshare -n sh -c '
-  ip link set lo up || exit 90
-  ip route add 224.0.0.0/4 dev lo || exit 91
   . "$LCM_READY"
+  loopback_multicast_up || exit 90
   "$SUB" "$URL" "$CHANNEL" 10000 >"$TMP/sub.out" 2>"$TMP/sub.err" &
   sub=$!
   wait_lcm_subscribed $sub || exit 95
