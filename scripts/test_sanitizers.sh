@@ -42,7 +42,7 @@ asan_tests="
   claw_model_test claw_mask_test claw_loader_test claw_validation_test urdf_claw_test mesh_file_test
   pose_interpolation_test raycaster_test bit_grid_test tsdf_fusion_test workspace_crop_test
   closest_point_grid_test
-  visibility_record_test safe_bound_test pipeline_test
+  visibility_record_test safe_bound_test seen_free_carve_test pipeline_test
   repair_neighbor_index_test repair_analysis_cloud_test repair_outlier_removal_test
   repair_boundary_detection_test repair_boundary_linking_test repair_virtual_frame_test
   repair_axis_refinement_test repair_boundary_classification_test repair_boundary_completion_test

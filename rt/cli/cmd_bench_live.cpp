@@ -284,6 +284,9 @@ void WaitForRecordingTime(Clock::time_point start, int64_t offset_us, double spe
       start + std::chrono::microseconds(static_cast<int64_t>(static_cast<double>(offset_us) / speed)));
 }
 
+// The windows a soak counts clouds in: minutes, or tenths of a shorter one.
+double SoakWindowS(const RunSpec& spec) { return spec.soak_s >= 600.0 ? 60.0 : spec.soak_s / 10.0; }
+
 // How many times a run plays the recording: once, or a soak's length.
 int LoopsOf(const Recording& rec, const RunSpec& spec) {
   if (spec.soak_s <= 0.0) return 1;
@@ -517,7 +520,7 @@ RunResult RunAcrossProcesses(const Recording& rec, const RunSpec& spec, const st
       return finish(e.what());
     }
   }
-  if (spec.soak_s > 0.0) probe.CountCloudsInWindows(spec.soak_s >= 600.0 ? 60.0 : spec.soak_s / 10.0);
+  if (spec.soak_s > 0.0) probe.CountCloudsInWindows(SoakWindowS(spec));
   const Clock::time_point start = Clock::now();
   const int64_t first_log_us = rec.raw.empty() ? 0 : rec.raw.front().timestamp_us;
   double malformed_owed = 0.0;
@@ -562,7 +565,7 @@ RunResult RunAcrossProcesses(const Recording& rec, const RunSpec& spec, const st
   result.clouds = probe.clouds();
   result.latency = probe.latency();
   if (spec.soak_s > 0.0) {
-    result.window_s = spec.soak_s >= 600.0 ? 60.0 : spec.soak_s / 10.0;
+    result.window_s = SoakWindowS(spec);
     result.clouds_per_window = probe.clouds_per_window();
     // Windows that ended before the play did and received nothing count as 0.
     const auto played = static_cast<size_t>(result.play_s / result.window_s);
