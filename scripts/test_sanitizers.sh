@@ -49,6 +49,7 @@ asan_tests="
   repair_claw_hole_repair_test repair_symmetry_repair_test repair_repairer_test
   repair_bounded_repair_test repair_geometry_plane_fit_test repair_geometry_gap_grid_test
   repair_geometry_polygon_2d_test repair_geometry_ransac_planes_test
+  repair_revolution_fill_test repair_top_search_test
   rt_lcm_log_test rt_lcm_publisher_test rt_prefetching_source_test rt_cli_options_test
   rt_config_test rt_grasp_module_test rt_cloud_repair_test rt_repair_stage_test
   rt_grasp_sequencer_test rt_live_session_test rt_sample_window_test"

@@ -6,7 +6,7 @@
 //   URL   LCM's URL (default: LCM_DEFAULT_URL, else UDP multicast); a bus log
 //         recorded with lcm-logger or graspfill plays as "file://LOG?speed=0"
 // Prints per cloud:
-//   seq=S utime=U grasp=G final=F points=N observed=A surface=B symmetry=C holes=H
+//   seq=S utime=U grasp=G final=F points=N observed=A surface=B symmetry=C holes=H unobserved=U
 // Exit: 0 once N clouds (default 1) are received; 1 on a usage error, an
 // undecodable message, the end of a log or S seconds (default 10) without a
 // cloud before that.
@@ -31,13 +31,16 @@ class Printer {
     for (int8_t p : cloud->provenance) {
       if (p >= 0 && p < 3) ++by_provenance[p];
     }
+    // Holes whose inside nothing is known of (an open mouth): keep clear.
+    int unobserved = 0;
+    for (const graspfill::hole_t& h : cloud->holes) unobserved += h.unobserved != 0;
     std::printf("seq=%lld utime=%lld grasp=%lld final=%d points=%d observed=%lld "
-                "surface=%lld symmetry=%lld holes=%d\n",
+                "surface=%lld symmetry=%lld holes=%d unobserved=%d\n",
                 static_cast<long long>(cloud->seq), static_cast<long long>(cloud->utime),
                 static_cast<long long>(cloud->grasp_id), cloud->is_final, cloud->num_points,
                 by_provenance[graspfill::object_cloud_t::OBSERVED],
                 by_provenance[graspfill::object_cloud_t::SURFACE],
-                by_provenance[graspfill::object_cloud_t::SYMMETRY], cloud->num_holes);
+                by_provenance[graspfill::object_cloud_t::SYMMETRY], cloud->num_holes, unobserved);
     std::fflush(stdout);
     ++received;
   }

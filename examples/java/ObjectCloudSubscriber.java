@@ -8,9 +8,10 @@
 //         plays as "file://LOG?speed=0" (at its end LCM's Java file provider
 //         prints an EOFException on stderr: harmless)
 // Prints per cloud, as the C++ example does:
-//   seq=S utime=U grasp=G final=F points=N observed=A surface=B symmetry=C holes=H
+//   seq=S utime=U grasp=G final=F points=N observed=A surface=B symmetry=C holes=H unobserved=U
 // Exit: 0 once N clouds (default 1) are received; 1 on a usage error, an
 // undecodable message or S seconds (default 10) without a cloud before that.
+import graspfill.hole_t;
 import graspfill.object_cloud_t;
 import java.io.IOException;
 import lcm.lcm.LCM;
@@ -30,11 +31,16 @@ public class ObjectCloudSubscriber implements LCMSubscriber {
       for (byte p : cloud.provenance) {
         if (p >= 0 && p < 3) ++byProvenance[p];
       }
+      // Holes whose inside nothing is known of (an open mouth): keep clear.
+      int unobserved = 0;
+      for (hole_t h : cloud.holes) {
+        if (h.unobserved != 0) ++unobserved;
+      }
       System.out.printf("seq=%d utime=%d grasp=%d final=%d points=%d observed=%d surface=%d "
-              + "symmetry=%d holes=%d%n", cloud.seq, cloud.utime, cloud.grasp_id, cloud.is_final,
-          cloud.num_points, byProvenance[object_cloud_t.OBSERVED],
+              + "symmetry=%d holes=%d unobserved=%d%n", cloud.seq, cloud.utime, cloud.grasp_id,
+          cloud.is_final, cloud.num_points, byProvenance[object_cloud_t.OBSERVED],
           byProvenance[object_cloud_t.SURFACE], byProvenance[object_cloud_t.SYMMETRY],
-          cloud.num_holes);
+          cloud.num_holes, unobserved);
       System.out.flush();
       ++received;
     } catch (IOException e) {

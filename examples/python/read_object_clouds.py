@@ -2,7 +2,7 @@
 """Reads graspfill's object clouds from an LCM log file and prints a summary
 of each, as the C++ and Java subscribers do:
 
-  seq=S utime=U grasp=G final=F points=N observed=A surface=B symmetry=C holes=H
+  seq=S utime=U grasp=G final=F points=N observed=A surface=B symmetry=C holes=H unobserved=U
 
 Debian ships no Python binding of LCM, and none is needed to read a log: the
 event format is small (below), and the classes `lcm-gen -p` made (the
@@ -61,7 +61,9 @@ def summary(cloud):
             f"final={cloud.is_final} points={cloud.num_points} "
             f"observed={by_provenance[object_cloud_t.OBSERVED]} "
             f"surface={by_provenance[object_cloud_t.SURFACE]} "
-            f"symmetry={by_provenance[object_cloud_t.SYMMETRY]} holes={cloud.num_holes}")
+            f"symmetry={by_provenance[object_cloud_t.SYMMETRY]} holes={cloud.num_holes} "
+            # Holes whose inside nothing is known of (an open mouth): keep clear.
+            f"unobserved={sum(1 for h in cloud.holes if h.unobserved)}")
 
 
 def main():

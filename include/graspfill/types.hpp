@@ -97,6 +97,12 @@ struct HoleSummary {
   Eigen::Vector3f box_min_G{0, 0, 0};  ///< axis-aligned box in G [m]
   Eigen::Vector3f box_max_G{0, 0, 0};
   int points_added{0};
+  /// Nothing is known inside: no completion explained the hole better than
+  /// leaving it open (an open cup's mouth). Nothing was added there; the
+  /// planner should avoid it (the safe bound covers it).
+  bool unobserved{false};
+  /// Confidence of the points added to it (0 when none), 0..1.
+  float confidence{0.0f};
 };
 
 /// Wall time of one pipeline stage, for reports and the status message.

@@ -92,7 +92,12 @@ TimedRepair RepairTimed(const ObjectCloud& fused, const evidence::VisibilityReco
 std::string RepairNote(const repair::RepairReport& r) {
   std::string note = r.StatusText();
   if (!r.symmetric && !r.symmetry_reason.empty()) note += "; " + r.symmetry_reason;
-  if (!r.evidence.top.empty()) note += "; top: " + r.evidence.top;
+  if (!r.top_completion.empty()) {
+    char text[96];
+    std::snprintf(text, sizeof(text), "; the top: %s, confidence %.2f", r.top_completion.c_str(), r.top_confidence);
+    note += text;
+  }
+  if (!r.evidence.top.empty()) note += "; the rays' top: " + r.evidence.top;
   if (r.claw_holes_left_open > 0) note += "; claw holes left open: " + std::to_string(r.claw_holes_left_open);
   return note;
 }

@@ -46,6 +46,8 @@ struct Outcome {
   int added_in_free{0};      ///< added points in seen-free space
   double ms{0.0};            ///< the fastest repair
   std::string note;          ///< RepairNote of the report
+  std::string top_completion;  ///< the report's (what won the top's search)
+  float top_confidence{0.0f};
   std::vector<StageTiming> steps;  ///< the fastest repair's steps
   repair::EvidenceReport evidence;
   Eigen::Vector3d up_axis{Eigen::Vector3d::Zero()};  ///< V's +z in G (0 when not repaired)

@@ -234,6 +234,8 @@ RowResult RunRow(const RowSpec& s, const TriangleMesh& mesh, int frames, int rep
   r.repaired = Measure(repair.cloud, fused.size(), truth.points, record);
   r.repaired.ms = repair.best_ms;
   r.repaired.note = RepairNote(repair.report);
+  r.repaired.top_completion = repair.report.top_completion;
+  r.repaired.top_confidence = repair.report.top_confidence;
   r.repaired.steps = repair.best_steps;
   r.repaired.evidence = repair.report.evidence;
   r.misses = MissedTargets(s.object->kind, r.repaired, r.fused_coverage);
@@ -284,7 +286,11 @@ nlohmann::ordered_json RowJson(const RowSpec& s, const RowResult& r) {
       {"note", ran ? r.repaired.note : r.not_run},
   };
   if (!r.hold_note.empty()) row["hold_note"] = r.hold_note;
-  if (ran) row["steps_ms"] = StepsJson(r.repaired.steps);
+  if (ran) {
+    row["top_completion"] = r.repaired.top_completion;
+    row["top_confidence"] = r.repaired.top_confidence;
+    row["steps_ms"] = StepsJson(r.repaired.steps);
+  }
   return row;
 }
 

@@ -47,6 +47,8 @@ nlohmann::ordered_json RepairReportJson(const repair::RepairReport& r, size_t po
   j["points_out"] = points_out;
   j["symmetric"] = r.symmetric;
   if (!r.symmetric) j["symmetry_reason"] = r.symmetry_reason;
+  j["top_completion"] = r.top_completion;
+  j["top_confidence"] = r.top_confidence;
   if (r.status == repair::RepairStatus::kRepaired) {
     // The virtual frame's +z (towards the missing top) in the input frame.
     const Eigen::Vector3d z = r.frame.T_in_V.linear().col(2);
@@ -62,7 +64,9 @@ nlohmann::ordered_json RepairReportJson(const repair::RepairReport& r, size_t po
                           {"boundary_points", h.boundary_points},
                           {"box_min", {h.box_min_G.x(), h.box_min_G.y(), h.box_min_G.z()}},
                           {"box_max", {h.box_max_G.x(), h.box_max_G.y(), h.box_max_G.z()}},
-                          {"points_added", h.points_added}});
+                          {"points_added", h.points_added},
+                          {"unobserved", h.unobserved},
+                          {"confidence", h.confidence}});
   }
   nlohmann::ordered_json t;
   for (const StageTiming& s : r.timings) t[s.stage] = s.ms;

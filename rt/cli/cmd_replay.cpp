@@ -572,12 +572,16 @@ int RunReplay(const Args& args) {
     for (const HoleSummary& h : repair_report->holes) {
       holes.push_back({{"kind", HoleKindName(h.kind)},
                        {"boundary_points", h.boundary_points},
-                       {"points_added", h.points_added}});
+                       {"points_added", h.points_added},
+                       {"unobserved", h.unobserved},
+                       {"confidence", h.confidence}});
     }
     report["repair"] = {{"status", repair_report->StatusText()},
                         {"points_added", points_added},
                         {"symmetric", repair_report->symmetric},
                         {"symmetry_reason", repair_report->symmetry_reason},
+                        {"top_completion", repair_report->top_completion},
+                        {"top_confidence", repair_report->top_confidence},
                         {"holes", holes},
                         {"claw_holes_left_open", repair_report->claw_holes_left_open},
                         {"evidence", EvidenceJson(repair_report->evidence)},

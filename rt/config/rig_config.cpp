@@ -199,7 +199,7 @@ bool RigConfig::Tsdf::operator==(const Tsdf& o) const {
 bool RigConfig::Repair::operator==(const Repair& o) const {
   return enabled == o.enabled && mode == o.mode && use_evidence == o.use_evidence &&
          safe_bound_voxel_m == o.safe_bound_voxel_m && top_rim_band_m == o.top_rim_band_m &&
-         close_unknown_top == o.close_unknown_top && incremental == o.incremental;
+         incremental == o.incremental;
 }
 bool RigConfig::Refine::operator==(const Refine& o) const {
   return enabled == o.enabled && min_correction_m == o.min_correction_m &&
@@ -434,8 +434,6 @@ std::string DumpRigConfig(const RigConfig& c) {
   w.Comment(1, "Best mode: boundary points this close to the top form its rim [m] (default " +
                    FormatNumber(d.repair.top_rim_band_m) + ").");
   w.Key(1, "top_rim_band_m", FormatNumber(c.repair.top_rim_band_m));
-  w.Comment(1, "Best mode, no evidence, no symmetry: close a straight-walled top flat.");
-  w.Key(1, "close_unknown_top", Bool(c.repair.close_unknown_top));
   w.Comment(1, "Live: update the last full repair between full repairs, which run behind");
   w.Comment(1, "(false: a full repair per published cloud).");
   w.Key(1, "incremental", Bool(c.repair.incremental));
@@ -726,7 +724,7 @@ RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
         }
         else if (k == "top_rim_band_m") c.repair.top_rim_band_m = r.Number(x, f, kRimBandM);
         else if (k == "incremental") c.repair.incremental = r.Bool(x, f);
-        else c.repair.close_unknown_top = r.Bool(x, f);
+        else r.Bool(x, f);  // close_unknown_top: read and ignored since the top search (2026-12)
       });
     } else if (key == "refine") {
       r.Map(v, path, {"enabled", "min_correction_m", "min_correction_deg", "track_object"},
@@ -814,7 +812,6 @@ void ApplyToRepair(const RigConfig& c, repair::RepairConfig* r) {
   r->mode = c.repair.mode == "paper" ? repair::RepairMode::kPaper : repair::RepairMode::kBest;
   r->safe_bound_voxel_m = c.repair.safe_bound_voxel_m;
   r->top_rim_band_m = c.repair.top_rim_band_m;
-  r->close_unknown_top = c.repair.close_unknown_top;
 }
 
 io::ChannelNames ToChannelNames(const RigConfig::Channels& ch) {

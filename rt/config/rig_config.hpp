@@ -143,8 +143,6 @@ struct RigConfig {
     double safe_bound_voxel_m{0.005};
     /// Boundary points this close to the top form the rim [m] (best mode).
     double top_rim_band_m{0.004};
-    /// Best mode, no evidence, no symmetry: close a straight-walled top flat.
-    bool close_unknown_top{true};
     /// Live: update the last full repair between full repairs (false: a
     /// full repair per published cloud).
     bool incremental{true};
@@ -231,7 +229,7 @@ RigConfig LoadRigConfig(const std::string& path);
 /// one) and pose gap. The voxel only when tsdf.voxel_m is set: otherwise
 /// the truncation is sdf_trunc_voxels x the voxel already in `pipeline`.
 void ApplyToPipeline(const RigConfig& config, PipelineConfig* pipeline);
-/// mode, safe bound, rim band, close_unknown_top.
+/// mode, safe bound, rim band.
 void ApplyToRepair(const RigConfig& config, repair::RepairConfig* repair);
 io::ChannelNames ToChannelNames(const RigConfig::Channels& channels);
 /// The override as CameraIntrinsics, or none.

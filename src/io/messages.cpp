@@ -668,6 +668,8 @@ std::vector<uint8_t> EncodeObjectCloud(const ObjectCloud& cloud) {
       m.box_max[k] = h.box_max_G[k];
     }
     m.points_added = h.points_added;
+    m.unobserved = h.unobserved ? 1 : 0;
+    m.confidence = h.confidence;
   }
   msg.num_timings = static_cast<int32_t>(cloud.timings.size());
   for (const StageTiming& t : cloud.timings) {
@@ -687,7 +689,7 @@ static bool DecodeObjectCloudImpl(const void* data, size_t size, ObjectCloud* ou
   {
     WireReader r(data, size);
     int32_t num_points, n3, num_normals3, num_holes, num_timings, bound_num_bytes;
-    constexpr size_t kHoleBytes = 1 + 4 + 3 * 4 + 3 * 4 + 4;
+    constexpr size_t kHoleBytes = 1 + 4 + 3 * 4 + 3 * 4 + 4 + 1 + 4;
     bool ok = r.Hash(graspfill::object_cloud_t::getHash()) && r.Skip(16) &&
               r.SkipString() && r.Skip(7 * 8) && r.I32(&num_points) &&
               r.Count(&n3, 4) && r.Skip(4 * static_cast<size_t>(n3)) &&
@@ -816,6 +818,8 @@ static bool DecodeObjectCloudImpl(const void* data, size_t size, ObjectCloud* ou
     h.box_min_G = Eigen::Vector3f(m.box_min[0], m.box_min[1], m.box_min[2]);
     h.box_max_G = Eigen::Vector3f(m.box_max[0], m.box_max[1], m.box_max[2]);
     h.points_added = m.points_added;
+    h.unobserved = m.unobserved != 0;
+    h.confidence = m.confidence;
   }
   out->timings.resize(msg.timing_names.size());
   for (size_t i = 0; i < msg.timing_names.size(); ++i) {

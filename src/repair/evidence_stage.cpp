@@ -68,10 +68,10 @@ const evidence::VisibilityRecord* UsableRecord(const ObjectCloud& input,
   return record;
 }
 
-PointList ApplyEvidence(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
-                        const Eigen::Isometry3f& T_in_V, const NeighborIndex& index_V,
-                        double spacing_m, PointList* surface_V, SymmetryResult* symmetry,
-                        EvidenceReport* report, float* top_confidence) {
+EvidenceTopPoints ApplyEvidence(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
+                                const Eigen::Isometry3f& T_in_V, const NeighborIndex& index_V,
+                                double spacing_m, PointList* surface_V, SymmetryResult* symmetry,
+                                EvidenceReport* report) {
   report->rejected_free += DropSeenFree(record, T_in_V, surface_V);
   report->moved_out_of_claw += PushOutOfClaw(record, T_in_V, surface_V);
   report->mirror_free_share = std::numeric_limits<double>::quiet_NaN();
@@ -178,7 +178,7 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
     // The mirror's top holds, but for a dome: the image of a bottom the
     // camera never saw leaves a round top's middle open (the apple at seed
     // 12, 90 frames: 3% of its surface).
-    if (!keep_evidence_top && top.outcome != TopEvidence::kDome) return {};
+    if (!keep_evidence_top && top.outcome != TopEvidence::kDome) return {{}, top.outcome, 0};
     // The evidence's top keeps its points only where the image has none
     // within 2 spacings (under the claw, past the image's outline).
     // Cutting the image at the top band and adding the evidence's top
@@ -203,12 +203,10 @@ PointList ApplyEvidence(const evidence::VisibilityRecord& record, const Evidence
             t.end());
   }
   report->rejected_free += top.rejected_free;
-  report->rejected_in_claw += DropInsideClaw(record, T_in_V, &top.added_V);
+  const int in_claw = DropInsideClaw(record, T_in_V, &top.added_V);
+  report->rejected_in_claw += in_claw;
   report->top_points_added = static_cast<int>(top.added_V.size());
-  *top_confidence = top.outcome == TopEvidence::kHeightFound ? 0.7f
-                    : top.outcome == TopEvidence::kDome     ? 0.5f
-                                                            : 0.3f;
-  return std::move(top.added_V);
+  return {std::move(top.added_V), top.outcome, top.rejected_free + in_claw};
 }
 
 }  // namespace graspfill::repair

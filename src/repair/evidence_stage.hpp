@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "graspfill/evidence/visibility_record.hpp"
+#include "graspfill/repair/evidence_repair.hpp"
 #include "graspfill/repair/neighbor_index.hpp"
 #include "graspfill/repair/repairer.hpp"
 #include "graspfill/repair/symmetry_repair.hpp"
@@ -20,14 +21,21 @@ const evidence::VisibilityRecord* UsableRecord(const ObjectCloud& input,
                                                const evidence::VisibilityRecord* record,
                                                const RepairConfig& config, EvidenceReport* report);
 
+// The evidence's top: its points (V), how it came out, and how many of
+// its proposed points the record saw free or in the claw.
+struct EvidenceTopPoints {
+  PointList points_V;
+  TopEvidence outcome{TopEvidence::kNoOutline};
+  int rejected{0};
+};
+
 // The evidence's part of steps 7-8: fills in seen-free space dropped, a
 // contradicted mirror refused, and the top closed at the height the rays
 // give unless the mirror's top holds. `index_V` is over the observed points
-// (V), `surface_V` the claw fills. Returns the top's points (V) and sets
-// *top_confidence.
-PointList ApplyEvidence(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
-                        const Eigen::Isometry3f& T_in_V, const NeighborIndex& index_V,
-                        double spacing_m, PointList* surface_V, SymmetryResult* symmetry,
-                        EvidenceReport* report, float* top_confidence);
+// (V), `surface_V` the claw fills.
+EvidenceTopPoints ApplyEvidence(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
+                                const Eigen::Isometry3f& T_in_V, const NeighborIndex& index_V,
+                                double spacing_m, PointList* surface_V, SymmetryResult* symmetry,
+                                EvidenceReport* report);
 
 }  // namespace graspfill::repair

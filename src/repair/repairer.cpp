@@ -1,6 +1,7 @@
 #include "graspfill/repair/repairer.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <chrono>
 #include <limits>
@@ -12,9 +13,18 @@
 #include "graspfill/repair/neighbor_index.hpp"
 #include "evidence_stage.hpp"
 #include "hole_fill.hpp"
+#include "revolution_fill.hpp"
+#include "top_search.hpp"
 
 namespace graspfill::repair {
 namespace {
+
+// A model's samples are added where no observed point or fill lies within
+// this many spacings: a hole, not the gaps between seen points.
+constexpr double kHoleSpacings = 3.0;
+
+// The paper mode's mirrored points: no search weighs them.
+constexpr float kPaperMirrorConfidence = 0.5f;
 
 // Below this the neighbourhood statistics of every step are meaningless.
 constexpr size_t kMinPoints = 200;
@@ -431,43 +441,128 @@ SymmetryResult MirrorTop(const PointList& points_V, const Holes& holes, const Ne
                               config.mode == RepairMode::kBest ? &fills->open_holes_V : nullptr);
 }
 
-// The top closed flat (V) and the confidence of its points.
+// The top's points (V) and their confidence.
 struct TopCap {
   PointList points_V;
   float confidence{0.0f};
 };
 
 // The camera's evidence: nothing in seen-free space, no contradicted
-// mirror, the top at the rays' height. Without it (best mode), a top the
-// mirror left open is closed at the rim the cloud sees, where the walls
-// rise straight to it: the cloud alone cannot tell a flat top's height.
-TopCap CloseTop(const evidence::VisibilityRecord* record, const RepairConfig& config,
-                const Eigen::Isometry3f& T_in_V, const NeighborIndex& index_V, bool has_top,
-                PointList* surface_V, SymmetryResult* symmetry, RepairReport* report) {
+// mirror, the top at the rays' height (the mirror's raised to it, or a
+// dome over a tapered top).
+EvidenceTopPoints TopFromEvidence(const evidence::VisibilityRecord* record, const RepairConfig& config,
+                              const Eigen::Isometry3f& T_in_V, const NeighborIndex& index_V,
+                              double spacing_m, PointList* surface_V, SymmetryResult* symmetry,
+                              RepairReport* report) {
+  if (!record) return {};
+  StepTimer t(report, "evidence");
+  return ApplyEvidence(*record, config.evidence, T_in_V, index_V, spacing_m, surface_V, symmetry,
+                       &report->evidence);
+}
+
+// The surface of revolution that closes the top, where one explains the
+// cloud: sampled wherever the cloud and the fills leave it open (the top,
+// and a claw hole no fit closed), with the points the
+// record sees free or in the claw dropped (and counted).
+TopCandidate RevolutionCandidate(const PointList& points_V, const PointList& rim_V,
+                                 const PointList& fills_V, double spacing_m,
+                                 const evidence::VisibilityRecord* record,
+                                 const Eigen::Isometry3f& T_in_V, const RepairConfig& config) {
+  TopCandidate c;
+  c.family = TopFamily::kRevolution;
+  c.parameters = 5;
+  float low = std::numeric_limits<float>::infinity(), high = -low;
+  for (const Eigen::Vector3f& p : points_V) low = std::min(low, p.z()), high = std::max(high, p.z());
+  const std::optional<Revolution> surface =
+      FitRevolution(points_V, high, config.symmetry.max_added_height_fraction * (high - low));
+  // A model that misses the seen surface by more than "open" allows at the
+  // rim cannot be the completion (a pear, a box): not sampled.
+  if (!surface || rim_V.empty() || surface->rms_m > kOpenSigmas * spacing_m) return c;
+  PointList taken = points_V;  // the observed points and the fills
+  taken.insert(taken.end(), fills_V.begin(), fills_V.end());
+  // The seam is scored on the surface sampled as the mirror's image is
+  // (where the cloud leaves a spacing open); it adds only where the cloud
+  // leaves a hole, not between the seen points.
+  const RevolutionSamples samples = SampleRevolution(*surface, low, spacing_m, taken);
+  c.seam_V = samples.points_V;
+  for (size_t i = 0; i < samples.points_V.size(); ++i) {
+    if (samples.open_m[i] >= kHoleSpacings * spacing_m) c.points_V.push_back(samples.points_V[i]);
+  }
+  const size_t proposed = c.points_V.size();
+  if (record && proposed > 0) {
+    // Where it runs into a finger the object touches the finger: onto its
+    // face, as the claw fills.
+    const int dropped = DropSeenFree(*record, T_in_V, &c.points_V);
+    c.free_share = static_cast<double>(dropped) / static_cast<double>(proposed);
+    PushOutOfClaw(*record, T_in_V, &c.points_V);
+  }
+  return c;
+}
+
+// Step 9: the missing top by one scored search (top_search.hpp) over the
+// mirror (with its top), a surface of revolution, the evidence's dome and
+// "open". The winner's points and confidence; the report says which won.
+TopCap SearchTop(const PointList& points_V, const ClawFills& fills,
+                 SymmetryResult* symmetry, EvidenceTopPoints evidence_top, double spacing_m,
+                 const evidence::VisibilityRecord* record, const Eigen::Isometry3f& T_in_V,
+                 const RepairConfig& config, RepairReport* report) {
+  StepTimer t(report, "top_search");
+  // The rim: the observed points within two spacings of the highest (V's
+  // z points at the missing top, so they border it). Not the classified
+  // boundary line, which a finger's hole opening into the top can pull
+  // down the side.
+  PointList rim_V;
+  float high = -std::numeric_limits<float>::infinity();
+  for (const Eigen::Vector3f& p : points_V) high = std::max(high, p.z());
+  for (const Eigen::Vector3f& p : points_V) {
+    if (p.z() >= high - 2.0 * spacing_m) rim_V.push_back(p);
+  }
+  std::vector<TopCandidate> candidates;
+  const bool mirrored = symmetry->symmetric && !symmetry->added_V.empty();
+  if (mirrored) {
+    TopCandidate mirror;
+    mirror.family = TopFamily::kMirror;
+    mirror.parameters = 1;  // the plane's height
+    mirror.points_V = symmetry->added_V;
+    mirror.points_V.insert(mirror.points_V.end(), evidence_top.points_V.begin(), evidence_top.points_V.end());
+    const double free = report->evidence.mirror_free_share;
+    mirror.free_share = std::isfinite(free) ? free : 0.0;
+    candidates.push_back(std::move(mirror));
+  } else if (evidence_top.outcome == TopEvidence::kDome && !evidence_top.points_V.empty()) {
+    TopCandidate dome;
+    dome.family = TopFamily::kDome;
+    dome.parameters = 6;  // a quadratic height field
+    dome.points_V = evidence_top.points_V;
+    dome.free_share = static_cast<double>(evidence_top.rejected) /
+                      static_cast<double>(evidence_top.rejected + evidence_top.points_V.size());
+    candidates.push_back(std::move(dome));
+  }
+  candidates.push_back(RevolutionCandidate(points_V, rim_V, fills.surface_V, spacing_m, record, T_in_V, config));
+  const TopChoice choice = ChooseTop(std::move(candidates), rim_V, fills.surface_V, spacing_m);
+  const TopCandidate& best = choice.Best();
+  report->top_completion = TopFamilyName(best.family);
+  report->top_confidence = choice.confidence;
+  std::string scored;
+  for (const TopCandidate& c : choice.candidates) {
+    char text[128];
+    if (c.family == TopFamily::kOpen) {
+      std::snprintf(text, sizeof(text), "%sopen %.2f", scored.empty() ? "" : ", ", c.cost);
+    } else {
+      std::snprintf(text, sizeof(text), "%s%s %.2f: seal %.2f mm, %.1f%% free", scored.empty() ? "" : ", ",
+                    TopFamilyName(c.family).c_str(), c.cost, 1000.0 * c.seal_m, 100.0 * c.free_share);
+    }
+    scored += text;
+  }
+  symmetry->reason += "; the top: " + report->top_completion + " (costs " + scored + ")";
+  if (best.family != TopFamily::kMirror) {
+    symmetry->symmetric = false;
+    symmetry->added_V.clear();
+  }
   TopCap top;
-  if (record) {
-    StepTimer t(report, "evidence");
-    const double spacing_m = MeanNearestDistance(index_V, config.symmetry.spacing_samples);
-    top.points_V = ApplyEvidence(*record, config.evidence, T_in_V, index_V, spacing_m, surface_V,
-                                 symmetry, &report->evidence, &top.confidence);
-    return top;
-  }
-  if (config.mode != RepairMode::kBest || !config.close_unknown_top || !has_top || symmetry->symmetric) {
-    return top;
-  }
-  StepTimer t(report, "rim_cap");
-  static const evidence::VisibilityRecord kNothingSeen;
-  EvidenceTop at_rim = CloseTopFromEvidence(
-      index_V, *surface_V, kNothingSeen, T_in_V,
-      MeanNearestDistance(index_V, config.symmetry.spacing_samples), config.evidence);
-  report->evidence.top = at_rim.outcome == TopEvidence::kNotObservable ? "closed at the rim"
-                                                                        : TopEvidenceName(at_rim.outcome);
-  if (at_rim.outcome == TopEvidence::kNotObservable && !at_rim.added_V.empty()) {
-    top.points_V = std::move(at_rim.added_V);
-    top.confidence = 0.3f;
-    report->evidence.top_points_added = static_cast<int>(top.points_V.size());
-    symmetry->reason += "; the cloud cannot tell the top's height: closed flat at the rim it sees";
-  }
+  if (best.family != TopFamily::kMirror && best.family != TopFamily::kOpen) top.points_V = best.points_V;
+  if (best.family == TopFamily::kMirror) top.points_V = std::move(evidence_top.points_V);
+  top.confidence = choice.confidence;
+  report->evidence.top_points_added = static_cast<int>(top.points_V.size());
   return top;
 }
 
@@ -487,7 +582,7 @@ void AppendAdded(const ObjectCloud& input, const ClawFills& fills, const Symmetr
   for (const Eigen::Vector3f& p : symmetry.added_V) {
     out->points_G.push_back(T_in_V * p);
     out->provenance.push_back(Provenance::kSymmetry);
-    out->confidence.push_back(record ? 0.6f : 0.5f);
+    out->confidence.push_back(top.confidence);
   }
   for (const Eigen::Vector3f& p : top.points_V) {
     out->points_G.push_back(T_in_V * p);
@@ -518,6 +613,7 @@ void AppendAdded(const ObjectCloud& input, const ClawFills& fills, const Symmetr
 
 // The report's holes (in the input's frame), with the points added to each.
 void ReportHoles(const Holes& holes, const VirtualFrame& frame, const ClawFills& fills,
+                 const float* fill_confidence,
                  const SymmetryResult& symmetry, const TopCap& top, RepairReport* report) {
   for (const HoleBoundary& h : holes.classified) {
     if (h.kind == HoleKind::kMissingSurface && holes.top_is_rim) continue;  // reported as the rim
@@ -536,8 +632,8 @@ void ReportHoles(const Holes& holes, const VirtualFrame& frame, const ClawFills&
   }
   // Each fill point to the claw hole whose box centre is nearest.
   const Eigen::Isometry3f T_in_V = frame.T_in_V.cast<float>();
-  for (const Eigen::Vector3f& p : fills.surface_V) {
-    const Eigen::Vector3f p_in = T_in_V * p;
+  for (size_t k = 0; k < fills.surface_V.size(); ++k) {
+    const Eigen::Vector3f p_in = T_in_V * fills.surface_V[k];
     int best = -1;
     float best_d = 0.0f;
     for (size_t i = 0; i < report->holes.size(); ++i) {
@@ -545,19 +641,25 @@ void ReportHoles(const Holes& holes, const VirtualFrame& frame, const ClawFills&
       const float d = (0.5f * (report->holes[i].box_min_G + report->holes[i].box_max_G) - p_in).norm();
       if (best < 0 || d < best_d) best = static_cast<int>(i), best_d = d;
     }
-    if (best >= 0) ++report->holes[best].points_added;
+    if (best < 0) continue;
+    HoleSummary& hole = report->holes[best];
+    // The running mean of its points' confidence.
+    hole.confidence += (fill_confidence[k] - hole.confidence) / static_cast<float>(++hole.points_added);
   }
   const auto missing_hole =
       std::find_if(report->holes.begin(), report->holes.end(),
                    [](const HoleSummary& h) { return h.kind == HoleKind::kMissingSurface; });
   if (missing_hole != report->holes.end()) {
     missing_hole->points_added = static_cast<int>(symmetry.added_V.size() + top.points_V.size());
+    missing_hole->unobserved = report->top_completion == TopFamilyName(TopFamily::kOpen);
+    if (missing_hole->points_added > 0) missing_hole->confidence = top.confidence;
   } else if (!top.points_V.empty()) {
     // The evidence found the top the cloud's boundaries did not show.
     HoleSummary s;
     s.kind = HoleKind::kMissingSurface;
     BoxInInput(top.points_V, frame, &s);
     s.points_added = static_cast<int>(top.points_V.size());
+    s.confidence = top.confidence;
     report->holes.insert(report->holes.begin(), s);
   }
 }
@@ -665,18 +767,29 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
     index_V.emplace(points_V);
     fills = FillClawHoles(points_V, found, holes, *index_V, config, &report);
   }
-  // 8. The missing top by symmetry, then where the evidence (or the rim)
-  // puts it.
+  // 8. The mirror image of the far end, and the evidence's top: the mirror
+  // raised to the rays, or a dome.
   SymmetryResult symmetry =
       MirrorTop(points_V, holes, *index_V, record != nullptr, config, &fills, &report);
   const Eigen::Isometry3f T_in_V = frame->T_in_V.cast<float>();
-  const TopCap top = CloseTop(record, config, T_in_V, *index_V, holes.Top() != nullptr,
-                              &fills.surface_V, &symmetry, &report);
+  const double spacing_m = MeanNearestDistance(*index_V, config.symmetry.spacing_samples);
+  EvidenceTopPoints evidence_top =
+      TopFromEvidence(record, config, T_in_V, *index_V, spacing_m, &fills.surface_V, &symmetry, &report);
+  // 9. The top: the search (best mode) or the mirror as it is (the paper).
+  TopCap top;
+  if (config.mode == RepairMode::kBest) {
+    top = SearchTop(points_V, fills, &symmetry, std::move(evidence_top), spacing_m, record, T_in_V,
+                    config, &report);
+  } else {
+    top.confidence = kPaperMirrorConfidence;
+  }
   report.symmetric = symmetry.symmetric;
   report.symmetry_reason = symmetry.reason;
 
   AppendAdded(input, fills, symmetry, top, T_in_V, record, &result.cloud, &report);
-  ReportHoles(holes, *frame, fills, symmetry, top, &report);
+  // The fills' confidences follow the input's in the output (AppendAdded).
+  ReportHoles(holes, *frame, fills, result.cloud.confidence.data() + input.points_G.size(), symmetry, top,
+              &report);
   report.status = result.cloud.points_G.size() > input.points_G.size() || !found.lines.empty()
                       ? RepairStatus::kRepaired
                       : RepairStatus::kNoHoles;

@@ -5,6 +5,7 @@
 // cloud, whose points and provenance are those of the PLY replay wrote.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -34,10 +35,12 @@ std::string Summary(const ObjectCloud& c) {
   char line[256];
   std::snprintf(line, sizeof(line),
                 "seq=%lld utime=%lld grasp=%lld final=%d points=%zu observed=%lld surface=%lld "
-                "symmetry=%lld holes=%zu\n",
+                "symmetry=%lld holes=%zu unobserved=%d\n",
                 static_cast<long long>(c.seq), static_cast<long long>(c.utime),
                 static_cast<long long>(c.grasp_id), c.is_final ? 1 : 0, c.size(), by[0], by[1],
-                by[2], c.holes.size());
+                by[2], c.holes.size(),
+                static_cast<int>(std::count_if(c.holes.begin(), c.holes.end(),
+                                               [](const HoleSummary& h) { return h.unobserved; })));
   return line;
 }
 

@@ -450,9 +450,12 @@ ObjectCloud SomeCloud(bool normals) {
   claw.box_min_G = {-0.01f, 0.02f, 0.0f};
   claw.box_max_G = {0.01f, 0.03f, 0.05f};
   claw.points_added = 120;
+  claw.confidence = 0.6f;
   HoleSummary top = claw;
   top.kind = HoleKind::kMissingSurface;
-  top.points_added = 300;
+  top.points_added = 0;
+  top.confidence = 0.0f;
+  top.unobserved = true;  // an open mouth: nothing added, unknown inside
   cloud.holes = {claw, top};
   cloud.timings = {{"fusion", 4.5}, {"repair/poisson", 120.25}};
   return cloud;
@@ -473,6 +476,8 @@ void ExpectCloudEqual(const ObjectCloud& a, const ObjectCloud& b) {
     EXPECT_EQ(a.holes[i].box_min_G, b.holes[i].box_min_G);
     EXPECT_EQ(a.holes[i].box_max_G, b.holes[i].box_max_G);
     EXPECT_EQ(a.holes[i].points_added, b.holes[i].points_added);
+    EXPECT_EQ(a.holes[i].unobserved, b.holes[i].unobserved);
+    EXPECT_EQ(a.holes[i].confidence, b.holes[i].confidence);
   }
   ASSERT_EQ(a.timings.size(), b.timings.size());
   for (size_t i = 0; i < a.timings.size(); ++i) {

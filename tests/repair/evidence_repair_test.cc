@@ -552,11 +552,14 @@ TEST(EvidenceRepair, AMirroredRoundTopsOpenMiddleGetsTheDome) {
   EXPECT_EQ(h.repaired.report.evidence.top, "dome");
   EXPECT_GE(h.coverage, 0.99);
   ExpectTargets(h);
-  // The dome's points (confidence 0.5) lie nearer the apple's top.
+  // The dome's points (the top's surface points, at the search's
+  // confidence; the claw fills have their own) lie nearer the apple's top.
   const ObjectCloud& cloud = h.repaired.cloud;
   std::vector<Eigen::Vector3f> dome;
   for (size_t i = h.fused.size(); i < cloud.size(); ++i) {
-    if (cloud.confidence[i] == 0.5f) dome.push_back(cloud.points_G[i]);
+    if (cloud.provenance[i] == Provenance::kSurface && cloud.confidence[i] == h.repaired.report.top_confidence) {
+      dome.push_back(cloud.points_G[i]);
+    }
   }
   ASSERT_GT(dome.size(), 100u);
   const double median_mm = 1000.0 * eval::Percentile(eval::NearestDistances(dome, h.truth), 50.0);
@@ -630,14 +633,18 @@ TEST(EvidenceRepair, ARecordLetsThroughAMirrorTheOutlinesNarrowlyRefuse) {
 // (1.0%, 1.60 mm). Since the fused cloud is carved where the camera saw
 // through it (seen_free_carve.hpp) the fill comes out 2.6% wrong, p95
 // 2.56 mm, all of it on the claw fill at the widest section: a known
-// regression of this zoo case (the scanned objects gained 20 rows), held
-// here at no worse than today and better than without the rule.
+// regression of this zoo case (the scanned objects gained 20 rows). Since
+// the top's search (top_search.hpp) the neck's unseen end is left open
+// (the walls cannot tell a capped neck from an open one), and its flat cap,
+// right here and 40% of the added points, no longer dilutes the fill: the
+// fill alone is 6.1% wrong, p95 3.08 mm. Held at that, and the neck open.
 TEST(EvidenceRepair, AFillOverANarrowNeckStaysWithinItsWidestSeenPoint) {
   const HeldOut h = RepairHeldOut(synth::Shape::kBottle, Eigen::Vector3d::Zero(), synth::ClawType::kThreeFinger, 90,
                                   14, synth::GraspWay::kTopStraight);
+  EXPECT_EQ(h.repaired.report.top_completion, "open") << h.repaired.report.symmetry_reason;
   EXPECT_GE(h.coverage, 0.97);
-  EXPECT_LE(h.added_p95_mm, 2.6);
-  EXPECT_LE(h.added_wrong, 0.03);
+  EXPECT_LE(h.added_p95_mm, 3.1);
+  EXPECT_LE(h.added_wrong, 0.065);
 }
 
 // The zoo's tuna can (85 mm wide, 45 mm tall, parallel claw, top grasp),

@@ -58,9 +58,6 @@ struct RepairConfig {
   /// With a visibility record (best mode): the mirror test, the free-space
   /// filter and the top's height (evidence_repair.hpp).
   EvidenceConfig evidence;
-  /// Best mode, no record, no symmetry: close a straight-walled top flat at
-  /// the rim the cloud shows (its height is unknown), confidence 0.3.
-  bool close_unknown_top{true};
   /// With a visibility record: the planner's safe bound's voxel edge [m]
   /// (0: no bound).
   double safe_bound_voxel_m{0.005};
@@ -143,6 +140,11 @@ struct RepairReport {
   /// the CLI prints and `--json` gives as "status").
   std::string StatusText() const;
   bool symmetric{false};        ///< a symmetry plane was found and used
+  /// Best mode: how the missing top was completed ("mirror", "revolution",
+  /// "dome", or "open": nothing known there, nothing added), and the
+  /// confidence of its points (the search's posterior, top_search.hpp).
+  std::string top_completion;
+  float top_confidence{0.0f};
   std::string symmetry_reason;  ///< why not, when !symmetric
   int outliers_ignored{0};      ///< kept in the output, not used to repair
   /// Claw holes left open: no explicit surface explains them (ClawRepairConfig::poisson_fallback)
@@ -178,9 +180,11 @@ struct RepairResult {
 /// or is empty is ignored and the report says why.
 ///
 /// Confidence of the output points: observed 1; claw-hole fills 0.6
-/// (0.8 where the record says the claw hid the spot); mirrored points 0.5
-/// (0.6 with a record); the evidence top 0.7 at a height the rays fixed,
-/// 0.3 closed at the rim when they could not.
+/// (0.8 where the record says the claw hid the spot); the missing top's
+/// points the posterior of the completion that won the search against the
+/// runner-up (report.top_confidence, 0.5-1; paper mode 0.5). Where "open"
+/// won, nothing is added there and the report's missing-surface hole is
+/// `unobserved`: the safe bound covers it.
 RepairResult Repair(const ObjectCloud& input, const RepairConfig& config = {},
                     const evidence::VisibilityRecord* record = nullptr);
 

@@ -48,7 +48,6 @@ RigConfig EveryFieldChanged() {
   c.repair.use_evidence = false;
   c.repair.safe_bound_voxel_m = 0.0;
   c.repair.top_rim_band_m = 0.006;
-  c.repair.close_unknown_top = false;
   c.repair.incremental = false;
   c.refine.enabled = false;
   c.refine.min_correction_m = 0.00025;
@@ -88,13 +87,11 @@ TEST(RigConfig, DefaultsAreTheLibrariesDefaults) {
   repair.mode = repair::RepairMode::kPaper;
   repair.safe_bound_voxel_m = 0.0;
   repair.top_rim_band_m = 0.0;
-  repair.close_unknown_top = false;
   ApplyToRepair(c, &repair);
   const repair::RepairConfig want_repair;
   EXPECT_EQ(repair.mode, want_repair.mode);
   EXPECT_EQ(repair.safe_bound_voxel_m, want_repair.safe_bound_voxel_m);
   EXPECT_EQ(repair.top_rim_band_m, want_repair.top_rim_band_m);
-  EXPECT_EQ(repair.close_unknown_top, want_repair.close_unknown_top);
 
   const io::ChannelNames channels = ToChannelNames(c.channels);
   const io::ChannelNames want_channels;
@@ -175,6 +172,14 @@ TEST(RigConfig, TheDumpDocumentsEveryKeyWithItsUnit) {
   EXPECT_NE(text.find("# workspace: {min_G_m: [-0.1, -0.1, 0.003], max_G_m: [0.1, 0.1, 0.3]}"),
             std::string::npos) << text;
   EXPECT_NE(text.find("else 0.0015"), std::string::npos) << text;
+}
+
+// repair.close_unknown_top closed a top flat at the rim; the top's search
+// decides now. A file written before still loads (the key ignored), and a
+// value that is not a bool is still an error.
+TEST(RigConfig, TheRetiredCloseUnknownTopIsReadAndIgnored) {
+  EXPECT_EQ(ParseRigConfig("repair:\n  close_unknown_top: false\n", "old.yaml"), RigConfig{});
+  EXPECT_THROW(ParseRigConfig("repair:\n  close_unknown_top: 3\n", "old.yaml"), ConfigError);
 }
 
 TEST(RigConfig, AnEmptyOrPartialFileKeepsTheDefaults) {

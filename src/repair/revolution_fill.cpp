@@ -1,0 +1,130 @@
+#include "revolution_fill.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace graspfill::repair {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The radial distance of p from the surface.
+double RadialResidual(const Revolution& s, const Eigen::Vector3f& p) {
+  const double r = std::hypot(p.x() - s.x0, p.y() - s.y0);
+  return std::abs(r - std::sqrt(std::max(0.0, s.RadiusSquared(p.z()))));
+}
+
+// The lowest root of r^2 above `top_z` (NaN when r^2 never reaches 0 there).
+double PoleAbove(const Revolution& s, double top_z) {
+  if (!(s.RadiusSquared(top_z) > 0.0)) return std::nan("");
+  if (std::abs(s.c) < 1e-12) return s.b < 0.0 ? -s.a / s.b : std::nan("");
+  const double disc = s.b * s.b - 4.0 * s.c * s.a;
+  if (disc < 0.0) return std::nan("");
+  const double q = std::sqrt(disc);
+  double best = std::nan("");
+  for (double z : {(-s.b - q) / (2.0 * s.c), (-s.b + q) / (2.0 * s.c)}) {
+    if (z > top_z && !(best <= z)) best = z;
+  }
+  return best;
+}
+
+}  // namespace
+
+std::optional<Revolution> FitRevolution(const PointList& points_V, double top_z, double reach_m) {
+  if (points_V.size() < 20) return std::nullopt;
+  std::vector<double> weight(points_V.size(), 1.0);
+  Revolution s;
+  // Two reweightings: the first fit's 3-RMS band keeps the body and drops
+  // what belongs to another part (a stem, a handle); the second refits.
+  for (int pass = 0; pass < 3; ++pass) {
+    Eigen::Matrix<double, 5, 5> normal = Eigen::Matrix<double, 5, 5>::Zero();
+    Eigen::Matrix<double, 5, 1> rhs = Eigen::Matrix<double, 5, 1>::Zero();
+    for (size_t i = 0; i < points_V.size(); ++i) {
+      if (weight[i] == 0.0) continue;
+      const Eigen::Vector3d p = points_V[i].cast<double>();
+      Eigen::Matrix<double, 5, 1> row;
+      row << 2.0 * p.x(), 2.0 * p.y(), 1.0, p.z(), p.z() * p.z();
+      normal += row * row.transpose();
+      rhs += row * (p.x() * p.x() + p.y() * p.y());
+    }
+    const Eigen::Matrix<double, 5, 1> u = normal.ldlt().solve(rhs);
+    if (!u.allFinite()) return std::nullopt;
+    s.x0 = u(0);
+    s.y0 = u(1);
+    s.a = u(2) + s.x0 * s.x0 + s.y0 * s.y0;
+    s.b = u(3);
+    s.c = u(4);
+    double squares = 0.0;
+    size_t used = 0;
+    for (size_t i = 0; i < points_V.size(); ++i) {
+      if (weight[i] == 0.0) continue;
+      squares += std::pow(RadialResidual(s, points_V[i]), 2);
+      ++used;
+    }
+    if (used < 20) return std::nullopt;
+    s.rms_m = std::sqrt(squares / static_cast<double>(used));
+    if (pass == 2) break;
+    for (size_t i = 0; i < points_V.size(); ++i) {
+      weight[i] = RadialResidual(s, points_V[i]) <= 3.0 * s.rms_m ? 1.0 : 0.0;
+    }
+  }
+  s.pole_z = PoleAbove(s, top_z);
+  if (!(s.pole_z <= top_z + reach_m)) return std::nullopt;
+  return s;
+}
+
+RevolutionSamples SampleRevolution(const Revolution& s, double from_z, double spacing_m,
+                                   const PointList& taken_V) {
+  RevolutionSamples out;
+  if (!(spacing_m > 0.0) || !(s.pole_z > from_z)) return out;
+  PointList on_surface;  // the taken points, moved radially onto the surface
+  on_surface.reserve(taken_V.size());
+  for (const Eigen::Vector3f& p : taken_V) {
+    const double r2 = s.RadiusSquared(p.z());
+    const Eigen::Vector2d d(p.x() - s.x0, p.y() - s.y0);
+    if (!(r2 > 0.0) || d.norm() < 1e-9) continue;
+    const Eigen::Vector2d q = Eigen::Vector2d(s.x0, s.y0) + d.normalized() * std::sqrt(r2);
+    on_surface.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()), p.z());
+  }
+  const NeighborIndex taken(on_surface);
+  std::vector<int> nearest;
+  std::vector<double> squared;
+  const auto keep = [&](const Eigen::Vector3f& p) {
+    if (taken.AnyWithin(p, spacing_m)) return;  // most samples: on the seen surface
+    double open = std::numeric_limits<double>::infinity();
+    if (taken.size() > 0) {
+      taken.Knn(p, 1, &nearest, &squared);
+      if (!squared.empty()) open = std::sqrt(squared[0]);
+    }
+    if (open < spacing_m) return;
+    out.points_V.push_back(p);
+    out.open_m.push_back(static_cast<float>(std::min(open, 1e9)));
+  };
+  // Rings one spacing apart along the profile (dz shrinks where the
+  // surface turns flat towards the pole), then the pole itself.
+  double z = from_z;
+  while (z < s.pole_z) {
+    const double r2 = s.RadiusSquared(z);
+    if (!(r2 > 0.0)) {
+      if (!(s.b + 2.0 * s.c * z > 0.0)) break;  // past the pole
+      z += 0.25 * spacing_m;                    // under the far pole: rise to it
+      continue;
+    }
+    const double r = std::sqrt(r2);
+    const int n = std::max(1, static_cast<int>(std::ceil(2.0 * kPi * r / spacing_m)));
+    for (int k = 0; k < n; ++k) {
+      const double t = 2.0 * kPi * k / n;
+      keep(Eigen::Vector3f(static_cast<float>(s.x0 + r * std::cos(t)), static_cast<float>(s.y0 + r * std::sin(t)),
+                           static_cast<float>(z)));
+    }
+    const double slope = (s.b + 2.0 * s.c * z) / (2.0 * r);  // dr/dz
+    z += std::max(spacing_m / std::sqrt(1.0 + slope * slope), 1e-6);
+  }
+  keep(Eigen::Vector3f(static_cast<float>(s.x0), static_cast<float>(s.y0), static_cast<float>(s.pole_z)));
+  return out;
+}
+
+}  // namespace graspfill::repair

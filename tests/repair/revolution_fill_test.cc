@@ -1,0 +1,94 @@
+// The surface of revolution (src/repair/revolution_fill.hpp): right where
+// the object is one (a sphere and a spheroid whose top is cut off), no
+// surface where nothing closes it (a cylinder, a cup that widens to its
+// mouth), and samples only where the cloud leaves a hole.
+#include "revolution_fill.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace graspfill::repair {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Points on the surface r(z)^2 = a + b z + c z^2 about (x0, y0), for z in
+// [z0, z1], about `step_m` apart, with Gaussian radial noise.
+PointList OnProfile(double x0, double y0, double a, double b, double c, double z0, double z1,
+                    double step_m, double noise_m, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, noise_m);
+  PointList out;
+  for (double z = z0; z <= z1; z += step_m) {
+    const double r2 = a + b * z + c * z * z;
+    if (r2 <= 0.0) continue;
+    const double r = std::sqrt(r2);
+    const int n = static_cast<int>(std::ceil(2.0 * kPi * r / step_m));
+    for (int k = 0; k < n; ++k) {
+      const double t = 2.0 * kPi * k / n, rr = r + noise(rng);
+      out.emplace_back(static_cast<float>(x0 + rr * std::cos(t)), static_cast<float>(y0 + rr * std::sin(t)),
+                       static_cast<float>(z));
+    }
+  }
+  return out;
+}
+
+TEST(RevolutionFill, SphereWithItsTopCutOffClosesAtItsPole) {
+  // R = 40 mm about (3, -2, 0) mm, seen up to z = 25 mm.
+  const double R = 0.04;
+  const PointList cloud = OnProfile(0.003, -0.002, R * R, 0.0, -1.0, -R, 0.025, 0.001, 0.0003, 1);
+  const std::optional<Revolution> s = FitRevolution(cloud, 0.025, 0.04);
+  ASSERT_TRUE(s.has_value());
+  EXPECT_NEAR(s->x0, 0.003, 3e-4);
+  EXPECT_NEAR(s->y0, -0.002, 3e-4);
+  EXPECT_NEAR(s->pole_z, R, 1e-3);
+  EXPECT_LT(s->rms_m, 6e-4);
+  const RevolutionSamples samples = SampleRevolution(*s, -R, 0.001, cloud);
+  ASSERT_FALSE(samples.points_V.empty());
+  // Every sample on the sphere, and none on the seen body, which has no
+  // hole a spacing wide (but near the far pole, where the cloud's rings of
+  // constant z step far along the surface).
+  for (const Eigen::Vector3f& p : samples.points_V) {
+    EXPECT_NEAR((p.cast<double>() - Eigen::Vector3d(0.003, -0.002, 0.0)).norm(), R, 1e-3);
+    EXPECT_TRUE(p.z() > 0.024f || p.z() < -0.03f) << p.transpose();
+  }
+  // The whole cap is covered: each true cap point within 1.5 mm of one.
+  const PointList cap = OnProfile(0.003, -0.002, R * R, 0.0, -1.0, 0.027, R, 0.002, 0.0, 2);
+  const NeighborIndex index(samples.points_V);
+  for (const Eigen::Vector3f& p : cap) EXPECT_TRUE(index.AnyWithin(p, 0.0015)) << p.transpose();
+  ASSERT_EQ(samples.open_m.size(), samples.points_V.size());
+  EXPECT_GT(*std::max_element(samples.open_m.begin(), samples.open_m.end()), 0.005f);
+}
+
+TEST(RevolutionFill, SpheroidKeepsItsProfile) {
+  // r^2 = 900 mm^2 - 0.5625 z^2: semi-axes 30 mm (r) and 40 mm (z).
+  const PointList cloud = OnProfile(0.0, 0.0, 9e-4, 0.0, -0.5625, -0.04, 0.02, 0.001, 0.0002, 3);
+  const std::optional<Revolution> s = FitRevolution(cloud, 0.02, 0.04);
+  ASSERT_TRUE(s.has_value());
+  EXPECT_NEAR(s->c, -0.5625, 0.05);
+  EXPECT_NEAR(s->pole_z, 0.04, 1.5e-3);
+}
+
+TEST(RevolutionFill, NothingClosesACylinderOrACupThatWidens) {
+  // A can's wall: r = 30 mm at every height; no pole.
+  const PointList can = OnProfile(0.0, 0.0, 9e-4, 0.0, 0.0, 0.0, 0.1, 0.001, 0.0002, 4);
+  EXPECT_FALSE(FitRevolution(can, 0.1, 0.05).has_value());
+  // A cup widening towards its mouth at the top: r from 25 to 30 mm.
+  const double b = (0.03 * 0.03 - 0.025 * 0.025) / 0.08;
+  const PointList cup = OnProfile(0.0, 0.0, 0.025 * 0.025, b, 0.0, 0.0, 0.08, 0.001, 0.0002, 5);
+  EXPECT_FALSE(FitRevolution(cup, 0.08, 0.04).has_value());
+  // A pole past the reach (a sphere seen only to a third of its height).
+  const PointList low_cap = OnProfile(0.0, 0.0, 1.6e-3, 0.0, -1.0, -0.04, -0.015, 0.001, 0.0002, 6);
+  EXPECT_FALSE(FitRevolution(low_cap, -0.015, 0.02).has_value());
+}
+
+TEST(RevolutionFill, TooFewPointsOrNoneGiveNoSurface) {
+  EXPECT_FALSE(FitRevolution({}, 0.0, 0.1).has_value());
+  PointList few(10, Eigen::Vector3f(0.01f, 0.0f, 0.0f));
+  EXPECT_FALSE(FitRevolution(few, 0.0, 0.1).has_value());
+}
+
+}  // namespace
+}  // namespace graspfill::repair
