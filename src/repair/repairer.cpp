@@ -451,9 +451,9 @@ struct TopCap {
 // mirror, the top at the rays' height (the mirror's raised to it, or a
 // dome over a tapered top).
 EvidenceTopPoints TopFromEvidence(const evidence::VisibilityRecord* record, const RepairConfig& config,
-                              const Eigen::Isometry3f& T_in_V, const NeighborIndex& index_V,
-                              double spacing_m, PointList* surface_V, SymmetryResult* symmetry,
-                              RepairReport* report) {
+                                  const Eigen::Isometry3f& T_in_V, const NeighborIndex& index_V,
+                                  double spacing_m, PointList* surface_V, SymmetryResult* symmetry,
+                                  RepairReport* report) {
   if (!record) return {};
   StepTimer t(report, "evidence");
   return ApplyEvidence(*record, config.evidence, T_in_V, index_V, spacing_m, surface_V, symmetry,
@@ -462,8 +462,8 @@ EvidenceTopPoints TopFromEvidence(const evidence::VisibilityRecord* record, cons
 
 // The surface of revolution that closes the top, where one explains the
 // cloud: sampled wherever the cloud and the fills leave it open (the top,
-// and a claw hole no fit closed), with the points the
-// record sees free or in the claw dropped (and counted).
+// and a claw hole no fit closed); the points the record sees free are
+// dropped (and counted), those in the claw moved onto its face.
 TopCandidate RevolutionCandidate(const PointList& points_V, const PointList& rim_V,
                                  const PointList& fills_V, double spacing_m,
                                  const evidence::VisibilityRecord* record,
@@ -490,8 +490,8 @@ TopCandidate RevolutionCandidate(const PointList& points_V, const PointList& rim
   }
   const size_t proposed = c.points_V.size();
   if (record && proposed > 0) {
-    // Where it runs into a finger the object touches the finger: onto its
-    // face, as the claw fills.
+    // Where it runs into a finger, the object touches the finger: onto its
+    // face, as the claw fills are.
     const int dropped = DropSeenFree(*record, T_in_V, &c.points_V);
     c.free_share = static_cast<double>(dropped) / static_cast<double>(proposed);
     PushOutOfClaw(*record, T_in_V, &c.points_V);

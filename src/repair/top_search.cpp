@@ -76,7 +76,8 @@ TopChoice ChooseTop(std::vector<TopCandidate> candidates, const PointList& rim_V
   for (size_t i = 0; i < choice.candidates.size(); ++i) {
     if (i != choice.best) runner_up = std::min(runner_up, choice.candidates[i].cost);
   }
-  const double margin = runner_up - choice.Best().cost;
+  // Nothing weighed against "open" (nothing proposed): no margin, 0.5.
+  const double margin = std::isfinite(runner_up) ? runner_up - choice.Best().cost : 0.0;
   choice.confidence = static_cast<float>(1.0 / (1.0 + std::exp(-margin)));
   return choice;
 }

@@ -63,7 +63,8 @@ struct TopCandidate {
 struct TopChoice {
   std::vector<TopCandidate> candidates;  ///< as given, then "open", scored
   size_t best{0};
-  /// The best's posterior against the runner-up, in [0.5, 1).
+  /// The best's posterior against the runner-up, in [0.5, 1) (0.5 when
+  /// "open" was the only one).
   float confidence{0.5f};
   const TopCandidate& Best() const { return candidates[best]; }
 };

@@ -96,7 +96,9 @@ TEST(TopSearch, TheCloserCompletionWinsAndOfEqualsTheSimpler) {
 }
 
 TEST(TopSearch, NothingProposedOrNoRimLeavesItOpen) {
-  EXPECT_EQ(ChooseTop({}, kRim, {}, kSpacing).Best().family, TopFamily::kOpen);
+  const TopChoice alone = ChooseTop({}, kRim, {}, kSpacing);
+  EXPECT_EQ(alone.Best().family, TopFamily::kOpen);
+  EXPECT_EQ(alone.confidence, 0.5f);  // nothing weighed against it
   EXPECT_EQ(ChooseTop({Candidate(TopFamily::kMirror, Disc(0.03, 0.001), 1)}, {}, {}, kSpacing).Best().family,
             TopFamily::kOpen);
   EXPECT_EQ(ChooseTop({Candidate(TopFamily::kMirror, {}, 1)}, kRim, {}, kSpacing).Best().family, TopFamily::kOpen);
