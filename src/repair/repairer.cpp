@@ -483,11 +483,11 @@ TopCandidate RevolutionCandidate(const PointList& points_V, const PointList& rim
   // The seam is scored on the surface sampled as the mirror's image is
   // (where the cloud leaves a spacing open); it adds only where the cloud
   // leaves a hole, not between the seen points.
-  const RevolutionSamples samples = SampleRevolution(*surface, low, spacing_m, taken);
-  c.seam_V = samples.points_V;
+  RevolutionSamples samples = SampleRevolution(*surface, low, spacing_m, taken);
   for (size_t i = 0; i < samples.points_V.size(); ++i) {
     if (samples.open_m[i] >= kHoleSpacings * spacing_m) c.points_V.push_back(samples.points_V[i]);
   }
+  c.seam_V = std::move(samples.points_V);
   const size_t proposed = c.points_V.size();
   if (record && proposed > 0) {
     // Where it runs into a finger, the object touches the finger: onto its

@@ -115,9 +115,14 @@ TEST(Repairer, NonFiniteInputThrowsNamingThePoint) {
   }
 }
 
-// A protocol cylinder (object frame) with its true outward normals: the
-// input's normals come back unchanged, the added points get normals that
-// match the surface there and point out.
+// A cloud repaired with its missing top towards +z (the hint a fused
+// cloud's claw axis gives).
+RepairResult RepairUp(const ObjectCloud& in) {
+  RepairConfig config;
+  config.up_hint = Eigen::Vector3d::UnitZ();
+  return Repair(in, config);
+}
+
 // A bottle cut through its neck, seen from the cloud alone: no mirror (its
 // widest section is low), no surface of revolution closes a straight neck,
 // and the walls cannot tell a capped neck from an open one. The search
@@ -133,9 +138,7 @@ TEST(Repairer, AnOpeningNothingExplainsIsLeftOpenAndReportedUnobserved) {
     in.normals_G.push_back(s.normals[i]);
     rim_z = std::max(rim_z, s.points[i].z());
   }
-  RepairConfig config;
-  config.up_hint = Eigen::Vector3d::UnitZ();
-  const RepairResult r = Repair(in, config);
+  const RepairResult r = RepairUp(in);
   ASSERT_EQ(r.report.status, RepairStatus::kRepaired);
   EXPECT_EQ(r.report.top_completion, "open") << r.report.symmetry_reason;
   EXPECT_GE(r.report.top_confidence, 0.5f);
@@ -161,9 +164,7 @@ TEST(Repairer, ABallsCutTopIsClosedByTheSearch) {
   for (const Eigen::Vector3f& p : s.points) {
     if (p.z() < 0.048f) in.points_G.push_back(p);  // the top 12 mm cut off
   }
-  RepairConfig config;
-  config.up_hint = Eigen::Vector3d::UnitZ();
-  const RepairResult r = Repair(in, config);
+  const RepairResult r = RepairUp(in);
   ASSERT_EQ(r.report.status, RepairStatus::kRepaired);
   EXPECT_NE(r.report.top_completion, "open") << r.report.symmetry_reason;
   EXPECT_GT(r.report.top_confidence, 0.5f);
@@ -189,6 +190,9 @@ TEST(Repairer, ABallsCutTopIsClosedByTheSearch) {
   }
 }
 
+// A protocol cylinder (object frame) with its true outward normals: the
+// input's normals come back unchanged, the added points get normals that
+// match the surface there and point out.
 TEST(Repairer, KeepsInputNormalsAndEstimatesTheAddedOnes) {
   synth::PaperProtocolConfig pc;
   pc.shape = synth::Shape::kCylinder;
