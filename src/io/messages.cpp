@@ -777,6 +777,12 @@ static bool DecodeObjectCloudImpl(const void* data, size_t size, ObjectCloud* ou
                           std::to_string(static_cast<int>(h.kind)));
       return false;
     }
+    if ((h.unobserved != 0 && h.unobserved != 1) || !(h.confidence >= 0.0f && h.confidence <= 1.0f)) {
+      SetError(error, "object_cloud_t: a hole's unobserved must be 0 or 1 and its confidence in 0..1 (got " +
+                          std::to_string(static_cast<int>(h.unobserved)) + ", " +
+                          std::to_string(h.confidence) + ")");
+      return false;
+    }
   }
 
   out->utime = msg.utime;

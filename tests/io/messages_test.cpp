@@ -544,6 +544,15 @@ TEST(ObjectCloudMessage, RejectsBadContent) {
   bad.holes[1].kind = 7;
   expect_rejected(bad, "unknown hole kind 7");
   bad = msg;
+  bad.holes[0].confidence = std::nanf("");
+  expect_rejected(bad, "its confidence in 0..1");
+  bad = msg;
+  bad.holes[0].confidence = 1.5f;
+  expect_rejected(bad, "its confidence in 0..1");
+  bad = msg;
+  bad.holes[1].unobserved = 2;
+  expect_rejected(bad, "unobserved must be 0 or 1");
+  bad = msg;
   bad.xyz[10] = std::nanf("");
   expect_rejected(bad, "non-finite point");
   bad = msg;
