@@ -91,7 +91,7 @@ TimedRepair RepairTimed(const ObjectCloud& fused, const evidence::VisibilityReco
 
 std::string RepairNote(const repair::RepairReport& r) {
   std::string note = r.StatusText();
-  if (!r.symmetric && !r.symmetry_reason.empty()) note += "; " + r.symmetry_reason;
+  if (!r.symmetry_reason.empty()) note += "; " + r.symmetry_reason;
   if (!r.top_completion.empty()) {
     char text[96];
     std::snprintf(text, sizeof(text), "; the top: %s, confidence %.2f", r.top_completion.c_str(), r.top_confidence);

@@ -27,6 +27,34 @@ Ring SampleOutline(const Ring& hull, double spacing) {
   return ring;
 }
 
+// The RMS distance in x-y from the outline of each band `band_m` thick,
+// from `z_top` down to the lowest point, to the convex `top_hull`: 0 for a
+// prism's walls, the taper for a cup's. Infinity when no band has an
+// outline.
+double ExtrusionMisfit(const PointList& points_V, const Ring& top_hull, float z_top, double band_m,
+                       double spacing_m) {
+  float low = z_top;
+  for (const Eigen::Vector3f& p : points_V) low = std::min(low, p.z());
+  const int bands = CeilToInt((z_top - low) / band_m, 1, 1000);
+  std::vector<Ring> slices(static_cast<size_t>(bands));
+  for (const Eigen::Vector3f& p : points_V) {
+    const int b = std::min(bands - 1, static_cast<int>((z_top - p.z()) / band_m));
+    slices[static_cast<size_t>(b)].emplace_back(p.x(), p.y());
+  }
+  double sum_sq = 0.0;
+  size_t n = 0;
+  for (Ring& slice : slices) {
+    const Ring hull = geometry::ConvexHull2d(&slice);
+    if (hull.size() < 3) continue;
+    for (const Eigen::Vector2d& q : SampleOutline(hull, spacing_m)) {
+      const double d = geometry::DepthInsideConvex(top_hull, q);
+      sum_sq += d * d;
+      ++n;
+    }
+  }
+  return n ? std::sqrt(sum_sq / static_cast<double>(n)) : std::numeric_limits<double>::infinity();
+}
+
 Eigen::Vector3f At(const Eigen::Vector2d& xy, double z) {
   return Eigen::Vector3f(static_cast<float>(xy.x()), static_cast<float>(xy.y()), static_cast<float>(z));
 }
@@ -420,6 +448,8 @@ EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointLis
     return top;
   }
   const Ring ring = SampleOutline(hull, spacing_m);
+  top.extrusion_rms_m = ExtrusionMisfit(points_V, hull, z_wall, config.top_band_m, spacing_m);
+  top.outline_vertices = static_cast<int>(hull.size());
   FindTopHeight(ring, z_wall, record, T_in_V, config, &top);
 
   // Candidates: the outline from the wall's top up to the top, then the cap.

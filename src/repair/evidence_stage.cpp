@@ -122,6 +122,14 @@ EvidenceTopPoints ApplyEvidence(const evidence::VisibilityRecord& record, const 
   }
   bool carved = !std::isnan(carved_top);
   EvidenceTop top = CloseTopFromEvidence(index_V, *surface_V, record, T_in_V, spacing_m, config);
+  EvidenceTopPoints result;
+  result.outcome = top.outcome;
+  if (top.outcome == TopEvidence::kHeightFound || top.outcome == TopEvidence::kNotObservable) {
+    result.extrusion_V = top.added_V;
+    result.extrusion_rejected = top.rejected_free + DropInsideClaw(record, T_in_V, &result.extrusion_V);
+    result.extrusion_rms_m = top.extrusion_rms_m;
+    result.outline_vertices = top.outline_vertices;
+  }
   if (mirrored && top.outcome == TopEvidence::kDome) {
     // Under a mirror the dome is fitted to the seen band and the image
     // together: over the seen band alone, to one side of the top, it sagged
@@ -178,7 +186,7 @@ EvidenceTopPoints ApplyEvidence(const evidence::VisibilityRecord& record, const 
     // The mirror's top holds, but for a dome: the image of a bottom the
     // camera never saw leaves a round top's middle open (the apple at seed
     // 12, 90 frames: 3% of its surface).
-    if (!keep_evidence_top && top.outcome != TopEvidence::kDome) return {{}, top.outcome, 0};
+    if (!keep_evidence_top && top.outcome != TopEvidence::kDome) return result;
     // The evidence's top keeps its points only where the image has none
     // within 2 spacings (under the claw, past the image's outline).
     // Cutting the image at the top band and adding the evidence's top
@@ -206,7 +214,9 @@ EvidenceTopPoints ApplyEvidence(const evidence::VisibilityRecord& record, const 
   const int in_claw = DropInsideClaw(record, T_in_V, &top.added_V);
   report->rejected_in_claw += in_claw;
   report->top_points_added = static_cast<int>(top.added_V.size());
-  return {std::move(top.added_V), top.outcome, top.rejected_free + in_claw};
+  result.points_V = std::move(top.added_V);
+  result.rejected = top.rejected_free + in_claw;
+  return result;
 }
 
 }  // namespace graspfill::repair

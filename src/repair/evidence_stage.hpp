@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <limits>
 
 #include "graspfill/evidence/visibility_record.hpp"
 #include "graspfill/repair/evidence_repair.hpp"
@@ -22,11 +23,17 @@ const evidence::VisibilityRecord* UsableRecord(const ObjectCloud& input,
                                                const RepairConfig& config, EvidenceReport* report);
 
 // The evidence's top: its points (V), how it came out, and how many of
-// its proposed points the record saw free or in the claw.
+// its proposed points the record saw free or in the claw; beside it, for
+// a flat top, its whole lid (the top's outline at the rays' height, over
+// the mirror's image or not) for the search's extrusion.
 struct EvidenceTopPoints {
   PointList points_V;
   TopEvidence outcome{TopEvidence::kNoOutline};
   int rejected{0};
+  PointList extrusion_V;
+  int extrusion_rejected{0};
+  double extrusion_rms_m{std::numeric_limits<double>::infinity()};  ///< EvidenceTop's
+  int outline_vertices{0};                                          ///< EvidenceTop's
 };
 
 // The evidence's part of steps 7-8: fills in seen-free space dropped, a

@@ -483,9 +483,9 @@ TopCandidate RevolutionCandidate(const PointList& points_V, const PointList& rim
   // The seam is scored on the surface sampled as the mirror's image is
   // (where the cloud leaves a spacing open); it adds only where the cloud
   // leaves a hole, not between the seen points.
-  RevolutionSamples samples = SampleRevolution(*surface, low, spacing_m, taken);
+  RevolutionSamples samples = SampleRevolution(*surface, low, spacing_m, kHoleSpacings * spacing_m, taken);
   for (size_t i = 0; i < samples.points_V.size(); ++i) {
-    if (samples.open_m[i] >= kHoleSpacings * spacing_m) c.points_V.push_back(samples.points_V[i]);
+    if (samples.in_hole[i]) c.points_V.push_back(samples.points_V[i]);
   }
   c.seam_V = std::move(samples.points_V);
   const size_t proposed = c.points_V.size();
@@ -537,6 +537,26 @@ TopCap SearchTop(const PointList& points_V, const ClawFills& fills,
                       static_cast<double>(evidence_top.rejected + evidence_top.points_V.size());
     candidates.push_back(std::move(dome));
   }
+  if (!evidence_top.extrusion_V.empty() &&
+      evidence_top.extrusion_rms_m <= kOpenSigmas * spacing_m) {
+    // A prism whose far end gives no mirror: the top's outline explains
+    // the walls all the way down, so its lid is that outline at the rays'
+    // height. A cup narrows to its bottom and is not proposed (its walls
+    // alone cannot tell its mouth from a lid). Where the mirror stands, its
+    // image of the seen far end says what the lid is like (a can's is
+    // recessed), and a flat lid meets the rim as well as it does: the
+    // extrusion is not weighed against it.
+    TopCandidate extrusion;
+    extrusion.family = TopFamily::kExtrusion;
+    // The lid's height, and the outline: the rim's own hull, fitted to the
+    // rim it is then scored against (x, y per vertex). A mirror or a
+    // surface of revolution predicts the rim from the rest of the cloud.
+    extrusion.parameters = 1 + 2 * evidence_top.outline_vertices;
+    extrusion.points_V = std::move(evidence_top.extrusion_V);
+    extrusion.free_share = static_cast<double>(evidence_top.extrusion_rejected) /
+                           static_cast<double>(evidence_top.extrusion_rejected + extrusion.points_V.size());
+    candidates.push_back(std::move(extrusion));
+  }
   candidates.push_back(RevolutionCandidate(points_V, rim_V, fills.surface_V, spacing_m, record, T_in_V, config));
   const TopChoice choice = ChooseTop(std::move(candidates), rim_V, fills.surface_V, spacing_m);
   const TopCandidate& best = choice.Best();
@@ -552,6 +572,11 @@ TopCap SearchTop(const PointList& points_V, const ClawFills& fills,
                     TopFamilyName(c.family).c_str(), c.cost, 1000.0 * c.seal_m, 100.0 * c.free_share);
     }
     scored += text;
+  }
+  if (std::isfinite(evidence_top.extrusion_rms_m)) {
+    char prism[64];
+    std::snprintf(prism, sizeof(prism), "; the walls off a prism by %.2f mm", 1000.0 * evidence_top.extrusion_rms_m);
+    symmetry->reason += prism;
   }
   symmetry->reason += "; the top: " + report->top_completion + " (costs " + scored + ")";
   if (best.family != TopFamily::kMirror) {

@@ -76,7 +76,7 @@ std::optional<Revolution> FitRevolution(const PointList& points_V, double top_z,
   return s;
 }
 
-RevolutionSamples SampleRevolution(const Revolution& s, double from_z, double spacing_m,
+RevolutionSamples SampleRevolution(const Revolution& s, double from_z, double spacing_m, double hole_m,
                                    const PointList& taken_V) {
   RevolutionSamples out;
   if (!(spacing_m > 0.0) || !(s.pole_z > from_z)) return out;
@@ -90,18 +90,10 @@ RevolutionSamples SampleRevolution(const Revolution& s, double from_z, double sp
     on_surface.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()), p.z());
   }
   const NeighborIndex taken(on_surface);
-  std::vector<int> nearest;
-  std::vector<double> squared;
   const auto keep = [&](const Eigen::Vector3f& p) {
     if (taken.AnyWithin(p, spacing_m)) return;  // most samples: on the seen surface
-    double open = std::numeric_limits<double>::infinity();
-    if (taken.size() > 0) {
-      taken.Knn(p, 1, &nearest, &squared);
-      if (!squared.empty()) open = std::sqrt(squared[0]);
-    }
-    if (open < spacing_m) return;
     out.points_V.push_back(p);
-    out.open_m.push_back(static_cast<float>(std::min(open, 1e9)));
+    out.in_hole.push_back(!taken.AnyWithin(p, hole_m));
   };
   // Rings one spacing apart along the profile (dz shrinks where the
   // surface turns flat towards the pole), then the pole itself.

@@ -38,13 +38,14 @@ std::optional<Revolution> FitRevolution(const PointList& points_V, double top_z,
 /// The surface sampled `spacing_m` apart from `from_z` to the pole, where
 /// the cloud leaves it open: no point of `taken_V`, moved radially onto
 /// the surface, lies within a spacing (so the model's own error off the
-/// seen surface, a ball's panels, opens no hole). Each sample's distance
-/// to the nearest such point comes along in `open_m`.
+/// seen surface, a ball's panels, opens no hole). Each sample's `in_hole`
+/// says whether none lies within `hole_m` either (a hole, not the gaps
+/// between seen points).
 struct RevolutionSamples {
   PointList points_V;
-  std::vector<float> open_m;
+  std::vector<char> in_hole;
 };
-RevolutionSamples SampleRevolution(const Revolution& surface, double from_z, double spacing_m,
+RevolutionSamples SampleRevolution(const Revolution& surface, double from_z, double spacing_m, double hole_m,
                                    const PointList& taken_V);
 
 }  // namespace graspfill::repair

@@ -20,9 +20,10 @@
 //    within 3 sigma to beat it.
 //
 // The cheapest wins; its confidence is its posterior against the runner-
-// up, 1 / (1 + exp(-margin)). A flat cap alone is not proposed: the
-// observed walls cannot tell a can's lid from a cup's mouth; the mirror's
-// far end can (the mirror's own top, raised to the rays, stays its part).
+// up, 1 / (1 + exp(-margin)). A flat cap is proposed only as a prism's
+// lid, where the top's outline explains the walls all the way down (the
+// extrusion): the top band's walls alone cannot tell a can's lid from a
+// cup's mouth, but a cup narrows to its bottom.
 //
 // Frames and units: points in V [m]. Pure, single-threaded, deterministic.
 #pragma once
@@ -39,13 +40,14 @@ enum class TopFamily {
   kMirror,      ///< the mirror image of the far end (symmetry_repair.hpp)
   kRevolution,  ///< a surface of revolution that closes (revolution_fill.hpp)
   kDome,        ///< a quadratic dome over a tapered top (evidence_repair.hpp)
+  kExtrusion,   ///< the top's outline extruded to the rays' height (evidence_repair.hpp)
 };
 
 /// "Open" costs what a completion meeting the rim at this many sigma does;
 /// a model that misses the seen surface by more (RMS) is not proposed.
 inline constexpr double kOpenSigmas = 3.0;
 
-/// "open", "mirror", "revolution", "dome".
+/// "open", "mirror", "revolution", "dome", "extrusion".
 std::string TopFamilyName(TopFamily family);
 
 struct TopCandidate {

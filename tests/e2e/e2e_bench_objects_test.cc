@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_runner.hpp"
@@ -48,15 +49,30 @@ nlohmann::json JsonOf(const std::string& output) {
 }
 
 // A closed axis-aligned box mesh, W x D x H meters, as OBJ.
-std::string BoxObj(double w, double d, double h) {
+// A w x d x h box standing on z = 0, as OBJ; with `chamfer` > 0 its bottom
+// edges are cut at 45 degrees that deep (a toy block's bevel).
+std::string BoxObj(double w, double d, double h, double chamfer = 0.0) {
   std::ostringstream obj;
-  for (int i = 0; i < 8; ++i) {
-    obj << "v " << ((i & 1) ? w / 2 : -w / 2) << " " << ((i & 2) ? d / 2 : -d / 2) << " " << ((i & 4) ? h : 0.0)
-        << "\n";
+  // Rings of four corners, counter-clockwise seen from +z: the bottom
+  // (inset by the chamfer), the chamfer's top (when cut) and the top.
+  std::vector<std::pair<double, double>> rings = {{chamfer, 0.0}};
+  if (chamfer > 0.0) rings.emplace_back(0.0, chamfer);
+  rings.emplace_back(0.0, h);
+  for (const auto& [inset, z] : rings) {
+    const double x = w / 2 - inset, y = d / 2 - inset;
+    obj << "v " << -x << " " << -y << " " << z << "\nv " << x << " " << -y << " " << z << "\nv " << x << " " << y
+        << " " << z << "\nv " << -x << " " << y << " " << z << "\n";
   }
-  // Outward faces, 1-based.
-  obj << "f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 1 2 6\nf 1 6 5\n"
-         "f 3 7 8\nf 3 8 4\nf 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\n";
+  // Outward faces, 1-based: the bottom, the bands between rings, the top.
+  obj << "f 1 3 2\nf 1 4 3\n";
+  for (int r = 0; r + 1 < static_cast<int>(rings.size()); ++r) {
+    for (int i = 0; i < 4; ++i) {
+      const int a = 4 * r + i + 1, b = 4 * r + (i + 1) % 4 + 1;
+      obj << "f " << a << " " << b << " " << b + 4 << "\nf " << a << " " << b + 4 << " " << a + 4 << "\n";
+    }
+  }
+  const int t = 4 * static_cast<int>(rings.size() - 1);
+  obj << "f " << t + 1 << " " << t + 2 << " " << t + 3 << "\nf " << t + 1 << " " << t + 3 << " " << t + 4 << "\n";
   return obj.str();
 }
 
@@ -211,6 +227,27 @@ TEST(BenchObjectsE2E, AnOpenCupsUnseenMouthIsLeftOpen) {
   EXPECT_LE(Get(row, "wrong_share"), 0.02);
   EXPECT_GE(Get(row, "coverage_2mm"), Get(row, "fused_coverage"));
   EXPECT_EQ(row["seen_free_points"].get<int>(), 0);
+  EXPECT_TRUE(row["meets"].get<bool>());
+}
+
+// A block whose bottom edges are bevelled 3 mm, held by its top: the
+// mirror image of its bevelled bottom would bevel its lid too, and the
+// walls are those of a prism all the way down, so the search closes it by
+// the extrusion of its top's outline, at the rays' height.
+TEST(BenchObjectsE2E, AChamferedBlocksLidIsTheExtrusionOfItsWalls) {
+  const std::string dir = ScratchDir("bench_objects_block");
+  WriteText(dir + "/block.obj", BoxObj(0.05, 0.035, 0.08, 0.003));
+  WriteText(dir + "/objects.json",
+            R"({"objects": {"block": {"file": "block.obj", "kind": "closed_symmetric", "split": "tune"}}})");
+  const auto run = RunCli("bench repair --objects " + dir +
+                          " --claw parallel --grasp top-oblique --seeds 1 --repeat 1 --json");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json rows = JsonOf(run.output).at("rows");
+  ASSERT_EQ(rows.size(), 1u);
+  const nlohmann::json& row = rows[0];
+  SCOPED_TRACE(row.dump());
+  EXPECT_EQ(row["top_completion"], "extrusion");
+  EXPECT_GT(Get(row, "top_confidence"), 0.5);
   EXPECT_TRUE(row["meets"].get<bool>());
 }
 

@@ -675,6 +675,41 @@ TEST(EvidenceRepair, ATopIsWhereTheRingsJumpNotWhereTheyCreep) {
   ExpectTargets(h);
 }
 
+Eigen::Vector3f OnCircle(double r, double angle, double z) {
+  return Eigen::Vector3f(static_cast<float>(r * std::cos(angle)), static_cast<float>(r * std::sin(angle)),
+                         static_cast<float>(z));
+}
+
+// Walls r(z) = r_bottom + (r_top - r_bottom) z / h, 0 <= z <= h, and the
+// bottom disc, sampled ~1 mm apart (V: the top missing).
+PointList OpenWalls(double r_bottom, double r_top, double h) {
+  PointList points;
+  for (double z = 0.0; z <= h; z += 0.001) {
+    const double r = r_bottom + (r_top - r_bottom) * z / h;
+    for (double a = 0.0; a < 2.0 * M_PI; a += 0.001 / r) points.push_back(OnCircle(r, a, z));
+  }
+  for (double r = 0.001; r < r_bottom; r += 0.001) {
+    for (double a = 0.0; a < 2.0 * M_PI; a += 0.001 / r) points.push_back(OnCircle(r, a, 0.0));
+  }
+  return points;
+}
+
+// The extrusion's test of the walls: a can's walls are its top's outline
+// all the way down; a cup's, narrowing 8 mm to its bottom, are not (by
+// the taper's RMS over the height, ~4 mm).
+TEST(EvidenceRepair, APrismsWallsFitTheExtrusionOfItsTopACupsDoNot) {
+  const Fused& can = Can();
+  const auto misfit = [&](double r_bottom) {
+    const PointList walls = OpenWalls(r_bottom, 0.03, 0.08);
+    return CloseTopFromEvidence(NeighborIndex(walls), {}, can.record, Eigen::Isometry3f::Identity(), 0.001, {})
+        .extrusion_rms_m;
+  };
+  EXPECT_LT(misfit(0.03), 0.0005);
+  const double cup = misfit(0.022);
+  EXPECT_GT(cup, 0.003);
+  EXPECT_LT(cup, 0.006);
+}
+
 TEST(EvidenceRepair, TopWithoutOutlineAndBadConfig) {
   const Fused& can = Can();
   // Points on a line: no outline to close.

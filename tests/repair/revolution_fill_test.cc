@@ -45,7 +45,7 @@ TEST(RevolutionFill, SphereWithItsTopCutOffClosesAtItsPole) {
   EXPECT_NEAR(s->y0, -0.002, 3e-4);
   EXPECT_NEAR(s->pole_z, R, 1e-3);
   EXPECT_LT(s->rms_m, 6e-4);
-  const RevolutionSamples samples = SampleRevolution(*s, -R, 0.001, cloud);
+  const RevolutionSamples samples = SampleRevolution(*s, -R, 0.001, 0.005, cloud);
   ASSERT_FALSE(samples.points_V.empty());
   // Every sample on the sphere, and none on the seen body, which has no
   // hole a spacing wide (but near the far pole, where the cloud's rings of
@@ -58,8 +58,14 @@ TEST(RevolutionFill, SphereWithItsTopCutOffClosesAtItsPole) {
   const PointList cap = OnProfile(0.003, -0.002, R * R, 0.0, -1.0, 0.027, R, 0.002, 0.0, 2);
   const NeighborIndex index(samples.points_V);
   for (const Eigen::Vector3f& p : cap) EXPECT_TRUE(index.AnyWithin(p, 0.0015)) << p.transpose();
-  ASSERT_EQ(samples.open_m.size(), samples.points_V.size());
-  EXPECT_GT(*std::max_element(samples.open_m.begin(), samples.open_m.end()), 0.005f);
+  // The cap's middle, over 5 mm from the seen rim, is a hole; the samples
+  // beside the rim are not.
+  ASSERT_EQ(samples.in_hole.size(), samples.points_V.size());
+  for (size_t i = 0; i < samples.points_V.size(); ++i) {
+    const Eigen::Vector3f& p = samples.points_V[i];
+    if (p.z() > 0.034f) EXPECT_TRUE(samples.in_hole[i]) << p.transpose();
+    if (p.z() > 0.0f && p.z() < 0.026f) EXPECT_FALSE(samples.in_hole[i]) << p.transpose();
+  }
 }
 
 TEST(RevolutionFill, SpheroidKeepsItsProfile) {

@@ -142,6 +142,12 @@ struct EvidenceTop {
   float wall_top_z_V{0.0f};  ///< highest observed point [m]
   float top_z_V{0.0f};       ///< the top's height used [m]
   PointList added_V;         ///< band and cap, none in seen-free space
+  /// A flat top's: how far the observed walls depart from a prism under
+  /// it, the RMS distance in V's x-y from each height band's outline
+  /// (top_band_m thick, down to the lowest point) to the top band's. An
+  /// extrusion of the top's outline explains the walls within this [m].
+  double extrusion_rms_m{std::numeric_limits<double>::infinity()};
+  int outline_vertices{0};  ///< of the top band's hull (a flat top's outline)
   int rejected_free{0};      ///< candidates dropped as seen free
 };
 

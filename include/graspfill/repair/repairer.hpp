@@ -141,7 +141,7 @@ struct RepairReport {
   std::string StatusText() const;
   bool symmetric{false};        ///< a symmetry plane was found and used
   /// Best mode: how the missing top was completed ("mirror", "revolution",
-  /// "dome", or "open": nothing known there, nothing added), and the
+  /// "dome", "extrusion", or "open": nothing known there, nothing added), and the
   /// confidence of its points (the search's posterior, top_search.hpp).
   std::string top_completion;
   float top_confidence{0.0f};
