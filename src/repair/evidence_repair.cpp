@@ -449,7 +449,7 @@ EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointLis
   }
   const Ring ring = SampleOutline(hull, spacing_m);
   top.extrusion_rms_m = ExtrusionMisfit(points_V, hull, z_wall, config.top_band_m, spacing_m);
-  top.outline_vertices = static_cast<int>(hull.size());
+  top.outline_vertices = geometry::SimplifiedVertexCount(hull, spacing_m);
   FindTopHeight(ring, z_wall, record, T_in_V, config, &top);
 
   // Candidates: the outline from the wall's top up to the top, then the cap.

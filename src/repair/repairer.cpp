@@ -549,8 +549,9 @@ TopCap SearchTop(const PointList& points_V, const ClawFills& fills,
     TopCandidate extrusion;
     extrusion.family = TopFamily::kExtrusion;
     // The lid's height, and the outline: the rim's own hull, fitted to the
-    // rim it is then scored against (x, y per vertex). A mirror or a
-    // surface of revolution predicts the rim from the rest of the cloud.
+    // rim it is then scored against (x, y per vertex that describes it to
+    // a spacing). A mirror or a surface of revolution predicts the rim
+    // from the rest of the cloud.
     extrusion.parameters = 1 + 2 * evidence_top.outline_vertices;
     extrusion.points_V = std::move(evidence_top.extrusion_V);
     extrusion.free_share = static_cast<double>(evidence_top.extrusion_rejected) /

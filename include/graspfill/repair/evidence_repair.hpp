@@ -147,7 +147,9 @@ struct EvidenceTop {
   /// (top_band_m thick, down to the lowest point) to the top band's. An
   /// extrusion of the top's outline explains the walls within this [m].
   double extrusion_rms_m{std::numeric_limits<double>::infinity()};
-  int outline_vertices{0};  ///< of the top band's hull (a flat top's outline)
+  /// The vertices that describe the top band's hull (a flat top's
+  /// outline) to within a spacing.
+  int outline_vertices{0};
   int rejected_free{0};      ///< candidates dropped as seen free
 };
 

@@ -80,6 +80,39 @@ bool InsideConvex(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2
   return true;
 }
 
+namespace {
+
+// Vertices strictly between `from` and `to` (indices into the closed
+// `polygon`, walking forward) that the simplification keeps.
+int KeptBetween(const std::vector<Eigen::Vector2d>& polygon, size_t from, size_t to, double tolerance) {
+  const size_t n = polygon.size();
+  const Eigen::Vector2d a = polygon[from], chord = polygon[to] - a;
+  const double length = chord.norm();
+  double farthest = -1.0;
+  size_t at = from;
+  for (size_t i = (from + 1) % n; i != to; i = (i + 1) % n) {
+    const Eigen::Vector2d v = polygon[i] - a;
+    const double d = length > 0.0 ? std::abs(chord.x() * v.y() - chord.y() * v.x()) / length : v.norm();
+    if (d > farthest) farthest = d, at = i;
+  }
+  if (!(farthest > tolerance)) return 0;
+  return 1 + KeptBetween(polygon, from, at, tolerance) + KeptBetween(polygon, at, to, tolerance);
+}
+
+}  // namespace
+
+int SimplifiedVertexCount(const std::vector<Eigen::Vector2d>& polygon, double tolerance) {
+  const size_t n = polygon.size();
+  if (n < 3) return static_cast<int>(n);
+  // Split at the vertex farthest from the first: both ends are kept.
+  size_t far = 0;
+  for (size_t i = 1; i < n; ++i) {
+    if ((polygon[i] - polygon[0]).squaredNorm() > (polygon[far] - polygon[0]).squaredNorm()) far = i;
+  }
+  if (far == 0) return 1;
+  return 2 + KeptBetween(polygon, 0, far, tolerance) + KeptBetween(polygon, far, 0, tolerance);
+}
+
 double PolygonArea(const std::vector<Eigen::Vector2d>& polygon) {
   double twice = 0.0;
   for (size_t i = 0; i < polygon.size(); ++i) {

@@ -34,6 +34,13 @@ double PolygonArea(const std::vector<Eigen::Vector2d>& polygon);
 /// area is 0.
 Eigen::Vector2d PolygonCentroid(const std::vector<Eigen::Vector2d>& polygon);
 
+/// How many of the closed `polygon`'s vertices describe it to within
+/// `tolerance` (Douglas-Peucker: a vertex is kept where the chord between
+/// its kept neighbours passes farther from some vertex than that): a
+/// noisy rectangle's hull needs 4, a circle of radius r about
+/// pi / sqrt(2 tolerance / r). The polygon itself when under 3 vertices.
+int SimplifiedVertexCount(const std::vector<Eigen::Vector2d>& polygon, double tolerance);
+
 /// A rectangle's centre and the direction of its longer side.
 struct Rect2 {
   Eigen::Vector2d axis{1, 0};  ///< unit

@@ -78,5 +78,33 @@ TEST(Polygon2d, TheMinimumAreaRectangleOfATurnedRectangle) {
   for (const Vec2& p : points) EXPECT_GT(DepthInsideConvex(hull, p), -0.13 / 32);
 }
 
+// The outline's description length: a noisy rectangle's hull comes down
+// to its 4 corners; a circle's to about pi / sqrt(2 tolerance / r)
+// vertices, more for a finer tolerance.
+TEST(Polygon2d, SimplifiedVertexCountOfARectanglesHullAndACircle) {
+  // A 50 x 35 mm rectangle's outline, each point moved up to 0.25 mm.
+  synth::Rng rng(8);
+  std::vector<Vec2> points;
+  for (int i = 0; i < 2000; ++i) {
+    const double t = rng.Uniform() * 0.17, jitter_x = 0.0005 * (rng.Uniform() - 0.5),
+                 jitter_y = 0.0005 * (rng.Uniform() - 0.5);
+    const Vec2 on = t < 0.05 ? Vec2(t, 0.0) : t < 0.085 ? Vec2(0.05, t - 0.05) : t < 0.135 ? Vec2(0.135 - t, 0.035)
+                                                                                         : Vec2(0.0, 0.17 - t);
+    points.push_back(on + Vec2(jitter_x, jitter_y));
+  }
+  const std::vector<Vec2> hull = ConvexHull2d(&points);
+  ASSERT_GT(hull.size(), 12u);  // the noise's vertices
+  const int rectangle = SimplifiedVertexCount(hull, 0.0007);
+  EXPECT_GE(rectangle, 4);
+  EXPECT_LE(rectangle, 8);  // the corners, and a few the noise bevels
+  std::vector<Vec2> circle;
+  for (int i = 0; i < 400; ++i) circle.emplace_back(0.033 * std::cos(i * M_PI / 200), 0.033 * std::sin(i * M_PI / 200));
+  const int coarse = SimplifiedVertexCount(circle, 0.0007), fine = SimplifiedVertexCount(circle, 0.0001);
+  EXPECT_GE(coarse, 12);
+  EXPECT_LE(coarse, 24);  // pi / sqrt(2 x 0.7 / 33) = 15
+  EXPECT_GT(fine, 2 * coarse);
+  EXPECT_EQ(SimplifiedVertexCount({Vec2(0, 0), Vec2(1, 0)}, 0.1), 2);
+}
+
 }  // namespace
 }  // namespace graspfill::repair::geometry
