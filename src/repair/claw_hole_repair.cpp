@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -331,8 +332,6 @@ ClawRepairConfig ClawRepairConfig::Paper() {
 void ClawRepairConfig::Validate() const {
   const std::string p = "ClawRepairConfig.";
   Require(local_margin_m > 0.0 && std::isfinite(local_margin_m), p + "local_margin_m must be > 0");
-  Require(exclude_top_band_m >= 0.0 && std::isfinite(exclude_top_band_m),
-          p + "exclude_top_band_m must be >= 0");
   Require(min_support_points >= 3, p + "min_support_points must be >= 3");
   Require(max_inside_outline_m >= 0.0 && std::isfinite(max_inside_outline_m),
           p + "max_inside_outline_m must be >= 0");
@@ -416,9 +415,6 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
   float min_z = std::numeric_limits<float>::infinity();
   for (const Eigen::Vector3f& p : points_V) max_z = std::max(max_z, p.z()), min_z = std::min(min_z, p.z());
   const float mid_z = 0.5f * (min_z + max_z);
-  const float z_cut = config.exclude_top_band_m > 0.0
-                          ? max_z - static_cast<float>(config.exclude_top_band_m)
-                          : std::numeric_limits<float>::infinity();
   const double cos_max = std::cos(config.max_normal_deviation_deg * M_PI / 180.0);
 
   // Normals of a subset: the caller's, else estimated on demand.
@@ -448,12 +444,9 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
     const float margin = static_cast<float>(config.local_margin_m);
     const Box support_box(box.min() - Eigen::Vector3f::Constant(margin),
                           box.max() + Eigen::Vector3f::Constant(margin));
-    std::vector<int> near, support;  // in the box; and below the top band
+    std::vector<int> support;  // the cloud's points in the box
     for (size_t i = 0; i < points_V.size(); ++i) {
-      if (support_box.contains(points_V[i])) {
-        near.push_back(static_cast<int>(i));
-        if (points_V[i].z() <= z_cut) support.push_back(static_cast<int>(i));
-      }
+      if (support_box.contains(points_V[i])) support.push_back(static_cast<int>(i));
     }
     if (static_cast<int>(support.size()) < config.min_support_points) continue;
     if (static_cast<double>(support.size()) > config.max_support_share * static_cast<double>(points_V.size())) {
@@ -487,7 +480,7 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
       grid_hi = grid_hi.cwiseMax(l.head<2>());
     }
     GapTest gap(index, earlier.get(), gap_m);
-    gap.BuildGrid(frame, grid_lo, grid_hi, near, support_box, out);
+    gap.BuildGrid(frame, grid_lo, grid_hi, support, support_box, out);
 
     PointList fill;
     bool filled = false;
@@ -534,10 +527,8 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
       const PoissonSurface* surface = &local;
       if (config.surface == ClawSurface::kPoisson && !config.local_reconstruction) {
         if (!global_surface) {
-          std::vector<int> side;
-          for (size_t i = 0; i < points_V.size(); ++i) {
-            if (points_V[i].z() <= z_cut) side.push_back(static_cast<int>(i));
-          }
+          std::vector<int> side(points_V.size());  // the paper's side points: all of them
+          std::iota(side.begin(), side.end(), 0);
           global_surface = std::make_unique<PoissonSurface>(ReconstructPoisson(
               points_V, side, normals_of(side), config.poisson_depth, config.poisson_scale));
         }

@@ -66,11 +66,6 @@ struct ClawRepairConfig {
   /// enough to give the surface support all around the hole, narrow enough
   /// to stay on the face the hole is in.
   double local_margin_m{0.010};
-  /// Points with z above (max z of the cloud - this) [m] are left out of
-  /// the surface's input (the paper's "side points"). 0 keeps them: the rim
-  /// constrains the surface where top-grasp holes open into the missing
-  /// top.
-  double exclude_top_band_m{0.0};
   /// Holes with fewer support points than this are skipped.
   int min_support_points{30};
   /// A "hole" whose support holds more than this share of the cloud is no
