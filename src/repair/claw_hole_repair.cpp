@@ -18,6 +18,7 @@
 #include "hole_fill.hpp"
 #include "local_surfaces.hpp"
 #include "poisson_surface.hpp"
+#include "sampling_gaps.hpp"
 #include "slab_profile.hpp"
 
 // Costs measured on the 2-core dev machine (Open3D 0.16.1, one thread,
@@ -353,8 +354,6 @@ void ClawRepairConfig::Validate() const {
           p + "poisson_box_pad_cells must be in [0, 100]");
   Require(fill_density_factor > 0.0 && fill_density_factor <= 100.0,
           p + "fill_density_factor must be in (0, 100]");
-  Require(min_gap_d >= 0.0 && min_gap_d <= 100.0, p + "min_gap_d must be in [0, 100]");
-  Require(box_pad_d >= 0.0 && box_pad_d <= 100.0, p + "box_pad_d must be in [0, 100]");
 }
 
 size_t DropFillsOnTheTop(const PointList& rim_V, double max_inside_m, PointList* fills_V) {
@@ -457,7 +456,7 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
     if (spacing.mean_nn_m <= 0.0 || spacing.density_per_m2 <= 0.0) continue;
     const double d = spacing.mean_nn_m;
     const double density = spacing.density_per_m2 * config.fill_density_factor;
-    const double gap_m = config.min_gap_d * d;
+    const double gap_m = kNewPointGapSpacings * d;
     if (!earlier) earlier = std::make_unique<AddedPoints>(std::max(gap_m, 1e-4));
     Uniform01 rng(MixSeed(config.seed, h));
 
@@ -468,7 +467,7 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
     }
     if (outward.norm() < 1e-9) outward = (box.center() - centroid).cast<double>();
     const HoleFrame frame = MakeHoleFrame(rim, points_V, support, outward);
-    const double pad = config.box_pad_d * d;
+    const double pad = kHoleBoxPadSpacings * d;
     FillRegion region = RimRegion(rim, frame, pad, box.min().z() - pad, box.max().z() + pad);
     // The grid spans the support box's shadow, so that the samples of a
     // second sheet (an edge hole), too, are tested on it.

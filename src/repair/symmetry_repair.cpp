@@ -14,6 +14,7 @@
 
 #include "clamped_int.hpp"
 #include "geometry/gap_grid.hpp"
+#include "sampling_gaps.hpp"
 #include "slab_profile.hpp"
 
 namespace graspfill::repair {
@@ -340,8 +341,6 @@ void SymmetryConfig::Validate() const {
           p + "max_added_height_fraction must be > 0");
   Require(range_tolerance_slabs >= 0.0 && range_tolerance_slabs <= 1000.0,
           p + "range_tolerance_slabs must be in [0, 1000]");
-  Require(box_pad_d >= 0.0 && box_pad_d <= 100.0, p + "box_pad_d must be in [0, 100]");
-  Require(min_gap_d >= 0.0 && min_gap_d <= 100.0, p + "min_gap_d must be in [0, 100]");
   Require(spacing_samples >= 10, p + "spacing_samples must be >= 10");
   Require(fit_sectors >= 0 && fit_sectors <= 360, p + "fit_sectors must be in [0, 360]");
   Require(fit_reach_cells >= 0 && fit_reach_cells <= 10, p + "fit_reach_cells must be in [0, 10]");
@@ -582,7 +581,7 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
                                           boundary_box.min().z()));
     }
   }
-  const float pad = static_cast<float>(config.box_pad_d * d);
+  const float pad = static_cast<float>(kHoleBoxPadSpacings * d);
   const Eigen::Vector3f box_min(boundary_box.min().x() - pad, boundary_box.min().y() - pad,
                                 boundary_box.min().z() - pad);
   const Eigen::Vector3f box_max(boundary_box.max().x() + pad, boundary_box.max().y() + pad,
@@ -590,7 +589,7 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
   result.box_min_V = box_min;
   result.box_max_V = box_max;
   const Eigen::AlignedBox3f box(box_min, box_max);
-  const double gap = config.min_gap_d * d;
+  const double gap = kNewPointGapSpacings * d;
   const Eigen::Vector3f g = Eigen::Vector3f::Constant(static_cast<float>(gap));
   // The original points a mirrored one could overlap, on an xy grid of
   // cell `gap` over the box (a few cell lookups instead of a KD query).

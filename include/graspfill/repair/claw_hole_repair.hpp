@@ -153,7 +153,7 @@ struct ClawRepairConfig {
   double max_normal_deviation_deg{75.0};
   /// The Poisson surface sags or bulges over a hole by up to about a cell:
   /// along the hole's normal its samples may lie this many cells (plus
-  /// `box_pad_d` D and a quarter of the hole's width, for the curvature)
+  /// the hole box's pad and a quarter of the hole's width, for the curvature)
   /// beyond the rim (the cell is scale x input extent / 2^depth).
   double poisson_box_pad_cells{1.5};
 
@@ -165,12 +165,6 @@ struct ClawRepairConfig {
   /// area A. Here the surface itself is sampled at the chosen density, so
   /// every point is on it and none is wasted.
   double fill_density_factor{1.0};
-  /// A sample is new only if no cloud point (nor an earlier sample) lies
-  /// within this many D: it keeps the fill inside the hole.
-  double min_gap_d{1.0};
-  /// The hole's box is padded by this many D on every side (the boundary
-  /// of a hole on a flat face spans no depth at all).
-  double box_pad_d{2.0};
   /// Seed of the sample positions.
   uint64_t seed{7};
 
@@ -186,7 +180,7 @@ struct ClawRepairConfig {
 /// over the boundary's extent (the rim's (u, v) rectangle in the frame of
 /// the rim's plane, and no higher or lower in V's z than the rim: the top is
 /// step 8's) where neither the cloud nor an earlier hole's fill has a
-/// point within `min_gap_d` D. (The paper samples the rim's box in V; on a
+/// point within a spacing D. (The paper samples the rim's box in V; on a
 /// sphere the surface over a claw hole bulges ~2.5 mm out of that box.)
 /// @param points_V the object cloud in V [m], finite coordinates.
 /// @param claw_holes claw-hole boundaries (points in V, closed after the

@@ -36,9 +36,9 @@
 // The missing surface's box: x, y from the boundary's extent (with a
 // constant section also the rim's whole outline: the boundary test may find
 // only part of the rim), z from the boundary up to 2 z_s - min z (padded by
-// `box_pad_d` D). Every point whose
-// mirror image z' = 2 z_s - z lands in the box is added unless an original
-// point lies within `min_gap_d` D of it (the original is kept).
+// 2 D). Every point whose mirror image z' = 2 z_s - z lands in the box is
+// added unless an original point lies within D of it (the original is
+// kept).
 //
 // Plausibility (graspfill's addition, never a mirrored wrong shape): the
 // object is declared not symmetric, and nothing is added, when
@@ -116,12 +116,6 @@ struct SymmetryConfig {
   /// Slack of the "part above shorter than the part below" check, in slab
   /// thicknesses.
   double range_tolerance_slabs{1.5};
-  /// The missing surface's box (x, y from the boundary, z from the
-  /// boundary up to 2 z_s - min z) is padded by this many D.
-  double box_pad_d{2.0};
-  /// A mirrored point is added only if no original point lies within this
-  /// many D (the original is kept where the two overlap).
-  double min_gap_d{1.0};
   /// Points used to estimate D.
   int spacing_samples{1000};
   /// The image is moved radially onto the observed walls where the two
