@@ -125,8 +125,8 @@ EvidenceTopPoints ApplyEvidence(const evidence::VisibilityRecord& record, const 
   EvidenceTopPoints result;
   result.outcome = top.outcome;
   if (top.outcome == TopEvidence::kHeightFound || top.outcome == TopEvidence::kNotObservable) {
-    result.extrusion_V = top.added_V;
-    result.extrusion_rejected = top.rejected_free + DropInsideClaw(record, T_in_V, &result.extrusion_V);
+    result.extrusion_V = top.added_V;  // the claw's test is the search's, where the walls pass
+    result.extrusion_rejected = top.rejected_free;
     result.extrusion_rms_m = top.extrusion_rms_m;
     result.outline_vertices = top.outline_vertices;
   }

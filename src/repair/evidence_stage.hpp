@@ -30,8 +30,8 @@ struct EvidenceTopPoints {
   PointList points_V;
   TopEvidence outcome{TopEvidence::kNoOutline};
   int rejected{0};
-  PointList extrusion_V;
-  int extrusion_rejected{0};
+  PointList extrusion_V;     ///< not yet tested against the claw
+  int extrusion_rejected{0};  ///< seen free
   double extrusion_rms_m{std::numeric_limits<double>::infinity()};  ///< EvidenceTop's
   int outline_vertices{0};                                          ///< EvidenceTop's
 };

@@ -537,15 +537,11 @@ TopCap SearchTop(const PointList& points_V, const ClawFills& fills,
                       static_cast<double>(evidence_top.rejected + evidence_top.points_V.size());
     candidates.push_back(std::move(dome));
   }
-  if (!evidence_top.extrusion_V.empty() &&
-      evidence_top.extrusion_rms_m <= kOpenSigmas * spacing_m) {
-    // A prism whose far end gives no mirror: the top's outline explains
-    // the walls all the way down, so its lid is that outline at the rays'
-    // height. A cup narrows to its bottom and is not proposed (its walls
-    // alone cannot tell its mouth from a lid). Where the mirror stands, its
-    // image of the seen far end says what the lid is like (a can's is
-    // recessed), and a flat lid meets the rim as well as it does: the
-    // extrusion is not weighed against it.
+  if (record && !evidence_top.extrusion_V.empty() && evidence_top.extrusion_rms_m <= kOpenSigmas * spacing_m) {
+    // A prism: the top's outline explains the walls all the way down, so
+    // its lid is that outline at the rays' height, weighed beside the
+    // mirror. A cup narrows to its bottom and is not proposed (its walls
+    // alone cannot tell its mouth from a lid).
     TopCandidate extrusion;
     extrusion.family = TopFamily::kExtrusion;
     // The lid's height, and the outline: the rim's own hull, fitted to the
@@ -554,8 +550,9 @@ TopCap SearchTop(const PointList& points_V, const ClawFills& fills,
     // from the rest of the cloud.
     extrusion.parameters = 1 + 2 * evidence_top.outline_vertices;
     extrusion.points_V = std::move(evidence_top.extrusion_V);
-    extrusion.free_share = static_cast<double>(evidence_top.extrusion_rejected) /
-                           static_cast<double>(evidence_top.extrusion_rejected + extrusion.points_V.size());
+    const int rejected = evidence_top.extrusion_rejected + DropInsideClaw(*record, T_in_V, &extrusion.points_V);
+    extrusion.free_share = static_cast<double>(rejected) /
+                           static_cast<double>(rejected + extrusion.points_V.size());
     candidates.push_back(std::move(extrusion));
   }
   candidates.push_back(RevolutionCandidate(points_V, rim_V, fills.surface_V, spacing_m, record, T_in_V, config));
@@ -576,7 +573,8 @@ TopCap SearchTop(const PointList& points_V, const ClawFills& fills,
   }
   if (std::isfinite(evidence_top.extrusion_rms_m)) {
     char prism[64];
-    std::snprintf(prism, sizeof(prism), "; the walls off a prism by %.2f mm", 1000.0 * evidence_top.extrusion_rms_m);
+    std::snprintf(prism, sizeof(prism), "; the walls off a prism by %.2f mm",
+                  1000.0 * evidence_top.extrusion_rms_m);
     symmetry->reason += prism;
   }
   symmetry->reason += "; the top: " + report->top_completion + " (costs " + scored + ")";

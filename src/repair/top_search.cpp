@@ -24,8 +24,8 @@ std::string TopFamilyName(TopFamily family) {
     case TopFamily::kOpen: return "open";
     case TopFamily::kMirror: return "mirror";
     case TopFamily::kRevolution: return "revolution";
-    case TopFamily::kExtrusion: return "extrusion";
     case TopFamily::kDome: return "dome";
+    case TopFamily::kExtrusion: return "extrusion";
   }
   return "open";
 }

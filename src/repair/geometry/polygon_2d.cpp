@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace graspfill::repair::geometry {
 
@@ -80,27 +81,6 @@ bool InsideConvex(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2
   return true;
 }
 
-namespace {
-
-// Vertices strictly between `from` and `to` (indices into the closed
-// `polygon`, walking forward) that the simplification keeps.
-int KeptBetween(const std::vector<Eigen::Vector2d>& polygon, size_t from, size_t to, double tolerance) {
-  const size_t n = polygon.size();
-  const Eigen::Vector2d a = polygon[from], chord = polygon[to] - a;
-  const double length = chord.norm();
-  double farthest = -1.0;
-  size_t at = from;
-  for (size_t i = (from + 1) % n; i != to; i = (i + 1) % n) {
-    const Eigen::Vector2d v = polygon[i] - a;
-    const double d = length > 0.0 ? std::abs(chord.x() * v.y() - chord.y() * v.x()) / length : v.norm();
-    if (d > farthest) farthest = d, at = i;
-  }
-  if (!(farthest > tolerance)) return 0;
-  return 1 + KeptBetween(polygon, from, at, tolerance) + KeptBetween(polygon, at, to, tolerance);
-}
-
-}  // namespace
-
 int SimplifiedVertexCount(const std::vector<Eigen::Vector2d>& polygon, double tolerance) {
   const size_t n = polygon.size();
   if (n < 3) return static_cast<int>(n);
@@ -110,7 +90,28 @@ int SimplifiedVertexCount(const std::vector<Eigen::Vector2d>& polygon, double to
     if ((polygon[i] - polygon[0]).squaredNorm() > (polygon[far] - polygon[0]).squaredNorm()) far = i;
   }
   if (far == 0) return 1;
-  return 2 + KeptBetween(polygon, 0, far, tolerance) + KeptBetween(polygon, far, 0, tolerance);
+  // Chains (from, to) walking forward, ends kept; a stack, not recursion:
+  // a hull can have as many vertices as the cloud has points.
+  int kept = 2;
+  std::vector<std::pair<size_t, size_t>> chains = {{0, far}, {far, 0}};
+  while (!chains.empty()) {
+    const auto [from, to] = chains.back();
+    chains.pop_back();
+    const Eigen::Vector2d a = polygon[from], chord = polygon[to] - a;
+    const double length = chord.norm();
+    double farthest = -1.0;
+    size_t at = from;
+    for (size_t i = (from + 1) % n; i != to; i = (i + 1) % n) {
+      const Eigen::Vector2d v = polygon[i] - a;
+      const double d = length > 0.0 ? std::abs(chord.x() * v.y() - chord.y() * v.x()) / length : v.norm();
+      if (d > farthest) farthest = d, at = i;
+    }
+    if (!(farthest > tolerance)) continue;
+    ++kept;
+    chains.emplace_back(from, at);
+    chains.emplace_back(at, to);
+  }
+  return kept;
 }
 
 double PolygonArea(const std::vector<Eigen::Vector2d>& polygon) {
