@@ -141,11 +141,10 @@ std::vector<Leg> SignificantLegs(const PointList& points_V, const std::vector<in
   // A pivot that stands more than tol off a level of the line about it (7
   // positions either way, most of them within tol of their median) may be
   // a few points 3-5 mm over the rim, far along it from a side: the side,
-  // stretched along the rim to them, is no side at their height (the tuna
-  // can at seed 14: 100 degrees from a finger pad, slope 0.45; three of its
-  // four sides were lost), and is tried again at that level. Not first: a
-  // round rim's pivot that stands 2-3 mm over its neighbours is its
-  // side's end (the apple at seed 12, 60 frames: coverage 0.992 -> 0.971).
+  // stretched along the rim to them, is no side at their height (a flat
+  // can's side can run 100 degrees from a finger pad that way), and is
+  // tried again at that level. Not first: a round rim's pivot that stands
+  // 2-3 mm over its neighbours is its side's end.
   constexpr int kReach = 7;
   const auto level = [&z, tol](int k) {
     const double around = LocalLevel(z, k, kReach);
@@ -198,10 +197,9 @@ std::vector<Range> ClawRanges(const std::vector<Leg>& legs, const std::vector<do
       };
       // The legs that follow belong to the hole (a step in its bottom, its
       // other side), unless the line first climbs back to that level in
-      // fewer points than a side has: a dip of the rim (the prism box at
-      // seed 14: the rim dipped 6 mm at a corner and was back in 2 points;
-      // the hole reached from there along the face's whole top edge to the
-      // next finger's).
+      // fewer points than a side has: a dip of the rim (a box's rim can
+      // dip 6 mm at a corner and be back in 2 points; taken for the hole,
+      // it reached along the face's whole top edge to the next finger's).
       size_t j = i + 1;
       r.end = -1;
       while (j < legs.size() && r.end < 0) {

@@ -237,10 +237,9 @@ constexpr double kMaxWallNormalZ = 0.7071;
 // side: its samples deep inside the outline at their height are not on
 // that wall. A hole that opens into the missing top takes part of the
 // top's rim into its boundary, and its surface, sampled over that rim's
-// shadow, can cross under the top (the pudding box at seed 16: a thin
-// plate 3-9 mm under its top, 440 samples); a sheet over a rounded box's
-// wall can bend into it (the soft box at seed 14, 60 frames: 127
-// samples). Nor does it reach past the widest observed point
+// shadow, can cross under the top (a box's: a thin plate 3-9 mm under
+// it); a sheet over a rounded box's wall can bend into it. Nor does it
+// reach past the widest observed point
 // (ClawRepairConfig::max_outside_widest_m).
 class ObservedOutlines {
  public:

@@ -90,8 +90,7 @@ PointList KeepNewAndUnseen(const PointList& candidates, const NeighborIndex& obs
 // curves down on every side with its apex inside that outline, where it
 // may rise no more than the config's search reach above the wall. (Not the
 // top band's outline: where the highest points seen lie to one side of a
-// round top, the apex lies outside it; the apple at seed 12, 90 frames,
-// kept its top's middle open, 3% of its surface.)
+// round top, the apex lies outside it, and the top's middle stayed open.)
 PointList DomeCandidates(const PointList& points_V, float z_wall, double spacing_m,
                          const EvidenceConfig& config) {
   std::vector<int> support;

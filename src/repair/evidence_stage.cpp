@@ -132,8 +132,8 @@ EvidenceTopPoints ApplyEvidence(const evidence::VisibilityRecord& record, const 
   }
   if (mirrored && top.outcome == TopEvidence::kDome) {
     // Under a mirror the dome is fitted to the seen band and the image
-    // together: over the seen band alone, to one side of the top, it sagged
-    // 1.6 mm (median) under the apple's at seed 12, 90 frames.
+    // together: over the seen band alone, to one side of the top, it sags
+    // a mm or two under a round top.
     PointList with_image = index_V.points();
     with_image.insert(with_image.end(), m.begin(), m.end());
     EvidenceTop over_both =
@@ -168,8 +168,7 @@ EvidenceTopPoints ApplyEvidence(const evidence::VisibilityRecord& record, const 
       keep_evidence_top = true;
     } else if (rings_agree && image_top.cap_z_V < top.top_z_V) {
       // The rays confirm the rings' top: the image rises to it, however
-      // little (the tall box at seed 17, 60 frames: 0.8 mm under it, the
-      // carve 1.5 mm over the cap, the true top 2 mm over it).
+      // little (the true top lies over both).
       cap_z = top.top_z_V;
     }
     if (cap_z > image_top.cap_z_V) {
@@ -184,8 +183,7 @@ EvidenceTopPoints ApplyEvidence(const evidence::VisibilityRecord& record, const 
       symmetry->reason += text;
     }
     // The mirror's top holds, but for a dome: the image of a bottom the
-    // camera never saw leaves a round top's middle open (the apple at seed
-    // 12, 90 frames: 3% of its surface).
+    // camera never saw leaves a round top's middle open.
     if (!keep_evidence_top && top.outcome != TopEvidence::kDome) return result;
     // The evidence's top keeps its points only where the image has none
     // within 2 spacings (under the claw, past the image's outline).

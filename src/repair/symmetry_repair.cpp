@@ -220,9 +220,8 @@ double RefinePlane(const std::vector<double>& size, double z0, double h, double 
 // off vertical (|b| > 1) give none: there a radius tells little. A kept
 // image point moves by the mean offset of the cells within `reach` of its
 // own. The mirror of a leaning fruit's lower half lies 2-3 mm inside its
-// upper shoulders on one side (the apple at seed 15, 60 frames: 314 of
-// 2,240 image points over 2 mm off); on a symmetric object the offsets
-// are the noise's, ~0.
+// upper shoulders on one side; on a symmetric object the offsets are the
+// noise's, ~0.
 void FitImageToObserved(const PointList& observed, const PointList& all, double z_s, double h, double z_top,
                         const SymmetryConfig& config, PointList* image) {
   const int sectors = config.fit_sectors;
@@ -436,10 +435,10 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
   // cloud's claw fills bulge the top slabs by 15%), and the middle of the
   // observed height is the plane: the mirror closes the object at the rim.
   // Asked of the observed points alone: a fill ~1 mm proud of a box's
-  // narrow face moves the outline's corners, so every direction (the
-  // pudding box at seed 15: the claw zone's sections 3-9% larger with the
-  // fills, a plane 35 mm too high), while a claw hole's dent is only in
-  // the directions it faces, which the median over them ignores.
+  // narrow face moves the outline's corners, so every direction (a box's
+  // sections by the claw 3-9% larger with the fills: a plane tens of mm
+  // too high), while a claw hole's dent is only in the directions it
+  // faces, which the median over them ignores.
   int near_median = 0, valid = 0;
   if (merged.empty()) {
     CountNearMedian(size, config.plateau_tolerance, &near_median, &valid);
@@ -628,9 +627,8 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
       }
     }
   }
-  // A constant section's image is exact by construction; its corners'
-  // radii move by the sampling (the cereal box at seed 16, 60 frames:
-  // coverage 1.000 -> 0.913 with the fit).
+  // A constant section's image is exact by construction; the fit would
+  // only move its corners' radii by the sampling, off the walls.
   if (!constant_section) FitImageToObserved(points_V, all, z_s, h, box_max.z(), config, &result.added_V);
   const auto filled = [](size_t n) { return n > 0; };
   const size_t holes_filled = static_cast<size_t>(std::count_if(in_open.begin(), in_open.end(), filled));

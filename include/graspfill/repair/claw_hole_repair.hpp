@@ -92,9 +92,9 @@ struct ClawRepairConfig {
   /// and dropped; only where the slab is round (the RMS of its points'
   /// distances from the centre under this / 2.8: an ellipse's or a box's
   /// widest points may be the ones the claw hides). A surface fitted over
-  /// a hole whose rim climbs a shoulder bulges out over a narrow neck (the
-  /// bottle at seed 14: 100 samples 3-5 mm outside its 24 mm neck, whose
-  /// axis V's misses by 2-3 mm). Unlike the outline's chord across a wide
+  /// a hole whose rim climbs a shoulder bulges out over a narrow neck
+  /// (3-5 mm outside a bottle's, where V's axis misses the neck's by a few
+  /// mm). Unlike the outline's chord across a wide
   /// hole, the widest point bounds a round section wherever the hole is.
   /// 0 = no test (paper).
   double max_outside_widest_m{0.002};
@@ -103,8 +103,8 @@ struct ClawRepairConfig {
   /// outline are on the top, which the top's repair closes: dropped by
   /// DropFillsOnTheTop. A finger's hole that opens into a round top is
   /// sampled over its rim's box, which reaches over the rim into the cap,
-  /// where a surface fitted to the side below sags (the ball at seed 17:
-  /// 60 samples 3-4 mm inside). A wall rising past the rim stays on the
+  /// where a surface fitted to the side below sags (3-4 mm inside a
+  /// ball's). A wall rising past the rim stays on the
   /// outline. 0 = no test (paper).
   double max_inside_top_rim_m{0.001};
 

@@ -37,11 +37,9 @@ struct EvidenceConfig {
   /// With the record, the cloud's outline check (SymmetryConfig::
   /// max_outline_mismatch, 5%) lets a mirror through up to this mismatch
   /// (or that one, if larger): the record then judges the image. A fused
-  /// plum's outlines differ from their images by 5-7% (the fingers' dents,
-  /// a lean), and its refused mirror left the fingers' holes open
-  /// (coverage 0.970 at seed 15, 60 frames; 1.000 mirrored). Clearly
-  /// asymmetric clouds stay refused by the cloud (a bowl from below: 14%,
-  /// from above: 16%).
+  /// round fruit's outlines differ from their images by 5-7% (the fingers'
+  /// dents, a lean); clearly asymmetric clouds stay refused by the cloud
+  /// (a bowl: 14-16%).
   double max_outline_mismatch{0.10};
   /// A contradicted mirror image is first lowered: the plane of a prism-like
   /// shape is the middle of the observed height, and the fused cloud's
@@ -56,8 +54,8 @@ struct EvidenceConfig {
   /// all, is asked of its points with no observed point at least as high
   /// within this [m]. Those beside the seen surface stand a little proud
   /// of it, where a near-grazing ray sees them free: a slightly asymmetric
-  /// body's (the apple at seed 18: 121 points 1.3-1.9 mm off its top
-  /// half, 7% of the image, sank the whole image 1 mm). They are lowered
+  /// body's image stands 1-2 mm off its seen half in places, and counted,
+  /// those sink the whole image. They are lowered
   /// with the rest and dropped where seen free. A cap over the highest
   /// seen points is counted: a box's, too high, is contradicted at its
   /// edges, 4-5 mm over the seen wall tops. 0 counts all.

@@ -32,13 +32,10 @@
 //  - Without an up hint (best mode), the chosen plane is checked against
 //    where the boundary lies: the holes gather at the missing top and a
 //    grasp's claw holes sit about the object's axis, so the direction from
-//    the cloud's centroid to the boundary points' follows the axis (1.5-4
-//    degrees off on the protocol's ellipsoid at the 2% top cut, seeds
-//    1-12; within 17 degrees of the chosen plane on every closed zoo
-//    object at seeds 11 and 14). A plane more than 30 degrees from it is
-//    taken for a claw hole's, and z is that direction: where the holes
-//    notch the top's rim away (that ellipsoid, 4 seeds of 12: 33-68
-//    degrees off before).
+//    the cloud's centroid to the boundary points' follows the axis (a few
+//    degrees off on closed objects). A plane more than 30 degrees from it
+//    is taken for a claw hole's, and z is that direction: where the holes
+//    notch the top's rim away, the rim's plane can lie 30-70 degrees off.
 //  - +z points to the missing surface: the side of the cut without cloud;
 //    else (paper mode) the end of the cloud where the boundary crowds. An
 //    optional up hint overrides the sign and limits the planes to a cone.
