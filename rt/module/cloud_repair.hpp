@@ -8,9 +8,8 @@
 
 namespace graspfill::rt {
 
-/// `config` for fused clouds in the gripper frame G: claw-hole fits that
-/// tolerate a fused rim's roughness (2 mm), and the up hint: the palm is
-/// at z = 0 and the object at z > 0, so the top the camera never sees
+/// `config` for fused clouds in the gripper frame G: the up hint. The palm
+/// is at z = 0 and the object at z > 0, so the top the camera never sees
 /// faces the palm, along -z. A hint only: it fixes the sign of the repair's
 /// frame and narrows its search.
 repair::RepairConfig GripperFrameRepairConfig(repair::RepairConfig config = {});

@@ -1,4 +1,4 @@
-#include "graspfill/repair/axis_refinement.hpp"
+#include "axis_refinement.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "graspfill/repair/boundary_classification.hpp"
+#include "boundary_classification.hpp"
 
 #include <algorithm>
 #include <cmath>

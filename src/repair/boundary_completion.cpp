@@ -1,4 +1,4 @@
-#include "graspfill/repair/boundary_completion.hpp"
+#include "boundary_completion.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>

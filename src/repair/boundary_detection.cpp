@@ -1,4 +1,4 @@
-#include "graspfill/repair/boundary_detection.hpp"
+#include "boundary_detection.hpp"
 
 #include <algorithm>
 #include <cstdint>

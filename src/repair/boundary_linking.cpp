@@ -1,4 +1,4 @@
-#include "graspfill/repair/boundary_linking.hpp"
+#include "boundary_linking.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,8 +7,8 @@
 #include <string>
 #include <utility>
 
-#include "graspfill/repair/boundary_detection.hpp"
-#include "graspfill/repair/neighbor_index.hpp"
+#include "boundary_detection.hpp"
+#include "neighbor_index.hpp"
 
 namespace graspfill::repair {
 

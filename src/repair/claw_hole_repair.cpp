@@ -1,4 +1,4 @@
-#include "graspfill/repair/claw_hole_repair.hpp"
+#include "claw_hole_repair.hpp"
 
 #include <open3d/geometry/TriangleMesh.h>
 

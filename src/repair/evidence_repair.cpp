@@ -1,4 +1,4 @@
-#include "graspfill/repair/evidence_repair.hpp"
+#include "evidence_repair.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "clamped_int.hpp"
 #include "geometry/polygon_2d.hpp"
-#include "graspfill/repair/neighbor_index.hpp"
+#include "neighbor_index.hpp"
 #include "local_surfaces.hpp"
 
 namespace graspfill::repair {

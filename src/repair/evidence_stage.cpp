@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "graspfill/repair/evidence_repair.hpp"
+#include "evidence_repair.hpp"
 
 namespace graspfill::repair {
 namespace {
@@ -38,7 +38,7 @@ std::vector<char> BesideObserved(const NeighborIndex& observed, double radius_m,
 
 const evidence::VisibilityRecord* UsableRecord(const ObjectCloud& input,
                                                const evidence::VisibilityRecord* record,
-                                               const RepairConfig& config, EvidenceReport* report) {
+                                               const RepairSettings& config, EvidenceReport* report) {
   if (!record) return nullptr;
   report->key_frames = static_cast<int>(record->size());
   if (config.mode == RepairMode::kPaper) {

@@ -9,10 +9,10 @@
 #include <limits>
 
 #include "graspfill/evidence/visibility_record.hpp"
-#include "graspfill/repair/evidence_repair.hpp"
-#include "graspfill/repair/neighbor_index.hpp"
-#include "graspfill/repair/repairer.hpp"
-#include "graspfill/repair/symmetry_repair.hpp"
+#include "evidence_repair.hpp"
+#include "neighbor_index.hpp"
+#include "repair_steps.hpp"
+#include "symmetry_repair.hpp"
 
 namespace graspfill::repair {
 
@@ -20,7 +20,7 @@ namespace graspfill::repair {
 // points are not in its free space); else null with the reason reported.
 const evidence::VisibilityRecord* UsableRecord(const ObjectCloud& input,
                                                const evidence::VisibilityRecord* record,
-                                               const RepairConfig& config, EvidenceReport* report);
+                                               const RepairSettings& config, EvidenceReport* report);
 
 // The evidence's top: its points (V), how it came out, and how many of
 // its proposed points the record saw free or in the claw; beside it, for

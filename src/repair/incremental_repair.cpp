@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "graspfill/repair/neighbor_index.hpp"
+#include "neighbor_index.hpp"
 
 namespace graspfill::repair {
 

@@ -1,4 +1,4 @@
-#include "graspfill/repair/neighbor_index.hpp"
+#include "neighbor_index.hpp"
 
 #include <algorithm>
 #include <cmath>

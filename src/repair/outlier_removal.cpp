@@ -1,4 +1,4 @@
-#include "graspfill/repair/outlier_removal.hpp"
+#include "outlier_removal.hpp"
 
 #include <algorithm>
 #include <cmath>

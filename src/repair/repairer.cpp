@@ -10,9 +10,10 @@
 #include <string>
 
 #include "graspfill/evidence/safe_bound.hpp"
-#include "graspfill/repair/neighbor_index.hpp"
 #include "evidence_stage.hpp"
 #include "hole_fill.hpp"
+#include "neighbor_index.hpp"
+#include "repair_steps.hpp"
 #include "revolution_fill.hpp"
 #include "top_search.hpp"
 
@@ -186,7 +187,7 @@ struct Boundaries {
   bool reduced{false};  // looked at on a reduced copy first
 };
 
-Boundaries FindBoundaries(const PointList& input_G, const RepairConfig& config, RepairReport* report) {
+Boundaries FindBoundaries(const PointList& input_G, const RepairSettings& config, RepairReport* report) {
   Boundaries out;
   // 0. Best mode looks for the holes on ~8k voxel centroids of a large
   // cloud; the fills (7-8) read every input point.
@@ -296,7 +297,7 @@ Boundaries FindBoundaries(const PointList& input_G, const RepairConfig& config, 
 // Step 4: the virtual frame V, its z towards the missing top; with the
 // record and an up hint, V from the hint when the lines give none (or
 // there are none). nullopt (the report says why) when there is no frame.
-std::optional<VirtualFrame> FindFrame(const Boundaries& found, const RepairConfig& config,
+std::optional<VirtualFrame> FindFrame(const Boundaries& found, const RepairSettings& config,
                                       bool evidence_frame, RepairReport* report) {
   const PointList& points = found.points;
   std::optional<VirtualFrame> frame;
@@ -348,7 +349,7 @@ struct Holes {
 };
 
 Holes ClassifyHoles(const PointList& points_V, const Boundaries& found, const VirtualFrame& frame,
-                    const RepairConfig& config, RepairReport* report) {
+                    const RepairSettings& config, RepairReport* report) {
   Holes holes;
   {
     StepTimer t(report, "classify");
@@ -399,7 +400,7 @@ struct ClawFills {
 };
 
 ClawFills FillClawHoles(const PointList& points_V, const Boundaries& found, const Holes& holes,
-                        const NeighborIndex& index_V, const RepairConfig& config, RepairReport* report) {
+                        const NeighborIndex& index_V, const RepairSettings& config, RepairReport* report) {
   ClawFills fills;
   const HoleBoundary* missing = holes.Top();
   fills.open_holes_V = LooseBoundaryBoxes(points_V, found.boundary, found.lines, missing, index_V);
@@ -419,7 +420,7 @@ ClawFills FillClawHoles(const PointList& points_V, const Boundaries& found, cons
 
 // Step 8: the missing top by symmetry, from the observed and surface points.
 SymmetryResult MirrorTop(const PointList& points_V, const Holes& holes, const NeighborIndex& index_V,
-                         bool with_record, const RepairConfig& config, ClawFills* fills,
+                         bool with_record, const RepairSettings& config, ClawFills* fills,
                          RepairReport* report) {
   StepTimer t(report, "symmetry");
   SymmetryResult symmetry;
@@ -450,7 +451,7 @@ struct TopCap {
 // The camera's evidence: nothing in seen-free space, no contradicted
 // mirror, the top at the rays' height (the mirror's raised to it, or a
 // dome over a tapered top).
-EvidenceTopPoints TopFromEvidence(const evidence::VisibilityRecord* record, const RepairConfig& config,
+EvidenceTopPoints TopFromEvidence(const evidence::VisibilityRecord* record, const RepairSettings& config,
                                   const Eigen::Isometry3f& T_in_V, const NeighborIndex& index_V,
                                   double spacing_m, PointList* surface_V, SymmetryResult* symmetry,
                                   RepairReport* report) {
@@ -467,7 +468,7 @@ EvidenceTopPoints TopFromEvidence(const evidence::VisibilityRecord* record, cons
 TopCandidate RevolutionCandidate(const PointList& points_V, const PointList& rim_V,
                                  const PointList& fills_V, double spacing_m,
                                  const evidence::VisibilityRecord* record,
-                                 const Eigen::Isometry3f& T_in_V, const RepairConfig& config) {
+                                 const Eigen::Isometry3f& T_in_V, const RepairSettings& config) {
   TopCandidate c;
   c.family = TopFamily::kRevolution;
   c.parameters = 5;
@@ -505,7 +506,7 @@ TopCandidate RevolutionCandidate(const PointList& points_V, const PointList& rim
 TopCap SearchTop(const PointList& points_V, const ClawFills& fills,
                  SymmetryResult* symmetry, EvidenceTopPoints evidence_top, double spacing_m,
                  const evidence::VisibilityRecord* record, const Eigen::Isometry3f& T_in_V,
-                 const RepairConfig& config, RepairReport* report) {
+                 const RepairSettings& config, RepairReport* report) {
   StepTimer t(report, "top_search");
   // The rim: the observed points within two spacings of the highest (V's
   // z points at the missing top, so they border it). Not the classified
@@ -707,16 +708,6 @@ std::string RepairReport::StatusText() const {
 }
 
 void RepairConfig::Validate() const {
-  analysis.Validate();
-  outliers.Validate();
-  boundary.Validate();
-  link.Validate();
-  frame.Validate();
-  classify.Validate();
-  completion.Validate();
-  claw.Validate();
-  symmetry.Validate();
-  evidence.Validate();
   if (!(safe_bound_voxel_m == 0.0 || (safe_bound_voxel_m >= 0.0005 && safe_bound_voxel_m <= 0.1))) {
     throw std::invalid_argument("RepairConfig: safe_bound_voxel_m must be 0 or in [0.0005, 0.1] m");
   }
@@ -728,20 +719,45 @@ void RepairConfig::Validate() const {
   }
 }
 
-RepairResult Repair(const ObjectCloud& input, const RepairConfig& config_in,
-                    const evidence::VisibilityRecord* record_in) {
-  RepairConfig config = config_in;
-  if (config.mode == RepairMode::kPaper) {
-    // The published parameters (Poisson depth 6 over the side points, the
-    // plain cross-section search), not graspfill's refinements.
-    config.claw = ClawRepairConfig::Paper();
-    config.symmetry = SymmetryConfig::Paper();
-    config.axis.enabled = false;
-    config.frame.max_boundary_axis_angle_rad = 0.0;
-    config.top_rim_band_m = 0.0;
-    config.analysis.target_points = 0;
+RepairSteps RepairSteps::For(RepairMode mode) {
+  RepairSteps steps;
+  if (mode == RepairMode::kPaper) {
+    // The published parameters, not graspfill's refinements.
+    steps.claw = ClawRepairConfig::Paper();
+    steps.symmetry = SymmetryConfig::Paper();
+    steps.axis.enabled = false;
+    steps.frame.max_boundary_axis_angle_rad = 0.0;
+    steps.analysis.target_points = 0;
   }
-  config.Validate();
+  return steps;
+}
+
+void RepairSteps::Validate() const {
+  analysis.Validate();
+  outliers.Validate();
+  boundary.Validate();
+  link.Validate();
+  frame.Validate();
+  classify.Validate();
+  completion.Validate();
+  claw.Validate();
+  symmetry.Validate();
+  evidence.Validate();
+}
+
+RepairResult Repair(const ObjectCloud& input, const RepairConfig& config,
+                    const evidence::VisibilityRecord* record) {
+  return RepairWithSteps(input, config, RepairSteps::For(config.mode), record);
+}
+
+RepairResult RepairWithSteps(const ObjectCloud& input, const RepairConfig& config_in, const RepairSteps& steps,
+                             const evidence::VisibilityRecord* record_in) {
+  RepairSettings config;
+  static_cast<RepairConfig&>(config) = config_in;
+  static_cast<RepairSteps&>(config) = steps;
+  if (config.mode == RepairMode::kPaper) config.top_rim_band_m = 0.0;  // step 5's rim alone
+  config.RepairConfig::Validate();
+  config.RepairSteps::Validate();
   for (size_t i = 0; i < input.points_G.size(); ++i) {
     if (!input.points_G[i].allFinite()) {
       throw std::invalid_argument("repair: point " + std::to_string(i) + " is not finite");

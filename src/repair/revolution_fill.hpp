@@ -15,7 +15,7 @@
 #include <optional>
 #include <vector>
 
-#include "graspfill/repair/neighbor_index.hpp"
+#include "neighbor_index.hpp"
 #include "graspfill/repair/repair_types.hpp"
 
 namespace graspfill::repair {

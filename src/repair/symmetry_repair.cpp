@@ -1,4 +1,4 @@
-#include "graspfill/repair/symmetry_repair.hpp"
+#include "symmetry_repair.hpp"
 
 #include <algorithm>
 #include <array>

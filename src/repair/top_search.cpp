@@ -5,7 +5,7 @@
 #include <limits>
 #include <optional>
 
-#include "graspfill/repair/neighbor_index.hpp"
+#include "neighbor_index.hpp"
 
 namespace graspfill::repair {
 namespace {

@@ -1,4 +1,4 @@
-#include "graspfill/repair/virtual_frame.hpp"
+#include "virtual_frame.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "geometry/polygon_2d.hpp"
 #include "geometry/ransac_planes.hpp"
-#include "graspfill/repair/neighbor_index.hpp"
+#include "neighbor_index.hpp"
 
 namespace graspfill::repair {
 namespace {

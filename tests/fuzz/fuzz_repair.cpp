@@ -10,8 +10,8 @@
 #include <stdexcept>
 
 #include "fuzz_check.hpp"
-#include "graspfill/repair/repairer.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
+#include "repair_steps.hpp"
 
 using namespace graspfill;
 
@@ -51,9 +51,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   repair::RepairConfig config;
   config.mode = (flags & 2) ? repair::RepairMode::kPaper : repair::RepairMode::kBest;
   if (flags & 4) config.up_hint = Eigen::Vector3d(0, 0, -1);
-  config.claw.poisson_fallback = (flags & 8) != 0;
+  repair::RepairSteps steps = repair::RepairSteps::For(config.mode);
+  steps.claw.poisson_fallback = (flags & 8) != 0;
   try {
-    const repair::RepairResult result = repair::Repair(cloud, config);
+    const repair::RepairResult result = repair::RepairWithSteps(cloud, config, steps);
     FUZZ_CHECK(finite);
     FUZZ_CHECK(result.cloud.size() >= cloud.size());
     FUZZ_CHECK(result.cloud.provenance.size() == result.cloud.size());

@@ -1,4 +1,4 @@
-#include "graspfill/repair/analysis_cloud.hpp"
+#include "analysis_cloud.hpp"
 
 #include <gtest/gtest.h>
 #include <open3d/geometry/PointCloud.h>

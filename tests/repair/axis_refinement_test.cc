@@ -1,12 +1,12 @@
-#include "graspfill/repair/axis_refinement.hpp"
+#include "axis_refinement.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 
-#include "graspfill/repair/boundary_detection.hpp"
-#include "graspfill/repair/neighbor_index.hpp"
+#include "boundary_detection.hpp"
+#include "neighbor_index.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
 
 namespace graspfill::repair {

@@ -1,4 +1,4 @@
-#include "graspfill/repair/boundary_classification.hpp"
+#include "boundary_classification.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <ctime>
 
 #include "boundary_fixtures.hpp"
-#include "graspfill/repair/virtual_frame.hpp"
+#include "virtual_frame.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
 #include "graspfill/synth/shapes.hpp"
 

@@ -1,4 +1,4 @@
-#include "graspfill/repair/boundary_completion.hpp"
+#include "boundary_completion.hpp"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <ctime>
 
 #include "boundary_fixtures.hpp"
-#include "graspfill/repair/boundary_classification.hpp"
+#include "boundary_classification.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
 #include "graspfill/synth/random.hpp"
 

@@ -1,4 +1,4 @@
-#include "graspfill/repair/boundary_detection.hpp"
+#include "boundary_detection.hpp"
 
 #include <gtest/gtest.h>
 #include <open3d/core/Tensor.h>
@@ -13,7 +13,7 @@
 
 #include "boundary_fixtures.hpp"
 #include "cpu_time.hpp"
-#include "graspfill/repair/neighbor_index.hpp"
+#include "neighbor_index.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
 #include "graspfill/synth/shapes.hpp"

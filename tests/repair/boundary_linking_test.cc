@@ -1,4 +1,4 @@
-#include "graspfill/repair/boundary_linking.hpp"
+#include "boundary_linking.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,8 +8,8 @@
 
 #include "boundary_fixtures.hpp"
 #include "cpu_time.hpp"
-#include "graspfill/repair/boundary_detection.hpp"
-#include "graspfill/repair/neighbor_index.hpp"
+#include "boundary_detection.hpp"
+#include "neighbor_index.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
 #include "graspfill/synth/shapes.hpp"

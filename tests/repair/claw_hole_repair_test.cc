@@ -3,7 +3,7 @@
 // fallback and from Poisson (the paper's setting and the local variant).
 // Hole boundaries are built geometrically (the rim
 // of each finger patch), since steps 1-6 are separate units.
-#include "graspfill/repair/claw_hole_repair.hpp"
+#include "claw_hole_repair.hpp"
 
 #include <gtest/gtest.h>
 
@@ -18,7 +18,7 @@
 #include "boundary_fixtures.hpp"
 #include "fill_checks.hpp"
 #include "graspfill/eval/metrics.hpp"
-#include "graspfill/repair/neighbor_index.hpp"
+#include "neighbor_index.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
 #include "graspfill/synth/shapes.hpp"

@@ -1,7 +1,7 @@
 // The repair with the camera's evidence, on a fused cloud of a synthetic
 // grasp (synth -> pipeline -> repair in-process): a can held by the
 // three-finger claw, whose top the camera never sees.
-#include "graspfill/repair/evidence_repair.hpp"
+#include "evidence_repair.hpp"
 
 #include <gtest/gtest.h>
 
@@ -52,7 +52,6 @@ const Fused& Can() {
 RepairConfig InG() {
   RepairConfig config;
   config.up_hint = Eigen::Vector3d(0, 0, -1);  // in G the unseen top faces the palm
-  config.claw.max_fit_sigma_m = 0.001;  // as the live loop and the zoo (rt/module/cloud_repair.cpp)
   return config;
 }
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-#include "graspfill/repair/neighbor_index.hpp"
+#include "neighbor_index.hpp"
 
 namespace graspfill::repair::testing {
 

@@ -63,7 +63,6 @@ const Session& Box() {
 RepairConfig InG() {
   RepairConfig config;
   config.up_hint = Eigen::Vector3d(0, 0, -1);
-  config.claw.max_fit_sigma_m = 0.001;  // as the live loop (rt/module/cloud_repair.cpp)
   return config;
 }
 

@@ -1,4 +1,4 @@
-#include "graspfill/repair/neighbor_index.hpp"
+#include "neighbor_index.hpp"
 
 #include <gtest/gtest.h>
 #include <open3d/geometry/KDTreeFlann.h>

@@ -1,4 +1,4 @@
-#include "graspfill/repair/outlier_removal.hpp"
+#include "outlier_removal.hpp"
 
 #include <gtest/gtest.h>
 #include <open3d/geometry/PointCloud.h>
@@ -10,7 +10,7 @@
 #include <memory>
 
 #include "cpu_time.hpp"
-#include "graspfill/repair/neighbor_index.hpp"
+#include "neighbor_index.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
 #include "graspfill/synth/random.hpp"

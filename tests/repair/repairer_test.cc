@@ -12,6 +12,7 @@
 #include "graspfill/synth/mesh_sampling.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
 #include "graspfill/synth/shapes.hpp"
+#include "repair_steps.hpp"
 
 namespace graspfill::repair {
 namespace {
@@ -56,7 +57,7 @@ double AngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 // on seeds 3, 7, 8 and 10 of 1-12). The boundary's centroid still lies
 // above the cloud's, on the axis: the frame follows it there.
 TEST(Repairer, TheFrameFollowsTheBoundaryWhereTheRimIsNotchedAway) {
-  RepairConfig unchecked;
+  RepairSteps unchecked = RepairSteps::For(RepairMode::kBest);
   unchecked.frame.max_boundary_axis_angle_rad = 0.0;
   double worst = 0.0, worst_unchecked = 0.0;
   for (uint64_t seed : {3, 7, 8, 10}) {
@@ -71,7 +72,7 @@ TEST(Repairer, TheFrameFollowsTheBoundaryWhereTheRimIsNotchedAway) {
     const double angle = AngleDeg(r.report.frame.T_in_V.linear().col(2), z_true);
     EXPECT_LT(angle, 8.0) << "seed " << seed;
     worst = std::max(worst, angle);
-    const RepairResult u = Repair(Cloud(c.holey), unchecked);
+    const RepairResult u = RepairWithSteps(Cloud(c.holey), RepairConfig{}, unchecked);
     if (u.report.status == RepairStatus::kRepaired) {
       worst_unchecked = std::max(worst_unchecked, AngleDeg(u.report.frame.T_in_V.linear().col(2), z_true));
     }

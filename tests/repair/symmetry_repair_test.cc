@@ -3,7 +3,7 @@
 // at max z), and asymmetric objects that must come back untouched with a
 // reason. The missing-surface boundary is built geometrically (the rim just
 // below the cut), since steps 1-6 are separate units.
-#include "graspfill/repair/symmetry_repair.hpp"
+#include "symmetry_repair.hpp"
 
 #include <gtest/gtest.h>
 
@@ -16,8 +16,8 @@
 
 #include "fill_checks.hpp"
 #include "graspfill/eval/metrics.hpp"
-#include "graspfill/repair/claw_hole_repair.hpp"
-#include "graspfill/repair/neighbor_index.hpp"
+#include "claw_hole_repair.hpp"
+#include "neighbor_index.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
 #include "graspfill/synth/shapes.hpp"

@@ -1,4 +1,4 @@
-#include "graspfill/repair/virtual_frame.hpp"
+#include "virtual_frame.hpp"
 
 #include <gtest/gtest.h>
 

@@ -5,17 +5,20 @@
 // 2021, section 2; `kPaper` is the method as written (the tangent-plane
 // eigenvector slip corrected), `kBest` is graspfill's default, which adds:
 //  - steps 1-4 on ~8k voxel centroids for clouds above 25k points, the
-//    boundary re-tested at full resolution only around what they show
-//    (analysis_cloud.hpp): ~85 ms for 50k points instead of ~250-400;
+//    boundary re-tested at full resolution only around what they show:
+//    ~85 ms for 50k points instead of ~250-400;
 //  - one kNN table shared by the outlier filter and the boundary test,
 //    a median floor in the outlier filter, a 50-neighbour confirmation of
 //    every boundary point;
-//  - V's axis refined from the side normals (axis_refinement.hpp);
+//  - V's axis refined from the side normals;
 //  - the rim also taken from every boundary point near the top of V when
 //    the linking breaks it (fused clouds);
 //  - local surface fits for the claw holes (Poisson as the fallback), the
 //    prism test and the outline checks of the symmetry plane.
 // `graspfill bench repair` measures both against the paper's tables.
+//
+// The steps live in src/repair/, one file each, with their own settings at
+// documented defaults; RepairConfig holds what a caller chooses.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -23,17 +26,8 @@
 #include <string>
 #include <vector>
 
-#include "graspfill/repair/analysis_cloud.hpp"
-#include "graspfill/repair/axis_refinement.hpp"
-#include "graspfill/repair/boundary_classification.hpp"
-#include "graspfill/repair/boundary_completion.hpp"
-#include "graspfill/repair/boundary_detection.hpp"
-#include "graspfill/repair/boundary_linking.hpp"
-#include "graspfill/repair/claw_hole_repair.hpp"
-#include "graspfill/repair/evidence_repair.hpp"
-#include "graspfill/repair/outlier_removal.hpp"
-#include "graspfill/repair/symmetry_repair.hpp"
-#include "graspfill/repair/virtual_frame.hpp"
+#include "graspfill/evidence/visibility_record.hpp"
+#include "graspfill/repair/repair_types.hpp"
 #include "graspfill/types.hpp"
 
 namespace graspfill::repair {
@@ -43,27 +37,17 @@ enum class RepairMode {
   kBest,   ///< graspfill's default (see repairer.cpp for what differs)
 };
 
+/// What a caller of the repair chooses; every step's own settings are the
+/// library's (src/repair/, at the defaults their headers document).
 struct RepairConfig {
   RepairMode mode{RepairMode::kBest};
-  AnalysisConfig analysis;  ///< best mode only: the paper works on the input
-  OutlierConfig outliers;
-  BoundaryConfig boundary;
-  LinkConfig link;
-  VirtualFrameConfig frame;
-  AxisRefineConfig axis;  ///< best mode only (the paper has no such step)
-  ClassifyConfig classify;
-  CompletionConfig completion;
-  ClawRepairConfig claw;
-  SymmetryConfig symmetry;
-  /// With a visibility record (best mode): the mirror test, the free-space
-  /// filter and the top's height (evidence_repair.hpp).
-  EvidenceConfig evidence;
   /// With a visibility record: the planner's safe bound's voxel edge [m]
   /// (0: no bound).
   double safe_bound_voxel_m{0.005};
   /// Best mode: boundary points within this of the top of V [m] form the
   /// missing surface's rim when step 5's is smaller (0: step 5's only; the
-  /// paper). 4 mm: a fused cloud's rim band, ~3 voxels.
+  /// paper's, whatever is set here). 4 mm: a fused cloud's rim band, ~3
+  /// voxels.
   double top_rim_band_m{0.004};
   /// Optional hint of the object's "up" (towards the missing top) in the
   /// input frame; never required.

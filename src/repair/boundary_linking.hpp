@@ -53,7 +53,7 @@
 #include <cmath>
 #include <vector>
 
-#include "graspfill/repair/boundary_detection.hpp"
+#include "boundary_detection.hpp"
 #include "graspfill/repair/repair_types.hpp"
 
 namespace graspfill::repair {

@@ -40,7 +40,7 @@
 #include <cmath>
 #include <vector>
 
-#include "graspfill/repair/neighbor_index.hpp"
+#include "neighbor_index.hpp"
 #include "graspfill/repair/repair_types.hpp"
 
 namespace graspfill::repair {

@@ -64,7 +64,7 @@
 #include <string>
 #include <vector>
 
-#include "graspfill/repair/neighbor_index.hpp"
+#include "neighbor_index.hpp"
 #include "graspfill/repair/repair_types.hpp"
 
 namespace graspfill::repair {

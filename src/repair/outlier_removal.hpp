@@ -25,7 +25,7 @@
 
 #include <vector>
 
-#include "graspfill/repair/neighbor_index.hpp"
+#include "neighbor_index.hpp"
 #include "graspfill/repair/repair_types.hpp"
 
 namespace graspfill::repair {

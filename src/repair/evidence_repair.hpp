@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "graspfill/evidence/visibility_record.hpp"
-#include "graspfill/repair/neighbor_index.hpp"
+#include "neighbor_index.hpp"
 #include "graspfill/repair/repair_types.hpp"
 
 namespace graspfill::repair {
