@@ -66,15 +66,11 @@ PointList KeepNewAndUnseen(const PointList& candidates, const NeighborIndex& obs
                            const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
                            int* rejected_free) {
   PointList kept;
-  std::vector<int> near;
+  size_t first_key_frame = 0;  // neighbouring candidates are mostly carved by the same key frame
   for (const Eigen::Vector3f& c : candidates) {
-    observed.Radius(c, 0.75 * spacing_m, &near);
-    if (!near.empty()) continue;
-    if (fills) {
-      fills->Radius(c, 0.75 * spacing_m, &near);
-      if (!near.empty()) continue;
-    }
-    if (record.SeenFree(T_in_V * c)) {
+    if (observed.AnyWithin(c, 0.75 * spacing_m)) continue;
+    if (fills && fills->AnyWithin(c, 0.75 * spacing_m)) continue;
+    if (record.SeenFree(T_in_V * c, 0.0f, false, &first_key_frame)) {
       ++*rejected_free;
       continue;
     }
@@ -143,7 +139,6 @@ PointList DomeCandidates(const PointList& points_V, float z_wall, double spacing
       fill::FitQuadric(points_V, support, std::vector<double>(support.size(), 1.0), 6, 0.0001, &quadric) &&
       !quadric.IsPlanePair() && quadric.sigma_m <= kQuadricFitM;
   const NeighborIndex seen(columns);
-  std::vector<int> near;
   PointList candidates;
   Eigen::AlignedBox2d box;
   for (const Eigen::Vector2d& h : outline) box.extend(h);
@@ -152,8 +147,7 @@ PointList DomeCandidates(const PointList& points_V, float z_wall, double spacing
       if (!geometry::InsideConvex(outline, {x, y})) continue;
       Eigen::Vector3d p = f.Point(x - frame.origin.x(), y - frame.origin.y());
       if (on_quadric && !quadric.Project(&p, kMaxMoveM)) continue;
-      seen.Radius(At(p.head<2>(), 0.0), spacing_m, &near);
-      if (near.empty()) candidates.push_back(p.cast<float>());
+      if (!seen.AnyWithin(At(p.head<2>(), 0.0), spacing_m)) candidates.push_back(p.cast<float>());
     }
   }
   return candidates;
@@ -168,7 +162,8 @@ void FindTopHeight(const Ring& ring, float z_wall, const evidence::VisibilityRec
   // once the rings pass the top and the grazing rays carve them.
   const auto free_share = [&](double z) {
     int n = 0;
-    for (const Eigen::Vector2d& r : ring) n += record.SeenFree(T_in_V * At(r, z));
+    size_t first_key_frame = 0;  // neighbours along the ring are mostly carved by the same key frame
+    for (const Eigen::Vector2d& r : ring) n += record.SeenFree(T_in_V * At(r, z), 0.0f, false, &first_key_frame);
     return static_cast<double>(n) / static_cast<double>(ring.size());
   };
   // The baseline comes from well below the highest point and the search
@@ -260,10 +255,11 @@ std::string TopEvidenceName(TopEvidence outcome) {
 double SeenFreeShare(const evidence::VisibilityRecord& record, const PointList& points_V,
                      const Eigen::Isometry3f& T_in_V, const std::vector<char>* uncounted) {
   size_t counted = 0, free = 0;
+  size_t first_key_frame = 0;  // neighbouring points are mostly carved by the same key frame
   for (size_t i = 0; i < points_V.size(); ++i) {
     if (uncounted != nullptr && (*uncounted)[i]) continue;
     ++counted;
-    free += record.SeenFree(T_in_V * points_V[i]);
+    free += record.SeenFree(T_in_V * points_V[i], 0.0f, false, &first_key_frame);
   }
   return counted > 0 ? static_cast<double>(free) / static_cast<double>(counted) : 0.0;
 }
@@ -361,9 +357,11 @@ double MirrorLiftFromCarving(const evidence::VisibilityRecord& record, const Evi
 int DropSeenFree(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
                  PointList* points_V, float above_z_V) {
   const size_t before = points_V->size();
+  size_t first_key_frame = 0;  // neighbouring points are mostly carved by the same key frame
   points_V->erase(std::remove_if(points_V->begin(), points_V->end(),
                                  [&](const Eigen::Vector3f& p) {
-                                   return p.z() > above_z_V && record.SeenFree(T_in_V * p);
+                                   return p.z() > above_z_V &&
+                                          record.SeenFree(T_in_V * p, 0.0f, false, &first_key_frame);
                                  }),
                   points_V->end());
   return static_cast<int>(before - points_V->size());

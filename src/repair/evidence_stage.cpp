@@ -199,12 +199,10 @@ EvidenceTopPoints ApplyEvidence(const evidence::VisibilityRecord& record, const 
       for (const Eigen::Vector3f& p : m) flat.emplace_back(p.x(), p.y(), 0.0f);
     }
     const NeighborIndex image(dome ? flat : m);
-    std::vector<int> near;
     PointList& t = top.added_V;
     t.erase(std::remove_if(t.begin(), t.end(),
                            [&](const Eigen::Vector3f& p) {
-                             image.Radius(dome ? Eigen::Vector3f(p.x(), p.y(), 0.0f) : p, layer, &near);
-                             return !near.empty();
+                             return image.AnyWithin(dome ? Eigen::Vector3f(p.x(), p.y(), 0.0f) : p, layer);
                            }),
             t.end());
   }
