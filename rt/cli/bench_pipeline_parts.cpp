@@ -64,6 +64,12 @@ Outcome Measure(const ObjectCloud& cloud, size_t fused, const std::vector<Eigen:
     o.added_wrong = 1.0 - eval::FractionWithin(d, kWrongDistanceM);
     for (const Eigen::Vector3f& p : added) o.added_in_free += record.SeenFree(p);
   }
+  o.truth_outside_bound = std::numeric_limits<double>::quiet_NaN();
+  if (!cloud.safe_bound.empty() && !truth.empty()) {
+    size_t outside = 0;
+    for (const Eigen::Vector3f& p : truth) outside += !cloud.safe_bound.Contains(p);
+    o.truth_outside_bound = static_cast<double>(outside) / static_cast<double>(truth.size());
+  }
   return o;
 }
 

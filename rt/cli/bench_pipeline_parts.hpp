@@ -44,6 +44,10 @@ struct Outcome {
   double added_p95_mm{0.0};  ///< 0 when nothing was added
   double added_wrong{0.0};   ///< share of the added points > kWrongDistanceM
   int added_in_free{0};      ///< added points in seen-free space
+  /// Share of the truth outside the cloud's safe bound, the planner's
+  /// keep-out (NaN: the cloud carries none): the bound must hold the whole
+  /// object, the unseen top and what the claw hid included.
+  double truth_outside_bound{0.0};
   double ms{0.0};            ///< the fastest repair
   std::string note;          ///< RepairNote of the report
   std::string top_completion;  ///< the report's (what won the top's search)
