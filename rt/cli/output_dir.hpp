@@ -14,17 +14,6 @@
 
 namespace graspfill::cli {
 
-/// Creates `dir` (and its parents) if missing; false, after printing why
-/// as "graspfill <command>: cannot create ...", when that fails.
-inline bool CreateOutputDir(const std::filesystem::path& dir, const char* command) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (!ec) return true;
-  std::fprintf(stderr, "graspfill %s: cannot create '%s': %s\n", command, dir.string().c_str(),
-               ec.message().c_str());
-  return false;
-}
-
 /// Readies the files `names` (relative to `dir`, e.g. "claw/palm.ply") for
 /// writing, before any work: without `force` none of them may exist or be
 /// a symbolic link (all that do are listed); then `dir` and the folders

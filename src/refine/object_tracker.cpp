@@ -50,17 +50,6 @@ void ObjectTrackingConfig::Validate() const {
           "the jump bounds must be > 0");
 }
 
-const char* TrackOutcomeName(TrackOutcome outcome) {
-  switch (outcome) {
-    case TrackOutcome::kTracked: return "tracked";
-    case TrackOutcome::kNoModel: return "no_model";
-    case TrackOutcome::kTooFewPoints: return "too_few_points";
-    case TrackOutcome::kNotConverged: return "not_converged";
-    case TrackOutcome::kJump: return "jump";
-  }
-  return "unknown";
-}
-
 ObjectTracker::ObjectTracker(const ObjectTrackingConfig& config) : config_(config) {
   config_.Validate();
   // CollectPoints keeps at most max_points pixels.

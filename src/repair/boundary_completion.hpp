@@ -114,7 +114,6 @@ class RimCurve {
   PointList Resample(double spacing_m, std::vector<double>* angles = nullptr) const;
 
   const Eigen::Vector2d& axis_xy() const { return axis_xy_; }
-  int control_points() const { return static_cast<int>(r_.size()); }
 
  private:
   RimCurve() = default;

@@ -114,9 +114,6 @@ enum class TrackOutcome {
   kJump,           ///< beyond max_step / max_total
 };
 
-/// "tracked", "no_model", "too_few_points", "not_converged", "jump".
-const char* TrackOutcomeName(TrackOutcome outcome);
-
 struct TrackStats {
   int64_t frames_tracked{0};
   int64_t frames_no_model{0};
