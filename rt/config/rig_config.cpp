@@ -11,7 +11,7 @@
 #include <system_error>
 #include <vector>
 
-#include "cli/number_parsing.hpp"
+#include "config/number_text.hpp"
 #include "graspfill/core/regular_file.hpp"
 #include "graspfill/fusion/tsdf_fusion.hpp"
 #include "graspfill/io/channel_names.hpp"
@@ -537,8 +537,8 @@ class Reader {
   double Number(const YAML::Node& n, const std::string& field, const Range& r) const {
     const std::string text = PlainScalar(n, field, "a number");
     try {
-      return cli::ParseDouble(field, text, r.min, r.max, r.unit);
-    } catch (const cli::UsageError& e) {
+      return ReadNumber(field, text, r.min, r.max, r.unit);
+    } catch (const std::invalid_argument& e) {
       Fail(n, field, e.what());
     }
   }
@@ -546,8 +546,8 @@ class Reader {
   int Integer(const YAML::Node& n, const std::string& field, const Range& r) const {
     const std::string text = PlainScalar(n, field, "an integer");
     try {
-      return cli::ParseInteger<int>(field, text, static_cast<int>(r.min), static_cast<int>(r.max));
-    } catch (const cli::UsageError& e) {
+      return ReadInteger<int>(field, text, static_cast<int>(r.min), static_cast<int>(r.max));
+    } catch (const std::invalid_argument& e) {
       Fail(n, field, e.what());
     }
   }
