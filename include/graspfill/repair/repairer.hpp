@@ -68,17 +68,15 @@ struct EvidenceReport {
   /// record: < 1%).
   double observed_free_share{0.0};
   /// Share of the mirror image in seen-free space, of its points not
-  /// beside the observed ones (EvidenceConfig::near_observed_m), after any
-  /// lowering (NaN when no mirror).
+  /// beside the observed ones (within 4 mm of an observed point at least
+  /// as high), after any lowering (NaN when no mirror).
   double mirror_free_share{0.0};
   /// How far the symmetry plane was lowered to take the mirror's top out of
-  /// seen-free space (EvidenceConfig::max_plane_drop_m) [m].
+  /// seen-free space (at most 4 mm) [m].
   double mirror_plane_drop_m{0.0};
   /// How far the mirror image's cap was raised, its top band stretched:
-  /// to where the rays carve it (EvidenceConfig::max_cap_free_share), or
-  /// to the rings' top when that decides: from any depth where the carve
-  /// confirms it (EvidenceConfig::ring_trust_m), else when the cap closed
-  /// more than EvidenceConfig::mirror_low_m under it [m].
+  /// to where the rays carve it, or to the rings' top when that decides
+  /// (src/repair/evidence_repair.hpp says when) [m].
   double mirror_lift_m{0.0};
   /// Proposed points dropped as seen free, over all fills.
   int rejected_free{0};
@@ -131,8 +129,8 @@ struct RepairReport {
   float top_confidence{0.0f};
   std::string symmetry_reason;  ///< why not, when !symmetric
   int outliers_ignored{0};      ///< kept in the output, not used to repair
-  /// Claw holes left open: no explicit surface explains them (ClawRepairConfig::poisson_fallback)
-  /// or their support is most of the cloud (max_support_share).
+  /// Claw holes left open: no explicit surface explains them (the Poisson
+  /// fallback is off) or their support is most of the cloud.
   int claw_holes_left_open{0};
   int boundary_points{0};
   int boundary_lines{0};
