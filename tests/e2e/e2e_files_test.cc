@@ -46,7 +46,12 @@ nlohmann::json JsonOf(const std::string& output) {
 // with --force and replace them with a regular file at the end.
 class SpecialOutputs : public ::testing::Test {
  protected:
-  void SetUp() override { dir_ = ScratchDir("e2e_files_special"); }
+  // One folder per test: ctest runs the two at once, and a shared folder
+  // let one test's setup delete the other's special files mid-run.
+  void SetUp() override {
+    dir_ = ScratchDir(std::string("e2e_files_special_") +
+                      ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  }
   // Runs `command` (with {} standing for the output) on each special
   // output named *`ext`: exit 1, the reason named, the output still what it
   // was.
