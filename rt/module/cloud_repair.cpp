@@ -13,9 +13,8 @@ repair::RepairReport RepairObjectCloud(const repair::RepairConfig& config, Objec
                                        const evidence::VisibilityRecord* record) {
   repair::RepairResult result = repair::Repair(*cloud, config, record);
   // Repair copies the input's fields (stamp, pose, fusion timings) into its
-  // output, so only the repair's own findings need adding.
+  // output and sets its holes, so only the step timings need adding.
   ObjectCloud& repaired = result.cloud;
-  repaired.holes = result.report.holes;
   for (const StageTiming& step : result.report.timings) {
     repaired.timings.push_back({"repair_" + step.stage, step.ms});
   }

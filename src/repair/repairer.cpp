@@ -765,6 +765,7 @@ RepairResult RepairWithSteps(const ObjectCloud& input, const RepairConfig& confi
   }
   RepairResult result;
   result.cloud = input;
+  result.cloud.holes.clear();  // this repair's holes, set at the end
   result.cloud.provenance.resize(input.points_G.size(), Provenance::kObserved);
   RepairReport& report = result.report;
   result.cloud.confidence.clear();
@@ -833,6 +834,7 @@ RepairResult RepairWithSteps(const ObjectCloud& input, const RepairConfig& confi
   report.status = result.cloud.points_G.size() > input.points_G.size() || !found.lines.empty()
                       ? RepairStatus::kRepaired
                       : RepairStatus::kNoHoles;
+  result.cloud.holes = report.holes;
   return result;
 }
 

@@ -47,6 +47,33 @@ TEST(Repairer, KeepsEveryInputPointAndLabelsTheAddedOnes) {
   EXPECT_FALSE(r.report.timings.empty());
 }
 
+// The returned cloud carries the repair's holes, so an embedder who
+// publishes it sends what the CLI sends; holes the input carried from an
+// earlier repair are not passed on as this one's.
+TEST(Repairer, TheCloudCarriesTheHolesItsReportLists) {
+  synth::PaperProtocolConfig pc;
+  pc.shape = synth::Shape::kCylinder;
+  pc.num_points = 20000;
+  const synth::PaperProtocolCloud c = synth::MakePaperProtocolCloud(pc);
+  ObjectCloud input = Cloud(c.holey);
+  HoleSummary stale;
+  stale.points_added = 12345;
+  input.holes = {stale, stale};
+  const RepairResult r = Repair(input);
+  ASSERT_EQ(r.report.status, RepairStatus::kRepaired);
+  ASSERT_FALSE(r.report.holes.empty());
+  ASSERT_EQ(r.cloud.holes.size(), r.report.holes.size());
+  for (size_t k = 0; k < r.cloud.holes.size(); ++k) {
+    EXPECT_EQ(r.cloud.holes[k].kind, r.report.holes[k].kind) << k;
+    EXPECT_EQ(r.cloud.holes[k].points_added, r.report.holes[k].points_added) << k;
+    EXPECT_EQ(r.cloud.holes[k].box_min_G, r.report.holes[k].box_min_G) << k;
+  }
+  // Unchanged (too few points): no holes of this repair, none of the input's.
+  ObjectCloud few = Cloud({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(0.01f, 0, 0)});
+  few.holes = {stale};
+  EXPECT_TRUE(Repair(few).cloud.holes.empty());
+}
+
 double AngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180.0 / M_PI;
 }

@@ -142,7 +142,9 @@ struct RepairReport {
 
 struct RepairResult {
   /// Every input point unchanged (same order, provenance as given), then
-  /// the added points with their provenance (surface / symmetry).
+  /// the added points with their provenance (surface / symmetry). Its
+  /// `holes` are this repair's (report.holes; the input's are replaced), so
+  /// the cloud can be published as it is.
   ObjectCloud cloud;
   RepairReport report;
 };
