@@ -22,8 +22,9 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: graspfill repair IN.ply -o OUT.ply [--mode paper|best] [--up X,Y,Z] [--preview DIR]\n"
-    "                        [--mesh-out FILE.{ply,stl,obj}] [--json] [--force]\n"
+    "                        [--mesh-out FILE.{ply,stl,obj}] [--scale S] [--json] [--force]\n"
     "  IN.ply     unorganized cloud in meters, any pose, normals optional\n"
+    "  --scale    multiply IN's coordinates by S first (0.001: a cloud in mm)\n"
     "  --mode     paper: the method as published; best (default): graspfill's\n"
     "  --up       optional hint of the direction to the missing top, input frame\n"
     "  --json     print the holes found and the time of every step as JSON\n"
@@ -79,6 +80,7 @@ nlohmann::ordered_json RepairReportJson(const repair::RepairReport& r, size_t po
 int RunRepair(const Args& args) {
   std::string in, out, preview_dir, mesh_out;
   bool json = false, force = false;
+  double scale = 1.0;
   repair::RepairConfig config;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
@@ -102,6 +104,13 @@ int RunRepair(const Args& args) {
       else if (m == "best") config.mode = repair::RepairMode::kBest;
       else {
         std::fprintf(stderr, "graspfill repair: unknown mode '%s'\n%s", m.c_str(), kUsage);
+        return 2;
+      }
+    } else if (a == "--scale" && has_value) {
+      try {
+        scale = ParseDouble("--scale", args[++i], 1e-9, 1e9);
+      } catch (const UsageError& e) {
+        std::fprintf(stderr, "graspfill repair: %s\n%s", e.what(), kUsage);
         return 2;
       }
     } else if (a == "--up" && has_value) {
@@ -149,8 +158,20 @@ int RunRepair(const Args& args) {
     return 1;
   }
   if (!preview_dir.empty() && !PreparePreview(preview_dir, out, force, "repair")) return 1;
-  const ObjectCloud input = io::ReadCloudPly(in);  // throws with the path
+  ObjectCloud input = io::ReadCloudPly(in);  // throws with the path
+  if (scale != 1.0) {
+    for (Eigen::Vector3f& p : input.points_G) p *= static_cast<float>(scale);
+  }
   const repair::RepairResult result = repair::Repair(input, config);
+  // Beyond the limits the cloud would come back unchanged: most often a
+  // cloud in other units, which a planner must not take as repaired.
+  if (result.report.status == repair::RepairStatus::kOutOfRange) {
+    std::fprintf(stderr,
+                 "graspfill repair: '%s': %s; graspfill expects meters and objects a claw can "
+                 "hold (--scale 0.001 for a cloud in mm); nothing written\n",
+                 in.c_str(), result.report.StatusText().c_str());
+    return 1;
+  }
   io::WriteCloudPly(out, result.cloud, io::ReplaceIf(force));
   nlohmann::ordered_json report = RepairReportJson(result.report, input.size(), result.cloud.size());
   if (!mesh_out.empty()) {
