@@ -1,7 +1,7 @@
-// graspfill repair IN.ply -o OUT.ply: fills the claw holes and the unseen
+// graspfill repair IN.ply -o OUT.{ply,pcd}: fills the claw holes and the unseen
 // top of an object cloud; every input point is kept, added points carry
-// their provenance (PLY property `provenance`: 0 observed, 1 surface,
-// 2 symmetry).
+// their provenance (PLY property or PCD field `provenance`: 0 observed,
+// 1 surface, 2 symmetry).
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -14,23 +14,25 @@
 #include "number_parsing.hpp"
 #include "preview.hpp"
 #include "graspfill/io/output_path.hpp"
-#include "graspfill/io/ply.hpp"
+#include "graspfill/io/cloud_file.hpp"
 #include "graspfill/repair/repairer.hpp"
 
 namespace graspfill::cli {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: graspfill repair IN.ply -o OUT.ply [--mode paper|best] [--up X,Y,Z] [--preview DIR]\n"
-    "                        [--mesh-out FILE.{ply,stl,obj}] [--scale S] [--json] [--force]\n"
+    "usage: graspfill repair IN.ply -o OUT.{ply,pcd} [--mode paper|best] [--up X,Y,Z] [--preview DIR]\n"
+    "                               [--mesh-out FILE.{ply,stl,obj}] [--scale S] [--json] [--force]\n"
     "  IN.ply     unorganized cloud in meters, any pose, normals optional\n"
     "  --scale    multiply IN's coordinates by S first (0.001: a cloud in mm)\n"
     "  --mode     paper: the method as published; best (default): graspfill's\n"
+    "  -o         the repaired cloud, PLY or PCD by its extension\n"
     "  --up       optional hint of the direction to the missing top, input frame\n"
     "  --json     print the holes found and the time of every step as JSON\n"
     "  --preview  also a picture of the cloud before and after: DIR/<OUT's stem>.png\n"
     "  --mesh-out the repaired cloud's closed collision mesh (and its deviation)\n"
-    "  --force    overwrite OUT.ply (and the preview) if it exists\n";
+    "  --force    overwrite OUT (and the preview) if it exists\n"
+    "example: graspfill repair scan.ply -o repaired.pcd --up 0,0,1 --mesh-out hull.stl\n";
 
 const char* KindName(HoleKind kind) {
   return kind == HoleKind::kClaw ? "claw" : "missing_surface";
@@ -142,6 +144,12 @@ int RunRepair(const Args& args) {
     std::fprintf(stderr, "graspfill repair: need IN.ply and -o OUT.ply\n%s", kUsage);
     return 2;
   }
+  try {
+    io::CloudFileFormatOf(out);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "graspfill repair: -o %s\n%s", e.what(), kUsage);
+    return 2;
+  }
   if (!mesh_out.empty()) {
     try {
       CheckMeshOutOption(mesh_out, out);
@@ -158,7 +166,7 @@ int RunRepair(const Args& args) {
     return 1;
   }
   if (!preview_dir.empty() && !PreparePreview(preview_dir, out, force, "repair")) return 1;
-  ObjectCloud input = io::ReadCloudPly(in);  // throws with the path
+  ObjectCloud input = io::ReadCloudFile(in);  // throws with the path
   if (scale != 1.0) {
     for (Eigen::Vector3f& p : input.points_G) p *= static_cast<float>(scale);
   }
@@ -172,7 +180,7 @@ int RunRepair(const Args& args) {
                  in.c_str(), result.report.StatusText().c_str());
     return 1;
   }
-  io::WriteCloudPly(out, result.cloud, io::ReplaceIf(force));
+  io::WriteCloudFile(out, result.cloud, io::ReplaceIf(force));
   nlohmann::ordered_json report = RepairReportJson(result.report, input.size(), result.cloud.size());
   if (!mesh_out.empty()) {
     try {

@@ -10,7 +10,7 @@
 #include "error_text.hpp"
 #include "number_parsing.hpp"
 #include "graspfill/io/output_path.hpp"
-#include "graspfill/io/ply.hpp"
+#include "graspfill/io/cloud_file.hpp"
 #include "graspfill/io/png.hpp"
 #include "graspfill/view/contact_sheet.hpp"
 
@@ -73,7 +73,7 @@ int RunView(const Args& args) {
   try {
     io::CheckOutputFile(o.output_path, o.force);  // before reading the clouds
     std::vector<ObjectCloud> clouds;
-    for (const std::string& path : o.clouds) clouds.push_back(io::ReadCloudPly(path));
+    for (const std::string& path : o.clouds) clouds.push_back(io::ReadCloudFile(path));
     std::vector<view::SheetCloud> sheet;
     for (size_t i = 0; i < clouds.size(); ++i) {
       std::string title = std::filesystem::path(o.clouds[i]).filename().string();

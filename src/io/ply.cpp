@@ -7,6 +7,7 @@
 #include "graspfill/core/provenance_colors.hpp"
 #include "graspfill/io/atomic_file.hpp"
 #include "graspfill/io/messages.hpp"
+#include "cloud_encoding.hpp"
 #include "ply_parser.hpp"
 
 #include <open3d/geometry/TriangleMesh.h>
@@ -33,23 +34,6 @@ constexpr int kMaxHeaderLines = 256;
 [[noreturn]] void Fail(const std::string& what, const std::string& path,
                        const std::string& why) {
   throw std::runtime_error(what + " '" + path + "': " + why);
-}
-
-void AppendFloat(std::string* out, float value) {
-  uint32_t bits;
-  std::memcpy(&bits, &value, sizeof(bits));
-  for (int i = 0; i < 4; ++i) out->push_back(static_cast<char>(bits >> (8 * i)));
-}
-
-void AppendInt32(std::string* out, int32_t value) {
-  const uint32_t bits = static_cast<uint32_t>(value);
-  for (int i = 0; i < 4; ++i) out->push_back(static_cast<char>(bits >> (8 * i)));
-}
-
-std::string FormatDouble(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.17g", v);
-  return buf;
 }
 
 // Atomically: a failed write (full disk) never replaces a good file.
@@ -110,23 +94,12 @@ void ReadHeaderComments(const std::string& path, ObjectCloud* cloud) {
 }  // namespace
 
 void WriteCloudPly(const std::string& path, const ObjectCloud& cloud, IfExists if_exists) {
+  CheckOnePerPoint(cloud, "cannot write PLY", path);
   const size_t n = cloud.points_G.size();
   const bool has_normals = !cloud.normals_G.empty();
-  if (has_normals && cloud.normals_G.size() != n) {
-    Fail("cannot write PLY", path, "normals are not one per point");
-  }
-  if (!cloud.provenance.empty() && cloud.provenance.size() != n) {
-    Fail("cannot write PLY", path, "provenance is not one per point");
-  }
   const bool has_confidence = !cloud.confidence.empty();
-  if (has_confidence && cloud.confidence.size() != n) {
-    Fail("cannot write PLY", path, "confidence is not one per point");
-  }
   // Header comments must stay on one line each.
-  std::string frame_name = cloud.frame_name;
-  for (char& c : frame_name) {
-    if (c == '\n' || c == '\r') c = ' ';
-  }
+  const std::string frame_name = OneLine(cloud.frame_name);
   Eigen::Quaterniond q(cloud.T_C_G.rotation());
   q.normalize();
   const Eigen::Vector3d& t = cloud.T_C_G.translation();

@@ -10,6 +10,9 @@
 #include <sstream>
 #include <string>
 
+#include <open3d/geometry/PointCloud.h>
+#include <open3d/io/PointCloudIO.h>
+
 #include "cli_runner.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/ply.hpp"
@@ -164,6 +167,35 @@ TEST(RepairCli, ACloudInMillimetresIsAnErrorWithTheScaleHint) {
     EXPECT_LT((scaled.points_G[i] - meters.points_G[i]).norm(), 1e-6f) << i;
   }
   EXPECT_EQ(RunCli("repair " + dir + "/holey_mm.ply -o " + dir + "/x.ply --scale 0").exit_code, 2);
+}
+
+// -o x.pcd used to write PLY bytes under a .pcd name (Open3D then read 0
+// points). The name picks the format: the PCD holds the same points as the
+// PLY, read back by Open3D; an unknown extension is a usage error before
+// any work, and a PCD given as input is refused with what to do.
+TEST(RepairCli, ThePcdOutputIsPcdAndOtherNamesAreRefused) {
+  const std::string dir = ScratchDir("e2e_repair_pcd");
+  ASSERT_EQ(RunCli("synth --protocol paper --shape cylinder --points 20000 -o " + dir + "/s").exit_code, 0);
+  ASSERT_EQ(RunCli("repair " + dir + "/s/holey.ply -o " + dir + "/out.ply").exit_code, 0);
+  const auto r = RunCli("repair " + dir + "/s/holey.ply -o " + dir + "/out.pcd");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const ObjectCloud ply = io::ReadCloudPly(dir + "/out.ply");
+  open3d::geometry::PointCloud pcd;
+  ASSERT_TRUE(open3d::io::ReadPointCloud(dir + "/out.pcd", pcd));
+  ASSERT_EQ(pcd.points_.size(), ply.size());
+  ASSERT_GT(ply.size(), 20000u);  // repaired
+  for (size_t i = 0; i < ply.size(); i += 101) {
+    EXPECT_EQ(pcd.points_[i], ply.points_G[i].cast<double>()) << i;
+  }
+
+  auto bad = RunCli("repair " + dir + "/s/holey.ply -o " + dir + "/out.xyz");
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("a cloud is written as .ply or .pcd"), std::string::npos) << bad.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out.xyz"));
+  bad = RunCli("repair " + dir + "/out.pcd -o " + dir + "/again.ply");
+  EXPECT_EQ(bad.exit_code, 1) << bad.output;
+  EXPECT_NE(bad.output.find("give the cloud as .ply"), std::string::npos) << bad.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/again.ply"));
 }
 
 }  // namespace
