@@ -18,6 +18,7 @@
 #include "progress.hpp"
 #include "number_parsing.hpp"
 #include "data_paths.hpp"
+#include "unknown_option.hpp"
 #include "graspfill/core/pose_interpolation.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
@@ -206,7 +207,7 @@ int RunBench(const Args& args) {
     } else if (!args[i].empty() && args[i][0] != '-') {
       log = args[i];
     } else {
-      std::fprintf(stderr, "graspfill bench: bad option '%s'\n%s", args[i].c_str(),
+      std::fprintf(stderr, "graspfill bench: %s\n%s", BadOptionText(args[i], Usage()).c_str(),
                    Usage().c_str());
       return 2;
     }

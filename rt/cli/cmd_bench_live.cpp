@@ -59,6 +59,7 @@
 #include "module/sample_window.hpp"
 #include "number_parsing.hpp"
 #include "private_network.hpp"
+#include "unknown_option.hpp"
 #include "sources/lcm_log_source.hpp"
 
 namespace graspfill::cli {
@@ -720,7 +721,7 @@ int RunBenchLive(const Args& args) {
         log = a;
         log_given = true;
       } else {
-        throw UsageError("unknown or incomplete option '" + a + "'");
+        throw UsageError(BadOptionText(a, Usage()) + " (or its value is missing)");
       }
     }
     if (soak_s > 0.0 && soak_s < 60.0 && soak_faults == 0.0) {

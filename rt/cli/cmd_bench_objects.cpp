@@ -28,6 +28,7 @@
 #include "object_manifest.hpp"
 #include "object_mesh.hpp"
 #include "progress.hpp"
+#include "unknown_option.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
@@ -465,7 +466,7 @@ Options Parse(const Args& args) {
     else if (a == "--dump") o.dump_dir = value();
     else if (a == "--json") o.json = true;
     else if (a == "--verbose") o.verbose = true;
-    else throw UsageError("bad option '" + a + "'");
+    else throw BadOption(a, kUsage);
   }
   if (!dir_given || o.dir.empty()) throw UsageError("--objects needs a folder with objects.json");
   return o;

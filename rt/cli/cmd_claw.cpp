@@ -13,6 +13,7 @@
 #include "graspfill/io/ply.hpp"
 #include "error_text.hpp"
 #include "number_parsing.hpp"
+#include "unknown_option.hpp"
 
 namespace graspfill::cli {
 namespace {
@@ -28,7 +29,8 @@ constexpr const char* kUsage =
     "  --joints Q,...    joint values overriding the opening (the claw's joint_values order)\n"
     "  --claw-mesh-root DIR  where the claw's meshes (and a config's URDF) are\n"
     "writes the posed claw's surface in G (meters; +z the approach) and prints\n"
-    "its links, triangles and bounds\n";
+    "its links, triangles and bounds\n"
+    "example: graspfill claw parallel --opening 0.06 -o parallel.ply\n";
 
 std::vector<double> ParseJoints(const std::string& text) {
   std::vector<double> values;
@@ -68,7 +70,7 @@ int RunClaw(const Args& args) {
       } else if (!a.empty() && a[0] != '-' && spec.empty()) {
         spec = a;
       } else {
-        throw UsageError("bad argument '" + a + "'");
+        throw BadOption(a, kUsage);
       }
     }
     if (spec.empty() || out.empty()) throw UsageError("need SPEC and -o CLAW.ply");

@@ -13,6 +13,7 @@
 #include "graspfill/io/output_path.hpp"
 #include "error_text.hpp"
 #include "number_parsing.hpp"
+#include "unknown_option.hpp"
 
 namespace graspfill::cli {
 namespace {
@@ -25,7 +26,8 @@ constexpr const char* kUsage =
     "  -o, --output FILE write it to FILE instead (atomically; not over an existing\n"
     "                    file without --force)\n"
     "  --check FILE      read FILE as `--config FILE` does: exit 0 and print the config\n"
-    "                    it gives (defaults filled in), or exit 2 naming the bad field\n";
+    "                    it gives (defaults filled in), or exit 2 naming the bad field\n"
+    "example: graspfill config --dump-defaults -o rig.yaml\n";
 
 }  // namespace
 
@@ -51,7 +53,7 @@ int RunConfig(const Args& args) {
       } else if (a == "--check") {
         check = value();
       } else {
-        throw UsageError("bad option '" + a + "'");
+        throw BadOption(a, kUsage);
       }
     }
     if (dump == !check.empty()) throw UsageError("need --dump-defaults or --check FILE");

@@ -8,6 +8,7 @@
 #include "commands.hpp"
 #include "data_paths.hpp"
 #include "error_text.hpp"
+#include "unknown_option.hpp"
 #include "graspfill/io/output_path.hpp"
 
 namespace graspfill::cli {
@@ -42,7 +43,8 @@ int RunDemo(const Args& args) {
     } else if (args[i] == "--no-publish") {
       replay_extra.push_back(args[i]);
     } else {
-      std::fprintf(stderr, "graspfill demo: unknown option '%s'\n", args[i].c_str());
+      std::fprintf(stderr, "graspfill demo: %s\n",
+                   BadOptionText(args[i], "-o DIR --force --lcm-url URL --no-publish").c_str());
       return 2;
     }
   }

@@ -23,23 +23,23 @@
 
 #include "commands.hpp"
 #include "error_text.hpp"
+#include "unknown_option.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/ply.hpp"
 
 namespace graspfill::cli {
 namespace {
 
-void PrintEvalUsage(std::FILE* out) {
-  std::fprintf(out,
-      "usage: graspfill eval PRED GT [--json]\n"
-      "  PRED    predicted (repaired) cloud, meters (PLY/PCD/XYZ...)\n"
-      "  GT      hole-free ground-truth cloud, same frame; a mesh PLY is\n"
-      "          read as its vertices only\n"
-      "  --json  print one JSON object instead of the summary\n"
-      "prints the chamfer distance (paper Eq. 6) in mm^2, F-scores at 1 and\n"
-      "2 mm, coverage (share of GT within 2 mm of PRED) and precision at\n"
-      "2 mm, 95th-percentile NN distances in mm and the point counts\n");
-}
+constexpr const char* kUsage =
+    "usage: graspfill eval PRED GT [--json]\n"
+    "  PRED    predicted (repaired) cloud, meters (PLY/PCD/XYZ...)\n"
+    "  GT      hole-free ground-truth cloud, same frame; a mesh PLY is\n"
+    "          read as its vertices only\n"
+    "  --json  print one JSON object instead of the summary\n"
+    "prints the chamfer distance (paper Eq. 6) in mm^2, F-scores at 1 and\n"
+    "2 mm, coverage (share of GT within 2 mm of PRED) and precision at\n"
+    "2 mm, 95th-percentile NN distances in mm and the point counts\n"
+    "example: graspfill eval repaired.ply gt_cloud.ply --json\n";
 
 // Lowers Open3D's log level for a scope (its own context manager needs
 // explicit Enter/Exit, which an early return or exception would skip).
@@ -145,15 +145,14 @@ int RunEval(const Args& args) {
   std::vector<std::string> files;
   for (const std::string& arg : args) {
     if (arg == "--help" || arg == "-h") {
-      PrintEvalUsage(stdout);
+      std::fputs(kUsage, stdout);
       return 0;
     }
     if (arg == "--json") {
       json = true;
     } else if (!arg.empty() && arg[0] == '-') {
-      std::fprintf(stderr, "graspfill eval: unknown option '%s'\n",
-                   arg.c_str());
-      PrintEvalUsage(stderr);
+      std::fprintf(stderr, "graspfill eval: %s\n", BadOptionText(arg, kUsage).c_str());
+      std::fputs(kUsage, stderr);
       return 2;
     } else {
       files.push_back(arg);
@@ -162,7 +161,7 @@ int RunEval(const Args& args) {
   if (files.size() != 2) {
     std::fprintf(stderr, "graspfill eval: expected 2 files, got %zu\n",
                  files.size());
-    PrintEvalUsage(stderr);
+    std::fputs(kUsage, stderr);
     return 2;
   }
   const std::string& pred_path = files[0];

@@ -59,6 +59,7 @@
 #include "config_option.hpp"
 #include "error_text.hpp"
 #include "number_parsing.hpp"
+#include "unknown_option.hpp"
 #include "graspfill/io/output_path.hpp"
 #include "graspfill/repair/repairer.hpp"
 #include "module/cloud_repair.hpp"
@@ -228,7 +229,7 @@ int RunLive(const Args& args) {
       else if (a == "--cloud-channel" && has_value) channels.object_cloud = args[++i];
       else if (a == "--status-channel" && has_value) channels.status = args[++i];
       else if (a == "--session-channel" && has_value) channels.session = args[++i];
-      else throw UsageError("bad option '" + a + "'");
+      else throw BadOption(a, std::string(kUsage) + kCameraUsage);
     }
     CheckChannelOptions(channels);  // the config's and the flags'
   } catch (const UsageError& e) {

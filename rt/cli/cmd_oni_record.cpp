@@ -10,6 +10,7 @@
 #include "commands.hpp"
 #include "graspfill/io/output_path.hpp"
 #include "number_parsing.hpp"
+#include "unknown_option.hpp"
 #include "sources/openni2_source.hpp"
 
 namespace graspfill::cli {
@@ -21,7 +22,8 @@ constexpr const char* kUsage =
     "  -o FILE.oni           the recording (not overwritten without --force)\n"
     "  --frames N            stop after N frames (default: the end of the stream)\n"
     "  --duration-s S        stop after S seconds (default: none)\n"
-    "  --force               overwrite FILE.oni\n";
+    "  --force               overwrite FILE.oni\n"
+    "example: graspfill oni-record --device graspfill-replay:rec.lcmlog --frames 300 -o rec.oni\n";
 
 }  // namespace
 
@@ -43,7 +45,7 @@ int RunOniRecord(const Args& args) {
       else if (a == "--duration-s" && has_value) duration_s = ParseDouble(a, args[++i], 0.0, 7 * 24 * 3600.0, "s");
       else if (a == "--force") force = true;
       else if (a != "--gripper-log" && ParseCameraOption(args, &i, &camera)) {}
-      else throw UsageError("bad option '" + a + "'");
+      else throw BadOption(a, std::string(kUsage) + kCameraUsage);
     }
     if (camera.device.uri.empty()) throw UsageError("--device is required");
     if (out.empty()) throw UsageError("-o FILE.oni is required");

@@ -13,6 +13,7 @@
 #include "mesh_option.hpp"
 #include "number_parsing.hpp"
 #include "preview.hpp"
+#include "unknown_option.hpp"
 #include "graspfill/io/output_path.hpp"
 #include "graspfill/io/cloud_file.hpp"
 #include "graspfill/repair/repairer.hpp"
@@ -136,7 +137,7 @@ int RunRepair(const Args& args) {
     } else if (!a.empty() && a[0] != '-' && in.empty()) {
       in = a;
     } else {
-      std::fprintf(stderr, "graspfill repair: bad argument '%s'\n%s", a.c_str(), kUsage);
+      std::fprintf(stderr, "graspfill repair: %s\n%s", BadOptionText(a, kUsage).c_str(), kUsage);
       return 2;
     }
   }

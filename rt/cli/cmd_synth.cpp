@@ -38,6 +38,7 @@
 #include "object_mesh.hpp"
 #include "output_dir.hpp"
 #include "progress.hpp"
+#include "unknown_option.hpp"
 #include "graspfill/io/atomic_file.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
@@ -108,7 +109,8 @@ constexpr const char* kUsage =
     "                    (default 50000); the ground truth has as many\n"
     "writes DIR/holey.ply (the input to `graspfill repair`), gt_cloud.ply\n"
     "(ground truth, same pose) and protocol.json (pose, claw hole centres);\n"
-    "--mesh, --claw, --frames, --ideal and --wall-m apply to recordings only\n";
+    "--mesh, --claw, --frames, --ideal and --wall-m apply to recordings only\n"
+    "example: graspfill synth --shape cylinder --claw parallel --seed 3 -o rec/\n";
 
 struct SynthOptions {
   std::optional<std::string> protocol;
@@ -232,7 +234,7 @@ SynthOptions Parse(const Args& args) {
     else if (a == "--height") o.height = ParseInteger<int>(a, value(), 16, 4096);
     else if (a == "--force") o.force = true;
     else if (a == "-o" || a == "--output") o.output_dir = value();
-    else throw UsageError("unknown argument '" + a + "'");
+    else throw BadOption(a, kUsage);
   }
   if (o.help) return o;
   if (o.protocol) {

@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "error_text.hpp"
 #include "number_parsing.hpp"
+#include "unknown_option.hpp"
 #include "graspfill/io/output_path.hpp"
 #include "graspfill/io/cloud_file.hpp"
 #include "graspfill/io/png.hpp"
@@ -23,7 +24,8 @@ constexpr const char* kUsage =
     "  AFTER.ply   a second cloud, drawn beside the first at the same scale (before / after)\n"
     "  -o PATH     the picture (PNG): a column per cloud, a row per view, a legend\n"
     "  --views N   views about the gripper axis, 1..12 (default 3)\n"
-    "  --force     overwrite the picture if it exists\n";
+    "  --force     overwrite the picture if it exists\n"
+    "example: graspfill view scan.ply repaired.ply -o before_after.png\n";
 
 struct ViewOptions {
   std::vector<std::string> clouds;
@@ -44,7 +46,7 @@ void Parse(const Args& args, ViewOptions* o) {
     else if (a == "--views") o->sheet.views = ParseInteger<int>("--views", value(), 1, 12);
     else if (a == "--force") o->force = true;
     else if (!a.empty() && a[0] != '-') o->clouds.push_back(a);
-    else throw UsageError("bad argument '" + a + "'");
+    else throw BadOption(a, kUsage);
   }
   if (o->clouds.empty()) throw UsageError("need a CLOUD.ply");
   if (o->clouds.size() > 2) throw UsageError("at most two clouds (before and after)");

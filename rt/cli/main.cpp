@@ -12,6 +12,7 @@
 #include "error_text.hpp"
 #include "graspfill/io/messages.hpp"
 #include "progress.hpp"
+#include "unknown_option.hpp"
 
 namespace {
 
@@ -103,7 +104,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "graspfill %s: error: %s\n", command.c_str(), graspfill::cli::ErrorText(e).c_str());
     return 1;
   }
-  std::fprintf(stderr, "graspfill: unknown command '%s'\n", command.c_str());
+  const std::string near = graspfill::cli::Nearest(
+      command, {"synth", "replay", "eval", "bench", "demo", "live", "oni-record", "repair", "claw", "config", "view"});
+  std::fprintf(stderr, "graspfill: unknown command '%s'%s\n", command.c_str(),
+               near.empty() ? "" : (" (did you mean " + near + "?)").c_str());
   PrintUsage();
   return 2;
 }

@@ -1,5 +1,6 @@
-// The CLI's shared option helpers: strict numbers (rt/cli/number_parsing.hpp)
-// and the claw of a session description (rt/cli/claw_option.hpp).
+// The CLI's shared option helpers: strict numbers (rt/cli/number_parsing.hpp),
+// the claw of a session description (rt/cli/claw_option.hpp) and the
+// suggestion for a mistyped option (rt/cli/unknown_option.hpp).
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -14,6 +15,7 @@
 #include "claw_option.hpp"
 #include "error_text.hpp"
 #include "number_parsing.hpp"
+#include "unknown_option.hpp"
 
 namespace graspfill::cli {
 namespace {
@@ -211,18 +213,25 @@ TEST(SessionClaw, ADescriptionClawIsReadInMemoryWithLocalMeshesOnly) {
   fs::remove_all(dir);
 }
 
-}  // namespace
-// Allocation failures reach the user as what happened, not as the
-// library's "std::bad_alloc"; every other message is passed on as it is.
-TEST(ErrorText, NamesAllocationFailuresInWords) {
-  EXPECT_EQ(ErrorText(std::bad_alloc()).find("std::bad_alloc"), std::string::npos);
-  EXPECT_NE(ErrorText(std::bad_alloc()).find("out of memory"), std::string::npos);
-  const std::string too_long =
-      ErrorText(std::length_error("cannot create std::vector larger than max_size()"));
-  EXPECT_EQ(too_long.rfind("a size beyond what can be allocated", 0), 0u) << too_long;
-  // Named in words: the library's "max_size()" means nothing to the user.
-  EXPECT_EQ(too_long.find("max_size"), std::string::npos) << too_long;
-  EXPECT_EQ(ErrorText(std::runtime_error("cannot open log 'x'")), "cannot open log 'x'");
+// A slip of the keyboard gets the option it meant; a word far from every
+// option gets no guess; the options come from the usage text itself.
+TEST(UnknownOption, SuggestsTheNearestOptionOfTheUsageText) {
+  const std::string usage =
+      "usage: graspfill repair IN.ply -o OUT.ply [--mode paper|best] [--up X,Y,Z]\n"
+      "  --force    overwrite\n  --mesh-out FILE\n  --json  print JSON\n";
+  EXPECT_EQ(OptionsIn(usage), (std::vector<std::string>{"--mode", "--up", "--force", "--mesh-out", "--json"}));
+  EXPECT_EQ(BadOptionText("--forse", usage), "bad option '--forse' (did you mean --force?)");
+  EXPECT_EQ(BadOptionText("--mesh_out", usage), "bad option '--mesh_out' (did you mean --mesh-out?)");
+  EXPECT_EQ(BadOptionText("--jsno", usage), "bad option '--jsno' (did you mean --json?)");  // a swap
+  EXPECT_EQ(BadOptionText("--mode=best", usage), "bad option '--mode=best' (did you mean --mode?)");
+  EXPECT_EQ(BadOptionText("--verbose", usage), "bad option '--verbose'");
+  EXPECT_EQ(BadOptionText("--u", usage), "bad option '--u' (did you mean --up?)");
+  EXPECT_EQ(BadOptionText("--zz", usage), "bad option '--zz'");  // two of two letters off
+  EXPECT_EQ(BadOptionText("extra.ply", usage), "bad argument 'extra.ply'");
+  EXPECT_EQ(EditDistance("kitten", "sitting"), 3u);
+  EXPECT_EQ(Nearest("replai", {"repair", "replay"}), "replay");
+  EXPECT_EQ(Nearest("xyz", {"repair", "replay"}), "");
 }
 
+}  // namespace
 }  // namespace graspfill::cli
