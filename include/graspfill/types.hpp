@@ -1,7 +1,7 @@
 // Value types shared by every graspfill module: camera model, depth frames,
 // gripper states, triangle meshes and the object cloud handed to the planner.
 //
-// Frames (see DESIGN.md): C camera (optical: z forward, x right, y down),
+// Frames (see docs/design.md): C camera (optical: z forward, x right, y down),
 // G gripper (origin at the palm face centre, +z the approach direction, the
 // object is rigid in G), B robot base. `T_C_G` maps points from G to C.
 // Units: meters, seconds; timestamps are int64 microseconds (`utime`).
@@ -53,7 +53,7 @@ struct GripperState {
   /// Optional finger joint values (rad or m); empty means "from opening".
   std::vector<double> joint_values;
   /// The robot's number of the grasp the claw is in; 0 = not numbered, or
-  /// released (README "Grasp after grasp").
+  /// released (docs/live.md, "Grasp after grasp").
   int64_t grasp_id{0};
 };
 

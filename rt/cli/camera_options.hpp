@@ -1,7 +1,6 @@
 // The OpenNI2 camera's command-line options, shared by `live` and
 // `oni-record`: video mode, intrinsics override, replay speed and the log
-// read alongside the device (README, "OpenNI2 devices and the replay
-// driver").
+// read alongside the device (docs/openni2.md).
 #pragma once
 
 #include <chrono>

@@ -1,5 +1,5 @@
 // graspfill synth --grasps S1,S2,...: one recording of several grasps in
-// turn (README "Grasp after grasp"): grasp k holds shape k, its gripper
+// turn (docs/live.md, "Grasp after grasp"): grasp k holds shape k, its gripper
 // states carry grasp_id k (1, 2, ...), and a second without events
 // separates the grasps (the robot putting one object down and taking the
 // next). Ground truth per grasp in DIR/grasp<k>/.

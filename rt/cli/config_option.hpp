@@ -1,5 +1,5 @@
-// `--config FILE` of `replay` and `live`: the rig config (README "One config
-// for a rig"), loaded before the other flags are read so that they win.
+// `--config FILE` of `replay` and `live`: the rig config
+// (docs/rig-config.md), loaded before the other flags are read so that they win.
 #pragma once
 
 #include <optional>

@@ -9,7 +9,7 @@
 // taken from the recording's (or the bus's) session description, else the
 // built-in default its comment names. Precedence, lowest first: the
 // defaults, the session description, this file, explicit command-line flags
-// (README "One config for a rig").
+// (docs/rig-config.md).
 //
 // Parsing is strict: every number is the whole scalar, finite and in its
 // field's range (no trailing text, no quotes, no NaN); a key the file does

@@ -3,7 +3,7 @@
 // session. The one place where a session's events meet the pipeline (the
 // live module's worker, replay and bench all feed one of these).
 //
-// The grasp signal (README "Grasp after grasp"): gripper_state_t.grasp_id.
+// The grasp signal (docs/live.md, "Grasp after grasp"): gripper_state_t.grasp_id.
 //  - A state whose grasp_id differs from the state before it ends the grasp
 //    before (its final model handed to the callback, if any frame was
 //    fused) and starts an empty one.

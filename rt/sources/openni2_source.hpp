@@ -42,8 +42,7 @@ class OpenNI2Source : public FrameSource {
   struct Config {
     /// Device URI as OpenNI2 lists it; "" opens any device; a path ending
     /// in ".oni" opens a recording; "graspfill-replay:LOG" a graspfill
-    /// recording through the replay driver (README, "OpenNI2 devices and
-    /// the replay driver").
+    /// recording through the replay driver (docs/openni2.md).
     std::string uri;
     /// Depth units requested from a device (a recording keeps its own).
     DepthMode depth_mode{DepthMode::k1mm};

@@ -1,6 +1,6 @@
 // URDF claws: urdfdom parses the XML, this file turns its link tree into a
 // ClawModel and maps graspfill's opening onto the joints (rules in
-// config/claws/README.md, "Claws from URDF").
+// config/claws/README.md and docs/claws.md, "Claws from URDF").
 #include "graspfill/claw/urdf_claw.hpp"
 
 #include <console_bridge/console.h>

@@ -27,7 +27,8 @@ using testing::RunCli;
 using testing::ScratchDir;
 
 constexpr double kTargetP95M = 0.001;  // the bound: 1 mm
-// Where the target is missed (README: the cuboid, 1.28 mm): a regression
+// Where the target is missed (docs/measurements/2026-12-03-collision-mesh.md:
+// the cuboid, 1.28 mm): a regression
 // guard 0.3 mm above it. (The cuboid's mesh was 1.14 mm from its cloud
 // until its mirrored top was stretched to the evidence's rather than cut
 // under it; the mesh is now closer to the truth, p95 1.42 -> 1.07 mm, and
@@ -44,7 +45,8 @@ struct Case {
   std::string claw;
   std::string grasp;
   std::string format;
-  // Whether the 1 mm target holds here; where not, the README gives the
+  // Whether the 1 mm target holds here; where not,
+  // docs/measurements/2026-12-03-collision-mesh.md gives the
   // measured p95 and the test holds the construction's bound.
   bool meets_target;
 };

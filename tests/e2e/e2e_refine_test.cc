@@ -211,11 +211,12 @@ TEST(RefineE2E, ALargeClockOffsetOnAFastTurnIsFound) {
   EXPECT_LE(f.p95_m, 0.0010);
 }
 
-// The README's table ("Imperfect robots"): every built-in shape of the
-// paper, two zoo shapes and two mesh files (Debian's assimp-testmodels:
-// a toy pig, y up, and a faceted ball with a hole; rows skipped with a note
-// when the package is not installed), 90 frames, error-free vs the issue's
-// errors with and without refinement, repair on. Minutes, so not in the suite:
+// The refinement table of docs/measurements/2026-12-03-imperfect-robots.md:
+// every built-in shape of the paper, two zoo shapes and two mesh files
+// (Debian's assimp-testmodels: a toy pig, y up, and a faceted ball with a
+// hole; rows skipped with a note when the package is not installed), 90
+// frames, error-free vs the errors with and without refinement,
+// repair on. Minutes, so not in the suite:
 //   build/bin/e2e_refine_test --gtest_also_run_disabled_tests --gtest_filter='*Table*'
 TEST(RefineE2E, DISABLED_Table) {
   const std::string models = "/usr/share/assimp/models/";

@@ -167,9 +167,10 @@ TEST(SlipE2E, TrackingKeepsTheModelOnTheObject) {
   EXPECT_LT(still_tracked.shift_found_m.norm(), 0.001);
 }
 
-// The README's table ("Imperfect robots", slip): three shapes, both claws,
-// 90 frames, no slip vs an uncorrected 3 mm slip (SLIP_TABLE_MM=S for
-// another), fused points only (no repair). Minutes, so not in the suite:
+// The slip tables of docs/measurements/2026-12-03-imperfect-robots.md:
+// three shapes, both claws, 90 frames, no slip vs an uncorrected 3 mm slip
+// (SLIP_TABLE_MM=S for another), fused points only (no repair). Minutes,
+// so not in the suite:
 //   build/bin/e2e_slip_test --gtest_also_run_disabled_tests --gtest_filter='*Table*'
 TEST(SlipE2E, DISABLED_Table) {
   const char* mm_env = std::getenv("SLIP_TABLE_MM");

@@ -153,7 +153,8 @@ TEST_F(ExamplesTest, JavaSubscriberPrintsThePublishedCloud) {
 #endif
 }
 
-// lcm-spy decodes the types it finds in the jars on CLASSPATH (README):
+// lcm-spy decodes the types it finds in the jars on CLASSPATH
+// (docs/planner-bindings.md):
 // started headless, it counts them before it fails to open its window.
 TEST(LcmSpyTest, FindsEveryGraspfillTypeThroughClasspath) {
 #ifndef EXAMPLE_JAVA

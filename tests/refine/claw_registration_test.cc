@@ -66,9 +66,9 @@ TEST_F(ClawRegistrationTest, RecoversAHandEyeSizedErrorFromNoisyDepth) {
 // subsample of about 1500) and our gate schedule (25 mm shrinking by 0.6
 // to 4 mm, then to convergence there). Both must land within 0.2 mm and
 // 0.25 deg of the truth on every frame (1 mm depth noise); the offsets and
-// the times are printed (README, "Imperfect robots": the same accuracy,
-// ours ~40x faster, its lookup table built once per claw where Open3D
-// builds a KD-tree per call).
+// the times are printed (docs/measurements/2026-12-03-imperfect-robots.md:
+// the same accuracy, ours ~40x faster, its lookup table built once per claw
+// where Open3D builds a KD-tree per call).
 TEST_F(ClawRegistrationTest, MatchesOpen3DsICPOnTheSameFrames) {
   namespace reg = open3d::pipelines::registration;
   open3d::geometry::PointCloud model;

@@ -128,8 +128,8 @@ TEST_F(ObjectTrackerTest, RejectsAndCountsWhatItCannotTrust) {
 
 // The same alignment with Open3D's point-to-plane ICP (6 DoF, its own
 // KD-tree of the model per call, as its API builds one), on the same object
-// pixels: both find the slip; the times are printed (README, "Imperfect
-// robots").
+// pixels: both find the slip; the times are printed (docs/imperfect-robots.md,
+// "Object tracking").
 TEST_F(ObjectTrackerTest, Open3DRegistrationFindsTheSameSlip) {
   const DepthFrame frame = ObjectPixels(scene_, renderer_, last());
   const Eigen::Isometry3d T_G_C = TrueT_C_G(last()).inverse();

@@ -16,7 +16,7 @@
 
 namespace graspfill::io {
 
-/// Limits of one event (documented in README "Fuzzing and input limits").
+/// Limits of one event (documented in docs/input-limits-and-fuzzing.md).
 /// LCM itself refuses channels over 63 bytes; 1024 leaves room for tools
 /// that do not.
 constexpr int32_t kMaxLogChannelBytes = 1024;

@@ -86,7 +86,7 @@ struct BadMessageCounts {
   }
 };
 
-/// Input limits checked by the decoders (README "Input limits").
+/// Input limits checked by the decoders (docs/input-limits-and-fuzzing.md).
 /// Largest depth image anything accepts: 4096 x 4096 pixels (the encoder's
 /// limit, and the most a config's max_depth_pixels may be).
 constexpr int64_t kMaxDepthPixels = int64_t{1} << 24;

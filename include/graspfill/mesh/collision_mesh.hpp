@@ -26,7 +26,8 @@
 namespace graspfill::mesh {
 
 /// Parameters of BuildCollisionMesh. Defaults measured on the e2e shapes
-/// (see the README: Collision mesh).
+/// (docs/collision-mesh.md; the numbers in
+/// docs/measurements/2026-12-03-collision-mesh.md).
 struct CollisionMeshConfig {
   /// Grid spacing [m]: the mesh's resolution. Triangles grow as
   /// (size / cell_m)^2; sharp edges round off within about one cell.

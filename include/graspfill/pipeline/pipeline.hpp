@@ -62,7 +62,7 @@ struct PipelineConfig {
   /// no finer sampling at the workspace's distance, and the frame path's
   /// time and the key frames' memory grow with the pixels. The default,
   /// 1280 x 1024, leaves VGA, 720p and 1024 x 1024 cameras as they are and
-  /// takes a 4096 x 4096 stream at 1/4 (README "Input limits").
+  /// takes a 4096 x 4096 stream at 1/4 (docs/input-limits-and-fuzzing.md).
   int64_t max_fusion_pixels{1280 * 1024};
 
   /// Throws std::invalid_argument naming the bad field.

@@ -91,7 +91,7 @@ struct ObjectTrackingConfig {
   /// Deadband: an estimate within this of the accepted pose (at the
   /// object's centre) leaves it as it is, and the frame is fused there.
   /// Without a slip the estimate wanders by up to ~0.9 mm over a turn (the
-  /// model's rounded edges pull it; README, "Imperfect robots"), which
+  /// model's rounded edges pull it; docs/imperfect-robots.md), which
   /// fused as is cost the still cylinder 0.2 mm of p95 [m].
   double min_step_m{0.001};
   /// A frame whose object pose moved more than this from the last accepted

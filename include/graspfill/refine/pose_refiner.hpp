@@ -48,7 +48,7 @@ struct RefineConfig {
   /// at the claw, is not used: the prediction is. On an exact recording the
   /// registration jitters by ~0.16 mm / 0.25 deg a frame, and that jitter,
   /// fused, cost the prism in the three-finger claw its claw holes (chamfer
-  /// 4.29 vs 0.95 mm^2 with this deadband; README, Imperfect robots) [m], [deg].
+  /// 4.29 vs 0.95 mm^2 with this deadband; docs/imperfect-robots.md) [m], [deg].
   double min_correction_m{0.0005};
   double min_correction_deg{0.5};
   /// Whether any registration can land within the deadband.

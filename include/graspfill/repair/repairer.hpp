@@ -103,7 +103,7 @@ enum class RepairStatus {
   kOutOfRange,    ///< beyond the documented limits (kMaxRepairPoints, extent): unchanged
 };
 
-/// The repair's input limits (README "Input limits"): the most points, and
+/// The repair's input limits (docs/input-limits-and-fuzzing.md): the most points, and
 /// the bulk's extent (RobustBox's largest side; stray points beyond it are
 /// ignored as outliers) [m].
 constexpr size_t kMaxRepairPoints = 4'000'000;

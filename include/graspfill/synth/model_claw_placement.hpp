@@ -1,6 +1,6 @@
 // How a description or URDF claw (any ClawModel, not the procedural claws
 // whose fingers can be measured directly) holds the object in a synthetic
-// scene. The rule (README "Claws from URDF"):
+// scene. The rule (docs/claws.md, "Claws from URDF"):
 //  - orientation and the position across G's z axis as for the built-in
 //    claws (scene.hpp): the object's top towards the palm, the contact
 //    point on G's z axis, the oblique grasp's tilt;

@@ -81,7 +81,7 @@ struct MotionConfig {
   /// recording: angle(s) = turns * 2 pi * (s - F sin(2 pi s) / (2 pi)),
   /// s in [0, 1], speed (1 - F cos(2 pi s)) x the mean; 0 (the default):
   /// a steady turn. A real arm accelerates and brakes; a clock offset is
-  /// separable from a hand-eye rotation only then (README, Imperfect robots).
+  /// separable from a hand-eye rotation only then (docs/imperfect-robots.md).
   double speed_variation{0.0};
   double wobble_deg{1.0};           ///< amplitude of the approach-axis tilt
   double wobble_translation_m{0.002};  ///< amplitude of the position wobble
