@@ -107,7 +107,7 @@ int RunBenchRepair(const Args& args) {
                     "  --objects DIR  the meshes DIR/objects.json lists (e.g. scanned objects) through the\n"
                     "               whole pipeline and the repair, against their kind's targets\n"
                     "  --dump DIR   (--pipeline) each case's truth, fused, cloud-only and evidence clouds as PLY\n"
-                    "  --seed S     (--pipeline) the scenes' noise and wobble (default 11, the README's tables)\n"
+                    "  --seed S     (--pipeline) the scenes' noise and wobble (default 11, as in docs/measurements)\n"
                     "  --repeat N   (--pipeline) repairs of each cloud, the fastest timed (default 3; each must\n"
                     "               give the same cloud)\n"
                     "  the paper's Tables 1-3 next to graspfill's numbers on the same protocol\n"

@@ -13,8 +13,11 @@
 //  - V's axis refined from the side normals;
 //  - the rim also taken from every boundary point near the top of V when
 //    the linking breaks it (fused clouds);
-//  - local surface fits for the claw holes (Poisson as the fallback), the
-//    prism test and the outline checks of the symmetry plane.
+//  - local surface fits for the claw holes (a thin-plate spline over the
+//    rim where no fit explains it; the paper's Poisson only in kPaper), the
+//    prism test and the outline checks of the symmetry plane;
+//  - with the camera's evidence, the top chosen by a scored search among
+//    the mirror, revolution, dome, extrusion and "open" (docs/repair-method.md).
 // `graspfill bench repair` measures both against the paper's tables.
 //
 // The steps live in src/repair/, one file each, with their own settings at
@@ -129,8 +132,8 @@ struct RepairReport {
   float top_confidence{0.0f};
   std::string symmetry_reason;  ///< why not, when !symmetric
   int outliers_ignored{0};      ///< kept in the output, not used to repair
-  /// Claw holes left open: no explicit surface explains them (the Poisson
-  /// fallback is off) or their support is most of the cloud.
+  /// Claw holes left open: no surface explains them (the thin-plate spline
+  /// included) or their support is most of the cloud.
   int claw_holes_left_open{0};
   int boundary_points{0};
   int boundary_lines{0};
