@@ -6,25 +6,76 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "number_parsing.hpp"
 #include "graspfill/claw/claw_model.hpp"
 #include "graspfill/claw/urdf_claw.hpp"
 #include "graspfill/io/messages.hpp"
 
 namespace graspfill::cli {
 
+/// The description files in `claws_dir` by name (their *.json stems,
+/// sorted); none where the folder is missing.
+inline std::vector<std::string> ClawNamesIn(const std::filesystem::path& claws_dir) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(claws_dir, ec)) {
+    if (entry.path().extension() == ".json" && entry.is_regular_file(ec)) {
+      names.push_back(entry.path().stem().string());
+    }
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+/// The file `spec` names: itself where something is there; else, for a name
+/// without a folder, the description of that name in `claws_dir` (NAME or
+/// NAME.json: `robotiq_3f` finds the installed robotiq_3f.json); else none.
+inline std::optional<std::filesystem::path> FindClawFile(const std::string& spec,
+                                                         const std::filesystem::path& claws_dir) {
+  std::error_code ec;
+  // Anything there is the loader's to judge (a FIFO, a folder: refused in words).
+  if (std::filesystem::exists(spec, ec)) return std::filesystem::path(spec);
+  const std::filesystem::path name(spec);
+  if (spec.empty() || claws_dir.empty() || name.has_parent_path()) return std::nullopt;
+  for (const std::filesystem::path& candidate : {claws_dir / name, claws_dir / (spec + ".json")}) {
+    if (std::filesystem::is_regular_file(candidate, ec)) return candidate;
+  }
+  return std::nullopt;
+}
+
+/// `spec` as MakeClaw takes it: a built-in's name as it is, else the file
+/// FindClawFile finds for it.
+/// @throws UsageError for anything else, listing the built-ins and the
+///   descriptions in `claws_dir`.
+inline std::string ResolveClawSpec(const std::string& spec, const std::filesystem::path& claws_dir) {
+  if (spec == "three-finger" || spec == "parallel") return spec;
+  if (const auto file = FindClawFile(spec, claws_dir)) return file->string();
+  std::string known = "the built-ins are three-finger and parallel";
+  const std::vector<std::string> installed = ClawNamesIn(claws_dir);
+  if (!installed.empty()) {
+    known += "; the descriptions in " + claws_dir.string() + ":";
+    for (const std::string& n : installed) known += " " + n;
+  }
+  throw UsageError("unknown claw '" + spec + "': " + known +
+                   "; or give a description (.json) or a URDF (.urdf) by its path");
+}
+
 /// "three-finger", "parallel", or a path to a description (.json) whose
 /// meshes are found under `mesh_root` (default: beside the file), a URDF
 /// (.urdf) or a URDF claw config (.json naming a URDF; urdf_claw.hpp).
+/// A name of an installed description goes through ResolveClawSpec first.
 /// Throws std::runtime_error with the spec on failure.
 inline claw::ClawModel MakeClaw(const std::string& spec, const std::string& mesh_root = "") {
   if (spec == "three-finger") return claw::ClawModel::ThreeFinger();

@@ -196,7 +196,12 @@ int RunBench(const Args& args) {
     } else if (args[i] == "--json") {
       json = true;
     } else if (args[i] == "--claw" && i + 1 < args.size()) {
-      claw_spec = args[++i];
+      try {
+        claw_spec = ResolveClawSpec(args[++i], InstalledClawsDir());
+      } catch (const UsageError& e) {
+        std::fprintf(stderr, "graspfill bench: %s\n", e.what());
+        return 2;
+      }
     } else if (args[i] == "--repeat" && i + 1 < args.size()) {
       try {
         repeat = ParseInteger<int>("--repeat", args[++i], 1, 1000);

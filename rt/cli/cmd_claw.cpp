@@ -11,6 +11,7 @@
 #include "graspfill/claw/claw_limits.hpp"
 #include "graspfill/io/output_path.hpp"
 #include "graspfill/io/ply.hpp"
+#include "data_paths.hpp"
 #include "error_text.hpp"
 #include "number_parsing.hpp"
 #include "unknown_option.hpp"
@@ -22,7 +23,8 @@ constexpr const char* kUsage =
     "usage: graspfill claw SPEC [--opening X] [--joints Q1,Q2,...] [--claw-mesh-root DIR]\n"
     "                      -o CLAW.ply [--force]\n"
     "  SPEC              three-finger, parallel, a description (.json), a URDF (.urdf)\n"
-    "                    or a URDF claw config (.json naming a URDF)\n"
+    "                    or a URDF claw config (.json naming a URDF), or an installed\n"
+    "                    description's name (robotiq_3f, franka_hand, robotiq_3f_urdf)\n"
     "  --opening X       the claw's opening in its own units (default 0; see the\n"
     "                    opening line printed: meters for the built-ins, 0 open .. 1\n"
     "                    closed for URDF claws)\n"
@@ -74,6 +76,7 @@ int RunClaw(const Args& args) {
       }
     }
     if (spec.empty() || out.empty()) throw UsageError("need SPEC and -o CLAW.ply");
+    spec = ResolveClawSpec(spec, InstalledClawsDir());
   } catch (const UsageError& e) {
     std::fprintf(stderr, "graspfill claw: %s\n%s", e.what(), kUsage);
     return 2;

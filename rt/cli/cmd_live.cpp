@@ -57,6 +57,7 @@
 #include "claw_option.hpp"
 #include "commands.hpp"
 #include "config_option.hpp"
+#include "data_paths.hpp"
 #include "error_text.hpp"
 #include "number_parsing.hpp"
 #include "unknown_option.hpp"
@@ -78,7 +79,8 @@ constexpr const char* kUsage =
     "                        (a camera driver on another process, or lcm-logplayer)\n"
     "  --idle-exit-s S       stop when no depth frame came for S seconds after the first\n"
     "  --lcm-url URL         LCM bus for gripper states and the cloud (default: LCM's default)\n"
-    "  --claw SPEC           three-finger, parallel, or a claw description .json (default:\n"
+    "  --claw SPEC           three-finger, parallel, a claw description .json or an\n"
+    "                        installed description's name, e.g. robotiq_3f (default:\n"
     "                        with --depth-from-lcm the claw of the session description on\n"
     "                        the bus before the first depth frame, else three-finger)\n"
     "  --claw-mesh-root DIR  where the description's meshes are (a session description's\n"
@@ -232,6 +234,7 @@ int RunLive(const Args& args) {
       else throw BadOption(a, std::string(kUsage) + kCameraUsage);
     }
     CheckChannelOptions(channels);  // the config's and the flags'
+    if (claw_spec) claw_spec = ResolveClawSpec(*claw_spec, InstalledClawsDir());
   } catch (const UsageError& e) {
     std::fprintf(stderr, "graspfill live: %s\n%s", e.what(), kUsage);
     return 2;

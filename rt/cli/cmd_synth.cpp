@@ -33,6 +33,7 @@
 #include "cmd_synth_grasps.hpp"
 #include "cmd_synth_protocol.hpp"
 #include "commands.hpp"
+#include "data_paths.hpp"
 #include "error_text.hpp"
 #include "number_parsing.hpp"
 #include "object_mesh.hpp"
@@ -68,7 +69,8 @@ constexpr const char* kUsage =
     "  --mesh-up AXIS    z (default) or y: the mesh's up axis (y: many OBJ and\n"
     "                    glTF exports), turned onto +z\n"
     "  --claw SPEC       three-finger (default), parallel, or a claw file: a description\n"
-    "                    (.json), a URDF or a URDF claw config (README \"Claws from URDF\")\n"
+    "                    (.json), a URDF or a URDF claw config (README \"Claws from URDF\"),\n"
+    "                    or an installed description's name (robotiq_3f, franka_hand)\n"
     "  --claw-mesh-root DIR  where a claw file's meshes (and a config's URDF) are\n"
     "  --grasp WAY       top-straight (default), middle-straight, top-oblique\n"
     "  --grasps S1,S2,.. instead of --shape: one recording of several grasps in turn,\n"
@@ -650,10 +652,7 @@ int RunSynth(const Args& args) {
     if (options.shape && !synth::ParseShape(*options.shape)) {
       throw UsageError("unknown shape '" + *options.shape + "'");
     }
-    if (!IsBuiltinClaw(options.claw) && !fs::is_regular_file(options.claw)) {
-      throw UsageError("unknown claw '" + options.claw +
-                       "' (three-finger, parallel, or a claw description or URDF file)");
-    }
+    options.claw = ResolveClawSpec(options.claw, InstalledClawsDir());
     if (options.grasps && !IsBuiltinClaw(options.claw)) {
       throw UsageError("--grasps takes a built-in --claw (three-finger or parallel)");
     }

@@ -36,6 +36,8 @@ fs::path BundledRecordingDir() {
   return dir;
 }
 
+fs::path InstalledClawsDir() { return DataDir() / "claws"; }
+
 fs::path DefaultDemoDir() {
   const fs::path build = ExecutableDir().parent_path();
   if (fs::is_regular_file(build / "CMakeCache.txt")) return build / "demo";

@@ -23,6 +23,9 @@ std::filesystem::path DataDir();
 ///   holds no recording.lcmlog.
 std::filesystem::path BundledRecordingDir();
 
+/// The installed claw descriptions' folder, DataDir()/claws (not checked).
+std::filesystem::path InstalledClawsDir();
+
 /// Where `graspfill demo` writes unless told: <build>/demo when run from a
 /// build tree (the executable's parent folder holds CMakeCache.txt), else
 /// graspfill-demo in the current directory.

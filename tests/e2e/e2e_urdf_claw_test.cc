@@ -96,6 +96,27 @@ TEST(UrdfClawE2E, ClawCommandWritesThePosedClaw) {
   EXPECT_NE(again.output.find("--force"), std::string::npos) << again.output;
 }
 
+// The installed descriptions are found by name (share/graspfill/claws, as
+// the build tree has it), with or without .json, and give the claw their
+// file gives; an unknown name lists the built-ins and the installed names.
+TEST(UrdfClawE2E, InstalledDescriptionsAreFoundByName) {
+  SKIP_WITHOUT_ASSETS();
+  const std::string dir = ScratchDir("e2e_claw_by_name");
+  const TriangleMesh expected = claw::ClawModel::Load(kConfig, kRobotiq).Posed(0.5);
+  for (const std::string name : {"robotiq_3f_urdf", "robotiq_3f_urdf.json"}) {
+    const std::string out = dir + "/" + name + ".ply";
+    const auto run = RunCli("claw " + name + " --claw-mesh-root " + kRobotiq + " --opening 0.5 -o " + out);
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_EQ(io::ReadMesh(out).triangles.size(), expected.triangles.size()) << name;
+  }
+  const auto unknown = RunCli("claw robotiq3f -o " + dir + "/x.ply");
+  EXPECT_EQ(unknown.exit_code, 2) << unknown.output;
+  for (const char* listed : {"three-finger and parallel", "franka_hand robotiq_3f robotiq_3f_urdf"}) {
+    EXPECT_NE(unknown.output.find(listed), std::string::npos) << unknown.output;
+  }
+  EXPECT_FALSE(fs::exists(dir + "/x.ply"));
+}
+
 TEST(UrdfClawE2E, BrokenClawFileIsAnErrorNamingIt) {
   const std::string dir = ScratchDir("e2e_claw_broken");
   std::ofstream(dir + "/bad.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
