@@ -108,7 +108,8 @@ constexpr const char* kUsage =
     "                        grasp's new memory does not fault in on the frame path\n"
     "                        (default 256; 0: the allocator's defaults), 0..65536\n"
     "  --depth-channel C / --gripper-channel C / --cloud-channel C / --status-channel C /\n"
-    "  --session-channel C   channel names: 1..63 of A-Z a-z 0-9 _ - /, each its own\n";
+    "  --session-channel C   channel names: 1..63 of A-Z a-z 0-9 _ - /, each its own\n"
+    "example: graspfill live --depth-from-lcm --claw robotiq_3f --claw-mesh-root meshes/ --record s.lcmlog\n";
 
 std::atomic<bool> g_interrupted{false};
 
@@ -253,7 +254,20 @@ int RunLive(const Args& args) {
   }
   camera.channels = channels;
   std::unique_ptr<rt::CameraSource> camera_source;
-  if (!depth_from_lcm) camera_source = std::make_unique<rt::CameraSource>(camera);  // throws if none
+  if (!depth_from_lcm) {
+    try {
+      camera_source = std::make_unique<rt::CameraSource>(camera);
+    } catch (const std::exception& e) {
+      // Most often no camera is plugged in: say how to run without one.
+      std::fprintf(stderr,
+                   "graspfill live: %s\n"
+                   "  without a camera, take depth from LCM: graspfill live --depth-from-lcm, with a\n"
+                   "  publisher of depth_image_t on %s (e.g. lcm-logplayer REC.lcmlog), or replay a\n"
+                   "  recording into OpenNI2: --device graspfill-replay:REC.lcmlog\n",
+                   ErrorText(e).c_str(), channels.depth.c_str());
+      return 1;
+    }
+  }
   // Session descriptions' claws: built from their text, meshes only under
   // the local mesh root, on the session's claw thread; one that is not the
   // claw in use is warned about once (the text set below, once it is known).
