@@ -1,6 +1,7 @@
 // A planner's side of graspfill, in C++: subscribes to the object clouds and
-// prints a summary of each. Needs only LCM and the generated header
-// <graspfill/object_cloud_t.hpp> (target graspfill::lcmtypes).
+// prints a summary of each. Needs LCM and graspfill's message decoder
+// (target graspfill::io): the points travel packed (object_cloud_t.lcm), and
+// io::DecodeObjectCloud unpacks and checks them.
 //
 // usage: object_cloud_subscriber [URL] [--channel NAME] [--count N] [--timeout-s S]
 //   URL   LCM's URL (default: LCM_DEFAULT_URL, else UDP multicast); a bus log
@@ -17,34 +18,39 @@
 #include <cstdlib>
 #include <string>
 
-#include "graspfill/object_cloud_t.hpp"
+#include "graspfill/io/messages.hpp"
 
 namespace {
 
 class Printer {
  public:
-  // Called on the thread that calls handle(): prints and counts. LCM hands
-  // over the message already decoded (or skips it when decoding fails).
-  void OnCloud(const lcm::ReceiveBuffer*, const std::string&,
-               const graspfill::object_cloud_t* cloud) {
-    std::array<long long, 3> by_provenance{0, 0, 0};
-    for (int8_t p : cloud->provenance) {
-      if (p >= 0 && p < 3) ++by_provenance[p];
+  // Called on the thread that calls handle(): decodes, prints and counts.
+  void OnMessage(const lcm::ReceiveBuffer* buffer, const std::string&) {
+    std::string error;
+    if (!graspfill::io::DecodeObjectCloud(buffer->data, buffer->data_size, &cloud_, &error)) {
+      std::fprintf(stderr, "object_cloud_subscriber: skipping a message: %s\n", error.c_str());
+      return;
     }
+    std::array<long long, 3> by_provenance{0, 0, 0};
+    for (const graspfill::Provenance p : cloud_.provenance) ++by_provenance[static_cast<size_t>(p)];
     // Holes whose inside nothing is known of (an open mouth): keep clear.
     int unobserved = 0;
-    for (const graspfill::hole_t& h : cloud->holes) unobserved += h.unobserved != 0;
-    std::printf("seq=%lld utime=%lld grasp=%lld final=%d points=%d observed=%lld "
-                "surface=%lld symmetry=%lld holes=%d unobserved=%d\n",
-                static_cast<long long>(cloud->seq), static_cast<long long>(cloud->utime),
-                static_cast<long long>(cloud->grasp_id), cloud->is_final, cloud->num_points,
-                by_provenance[graspfill::object_cloud_t::OBSERVED],
-                by_provenance[graspfill::object_cloud_t::SURFACE],
-                by_provenance[graspfill::object_cloud_t::SYMMETRY], cloud->num_holes, unobserved);
+    for (const graspfill::HoleSummary& h : cloud_.holes) unobserved += h.unobserved ? 1 : 0;
+    std::printf("seq=%lld utime=%lld grasp=%lld final=%d points=%zu observed=%lld "
+                "surface=%lld symmetry=%lld holes=%zu unobserved=%d\n",
+                static_cast<long long>(cloud_.seq), static_cast<long long>(cloud_.utime),
+                static_cast<long long>(cloud_.grasp_id), cloud_.is_final ? 1 : 0, cloud_.points_G.size(),
+                by_provenance[static_cast<size_t>(graspfill::Provenance::kObserved)],
+                by_provenance[static_cast<size_t>(graspfill::Provenance::kSurface)],
+                by_provenance[static_cast<size_t>(graspfill::Provenance::kSymmetry)], cloud_.holes.size(),
+                unobserved);
     std::fflush(stdout);
     ++received;
   }
   int received{0};
+
+ private:
+  graspfill::ObjectCloud cloud_;  // reused: no allocation per cloud once warm
 };
 
 }  // namespace
@@ -76,7 +82,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   Printer printer;
-  lcm.subscribe(channel, &Printer::OnCloud, &printer);
+  lcm.subscribe(channel, &Printer::OnMessage, &printer);
   while (printer.received < count) {
     const int status = lcm.handleTimeout(timeout_s * 1000);
     if (status == 0) {

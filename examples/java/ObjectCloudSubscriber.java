@@ -1,6 +1,7 @@
 // A planner's side of graspfill, in Java: subscribes to the object clouds and
-// prints a summary of each. Needs LCM's jar (liblcm-java) and
-// graspfill_lcmtypes.jar (classes graspfill.<type>, built by graspfill).
+// prints a summary of each. Needs LCM's jar (liblcm-java),
+// graspfill_lcmtypes.jar (classes graspfill.<type>, built by graspfill) and
+// ObjectCloudPoints (beside this file), which unpacks the points.
 //
 // usage: java -cp lcm.jar:graspfill_lcmtypes.jar:. ObjectCloudSubscriber
 //            [URL] [--channel NAME] [--count N] [--timeout-s S]
@@ -27,8 +28,9 @@ public class ObjectCloudSubscriber implements LCMSubscriber {
   public synchronized void messageReceived(LCM lcm, String channel, LCMDataInputStream ins) {
     try {
       object_cloud_t cloud = new object_cloud_t(ins);
+      ObjectCloudPoints points = ObjectCloudPoints.unpack(cloud);
       long[] byProvenance = new long[3];
-      for (byte p : cloud.provenance) {
+      for (byte p : points.provenance) {
         if (p >= 0 && p < 3) ++byProvenance[p];
       }
       // Holes whose inside nothing is known of (an open mouth): keep clear.

@@ -8,15 +8,18 @@ Debian ships no Python binding of LCM, and none is needed to read a log: the
 event format is small (below), and the classes `lcm-gen -p` made (the
 package `graspfill`, installed by graspfill under
 PREFIX/lib/python3/dist-packages) decode a message with the `struct` module
-alone.
+alone. The points travel packed (layout in object_cloud_t.lcm); `unpack`
+below turns them into plain lists with `zlib` and `array`.
 
 usage: read_object_clouds.py LOG [--channel NAME]
 Exit: 0 when at least one cloud was read; 1 on a missing, malformed or
 truncated log, or a log without clouds on the channel.
 """
 import argparse
+import array
 import struct
 import sys
+import zlib
 
 from graspfill import object_cloud_t
 
@@ -52,9 +55,36 @@ def read_events(path):
             yield utime, channel.decode("utf-8", "replace"), data
 
 
+def unpack(cloud):
+    """The cloud's points as lists: xyz (3 per point, meters in the gripper
+    frame), normals (3 per point, or none), provenance and confidence."""
+    n = cloud.num_points
+    raw = zlib.decompress(cloud.packed_points)
+    if len(raw) != n * (6 + 3 * cloud.has_normals + 2):
+        raise ValueError(f"the packed points inflate to {len(raw)} bytes for {n} points")
+    steps = array.array("h", raw[:6 * n])
+    if sys.byteorder != "little":
+        steps.byteswap()
+    xyz = [0.0] * (3 * n)
+    for k in range(3):
+        origin, step = cloud.origin[k], cloud.step_m
+        for i in range(n):
+            xyz[3 * i + k] = origin + step * steps[k * n + i]
+    at = 6 * n
+    normals = []
+    if cloud.has_normals:
+        unit = array.array("b", raw[at:at + 3 * n])
+        normals = [unit[k * n + i] / 127.0 for i in range(n) for k in range(3)]
+        at += 3 * n
+    provenance = list(raw[at:at + n])
+    confidence = [c / 255.0 for c in raw[at + n:at + 2 * n]]
+    return xyz, normals, provenance, confidence
+
+
 def summary(cloud):
+    _, _, provenance, _ = unpack(cloud)
     by_provenance = [0, 0, 0]
-    for p in cloud.provenance:
+    for p in provenance:
         if 0 <= p < 3:
             by_provenance[p] += 1
     return (f"seq={cloud.seq} utime={cloud.utime} grasp={cloud.grasp_id} "
@@ -78,10 +108,11 @@ def main():
                 continue
             try:
                 cloud = object_cloud_t.decode(data)
-            except (ValueError, struct.error) as e:  # another type, or cut short
+                line = summary(cloud)
+            except (ValueError, struct.error, zlib.error) as e:  # another type, or cut short
                 print(f"read_object_clouds: skipping the event at utime {utime}: {e}", file=sys.stderr)
                 continue
-            print(summary(cloud))
+            print(line)
             clouds += 1
     except (OSError, LogError) as e:
         print(f"read_object_clouds: {args.log}: {e}", file=sys.stderr)

@@ -51,6 +51,8 @@ LiveSession::LiveSession(const LiveSessionConfig& config)
       std::fprintf(stderr, "graspfill: %s\n", text.c_str());
     };
   }
+  // A model too large for a default subscriber: said once, while it goes out.
+  publisher_.set_on_warning([this](const std::string& text) { config_.on_notice("warning: " + text); });
   const std::string rejected = "session description on " + config.channels.session + " rejected (";
   const std::string kept = "; the session keeps its claw and config (further ones of this kind "
                            "are only counted in the status)";

@@ -93,8 +93,10 @@ struct LiveSessionConfig {
   /// A description's claw that is not the claw in use, once per distinct
   /// claw (the claw checker's thread).
   std::function<void(const io::SessionDescription&)> on_other_claw;
-  /// One line about bus input rejected: the first rejected session
-  /// description of each reason (any thread). Default: printed on stderr.
+  /// One line about bus input rejected (the first rejected session
+  /// description of each reason), or about the bus: the first model too
+  /// large for a default subscriber's receive buffer (any thread).
+  /// Default: printed on stderr.
   std::function<void(const std::string&)> on_notice;
   /// Stop rules; on_tick is the session's (the status).
   SessionLoopLimits limits;

@@ -1,9 +1,12 @@
 #include "sinks/lcm_publisher.hpp"
 
+#include "sinks/receive_buffer.hpp"
+
 #include <lcm/lcm-cpp.hpp>
 
 #include <exception>
 #include <stdexcept>
+#include <utility>
 
 namespace graspfill::rt {
 
@@ -25,7 +28,20 @@ class LcmPublisher::Impl {
   const std::string& url() const { return url_; }
   lcm::LCM* lcm() { return &lcm_; }
 
+  // Once per publisher: the first cloud too large for a default
+  // subscriber's buffer.
+  void CheckSize(size_t bytes) {
+    if (warned_ || !on_warning_) return;
+    const std::string warning = ReceiveBufferWarning(bytes, url_, settings_);
+    if (warning.empty()) return;
+    warned_ = true;
+    on_warning_(warning);
+  }
+  std::function<void(const std::string&)> on_warning_;
+
  private:
+  const ReceiveBufferSettings settings_ = ReadReceiveBufferSettings();
+  bool warned_ = false;
   std::string url_;
   lcm::LCM lcm_;
 };
@@ -43,7 +59,12 @@ bool LcmPublisher::PublishCloud(const std::string& channel,
   } catch (const std::exception&) {
     return false;  // an inconsistent cloud: the caller's bug, not the bus's
   }
+  impl_->CheckSize(bytes.size());
   return impl_->Publish(channel, bytes);
+}
+
+void LcmPublisher::set_on_warning(std::function<void(const std::string&)> on_warning) {
+  impl_->on_warning_ = std::move(on_warning);
 }
 
 bool LcmPublisher::PublishStatus(const std::string& channel,

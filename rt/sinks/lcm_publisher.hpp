@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -35,8 +36,13 @@ class LcmPublisher {
   LcmPublisher& operator=(const LcmPublisher&) = delete;
 
   /// Publishes `cloud` as object_cloud_t (see io::EncodeObjectCloud).
+  /// The first cloud too large for a default subscriber's receive buffer
+  /// (receive_buffer.hpp) is told to `on_warning`, once.
   /// @return false if encoding (inconsistent cloud) or sending failed.
   bool PublishCloud(const std::string& channel, const ObjectCloud& cloud);
+  /// Where PublishCloud's one warning goes (none: not told); called on the
+  /// publishing thread.
+  void set_on_warning(std::function<void(const std::string&)> on_warning);
   /// Publishes `status` as module_status_t.
   bool PublishStatus(const std::string& channel, const io::ModuleStatus& status);
   /// Publishes already-encoded bytes (any message type).

@@ -9,6 +9,8 @@
 //    scratch, so the steady state allocates nothing.
 #include "graspfill/io/messages.hpp"
 
+#include "packed_points.hpp"
+
 #include <zlib.h>
 
 #include <algorithm>
@@ -605,46 +607,23 @@ static bool DecodeGripperStateImpl(const void* data, size_t size,
 // ---- Object cloud ------------------------------------------------------------
 
 std::vector<uint8_t> EncodeObjectCloud(const ObjectCloud& cloud) {
-  const size_t n = cloud.points_G.size();
-  if (!cloud.normals_G.empty() && cloud.normals_G.size() != n) {
-    throw std::invalid_argument("EncodeObjectCloud: " +
-                                std::to_string(cloud.normals_G.size()) +
-                                " normals for " + std::to_string(n) + " points");
-  }
-  if (!cloud.provenance.empty() && cloud.provenance.size() != n) {
-    throw std::invalid_argument("EncodeObjectCloud: " +
-                                std::to_string(cloud.provenance.size()) +
-                                " provenance values for " + std::to_string(n) +
-                                " points");
+  PackedPoints packed;
+  try {
+    packed = PackPoints(cloud);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("EncodeObjectCloud: ") + e.what());
   }
   graspfill::object_cloud_t msg{};
   msg.utime = cloud.utime;
   msg.seq = cloud.seq;
   msg.frame_name = cloud.frame_name;
   PoseToWire(cloud.T_C_G, msg.position, msg.orientation);
-  msg.num_points = static_cast<int32_t>(n);
-  msg.n3 = static_cast<int32_t>(3 * n);
-  msg.xyz.resize(3 * n);
-  for (size_t i = 0; i < n; ++i) {
-    for (int k = 0; k < 3; ++k) msg.xyz[3 * i + k] = cloud.points_G[i][k];
-  }
-  msg.num_normals3 = static_cast<int32_t>(3 * cloud.normals_G.size());
-  msg.normals.resize(3 * cloud.normals_G.size());
-  for (size_t i = 0; i < cloud.normals_G.size(); ++i) {
-    for (int k = 0; k < 3; ++k) msg.normals[3 * i + k] = cloud.normals_G[i][k];
-  }
-  // int8_t{...}: lcm-gen constants are declared but never defined, so they
-  // must not be bound to a reference (odr-use).
-  msg.provenance.assign(n, int8_t{graspfill::object_cloud_t::OBSERVED});
-  for (size_t i = 0; i < cloud.provenance.size(); ++i) {
-    msg.provenance[i] = static_cast<int8_t>(cloud.provenance[i]);
-  }
-  if (!cloud.confidence.empty() && cloud.confidence.size() != n) {
-    throw std::invalid_argument("EncodeObjectCloud: " + std::to_string(cloud.confidence.size()) +
-                                " confidence values for " + std::to_string(n) + " points");
-  }
-  msg.confidence.assign(n, 1.0f);
-  std::copy(cloud.confidence.begin(), cloud.confidence.end(), msg.confidence.begin());
+  msg.num_points = static_cast<int32_t>(cloud.points_G.size());
+  for (int k = 0; k < 3; ++k) msg.origin[k] = packed.origin[k];
+  msg.step_m = packed.step_m;
+  msg.has_normals = packed.has_normals ? 1 : 0;
+  msg.num_packed_bytes = static_cast<int32_t>(packed.deflated.size());
+  msg.packed_points = std::move(packed.deflated);
   const SafeBound& bound = cloud.safe_bound;
   if (!bound.empty() && static_cast<size_t>(bound.nx) * bound.ny * bound.nz > 8 * bound.bits.size()) {
     throw std::invalid_argument("EncodeObjectCloud: the safe bound's bits do not cover its grid");
@@ -688,16 +667,13 @@ static bool DecodeObjectCloudImpl(const void* data, size_t size, ObjectCloud* ou
   // generated decoder resizes anything. Layout: object_cloud_t.lcm.
   {
     WireReader r(data, size);
-    int32_t num_points, n3, num_normals3, num_holes, num_timings, bound_num_bytes;
+    int32_t num_points, num_packed_bytes, num_holes, num_timings, bound_num_bytes;
+    int8_t has_normals;
     constexpr size_t kHoleBytes = 1 + 4 + 3 * 4 + 3 * 4 + 4 + 1 + 4;
     bool ok = r.Hash(graspfill::object_cloud_t::getHash()) && r.Skip(16) &&
               r.SkipString() && r.Skip(7 * 8) && r.I32(&num_points) &&
-              r.Count(&n3, 4) && r.Skip(4 * static_cast<size_t>(n3)) &&
-              r.Count(&num_normals3, 4) &&
-              r.Skip(4 * static_cast<size_t>(num_normals3)) &&
-              r.CountFits(num_points, 1) &&
-              r.Skip(static_cast<size_t>(num_points)) &&
-              r.Skip(4 * static_cast<size_t>(num_points)) &&  // confidence
+              r.Skip(4 * 8) && r.I8(&has_normals) &&  // origin, step_m
+              r.Count(&num_packed_bytes, 1) && r.Skip(static_cast<size_t>(num_packed_bytes)) &&
               r.Count(&num_holes, kHoleBytes) &&
               r.Skip(kHoleBytes * static_cast<size_t>(num_holes)) &&
               r.Skip(4 * 4 + 3 * 4) && r.Count(&bound_num_bytes, 1) &&  // the safe bound
@@ -711,21 +687,15 @@ static bool DecodeObjectCloudImpl(const void* data, size_t size, ObjectCloud* ou
       SetError(error, "object_cloud_t: malformed message");
       return false;
     }
-    if (int64_t{n3} != 3 * int64_t{num_points} ||
-        (num_normals3 != 0 && num_normals3 != n3)) {
-      SetError(error, "object_cloud_t: inconsistent counts (num_points " +
-                          std::to_string(num_points) + ", n3 " +
-                          std::to_string(n3) + ", num_normals3 " +
-                          std::to_string(num_normals3) + ")");
+    if (num_points < 0 || (has_normals != 0 && has_normals != 1)) {
+      SetError(error, "object_cloud_t: num_points " + std::to_string(num_points) + ", has_normals " +
+                          std::to_string(static_cast<int>(has_normals)));
       return false;
     }
   }
   thread_local graspfill::object_cloud_t msg{};
   // As for gripper_state_t: empty arrays are not resized by lcm-gen.
-  msg.xyz.clear();
-  msg.normals.clear();
-  msg.provenance.clear();
-  msg.confidence.clear();
+  msg.packed_points.clear();
   msg.bound_bits.clear();
   msg.timing_ms.clear();
   if (!DecodeMessage(data, size, &msg, error)) return false;
@@ -735,26 +705,13 @@ static bool DecodeObjectCloudImpl(const void* data, size_t size, ObjectCloud* ou
                     error)) {
     return false;
   }
-  const size_t n = static_cast<size_t>(msg.num_points);
-  for (float v : msg.xyz) {
-    if (!std::isfinite(v)) {
-      SetError(error, "object_cloud_t: non-finite point coordinate");
-      return false;
-    }
-  }
-  for (int8_t p : msg.provenance) {
-    if (p < graspfill::object_cloud_t::OBSERVED ||
-        p > graspfill::object_cloud_t::SYMMETRY) {
-      SetError(error, "object_cloud_t: unknown provenance " +
-                          std::to_string(static_cast<int>(p)));
-      return false;
-    }
-  }
-  for (float c : msg.confidence) {
-    if (!(c >= 0.0f && c <= 1.0f)) {
-      SetError(error, "object_cloud_t: confidence outside [0, 1]");
-      return false;
-    }
+  // Into scratch first: `out` is left as it was on a failure.
+  thread_local ObjectCloud points;
+  std::string why;
+  if (!UnpackPoints(msg.origin, msg.step_m, msg.has_normals != 0, static_cast<size_t>(msg.num_points),
+                    msg.packed_points.data(), msg.packed_points.size(), &points, &why)) {
+    SetError(error, "object_cloud_t: " + why);
+    return false;
   }
   if (msg.bound_num_bytes > 0) {
     // In 128 bits: three int32 counts overflow int64 (found by fuzz_object_cloud).
@@ -789,22 +746,10 @@ static bool DecodeObjectCloudImpl(const void* data, size_t size, ObjectCloud* ou
   out->seq = msg.seq;
   out->frame_name = msg.frame_name;
   out->T_C_G = T_C_G;
-  out->points_G.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    out->points_G[i] =
-        Eigen::Vector3f(msg.xyz[3 * i], msg.xyz[3 * i + 1], msg.xyz[3 * i + 2]);
-  }
-  out->normals_G.resize(msg.num_normals3 == 0 ? 0 : n);
-  for (size_t i = 0; i < out->normals_G.size(); ++i) {
-    out->normals_G[i] = Eigen::Vector3f(msg.normals[3 * i],
-                                        msg.normals[3 * i + 1],
-                                        msg.normals[3 * i + 2]);
-  }
-  out->provenance.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    out->provenance[i] = static_cast<Provenance>(msg.provenance[i]);
-  }
-  out->confidence.assign(msg.confidence.begin(), msg.confidence.end());
+  out->points_G.swap(points.points_G);
+  out->normals_G.swap(points.normals_G);
+  out->provenance.swap(points.provenance);
+  out->confidence.swap(points.confidence);
   SafeBound& bound = out->safe_bound;
   bound = SafeBound{};
   if (msg.bound_num_bytes > 0) {

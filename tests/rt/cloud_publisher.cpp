@@ -31,7 +31,8 @@ int main(int argc, char** argv) {
     graspfill::rt::LcmPublisher publisher(url);
     const graspfill::ObjectCloud cloud =
         graspfill::rt::testing::MakeTestCloud(num_points, seed);
-    std::printf("%s\n", graspfill::rt::testing::SummaryLine(cloud).c_str());
+    // What the subscriber must report: the cloud as the wire carries it.
+    std::printf("%s\n", graspfill::rt::testing::SummaryLine(graspfill::rt::testing::AsOnTheWire(cloud)).c_str());
     std::fflush(stdout);
     for (int i = 0; i < repeats; ++i) {
       if (!publisher.PublishCloud(channel, cloud)) {

@@ -7,7 +7,7 @@
 # cloud; a mode the device lacks is an error listing its modes; --width/
 # --height pick the half-size mode; --fx.. override the .oni's intrinsics.
 # Clouds are captured with LCM's file:// provider (no network).
-# usage: openni2_replay_session.sh <graspfill> <openni2_cloud_compare>
+# usage: openni2_replay_session.sh <graspfill> <cloud_compare>
 set -u
 G=$1
 CMP=$2

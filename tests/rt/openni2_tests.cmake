@@ -8,12 +8,9 @@ target_include_directories(rt_openni2_replay_driver_test PRIVATE ${PROJECT_SOURC
 # graspfill live through OpenNI2 end to end (openni2_replay_session.sh):
 # the replay device gives replay's cloud, an .oni recorded from it too,
 # video modes and intrinsics overrides do what they say.
-add_executable(openni2_cloud_compare openni2_cloud_compare.cpp)
-target_link_libraries(openni2_cloud_compare PRIVATE graspfill_io)
-graspfill_warnings(openni2_cloud_compare)
 add_test(NAME rt_openni2_replay_session
   COMMAND sh ${CMAKE_CURRENT_SOURCE_DIR}/openni2_replay_session.sh
-    $<TARGET_FILE:graspfill> $<TARGET_FILE:openni2_cloud_compare>)
+    $<TARGET_FILE:graspfill> $<TARGET_FILE:cloud_compare>)
 set_tests_properties(rt_openni2_replay_session PROPERTIES TIMEOUT 120
   ENVIRONMENT "OMP_THREAD_LIMIT=1")
 

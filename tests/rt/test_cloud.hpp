@@ -8,9 +8,12 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <random>
 #include <string>
+#include <vector>
 
+#include "graspfill/io/messages.hpp"
 #include "graspfill/types.hpp"
 
 namespace graspfill::rt::testing {
@@ -36,6 +39,20 @@ inline ObjectCloud MakeTestCloud(int num_points, uint32_t seed) {
   cloud.holes.push_back(hole);
   cloud.timings.push_back({"fusion", 3.25});
   return cloud;
+}
+
+/// `cloud` as a subscriber decodes it: object_cloud_t packs the points
+/// (50 um steps, 8-bit normals), so this is what a round trip must give
+/// bit for bit.
+inline ObjectCloud AsOnTheWire(const ObjectCloud& cloud) {
+  const std::vector<uint8_t> bytes = io::EncodeObjectCloud(cloud);
+  ObjectCloud decoded;
+  std::string error;
+  if (!io::DecodeObjectCloud(bytes.data(), bytes.size(), &decoded, &error)) {
+    std::fprintf(stderr, "AsOnTheWire: %s\n", error.c_str());
+    std::abort();
+  }
+  return decoded;
 }
 
 /// FNV-1a over seq, point and normal bits, provenance and hole counts.

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "../../io/file_size_limit.hpp"
+#include "../test_cloud.hpp"
 #include "claw_option.hpp"
 #include "graspfill/io/messages.hpp"
 #include "module/cloud_repair.hpp"
@@ -115,15 +116,16 @@ TEST(LiveSession, RecordThenReplayGivesTheSessionsFinalCloud) {
   for (size_t i = 0; i + 1 < clouds.size(); ++i) EXPECT_FALSE(clouds[i].is_final);
 
   // The record opens with the session description, and replays to the
-  // live session's final cloud, point for point.
+  // live session's final cloud, point for point (as the bus carries it:
+  // packed, test_cloud.hpp's AsOnTheWire).
   std::optional<io::SessionDescription> recorded_session;
   const ObjectCloud replayed = ReplayFinalCloud(record, &recorded_session);
   ASSERT_TRUE(recorded_session.has_value());
   EXPECT_EQ(recorded_session->claw_name, "three-finger");
   EXPECT_EQ(replayed.size(), live_final.size());
-  EXPECT_TRUE(replayed.points_G == live_final.points_G);
+  EXPECT_TRUE(testing::AsOnTheWire(replayed).points_G == live_final.points_G);
   // And it held what was received: the original replays to the same cloud.
-  EXPECT_TRUE(ReplayFinalCloud(kBundled, nullptr).points_G == live_final.points_G);
+  EXPECT_TRUE(testing::AsOnTheWire(ReplayFinalCloud(kBundled, nullptr)).points_G == live_final.points_G);
 
   // The last status: bus time of the newest frame, fused counts, a state.
   ASSERT_FALSE(statuses.empty());
@@ -214,7 +216,7 @@ TEST(LiveSession, AFullDiskStopsTheRecordingNotTheSession) {
 
   LiveSessionSummary summary;
   {
-    testing::FileSizeLimit full(256 << 10);
+    graspfill::testing::FileSizeLimit full(256 << 10);
     ASSERT_TRUE(full.ok());
     live.Begin(claw::ClawModel::ThreeFinger(), Description());
     LcmLogSource source(LogConfig(kBundled));
@@ -236,7 +238,7 @@ TEST(LiveSession, AFullDiskStopsTheRecordingNotTheSession) {
   ASSERT_FALSE(clouds.empty());
   EXPECT_TRUE(clouds.back().is_final);
   EXPECT_EQ(summary.module.frames_dropped, 0);
-  EXPECT_TRUE(ReplayFinalCloud(kBundled, nullptr).points_G == clouds.back().points_G);
+  EXPECT_TRUE(testing::AsOnTheWire(ReplayFinalCloud(kBundled, nullptr)).points_G == clouds.back().points_G);
   // The log keeps what was written before: whole events, readable.
   LcmLogSource kept(LogConfig(record));
   int64_t events = 0;

@@ -1,7 +1,8 @@
-// Test tool: compares the last object_cloud_t on a channel of two LCM logs
-// (what `graspfill replay` and `graspfill live` published, captured with
-// LCM's file:// provider): same number of points, each within a tolerance.
-// usage: openni2_cloud_compare A.lcmlog B.lcmlog CHANNEL TOLERANCE_MM [identical|within|differ]
+// Test tool: compares two object clouds, each the last object_cloud_t on a
+// channel of an LCM log (what `graspfill replay` and `graspfill live`
+// published, captured with LCM's file:// provider or lcm-logger) or a PLY
+// (`replay -o`): same number of points, each within a tolerance.
+// usage: cloud_compare A.{lcmlog,ply} B.{lcmlog,ply} CHANNEL TOLERANCE_MM [identical|within|differ]
 //   identical: every coordinate bit-equal; within: every point within the
 //   tolerance; differ: some point farther than the tolerance (or the counts differ).
 // Prints "points=<a>/<b> max_mm=<d> identical=<0|1>"; exit 0 when the
@@ -15,10 +16,12 @@
 
 #include "graspfill/io/lcm_log_reader.hpp"
 #include "graspfill/io/messages.hpp"
+#include "graspfill/io/ply.hpp"
 
 namespace {
 
 std::optional<graspfill::ObjectCloud> LastCloud(const std::string& path, const std::string& channel) {
+  if (path.size() > 4 && path.compare(path.size() - 4, 4, ".ply") == 0) return graspfill::io::ReadCloudPly(path);
   graspfill::io::LcmLogReader reader(path);
   graspfill::io::LogEvent event;
   std::optional<graspfill::ObjectCloud> last;
@@ -39,7 +42,7 @@ std::optional<graspfill::ObjectCloud> LastCloud(const std::string& path, const s
 
 int main(int argc, char** argv) {
   if (argc != 6) {
-    std::fprintf(stderr, "usage: %s A.lcmlog B.lcmlog CHANNEL TOLERANCE_MM identical|within|differ\n",
+    std::fprintf(stderr, "usage: %s A.{lcmlog,ply} B.{lcmlog,ply} CHANNEL TOLERANCE_MM identical|within|differ\n",
                  argv[0]);
     return 2;
   }

@@ -1,0 +1,97 @@
+#!/bin/sh
+# The planner gets every model with LCM's defaults (issue 38): no
+# recv_buf_size, LCM's default URL, the kernel's default receive buffer.
+# Inside a private network namespace (loopback only; multicast never
+# touches the host's network):
+#  1. `graspfill live --depth-from-lcm` models a 300-frame recording that
+#     lcm-logplayer plays at 1x; the C++ and Java example subscribers (and
+#     a reference lcm-logger with a large buffer) must each receive every
+#     cloud live says it published;
+#  2. `graspfill replay` publishes its final model: the reference capture's
+#     decoded points equal replay's PLY within half the 50 um step on each
+#     axis (0.0434 mm as a distance).
+# usage: default_url_delivery.sh <graspfill> <cpp_subscriber> <cloud_compare> [<java> <classpath>]
+# Exit: 0 pass, 1 fail, 77 skipped (no network namespaces here).
+set -u
+GRASPFILL=$1
+CPP_SUB=$2
+COMPARE=$3
+JAVA=${4:-}
+JAVA_CP=${5:-}
+SKIP=77
+
+. "$(dirname "$0")/../rt/lcm_ready.sh"
+require_private_network || exit $SKIP
+
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+"$GRASPFILL" synth --shape cylinder --frames 300 --seed 5 --quiet -o "$TMP/rec" >/dev/null ||
+  { echo "FAIL: synth"; exit 1; }
+"$GRASPFILL" replay "$TMP/rec/recording.lcmlog" -o "$TMP/replay.ply" --no-publish --quiet >/dev/null ||
+  { echo "FAIL: replay"; exit 1; }
+export GRASPFILL CPP_SUB JAVA JAVA_CP TMP
+export LCM_READY="$(cd "$(dirname "$0")/../rt" && pwd)/lcm_ready.sh"
+unset LCM_DEFAULT_URL
+
+unshare -n sh -c '
+  . "$LCM_READY"
+  loopback_multicast_up || exit 90
+  echo "rmem_default $(cat /proc/sys/net/core/rmem_default)" >"$TMP/kernel.out"
+  # The reference: every message on the bus, with a buffer of its own.
+  lcm-logger --lcm-url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304" \
+      -c GRASPFILL_OBJECT_CLOUD "$TMP/bus.lcmlog" >/dev/null 2>&1 &
+  logger=$!
+  "$CPP_SUB" --count 100000 --timeout-s 8 >"$TMP/cpp.out" 2>"$TMP/cpp.err" &
+  cpp=$!
+  java=
+  if [ -n "$JAVA" ]; then
+    "$JAVA" -cp "$JAVA_CP" ObjectCloudSubscriber --count 100000 --timeout-s 8 \
+        >"$TMP/java.out" 2>"$TMP/java.err" &
+    java=$!
+  fi
+  "$GRASPFILL" live --depth-from-lcm --publish-every 10 --idle-exit-s 1.5 --duration-s 60 \
+      >"$TMP/live.out" 2>"$TMP/live.err" &
+  live=$!
+  for pid in $logger $cpp $live; do wait_lcm_subscribed $pid || exit 95; done
+  if [ -n "$java" ]; then wait_lcm_subscribed $java || exit 95; fi
+  lcm-logplayer "$TMP/rec/recording.lcmlog" >"$TMP/player.out" 2>&1 || exit 92
+  wait $live || exit 93
+  # Then replay publishes its final model once.
+  "$GRASPFILL" replay "$TMP/rec/recording.lcmlog" -o "$TMP/replay_again.ply" --quiet \
+      >"$TMP/replay.out" 2>&1 || exit 96
+  wait $cpp  # each subscriber ends 8 s after its last cloud
+  if [ -n "$java" ]; then wait $java; fi
+  sleep 0.5
+  kill $logger
+  wait $logger
+  exit 0
+'
+rc=$?
+show() { for f in "$@"; do [ -s "$TMP/$f" ] && { echo "--- $f"; cat "$TMP/$f"; }; done; }
+if [ $rc -ne 0 ]; then
+  echo "FAIL: namespace script exited $rc"
+  show kernel.out live.out live.err cpp.err java.err player.out replay.out
+  exit 1
+fi
+cat "$TMP/kernel.out"
+published=$(sed -n 's/^latency: \([0-9]*\) clouds published.*/\1/p' "$TMP/live.out")
+if [ -z "$published" ] || [ "$published" -lt 3 ]; then
+  echo "FAIL: live published '${published}' clouds (at least 3 expected)"
+  show live.out live.err
+  exit 1
+fi
+expected=$((published + 1))  # and replay's final model
+cpp=$(grep -c '^seq=' "$TMP/cpp.out")
+echo "live published $published clouds, replay 1; the C++ example received $cpp"
+fail=0
+[ "$cpp" -eq "$expected" ] || { echo "FAIL: the C++ example received $cpp of $expected"; show cpp.err; fail=1; }
+if [ -n "$JAVA" ]; then
+  java=$(grep -c '^seq=' "$TMP/java.out")
+  echo "the Java example received $java"
+  [ "$java" -eq "$expected" ] || { echo "FAIL: the Java example received $java of $expected"; show java.err; fail=1; }
+fi
+# What the decoded final model is worth.
+"$COMPARE" "$TMP/bus.lcmlog" "$TMP/replay.ply" GRASPFILL_OBJECT_CLOUD 0.0434 within ||
+  { echo "FAIL: replay's published model is not its PLY within half a step"; fail=1; }
+[ $fail -eq 0 ] && echo "PASS"
+exit $fail
