@@ -103,16 +103,20 @@ void ApplyConfig(const rt::RigConfig& c, ReplayOptions* o) {
   rt::ApplyToRepair(c, &s.repair_config);
   s.repair = c.repair.enabled;
   s.repair_evidence = c.repair.use_evidence;
-  s.channels = rt::ToChannelNames(c.channels);
+  s.log.channels = rt::ToChannelNames(c.channels);
   if (!c.claw.spec.empty()) {
     o->claw = c.claw.spec;
     o->claw_from = "config file";
   }
   o->claw_mesh_root = c.claw.mesh_root;
-  if (c.robot.T_C_B) s.T_C_B = c.robot.T_C_B->ToIsometry();
-  s.intrinsics = rt::IntrinsicsOverride(c);
-  s.gripper_clock_offset_us = rt::ClockOffsetUs(c);
-  s.max_depth_pixels = c.camera.max_depth_pixels;
+  if (c.robot.T_C_B) {  // the config's hand-eye over the session descriptions'
+    s.log.T_C_B = c.robot.T_C_B->ToIsometry();
+    s.log.T_C_B_from_session = false;
+  }
+  s.log.intrinsics = rt::IntrinsicsOverride(c);
+  s.log.intrinsics_from_session = !s.log.intrinsics.has_value();
+  s.log.gripper_clock_offset_us = rt::ClockOffsetUs(c);
+  s.log.max_depth_pixels = c.camera.max_depth_pixels;
 }
 
 // Throws UsageError (printed with the usage text, exit code 2).
@@ -151,27 +155,27 @@ void Parse(const Args& args, ReplayOptions* o) {
       else if (v == "best") s.repair_config.mode = repair::RepairMode::kBest;
       else throw UsageError("--repair-mode must be paper or best, not '" + v + "'");
     }
-    else if (a == "--depth-channel") value(&s.channels.depth);
-    else if (a == "--gripper-channel") value(&s.channels.gripper_state);
-    else if (a == "--cloud-channel") value(&s.channels.object_cloud);
-    else if (a == "--session-channel") value(&s.channels.session);
+    else if (a == "--depth-channel") value(&s.log.channels.depth);
+    else if (a == "--gripper-channel") value(&s.log.channels.gripper_state);
+    else if (a == "--cloud-channel") value(&s.log.channels.object_cloud);
+    else if (a == "--session-channel") value(&s.log.channels.session);
     else if (a == "--voxel-m") {
       value(&v);
       SetVoxel(ParseDouble(a, v, kMinVoxelM, kMaxVoxelM, "m"), s.sdf_trunc_voxels, &s.pipeline);
       s.voxel_fixed = true;
     } else if (!a.empty() && a[0] == '-') {
       throw UsageError("unknown option " + a);
-    } else if (s.log_path.empty()) {
-      s.log_path = a;
+    } else if (s.log.path.empty()) {
+      s.log.path = a;
     } else {
       throw UsageError("unexpected argument " + a);
     }
   }
-  if (s.log_path.empty() || s.output_path.empty()) {
+  if (s.log.path.empty() || s.output_path.empty()) {
     throw UsageError("need LOG and -o CLOUD.ply");
   }
   if (!o->mesh_out.empty()) CheckMeshOutOption(o->mesh_out, s.output_path);
-  CheckChannelOptions(s.channels);  // the config's and the flags'
+  CheckChannelOptions(s.log.channels);  // the config's and the flags'
 }
 
 // The claw the replay fuses with (the session's claw chooser): --claw or
@@ -239,7 +243,7 @@ void PrintNotes(const ReplayOptions& o, const rt::ReplayResult& r) {
     // events before its partial last one are the log.
     std::fprintf(stderr, "graspfill replay: note: log '%s' ends in a partial event (%lld bytes "
                  "after its %lld whole events: a recording cut short), skipped\n",
-                 o.session.log_path.c_str(), static_cast<long long>(r.partial_event_bytes),
+                 o.session.log.path.c_str(), static_cast<long long>(r.partial_event_bytes),
                  static_cast<long long>(r.events_read));
   }
 }
@@ -253,17 +257,17 @@ void PrintFailure(const ReplayOptions& o, const rt::ReplaySession& session,
     case rt::ReplayEnd::kBadEvent:
       std::fprintf(stderr, "graspfill replay: bad event in '%s': %s\n"
                    "(pass --skip-bad-frames to skip such events)\n",
-                   c.log_path.c_str(), r.error.c_str());
+                   c.log.path.c_str(), r.error.c_str());
       return;
     case rt::ReplayEnd::kLogCorrupt:
       std::fprintf(stderr, "graspfill replay: log '%s' is truncated after %lld events (%s)\n",
-                   c.log_path.c_str(), static_cast<long long>(r.events_read), r.error.c_str());
+                   c.log.path.c_str(), static_cast<long long>(r.events_read), r.error.c_str());
       return;
     case rt::ReplayEnd::kNoDepthFrames: {
       std::string seen;
       for (const std::string& ch : r.channels_seen) seen += (seen.empty() ? "" : ", ") + ch;
       std::fprintf(stderr, "graspfill replay: no depth frames on channel '%s' in '%s' (channels: %s)\n",
-                   c.channels.depth.c_str(), c.log_path.c_str(), seen.empty() ? "none" : seen.c_str());
+                   c.log.channels.depth.c_str(), c.log.path.c_str(), seen.empty() ? "none" : seen.c_str());
       return;
     }
     case rt::ReplayEnd::kRefineRejectedEvery:
@@ -364,7 +368,7 @@ int RunReplay(const Args& args) {
   }
   rt::ReplaySession session(o.session);  // throws on a bad file
   if (o.session.on_progress) {
-    progress.emplace("replay", "frames", CountDepthFrames(o.session.log_path, o.session.channels.depth));
+    progress.emplace("replay", "frames", CountDepthFrames(o.session.log.path, o.session.log.channels.depth));
   }
   const rt::ReplayResult result = session.Run();
   progress.reset();  // the line erased before anything else is printed

@@ -92,7 +92,7 @@ nlohmann::ordered_json ReplayReportJson(const ReplayReport& report) {
   const PipelineStats& stats = r.stats;
   const rt::GraspDelivery& output = r.grasps.back();
   nlohmann::ordered_json j;
-  j["log"] = c.log_path;
+  j["log"] = c.log.path;
   j["output"] = c.output_path;
   j["frames_read"] = stats.frames_in;
   j["frames_used"] = stats.frames_integrated;
@@ -121,7 +121,7 @@ nlohmann::ordered_json ReplayReportJson(const ReplayReport& report) {
   j["grasps"] = GraspsJson(r);
   j["clock_jumps"] = r.counters.clock_jumps;
   j["frames_skipped_clock_jump"] = r.counters.skipped_clock_jump;
-  j["published"] = c.publish ? c.channels.object_cloud : "";
+  j["published"] = c.publish ? c.log.channels.object_cloud : "";
   j["preview"] = report.preview_path.empty() ? nlohmann::json(nullptr)
                                              : nlohmann::json(report.preview_path);
   j["software_version"] = io::SoftwareVersion();
@@ -155,7 +155,7 @@ void PrintReplayReport(const ReplayReport& report) {
   const rt::ReplayResult& r = report.result;
   const PipelineStats& stats = r.stats;
   std::printf("replayed %s: %lld frames read, %lld used, %lld skipped (no pose), %lld bad\n",
-              c.log_path.c_str(), static_cast<long long>(stats.frames_in),
+              c.log.path.c_str(), static_cast<long long>(stats.frames_in),
               static_cast<long long>(stats.frames_integrated),
               static_cast<long long>(stats.frames_skipped_no_pose),
               static_cast<long long>(stats.frames_bad + r.bad_events_skipped));
@@ -168,7 +168,7 @@ void PrintReplayReport(const ReplayReport& report) {
     std::printf("%s\n", TrackSummary(report.pipeline).c_str());
   }
   std::printf("object cloud: %zu points -> %s%s%s\n", r.output.size(), c.output_path.c_str(),
-              c.publish ? ", published on " : "", c.publish ? c.channels.object_cloud.c_str() : "");
+              c.publish ? ", published on " : "", c.publish ? c.log.channels.object_cloud.c_str() : "");
   if (!report.preview_path.empty()) std::printf("preview: %s\n", report.preview_path.c_str());
   std::printf("per frame: crop %.3f ms, claw mask %.3f ms, integrate %.3f ms; "
               "replay %.1f fps; extract %.1f ms\n",

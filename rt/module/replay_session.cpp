@@ -21,24 +21,12 @@ using Clock = std::chrono::steady_clock;
 
 double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
 
-std::unique_ptr<FrameSource> OpenLog(const ReplaySessionConfig& config, const LcmLogSource** log) {
-  LcmLogSource::Config source;
-  source.path = config.log_path;
-  source.channels = config.channels;
-  source.session_events = true;
-  if (config.T_C_B) {  // the caller's hand-eye over the session descriptions'
-    source.T_C_B = *config.T_C_B;
-    source.T_C_B_from_session = false;
-  }
-  if (config.intrinsics) {
-    source.intrinsics = config.intrinsics;
-    source.intrinsics_from_session = false;
-  }
-  source.gripper_clock_offset_us = config.gripper_clock_offset_us;
-  source.max_depth_pixels = config.max_depth_pixels;
-  auto log_source = std::make_unique<LcmLogSource>(source);  // throws on a bad file
+// The log, decoded ahead on a second thread (overlapping the pipeline);
+// *log: the log source inside, for its counters once it ended.
+std::unique_ptr<FrameSource> OpenLog(LcmLogSource::Config config, const LcmLogSource** log) {
+  config.session_events = true;  // the recording's description picks the claw, box and voxel
+  auto log_source = std::make_unique<LcmLogSource>(config);  // throws on a bad file
   *log = log_source.get();
-  // Decoding runs ahead on a second thread, overlapping the pipeline.
   return std::make_unique<PrefetchingSource>(std::move(log_source));
 }
 
@@ -58,7 +46,7 @@ std::string GraspModelPath(const std::string& output_path, int64_t grasp_id, int
 
 ReplaySession::ReplaySession(ReplaySessionConfig config)
     : config_(std::move(config)),
-      source_(OpenLog(config_, &log_)),
+      source_(OpenLog(config_.log, &log_)),
       feed_([this](const std::optional<io::SessionDescription>& s) { return MakeSequencer(s); },
             config_.skip_bad_events) {
   config_.repair_config = GripperFrameRepairConfig(config_.repair_config);
@@ -83,7 +71,7 @@ std::unique_ptr<GraspSequencer> ReplaySession::MakeSequencer(
     io::SessionDescription used = *session;
     if (config_.voxel_fixed) used.voxel_m = 0.0;
     if (config_.workspace_fixed) used.workspace_G.reset();
-    if (config_.T_C_B) used.T_C_B = Eigen::Isometry3d::Identity();
+    if (!config_.log.T_C_B_from_session) used.T_C_B = Eigen::Isometry3d::Identity();
     std::string why;
     if (!io::SessionWithinLimits(used, &why)) {
       throw std::runtime_error("the recording's session description " + why +
@@ -206,7 +194,7 @@ GraspDelivery ReplaySession::Deliver(ObjectCloud* model, const evidence::Visibil
   d.points = model->size();
   if (config_.publish) {
     if (!publisher_) publisher_ = std::make_unique<LcmPublisher>(config_.lcm_url);
-    publisher_->PublishCloud(config_.channels.object_cloud, *model);
+    publisher_->PublishCloud(config_.log.channels.object_cloud, *model);
   }
   d.publish_ms = Ms(Clock::now() - t_written);
   return d;

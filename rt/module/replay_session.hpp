@@ -18,7 +18,6 @@
 // thread; only the log's decoding runs ahead on the source's own.
 #pragma once
 
-#include <Eigen/Geometry>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -43,8 +42,12 @@ using ReplayClawChooser =
     std::function<claw::ClawModel(const std::optional<io::SessionDescription>& session)>;
 
 struct ReplaySessionConfig {
-  /// The recorded log (lcm-logger's format).
-  std::string log_path;
+  /// The recorded log (lcm-logger's format), its channels (object_cloud:
+  /// where the models are published) and what the caller sets over its
+  /// session descriptions (a rig config's hand-eye, intrinsics, clock
+  /// offset, depth image limit). The session sets session_events: it reads
+  /// the recording's description itself.
+  LcmLogSource::Config log;
   /// Where the last grasp's model goes (PLY); each earlier grasp's goes
   /// beside it (GraspModelPath). Check it before the replay
   /// (io::CheckOutputFile), so that an output that cannot be written is
@@ -54,28 +57,14 @@ struct ReplaySessionConfig {
   /// Replace files that exist (a command's --force); false: one there is
   /// an error.
   bool overwrite{false};
-  /// The log's channels, and the one the models are published on.
-  io::ChannelNames channels;
-  /// Publish each grasp's model over LCM once it is written.
+  /// Publish each grasp's model over LCM (on log.channels.object_cloud)
+  /// once it is written.
   bool publish{true};
   /// LCM URL to publish to ("" = LCM's default).
   std::string lcm_url;
   /// Count malformed events and go on; false: the first one ends the
   /// replay (ReplayEnd::kBadEvent).
   bool skip_bad_events{false};
-
-  /// Hand-eye calibration for base-frame gripper states that replaces the
-  /// session descriptions' (a rig config's robot.T_C_B); none = theirs.
-  std::optional<Eigen::Isometry3d> T_C_B;
-  /// Intrinsics override that replaces the session descriptions' (a rig
-  /// config's); none = theirs, else the images' own.
-  std::optional<CameraIntrinsics> intrinsics;
-  /// Added to every gripper state's utime [us] (the robot's clock onto the
-  /// camera's).
-  int64_t gripper_clock_offset_us{0};
-  /// Depth images with more pixels are bad frames (a rig config's
-  /// camera.max_depth_pixels).
-  int64_t max_depth_pixels{io::kDefaultMaxDepthPixels};
 
   /// The pipeline. Its workspace box and voxel are replaced by the
   /// recording's session description's, unless fixed below.

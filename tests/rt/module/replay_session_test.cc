@@ -43,7 +43,7 @@ std::string FileBytes(const std::filesystem::path& path) {
 
 ReplaySessionConfig Config(const std::string& log, const std::filesystem::path& output) {
   ReplaySessionConfig config;
-  config.log_path = log;
+  config.log.path = log;
   config.output_path = output.string();
   config.publish = false;
   return config;
@@ -203,7 +203,7 @@ TEST(ReplaySession, AnEarlierGraspsPathInTheWayStopsBeforeTheOutput) {
 TEST(ReplaySession, ALogWithoutDepthOnTheChannelEndsSo) {
   const std::filesystem::path dir = ScratchDir("no_depth");
   ReplaySessionConfig config = Config(kBundled, dir / "model.ply");
-  config.channels.depth = "NOT_THE_DEPTH";
+  config.log.channels.depth = "NOT_THE_DEPTH";
   ReplaySession session(config);
   const ReplayResult result = session.Run();
   EXPECT_EQ(result.end, ReplayEnd::kNoDepthFrames);
