@@ -231,7 +231,7 @@ class ReplaySession {
   };
 
   ReplaySessionConfig config_;
-  const LcmLogSource* log_{nullptr};  // inside source_; read once it ended
+  const LcmLogSource* log_{nullptr};  // inside source_ (which sets it: declared before it)
   std::unique_ptr<FrameSource> source_;
   SequencerFeed feed_;
   std::vector<EndedGrasp> ended_;
