@@ -33,6 +33,7 @@ class SequencerFeed : public EventSink {
 
   /// Null until the first depth or gripper event.
   GraspSequencer* sequencer() { return sequencer_.get(); }
+  const GraspSequencer* sequencer() const { return sequencer_.get(); }
   /// The first session description, if it came before the first event.
   const std::optional<io::SessionDescription>& session() const { return session_; }
   int64_t sessions() const { return sessions_; }

@@ -34,8 +34,8 @@ LcmLogSource::Config LogConfig(const std::string& path) {
   return config;
 }
 
-// The replay path (cmd_replay's): the session loop into a sequencer, then
-// the repair with what the camera saw.
+// The replay path (ReplaySession's, without its files): the session loop
+// into a sequencer, then the repair with what the camera saw.
 ObjectCloud ReplayFinalCloud(const std::string& path, std::optional<io::SessionDescription>* session) {
   LcmLogSource source(LogConfig(path));
   SequencerFeed feed(
