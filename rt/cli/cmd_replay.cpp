@@ -25,6 +25,7 @@
 #include "claw_option.hpp"
 #include "commands.hpp"
 #include "config_option.hpp"
+#include "data_paths.hpp"
 #include "error_text.hpp"
 #include "mesh_option.hpp"
 #include "number_parsing.hpp"
@@ -32,6 +33,8 @@
 #include "progress.hpp"
 #include "refine_json.hpp"
 #include "replay_report.hpp"
+#include "unknown_option.hpp"
+#include "graspfill/io/cloud_file.hpp"
 #include "graspfill/io/lcm_log_reader.hpp"
 #include "graspfill/io/output_path.hpp"
 #include "module/replay_session.hpp"
@@ -40,12 +43,12 @@ namespace graspfill::cli {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: graspfill replay LOG -o CLOUD.ply [options]\n"
+    "usage: graspfill replay LOG -o CLOUD.{ply,pcd} [options]\n"
     "  --config FILE            the rig config (`graspfill config --dump-defaults`): over the\n"
     "                           recording's session description; the flags below over it\n"
-    "  -o, --output PATH        object cloud in the gripper frame (PLY): the fused points,\n"
-    "                           then the points the repair added (property provenance:\n"
-    "                           0 observed, 1 surface, 2 symmetry)\n"
+    "  -o, --output PATH        object cloud in the gripper frame (PLY or PCD, by its\n"
+    "                           extension): the fused points, then the points the repair\n"
+    "                           added (provenance: 0 observed, 1 surface, 2 symmetry)\n"
     "  --mesh-out FILE          also the model's closed collision mesh (.ply, .stl or .obj),\n"
     "                           its deviation from the cloud printed (and in --json)\n"
     "  --no-repair              write and publish the fused cloud only\n"
@@ -55,7 +58,8 @@ constexpr const char* kUsage =
     "  --force                  overwrite the output (and the preview) if it exists\n"
     "  --preview DIR            also a picture of the cloud before and after the repair:\n"
     "                           DIR/<CLOUD's stem>.png (see `graspfill view`)\n"
-    "  --claw SPEC              three-finger, parallel, or a claw description .json (default:\n"
+    "  --claw SPEC              three-finger, parallel, a claw description .json or an\n"
+    "                           installed description's name, e.g. robotiq_3f (default:\n"
     "                           the recording's claw, from its session description, else\n"
     "                           three-finger); one that differs from the recording's is warned about\n"
     "  --claw-mesh-root DIR     where the description's meshes are (default: beside it)\n"
@@ -74,7 +78,8 @@ constexpr const char* kUsage =
     "  --track-object           follow the object slipping in the grasp: align each frame's\n"
     "                           object pixels to the model fused so far and fuse it in the\n"
     "                           object's frame as first seen (the cloud's frame; where the\n"
-    "                           object is in G now: --json track_object.object_pose)\n";
+    "                           object is in G now: --json track_object.object_pose)\n"
+    "example: graspfill replay replay/default/recording.lcmlog -o model.pcd --mesh-out hull.stl\n";
 
 struct ReplayOptions {
   rt::ReplaySessionConfig session;
@@ -164,7 +169,7 @@ void Parse(const Args& args, ReplayOptions* o) {
       SetVoxel(ParseDouble(a, v, kMinVoxelM, kMaxVoxelM, "m"), s.sdf_trunc_voxels, &s.pipeline);
       s.voxel_fixed = true;
     } else if (!a.empty() && a[0] == '-') {
-      throw UsageError("unknown option " + a);
+      throw BadOption(a, kUsage);
     } else if (s.log.path.empty()) {
       s.log.path = a;
     } else {
@@ -174,6 +179,12 @@ void Parse(const Args& args, ReplayOptions* o) {
   if (s.log.path.empty() || s.output_path.empty()) {
     throw UsageError("need LOG and -o CLOUD.ply");
   }
+  try {
+    io::CloudFileFormatOf(s.output_path);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("-o ") + e.what());
+  }
+  if (o->claw) o->claw = ResolveClawSpec(*o->claw, InstalledClawsDir());
   if (!o->mesh_out.empty()) CheckMeshOutOption(o->mesh_out, s.output_path);
   CheckChannelOptions(s.log.channels);  // the config's and the flags'
 }

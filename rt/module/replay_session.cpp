@@ -6,8 +6,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "graspfill/io/cloud_file.hpp"
 #include "graspfill/io/output_path.hpp"
-#include "graspfill/io/ply.hpp"
 #include "module/cloud_repair.hpp"
 #include "module/error_text.hpp"
 #include "module/session_loop.hpp"
@@ -183,7 +183,7 @@ GraspDelivery ReplaySession::Deliver(ObjectCloud* model, const evidence::Visibil
   d.repair_ms = Ms(t_repaired - t_start);
   try {
     if (which == DeliveredModel::kEarlierGrasp) io::CheckOutputFile(path, config_.overwrite);
-    io::WriteCloudPly(path, *model, io::ReplaceIf(config_.overwrite));
+    io::WriteCloudFile(path, *model, io::ReplaceIf(config_.overwrite));
   } catch (const std::exception& e) {
     d.step = DeliveryStep::kWriteFailed;
     d.write_error = ErrorText(e);

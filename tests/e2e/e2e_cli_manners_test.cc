@@ -22,6 +22,7 @@ TEST(CliManners, AMistypedOptionOrCommandGetsTheNearestOne) {
       {"live --depth-from-lmc", "bad option '--depth-from-lmc' (did you mean --depth-from-lcm?)"},
       {"claw parallel -o x.ply --openning 0.05", "bad option '--openning' (did you mean --opening?)"},
       {"eval a.ply b.ply --jsno", "bad option '--jsno' (did you mean --json?)"},
+      {"replay x.lcmlog -o x.ply --no-publsh", "bad option '--no-publsh' (did you mean --no-publish?)"},
       {"replai x.lcmlog", "unknown command 'replai' (did you mean replay?)"},
   };
   for (const Case& c : cases) {
@@ -36,7 +37,7 @@ TEST(CliManners, AMistypedOptionOrCommandGetsTheNearestOne) {
 }
 
 TEST(CliManners, EveryProductCommandsHelpEndsWithAnExample) {
-  for (const char* command : {"repair", "synth", "live", "claw", "config", "view", "eval", "oni-record"}) {
+  for (const char* command : {"repair", "replay", "synth", "live", "claw", "config", "view", "eval", "oni-record"}) {
     const auto run = RunCli(std::string(command) + " --help");
     EXPECT_EQ(run.exit_code, 0) << command;
     const size_t at = run.output.find("example: graspfill " + std::string(command) + " ");

@@ -192,6 +192,17 @@ TEST(RepairCli, ThePcdOutputIsPcdAndOtherNamesAreRefused) {
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
   EXPECT_NE(bad.output.find("a cloud is written as .ply or .pcd"), std::string::npos) << bad.output;
   EXPECT_FALSE(std::filesystem::exists(dir + "/out.xyz"));
+  // replay too: -o model.pcd is PCD, the same points as -o model.ply.
+  const std::string log = std::string(GRASPFILL_SOURCE_DIR) + "/replay/default/recording.lcmlog";
+  ASSERT_EQ(RunCli("replay " + log + " -o " + dir + "/model.ply --no-publish").exit_code, 0);
+  const auto replay = RunCli("replay " + log + " -o " + dir + "/model.pcd --no-publish");
+  ASSERT_EQ(replay.exit_code, 0) << replay.output;
+  open3d::geometry::PointCloud model;
+  ASSERT_TRUE(open3d::io::ReadPointCloud(dir + "/model.pcd", model));
+  EXPECT_EQ(model.points_.size(), io::ReadCloudPly(dir + "/model.ply").size());
+  bad = RunCli("replay " + log + " -o " + dir + "/model.txt --no-publish");
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("a cloud is written as .ply or .pcd"), std::string::npos) << bad.output;
   bad = RunCli("repair " + dir + "/out.pcd -o " + dir + "/again.ply");
   EXPECT_EQ(bad.exit_code, 1) << bad.output;
   EXPECT_NE(bad.output.find("give the cloud as .ply"), std::string::npos) << bad.output;
