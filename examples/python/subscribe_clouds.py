@@ -9,8 +9,9 @@ usage: subscribe_clouds.py [URL] [--channel NAME] [--count N] [--timeout-s S]
   URL  LCM URL (default: LCM's default; a recorded bus log plays as
        'file://LOG?speed=0'; a live udpm bus wants recv_buf_size, see
        docs/planner-bindings.md)
-Exit: 0 once --count clouds were printed (default: runs until Ctrl-C);
-1 when --timeout-s passed without the next cloud.
+Exit: 0 once --count clouds were printed (default: runs until Ctrl-C, or a
+log's end); 1 when --timeout-s passed without the next cloud, or LCM ended
+before --count clouds.
 """
 import argparse
 import sys
@@ -38,7 +39,11 @@ def main():
     received = 0
     with graspfill.Subscriber(channel=args.channel, url=args.url) as subscriber:
         while args.count == 0 or received < args.count:
-            cloud = subscriber.next(timeout_s=args.timeout_s)
+            try:
+                cloud = subscriber.next(timeout_s=args.timeout_s)
+            except EOFError:  # a file:// log's end, or the bus failed
+                print(f"subscribe_clouds: {received} clouds, then LCM ended", file=sys.stderr)
+                return 0 if args.count == 0 else 1
             if cloud is None:
                 print(f"subscribe_clouds: no cloud on {args.channel} within {args.timeout_s} s "
                       f"({received} received)", file=sys.stderr)

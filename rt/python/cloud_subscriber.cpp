@@ -55,12 +55,13 @@ CloudSubscriber::WaitResult CloudSubscriber::Wait(int timeout_ms, ObjectCloud* c
   std::lock_guard<std::mutex> lock(mutex_);
   if (lcm_ == nullptr) throw std::runtime_error("Subscriber: closed");
   if (received_.empty() && !dropped_for_memory_) {
+    if (ended_) return WaitResult::kEnded;
     if (lcm_handle_timeout(lcm_, timeout_ms < 0 ? 0 : timeout_ms) < 0) {
-      throw std::runtime_error("Subscriber: LCM failed to receive");
+      ended_ = true;  // what was handled before is still given out
     }
   }
   // A message on no channel of ours is handled without a call of OnMessage.
-  if (received_.empty() && !dropped_for_memory_) return WaitResult::kTimeout;
+  if (received_.empty() && !dropped_for_memory_) return ended_ ? WaitResult::kEnded : WaitResult::kTimeout;
   return DecodeNext(cloud, error);
 }
 

@@ -35,9 +35,10 @@ class CloudSubscriber {
     kCloud,       ///< *cloud holds the next message
     kTimeout,     ///< nothing arrived in time
     kBadMessage,  ///< a message did not decode: dropped, counted, *error says why
+    kEnded,       ///< LCM ended: a file:// log's end, or the bus failed (for good)
   };
   /// Takes the next message, waiting up to `timeout_ms` (>= 0) for one.
-  /// @throws std::runtime_error on an LCM error or after Close().
+  /// @throws std::runtime_error after Close().
   WaitResult Wait(int timeout_ms, ObjectCloud* cloud, std::string* error);
 
   /// Unsubscribes and closes the LCM instance; later Wait()s throw.
@@ -57,6 +58,7 @@ class CloudSubscriber {
   // Payloads handled but not yet taken (one lcm_handle may dispatch several).
   std::deque<std::vector<uint8_t>> received_;
   bool dropped_for_memory_{false};
+  bool ended_{false};
   int64_t bad_messages_{0};
 };
 

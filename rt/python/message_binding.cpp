@@ -29,7 +29,8 @@ py::dict DecodeCloud(const py::buffer& data) {
                                     &error, &reason);
   }
   if (!decoded) {
-    throw py::value_error("object_cloud_t: " + error + " (" + io::MessageErrorName(reason) + ")");
+    // The decoder's text names the type ("object_cloud_t: ...").
+    throw py::value_error(error + " (" + io::MessageErrorName(reason) + ")");
   }
   return CloudToDict(cloud);
 }

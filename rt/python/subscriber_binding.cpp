@@ -3,6 +3,7 @@
 // that Ctrl-C and other Python signals are seen while waiting.
 #include <pybind11/pybind11.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -27,7 +28,35 @@ class PySubscriber {
       : channel_(std::move(channel)), url_(std::move(url)), subscriber_(url_, channel_) {}
 
   // The next cloud, or None once `timeout_s` passed (None: wait for ever).
+  // @throws EOFError once LCM ended (a log's end, or the bus failed).
   py::object Next(std::optional<double> timeout_s) {
+    bool ended = false;
+    py::object cloud = Take(timeout_s, &ended);
+    if (ended) {
+      PyErr_SetString(PyExc_EOFError, "Subscriber: LCM ended (a file:// log's end, or the bus failed)");
+      throw py::error_already_set();
+    }
+    return cloud;
+  }
+
+  // Iteration: the next cloud, waited for as long as it takes; a log's end stops it.
+  py::object NextInLoop() {
+    bool ended = false;
+    py::object cloud = Take(std::nullopt, &ended);
+    if (ended) throw py::stop_iteration();
+    return cloud;
+  }
+
+  void Close() { subscriber_.Close(); }
+  const std::string& channel() const { return channel_; }
+  const std::string& url() const { return url_; }
+  int64_t bad_messages() const { return subscriber_.bad_messages(); }
+  const std::string& last_error() const { return last_error_; }
+
+ private:
+  // A cloud as a dict, or None after `timeout_s`, or None and *ended once
+  // LCM ended.
+  py::object Take(std::optional<double> timeout_s, bool* ended) {
     if (timeout_s && !(*timeout_s >= 0.0)) {  // NaN fails too
       throw py::value_error("timeout_s: expected a number >= 0 or None, got " + std::to_string(*timeout_s));
     }
@@ -48,21 +77,24 @@ class PySubscriber {
         py::gil_scoped_release release;
         result = subscriber_.Wait(slice_ms, &cloud, &error);
       }
-      if (result == CloudSubscriber::WaitResult::kCloud) return CloudToDict(cloud);
-      if (result == CloudSubscriber::WaitResult::kBadMessage) last_error_ = error;
+      switch (result) {
+        case CloudSubscriber::WaitResult::kCloud:
+          return CloudToDict(cloud);
+        case CloudSubscriber::WaitResult::kEnded:
+          *ended = true;
+          return py::none();
+        case CloudSubscriber::WaitResult::kBadMessage:
+          last_error_ = error;
+          break;
+        case CloudSubscriber::WaitResult::kTimeout:
+          if (slice_ms == 0) return py::none();  // timeout_s passed (or was 0): one look taken
+          break;
+      }
       if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-      if (timeout_s && result == CloudSubscriber::WaitResult::kTimeout && slice_ms == 0) return py::none();
       if (timeout_s && Clock::now() - start >= std::chrono::duration<double>(*timeout_s)) return py::none();
     }
   }
 
-  void Close() { subscriber_.Close(); }
-  const std::string& channel() const { return channel_; }
-  const std::string& url() const { return url_; }
-  int64_t bad_messages() const { return subscriber_.bad_messages(); }
-  const std::string& last_error() const { return last_error_; }
-
- private:
   std::string channel_;
   std::string url_;
   CloudSubscriber subscriber_;
@@ -78,15 +110,18 @@ Subscriber(channel="GRASPFILL_OBJECT_CLOUD", url=""): url "" is LCM's default
 (LCM_DEFAULT_URL, else UDP multicast); a cloud of ~30k points is a large
 message: give udpm URLs `recv_buf_size` (docs/planner-bindings.md).
 next(timeout_s=None) gives the next cloud (decode_object_cloud's dict) or
-None after timeout_s seconds; iterating waits for ever. Messages that do not
-decode are skipped and counted (bad_messages, last_error). Use it from one
+None after timeout_s seconds, and raises EOFError once LCM ended (a file://
+log's end, or the bus failed); iterating waits for ever and stops there.
+Messages that do not decode are skipped and counted (bad_messages,
+last_error). Use it from one
 thread at a time; close() or a `with` block releases the socket.)doc")
       .def(py::init<std::string, std::string>(), py::arg("channel") = "GRASPFILL_OBJECT_CLOUD",
            py::arg("url") = "")
       .def("next", &PySubscriber::Next, py::arg("timeout_s") = py::none(),
-           "The next cloud as a dict, or None when timeout_s seconds passed (None: wait for ever).")
+           "The next cloud as a dict, or None when timeout_s seconds passed (None: wait for ever); "
+           "EOFError once LCM ended.")
       .def("__iter__", [](PySubscriber& self) -> PySubscriber& { return self; })
-      .def("__next__", [](PySubscriber& self) { return self.Next(std::nullopt); })
+      .def("__next__", &PySubscriber::NextInLoop)
       .def("close", &PySubscriber::Close, "Unsubscribes and closes the LCM instance.")
       .def("__enter__", [](PySubscriber& self) -> PySubscriber& { return self; })
       .def("__exit__", [](PySubscriber& self, const py::args&) { self.Close(); })

@@ -241,10 +241,28 @@ class BusTest(ScratchDirTest):
             cloud = subscriber.next(timeout_s=10.0)
             self.assertIsNotNone(cloud)
             self.assert_is_the_ply(cloud)
-            self.assertIsNone(subscriber.next(timeout_s=0.2))  # the log had one
+            with self.assertRaisesRegex(EOFError, "LCM ended"):  # the log had one
+                subscriber.next(timeout_s=10.0)
             self.assertEqual(subscriber.bad_messages, 0)
         with self.assertRaisesRegex(ValueError, "closed"):
             subscriber.next(timeout_s=0)
+
+    def test_iterating_a_log_stops_at_its_end(self):
+        with graspfill.Subscriber(url=f"file://{self.log}?speed=0") as subscriber:
+            clouds = list(subscriber)
+        self.assertEqual(len(clouds), 1)
+        self.assert_is_the_ply(clouds[0])
+
+    def test_subscriber_skips_and_counts_other_messages(self):
+        # Every channel's message (".*": LCM matches a regular expression)
+        # reaches it: the cloud decodes, the others do not and are counted.
+        others = sum(1 for _, channel, _ in read_events(self.log) if channel != CHANNEL)
+        self.assertGreater(others, 0)
+        with graspfill.Subscriber(channel=".*", url=f"file://{self.log}?speed=0") as subscriber:
+            clouds = list(subscriber)
+            self.assertEqual(len(clouds), 1)
+            self.assertEqual(subscriber.bad_messages, others)
+            self.assertIn("object_cloud_t", subscriber.last_error)
 
     def test_subscriber_refusals(self):
         with self.assertRaisesRegex(RuntimeError, "nosuch://"):
