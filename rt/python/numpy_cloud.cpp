@@ -79,7 +79,9 @@ std::vector<Provenance> ProvenanceFromArray(const py::handle& object, size_t num
   if (kind != 'u' && kind != 'i') {
     throw py::value_error("provenance: expected integers (uint8), got " + DtypeText(array));
   }
-  const auto values = py::array_t<int64_t, py::array::forcecast>::ensure(array).unchecked<1>();
+  // Kept while `values` reads it (unchecked() does not own the data).
+  const auto converted = py::array_t<int64_t, py::array::forcecast>::ensure(array);
+  const auto values = converted.unchecked<1>();
   std::vector<Provenance> provenance(num_points);
   for (size_t i = 0; i < num_points; ++i) {
     const int64_t value = values(static_cast<py::ssize_t>(i));
@@ -97,7 +99,8 @@ std::vector<float> ConfidenceFromArray(const py::handle& object, size_t num_poin
   if (array.dtype().kind() != 'f') {
     throw py::value_error("confidence: expected floats (float32), got " + DtypeText(array));
   }
-  const auto values = py::array_t<float, py::array::forcecast>::ensure(array).unchecked<1>();
+  const auto converted = py::array_t<float, py::array::forcecast>::ensure(array);
+  const auto values = converted.unchecked<1>();
   std::vector<float> confidence(num_points);
   for (size_t i = 0; i < num_points; ++i) {
     const float value = values(static_cast<py::ssize_t>(i));

@@ -2,6 +2,7 @@
 // (CloudSubscriber), waited for with the GIL released, in short slices so
 // that Ctrl-C and other Python signals are seen while waiting.
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>  // std::optional <-> None
 
 #include <algorithm>
 #include <chrono>
