@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
-"""Waits for one object_cloud_t with graspfill.Subscriber and prints the
-line tests/rt/cloud_publisher prints for what it sent
-(tests/rt/test_cloud.hpp's SummaryLine: count, checksum, added, holes).
+"""tests/rt/cloud_subscriber in Python: waits for one object_cloud_t with
+graspfill.Subscriber and prints the line tests/rt/cloud_publisher prints for
+what it sent (tests/rt/test_cloud.hpp's SummaryLine: count, checksum,
+added, holes). Run by tests/rt/udpm_cloud_roundtrip.sh inside `unshare -n`.
 
-usage: print_cloud_summary.py URL CHANNEL TIMEOUT_S
-Exit: 0 received, 2 nothing within the timeout.
+usage: print_cloud_summary.py URL CHANNEL TIMEOUT_MS
+Exit: 0 received, 1 refused (udpm outside a private network), 2 nothing
+within the timeout.
 """
 import fcntl
 import socket
@@ -53,7 +55,7 @@ def only_loopback_is_up():
 
 
 def main():
-    url, channel, timeout_s = sys.argv[1], sys.argv[2], float(sys.argv[3])
+    url, channel, timeout_s = sys.argv[1], sys.argv[2], float(sys.argv[3]) / 1e3
     if url.startswith("udpm://") and not only_loopback_is_up():
         print(f"refusing {url}: a non-loopback interface is up; run inside `unshare -n`", file=sys.stderr)
         return 1
