@@ -77,6 +77,7 @@ install)
   # cloud the installed CLI makes.
   if ls "$BUILD"/lcmtypes/lcmgen/python/graspfill/_native*.so >/dev/null 2>&1; then
     ls "$PYDIR"/graspfill/_native*.so >/dev/null 2>&1 || fail "not installed: the Python module graspfill/_native"
+    rm -rf "$WORK/python-synth"
     run "$PREFIX/bin/graspfill" synth --protocol paper --shape cylinder --points 20000 -o "$WORK/python-synth"
     (cd / && PYTHONPATH=$PYDIR "$PYTHON" -c '
 import sys
