@@ -40,10 +40,12 @@ set(GRASPFILL_INSTALL_PYTHONDIR lib/python3/dist-packages CACHE STRING
 set(GRASPFILL_INSTALL_JAVADIR ${CMAKE_INSTALL_DATADIR}/java CACHE STRING
   "Where graspfill_lcmtypes.jar is installed, relative to the prefix")
 
-# lcm_gen_python(<target> FILES ...): the package `graspfill` under
-# <build>/lcmgen/python (one lcm-gen call: it writes __init__.py for all types).
+# lcm_gen_python(<target> FILES ... [INIT_APPEND file]): the package
+# `graspfill` under <build>/lcmgen/python (one lcm-gen call: it writes
+# __init__.py for all types); INIT_APPEND's text is added to that
+# __init__.py (the Python module's imports, rt/python).
 function(lcm_gen_python target)
-  cmake_parse_arguments(ARG "" "" "FILES" ${ARGN})
+  cmake_parse_arguments(ARG "" "INIT_APPEND" "FILES" ${ARGN})
   set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/lcmgen/python)
   set(sources)
   set(modules ${out_dir}/graspfill/__init__.py)
@@ -52,12 +54,19 @@ function(lcm_gen_python target)
     list(APPEND sources ${CMAKE_CURRENT_SOURCE_DIR}/${lcm_file})
     list(APPEND modules ${out_dir}/graspfill/${type_name}.py)
   endforeach()
+  set(append_init)
+  if(ARG_INIT_APPEND)
+    set(append_init COMMAND ${CMAKE_COMMAND} -DFROM=${ARG_INIT_APPEND}
+      -DTO=${out_dir}/graspfill/__init__.py -P ${PROJECT_SOURCE_DIR}/cmake/AppendFile.cmake)
+  endif()
   add_custom_command(
     OUTPUT ${modules}
-    # A fresh folder: lcm-gen adds to an existing __init__.py.
-    COMMAND ${CMAKE_COMMAND} -E rm -rf ${out_dir}/graspfill
+    # A fresh __init__.py: lcm-gen adds to an existing one. The folder stays:
+    # the Python module is built into it (rt/python).
+    COMMAND ${CMAKE_COMMAND} -E rm -f ${out_dir}/graspfill/__init__.py
     COMMAND ${LCM_GEN_EXECUTABLE} --python --ppath ${out_dir} ${sources}
-    DEPENDS ${sources}
+    ${append_init}
+    DEPENDS ${sources} ${ARG_INIT_APPEND}
     COMMENT "lcm-gen --python"
     VERBATIM)
   add_custom_target(${target} ALL DEPENDS ${modules})

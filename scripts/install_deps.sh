@@ -12,6 +12,7 @@ packages=(
   liburdfdom-dev libassimp-dev libyaml-cpp-dev  # URDF claws, DAE meshes, the rig config
   iproute2 util-linux  # ip and unshare: the cross-process udpm test
   liblcm-java default-jdk-headless  # the Java bindings and example (skipped without them)
+  pybind11-dev python3-dev python3-numpy  # the Python module (skipped without pybind11)
 )
 
 missing=()

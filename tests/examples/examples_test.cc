@@ -1,8 +1,9 @@
 // The planner-side examples (examples/) read what graspfill published: the
 // bundled recording is replayed with its cloud logged by LCM's file://
-// provider, and the C++ subscriber, the Java subscriber and the Python log
-// reader must each print the summary graspfill's own decoder gives for that
-// cloud, whose points and provenance are those of the PLY replay wrote.
+// provider, and the C++ subscriber, the Java subscriber, the Python log
+// reader and the Python module's subscriber must each print the summary
+// graspfill's own decoder gives for that cloud, whose points and provenance
+// are those of the PLY replay wrote.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -137,6 +138,20 @@ TEST_F(ExamplesTest, PythonReaderRejectsBadLogsClearly) {
   r = RunLine(PythonReader(bus_log_ + " --channel ELSEWHERE"));
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("no object_cloud_t on ELSEWHERE"), std::string::npos) << r.output;
+}
+
+// examples/python/subscribe_clouds.py: live through the Python module's
+// Subscriber, fed the bus log by LCM's file:// provider.
+TEST_F(ExamplesTest, PythonSubscriberPrintsThePublishedCloud) {
+#ifndef EXAMPLE_PYTHON_MODULE
+  GTEST_SKIP() << "the Python module is not built (GRASPFILL_BUILD_PYTHON)";
+#else
+  const CliResult r = RunLine("PYTHONPATH=" EXAMPLE_PYTHONPATH " " EXAMPLE_PYTHON " " GRASPFILL_SOURCE_DIR
+                               "/examples/python/subscribe_clouds.py 'file://" + bus_log_ +
+                               "?speed=0' --count 1 --timeout-s 30");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output, expected_);
+#endif
 }
 
 TEST_F(ExamplesTest, JavaSubscriberPrintsThePublishedCloud) {

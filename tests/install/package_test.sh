@@ -14,7 +14,8 @@
 #   subdirectory_full  the same with grasp_loop (opt-in: minutes)
 #   cli            the installed CLI copied elsewhere, its demo run from
 #                  another directory (data found relative to the executable)
-# usage: package_test.sh STEP SOURCE_DIR BUILD_DIR WORK_DIR CMAKE CXX CONFIG
+# usage: package_test.sh STEP SOURCE_DIR BUILD_DIR WORK_DIR CMAKE CXX CONFIG [PYTHON]
+# (PYTHON: the interpreter the Python module was built for; default python3)
 # WORK_DIR/prefix is the install prefix (made by `install`, used by the others).
 set -u
 STEP=$1
@@ -24,6 +25,7 @@ WORK=$4
 CMAKE=$5
 CXX=$6
 CONFIG=$7
+PYTHON=${8:-python3}
 PREFIX=$WORK/prefix
 DOWNSTREAM=$SRC/tests/install/downstream
 RECORDING=$PREFIX/share/graspfill/replay/default/recording.lcmlog
@@ -69,6 +71,24 @@ install)
   if command -v python3 >/dev/null; then
     (cd / && PYTHONPATH=$PYDIR python3 -c 'from graspfill import object_cloud_t, hole_t') \
       || fail "the installed Python package graspfill does not import"
+  fi
+  # The Python module (rt/python), where the build made one: imported from
+  # the prefix alone by the interpreter it was built for, and a repair of a
+  # cloud the installed CLI makes.
+  if ls "$BUILD"/lcmtypes/lcmgen/python/graspfill/_native*.so >/dev/null 2>&1; then
+    ls "$PYDIR"/graspfill/_native*.so >/dev/null 2>&1 || fail "not installed: the Python module graspfill/_native"
+    rm -rf "$WORK/python-synth"
+    run "$PREFIX/bin/graspfill" synth --protocol paper --shape cylinder --points 20000 -o "$WORK/python-synth"
+    (cd / && PYTHONPATH=$PYDIR "$PYTHON" -c '
+import sys
+import graspfill
+assert graspfill.__file__.startswith(sys.argv[1]), graspfill.__file__
+cloud = graspfill.read_ply(sys.argv[2])
+points, provenance, confidence, report = graspfill.repair(cloud["points"])
+assert report["status"] == "repaired", report["status"]
+assert len(points) > len(cloud["points"]) and provenance.max() > 0
+print("installed module:", len(cloud["points"]), "->", len(points), "points,", len(report["holes"]), "holes")
+' "$PYDIR" "$WORK/python-synth/holey.ply") || fail "the installed Python module does not import or repair"
   fi
   if [ -f "$BUILD/lcmtypes/graspfill_lcmtypes.jar" ]; then
     [ -f "$PREFIX/share/java/graspfill_lcmtypes.jar" ] || fail "not installed: share/java/graspfill_lcmtypes.jar"

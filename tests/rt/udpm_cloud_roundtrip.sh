@@ -2,11 +2,14 @@
 # Cross-process object-cloud round trip over LCM's UDP multicast, confined
 # to a private network namespace (only a loopback inside): the subscriber
 # must report the point count and checksum the publisher sent.
-# usage: udpm_cloud_roundtrip.sh <cloud_subscriber> <cloud_publisher>
+# usage: udpm_cloud_roundtrip.sh <cloud_subscriber> <cloud_publisher> [<interpreter>]
+#   <interpreter>: runs the subscriber, a script then (the Python module's
+#   tests/rt/python/print_cloud_summary.py with python3)
 # Exit: 0 pass, 1 fail, 77 skipped (no network namespaces here).
 set -u
 SUB=$1
 PUB=$2
+RUNNER=${3:-}
 SKIP=77
 
 if ! command -v unshare >/dev/null 2>&1 || ! command -v ip >/dev/null 2>&1; then
@@ -23,7 +26,7 @@ fi
 
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
-export SUB PUB TMP
+export SUB PUB TMP RUNNER
 export LCM_READY="$(cd "$(dirname "$0")" && pwd)/lcm_ready.sh"
 export URL='udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608'
 export CHANNEL=GRASPFILL_TEST_UDPM_CLOUD
@@ -32,7 +35,7 @@ export CHANNEL=GRASPFILL_TEST_UDPM_CLOUD
 unshare -n sh -c '
   . "$LCM_READY"
   loopback_multicast_up || exit 90
-  "$SUB" "$URL" "$CHANNEL" 10000 >"$TMP/sub.out" 2>"$TMP/sub.err" &
+  $RUNNER "$SUB" "$URL" "$CHANNEL" 10000 >"$TMP/sub.out" 2>"$TMP/sub.err" &
   sub=$!
   wait_lcm_subscribed $sub || exit 95
   "$PUB" "$URL" "$CHANNEL" 20000 7 >"$TMP/pub.out" 2>"$TMP/pub.err" || exit 92
