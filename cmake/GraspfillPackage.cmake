@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # graspfill as a package.
 #
 # Every library is exported as graspfill::<name>: installed (install(EXPORT),
@@ -119,4 +120,6 @@ function(graspfill_install_package)
     DESTINATION ${GRASPFILL_INSTALL_DATADIR}/replay)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/config/claws/
     DESTINATION ${GRASPFILL_INSTALL_DATADIR}/claws)
+  install(FILES ${PROJECT_SOURCE_DIR}/LICENSE ${PROJECT_SOURCE_DIR}/NOTICE
+    DESTINATION ${CMAKE_INSTALL_DOCDIR})
 endfunction()

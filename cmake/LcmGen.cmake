@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Debian's liblcm-dev ships no CMake config, so lcm-gen is driven here directly.
 # lcm_gen_cpp(<target> <dir> <files...>) generates C++ headers for the .lcm files
 # into the build tree and exposes them through an INTERFACE target; installed

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Configures and builds graspfill (Release) into build/; the CLI lands in build/bin/graspfill.
 set -euo pipefail
 cd "$(dirname "$0")/.."

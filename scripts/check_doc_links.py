@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Checks the relative links of README.md and docs/**/*.md: each target file
 exists, and each #anchor names a heading of it (GitHub's anchor rules)."""
 import os, re, sys, glob

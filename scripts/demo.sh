@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Installs what is missing, builds, and replays the bundled default recording:
 # writes the object cloud (PLY), publishes it over LCM (LCM's default URL, or
 # LCM_DEFAULT_URL), and prints a summary with timings and accuracy.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Builds graspfill's libFuzzer targets (clang, ASan + UBSan, tests/fuzz) and
 # runs each for SECONDS (default 60) on its seed corpus
 # (tests/fuzz/corpus/<target>/ and the crashes found so far,

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Installs graspfill's build and test dependencies from Debian 12 packages.
 # Skips apt entirely when everything is already there.
 set -euo pipefail

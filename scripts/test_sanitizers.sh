@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # CI's sanitizer step (issue 12), after scripts/test.sh. Two builds of their
 # own, -O1 -g1 (RelWithDebInfo's flags overridden: line numbers in reports,
 # less compile time than -O2), each building only the tests it runs:

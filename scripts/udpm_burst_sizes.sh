@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # Which object_cloud_t sizes reach a subscriber that keeps LCM's defaults
 # (docs/measurements/2026-12-06-cloud-delivery.md): in a private network
 # namespace (never the host's network), a publisher sends 20 messages of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A planner's side of graspfill, in C++: subscribes to the object clouds and
 // prints a summary of each. Needs LCM and graspfill's message decoder
 // (target graspfill::io): the points travel packed (object_cloud_t.lcm), and

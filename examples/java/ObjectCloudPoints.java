@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The points of an object_cloud_t, unpacked: the message carries them packed
 // (int16 positions about an origin, 8-bit normals and confidence, deflated by
 // zlib; layout in object_cloud_t.lcm). A Java planner copies this class.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A planner's side of graspfill, in Java: subscribes to the object clouds and
 // prints a summary of each. Needs LCM's jar (liblcm-java),
 // graspfill_lcmtypes.jar (classes graspfill.<type>, built by graspfill) and

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Reads graspfill's object clouds from an LCM log file and prints a summary
 of each, as the C++ and Java subscribers do:
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Repairs an object cloud from a PLY with graspfill's Python module and
 writes the result, as `graspfill repair IN.ply -o OUT.ply` does: the input
 points first, then the added ones, with their provenance and confidence.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Value types shared by every graspfill module: camera model, depth frames,
 // gripper states, triangle meshes and the object cloud handed to the planner.
 //

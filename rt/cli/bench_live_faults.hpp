@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Malformed messages of every kind the live module subscribes to (depth
 // images, gripper states, session descriptions), for `bench live`'s fault
 // soak (issue 36): each made from a valid message of the recording by one

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The pieces `bench repair --pipeline` (the shape zoo) and `bench repair
 // --objects` (scanned meshes) share: a synthetic scene through the whole
 // pipeline, the repair timed over repeats that must agree, and the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The OpenNI2 camera's command-line options, shared by `live` and
 // `oni-record`: video mode, intrinsics override, replay speed and the log
 // read alongside the device (docs/openni2.md).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The --*-channel flags of `live` and `replay`: once the config and the
 // flags have set them, the five names are checked as LCM takes them
 // (graspfill/io/channel_names.hpp), so that a name LCM would subscribe to

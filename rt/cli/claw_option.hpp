@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The --claw option shared by the commands (a built-in claw name or a claw
 // description file), and the claw of a session description: how `synth`
 // describes the claw it rendered, how `replay` and `live` build the claw a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill bench [LOG]: per-frame cost of graspfill's frame path (crop, claw
 // cut-out, integration of the masked frame) side by side, in the same run,
 // with Open3D's bare integration of the same frames unmasked; then replay

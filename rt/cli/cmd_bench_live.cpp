@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill bench live [LOG]: the live module against the clock. The
 // recording is played in real time and faster (depth frames and gripper
 // states at their recorded pace / speed) into the live module, in-process

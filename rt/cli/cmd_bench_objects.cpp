@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill bench repair --objects DIR: the meshes DIR/objects.json lists
 // (object_manifest.hpp; e.g. scanned household objects) x claws x grasps x
 // seeds, each through the whole pipeline (synthetic frames -> cut-out ->

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill bench repair --pipeline: the shape zoo through the whole
 // pipeline (synthetic frames -> cut-out -> TSDF -> repair), the repair once
 // from the cloud alone and once with the camera's evidence, side by side.

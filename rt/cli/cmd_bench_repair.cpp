@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill bench repair: the paper's Tables 1-3 (Cui et al. 2021, chamfer
 // distance in mm^2, Eq. 6) side by side with graspfill on the same
 // protocol: before repair, --mode paper, --mode best, a Poisson-only

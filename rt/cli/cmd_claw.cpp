@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill claw SPEC --opening X -o claw.ply: the claw posed at an opening
 // (and joint values), written in the gripper frame G to inspect a
 // description or URDF claw before a recording is made with it.

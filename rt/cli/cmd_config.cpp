@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill config: the rig config file (rt/config/rig_config.hpp).
 //   --dump-defaults [-o FILE [--force]]  every field with its default and
 //                                        what it means, as YAML

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill demo: the bundled default recording through `replay`, then the
 // result against the recording's ground truth through `eval`.
 #include <cstdio>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `graspfill eval PRED.ply GT.ply [--json]`: compares a predicted object
 // cloud with its ground truth (chamfer distance of paper Eq. 6, F-scores,
 // percentiles) and prints a summary or one JSON object.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill live: the grasp-and-model session. Depth from an OpenNI2 device
 // (or an .oni recording, or depth_image_t on the LCM bus), gripper states
 // from the robot over LCM, fusion on the module's worker thread, then the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill oni-record: an OpenNI2 device's depth stream into an .oni file
 // through OpenNI2's own recorder (openni::Recorder), e.g. a graspfill-replay
 // device to make an .oni of a recording. Reads until the device's stream

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill repair IN.ply -o OUT.{ply,pcd}: fills the claw holes and the unseen
 // top of an object cloud; every input point is kept, added points carry
 // their provenance (PLY property or PCD field `provenance`: 0 observed,

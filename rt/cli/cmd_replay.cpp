@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill replay LOG -o cloud.ply: the recorded depth log through the same
 // Pipeline the live loop uses, then the hole repair (claw holes and the
 // unseen top, unless --no-repair), then the object cloud to PLY and LCM.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill synth: writes a synthetic recording (LCM log of depth frames and
 // gripper states) and its ground truth, all from a graspfill::synth::Scene.
 //

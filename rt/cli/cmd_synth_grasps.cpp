@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "cmd_synth_grasps.hpp"
 
 #include <cstdio>

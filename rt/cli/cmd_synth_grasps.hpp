@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill synth --grasps S1,S2,...: one recording of several grasps in
 // turn (docs/live.md, "Grasp after grasp"): grasp k holds shape k, its gripper
 // states carry grasp_id k (1, 2, ...), and a second without events

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill synth --protocol paper: one cloud of the paper's simulated
 // protocol (Cui et al. 2021, section 3.1), ready for `graspfill repair`.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `graspfill synth --protocol paper`: the paper's simulated test clouds
 // (Cui et al. 2021, section 3.1) for `graspfill repair`. cmd_synth.cpp parses
 // and checks the arguments; cmd_synth_protocol.cpp writes the files.

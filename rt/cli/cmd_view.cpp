@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill view CLOUD.ply [AFTER.ply] -o VIEW.png: a picture of object
 // clouds in their provenance colours, with a legend (view/contact_sheet.hpp);
 // given two clouds, before and after side by side at one scale.

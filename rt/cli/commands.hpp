@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Sub-commands of the `graspfill` CLI, one file each. Each takes the
 // arguments after its name and returns the process exit code: 0 on success,
 // 1 on bad input or a failed run (with a message on stderr), 2 on usage error.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `--config FILE` of `replay` and `live`: the rig config
 // (docs/rig-config.md), loaded before the other flags are read so that they win.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Where the CLI finds its data: relative to the executable, never by a path
 // compiled in. Installed, the executable is <prefix>/bin/graspfill and the
 // data <prefix>/share/graspfill/ (replay/, the bundled recordings; claws/,

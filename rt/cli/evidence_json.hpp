@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The repair's evidence report as JSON, for `replay --json` and the bench.
 #pragma once
 

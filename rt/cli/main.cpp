@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill: grasp-reconstruction module and its tools.
 #include <malloc.h>
 #include <unistd.h>

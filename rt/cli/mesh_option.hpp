@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // --mesh-out FILE.{ply,stl,obj} (replay, repair): the collision mesh of the
 // command's model (mesh/collision_mesh.hpp), written after the cloud, with
 // its deviation from the cloud printed and in --json.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Strict parsing of the commands' numeric options (config/number_text.hpp,
 // which the rig config reads its fields with too): the whole text must be
 // the number, finite, and inside the option's range; anything else is a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "object_manifest.hpp"
 
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // DIR/objects.json: a set of object meshes for `bench repair --objects`,
 // each with the kind that decides which targets its repair must meet and
 // the split it belongs to (tune on one, confirm on the other).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // An object's mesh as the synthesizer takes it (`synth --mesh`, `bench
 // repair --objects`): read by io::ReadMesh (PLY, OBJ, STL), scaled into
 // meters, its up axis turned onto +z.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The output folder of a CLI command and the files it writes there,
 // checked before the command starts its work.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // --preview DIR of replay and repair: a picture of the cloud before and
 // after the repair (view/contact_sheet.hpp) as DIR/<output's stem>.png,
 // readied with the other outputs before the work, written after it.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A private network namespace for benchmarks that need LCM's UDP multicast
 // between processes: the calling thread (and every thread and process it
 // starts afterwards) gets a namespace of its own with only the loopback

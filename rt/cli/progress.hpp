@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A progress line on stderr for the long commands (replay, synth, bench):
 // work done / total, rate and time left, one line rewritten with '\r'. Drawn
 // only when stderr is a terminal and --quiet was not given, so that pipes,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The pose refinement's report (refine/pose_refiner.hpp) as JSON and as one
 // line of text, for `replay` and `bench`.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // What `graspfill replay` tells once the replay is done
 // (rt/module/replay_session.hpp): the report as JSON (--json) or as lines
 // for people.

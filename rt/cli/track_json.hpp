@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The object tracking's report (refine/object_tracker.hpp) as JSON and as
 // one line of text, for `replay`.
 #pragma once

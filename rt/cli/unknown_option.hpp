@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // An argument no command option matches, with the nearest option of the
 // command's usage text as a suggestion: the usage text is the one list of
 // a command's options, so nothing else has to be kept in step with it.

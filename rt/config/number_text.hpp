@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Strict reading of a number written as text, for the rig config's fields
 // and the CLI's options alike: the whole text must be the number (no
 // leading blanks or '+', no trailing characters), finite, and inside the

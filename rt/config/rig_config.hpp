@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // One config for a rig (issue 8, item 5): the camera, the robot (hand-eye,
 // clock), the claw, the workspace box, the TSDF, the repair, the LCM
 // channels and the rates, in one YAML file that `graspfill replay` and

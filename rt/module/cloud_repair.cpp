@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "module/cloud_repair.hpp"
 
 #include <utility>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The hole repair applied to the object cloud a planner receives: the one
 // step `graspfill replay` and the live RepairStage share, so that both
 // publish the same message for the same fused cloud.

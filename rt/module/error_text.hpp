@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The text the user sees for an exception: the exception's own message,
 // except for the standard library's allocation failures, whose what()
 // ("std::bad_alloc", "cannot create std::vector larger than max_size()")

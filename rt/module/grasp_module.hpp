@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The live grasp-reconstruction module: a worker thread that owns the
 // Pipeline (through a GraspSequencer: grasp after grasp, clock jumps), fed
 // through bounded queues by the camera driver and the robot's state stream,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Grasp after grasp: the Pipeline, started over when the robot's grasp
 // changes or the clock jumps back, with counters that add up over the whole
 // session. The one place where a session's events meet the pipeline (the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "module/live_session.hpp"
 
 #include "module/process_memory.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The live grasp-and-model session, composed: sources (the LCM bus's
 // gripper states and session descriptions, depth from the bus or from a
 // FrameSource such as an OpenNI2 device) -> GraspModule (fusion worker,

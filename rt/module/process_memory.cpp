@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "module/process_memory.hpp"
 
 #include <malloc.h>

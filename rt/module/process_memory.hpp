@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The process's memory: its resident size (status, benchmarks) and a heap
 // made ready for the real-time loop.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "module/repair_stage.hpp"
 
 #include <sys/resource.h>

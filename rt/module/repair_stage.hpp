@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The live loop's hole repair, off the fusion thread: a repair takes
 // 100-200 ms on a fused cloud while a depth frame must be fused within
 // ~33 ms, so the repair gets a thread of its own, fed through a one-slot

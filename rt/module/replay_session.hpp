@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The replay session, composed: a recorded LCM log (LcmLogSource, decoded
 // ahead on a thread of its own) -> SequencerFeed -> GraspSequencer (made at
 // the first depth or gripper event, once the session description at the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "module/sample_window.hpp"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The last N samples of a measurement (latencies, repair times) and their
 // percentiles: a fixed ring, so a long session keeps a recent, bounded
 // window and adding a sample never allocates.

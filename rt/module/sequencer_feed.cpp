@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "module/sequencer_feed.hpp"
 
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // An EventSink that fuses on the loop's own thread: events into a
 // GraspSequencer made at the first depth or gripper event, once the session
 // description at the head of a recording (if any) is known. Replay and bench

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "module/session_claw_checker.hpp"
 
 #include <cstdio>

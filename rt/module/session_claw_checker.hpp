@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The claws of session descriptions, checked off the bus's and the status's
 // threads. Building a claw may take seconds (a URDF of thousands of links),
 // so it runs on a thread of its own: each description's claw is built there

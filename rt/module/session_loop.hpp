@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The one loop that feeds a session from its source: replay (a log), live
 // (an OpenNI2 device or .oni file; or the LCM bus, which pushes on its own
 // thread while the loop only keeps time), record and bench all run it.

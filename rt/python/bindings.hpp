@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The parts of the Python module `graspfill._native` (module.cpp puts them
 // together); each adds its functions or class to `module`.
 #pragma once

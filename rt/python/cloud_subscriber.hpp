@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // object_cloud_t from a live LCM bus through liblcm's C API, for the Python
 // module's Subscriber (Debian ships no Python LCM binding). Plain C++: the
 // binding (subscriber_binding.cpp) releases the GIL around Wait().

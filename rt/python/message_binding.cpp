@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill.decode_object_cloud(data): object_cloud_t bytes to numpy,
 // through graspfill's own decoder (io/messages.hpp), so the module reads
 // whatever encoding the C++ side reads.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The Python module `graspfill._native`: graspfill's repair, cloud files,
 // message decoding and a live LCM subscriber for planners in Python. The
 // package `graspfill` re-exports it beside lcm-gen's message classes

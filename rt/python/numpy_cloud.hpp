@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Conversions between numpy arrays and graspfill's ObjectCloud, shared by
 // every function of the Python module. Python callers get ValueError, with
 // the argument's name and what was wrong, for anything the C++ side would

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 
 # The native module (rt/python, appended by the build to lcm-gen's imports
 # above): the repair on numpy arrays, PLY files, object_cloud_t decoding

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill.read_ply(path) and graspfill.write_ply(path, points, ...):
 // graspfill's own cloud files (io/cloud_file.hpp), so that a file written
 // from Python is the CLI's to the byte.

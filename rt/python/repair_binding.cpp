@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill.repair(points, normals=None, up=None): the hole repair
 // (repair/repairer.hpp, default RepairConfig: best mode) on numpy arrays.
 #include <pybind11/numpy.h>

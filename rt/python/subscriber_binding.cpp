@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill.Subscriber: object_cloud_t clouds from a live LCM bus as dicts
 // (CloudSubscriber), waited for with the GIL released, in short slices so
 // that Ctrl-C and other Python signals are seen while waiting.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "sinks/lcm_log_writer.hpp"
 
 #include <fcntl.h>

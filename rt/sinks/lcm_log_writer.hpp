@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Writes LCM log files (lcm-logger's format, readable by lcm-logplayer,
 // lcm-spy's log mode and LcmLogSource).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Publishes graspfill's messages on an LCM bus (the object cloud for the
 // motion planner, the module's status).
 #pragma once

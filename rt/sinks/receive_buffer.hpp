@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Will a message reach a subscriber that kept LCM's defaults? LCM's UDP
 // multicast sends a large message as a burst of 64 kB datagrams, and a
 // subscriber's socket holds net.core.rmem_default bytes of them (Debian:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Records what a live session received (`graspfill live --record LOG`): the
 // session description first, then every depth frame and gripper state as it
 // arrived, as an LCM log that `graspfill replay` and `lcm-logplayer` play.

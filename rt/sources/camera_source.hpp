@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The depth of a live session from OpenNI2, alone or merged with a
 // recording's other events: with a graspfill-replay:LOG device (or an
 // explicit log, e.g. beside an .oni recorded from one), the gripper states

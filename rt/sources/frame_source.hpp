@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // What every input of the module hands to the runtime: depth frames and
 // gripper states (and, from recordings, the session description), one event
 // at a time, from a live device or a recording.

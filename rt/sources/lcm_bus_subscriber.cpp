@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "sources/lcm_bus_subscriber.hpp"
 
 #include <lcm/lcm-cpp.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Live input from the LCM bus: gripper states from the robot (and, where a
 // camera driver publishes them, depth images), decoded on a receive thread
 // and handed to callbacks (typically GraspModule::Push*). Session

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "sources/lcm_log_source.hpp"
 
 #include "sources/session_overrides.hpp"

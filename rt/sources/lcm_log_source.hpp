@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Replays a recorded LCM log (lcm-logger's format) as source events: depth
 // images and gripper states on graspfill's channels, decoded as they are
 // read, and the session description (session_description_t, at the head of

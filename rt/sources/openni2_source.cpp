@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "sources/openni2_source.hpp"
 
 #include <OpenNI.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Depth frames from an OpenNI2 camera (PrimeSense, Kinect v1 through
 // libfreenect's driver, Asus Xtion, Orbbec) or from an OpenNI2 recording
 // (.oni file).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // OpenNI2Source in a build without OpenNI2 (GRASPFILL_WITH_OPENNI2=OFF, the
 // default as a part of another project where libopenni2 is not installed):
 // construction throws, everything else in the runtime works.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Reads (and decodes) events of another source ahead on its own thread, so
 // that log decoding overlaps the pipeline's work on the caller's thread.
 // Events come out in the wrapped source's order, unchanged.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // What a session description changes in the events that follow it: the
 // hand-eye calibration used to decode base-frame gripper states, and the
 // intrinsics of the depth images. Shared by the log and bus sources.

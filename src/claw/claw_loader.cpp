@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // ClawModel::Load: claw description files (format in config/claws/README.md).
 // Every error names the file and the JSON field it comes from, since these
 // files are written by hand for each robot.

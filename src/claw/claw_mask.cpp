@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // ClawMask: the claw's per-pixel depth from the camera (z-buffer
 // rasterization of the posed triangles, or Embree rays), restricted to where
 // the claw projects, then the depth test and a separable square dilation.

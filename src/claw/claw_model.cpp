@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // ClawModel: forward kinematics of the link tree and the procedural claws.
 // Loading description files lives in claw_loader.cpp.
 #include "graspfill/claw/claw_model.hpp"

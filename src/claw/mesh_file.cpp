@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/claw/mesh_file.hpp"
 
 #include <assimp/config.h>

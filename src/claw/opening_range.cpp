@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/claw/opening_range.hpp"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // URDF claws: urdfdom parses the XML, this file turns its link tree into a
 // ClawModel and maps graspfill's opening onto the joints (rules in
 // config/claws/README.md and docs/claws.md, "Claws from URDF").

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/core/raycaster.hpp"
 
 #include <embree3/rtcore.h>

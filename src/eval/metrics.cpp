@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Chamfer distance (paper Eq. 6), F-scores and percentiles between two
 // clouds. Nearest neighbours come from Open3D's KD-tree (nanoflann inside).
 #include "graspfill/eval/metrics.hpp"

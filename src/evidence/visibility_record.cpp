@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/evidence/visibility_record.hpp"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "unit_surface_cache.hpp"
 
 #include <open3d/pipelines/integration/UniformTSDFVolume.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The TSDF's zero crossings kept per volume unit of Open3D's
 // ScalableTSDFVolume, so that an extraction redoes only the units whose
 // voxels changed since the last one (issue 10: the live loop extracts a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Temporary file + fsync + rename (POSIX rename replaces the target
 // atomically within one file system, which the temporary file's place in
 // the target's folder guarantees). Without kReplace the temporary file is

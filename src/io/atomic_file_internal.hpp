@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Pieces of atomic_file.cpp that output_path.cpp shares (not API).
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // What the cloud writers (PLY, PCD) share: little-endian bytes written
 // explicitly, so that a file does not depend on the host; doubles printed
 // so they read back exactly; and the check that every per-point field has

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/io/lcm_log_reader.hpp"
 
 #include <sys/stat.h>

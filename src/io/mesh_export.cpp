@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Mesh files by extension: PLY through WriteMeshPly, STL and OBJ here (both
 // simple enough to write exactly, with no header that varies run to run).
 #include "graspfill/io/mesh_export.hpp"

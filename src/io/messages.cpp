@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Message conversion. Two rules shape this file:
 //  - Bytes from the bus are untrusted. The lcm-gen decoders resize their
 //    vectors to the count read from the wire *before* checking that the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // PLY and mesh files. Writers are hand-written (see ply.hpp for why) and emit
 // little-endian bytes explicitly, so output does not depend on the host.
 // PLY is read by our own parser (ply_parser.hpp: checked before anything is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill's own PLY parser (internal to graspfill_io). Open3D's reader
 // (rply) segfaulted on a 40-byte header and its ear clipping on a 672-byte
 // mesh, read a PLY without `z` with z = 0 and a binary header over an ASCII

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // PNG through Open3D's image I/O (libpng underneath), into a temporary file
 // that replaces the target only once it is complete.
 #include "graspfill/io/png.hpp"

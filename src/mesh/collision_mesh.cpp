@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Collision mesh: signed distance on a grid, its sign far from the cloud
 // by a flood fill, marching tetrahedra (the header says why it is watertight).
 #include "graspfill/mesh/collision_mesh.hpp"

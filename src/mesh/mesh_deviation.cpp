@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Mesh-to-cloud and cloud-to-mesh distances: nearest points through
 // eval::NearestDistances (KD-tree), closest surface points through Open3D's
 // RaycastingScene (Embree's point queries).

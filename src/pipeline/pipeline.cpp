@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/pipeline/pipeline.hpp"
 
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/refine/claw_registration.hpp"
 
 #include <Eigen/Cholesky>

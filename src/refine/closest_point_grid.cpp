@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/refine/closest_point_grid.hpp"
 
 #include <Eigen/Geometry>

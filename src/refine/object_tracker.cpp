@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/refine/object_tracker.hpp"
 
 #include <Eigen/Cholesky>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/refine/pose_refiner.hpp"
 
 #include <algorithm>

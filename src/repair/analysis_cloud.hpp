@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill's best mode looks for the holes on a coarser copy of the cloud
 // (not in the paper): the voxel centroids of the input, about
 // `target_points` of them. Holes are centimetres across (claw holes

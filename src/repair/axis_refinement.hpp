@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill's refinement of the virtual frame's axis (not in the paper).
 //
 // Step 4 takes V's z from a plane fitted to the rim of the missing

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Step 5 of the hole repair (Cui et al. 2021, section 2.2.3 B, Fig. 9):
 // splitting the linked boundary lines into the boundary of the missing
 // surface (the top, at the largest z of the virtual frame V) and one

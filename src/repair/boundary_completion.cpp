@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "boundary_completion.hpp"
 
 #include <Eigen/Cholesky>

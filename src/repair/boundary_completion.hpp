@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Step 6 of the hole repair (Cui et al. 2021, section 2.2.4): closing the
 // boundaries that classification left open, with a cubic B-spline fitted
 // to the missing surface's boundary.

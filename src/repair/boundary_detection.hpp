@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Step 2 of the hole repair (Cui et al. 2021, section 2.2.1): hole-boundary
 // points by the maximum-angle criterion.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Step 3 of the hole repair (Cui et al. 2021, section 2.2.2): the unordered
 // boundary points chained into ordered, closed boundary lines.
 //

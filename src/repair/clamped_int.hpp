@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Float-to-int conversions of quantities that grow with a cloud's extent
 // (slab counts, slab and cell indices, samples along a span): a stray point
 // 1e35 m away makes them exceed int, and converting such a double to int

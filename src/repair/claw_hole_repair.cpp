@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "claw_hole_repair.hpp"
 
 #include <open3d/geometry/TriangleMesh.h>

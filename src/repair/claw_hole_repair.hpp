@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Step 7 of the hole repair (Cui, Zhang & Wang, Sensors 2021, section
 // 2.3.1): the claw holes on the side of the object are filled from a
 // surface fitted to the points around them, sampled inside each hole's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The repair with the camera's evidence (the pipeline path; not in the
 // paper, which has the cloud alone). The visibility record (evidence/)
 // says for any point whether a ray passed it; the repair uses that to

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The repair's evidence stage (Repair, best mode, with a record): whether
 // the record given is one to use, and the evidence's part of steps 7-8.
 // The tests of single points and images are evidence_repair.hpp's; this

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The gap test of the claw-hole fill: a sample is new only where neither
 // the cloud nor an earlier hole's fill has a point within the gap. Internal
 // to the repair library.

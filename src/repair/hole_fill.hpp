@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Shared pieces of the claw-hole fill (step 7): the hole's frame and fill
 // region, the cloud's spacing around a hole, PCA planes and normals, and a
 // seeded uniform sampler. Internal to the repair library.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The explicit surfaces a claw hole is filled from, in the hole's frame:
 // polynomial height fields, implicit quadrics and the thin-plate spline
 // fallback, and the sampler that draws a fill from any of them. Internal to

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // k-nearest-neighbour queries over one cloud, built once and shared by the
 // repair steps (normals, outliers, boundary detection, linking, densities),
 // so that no step builds its own tree.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "outlier_removal.hpp"
 
 #include <algorithm>

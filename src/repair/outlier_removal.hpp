@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Step 1 of the hole repair (Cui et al. 2021, section 2.2.1): statistical
 // outlier removal with the semantics of PCL's StatisticalOutlierRemoval.
 //

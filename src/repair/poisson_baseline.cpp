@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "poisson_baseline.hpp"
 
 #include <open3d/geometry/TriangleMesh.h>

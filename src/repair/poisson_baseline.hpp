@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The benchmark's "Poisson-only" baseline (graspfill bench repair): every
 // hole, claw holes and the missing top alike, filled from one screened
 // Poisson surface (Open3D) of the whole cloud. A reference for the

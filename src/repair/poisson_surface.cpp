@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "poisson_surface.hpp"
 
 #include <open3d/geometry/PointCloud.h>

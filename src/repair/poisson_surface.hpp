@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Open3D's screened Poisson surface for the claw-hole fill (the paper's
 // surface, --mode paper) and the sampler of its mesh. Internal to the
 // repair library.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The steps' own settings, internal to the repair library: each step's
 // config struct, at the defaults its header documents. No caller of the
 // library sets them (RepairConfig in repairer.hpp is the public knob set);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "revolution_fill.hpp"
 
 #include <Eigen/Dense>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A surface of revolution about an axis parallel to V's z, fitted to the
 // observed points: x^2 + y^2 = 2 x0 x + 2 y0 y + a + b z + c z^2, linear in
 // its five unknowns (the axis (x0, y0) and the radius profile r(z)^2, a

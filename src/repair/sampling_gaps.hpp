@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The two spacings every proposed surface (a claw hole's fill, the mirror
 // image) is sampled by, in units of the cloud's spacing D. Internal to the
 // repair library.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A cloud cut into horizontal slabs (along V's z) and the 2D convex outline
 // of the points around any height: the symmetry step compares these
 // outlines, the claw-hole step keeps its fills out of them. Internal to

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Step 8 of the hole repair (Cui, Zhang & Wang, Sensors 2021, section
 // 2.3.2): the missing top is filled by mirroring the bottom of the object
 // about a horizontal symmetry plane z = z_s of the virtual frame V, the

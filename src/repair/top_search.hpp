@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The missing top, chosen by one scored search (the idea of Bohg et al.
 // 2011, "Mind the gap": complete by a hypothesis, then judge it by the
 // evidence). Each completion the steps propose for the side the camera

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Step 4 of the hole repair (Cui et al. 2021, section 2.2.3 A): the virtual
 // camera frame V, in which the missing surface is the top (largest z).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/synth/rig_errors.hpp"
 
 #include <cmath>

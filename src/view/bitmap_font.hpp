@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A 5 x 7 pixel font for the titles and the legend of the pictures: no font
 // file to find at run time, the same pixels on every machine.
 #pragma once

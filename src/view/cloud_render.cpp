@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/view/cloud_render.hpp"
 
 #include <Eigen/Geometry>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/view/contact_sheet.hpp"
 
 #include <array>

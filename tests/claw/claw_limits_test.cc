@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Issue 36: claw geometry within the limits of claw_limits.hpp, in every
 // claw source. Each case below was accepted before (a claw 1e6 m wide, an
 // rpy of 1e300, a mesh scaled by 1e30) or ended in an allocator's words

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/claw/claw_mask.hpp"
 
 #include <gtest/gtest.h>

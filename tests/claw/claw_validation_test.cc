@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Issue 12: claw meshes are checked at load. Each case below was accepted
 // before (and failed later, in the ray caster at the first gripper state,
 // with no file named, or not at all); now the load fails naming the

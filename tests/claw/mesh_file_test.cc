@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The mesh reader on the gripper assets: each Robotiq link's COLLADA visual
 // mesh and its STL collision mesh come from the same CAD part, so their
 // bounds agree once COLLADA's unit and up axis are honoured.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Claw text from a session description (the bus, a log) reads meshes only
 // under the local mesh root (issue 36): no absolute path, no '..', no
 // package:// or file:// way out, no folder the text itself names.

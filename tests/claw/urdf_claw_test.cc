@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Claws from URDF (issue 8 item 6): the shipped Robotiq 3-Finger URDF config
 // against its JSON description, the default opening rule and mimic joints on
 // small URDFs written here, and the error paths.

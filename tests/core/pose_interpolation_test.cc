@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/core/pose_interpolation.hpp"
 
 #include <gtest/gtest.h>

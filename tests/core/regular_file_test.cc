@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Reading files by name only when they are regular files (issue 36): a
 // FIFO, a device or a folder is refused with one wording, without being
 // opened for a blocking read; a file over the size limit is refused before

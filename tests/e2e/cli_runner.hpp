@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Runs the graspfill CLI as a child process for the end-to-end tests.
 #pragma once
 

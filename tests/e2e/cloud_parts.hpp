@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The parts of a replayed cloud: the fused points (provenance observed) and
 // the points the hole repair added after them.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `graspfill bench live` through the real CLI on the bundled recording: the
 // runs it reports, in-process and (where a network namespace can be made)
 // across processes over UDP multicast, hold together.

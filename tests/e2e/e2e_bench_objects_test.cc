@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // bench repair --objects end to end: a tiny set made here from two real
 // scans (../shared/assets/objects: a PLY from the tune split and an OBJ
 // from the check split), one claw, one grasp, one seed. Its rows are

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // How the CLI meets a user who slips (issue 38): a mistyped option or
 // command gets the nearest real one, every product command's --help ends
 // with an example, and `live` without a camera says how to run without one.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // One config for a rig (issue 8, item 5) through the real CLI: `config
 // --dump-defaults` (to stdout, or -o FILE through the atomic writer, not
 // over a file without --force); `replay --config` of the dumped defaults

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The files the commands write and read, through the real CLI (issue 36):
 // a FIFO or a device given as an output is refused even with --force and
 // stays what it was; a robot that reuses grasp ids keeps every grasp's

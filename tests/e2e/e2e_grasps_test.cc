@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Grasp after grasp through the real CLI: `synth --grasps` writes one
 // session of three grasps of three different objects; `replay` gives three
 // final models, each on its own object (p95 within 2 mm) and with nothing

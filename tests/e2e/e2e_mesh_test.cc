@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // --mesh-out end to end: synth -> replay --mesh-out on the e2e shapes (one
 // format each), the mesh read back from the file: watertight by Open3D's
 // test, its surface within 1 mm (p95) of the repaired cloud replay wrote

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Imperfect robots (issue 9): recordings whose logged gripper poses carry a
 // hand-eye error, per-state noise and a clock offset, replayed with pose
 // refinement and without it. Refined, the fused cloud lies on the truth in

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill repair through the real CLI on the paper's protocol
 // (synth --protocol paper): the contract (input kept, provenance, JSON
 // report, determinism) and bad input (clear message, exit code, nothing

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Replay of the bundled recordings (regression of the fusion, determinism
 // of the repaired output, the repaired cloud's layout) and of bad logs
 // (clear error, non-zero exit, never a crash).

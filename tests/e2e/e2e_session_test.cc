@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Self-describing recordings through the real CLI: `synth` writes a session
 // description at the head of the log, `replay` takes the claw from it
 // (a parallel-claw recording replays clean with no --claw), warns when

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // synth -> replay -> eval for every built-in shape: the fused cloud lies on
 // the true surface, holds no claw, and misses only what the claw covered
 // and the top the camera never sees. Replay also repairs; these checks are

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The object slipping in the grasp (issue 9, synth --slip-mm): what a slip
 // does to the fused model when nothing corrects it. The frames before the
 // slip fuse the object where it was grasped, those after it where it slid

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Claws from URDF through the real CLI (issue 8 item 6): a recording made
 // with the Robotiq 3-Finger's URDF claw replays, with the claw its session
 // description carries, to a clean cloud; `graspfill claw` writes the posed

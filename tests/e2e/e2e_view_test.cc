@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Pictures and manners through the real CLI: `graspfill view` (the PNG read
 // back: each provenance's colour where its points are), --preview of replay
 // and repair, bad input, --version against project(VERSION), the progress

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `graspfill eval` end to end on PLY files written here: exit codes, the
 // messages naming the bad file, and the JSON it prints. RunEval is compiled
 // into this test directly, so it runs without the whole CLI.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Metrics on clouds whose nearest-neighbour distances follow from geometry:
 // a planar grid of spacing kSpacing compared with itself, shifted along its
 // normal, cut in half, or with an outlier added.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A camera looking along +z at a square plate (0.5 m) in front of a far
 // wall (1.0 m), with a "claw" block (0.3 m) covering part of the plate.
 // G = C for the first frame, so pixel and point are easy to relate.

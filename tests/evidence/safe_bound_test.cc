@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/evidence/safe_bound.hpp"
 
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/evidence/seen_free_carve.hpp"
 
 #include <gtest/gtest.h>

@@ -1,23 +1,30 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # The planner gets every model with LCM's defaults (issue 38): no
 # recv_buf_size, LCM's default URL, the kernel's default receive buffer.
 # Inside a private network namespace (loopback only; multicast never
 # touches the host's network):
 #  1. `graspfill live --depth-from-lcm` models a 300-frame recording that
-#     lcm-logplayer plays at 1x; the C++ and Java example subscribers (and
-#     a reference lcm-logger with a large buffer) must each receive every
-#     cloud live says it published;
+#     lcm-logplayer plays at 1x; the C++, Java and Python example
+#     subscribers (and a reference lcm-logger with a large buffer) must each
+#     receive every cloud live says it published;
 #  2. `graspfill replay` publishes its final model: the reference capture's
 #     decoded points equal replay's PLY within half the 50 um step on each
 #     axis (0.0434 mm as a distance).
-# usage: default_url_delivery.sh <graspfill> <cpp_subscriber> <cloud_compare> [<java> <classpath>]
+# usage: default_url_delivery.sh <graspfill> <cpp_subscriber> <cloud_compare>
+#            <python> <pythonpath> <python_subscriber.py> [<java> <classpath>]
+#   (python '-': no Python module built; java absent: no Java example built)
 # Exit: 0 pass, 1 fail, 77 skipped (no network namespaces here).
 set -u
 GRASPFILL=$1
 CPP_SUB=$2
 COMPARE=$3
-JAVA=${4:-}
-JAVA_CP=${5:-}
+PYTHON=$4
+PYTHON_PATH=$5
+PY_SUB=$6
+JAVA=${7:-}
+JAVA_CP=${8:-}
+[ "$PYTHON" = "-" ] && PYTHON=
 SKIP=77
 
 . "$(dirname "$0")/../rt/lcm_ready.sh"
@@ -29,7 +36,7 @@ trap 'rm -rf "$TMP"' EXIT
   { echo "FAIL: synth"; exit 1; }
 "$GRASPFILL" replay "$TMP/rec/recording.lcmlog" -o "$TMP/replay.ply" --no-publish --quiet >/dev/null ||
   { echo "FAIL: replay"; exit 1; }
-export GRASPFILL CPP_SUB JAVA JAVA_CP TMP
+export GRASPFILL CPP_SUB JAVA JAVA_CP PYTHON PYTHON_PATH PY_SUB TMP
 export LCM_READY="$(cd "$(dirname "$0")/../rt" && pwd)/lcm_ready.sh"
 unset LCM_DEFAULT_URL
 
@@ -49,11 +56,17 @@ unshare -n sh -c '
         >"$TMP/java.out" 2>"$TMP/java.err" &
     java=$!
   fi
+  python=
+  if [ -n "$PYTHON" ]; then
+    PYTHONPATH="$PYTHON_PATH" "$PYTHON" "$PY_SUB" --timeout-s 8 >"$TMP/python.out" 2>"$TMP/python.err" &
+    python=$!
+  fi
   "$GRASPFILL" live --depth-from-lcm --publish-every 10 --idle-exit-s 1.5 --duration-s 60 \
       >"$TMP/live.out" 2>"$TMP/live.err" &
   live=$!
   for pid in $logger $cpp $live; do wait_lcm_subscribed $pid || exit 95; done
   if [ -n "$java" ]; then wait_lcm_subscribed $java || exit 95; fi
+  if [ -n "$python" ]; then wait_lcm_subscribed $python || exit 95; fi
   lcm-logplayer "$TMP/rec/recording.lcmlog" >"$TMP/player.out" 2>&1 || exit 92
   wait $live || exit 93
   # Then replay publishes its final model once.
@@ -61,6 +74,7 @@ unshare -n sh -c '
       >"$TMP/replay.out" 2>&1 || exit 96
   wait $cpp  # each subscriber ends 8 s after its last cloud
   if [ -n "$java" ]; then wait $java; fi
+  if [ -n "$python" ]; then wait $python; fi
   sleep 0.5
   kill $logger
   wait $logger
@@ -89,6 +103,11 @@ if [ -n "$JAVA" ]; then
   java=$(grep -c '^seq=' "$TMP/java.out")
   echo "the Java example received $java"
   [ "$java" -eq "$expected" ] || { echo "FAIL: the Java example received $java of $expected"; show java.err; fail=1; }
+fi
+if [ -n "$PYTHON" ]; then
+  python=$(grep -c '^seq=' "$TMP/python.out")
+  echo "the Python module's subscriber received $python"
+  [ "$python" -eq "$expected" ] || { echo "FAIL: the Python subscriber received $python of $expected"; show python.err; fail=1; }
 fi
 # What the decoded final model is worth.
 "$COMPARE" "$TMP/bus.lcmlog" "$TMP/replay.ply" GRASPFILL_OBJECT_CLOUD 0.0434 within ||

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The planner-side examples (examples/) read what graspfill published: the
 // bundled recording is replayed with its cloud logged by LCM's file://
 // provider, and the C++ subscriber, the Java subscriber, the Python log

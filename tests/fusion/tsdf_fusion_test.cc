@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/fusion/tsdf_fusion.hpp"
 
 #include <gtest/gtest.h>

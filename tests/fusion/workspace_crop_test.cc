@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/fusion/workspace_crop.hpp"
 
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // What a fuzz target does when the code under test breaks its contract:
 // print what and abort, so that libFuzzer records the input as a crash.
 #pragma once

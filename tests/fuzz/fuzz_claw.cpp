@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The claw-description loader and the claw mask: the input is a
 // description file's text (beside it a small valid mesh, `box.ply`, that it
 // may name). A description that loads is posed and cut out of a small

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // depth_image_t decoder on arbitrary bytes; what decodes re-encodes and
 // decodes again to the same image size, intrinsics and time.
 #include <cmath>

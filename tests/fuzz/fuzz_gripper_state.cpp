@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // gripper_state_t decoder on arbitrary bytes, with an encode round trip.
 #include <cmath>
 #include <cstdint>

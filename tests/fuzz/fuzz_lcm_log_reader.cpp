@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The bounded LCM log reader on arbitrary bytes: never reads past the
 // file, never allocates more than the file holds, every event inside it.
 #include <cstdint>

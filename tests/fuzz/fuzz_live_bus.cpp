@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The live session's bus input on arbitrary bytes (issue 36): a sequence of
 // messages (depth images, gripper states, session descriptions) handed to
 // a LiveSession through its bus subscriber's handlers, the path the bus

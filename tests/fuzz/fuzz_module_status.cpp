@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // module_status_t decoder on arbitrary bytes, with an encode round trip.
 #include <cstdint>
 #include <string>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // object_cloud_t decoder on arbitrary bytes, with an encode round trip.
 #include <algorithm>
 #include <cstdint>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // graspfill's PLY parser (clouds and meshes) on arbitrary bytes: an error
 // naming the file, or columns of exactly num_vertices values and faces
 // whose indices are all in range.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The repair on small clouds: a fixed protocol cylinder (holes and all, of
 // 2,000 or 800 points) plus up to 256 points from the input as float
 // triples (any value: NaN, inf, 1e38, subnormals), best or paper mode. Contract: non-finite

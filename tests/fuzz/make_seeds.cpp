@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Writes the seed corpora of tests/fuzz/corpus/ with graspfill's own
 // encoders (run once by hand when a format changes; the output is
 // committed): make_seeds <corpus folder>.

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # graspfill used as its users use it (tests/install/CMakeLists.txt registers
 # one CTest test per step):
 #   install        a fresh `cmake --install` into PREFIX; the package files,

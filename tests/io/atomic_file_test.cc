@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // WriteFileAtomically and AtomicFile: the target is replaced only by a
 // complete file; a failed write (a full disk, simulated by RLIMIT_FSIZE,
 // see file_size_limit.hpp) leaves it as it was and no temporary file

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Channel names as LCM takes them (issue 36): 1..63 characters of
 // A-Z a-z 0-9 _ - /, the five distinct; the first problem named with its
 // channel.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Bounded memory per depth message (issue 36): an image over the pixel
 // limit, a ZLIB16 payload too short for its declared image and a zlib bomb
 // are refused before anything of the size they declare is allocated. This

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A full disk for a test, even as root: RLIMIT_FSIZE makes writes beyond the
 // limit fail with EFBIG ("File too large") for every user (root's
 // CAP_DAC_OVERRIDE defeats a read-only folder, not this), and SIGXFSZ,

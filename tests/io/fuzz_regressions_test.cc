@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The fuzz targets' contracts, in the normal suite, on every committed
 // input: the seed corpora (tests/fuzz/corpus/) and the inputs the fuzzers
 // found crashes with (tests/fuzz/regressions/<target>/). A message that

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The bounded LCM log reader: lengths checked against the file (issue 12:
 // a 48-byte log declaring datalen 0x7fffffff crashed liblcm's reader), the
 // truncation and corruption cases, FIFOs refused instead of blocking.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // WriteMesh: each format read back by Open3D gives the mesh written; an
 // unknown extension or a bad index is refused; the bytes are the same twice.
 #include "graspfill/io/mesh_export.hpp"

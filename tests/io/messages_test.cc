@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Message conversion: round trips, rejection of malformed input, and the
 // size of ZLIB16 depth on a noisy plane.
 #include "graspfill/io/messages.hpp"

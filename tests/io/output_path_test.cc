@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // CheckOutputFile and PrepareOutputDir: what a command refuses before it
 // starts its work.
 #include "graspfill/io/output_path.hpp"

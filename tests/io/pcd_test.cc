@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // PCD clouds (io/pcd.hpp) read back by Open3D, an independent reader: the
 // point count, coordinates, normals, colours and the custom provenance and
 // confidence fields; VIEWPOINT as the camera's pose in G; determinism; and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // PLY clouds and mesh files: round trips, determinism, errors naming the
 // path.
 #include "graspfill/io/ply.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // PNG pictures: what is written reads back (through Open3D's reader) pixel
 // for pixel, the same image gives the same bytes, errors name the path.
 #include "graspfill/io/png.hpp"

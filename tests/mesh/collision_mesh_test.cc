@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // BuildCollisionMesh on clouds sampled from known shapes: watertight by
 // Open3D's own test, facing outwards, on the true surface, the same twice,
 // whatever the normals; bad input rejected.

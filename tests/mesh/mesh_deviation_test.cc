@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // MeasureDeviation against analytic answers: a cloud on the mesh, and the
 // same cloud pushed out along the normals by a known distance.
 #include "graspfill/mesh/mesh_deviation.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The module end to end on an analytic scene: a sphere held by the
 // three-finger claw, seen by a fixed camera while the gripper turns.
 #include "graspfill/pipeline/pipeline.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The claw registration recovers a known pose error from noisy depth, and
 // says so when the claw is not in view; Open3D's point-to-plane ICP on the
 // same frames, beside it.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The closest-point table answers, for every cell, exactly what a scan of
 // all the points would: the first of the nearest to the cell's centre
 // within the band, or none.

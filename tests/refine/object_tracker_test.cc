@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Object tracking (the object slipping in G): aligned to a model of the
 // object as first seen, the object pixels of a frame taken after a slip
 // give the slip's displacement; a frame without one leaves the pose as it

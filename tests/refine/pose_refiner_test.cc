@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The pose refiner over a turn: it finds a constant hand-eye error under
 // per-frame pose noise, fuses every frame at the true pose within the
 // registration's precision, and rejects (and counts) frames it cannot trust.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A claw holding a sphere in front of a camera, rendered with Embree (the
 // claw) and analytically (the sphere, the wall behind), with 1 mm of
 // Gaussian depth noise: the frames the refinement tests register against.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Test-only inputs for the repair tests: planes with round holes, and the
 // paper protocol's known hole geometry, from which the virtual frame,
 // classification and completion tests build their boundaries (so that those

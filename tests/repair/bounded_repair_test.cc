@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Issue 12 item 2: the repair's cost is bounded by the cloud's point count,
 // whatever its extent or scale. Times are CPU time ratios to the clean
 // cloud measured in the same test (not absolute times: the machine is

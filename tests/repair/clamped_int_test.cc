@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The repair's float-to-int conversions of extent-sized quantities
 // (src/repair/clamped_int.hpp): values in range exactly as a cast, values
 // beyond it (2.4e35 slabs, found by fuzz_repair), infinities and NaN the

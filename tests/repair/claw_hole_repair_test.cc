@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Step 7: claw holes of the paper's protocol (object frame = V: z up, the
 // missing top at max z) filled from the local fit (default), its thin-plate
 // fallback and from Poisson (the paper's setting and the local variant).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // CPU-time measurements for the repair tests' timings (printed, not
 // asserted).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The repair with the camera's evidence, on a fused cloud of a synthetic
 // grasp (synth -> pipeline -> repair in-process): a can held by the
 // three-finger claw, whose top the camera never sees.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // What the fill tests (claw holes, missing top) count as a good fill, and
 // the spacing they measure it in.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A synthetic grasp fused in-process as a replay would: every depth frame
 // rendered, sent through the bus encoding (zlib16, 1 mm steps) and fused.
 #pragma once

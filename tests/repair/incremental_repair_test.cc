@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Updates between full repairs, on a synthetic grasp fused in-process
 // (synth -> pipeline, as the live loop does): a box turned by the claw,
 // the model taken every 6 frames.

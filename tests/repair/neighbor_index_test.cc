@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "neighbor_index.hpp"
 
 #include <gtest/gtest.h>

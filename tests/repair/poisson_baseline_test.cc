@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The benchmark's Poisson-only baseline (src/repair/poisson_baseline.hpp):
 // one Poisson surface of the whole protocol cloud fills its holes, nothing
 // lands where the cloud already is, and bad input is refused.

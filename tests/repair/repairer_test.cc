@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The chained repair: contract tests (input kept, provenance, bad input,
 // no-op cases). Accuracy against the paper's tables is `graspfill bench
 // repair`'s job.

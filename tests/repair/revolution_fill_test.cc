@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The surface of revolution (src/repair/revolution_fill.hpp): right where
 // the object is one (a sphere and a spheroid whose top is cut off), no
 // surface where nothing closes it (a cylinder, a cup that widens to its

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Step 8: the missing top mirrored about the largest cross-section, on the
 // paper's protocol clouds in the object frame (= V: z up, the missing top
 // at max z), and asymmetric objects that must come back untouched with a

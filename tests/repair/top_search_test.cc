@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The top's scored search (src/repair/top_search.hpp): a completion that
 // meets the rim wins over "open" with a high confidence; one that stops
 // short of the rim (the mirror of a cup's narrower bottom at its wider

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "virtual_frame.hpp"
 
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Writes a copy of a recording in which some messages are damaged the way
 // a real bus damages them, for live's per-reason bad-message counts:
 // every 10th depth image cycles through a flipped bit in its type hash

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The CLI's shared option helpers: strict numbers (rt/cli/number_parsing.hpp),
 // the claw of a session description (rt/cli/claw_option.hpp) and the
 // suggestion for a mistyped option (rt/cli/unknown_option.hpp).

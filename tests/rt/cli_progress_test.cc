@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The progress line's text (rt/cli/progress.hpp): counts, rate, time left.
 #include "progress.hpp"
 

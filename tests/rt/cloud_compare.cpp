@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Test tool: compares two object clouds, each the last object_cloud_t on a
 // channel of an LCM log (what `graspfill replay` and `graspfill live`
 // published, captured with LCM's file:// provider or lcm-logger) or a PLY

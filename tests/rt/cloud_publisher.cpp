@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Test tool: publishes a deterministic object cloud with LcmPublisher and
 // prints the "points=<n> checksum=<hex>" a subscriber should report.
 // usage: cloud_publisher <lcm-url> <channel> <num-points> <seed> [repeats]

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Test tool: waits for one object_cloud_t on a channel and prints
 // "points=<n> checksum=<hex>" to stdout.
 // usage: cloud_subscriber <lcm-url> <channel> <timeout-ms>

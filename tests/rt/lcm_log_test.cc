@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // LCM log round trips: LcmLogWriter -> LcmLogSource, channel filtering,
 // truncation and open errors.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // LcmPublisher over LCM's in-process memq:// provider: what is published
 // arrives, decoded, with its content intact. (No network: memq only.)
 #include "sinks/lcm_publisher.hpp"

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Sourced by the namespace scripts.
 
 # Returns 1 (after saying why, as a SKIP line) unless this machine can run

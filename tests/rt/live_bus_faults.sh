@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # Bus input is data, never control (issue 36): `graspfill live
 # --depth-from-lcm` gets the bundled recording from lcm-logplayer on LCM's
 # UDP multicast, confined to a private network namespace (loopback only),

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # `graspfill live --record` when the session ends badly (issue 36), through
 # real processes: lcm-logplayer plays a synth recording on LCM's UDP
 # multicast inside a private network and mount namespace (loopback only, a

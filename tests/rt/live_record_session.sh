@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # `graspfill live --record` -> `graspfill replay` reproduces the session's
 # final cloud, through the real CLI: lcm-logplayer plays a synth recording on
 # LCM's UDP multicast, confined to a private network namespace (loopback

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # `graspfill live --depth-from-lcm` takes its claw from the session
 # description on the bus: a parallel-claw recording made by `graspfill
 # synth` is played by lcm-logplayer on LCM's UDP multicast, confined to a

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # A grasp-and-model session across real processes on LCM's UDP multicast,
 # confined to a private network namespace (loopback only): lcm-logplayer
 # plays the bundled recording (depth + gripper states), `graspfill live`

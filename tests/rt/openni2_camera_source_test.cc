@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // CameraSource with a graspfill-replay device: the log's session first,
 // then its gripper states and the device's depth frames (through libOpenNI2)
 // in time order, every one of them, as LcmLogSource reads the same log.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // libGraspfillReplay through Debian's libOpenNI2 (loaded from the build's
 // runtime folder by this test's RPATH): a recording served as a device
 // gives the log's depth frames, in order, with their recorded timestamps

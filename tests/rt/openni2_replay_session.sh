@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # OpenNI2 end to end without a camera: `graspfill live --device
 # graspfill-replay:LOG` reads a synthetic recording's depth through
 # Debian's libOpenNI2 and graspfill's replay driver (gripper states read

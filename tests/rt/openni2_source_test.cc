@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // OpenNI2Source without a camera: construction fails with OpenNI2's own
 // reason. (CI machines have no depth camera; on a desk with one plugged in
 // the any-device test skips.)

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # OpenNI2 for real without a camera: libGraspfillReplay through Debian's
 # libOpenNI2 (included from tests/rt/CMakeLists.txt when OpenNI2 is found).
 graspfill_test(rt_openni2_replay_driver_test openni2_replay_driver_test.cc

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "sources/prefetching_source.hpp"
 
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The warning a publisher gives when a model will not fit a default
 // subscriber's receive buffer (rt/sinks/receive_buffer.hpp).
 #include "sinks/receive_buffer.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Writes a copy of a recording with crafted session descriptions in it, the
 // kind a careless or hostile publisher puts on the bus, for live's tests of
 // bus input (tests/rt/live_bus_faults.sh). Encoded with the generated type,

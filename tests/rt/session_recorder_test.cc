@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The session recorder (issue 36): its queue bounded in bytes under many
 // large frames, and a full disk that stops the recording but keeps the log.
 #include "sinks/session_recorder.hpp"

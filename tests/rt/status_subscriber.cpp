@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Test tool: listens to module_status_t on a channel until none came for
 // <quiet-ms> after the first, <timeout-ms> in all, or SIGTERM / SIGINT (the
 // publisher is gone), and prints how regularly they came and what the last

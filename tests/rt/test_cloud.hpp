@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A deterministic test cloud and a checksum over its content, shared by the
 // rt tests and the cross-process publisher/subscriber pair, and the guard
 // that keeps the latter off the host network.

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # Cross-process object-cloud round trip over LCM's UDP multicast, confined
 # to a private network namespace (only a loopback inside): the subscriber
 # must report the point count and checksum the publisher sent.

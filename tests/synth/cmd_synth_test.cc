@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `graspfill synth` end to end: arguments, the files it writes, and the
 // recording read back with LCM's own log reader and graspfill's decoders;
 // and `--protocol paper`, its clouds checked against the exact shape.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The slip model: off by default, the distance asked for in a seeded
 // direction near +z_G, a start in the middle of the recording, eased (no
 // jump) over the duration asked for.

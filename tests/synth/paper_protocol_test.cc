@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/synth/paper_protocol.hpp"
 
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The pictures' font: widths, cutting to fit, drawing clipped at the edges.
 #include "bitmap_font.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // One view of a cloud: the framing that holds every cloud of a picture,
 // and points the framing does not hold.
 #include "graspfill/view/cloud_render.hpp"

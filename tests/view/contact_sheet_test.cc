@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Pictures of clouds: each provenance's colour where its points are, the
 // legend, before / after columns at one scale, and the config's checks.
 #include "graspfill/view/contact_sheet.hpp"

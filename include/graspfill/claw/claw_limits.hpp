@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The sizes a claw may have, stated once (issue 36). Every claw file is held
 // to them: description files (claw_loader.cpp), URDFs and URDF configs
 // (urdf_claw.cpp), and so the claws that session descriptions carry. A real

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Cuts the claw out of a depth frame: a pixel is removed when the posed claw
 // meshes cover it and the measured depth is on the claw or behind it
 // (anything the claw hides is not the object's visible surface). The claw's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The claw (gripper) as a kinematic tree of rigid links with meshes, posed by
 // its opening or its joint values. Built-in procedural claws (three-finger as
 // in the paper, two-finger parallel) and claws loaded from a description file

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Checks on claw meshes before they reach the ray caster: a bad index or a
 // NaN vertex from a user's mesh file must be an error at load, naming the
 // file and link, not a failure at the first gripper state.

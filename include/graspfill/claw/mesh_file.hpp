@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Reads a claw link's mesh file: STL, OBJ, PLY, COLLADA (.dae) and the
 // other formats assimp reads. One reader for every claw source (JSON
 // descriptions and URDFs).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Where a claw's mesh reference is read from when the claw's text came from
 // outside this machine (a session description on the bus or in a log): a
 // publisher must not make graspfill read whatever file it names, so such a

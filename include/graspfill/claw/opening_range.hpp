@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Which openings move a claw, and which end of them is open: the opening's
 // units differ between claws (meters of gap for the built-ins and the Franka
 // description, a 0..1 closure for the Robotiq and URDF claws), so code that

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Closed triangle meshes of URDF's geometric primitives, centred at the
 // origin as URDF places them (a cylinder's axis along z).
 #pragma once

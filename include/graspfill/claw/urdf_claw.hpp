@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Claws from a robot's URDF (urdfdom), optionally with a small JSON config
 // beside it that says how graspfill's single `opening` drives the joints.
 // Produces the same ClawModel as a description file (claw_model.hpp): links

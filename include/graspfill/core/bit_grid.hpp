@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A dense grid of one bit per cell over a box: which cells hold something.
 // Built for change tests between two clouds of the same object (a few
 // hundred thousand cells, one bit each): a lookup is an index and a shift,

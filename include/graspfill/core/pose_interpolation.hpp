@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Gripper poses at depth timestamps. Gripper states arrive at their own rate
 // (e.g. 100 Hz) and are not aligned with depth frames (e.g. 30 Hz), so the
 // pose at a frame's timestamp is interpolated between the two states that

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // One colour and one name per provenance, shared by the PLY writer (its
 // red/green/blue properties, for viewers that ignore `provenance`) and the
 // pictures of `graspfill view`, so that both tell the same story.

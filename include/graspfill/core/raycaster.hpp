@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A small RAII wrapper over an Embree 3 triangle scene, shared by the claw
 // mask and the synthetic renderer. Build the scene once (AddMesh, Commit),
 // then cast as many rays as needed; casting never allocates.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Reading files by name only when they are regular files. A FIFO blocks
 // open() and read() until a writer comes (forever, for a mistyped path), a
 // device such as /dev/zero or /dev/urandom never ends: every file graspfill

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Wall-clock timing of pipeline stages (steady clock), accumulated per stage.
 #pragma once
 

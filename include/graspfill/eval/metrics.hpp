@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Cloud-to-cloud quality metrics: compares a predicted (repaired) object cloud
 // with a hole-free ground truth. The headline number is the chamfer distance
 // of the paper (Eq. 6); F-scores and percentiles say *where* the error is.

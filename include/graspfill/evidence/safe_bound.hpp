@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The planner's safe bound (graspfill::SafeBound, types.hpp) from what the
 // camera saw: a voxel of the workspace box is in the bound unless some key
 // frame saw all of it free (its centre free by the margin plus its half

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The fused cloud ends where the object ends: observed points that the
 // camera saw through are removed at extraction.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // What the camera saw, kept in the gripper frame G: a bounded set of key
 // frames (measured depth, the claw's depth, T_C_G) spread over the turn,
 // tested by projection. For a point in G it answers whether some ray

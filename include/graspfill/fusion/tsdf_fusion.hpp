@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Fuses masked depth frames into a TSDF volume in the gripper frame G
 // (Open3D's ScalableTSDFVolume: voxel blocks allocated only where depth
 // lands, so a cropped frame costs only the object's blocks).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Crops a depth frame to the object's workspace: a box in the gripper frame.
 // Everything outside it (background, the robot arm behind the palm, the
 // table) is zeroed, so the TSDF only ever sees the object and the claw.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Writing a file so that readers only ever see the old file or the whole new
 // one: the bytes go to a temporary file in the target's folder, are flushed
 // to the disk, and the temporary file is then renamed over the target. A

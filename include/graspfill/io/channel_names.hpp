@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Which LCM channel names graspfill takes (issue 36). LCM refuses a name
 // over 63 characters (LCM_MAX_CHANNEL_NAME_LENGTH) on publish, and
 // subscribes to a name as a regular expression anchored at both ends:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // An object cloud's file, by its name: `.ply` (io/ply.hpp) or `.pcd`
 // (io/pcd.hpp), so that a file's bytes always match its extension.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A bounded reader of LCM log files (lcm-logger's format), used instead of
 // liblcm's: liblcm allocates and reads whatever an event header declares
 // (a 48-byte file declaring 2 GB of data crashes it). Here every length is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Triangle meshes for planners and CAD tools, in the format a file's
 // extension names: .ply (binary PLY), .stl (binary STL), .obj (Wavefront).
 //

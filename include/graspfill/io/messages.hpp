@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Conversion between graspfill's value types and its LCM messages
 // (lcmtypes/*.lcm, package graspfill). Pure functions over bytes: nothing
 // here opens a socket or a file, so the same code serves the live bus, log

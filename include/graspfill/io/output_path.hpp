@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Checks of a command's output paths, made before the command starts its
 // work, so that an output that cannot be written is found at once rather
 // than after a whole replay.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Object clouds as PCD, the Point Cloud Library's format (PCL tools,
 // Open3D, planners built on PCL). File I/O at the API boundary: throws
 // std::runtime_error naming the path; reentrant.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Files for people and tools: object clouds as PLY (MeshLab, CloudCompare,
 // Open3D) and triangle meshes (claw models, ground-truth objects).
 //

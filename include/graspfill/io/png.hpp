@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Pictures for people as PNG files (`graspfill view`, `--preview`).
 //
 // File I/O at the API boundary: failures throw std::runtime_error naming

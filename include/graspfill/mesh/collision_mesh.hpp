@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A closed triangle mesh of an object cloud, for motion planners that take
 // collision meshes (MoveIt, Drake, OMPL-based planners) rather than points.
 //

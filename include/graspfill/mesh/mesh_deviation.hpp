@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // How far a mesh made from a cloud (BuildCollisionMesh) lies from it, both
 // ways: the mesh's surface to the cloud (does the mesh bulge where the cloud
 // has nothing?) and the cloud to the mesh's surface (does the mesh cover

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The in-process grasp-reconstruction module: gripper states and depth
 // frames go in (from a live camera or a recording, in any interleaving),
 // the object's cloud in the gripper frame comes out.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Claw registration: aligns the posed claw model to the depth pixels near
 // its predicted place in a frame (point-to-plane ICP, after Krainin et al.
 // 2011, who tracked a robot's hand by aligning its model to the depth),

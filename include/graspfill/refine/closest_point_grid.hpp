@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A closest-point table for point-to-plane ICP: per cell of a grid around a
 // model's points, the index of the point nearest the cell's centre within
 // a band. Built once per model, looked up once per match, so that an

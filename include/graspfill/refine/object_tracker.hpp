@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Frame-to-model tracking of the object in the grasp: what the claw
 // registration cannot fix, the object slipping in the fingers (it moves in
 // G while the claw does not).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Pose refinement for imperfect robots: corrects the logged gripper pose of
 // every depth frame before the claw mask and the fusion use it.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The repair kept up to date between full repairs: while the robot turns
 // the object the fused cloud changes a little from one update to the next,
 // so an update keeps what the last full repair (the base) added where it

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Value types shared by the steps of the hole repair (Cui, Zhang & Wang,
 // Sensors 2021, section 2; see ../shared/paper/). Each step is its own unit
 // in src/repair/ with its own header; the Repairer chains them.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The hole repair, chained: outliers, boundary points, boundary lines, the
 // virtual frame V, classification into the missing surface and the claw
 // holes, boundary completion, then the fills (claw holes from a local

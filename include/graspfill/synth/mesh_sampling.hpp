@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Measurements of closed triangle meshes and an area-weighted surface
 // sampler, used for the ground-truth cloud and by the tests.
 #pragma once

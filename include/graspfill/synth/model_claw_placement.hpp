@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // How a description or URDF claw (any ClawModel, not the procedural claws
 // whose fingers can be measured directly) holds the object in a synthetic
 // scene. The rule (docs/claws.md, "Claws from URDF"):

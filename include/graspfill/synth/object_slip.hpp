@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The object slipping in the grasp, for synthetic recordings: at one seeded
 // instant the object starts to slide by a fixed distance relative to the
 // claw and settles there, eased over a short time. The claw and the logged

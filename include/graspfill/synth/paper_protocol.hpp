@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The paper's simulated protocol (Cui et al. 2021, section 3.1): a dense
 // sample of a shape's surface with the top cut off, three claw-sized holes
 // dug out of the side, in a random rigid pose; and an independent sample of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Seeded random numbers for the synthetic data. The distributions are
 // written out here (not std::normal_distribution) so that a seed gives the
 // same numbers with every standard library, which keeps recordings

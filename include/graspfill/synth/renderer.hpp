@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Depth rendering with Embree: meshes rigid in the gripper frame G are
 // committed once; each frame casts the camera's rays transformed into G.
 // Rays are only cast inside the projection of the meshes' bounding box;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // What a real rig gets wrong about the gripper poses it logs, for synthetic
 // recordings: a hand-eye calibration off by a constant rigid error, noise
 // on every gripper state (encoders, arm flex) and a clock offset between

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A synthetic grasp scene: an object held by a procedural claw, turned one
 // full revolution in front of a fixed depth camera. Everything is defined
 // in the gripper frame G (see types.hpp) and is a pure function of the

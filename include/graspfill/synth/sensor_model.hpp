@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A Kinect-v1-like structured-light depth sensor model, applied to an ideal
 // (noise-free) rendering:
 //   - axial noise, Nguyen, Izadi, Lovell, "Modeling Kinect Sensor Noise for

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Built-in closed test objects: the symmetric shapes of the paper's
 // simulation (Cui et al. 2021, section 3.1: cuboid, triangular prism,
 // cylinder, sphere, elliptic cylinder, ellipsoid), and a zoo of

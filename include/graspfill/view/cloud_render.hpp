@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Pictures of object clouds for people: a software point splatter (each
 // point a disc, nearest wins through a z-buffer), orthographic, in the
 // points' provenance colours. Needs no display (Open3D's visualizer does).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // One picture of one or more object clouds (e.g. before and after the
 // repair): a column per cloud, a row per view, all at one scale, each
 // column titled with the cloud's name and point counts, and a legend of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // What graspfill's OpenNI2 replay driver (libGraspfillReplay) answers beyond
 // OpenNI2's standard properties: shared by the driver and by OpenNI2Source,
 // which uses them when the device supports them (a real camera does not).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // libGraspfillReplay: an OpenNI2 driver (OniDriverAPI) whose one kind of
 // device is a graspfill recording. `openni::Device::open("graspfill-replay:
 // PATH.lcmlog")` gives a device with a depth sensor that serves the log's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The depth frames of a graspfill recording (an LCM log of depth_image_t),
 // as the replay driver serves them: indexed once when the device is
 // opened (count, size, intrinsics, rate), then read and decoded one frame

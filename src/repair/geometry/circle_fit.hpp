@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Kasa's algebraic circle fit, shared by the rim curve (the centre of an
 // arc) and the claw fills' widest-point test (each slab's centre).
 // Internal to src/repair.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // "Is any point within the gap of q?" for the fills' gap tests (a mirrored
 // point next to an original, a claw-hole sample next to the cloud): points
 // bucketed on square cells of the gap over two coordinates (u, v) of their

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The repair's one principal-component analysis in 3D: least-squares
 // planes (boundary normals, RANSAC refits, a hole's frame, the normals of
 // added points) and the smallest principal direction of a scatter (V's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "polygon_2d.hpp"
 
 #include <algorithm>

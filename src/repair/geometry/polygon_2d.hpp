@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The repair's 2D geometry: convex hulls (the cloud's outline for the
 // virtual frame, the slab outlines of the symmetry step, the claw fills and
 // the evidence's top), tests against them, polygon area and centroid, and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Planes through a point set by sequential RANSAC, and the least-squares
 // refits around it. Internal to src/repair.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A downstream program, built against graspfill as its users build it
 // (find_package, add_subdirectory or pkg-config; tests/install/): the
 // README's grasp-loop snippet on a recording, then the repair, then the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The part of graspfill small enough to build from source in the
 // add_subdirectory test: a recording's depth frames posed by the
 // interpolated gripper states (graspfill::rt_sources, graspfill::core), and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "geometry/gap_grid.hpp"
 
 #include <gtest/gtest.h>

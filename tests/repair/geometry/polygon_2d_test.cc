@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "geometry/polygon_2d.hpp"
 
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "geometry/ransac_planes.hpp"
 
 #include <gtest/gtest.h>

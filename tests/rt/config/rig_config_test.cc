@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The rig config file (rt/config/rig_config.hpp): its defaults are the
 // libraries' defaults, dump -> parse gives the same struct back, and every
 // bad value is refused naming the file, the line and the field.

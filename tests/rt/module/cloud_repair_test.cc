@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // RepairObjectCloud: the repaired cloud as a subscriber sees it (fused
 // points first, the repair's holes and "repair_" timings in the message),
 // and the cloud left alone when the repair throws.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The threaded module against the single-threaded Pipeline on the bundled
 // recording: same cloud, cloud callbacks on schedule, drops accounted for.
 #include "module/grasp_module.hpp"

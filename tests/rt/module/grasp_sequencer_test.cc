@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Grasp after grasp and clock jumps, on the bundled recording: a new
 // grasp id starts an empty volume (the second grasp's model is exactly what
 // a fresh pipeline makes of its events), a release stops fusion, and a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Feeds a LiveSession bytes as the bus would (its subscriber's handlers,
 // no socket) and checks, after every message, what its status must always
 // say whatever came: every message accepted or counted as bad exactly once,

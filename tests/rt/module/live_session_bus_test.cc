@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Bus input is data, never control (issue 36), deterministically: the
 // bundled recording's messages fed to a live session through its bus
 // subscriber's handlers (as the bus would, no socket), mixed by a seeded

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The live session, composed (source -> module -> repair -> publisher, with
 // the recorder beside), on LCM's in-process memq:// provider, fed from the
 // bundled recording: `live --record` then `replay` of the record gives the

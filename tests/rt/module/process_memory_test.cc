@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The heap reserve: what it touches stays mapped, and a thread's later
 // allocations of TSDF-block size take those pages instead of faulting in
 // new ones. Its own program: the settings are process-wide (and not run

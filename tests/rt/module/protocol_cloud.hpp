@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A fused-like object cloud with holes for the repair tests of rt/module:
 // the paper's protocol cylinder (top cut off, three claw holes), every point
 // observed, stamped like a cloud from Pipeline::ExtractCloud.

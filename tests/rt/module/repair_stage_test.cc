@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The repair stage's contract: clouds come out repaired on the stage's own
 // thread, a newer cloud replaces one still waiting, Submit never waits for
 // the stage, a failed repair still publishes, and destruction never hangs.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The replay session, composed (log -> sequencer -> per grasp: repair ->
 // PLY -> publish), on the bundled recording and on a two-grasp recording
 // made from it: the output's bytes are the parts' own, every grasp's model

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The claws of session descriptions are built and compared off the caller's
 // thread (issue 36: a late 10,000-link URDF held the status for 9 s): Submit
 // never waits for a build, each verdict is remembered by the claw's

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """The Python module (rt/python) from /usr/bin/python3, against the CLI and
 graspfill's own C++ files and messages:
 

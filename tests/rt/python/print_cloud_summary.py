@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """tests/rt/cloud_subscriber in Python: waits for one object_cloud_t with
 graspfill.Subscriber and prints the line tests/rt/cloud_publisher prints for
 what it sent (tests/rt/test_cloud.hpp's SummaryLine: count, checksum,

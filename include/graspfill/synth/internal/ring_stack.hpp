@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Meshing of a stack of closed loops ("rings"), the common skeleton of the
 // zoo's bodies of revolution, swept tubes and star-shaped blobs. Not part
 // of the public API: the shapes reach callers through MakeShape.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The shape zoo's meshes and volumes: household-like objects that go
 // beyond the paper's symmetric solids (see Shape in shapes.hpp, whose
 // MakeShape and AnalyticVolume call these). All are in frame O (meters,
