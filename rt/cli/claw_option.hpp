@@ -56,12 +56,17 @@ inline std::optional<std::filesystem::path> FindClawFile(const std::string& spec
   return std::nullopt;
 }
 
+/// True for the built-in claw names (the others are files).
+inline bool IsBuiltinClaw(const std::string& spec) {
+  return spec == "three-finger" || spec == "parallel";
+}
+
 /// `spec` as MakeClaw takes it: a built-in's name as it is, else the file
 /// FindClawFile finds for it.
 /// @throws UsageError for anything else, listing the built-ins and the
 ///   descriptions in `claws_dir`.
 inline std::string ResolveClawSpec(const std::string& spec, const std::filesystem::path& claws_dir) {
-  if (spec == "three-finger" || spec == "parallel") return spec;
+  if (IsBuiltinClaw(spec)) return spec;
   if (const auto file = FindClawFile(spec, claws_dir)) return file->string();
   std::string known = "the built-ins are three-finger and parallel";
   const std::vector<std::string> installed = ClawNamesIn(claws_dir);
@@ -170,11 +175,6 @@ inline void DescribeBuiltinClaw(const std::string& name, const claw::ProceduralC
   session->claw_text = ProceduralClawText(config);
   session->claw_source.clear();
   session->claw_mesh_root.clear();
-}
-
-/// True for the built-in claw names (the others are files).
-inline bool IsBuiltinClaw(const std::string& spec) {
-  return spec == "three-finger" || spec == "parallel";
 }
 
 /// Sets the claw of *session to the file claw `spec` (MakeClaw's): a

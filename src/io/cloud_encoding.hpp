@@ -32,20 +32,24 @@ inline std::string FormatDouble(double v) {
   return buf;
 }
 
+/// The first of normals, provenance and confidence that is given
+/// (non-empty) but not one per point; nullptr when all fit. Callers throw
+/// "<field>: not one value per point" in their own terms.
+inline const char* FieldNotOnePerPoint(const ObjectCloud& cloud) {
+  const size_t n = cloud.points_G.size();
+  if (!cloud.normals_G.empty() && cloud.normals_G.size() != n) return "normals";
+  if (!cloud.provenance.empty() && cloud.provenance.size() != n) return "provenance";
+  if (!cloud.confidence.empty() && cloud.confidence.size() != n) return "confidence";
+  return nullptr;
+}
+
 /// Throws std::runtime_error "<what> '<path>': <field>: not one value per
-/// point" where normals, provenance or confidence are given (non-empty) but
-/// not one per point.
+/// point" where FieldNotOnePerPoint finds one (the file writers).
 inline void CheckOnePerPoint(const ObjectCloud& cloud, const std::string& what,
                              const std::string& path) {
-  const size_t n = cloud.points_G.size();
-  const auto check = [&](size_t size, const char* field) {
-    if (size != 0 && size != n) {
-      throw std::runtime_error(what + " '" + path + "': " + field + ": not one value per point");
-    }
-  };
-  check(cloud.normals_G.size(), "normals");
-  check(cloud.provenance.size(), "provenance");
-  check(cloud.confidence.size(), "confidence");
+  if (const char* field = FieldNotOnePerPoint(cloud)) {
+    throw std::runtime_error(what + " '" + path + "': " + field + ": not one value per point");
+  }
 }
 
 /// The header text of a frame name: one line.

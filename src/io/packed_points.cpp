@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "packed_points.hpp"
 
+#include "cloud_encoding.hpp"
+
 #include <zlib.h>
 
 #include <algorithm>
@@ -40,15 +42,9 @@ size_t PackedSize(size_t num_points, bool has_normals) {
 
 PackedPoints PackPoints(const ObjectCloud& cloud) {
   const size_t n = cloud.points_G.size();
-  const auto check = [n](size_t size, const char* what) {
-    if (size != 0 && size != n) {
-      throw std::invalid_argument("object_cloud_t: " + std::to_string(size) + " " + what + " for " +
-                                  std::to_string(n) + " points");
-    }
-  };
-  check(cloud.normals_G.size(), "normals");
-  check(cloud.provenance.size(), "provenance values");
-  check(cloud.confidence.size(), "confidence values");
+  if (const char* field = FieldNotOnePerPoint(cloud)) {
+    throw std::invalid_argument(std::string("object_cloud_t: ") + field + ": not one value per point");
+  }
   PackedPoints packed;
   packed.has_normals = !cloud.normals_G.empty();
   Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();

@@ -28,8 +28,9 @@ struct PackedPoints {
 
 /// Packs the cloud's points, normals (if any), provenance (kObserved where
 /// empty) and confidence (1 where empty). Deterministic.
-/// @throws std::invalid_argument on a non-finite point or normal, or
-///   normals, provenance or confidence given but not one per point.
+/// @throws std::invalid_argument on a non-finite point or normal, a
+///   confidence outside [0, 1], or normals, provenance or confidence given
+///   but not one per point.
 PackedPoints PackPoints(const ObjectCloud& cloud);
 
 /// The inflated size of `num_points` packed points [bytes].
