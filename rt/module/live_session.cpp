@@ -145,7 +145,9 @@ void LiveSession::PublishCloud(const ObjectCloud& cloud) {
   if (before_ms >= 0.0) latency_ms_.Add(before_ms + publish_ms);
 }
 
-void LiveSession::Begin(claw::ClawModel claw, const io::SessionDescription& description) {
+void LiveSession::Begin(claw::ClawModel claw, const io::SessionDescription& description,
+                        const std::optional<PipelineConfig>& pipeline) {
+  if (pipeline) config_.module.pipeline = *pipeline;
   if (claw_checker_) claw_checker_->SetClawInUse(claw, description);
   if (config_.repair) {
     repair_stage_ = std::make_unique<RepairStage>(

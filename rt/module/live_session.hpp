@@ -148,11 +148,13 @@ class LiveSession : private EventSink {
   /// (or `timeout`); true if none. For tests: the verdicts are then out.
   bool WaitSessionChecks(std::chrono::milliseconds timeout) const;
 
-  /// Starts fusing with `claw` (and the pipeline config in the session
-  /// config, which the caller has set from `description` if it wants);
-  /// `description` heads the recording. Throws on a bad config or an
-  /// output that cannot be written.
-  void Begin(claw::ClawModel claw, const io::SessionDescription& description);
+  /// Starts fusing with `claw`; `description` heads the recording.
+  /// `pipeline`, when given, replaces the session config's module.pipeline:
+  /// what is known only now, e.g. the box and voxel of the session
+  /// description the claw came from. Throws on a bad config or an output
+  /// that cannot be written.
+  void Begin(claw::ClawModel claw, const io::SessionDescription& description,
+             const std::optional<PipelineConfig>& pipeline = std::nullopt);
 
   /// Runs the session loop on `source` (null: depth comes from the bus)
   /// until it ends or a limit stops it; `on_tick` runs on each status tick

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -170,6 +171,45 @@ TEST(LiveSession, RecordThenReplayGivesTheSessionsFinalCloud) {
             summary.repair->published);
   EXPECT_EQ(status.repair_updates, summary.repair->updates);
   EXPECT_GT(status.rss_mb, 10.0);
+}
+
+// Begin's pipeline replaces the one the session was made with (live sets
+// a session description's box and voxel there, known only once the session
+// is open): a box cut at 10 cm keeps the bundled object's top (up to 18.6 cm)
+// out of every cloud.
+TEST(LiveSession, BeginsWithThePipelineItIsGiven) {
+  LiveSessionConfig config;
+  config.lcm_url = "memq://";
+  config.module.frame_queue_capacity = 1000;
+  config.module.state_queue_capacity = 10000;
+  config.repair = false;  // the fused cloud itself
+  LiveSession live(config);
+  std::vector<ObjectCloud> clouds;
+  live.publisher().lcm_instance()->subscribeFunction(
+      config.channels.object_cloud,
+      +[](const lcm::ReceiveBuffer* rbuf, const std::string&, std::vector<ObjectCloud>* out) {
+        ObjectCloud c;
+        std::string error;
+        ASSERT_TRUE(io::DecodeObjectCloud(rbuf->data, rbuf->data_size, &c, &error)) << error;
+        out->push_back(std::move(c));
+      },
+      &clouds);
+
+  PipelineConfig pipeline = config.module.pipeline;
+  constexpr double kTopZ_m = 0.10;
+  pipeline.workspace.max_G.z() = kTopZ_m;
+  live.Begin(claw::ClawModel::ThreeFinger(), Description(), pipeline);
+  LcmLogSource source(LogConfig(kBundled));
+  live.Run(&source);
+  while (live.publisher().lcm_instance()->handleTimeout(50) > 0) {
+  }
+  ASSERT_FALSE(clouds.empty());
+  const ObjectCloud& final_cloud = clouds.back();
+  EXPECT_GT(final_cloud.size(), 1000u);
+  float top_z_m = 0.0f;
+  for (const Eigen::Vector3f& p : final_cloud.points_G) top_z_m = std::max(top_z_m, p.z());
+  // Within the truncation band (4 voxels of 2 mm) of the box's top.
+  EXPECT_LT(top_z_m, kTopZ_m + 0.01);
 }
 
 // A full disk while recording (issue 36; RLIMIT_FSIZE here, a real
