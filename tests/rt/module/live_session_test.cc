@@ -63,6 +63,19 @@ io::SessionDescription Description() {
   return session;
 }
 
+// Every cloud published on `channel`, decoded as a planner would.
+void SubscribeClouds(lcm::LCM* bus, const std::string& channel, std::vector<ObjectCloud>* clouds) {
+  bus->subscribeFunction(
+      channel,
+      +[](const lcm::ReceiveBuffer* rbuf, const std::string&, std::vector<ObjectCloud>* out) {
+        ObjectCloud c;
+        std::string error;
+        ASSERT_TRUE(io::DecodeObjectCloud(rbuf->data, rbuf->data_size, &c, &error)) << error;
+        out->push_back(std::move(c));
+      },
+      clouds);
+}
+
 TEST(LiveSession, RecordThenReplayGivesTheSessionsFinalCloud) {
   const std::filesystem::path dir =
       std::filesystem::path(GRASPFILL_BINARY_DIR) / "test_scratch" / "live_session_record";
@@ -84,15 +97,7 @@ TEST(LiveSession, RecordThenReplayGivesTheSessionsFinalCloud) {
   std::vector<ObjectCloud> clouds;
   std::vector<io::ModuleStatus> statuses;
   lcm::LCM* bus = live.publisher().lcm_instance();
-  bus->subscribeFunction(
-      config.channels.object_cloud,
-      +[](const lcm::ReceiveBuffer* rbuf, const std::string&, std::vector<ObjectCloud>* out) {
-        ObjectCloud c;
-        std::string error;
-        ASSERT_TRUE(io::DecodeObjectCloud(rbuf->data, rbuf->data_size, &c, &error)) << error;
-        out->push_back(std::move(c));
-      },
-      &clouds);
+  SubscribeClouds(bus, config.channels.object_cloud, &clouds);
   bus->subscribeFunction(
       config.channels.status,
       +[](const lcm::ReceiveBuffer* rbuf, const std::string&, std::vector<io::ModuleStatus>* out) {
@@ -185,15 +190,7 @@ TEST(LiveSession, BeginsWithThePipelineItIsGiven) {
   config.repair = false;  // the fused cloud itself
   LiveSession live(config);
   std::vector<ObjectCloud> clouds;
-  live.publisher().lcm_instance()->subscribeFunction(
-      config.channels.object_cloud,
-      +[](const lcm::ReceiveBuffer* rbuf, const std::string&, std::vector<ObjectCloud>* out) {
-        ObjectCloud c;
-        std::string error;
-        ASSERT_TRUE(io::DecodeObjectCloud(rbuf->data, rbuf->data_size, &c, &error)) << error;
-        out->push_back(std::move(c));
-      },
-      &clouds);
+  SubscribeClouds(live.publisher().lcm_instance(), config.channels.object_cloud, &clouds);
 
   PipelineConfig pipeline = config.module.pipeline;
   constexpr double kTopZ_m = 0.10;
@@ -236,15 +233,7 @@ TEST(LiveSession, AFullDiskStopsTheRecordingNotTheSession) {
   std::vector<ObjectCloud> clouds;
   std::vector<io::ModuleStatus> statuses;
   lcm::LCM* bus = live.publisher().lcm_instance();
-  bus->subscribeFunction(
-      config.channels.object_cloud,
-      +[](const lcm::ReceiveBuffer* rbuf, const std::string&, std::vector<ObjectCloud>* out) {
-        ObjectCloud c;
-        std::string error;
-        ASSERT_TRUE(io::DecodeObjectCloud(rbuf->data, rbuf->data_size, &c, &error)) << error;
-        out->push_back(std::move(c));
-      },
-      &clouds);
+  SubscribeClouds(bus, config.channels.object_cloud, &clouds);
   bus->subscribeFunction(
       config.channels.status,
       +[](const lcm::ReceiveBuffer* rbuf, const std::string&, std::vector<io::ModuleStatus>* out) {
