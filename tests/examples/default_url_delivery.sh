@@ -56,17 +56,17 @@ unshare -n sh -c '
   lcm-logger --lcm-url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304" \
       -c GRASPFILL_OBJECT_CLOUD "$TMP/bus.lcmlog" >/dev/null 2>&1 &
   logger=$!
-  "$CPP_SUB" --count 100000 --timeout-s 8 >"$TMP/cpp.out" 2>"$TMP/cpp.err" &
+  "$CPP_SUB" --count 100000 --timeout-s 200 >"$TMP/cpp.out" 2>"$TMP/cpp.err" &
   cpp=$!
   java=
   if [ -n "$JAVA" ]; then
-    "$JAVA" -cp "$JAVA_CP" ObjectCloudSubscriber --count 100000 --timeout-s 8 \
+    "$JAVA" -cp "$JAVA_CP" ObjectCloudSubscriber --count 100000 --timeout-s 200 \
         >"$TMP/java.out" 2>"$TMP/java.err" &
     java=$!
   fi
   python=
   if [ -n "$PYTHON" ]; then
-    PYTHONPATH="$PYTHON_PATH" "$PYTHON" "$PY_SUB" --timeout-s 8 >"$TMP/python.out" 2>"$TMP/python.err" &
+    PYTHONPATH="$PYTHON_PATH" "$PYTHON" "$PY_SUB" --timeout-s 200 >"$TMP/python.out" 2>"$TMP/python.err" &
     python=$!
   fi
   "$GRASPFILL" live --depth-from-lcm --publish-every 10 --idle-exit-s 1.5 --duration-s 60 \
@@ -80,10 +80,23 @@ unshare -n sh -c '
   # Then replay publishes its final model once.
   "$GRASPFILL" replay "$TMP/rec/recording.lcmlog" -o "$TMP/replay_again.ply" --quiet \
       >"$TMP/replay.out" 2>&1 || exit 96
+  # Every subscriber prints each cloud as it comes: wait (up to 20 s,
+  # however loaded the machine) until each has printed as many as were
+  # published, then stop them.
+  published=$(sed -n "s/^latency: \([0-9]*\) clouds published.*/\1/p" "$TMP/live.out")
+  want=$((${published:-0} + 1))
+  i=0
+  while [ $i -lt 200 ]; do
+    all=1
+    for f in cpp.out ${java:+java.out} ${python:+python.out}; do
+      [ "$(grep -c "^seq=" "$TMP/$f")" -ge $want ] || all=0
+    done
+    [ $all -eq 1 ] && break
+    sleep 0.1
+    i=$((i + 1))
+  done
   ss -uamnp >"$TMP/sockets.out" 2>&1  # drops per socket (d...), while the subscribers run
-  wait $cpp  # each subscriber ends 8 s after its last cloud
-  if [ -n "$java" ]; then wait $java; fi
-  if [ -n "$python" ]; then wait $python; fi
+  for pid in $cpp $java $python; do kill $pid 2>/dev/null; wait $pid; done
   sleep 0.5
   kill $logger
   wait $logger
