@@ -14,7 +14,8 @@
 #  2. `graspfill replay` publishes its final model: the reference capture's
 #     joined and decoded points equal replay's PLY within half the 50 um
 #     step on each axis (0.0434 mm as a distance), and each subscriber's
-#     last cloud has the PLY's point count.
+#     last cloud has the PLY's point count;
+#  3. the Python log reader joins every model from the reference capture.
 # The namespace's UDP receive-buffer drops (/proc/net/snmp, RcvbufErrors:
 # datagrams of any channel, mostly depth frames, that found a socket full)
 # are printed.
@@ -137,6 +138,14 @@ ply_points=$(sed -n 's/^element vertex \([0-9]*\).*/\1/p' "$TMP/replay.ply" | he
 check "the C++ example" cpp.out
 [ -n "$JAVA" ] && check "the Java example" java.out
 [ -n "$PYTHON" ] && check "the Python module's subscriber" python.out
+# The reference capture holds the slices as lcm-logger saw them: the Python
+# log reader joins every model from it.
+if [ -n "$PYTHON" ]; then
+  logged=$(PYTHONPATH="$PYTHON_PATH" "$PYTHON" "$(dirname "$PY_SUB")/read_object_clouds.py" "$TMP/bus.lcmlog" |
+           grep -c '^seq=')
+  echo "the Python log reader joined $logged from lcm-logger's capture"
+  [ "$logged" -eq "$expected" ] || { echo "FAIL: the Python log reader joined $logged of $expected"; fail=1; }
+fi
 # What the decoded final model is worth.
 "$COMPARE" "$TMP/bus.lcmlog" "$TMP/replay.ply" GRASPFILL_OBJECT_CLOUD 0.0434 within ||
   { echo "FAIL: replay's published model is not its PLY within half a step"; fail=1; }
