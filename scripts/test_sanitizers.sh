@@ -39,7 +39,7 @@ supp="$PWD/tests/sanitizers"
 
 asan_tests="
   io_messages_test io_ply_test io_pcd_test io_atomic_file_test io_output_path_test io_lcm_log_reader_test
-  io_fuzz_regressions_test
+  io_fuzz_regressions_test io_cloud_chunks_test
   claw_model_test claw_mask_test claw_loader_test claw_validation_test urdf_claw_test mesh_file_test
   pose_interpolation_test raycaster_test bit_grid_test tsdf_fusion_test workspace_crop_test
   closest_point_grid_test
@@ -53,9 +53,10 @@ asan_tests="
   repair_revolution_fill_test repair_top_search_test
   rt_lcm_log_test rt_lcm_publisher_test rt_prefetching_source_test rt_cli_options_test
   rt_config_test rt_grasp_module_test rt_cloud_repair_test rt_repair_stage_test
-  rt_grasp_sequencer_test rt_live_session_test rt_sample_window_test rt_receive_buffer_test"
+  rt_grasp_sequencer_test rt_live_session_test rt_sample_window_test rt_receive_buffer_test
+  rt_cloud_pacer_test"
 tsan_tests="
-  rt_lcm_log_test rt_lcm_publisher_test rt_prefetching_source_test
+  rt_lcm_log_test rt_lcm_publisher_test rt_prefetching_source_test rt_cloud_pacer_test
   rt_config_test rt_grasp_module_test rt_cloud_repair_test rt_repair_stage_test
   rt_grasp_sequencer_test rt_live_session_test"
 

@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // A planner's side of graspfill, in C++: subscribes to the object clouds and
 // prints a summary of each. Needs LCM and graspfill's message decoder
-// (target graspfill::io): the points travel packed (object_cloud_t.lcm), and
+// (target graspfill::io): on LCM's UDP multicast each cloud comes as
+// one-datagram slices (object_cloud_chunk_t.lcm), which
+// io::CloudChunkAssembler joins (a log's whole object_cloud_t passes
+// through it); the points travel packed (object_cloud_t.lcm), and
 // io::DecodeObjectCloud unpacks and checks them.
 //
 // usage: object_cloud_subscriber [URL] [--channel NAME] [--count N] [--timeout-s S]
@@ -18,7 +21,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
+#include "graspfill/io/cloud_chunks.hpp"
 #include "graspfill/io/messages.hpp"
 
 namespace {
@@ -27,8 +32,13 @@ class Printer {
  public:
   // Called on the thread that calls handle(): decodes, prints and counts.
   void OnMessage(const lcm::ReceiveBuffer* buffer, const std::string&) {
+    using Result = graspfill::io::CloudChunkAssembler::Result;
     std::string error;
-    if (!graspfill::io::DecodeObjectCloud(buffer->data, buffer->data_size, &cloud_, &error)) {
+    const Result joined = slices_.Add(buffer->data, buffer->data_size, &error);
+    if (joined == Result::kPending || joined == Result::kRepeat) return;  // more slices to come
+    const std::vector<uint8_t>& bytes = slices_.cloud();
+    if (joined != Result::kComplete ||
+        !graspfill::io::DecodeObjectCloud(bytes.data(), bytes.size(), &cloud_, &error)) {
       std::fprintf(stderr, "object_cloud_subscriber: skipping a message: %s\n", error.c_str());
       return;
     }
@@ -51,6 +61,7 @@ class Printer {
   int received{0};
 
  private:
+  graspfill::io::CloudChunkAssembler slices_;
   graspfill::ObjectCloud cloud_;  // reused: no allocation per cloud once warm
 };
 

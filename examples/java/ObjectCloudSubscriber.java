@@ -1,8 +1,12 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // A planner's side of graspfill, in Java: subscribes to the object clouds and
 // prints a summary of each. Needs LCM's jar (liblcm-java),
-// graspfill_lcmtypes.jar (classes graspfill.<type>, built by graspfill) and
-// ObjectCloudPoints (beside this file), which unpacks the points.
+// graspfill_lcmtypes.jar (classes graspfill.<type>, built by graspfill),
+// ObjectCloudAssembler (beside this file), which joins the one-datagram
+// slices each cloud comes in on UDP multicast, and ObjectCloudPoints, which
+// unpacks the points. LCM's reader thread only queues the messages
+// (MessageAggregator); they are joined and decoded on the main thread, so
+// that the reader empties the socket while a cloud is being decoded.
 //
 // usage: java -cp lcm.jar:graspfill_lcmtypes.jar:. ObjectCloudSubscriber
 //            [URL] [--channel NAME] [--count N] [--timeout-s S]
@@ -17,40 +21,26 @@ import graspfill.hole_t;
 import graspfill.object_cloud_t;
 import java.io.IOException;
 import lcm.lcm.LCM;
-import lcm.lcm.LCMDataInputStream;
-import lcm.lcm.LCMSubscriber;
+import lcm.lcm.MessageAggregator;
 
-public class ObjectCloudSubscriber implements LCMSubscriber {
-  private int received = 0;
-  private boolean failed = false;
-
-  // Runs on LCM's reader thread; main() waits on this object.
-  @Override
-  public synchronized void messageReceived(LCM lcm, String channel, LCMDataInputStream ins) {
-    try {
-      object_cloud_t cloud = new object_cloud_t(ins);
-      ObjectCloudPoints points = ObjectCloudPoints.unpack(cloud);
-      long[] byProvenance = new long[3];
-      for (byte p : points.provenance) {
-        if (p >= 0 && p < 3) ++byProvenance[p];
-      }
-      // Holes whose inside nothing is known of (an open mouth): keep clear.
-      int unobserved = 0;
-      for (hole_t h : cloud.holes) {
-        if (h.unobserved != 0) ++unobserved;
-      }
-      System.out.printf("seq=%d utime=%d grasp=%d final=%d points=%d observed=%d surface=%d "
-              + "symmetry=%d holes=%d unobserved=%d%n", cloud.seq, cloud.utime, cloud.grasp_id,
-          cloud.is_final, cloud.num_points, byProvenance[object_cloud_t.OBSERVED],
-          byProvenance[object_cloud_t.SURFACE], byProvenance[object_cloud_t.SYMMETRY],
-          cloud.num_holes, unobserved);
-      System.out.flush();
-      ++received;
-    } catch (IOException e) {
-      System.err.println("ObjectCloudSubscriber: undecodable message on " + channel + ": " + e);
-      failed = true;
+public class ObjectCloudSubscriber {
+  private static void print(object_cloud_t cloud) throws IOException {
+    ObjectCloudPoints points = ObjectCloudPoints.unpack(cloud);
+    long[] byProvenance = new long[3];
+    for (byte p : points.provenance) {
+      if (p >= 0 && p < 3) ++byProvenance[p];
     }
-    notifyAll();
+    // Holes whose inside nothing is known of (an open mouth): keep clear.
+    int unobserved = 0;
+    for (hole_t h : cloud.holes) {
+      if (h.unobserved != 0) ++unobserved;
+    }
+    System.out.printf("seq=%d utime=%d grasp=%d final=%d points=%d observed=%d surface=%d "
+            + "symmetry=%d holes=%d unobserved=%d%n", cloud.seq, cloud.utime, cloud.grasp_id,
+        cloud.is_final, cloud.num_points, byProvenance[object_cloud_t.OBSERVED],
+        byProvenance[object_cloud_t.SURFACE], byProvenance[object_cloud_t.SYMMETRY],
+        cloud.num_holes, unobserved);
+    System.out.flush();
   }
 
   private static int usage() {
@@ -59,7 +49,7 @@ public class ObjectCloudSubscriber implements LCMSubscriber {
     return 1;
   }
 
-  private static int run(String[] args) throws IOException, InterruptedException {
+  private static int run(String[] args) throws IOException {
     String url = null;
     String channel = "GRASPFILL_OBJECT_CLOUD";
     int count = 1;
@@ -74,34 +64,39 @@ public class ObjectCloudSubscriber implements LCMSubscriber {
     }
     if (count < 1 || timeoutS < 1) return usage();
     LCM lcm = url == null ? new LCM() : new LCM(url);
-    ObjectCloudSubscriber subscriber = new ObjectCloudSubscriber();
-    lcm.subscribe(channel, subscriber);
+    MessageAggregator queue = new MessageAggregator();
+    lcm.subscribe(channel, queue);
+    ObjectCloudAssembler slices = new ObjectCloudAssembler();
     try {
-      synchronized (subscriber) {
-        // The timeout counts from the latest cloud (wait() may also wake early).
-        int seen = 0;
-        long deadline = System.nanoTime() + timeoutS * 1_000_000_000L;
-        while (subscriber.received < count && !subscriber.failed) {
-          if (subscriber.received != seen) {
-            seen = subscriber.received;
-            deadline = System.nanoTime() + timeoutS * 1_000_000_000L;
-          }
-          long leftMs = (deadline - System.nanoTime()) / 1_000_000L;
-          if (leftMs <= 0) {
-            System.err.printf("ObjectCloudSubscriber: no cloud on %s for %d s%n", channel,
-                timeoutS);
-            return 1;
-          }
-          subscriber.wait(leftMs);
+      int received = 0;
+      // The timeout counts from the latest cloud.
+      long deadline = System.nanoTime() + timeoutS * 1_000_000_000L;
+      while (received < count) {
+        long leftMs = (deadline - System.nanoTime()) / 1_000_000L;
+        MessageAggregator.Message message = leftMs > 0 ? queue.getNextMessage(leftMs) : null;
+        if (message == null) {
+          System.err.printf("ObjectCloudSubscriber: no cloud on %s for %d s%n", channel, timeoutS);
+          return 1;
         }
-        return subscriber.failed ? 1 : 0;
+        object_cloud_t cloud;
+        try {
+          cloud = slices.add(message.data);
+          if (cloud == null) continue;  // more slices to come
+          print(cloud);
+        } catch (IOException e) {
+          System.err.println("ObjectCloudSubscriber: undecodable message on " + channel + ": " + e);
+          return 1;
+        }
+        ++received;
+        deadline = System.nanoTime() + timeoutS * 1_000_000_000L;
       }
+      return 0;
     } finally {
       lcm.close();
     }
   }
 
-  public static void main(String[] args) throws IOException, InterruptedException {
+  public static void main(String[] args) throws IOException {
     int code;
     try {
       code = run(args);

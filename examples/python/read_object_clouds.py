@@ -10,7 +10,9 @@ event format is small (below), and the classes `lcm-gen -p` made (the
 package `graspfill`, installed by graspfill under
 PREFIX/lib/python3/dist-packages) decode a message with the `struct` module
 alone. The points travel packed (layout in object_cloud_t.lcm); `unpack`
-below turns them into plain lists with `zlib` and `array`.
+below turns them into plain lists with `zlib` and `array`. A log of a live
+bus (lcm-logger on UDP multicast) holds each cloud as one-datagram slices
+(object_cloud_chunk_t.lcm); `SliceJoiner` joins them.
 
 usage: read_object_clouds.py LOG [--channel NAME]
 Exit: 0 when at least one cloud was read; 1 on a missing, malformed or
@@ -22,7 +24,7 @@ import struct
 import sys
 import zlib
 
-from graspfill import object_cloud_t
+from graspfill import object_cloud_chunk_t, object_cloud_t
 
 # One event of an LCM log (all big-endian): sync word, event number, utime
 # [us], channel length, data length, then the channel name and the data.
@@ -54,6 +56,38 @@ def read_events(path):
             if len(channel) < channel_len or len(data) < data_len:
                 raise LogError(f"truncated event at byte {offset}")
             yield utime, channel.decode("utf-8", "replace"), data
+
+
+class SliceJoiner:
+    """Joins object_cloud_chunk_t slices into whole object_cloud_t bytes, one
+    cloud at a time (a slice of another cloud drops an unfinished one);
+    whole object_cloud_t messages pass through."""
+
+    def __init__(self):
+        self.key, self.parts, self.completed = None, {}, None
+
+    def add(self, data):
+        """The whole cloud's bytes, or None while slices are missing (or for
+        a repeat); ValueError for a message of another type or a bad slice."""
+        if data[:8] == object_cloud_t._get_packed_fingerprint():
+            return data
+        chunk = object_cloud_chunk_t.decode(data)
+        key = (chunk.utime, chunk.seq, chunk.cloud_num_bytes, chunk.cloud_crc32, chunk.num_chunks)
+        if not 0 <= chunk.chunk_index < chunk.num_chunks:
+            raise ValueError(f"slice {chunk.chunk_index} of {chunk.num_chunks}")
+        if key == self.completed:
+            return None
+        if key != self.key:
+            self.key, self.parts = key, {}
+        self.parts[chunk.chunk_index] = chunk.data
+        if len(self.parts) < chunk.num_chunks:
+            return None
+        whole = b"".join(self.parts[i] for i in range(chunk.num_chunks))
+        self.key, self.parts = None, {}
+        if len(whole) != chunk.cloud_num_bytes or zlib.crc32(whole) != chunk.cloud_crc32 & 0xFFFFFFFF:
+            raise ValueError("the joined slices do not match their size and CRC-32")
+        self.completed = key
+        return whole
 
 
 def unpack(cloud):
@@ -103,12 +137,16 @@ def main():
     parser.add_argument("--channel", default="GRASPFILL_OBJECT_CLOUD")
     args = parser.parse_args()
     clouds = 0
+    joiner = SliceJoiner()
     try:
         for utime, channel, data in read_events(args.log):
             if channel != args.channel:
                 continue
             try:
-                cloud = object_cloud_t.decode(data)
+                whole = joiner.add(data)
+                if whole is None:  # a slice of a cloud still missing some
+                    continue
+                cloud = object_cloud_t.decode(whole)
                 line = summary(cloud)
             except (ValueError, struct.error, zlib.error) as e:  # another type, or cut short
                 print(f"read_object_clouds: skipping the event at utime {utime}: {e}", file=sys.stderr)

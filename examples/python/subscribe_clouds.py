@@ -8,8 +8,9 @@ Python LCM binding needed), as the C++ and Java subscribers do:
 
 usage: subscribe_clouds.py [URL] [--channel NAME] [--count N] [--timeout-s S]
   URL  LCM URL (default: LCM's default; a recorded bus log plays as
-       'file://LOG?speed=0'; on a live udpm bus, models over ~150 kB want
-       recv_buf_size, see docs/planner-bindings.md)
+       'file://LOG?speed=0'). On UDP multicast each cloud comes as
+       one-datagram slices, which graspfill.Subscriber joins: LCM's default
+       receive buffer is enough (docs/planner-bindings.md).
 Exit: 0 once --count clouds were printed (default: runs until Ctrl-C, or a
 log's end); 1 when --timeout-s passed without the next cloud, or LCM ended
 before --count clouds.

@@ -51,6 +51,7 @@
 #include "claw_option.hpp"
 #include "commands.hpp"
 #include "data_paths.hpp"
+#include "graspfill/io/cloud_chunks.hpp"
 #include "graspfill/io/lcm_log_reader.hpp"
 #include "graspfill/io/messages.hpp"
 #include "error_text.hpp"
@@ -198,6 +199,8 @@ struct RunResult {
 // When each depth frame went out (by utime), and the clouds that came back.
 class LatencyProbe {
  public:
+  // Joins a udpm publisher's object_cloud_chunk_t slices (the bus's thread).
+  io::CloudChunkAssembler cloud_slices;
   explicit LatencyProbe(const Recording& rec, int loops) {
     for (int loop = 0; loop < loops; ++loop) {
       for (const int64_t utime : rec.depth_utimes) index_.emplace(Shift(rec, utime, loop), index_.size());
@@ -267,7 +270,12 @@ void SubscribeProbe(lcm::LCM* bus, const io::ChannelNames& channels, LatencyProb
       +[](const lcm::ReceiveBuffer* rbuf, const std::string&, LatencyProbe* p) {
         ObjectCloud cloud;
         std::string error;
-        if (io::DecodeObjectCloud(rbuf->data, rbuf->data_size, &cloud, &error)) p->Received(cloud);
+        if (p->cloud_slices.Add(rbuf->data, rbuf->data_size, &error) !=
+            io::CloudChunkAssembler::Result::kComplete) {
+          return;
+        }
+        const std::vector<uint8_t>& bytes = p->cloud_slices.cloud();
+        if (io::DecodeObjectCloud(bytes.data(), bytes.size(), &cloud, &error)) p->Received(cloud);
       },
       probe);
   bus->subscribeFunction(

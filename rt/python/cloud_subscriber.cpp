@@ -4,6 +4,7 @@
 #include <new>
 #include <stdexcept>
 
+#include "graspfill/io/cloud_chunks.hpp"
 #include "graspfill/io/messages.hpp"
 
 namespace graspfill::python {
@@ -43,13 +44,23 @@ CloudSubscriber::WaitResult CloudSubscriber::DecodeNext(ObjectCloud* cloud, std:
     *error = "a message was dropped: out of memory copying it";
     return WaitResult::kBadMessage;
   }
-  const std::vector<uint8_t> payload = std::move(received_.front());
-  received_.pop_front();
-  if (!io::DecodeObjectCloud(payload.data(), payload.size(), cloud, error)) {
-    ++bad_messages_;
-    return WaitResult::kBadMessage;
+  // Slices (udpm) are joined first; a whole object_cloud_t passes through.
+  while (!received_.empty()) {
+    const std::vector<uint8_t> payload = std::move(received_.front());
+    received_.pop_front();
+    const io::CloudChunkAssembler::Result joined = slices_.Add(payload.data(), payload.size(), error);
+    if (joined == io::CloudChunkAssembler::Result::kPending ||
+        joined == io::CloudChunkAssembler::Result::kRepeat) {
+      continue;
+    }
+    if (joined != io::CloudChunkAssembler::Result::kComplete ||
+        !io::DecodeObjectCloud(slices_.cloud().data(), slices_.cloud().size(), cloud, error)) {
+      ++bad_messages_;
+      return WaitResult::kBadMessage;
+    }
+    return WaitResult::kCloud;
   }
-  return WaitResult::kCloud;
+  return WaitResult::kTimeout;  // slices taken, the cloud not whole yet
 }
 
 CloudSubscriber::WaitResult CloudSubscriber::Wait(int timeout_ms, ObjectCloud* cloud, std::string* error) {
@@ -63,7 +74,9 @@ CloudSubscriber::WaitResult CloudSubscriber::Wait(int timeout_ms, ObjectCloud* c
   }
   // A message on no channel of ours is handled without a call of OnMessage.
   if (received_.empty() && !dropped_for_memory_) return ended_ ? WaitResult::kEnded : WaitResult::kTimeout;
-  return DecodeNext(cloud, error);
+  const WaitResult result = DecodeNext(cloud, error);
+  // The last slices of a log that ended: nothing more comes.
+  return result == WaitResult::kTimeout && ended_ ? WaitResult::kEnded : result;
 }
 
 void CloudSubscriber::Close() {

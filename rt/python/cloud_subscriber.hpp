@@ -12,19 +12,22 @@
 #include <string>
 #include <vector>
 
+#include "graspfill/io/cloud_chunks.hpp"
 #include "graspfill/types.hpp"
 
 namespace graspfill::python {
 
-/// Subscribes to one channel and decodes its messages with graspfill's own
-/// decoder (io::DecodeObjectCloud).
+/// Subscribes to one channel, joins the slices a udpm publisher cuts each
+/// cloud into (io::CloudChunkAssembler; a log's whole object_cloud_t passes
+/// through) and decodes the clouds with graspfill's own decoder
+/// (io::DecodeObjectCloud).
 ///
 /// Thread safety: any thread may call any method; one Wait() runs at a time
 /// (the others, and Close(), wait for it: keep Wait()'s timeout short).
 class CloudSubscriber {
  public:
   /// @param url  an LCM URL; "" = LCM's default (LCM_DEFAULT_URL, else its
-  ///   UDP multicast). Large clouds want `recv_buf_size` on udpm URLs.
+  ///   UDP multicast).
   /// @param channel  the channel (LCM matches it as a regular expression).
   /// @throws std::runtime_error naming the URL if LCM cannot be set up.
   CloudSubscriber(const std::string& url, const std::string& channel);
@@ -34,7 +37,7 @@ class CloudSubscriber {
 
   enum class WaitResult {
     kCloud,       ///< *cloud holds the next message
-    kTimeout,     ///< nothing arrived in time
+    kTimeout,     ///< no whole cloud arrived in time (maybe some of its slices)
     kBadMessage,  ///< a message did not decode: dropped, counted, *error says why
     kEnded,       ///< LCM ended: a file:// log's end, or the bus failed (for good)
   };
@@ -58,6 +61,7 @@ class CloudSubscriber {
   lcm_subscription_t* subscription_{nullptr};
   // Payloads handled but not yet taken (one lcm_handle may dispatch several).
   std::deque<std::vector<uint8_t>> received_;
+  io::CloudChunkAssembler slices_;
   bool dropped_for_memory_{false};
   bool ended_{false};
   int64_t bad_messages_{0};

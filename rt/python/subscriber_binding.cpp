@@ -109,8 +109,9 @@ void BindSubscriber(py::module_& module) {
   py::class_<PySubscriber>(module, "Subscriber", R"doc(object_cloud_t clouds from a live LCM bus, as dicts.
 
 Subscriber(channel="GRASPFILL_OBJECT_CLOUD", url=""): url "" is LCM's default
-(LCM_DEFAULT_URL, else UDP multicast); a cloud of ~30k points is a large
-message: give udpm URLs `recv_buf_size` (docs/planner-bindings.md).
+(LCM_DEFAULT_URL, else UDP multicast), where each cloud comes as
+one-datagram slices (object_cloud_chunk_t) that are joined here; a log's
+whole object_cloud_t messages are taken as they are.
 next(timeout_s=None) gives the next cloud (decode_object_cloud's dict) or
 None after timeout_s seconds, and raises EOFError once LCM ended (a file://
 log's end, or the bus failed); iterating waits for ever and stops there.

@@ -5,6 +5,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <algorithm>
 #include <exception>
 #include <stdexcept>
 #include <utility>
@@ -13,13 +14,23 @@ namespace graspfill::rt {
 
 class LcmPublisher::Impl {
  public:
-  explicit Impl(const std::string& url) : url_(url), lcm_(url) {
+  Impl(const std::string& url, const CloudPacing& pacing) : url_(url), lcm_(url) {
     if (!lcm_.good()) {
       throw std::runtime_error(
           "cannot set up LCM on '" +
           (url.empty() ? std::string("default URL") : url) + "'");
     }
+    if (IsUdpMulticast(url)) {
+      slice_message_bytes_ = pacing.slice_bytes + kSliceHeaderBytes;
+      // The pacer's thread publishes too: LCM's udpm publish is thread safe.
+      pacer_ = std::make_unique<CloudPacer>(
+          pacing, [this](const std::string& channel, const std::vector<uint8_t>& slice) {
+            return Publish(channel, slice);
+          });
+    }
   }
+  // The pacer first: its thread sends what is queued while LCM still exists.
+  ~Impl() { pacer_.reset(); }
 
   bool Publish(const std::string& channel, const std::vector<uint8_t>& bytes) {
     return lcm_.publish(channel, bytes.data(),
@@ -39,16 +50,22 @@ class LcmPublisher::Impl {
     on_warning_(warning);
   }
   std::function<void(const std::string&)> on_warning_;
+  // Where clouds are paced (UDP multicast), else null.
+  std::unique_ptr<CloudPacer> pacer_;
+  // The largest message a paced cloud is cut into [bytes].
+  size_t slice_message_bytes_{0};
 
  private:
+  // object_cloud_chunk_t's header (lcmtypes/object_cloud_chunk_t.lcm).
+  static constexpr size_t kSliceHeaderBytes = 48;
   const ReceiveBufferSettings settings_ = ReadReceiveBufferSettings();
   bool warned_ = false;
   std::string url_;
   lcm::LCM lcm_;
 };
 
-LcmPublisher::LcmPublisher(const std::string& url)
-    : impl_(std::make_unique<Impl>(url)) {}
+LcmPublisher::LcmPublisher(const std::string& url, const CloudPacing& pacing)
+    : impl_(std::make_unique<Impl>(url, pacing)) {}
 
 LcmPublisher::~LcmPublisher() = default;
 
@@ -60,8 +77,25 @@ bool LcmPublisher::PublishCloud(const std::string& channel,
   } catch (const std::exception&) {
     return false;  // an inconsistent cloud: the caller's bug, not the bus's
   }
-  impl_->CheckSize(bytes.size());
-  return impl_->Publish(channel, bytes);
+  if (!impl_->pacer_) {
+    impl_->CheckSize(bytes.size());
+    return impl_->Publish(channel, bytes);
+  }
+  impl_->CheckSize(std::min(bytes.size(), impl_->slice_message_bytes_));
+  impl_->pacer_->Submit(channel, std::move(bytes));
+  return true;
+}
+
+bool LcmPublisher::FlushClouds(int timeout_ms) {
+  return !impl_->pacer_ || impl_->pacer_->Flush(timeout_ms);
+}
+
+int64_t LcmPublisher::paced_send_failures() const {
+  return impl_->pacer_ ? impl_->pacer_->send_failures() : 0;
+}
+
+int64_t LcmPublisher::paced_clouds_dropped() const {
+  return impl_->pacer_ ? impl_->pacer_->dropped() : 0;
 }
 
 void LcmPublisher::set_on_warning(std::function<void(const std::string&)> on_warning) {

@@ -11,6 +11,7 @@
 
 #include "graspfill/io/messages.hpp"
 #include "graspfill/types.hpp"
+#include "sinks/cloud_pacer.hpp"
 
 namespace lcm {
 class LCM;
@@ -22,6 +23,10 @@ namespace graspfill::rt {
 ///
 /// Publishing is fire-and-forget: the Publish* methods are on the module's
 /// output path and report failure by returning false, never by throwing.
+/// On UDP multicast (udpm://, LCM's default) a cloud goes out as
+/// object_cloud_chunk_t slices, paced by a thread of the publisher's own
+/// (CloudPacer); on other providers (file://, memq://) as one whole
+/// object_cloud_t, at once.
 /// Thread safety: not thread safe; call from one thread (the sink thread),
 /// or serialize calls.
 class LcmPublisher {
@@ -31,15 +36,19 @@ class LcmPublisher {
   ///   "memq://" is in-process (tests: subscribe through lcm_instance()).
   /// @throws std::runtime_error naming the URL if LCM cannot be set up
   ///   (bad URL, no multicast route, ...).
-  explicit LcmPublisher(const std::string& url = "");
+  /// @param pacing  how clouds go out on UDP multicast (ignored elsewhere).
+  explicit LcmPublisher(const std::string& url = "", const CloudPacing& pacing = {});
   ~LcmPublisher();
   LcmPublisher(const LcmPublisher&) = delete;
   LcmPublisher& operator=(const LcmPublisher&) = delete;
 
-  /// Publishes `cloud` as object_cloud_t (see io::EncodeObjectCloud).
-  /// The first cloud too large for a default subscriber's receive buffer
+  /// Publishes `cloud` as object_cloud_t (see io::EncodeObjectCloud), in
+  /// paced slices on UDP multicast (queued: the slices go out after this
+  /// returns, and before the publisher is destroyed). The first message
+  /// too large for a default subscriber's receive buffer
   /// (receive_buffer.hpp) is told to `on_warning`, once.
-  /// @return false if encoding (inconsistent cloud) or sending failed.
+  /// @return false if encoding (inconsistent cloud) or sending failed (a
+  ///   queued cloud's sending: paced_send_failures()).
   bool PublishCloud(const std::string& channel, const ObjectCloud& cloud);
   /// Where PublishCloud's one warning goes (none: not told); called on the
   /// publishing thread.
@@ -48,6 +57,13 @@ class LcmPublisher {
   bool PublishStatus(const std::string& channel, const io::ModuleStatus& status);
   /// Publishes already-encoded bytes (any message type).
   bool PublishRaw(const std::string& channel, const std::vector<uint8_t>& bytes);
+
+  /// Waits until the queued clouds' slices went out (true), or
+  /// `timeout_ms` (false); true at once where clouds are not paced.
+  bool FlushClouds(int timeout_ms);
+  /// Slices LCM did not take, and queued clouds dropped for newer ones.
+  int64_t paced_send_failures() const;
+  int64_t paced_clouds_dropped() const;
 
   /// The URL this publisher was created with ("" = LCM's default).
   const std::string& url() const;

@@ -6,6 +6,8 @@
 // net.core.rmem_max. Measured in a private network namespace with LCM's
 // default URL (docs/measurements/2026-12-06-cloud-delivery.md): up to
 // 200 kB one message in 20 was lost now and then, from 300 kB nearly all.
+// On UDP multicast a cloud's largest message is one slice (cloud_pacer.hpp),
+// so this warns only where the buffer is smaller than a slice needs.
 #pragma once
 
 #include <cstddef>

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Test tool: compares two object clouds, each the last object_cloud_t on a
 // channel of an LCM log (what `graspfill replay` and `graspfill live`
-// published, captured with LCM's file:// provider or lcm-logger) or a PLY
+// published, captured with LCM's file:// provider or lcm-logger: whole, or
+// object_cloud_chunk_t slices joined) or a PLY
 // (`replay -o`): same number of points, each within a tolerance.
 // usage: cloud_compare A.{lcmlog,ply} B.{lcmlog,ply} CHANNEL TOLERANCE_MM [identical|within|differ]
 //   identical: every coordinate bit-equal; within: every point within the
@@ -15,6 +16,7 @@
 #include <optional>
 #include <string>
 
+#include "graspfill/io/cloud_chunks.hpp"
 #include "graspfill/io/lcm_log_reader.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
@@ -26,11 +28,16 @@ std::optional<graspfill::ObjectCloud> LastCloud(const std::string& path, const s
   graspfill::io::LcmLogReader reader(path);
   graspfill::io::LogEvent event;
   std::optional<graspfill::ObjectCloud> last;
+  graspfill::io::CloudChunkAssembler assembler;
+  using Result = graspfill::io::CloudChunkAssembler::Result;
   while (reader.Next(&event) == graspfill::io::LogReadResult::kEvent) {
     if (event.channel != channel) continue;
     graspfill::ObjectCloud cloud;
     std::string error;
-    if (!graspfill::io::DecodeObjectCloud(event.data.data(), event.data.size(), &cloud, &error)) {
+    const Result r = assembler.Add(event.data.data(), event.data.size(), &error);
+    if (r == Result::kPending || r == Result::kRepeat) continue;
+    if (r != Result::kComplete ||
+        !graspfill::io::DecodeObjectCloud(assembler.cloud().data(), assembler.cloud().size(), &cloud, &error)) {
       std::fprintf(stderr, "%s: %s\n", path.c_str(), error.c_str());
       std::exit(2);
     }

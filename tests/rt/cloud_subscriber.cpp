@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Test tool: waits for one object_cloud_t on a channel and prints
-// "points=<n> checksum=<hex>" to stdout.
+// Test tool: waits for one object_cloud_t on a channel (whole, or joined
+// from its object_cloud_chunk_t slices) and prints "points=<n>
+// checksum=<hex>" to stdout.
 // usage: cloud_subscriber <lcm-url> <channel> <timeout-ms>
 // Exit: 0 received, 1 usage, 2 timeout, 3 undecodable message, 4 LCM error.
 #include <lcm/lcm-cpp.hpp>
@@ -10,6 +11,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "graspfill/io/cloud_chunks.hpp"
 #include "graspfill/io/messages.hpp"
 #include "test_cloud.hpp"
 
@@ -19,10 +21,15 @@ namespace {
 class Receiver {
  public:
   void OnMessage(const lcm::ReceiveBuffer* buffer, const std::string&) {
+    using Result = graspfill::io::CloudChunkAssembler::Result;
+    const Result r = assembler.Add(buffer->data, buffer->data_size, &error);
+    if (r == Result::kPending || r == Result::kRepeat) return;
     done = true;
-    decoded = graspfill::io::DecodeObjectCloud(buffer->data, buffer->data_size,
+    decoded = r == Result::kComplete &&
+              graspfill::io::DecodeObjectCloud(assembler.cloud().data(), assembler.cloud().size(),
                                                &cloud, &error);
   }
+  graspfill::io::CloudChunkAssembler assembler;
   bool done{false};
   bool decoded{false};
   graspfill::ObjectCloud cloud;
