@@ -61,6 +61,7 @@
 #include "data_paths.hpp"
 #include "error_text.hpp"
 #include "number_parsing.hpp"
+#include "threads_option.hpp"
 #include "unknown_option.hpp"
 #include "graspfill/io/output_path.hpp"
 #include "graspfill/repair/repairer.hpp"
@@ -104,6 +105,8 @@ constexpr const char* kUsage =
     "                        lcm-logplayer play\n"
     "  --force               overwrite the --record LOG if it exists (a regular file only)\n"
     "  --duration-s S        stop after S seconds (default: until Ctrl-C or end of .oni)\n"
+    "  --num-threads N       OpenMP threads of each fusion and repair call, 0..1024 (default 1;\n"
+    "                        0: OpenMP's own count, a thread per core)\n"
     "  --heap-reserve-mb N   ready the heap for the frame path at start: one arena, nothing\n"
     "                        returned to the system, N MB touched ahead so that the first\n"
     "                        grasp's new memory does not fault in on the frame path\n"
@@ -215,6 +218,9 @@ int RunLive(const Args& args) {
       else if (a == "--no-refine") module_config.pipeline.refine.enabled = false;
       else if (a == "--refine") module_config.pipeline.refine.enabled = true;
       else if (a == "--track-object") module_config.pipeline.track_object.enabled = true;
+      else if (a == "--num-threads" && has_value) {
+        module_config.pipeline.num_threads = repair_config.num_threads = ParseNumThreads(args[++i]);
+      }
       else if (a == "--repair-mode" && has_value) {
         const std::string mode = args[++i];
         if (mode == "paper") repair_config.mode = repair::RepairMode::kPaper;
@@ -397,6 +403,10 @@ int RunLive(const Args& args) {
               static_cast<long long>(s.session.frames_released),
               static_cast<long long>(st.decode_errors), static_cast<long long>(st.clock_jumps),
               static_cast<long long>(st.grasps_completed), st.state.c_str());
+  if (st.frames_skipped_by_reason.total() > 0) {
+    std::printf("live: frames not fused, by reason: %s\n",
+                FrameSkipText(st.frames_skipped_by_reason).c_str());
+  }
   if (st.decode_errors > 0) {
     std::string reasons;
     for (size_t i = 1; i < io::BadMessageCounts::kNumReasons; ++i) {
