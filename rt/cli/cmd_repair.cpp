@@ -13,6 +13,7 @@
 #include "error_text.hpp"
 #include "mesh_option.hpp"
 #include "number_parsing.hpp"
+#include "threads_option.hpp"
 #include "preview.hpp"
 #include "unknown_option.hpp"
 #include "graspfill/io/output_path.hpp"
@@ -24,7 +25,8 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: graspfill repair IN.ply -o OUT.{ply,pcd} [--mode paper|best] [--up X,Y,Z] [--preview DIR]\n"
-    "                               [--mesh-out FILE.{ply,stl,obj}] [--scale S] [--json] [--force]\n"
+    "                               [--mesh-out FILE.{ply,stl,obj}] [--scale S] [--num-threads N]\n"
+    "                               [--json] [--force]\n"
     "  IN.ply     unorganized cloud in meters, any pose, normals optional\n"
     "  --scale    multiply IN's coordinates by S first (0.001: a cloud in mm)\n"
     "  --mode     paper: the method as published; best (default): graspfill's\n"
@@ -34,6 +36,7 @@ constexpr const char* kUsage =
     "  --preview  also a picture of the cloud before and after: DIR/<OUT's stem>.png\n"
     "  --mesh-out the repaired cloud's closed collision mesh (and its deviation)\n"
     "  --force    overwrite OUT (and the preview) if it exists\n"
+    "  --num-threads  OpenMP threads of the repair, 0..1024 (default 1; 0: OpenMP's own count)\n"
     "example: graspfill repair scan.ply -o repaired.pcd --up 0,0,1 --mesh-out hull.stl\n";
 
 const char* KindName(HoleKind kind) {
@@ -108,6 +111,13 @@ int RunRepair(const Args& args) {
       else if (m == "best") config.mode = repair::RepairMode::kBest;
       else {
         std::fprintf(stderr, "graspfill repair: unknown mode '%s'\n%s", m.c_str(), kUsage);
+        return 2;
+      }
+    } else if (a == "--num-threads" && has_value) {
+      try {
+        config.num_threads = ParseNumThreads(args[++i]);
+      } catch (const UsageError& e) {
+        std::fprintf(stderr, "graspfill repair: %s\n%s", e.what(), kUsage);
         return 2;
       }
     } else if (a == "--scale" && has_value) {

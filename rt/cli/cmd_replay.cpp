@@ -39,6 +39,7 @@
 #include "graspfill/io/lcm_log_reader.hpp"
 #include "graspfill/io/output_path.hpp"
 #include "module/replay_session.hpp"
+#include "threads_option.hpp"
 
 namespace graspfill::cli {
 namespace {
@@ -73,6 +74,8 @@ constexpr const char* kUsage =
     "                           (names: 1..63 of A-Z a-z 0-9 _ - /, each its own)\n"
     "  --voxel-m V              TSDF voxel size, 0.0005..0.01 m (default: the recording's, else 0.0015)\n"
     "  --skip-bad-frames        skip malformed events instead of failing\n"
+    "  --num-threads N          OpenMP threads of the fusion and the repair, 0..1024 (default 1;\n"
+    "                           0: OpenMP's own count, a thread per core)\n"
     "  --refine                 correct each frame's gripper pose by registering the claw\n"
     "                           model to the depth (the default)\n"
     "  --no-refine              fuse at the logged gripper poses\n"
@@ -155,6 +158,10 @@ void Parse(const Args& args, ReplayOptions* o) {
     else if (a == "--no-refine") s.pipeline.refine.enabled = false;
     else if (a == "--refine") s.pipeline.refine.enabled = true;
     else if (a == "--track-object") s.pipeline.track_object.enabled = true;
+    else if (a == "--num-threads") {
+      value(&v);
+      s.pipeline.num_threads = s.repair_config.num_threads = ParseNumThreads(v);
+    }
     else if (a == "--repair-mode") {
       value(&v);
       if (v == "paper") s.repair_config.mode = repair::RepairMode::kPaper;

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // graspfill view CLOUD.ply [AFTER.ply] -o VIEW.png: a picture of object
 // clouds in their provenance colours, with a legend (view/contact_sheet.hpp);
-// given two clouds, before and after side by side at one scale.
+// given two clouds, before and after side by side at one scale. A PLY with
+// faces (a collision mesh) is drawn as a surface.
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -13,6 +14,7 @@
 #include "unknown_option.hpp"
 #include "graspfill/io/output_path.hpp"
 #include "graspfill/io/cloud_file.hpp"
+#include "graspfill/io/ply.hpp"
 #include "graspfill/io/png.hpp"
 #include "graspfill/view/contact_sheet.hpp"
 
@@ -21,7 +23,8 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: graspfill view CLOUD.ply [AFTER.ply] -o VIEW.png [--views N] [--force]\n"
-    "  CLOUD.ply   an object cloud (graspfill's PLY: provenance colours; any other PLY: observed)\n"
+    "  CLOUD.ply   an object cloud (graspfill's PLY: provenance colours; any other PLY: observed);\n"
+    "              a PLY with faces (e.g. --mesh-out's) is drawn as a shaded surface\n"
     "  AFTER.ply   a second cloud, drawn beside the first at the same scale (before / after)\n"
     "  -o PATH     the picture (PNG): a column per cloud, a row per view, a legend\n"
     "  --views N   views about the gripper axis, 1..12 (default 3)\n"
@@ -76,12 +79,17 @@ int RunView(const Args& args) {
   try {
     io::CheckOutputFile(o.output_path, o.force);  // before reading the clouds
     std::vector<ObjectCloud> clouds;
-    for (const std::string& path : o.clouds) clouds.push_back(io::ReadCloudFile(path));
+    std::vector<TriangleMesh> meshes(o.clouds.size());  // empty: a cloud
+    for (size_t i = 0; i < o.clouds.size(); ++i) {
+      clouds.push_back(io::ReadCloudFile(o.clouds[i]));  // a .pcd is refused here
+      meshes[i].triangles = io::ReadPlyTriangles(o.clouds[i]);
+      meshes[i].vertices = clouds[i].points_G;
+    }
     std::vector<view::SheetCloud> sheet;
     for (size_t i = 0; i < clouds.size(); ++i) {
       std::string title = std::filesystem::path(o.clouds[i]).filename().string();
       if (clouds.size() == 2) title = (i == 0 ? "before: " : "after: ") + title;
-      sheet.push_back({&clouds[i], title});
+      sheet.push_back({&clouds[i], title, meshes[i].empty() ? nullptr : &meshes[i]});
     }
     const RgbImage image = view::RenderSheet(sheet, o.sheet);
     io::WritePng(o.output_path, image, io::ReplaceIf(o.force));

@@ -8,6 +8,7 @@
 #include "claw_option.hpp"
 #include "data_paths.hpp"
 #include "number_parsing.hpp"
+#include "threads_option.hpp"
 #include "unknown_option.hpp"
 #include "module/cloud_repair.hpp"
 #include "sources/openni2_source.hpp"
@@ -94,6 +95,8 @@ const char* const kLiveUsage =
     "                        lcm-logplayer play\n"
     "  --force               overwrite the --record LOG if it exists (a regular file only)\n"
     "  --duration-s S        stop after S seconds (default: until Ctrl-C or end of .oni)\n"
+    "  --num-threads N       OpenMP threads of each fusion and repair call, 0..1024 (default 1;\n"
+    "                        0: OpenMP's own count, a thread per core)\n"
     "  --heap-reserve-mb N   ready the heap for the frame path at start: one arena, nothing\n"
     "                        returned to the system, N MB touched ahead so that the first\n"
     "                        grasp's new memory does not fault in on the frame path\n"
@@ -137,6 +140,9 @@ LiveOptions ParseLiveOptions(const Args& args, const std::optional<rt::RigConfig
     else if (a == "--no-refine") module_config.pipeline.refine.enabled = false;
     else if (a == "--refine") module_config.pipeline.refine.enabled = true;
     else if (a == "--track-object") module_config.pipeline.track_object.enabled = true;
+    else if (a == "--num-threads" && has_value) {
+      module_config.pipeline.num_threads = repair_config.num_threads = ParseNumThreads(args[++i]);
+    }
     else if (a == "--repair-mode" && has_value) {
       const std::string mode = args[++i];
       if (mode == "paper") repair_config.mode = repair::RepairMode::kPaper;

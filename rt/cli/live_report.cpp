@@ -3,6 +3,8 @@
 
 #include <cstdio>
 
+#include "graspfill/core/frame_skip.hpp"
+
 namespace graspfill::cli {
 
 int PrintLiveSummary(const rt::LiveSessionSummary& summary, const io::ChannelNames& channels,
@@ -31,6 +33,10 @@ int PrintLiveSummary(const rt::LiveSessionSummary& summary, const io::ChannelNam
               static_cast<long long>(s.session.frames_released),
               static_cast<long long>(st.decode_errors), static_cast<long long>(st.clock_jumps),
               static_cast<long long>(st.grasps_completed), st.state.c_str());
+  if (st.frames_skipped_by_reason.total() > 0) {
+    std::printf("live: frames not fused, by reason: %s\n",
+                FrameSkipText(st.frames_skipped_by_reason).c_str());
+  }
   if (st.decode_errors > 0) {
     std::string reasons;
     for (size_t i = 1; i < io::BadMessageCounts::kNumReasons; ++i) {

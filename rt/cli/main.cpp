@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // graspfill: grasp-reconstruction module and its tools.
 #include <malloc.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -10,6 +9,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "graspfill/core/openmp_threads.hpp"
 #include "error_text.hpp"
 #include "graspfill/io/messages.hpp"
 #include "progress.hpp"
@@ -17,16 +17,15 @@
 
 namespace {
 
-// Open3D's TSDF integration asks OpenMP for hardware_concurrency() threads
-// per voxel block; on 2 busy cores that is 15-30x slower than one thread
-// (see tsdf_fusion.hpp). libgomp reads OMP_THREAD_LIMIT only while it loads,
-// before main, so the CLI re-executes itself once with the limit set. A
-// limit the user set is kept.
-void LimitOpenMPThreads(char** argv) {
-  if (std::getenv("OMP_THREAD_LIMIT") != nullptr) return;
-  setenv("OMP_THREAD_LIMIT", "1", 1);
-  execv("/proc/self/exe", argv);  // returns only on failure: run as we are
-}
+// Open3D's TSDF integration asks OpenMP for a thread per physical core per
+// voxel block; on 2 busy cores that is 15-30x slower than one thread (see
+// tsdf_fusion.hpp). The pipeline and the repair set their own count per
+// call (compute.num_threads, --num-threads; default 1); everything else
+// the CLI runs on its main thread (collision meshes, eval, bench's bare
+// Open3D integration) stays on that thread too. The calling thread's
+// OpenMP settings, not OMP_THREAD_LIMIT: no re-execution, and a limit the
+// user set in the environment still holds.
+void OneOpenMpThreadOnMain() { graspfill::SetOpenMpThreads(1); }
 
 // glibc gives every block over 128 KiB back to the kernel when it is freed,
 // so each repair (kNN tables and grids of a few MB on a 20k-point cloud)
@@ -64,7 +63,7 @@ void PrintUsage() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  LimitOpenMPThreads(argv);
+  OneOpenMpThreadOnMain();
   KeepFreedMemoryForReuse();
   if (argc < 2) {
     PrintUsage();

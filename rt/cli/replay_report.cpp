@@ -101,6 +101,11 @@ nlohmann::ordered_json ReplayReportJson(const ReplayReport& report) {
   j["frames_dropped"] = stats.frames_dropped;
   j["frames_bad"] = stats.frames_bad;
   j["frames_decimated"] = stats.frames_decimated;
+  nlohmann::ordered_json by_reason = nlohmann::ordered_json::object();
+  for (size_t i = 1; i < kNumFrameSkipReasons; ++i) {
+    by_reason[FrameSkipReasonName(static_cast<FrameSkipReason>(i))] = stats.skipped.by_reason[i];
+  }
+  j["frames_skipped_by_reason"] = by_reason;
   j["bad_events_skipped"] = r.bad_events_skipped;
   j["gripper_states"] = stats.states_in;
   j["gripper_states_rejected"] = stats.states_rejected;
@@ -160,6 +165,9 @@ void PrintReplayReport(const ReplayReport& report) {
               static_cast<long long>(stats.frames_integrated),
               static_cast<long long>(stats.frames_skipped_no_pose),
               static_cast<long long>(stats.frames_bad + r.bad_events_skipped));
+  if (stats.skipped.total() > 0) {
+    std::printf("frames not fused, by reason: %s\n", FrameSkipText(stats.skipped).c_str());
+  }
   const std::string claw_from = report.claw.from == "default"
                                     ? "default: the recording has no session description"
                                     : "from the " + report.claw.from;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "config/number_text.hpp"
+#include "graspfill/core/openmp_threads.hpp"
 #include "graspfill/core/regular_file.hpp"
 #include "graspfill/fusion/tsdf_fusion.hpp"
 #include "graspfill/io/channel_names.hpp"
@@ -54,6 +55,7 @@ constexpr Range kCorrectionM{0.0, 0.005, "m"};
 constexpr Range kCorrectionDeg{0.0, 2.0, "deg"};
 constexpr Range kPublishEvery{0, 100000, "frames"};
 constexpr Range kStatusPeriodS{0.05, 60.0, "s"};
+constexpr Range kNumThreads{0, kMaxOpenMpThreads, "threads"};
 constexpr double kUnitTolerance = 1e-3;  // |norm - 1| of a typed quaternion
 // yaml-cpp's parser refuses deeper nesting (its DepthGuard's default);
 // named in the message instead of the library's "bad file".
@@ -214,10 +216,13 @@ bool RigConfig::Rates::operator==(const Rates& o) const {
   return publish_every_n_frames == o.publish_every_n_frames &&
          status_period_s == o.status_period_s;
 }
+bool RigConfig::Compute::operator==(const Compute& o) const {
+  return num_threads == o.num_threads;
+}
 bool RigConfig::operator==(const RigConfig& o) const {
   return camera == o.camera && robot == o.robot && claw == o.claw && workspace == o.workspace &&
          tsdf == o.tsdf && repair == o.repair && refine == o.refine && channels == o.channels &&
-         rates == o.rates;
+         rates == o.rates && compute == o.compute;
 }
 
 Eigen::Isometry3d RigConfig::Pose::ToIsometry() const {
@@ -257,6 +262,7 @@ void RigConfig::Validate() const {
   CheckChannels(channels);
   CheckRange("rates.publish_every_n_frames", rates.publish_every_n_frames, kPublishEvery);
   CheckRange("rates.status_period_s", rates.status_period_s, kStatusPeriodS);
+  CheckRange("compute.num_threads", compute.num_threads, kNumThreads);
 }
 
 // ---- Dump ----
@@ -469,6 +475,13 @@ std::string DumpRigConfig(const RigConfig& c) {
   w.Comment(1, "live: the module status's period [s] (default " +
                    FormatNumber(d.rates.status_period_s) + ").");
   w.Key(1, "status_period_s", FormatNumber(c.rates.status_period_s));
+  w.Blank();
+
+  w.Key(0, "compute", "");
+  w.Comment(1, "OpenMP threads of each pipeline and repair call (Open3D's TSDF integration):");
+  w.Comment(1, "1 = the calling thread alone, N = at most N, 0 = OpenMP's own count, a thread");
+  w.Comment(1, "per core (default " + std::to_string(d.compute.num_threads) + ").");
+  w.Key(1, "num_threads", std::to_string(c.compute.num_threads));
   return w.str();
 }
 
@@ -637,7 +650,8 @@ RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
   if (root.IsNull()) return c;  // an empty file: the defaults
   const Reader r(name);
   r.Map(root, "",
-        {"camera", "robot", "claw", "workspace", "tsdf", "repair", "refine", "channels", "rates"},
+        {"camera", "robot", "claw", "workspace", "tsdf", "repair", "refine", "channels", "rates",
+         "compute"},
         [&](const std::string& key, const YAML::Node& v, const std::string& path) {
     if (key == "camera") {
       r.Map(v, path, {"device", "width_px", "height_px", "fps", "depth_units", "intrinsics_override",
@@ -754,6 +768,11 @@ RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
         const std::string& other = later_set ? problem->same_as : problem->role;
         r.Check(v[role], [&] { throw SameChannelError(role, problem->name, other); });
       }
+    } else if (key == "compute") {
+      r.Map(v, path, {"num_threads"},
+            [&](const std::string&, const YAML::Node& x, const std::string& f) {
+        c.compute.num_threads = r.Integer(x, f, kNumThreads);
+      });
     } else {  // rates
       r.Map(v, path, {"publish_every_n_frames", "status_period_s"},
             [&](const std::string& k, const YAML::Node& x, const std::string& f) {
@@ -807,12 +826,14 @@ void ApplyToPipeline(const RigConfig& c, PipelineConfig* p) {
   p->track_object.enabled = c.refine.track_object;
   // The record keeps the safe bound at the repair's voxel (0: none).
   p->visibility.safe_bound_voxel_m = c.repair.safe_bound_voxel_m;
+  p->num_threads = c.compute.num_threads;
 }
 
 void ApplyToRepair(const RigConfig& c, repair::RepairConfig* r) {
   r->mode = c.repair.mode == "paper" ? repair::RepairMode::kPaper : repair::RepairMode::kBest;
   r->safe_bound_voxel_m = c.repair.safe_bound_voxel_m;
   r->top_rim_band_m = c.repair.top_rim_band_m;
+  r->num_threads = c.compute.num_threads;
 }
 
 io::ChannelNames ToChannelNames(const RigConfig::Channels& ch) {

@@ -181,6 +181,15 @@ struct RigConfig {
     bool operator==(const Rates& o) const;
   };
 
+  /// The OpenMP threads of the pipeline's and the repair's calls
+  /// (PipelineConfig::num_threads, RepairConfig::num_threads).
+  struct Compute {
+    /// 1: each call on its own thread alone; N: at most N; 0: OpenMP's own
+    /// count (a thread per core).
+    int num_threads{1};
+    bool operator==(const Compute& o) const;
+  };
+
   Camera camera;
   Robot robot;
   Claw claw;
@@ -191,6 +200,7 @@ struct RigConfig {
   Refine refine;
   Channels channels;
   Rates rates;
+  Compute compute;
 
   bool operator==(const RigConfig& o) const;
   bool operator!=(const RigConfig& o) const { return !(*this == o); }
@@ -227,10 +237,10 @@ RigConfig LoadRigConfig(const std::string& path);
 // ---- onto the existing config structs ----
 
 /// The TSDF voxel edge and truncation, workspace box (when the config has
-/// one) and pose gap. The voxel only when tsdf.voxel_m is set: otherwise
+/// one), pose gap and threads. The voxel only when tsdf.voxel_m is set: otherwise
 /// the truncation is sdf_trunc_voxels x the voxel already in `pipeline`.
 void ApplyToPipeline(const RigConfig& config, PipelineConfig* pipeline);
-/// mode, safe bound, rim band.
+/// mode, safe bound, rim band, threads.
 void ApplyToRepair(const RigConfig& config, repair::RepairConfig* repair);
 io::ChannelNames ToChannelNames(const RigConfig::Channels& channels);
 /// The override as CameraIntrinsics, or none.

@@ -28,6 +28,7 @@ void AddCounters(const PipelineStats& s, PipelineStats* sum) {
   sum->states_in += s.states_in;
   sum->states_rejected += s.states_rejected;
   sum->claw_rebuilds += s.claw_rebuilds;
+  sum->skipped.Add(s.skipped);
 }
 
 }  // namespace
@@ -68,6 +69,7 @@ void GraspSequencer::StartOver() {
   const int64_t lost = pipeline_.stats().frames_skipped_no_pose - no_pose_before;
   counters_.skipped_clock_jump += lost;
   done_.frames_skipped_no_pose -= lost;  // summed in by ResetPipeline below
+  done_.skipped.Count(FrameSkipReason::kNoPoseAfter, -lost);
   ResetPipeline();
   ++counters_.clock_jumps;
   have_frame_ = have_state_ = false;
@@ -170,6 +172,7 @@ SessionCounters GraspSequencer::counters() const {
   c.frames_dropped = s.frames_dropped;
   c.states_in = s.states_in;
   c.states_rejected = s.states_rejected;
+  c.skipped = s.skipped;
   c.holding = holding();
   return c;
 }
@@ -179,6 +182,8 @@ PipelineStats GraspSequencer::stats() const {
   AddCounters(done_, &s);
   // frames_in counts what reached a pipeline; the released ones too.
   s.frames_in += counters_.frames_released;
+  s.skipped.Count(FrameSkipReason::kClawEmpty, counters_.frames_released);
+  s.skipped.Count(FrameSkipReason::kClockJump, counters_.skipped_clock_jump);
   return s;
 }
 

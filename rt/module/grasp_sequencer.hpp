@@ -63,6 +63,9 @@ struct SessionCounters {
   int64_t last_frame_utime{0};  ///< newest depth frame's utime (bus time)
   int64_t last_state_utime{0};  ///< newest gripper state's utime
   bool holding{true};           ///< the claw holds an object (no release pending)
+  /// Every frame not fused, by reason (the pipelines' and the sequencer's:
+  /// claw_empty, clock_jump).
+  FrameSkipCounts skipped;
 };
 
 class GraspSequencer {

@@ -235,6 +235,8 @@ io::ModuleStatus LiveSession::Status() const {
   status.frames_skipped = status.frames_skipped_no_pose + status.frames_skipped_clock_jump +
                           s.pipeline.frames_bad + status.frames_skipped_refine + c.frames_released;
   status.frames_dropped = s.frames_dropped + s.pipeline.frames_dropped;
+  status.frames_skipped_by_reason = s.pipeline.skipped;
+  status.frames_skipped_by_reason.Count(FrameSkipReason::kBadFrame, source_errors_);
   status.last_frame_ms = s.pipeline.crop.last_ms + s.pipeline.mask.last_ms +
                          s.pipeline.integrate.last_ms;
   if (subscriber_) status.bad_messages = subscriber_->bad_messages();

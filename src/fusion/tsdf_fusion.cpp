@@ -6,7 +6,9 @@
 #include <open3d/geometry/PointCloud.h>
 #include <open3d/geometry/RGBDImage.h>
 #include <open3d/pipelines/integration/ScalableTSDFVolume.h>
+#include <open3d/utility/Parallel.h>
 
+#include "graspfill/core/openmp_threads.hpp"
 #include "unit_surface_cache.hpp"
 
 #include <algorithm>
@@ -43,6 +45,8 @@ struct TsdfFusion::Impl {
   // volume's state, refreshed by the (const) ExtractCloud.
   UnitSurfaceCache surface;
   std::vector<Eigen::Vector3d> points, normals;  // reused
+  // The team Open3D's regions name (read once: it looks at the environment).
+  int open3d_team{open3d::utility::EstimateMaxThreads()};
 };
 
 namespace {
@@ -99,6 +103,9 @@ void TsdfFusion::Integrate(const DepthFrame& frame, const Eigen::Isometry3d& T_C
   }
   std::memcpy(impl_->rgbd.depth_.data_.data(), frame.depth_m.data(),
               frame.depth_m.size() * sizeof(float));
+  // Open3D's integration names its own team (a thread per physical core):
+  // one thread when the caller allows fewer (core/openmp_threads.hpp).
+  const ScopedOpenMpFixedTeam team(impl_->open3d_team);
   // Open3D's extrinsic maps world (here G) points into the camera: T_C_G.
   impl_->volume.Integrate(impl_->rgbd, impl_->intrinsic, T_C_G.matrix());
   ++impl_->frames;
@@ -112,6 +119,7 @@ void TsdfFusion::ExtractCloud(ObjectCloud* cloud) const {
 }
 
 void TsdfFusion::ExtractCloudUncached(ObjectCloud* cloud) const {
+  const ScopedOpenMpFixedTeam team(impl_->open3d_team);
   const std::shared_ptr<open3d::geometry::PointCloud> pcd = impl_->volume.ExtractPointCloud();
   WriteSorted(pcd->points_, pcd->normals_, cloud);
 }

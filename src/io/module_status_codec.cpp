@@ -4,6 +4,9 @@
 
 #include "wire.hpp"
 
+#include <array>
+#include <optional>
+
 #include <graspfill/module_status_t.hpp>
 
 namespace graspfill::io {
@@ -48,6 +51,11 @@ std::vector<uint8_t> EncodeModuleStatus(const ModuleStatus& status) {
     msg.bad_messages.push_back(status.bad_messages.by_reason[i]);
   }
   msg.num_bad_message_reasons = static_cast<int32_t>(msg.bad_messages.size());
+  for (size_t i = 1; i < kNumFrameSkipReasons; ++i) {
+    msg.skip_reasons.push_back(FrameSkipReasonName(static_cast<FrameSkipReason>(i)));
+    msg.frames_skipped_by_reason.push_back(status.frames_skipped_by_reason.by_reason[i]);
+  }
+  msg.num_skip_reasons = static_cast<int32_t>(msg.frames_skipped_by_reason.size());
   return EncodeMessage(msg);
 }
 
@@ -60,10 +68,15 @@ static bool DecodeModuleStatusImpl(const void* data, size_t size, ModuleStatus* 
     SetError(error, "module_status_t: malformed message");
     return false;
   }
-  int32_t num_reasons = 0;
-  bool ok = r.Count(&num_reasons, 4 + 1 + 8);
-  for (int32_t i = 0; ok && i < num_reasons; ++i) ok = r.SkipString();
-  if (!ok || !r.Skip(8 * static_cast<size_t>(num_reasons)) || r.remaining() != 0) {
+  // Two named count arrays: the bad messages', the skipped frames'.
+  bool ok = true;
+  for (int array = 0; ok && array < 2; ++array) {
+    int32_t num_reasons = 0;
+    ok = r.Count(&num_reasons, 4 + 1 + 8);
+    for (int32_t i = 0; ok && i < num_reasons; ++i) ok = r.SkipString();
+    ok = ok && r.Skip(8 * static_cast<size_t>(num_reasons));
+  }
+  if (!ok || r.remaining() != 0) {
     SetError(error, "module_status_t: malformed message");
     return false;
   }
@@ -114,6 +127,21 @@ static bool DecodeModuleStatusImpl(const void* data, size_t size, ModuleStatus* 
     }
     seen[index] = true;
     out->bad_messages.by_reason[index] = msg.bad_messages[i];
+  }
+  out->frames_skipped_by_reason = FrameSkipCounts{};
+  std::array<bool, kNumFrameSkipReasons> skip_seen{};
+  for (size_t i = 0; i < msg.skip_reasons.size(); ++i) {
+    const std::optional<FrameSkipReason> reason = FrameSkipReasonFromName(msg.skip_reasons[i]);
+    const auto index = static_cast<size_t>(reason.value_or(FrameSkipReason::kNone));
+    if (!reason || *reason == FrameSkipReason::kNone || skip_seen[index] ||
+        msg.frames_skipped_by_reason[i] < 0) {
+      SetError(error, "module_status_t: skip reason '" + msg.skip_reasons[i] +
+                          "' unknown, repeated or with a negative count",
+               MessageError::kBadValue);
+      return false;
+    }
+    skip_seen[index] = true;
+    out->frames_skipped_by_reason.by_reason[index] = msg.frames_skipped_by_reason[i];
   }
   return true;
 }

@@ -249,6 +249,23 @@ bool HasPlyExtension(const std::string& path) {
   return ext == ".ply";
 }
 
+// The faces, fan-triangulated; faces with a repeated index dropped (the
+// parser checked every index against the vertex count).
+std::vector<Eigen::Vector3i> FanTriangles(const ply::Parsed& parsed) {
+  std::vector<Eigen::Vector3i> triangles;
+  for (size_t f = 0; f + 1 < parsed.face_start.size(); ++f) {
+    const int64_t* idx = parsed.face_indices.data() + parsed.face_start[f];
+    const int64_t count = parsed.face_start[f + 1] - parsed.face_start[f];
+    for (int64_t k = 1; k + 1 < count; ++k) {
+      const Eigen::Vector3i tri(static_cast<int>(idx[0]), static_cast<int>(idx[k]),
+                                static_cast<int>(idx[k + 1]));
+      if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) continue;
+      triangles.push_back(tri);
+    }
+  }
+  return triangles;
+}
+
 // PLY meshes through our parser: Open3D's reader crashed on malformed
 // headers and in its ear clipping of polygons. Polygons are fan-triangulated;
 // faces that repeat a vertex (degenerate) are dropped.
@@ -271,21 +288,20 @@ TriangleMesh ReadPlyMesh(const std::string& path) {
     }
     mesh.vertices[i] = v;
   }
-  for (size_t f = 0; f + 1 < parsed.face_start.size(); ++f) {
-    const int64_t* idx = parsed.face_indices.data() + parsed.face_start[f];
-    const int64_t count = parsed.face_start[f + 1] - parsed.face_start[f];
-    for (int64_t k = 1; k + 1 < count; ++k) {
-      const Eigen::Vector3i tri(static_cast<int>(idx[0]), static_cast<int>(idx[k]),
-                                static_cast<int>(idx[k + 1]));
-      if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) continue;
-      mesh.triangles.push_back(tri);
-    }
-  }
+  mesh.triangles = FanTriangles(parsed);
   if (mesh.triangles.empty()) Fail(what, path, "mesh has no (non-degenerate) triangles");
   return mesh;
 }
 
 }  // namespace
+
+std::vector<Eigen::Vector3i> ReadPlyTriangles(const std::string& path) {
+  const std::string what = "cannot read PLY";
+  const std::string bytes = ply::ReadWholeFile(path, what);
+  const ply::Parsed parsed = ply::Parse(bytes, path, what, /*want_faces=*/true);
+  if (parsed.num_vertices > std::numeric_limits<int>::max()) Fail(what, path, "too many vertices");
+  return FanTriangles(parsed);
+}
 
 TriangleMesh ReadMesh(const std::string& path) {
   CheckReadable("cannot read mesh", path);

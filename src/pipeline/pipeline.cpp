@@ -6,10 +6,33 @@
 #include <utility>
 #include <vector>
 
+#include "graspfill/core/openmp_threads.hpp"
 #include "graspfill/core/pose_interpolation.hpp"
 #include "graspfill/evidence/seen_free_carve.hpp"
 
 namespace graspfill {
+
+namespace {
+
+FrameSkipReason SkipReasonOf(refine::RefineOutcome outcome) {
+  switch (outcome) {
+    case refine::RefineOutcome::kClawNotSeen: return FrameSkipReason::kClawNotSeen;
+    case refine::RefineOutcome::kNotConverged: return FrameSkipReason::kRefineNotConverged;
+    case refine::RefineOutcome::kJump: return FrameSkipReason::kRefineJump;
+    default: return FrameSkipReason::kNone;
+  }
+}
+
+FrameSkipReason SkipReasonOf(refine::TrackOutcome outcome) {
+  switch (outcome) {
+    case refine::TrackOutcome::kTooFewPoints: return FrameSkipReason::kTrackTooFewPoints;
+    case refine::TrackOutcome::kNotConverged: return FrameSkipReason::kTrackNotConverged;
+    case refine::TrackOutcome::kJump: return FrameSkipReason::kTrackJump;
+    default: return FrameSkipReason::kNone;
+  }
+}
+
+}  // namespace
 
 void PipelineConfig::Validate() const {
   workspace.Validate();
@@ -20,6 +43,7 @@ void PipelineConfig::Validate() const {
   if (max_pose_gap_us <= 0) throw std::invalid_argument("PipelineConfig: max_pose_gap_us <= 0");
   if (state_buffer_capacity < 2) throw std::invalid_argument("PipelineConfig: state_buffer_capacity < 2");
   if (max_pending_frames < 1) throw std::invalid_argument("PipelineConfig: max_pending_frames < 1");
+  CheckOpenMpThreads("PipelineConfig: num_threads", num_threads);
   if (!(claw_rebuild_tolerance >= 0.0)) throw std::invalid_argument("PipelineConfig: claw_rebuild_tolerance < 0");
   if (max_fusion_pixels < 1) throw std::invalid_argument("PipelineConfig: max_fusion_pixels < 1");
   if (mask.dilation_px < 0 || mask.roi_margin_px < 0 || !(mask.front_margin_m >= 0.0)) {
@@ -37,7 +61,16 @@ struct Pipeline::Impl {
         refiner(c.refine),
         tracker(c.track_object),
         states(static_cast<size_t>(c.state_buffer_capacity), c.max_pose_gap_us),
-        pending(static_cast<size_t>(c.max_pending_frames)) {}
+        pending(static_cast<size_t>(c.max_pending_frames)) {
+    // A call decides at most the pending frames, one dropped and its own.
+    decided.reserve(pending.size() + 2);
+  }
+
+  // Records what became of a frame.
+  void Decide(int64_t utime, FrameSkipReason skip) {
+    decided.push_back({utime, skip});
+    if (skip != FrameSkipReason::kNone) stats.skipped.Count(skip);
+  }
 
   // Rebuilds the claw scene when the fingers moved (setup-time work).
   void UpdateClaw(const GripperState& state) {
@@ -81,8 +114,10 @@ struct Pipeline::Impl {
   }
 
   // Refine the pose, crop, mask, track the object and fuse one frame; a
-  // frame refinement or tracking rejects is counted, nothing fused.
-  FrameOutcome Integrate(const DepthFrame& frame, const GripperState& state) {
+  // frame refinement or tracking rejects is counted, nothing fused, and
+  // *skip says why.
+  FrameOutcome Integrate(const DepthFrame& frame, const GripperState& state,
+                         FrameSkipReason* skip) {
     UpdateClaw(state);
     Eigen::Isometry3d T_C_G = state.T_C_G;
     refine::RefineOutcome refined = refine::RefineOutcome::kOff;
@@ -92,6 +127,7 @@ struct Pipeline::Impl {
       stats.refine = refiner.stats();
       if (!refine::Fuses(refined)) {
         ++stats.frames_skipped_refine;
+        *skip = SkipReasonOf(refined);
         return FrameOutcome::kSkippedRefine;
       }
     }
@@ -115,6 +151,7 @@ struct Pipeline::Impl {
       stats.tracking = tracker.stats();
       if (outcome != refine::TrackOutcome::kTracked && outcome != refine::TrackOutcome::kNoModel) {
         ++stats.frames_skipped_tracking;
+        *skip = SkipReasonOf(outcome);
         return FrameOutcome::kSkippedTracking;
       }
       T_C_O = tracker.T_C_O(T_C_G);
@@ -158,19 +195,26 @@ struct Pipeline::Impl {
     model_frames = fused;
   }
 
-  // Tries the frame against the state buffer.
+  // Tries the frame against the state buffer; records it when decided.
   FrameOutcome TryIntegrate(const DepthFrame& frame) {
+    FrameSkipReason skip = FrameSkipReason::kNone;
+    FrameOutcome outcome = FrameOutcome::kSkippedNoPose;
     switch (states.Lookup(frame.utime, &pose)) {
       case PoseLookup::kOk:
-        return Integrate(frame, pose);
+        outcome = Integrate(frame, pose, &skip);
+        break;
       case PoseLookup::kNotYet:
         return FrameOutcome::kPending;
       case PoseLookup::kTooEarly:
+        skip = FrameSkipReason::kNoPoseBefore;
+        break;
       case PoseLookup::kGap:
-        ++stats.frames_skipped_no_pose;
-        return FrameOutcome::kSkippedNoPose;
+        skip = FrameSkipReason::kPoseGap;
+        break;
     }
-    return FrameOutcome::kSkippedNoPose;
+    if (outcome == FrameOutcome::kSkippedNoPose) ++stats.frames_skipped_no_pose;
+    Decide(frame.utime, skip);
+    return outcome;
   }
 
   // Processes pending frames in arrival order while they can be decided.
@@ -208,6 +252,7 @@ struct Pipeline::Impl {
   Eigen::Isometry3d last_T_C_G{Eigen::Isometry3d::Identity()};
   int64_t seq{0};
   PipelineStats stats;
+  std::vector<FrameDecision> decided;  // by the last call; capacity reserved
 };
 
 Pipeline::Pipeline(const PipelineConfig& config, claw::ClawModel claw) {
@@ -218,6 +263,8 @@ Pipeline::Pipeline(const PipelineConfig& config, claw::ClawModel claw) {
 Pipeline::~Pipeline() = default;
 
 bool Pipeline::AddGripperState(const GripperState& state) {
+  const ScopedOpenMpThreads threads(impl_->config.num_threads);
+  impl_->decided.clear();
   ++impl_->stats.states_in;
   if (!impl_->states.Push(state)) {
     ++impl_->stats.states_rejected;
@@ -229,6 +276,8 @@ bool Pipeline::AddGripperState(const GripperState& state) {
 
 FrameOutcome Pipeline::AddDepthFrame(const DepthFrame& full_frame, std::string* error) {
   Impl& s = *impl_;
+  const ScopedOpenMpThreads threads(s.config.num_threads);
+  s.decided.clear();
   ++s.stats.frames_in;
   const CameraIntrinsics& K = full_frame.intrinsics;
   const char* problem = nullptr;
@@ -243,6 +292,7 @@ FrameOutcome Pipeline::AddDepthFrame(const DepthFrame& full_frame, std::string* 
   }
   if (problem) {
     ++s.stats.frames_bad;
+    s.Decide(full_frame.utime, FrameSkipReason::kBadFrame);
     if (error) *error = problem;
     return FrameOutcome::kBadFrame;
   }
@@ -258,6 +308,7 @@ FrameOutcome Pipeline::AddDepthFrame(const DepthFrame& full_frame, std::string* 
     if (outcome != FrameOutcome::kPending) return outcome;
   }
   if (s.num_pending == s.pending.size()) {  // full: drop the oldest
+    s.Decide(s.pending[s.pending_head].utime, FrameSkipReason::kPendingFull);
     s.pending_head = (s.pending_head + 1) % s.pending.size();
     --s.num_pending;
     ++s.stats.frames_dropped;
@@ -272,13 +323,19 @@ FrameOutcome Pipeline::AddDepthFrame(const DepthFrame& full_frame, std::string* 
 
 void Pipeline::Flush() {
   Impl& s = *impl_;
+  const ScopedOpenMpThreads threads(s.config.num_threads);
+  s.decided.clear();
   s.DrainPending();
-  s.stats.frames_skipped_no_pose += static_cast<int64_t>(s.num_pending);
-  s.num_pending = 0;
+  for (; s.num_pending > 0; --s.num_pending) {
+    s.Decide(s.pending[s.pending_head].utime, FrameSkipReason::kNoPoseAfter);
+    s.pending_head = (s.pending_head + 1) % s.pending.size();
+    ++s.stats.frames_skipped_no_pose;
+  }
 }
 
 ObjectCloud Pipeline::ExtractCloud() {
   Impl& s = *impl_;
+  const ScopedOpenMpThreads threads(s.config.num_threads);
   ObjectCloud cloud;
   {
     ScopedStageTimer t(&s.stats.extract);
@@ -311,6 +368,7 @@ void Pipeline::Reset() {
   s.states = GripperStateBuffer(static_cast<size_t>(s.config.state_buffer_capacity),
                                 s.config.max_pose_gap_us);
   s.num_pending = 0;
+  s.decided.clear();
   s.have_intrinsics = false;
   s.stats = PipelineStats{};
 }
@@ -321,6 +379,7 @@ const refine::PoseRefiner& Pipeline::refiner() const { return impl_->refiner; }
 const refine::ObjectTracker& Pipeline::tracker() const { return impl_->tracker; }
 Eigen::Isometry3d Pipeline::ObjectPose() const { return impl_->tracker.S_G(); }
 const PipelineStats& Pipeline::stats() const { return impl_->stats; }
+const std::vector<FrameDecision>& Pipeline::decided() const { return impl_->decided; }
 const PipelineConfig& Pipeline::config() const { return impl_->config; }
 
 }  // namespace graspfill

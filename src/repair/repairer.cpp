@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "graspfill/core/openmp_threads.hpp"
 #include "graspfill/evidence/safe_bound.hpp"
 #include "evidence_stage.hpp"
 #include "hole_fill.hpp"
@@ -718,6 +719,7 @@ void RepairConfig::Validate() const {
   if (up_hint && (!up_hint->allFinite() || up_hint->norm() < 1e-9)) {
     throw std::invalid_argument("RepairConfig: up_hint must be a finite non-zero vector");
   }
+  CheckOpenMpThreads("RepairConfig: num_threads", num_threads);
 }
 
 RepairSteps RepairSteps::For(RepairMode mode) {
@@ -759,6 +761,7 @@ RepairResult RepairWithSteps(const ObjectCloud& input, const RepairConfig& confi
   if (config.mode == RepairMode::kPaper) config.top_rim_band_m = 0.0;  // step 5's rim alone
   config.RepairConfig::Validate();
   config.RepairSteps::Validate();
+  const ScopedOpenMpThreads threads(config.num_threads);
   for (size_t i = 0; i < input.points_G.size(); ++i) {
     if (!input.points_G[i].allFinite()) {
       throw std::invalid_argument("repair: point " + std::to_string(i) + " is not finite");

@@ -7,6 +7,7 @@
 #include "bitmap_font.hpp"
 #include "graspfill/core/provenance_colors.hpp"
 #include "graspfill/view/cloud_render.hpp"
+#include "graspfill/view/mesh_render.hpp"
 
 namespace graspfill::view {
 namespace {
@@ -33,7 +34,11 @@ void FillRect(int x0, int y0, int w, int h, const Rgb8& color, RgbImage* image) 
   }
 }
 
-std::string CountsLine(const ObjectCloud& cloud) {
+std::string CountsLine(const ObjectCloud& cloud, const TriangleMesh* mesh) {
+  if (mesh != nullptr) {
+    return std::to_string(mesh->triangles.size()) + " triangles, " +
+           std::to_string(mesh->vertices.size()) + " vertices";
+  }
   size_t added = 0;
   for (const Provenance p : cloud.provenance) added += p != Provenance::kObserved;
   return std::to_string(cloud.size()) + " points, " + std::to_string(added) + " added";
@@ -76,6 +81,9 @@ RgbImage RenderSheet(const std::vector<SheetCloud>& clouds, const SheetConfig& c
   std::vector<const ObjectCloud*> all;
   for (const SheetCloud& c : clouds) {
     if (c.cloud == nullptr) throw std::invalid_argument("RenderSheet: a null cloud");
+    if (c.mesh != nullptr && c.mesh->vertices.size() != c.cloud->size()) {
+      throw std::invalid_argument("RenderSheet: a mesh whose vertices are not its cloud's points");
+    }
     all.push_back(c.cloud);
   }
   RgbImage image;
@@ -90,7 +98,7 @@ RgbImage RenderSheet(const std::vector<SheetCloud>& clouds, const SheetConfig& c
     const ObjectCloud& cloud = *clouds[c].cloud;
     DrawText(FitText(clouds[c].title, config.view_px, kTextScale), x0, kMarginPx, kTextScale,
              kText, &image);
-    DrawText(FitText(CountsLine(cloud), config.view_px, kTextScale), x0, kMarginPx + kLineHeightPx,
+    DrawText(FitText(CountsLine(cloud, clouds[c].mesh), config.view_px, kTextScale), x0, kMarginPx + kLineHeightPx,
              kTextScale, kFaintText, &image);
     for (int v = 0; v < layout.views; ++v) {
       const int y0 = layout.ViewY(v);
@@ -98,7 +106,12 @@ RgbImage RenderSheet(const std::vector<SheetCloud>& clouds, const SheetConfig& c
       ViewAngle angle;
       angle.azimuth_deg = 360.0 * v / config.views;
       angle.elevation_deg = config.elevation_deg;
-      RenderView(cloud, framing, angle, x0, y0, config.view_px, &image);
+      if (clouds[c].mesh != nullptr) {
+        RenderMeshView(*clouds[c].mesh, cloud.provenance, framing, angle, x0, y0, config.view_px,
+                       &image);
+      } else {
+        RenderView(cloud, framing, angle, x0, y0, config.view_px, &image);
+      }
     }
   }
   int y = layout.legend_y;

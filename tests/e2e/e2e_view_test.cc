@@ -163,6 +163,35 @@ TEST(ViewCli, TwoCloudsBeforeAndAfterSideBySide) {
   EXPECT_GT(InView(image, layout, 1, 0, Provenance::kSymmetry).count, 100);
 }
 
+// A closed cube of 8 vertices and 12 triangles: drawn as a surface, it
+// covers its whole outline; as 8 points it would cover 8 discs.
+TEST(ViewCli, AMeshIsDrawnAsASurface) {
+  const std::string dir = ScratchDir("e2e_view_mesh");
+  TriangleMesh cube;
+  for (int i = 0; i < 8; ++i) {
+    cube.vertices.emplace_back(i & 1 ? 0.025f : -0.025f, i & 2 ? 0.025f : -0.025f,
+                               i & 4 ? 0.05f : 0.0f);
+  }
+  cube.triangles = {{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5}, {0, 4, 5}, {0, 5, 1},
+                    {2, 3, 7}, {2, 7, 6}, {0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}};
+  io::WriteMeshPly(dir + "/cube.ply", cube);
+  const auto run = RunCli("view " + dir + "/cube.ply -o " + dir + "/cube.png --views 1");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const open3d::geometry::Image image = ReadPng(dir + "/cube.png");
+  view::SheetConfig config;
+  config.views = 1;
+  const view::SheetLayout layout = view::LayoutSheet(1, config);
+  // Its diagonal spans 0.92 of the view's edge: an edge of 191 of 360
+  // pixels; seen from 30 degrees up its front and top faces cover ~50k of
+  // 130k pixels (8 points would cover 8 discs, < 2k).
+  const int covered = InView(image, layout, 0, 0, Provenance::kObserved).count;
+  EXPECT_GT(covered, layout.view_px * layout.view_px / 4) << covered;
+  const int c = layout.view_px / 2;
+  const uint8_t* centre =
+      &image.data_[(static_cast<size_t>(layout.ViewY(0) + c) * image.width_ + layout.ViewX(0) + c) * 3];
+  EXPECT_TRUE(IsShadeOf(centre, ProvenanceColor(Provenance::kObserved)));
+}
+
 TEST(ViewCli, BadInputIsNamedAndNothingIsOverwritten) {
   const std::string dir = ScratchDir("e2e_view_bad");
   io::WriteCloudPly(dir + "/cloud.ply", HeldCylinder());

@@ -737,6 +737,8 @@ TEST(ModuleStatusMessage, RoundTrip) {
   status.bad_messages.by_reason[static_cast<size_t>(MessageError::kMalformed)] = 18;
   status.bad_messages.by_reason[static_cast<size_t>(MessageError::kNonMonotonicTime)] = 2;
   status.decode_errors = status.bad_messages.total();
+  status.frames_skipped_by_reason.Count(FrameSkipReason::kPoseGap, 5);
+  status.frames_skipped_by_reason.Count(FrameSkipReason::kClockJump, 2);
   const auto bytes = EncodeModuleStatus(status);
   ModuleStatus out;
   std::string error;
@@ -764,7 +766,41 @@ TEST(ModuleStatusMessage, RoundTrip) {
   EXPECT_EQ(out.bad_messages[MessageError::kMalformed], 18);
   EXPECT_EQ(out.bad_messages[MessageError::kNonMonotonicTime], 2);
   EXPECT_EQ(out.bad_messages.total(), 20);
+  EXPECT_EQ(out.frames_skipped_by_reason, status.frames_skipped_by_reason);
+  EXPECT_EQ(out.frames_skipped_by_reason[FrameSkipReason::kPoseGap], 5);
   EXPECT_FALSE(DecodeModuleStatus(bytes.data(), bytes.size() - 1, &out, &error));
+}
+
+// The skipped frames by reason are named on the wire too, every reason
+// once; an unknown or repeated name or a negative count is a bad message.
+TEST(ModuleStatusMessage, SkipReasonsByName) {
+  ModuleStatus status;
+  status.frames_skipped_by_reason.Count(FrameSkipReason::kClawNotSeen, 4);
+  graspfill::module_status_t msg;
+  const auto bytes = EncodeModuleStatus(status);
+  ASSERT_EQ(msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())),
+            static_cast<int>(bytes.size()));
+  ASSERT_EQ(msg.num_skip_reasons, static_cast<int32_t>(kNumFrameSkipReasons) - 1);
+  const auto it = std::find(msg.skip_reasons.begin(), msg.skip_reasons.end(), "claw_not_seen");
+  ASSERT_NE(it, msg.skip_reasons.end());
+  EXPECT_EQ(msg.frames_skipped_by_reason[static_cast<size_t>(it - msg.skip_reasons.begin())], 4);
+  auto decodes = [](const graspfill::module_status_t& m) {
+    std::vector<uint8_t> b(static_cast<size_t>(m.getEncodedSize()));
+    m.encode(b.data(), 0, static_cast<int>(b.size()));
+    ModuleStatus out;
+    std::string error;
+    return DecodeModuleStatus(b.data(), b.size(), &out, &error);
+  };
+  EXPECT_TRUE(decodes(msg));
+  graspfill::module_status_t unknown = msg;
+  unknown.skip_reasons[0] = "gremlins";
+  EXPECT_FALSE(decodes(unknown));
+  graspfill::module_status_t repeated = msg;
+  repeated.skip_reasons[1] = repeated.skip_reasons[0];
+  EXPECT_FALSE(decodes(repeated));
+  graspfill::module_status_t negative = msg;
+  negative.frames_skipped_by_reason[0] = -1;
+  EXPECT_FALSE(decodes(negative));
 }
 
 // The per-reason counts are named on the wire: planners read them without

@@ -1,99 +1,16 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// The module end to end on an analytic scene: a sphere held by the
-// three-finger claw, seen by a fixed camera while the gripper turns.
+// The module end to end on an analytic scene (sphere_scene.hpp).
 #include "graspfill/pipeline/pipeline.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
-#include "graspfill/core/raycaster.hpp"
+#include "sphere_scene.hpp"
 
 namespace graspfill {
 namespace {
-
-constexpr double kRadiusM = 0.035;
-const Eigen::Vector3d kCentreG(0.0, 0.0, 0.045);  // top 1 cm below the palm
-constexpr double kOpeningM = 0.0355;              // fingers touch the equator... roughly
-
-claw::ClawModel Claw() { return claw::ClawModel::ThreeFinger(); }
-
-// Gripper approach axis pointing down-ish, turning about its z over time.
-Eigen::Isometry3d T_C_G_at(double t_s) {
-  Eigen::Isometry3d T_W_G = Eigen::Isometry3d::Identity();
-  // World: camera looks along +x_W, z_W up. The gripper's z points down.
-  T_W_G.linear() = (Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()) *
-                    Eigen::AngleAxisd(1.5 * t_s, Eigen::Vector3d::UnitZ())).toRotationMatrix();
-  T_W_G.translation() = Eigen::Vector3d(0.55, 0.0, 0.20);
-  // Camera 15 cm below the object centre, looking at it (slightly upward).
-  const Eigen::Vector3d eye(0.0, 0.0, 0.0);
-  const Eigen::Vector3d target = T_W_G * kCentreG;
-  const Eigen::Vector3d z = (target - eye).normalized();
-  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
-  Eigen::Isometry3d T_W_C = Eigen::Isometry3d::Identity();
-  T_W_C.linear().col(0) = x;
-  T_W_C.linear().col(1) = z.cross(x);
-  T_W_C.linear().col(2) = z;
-  T_W_C.translation() = eye;
-  return T_W_C.inverse() * T_W_G;
-}
-
-// Exact depth of the sphere + claw (claw by Embree, sphere analytically).
-DepthFrame Render(const Raycaster& claw_G, const Eigen::Isometry3d& T_C_G, int64_t utime,
-                  const CameraIntrinsics& intrinsics = CameraIntrinsics{}) {
-  DepthFrame f;
-  f.utime = utime;
-  f.intrinsics = intrinsics;
-  const CameraIntrinsics& K = f.intrinsics;
-  f.depth_m.assign(K.width * K.height, 0.0f);
-  const Eigen::Isometry3d T_G_C = T_C_G.inverse();
-  const Eigen::Vector3d c_C = T_C_G * kCentreG;
-  for (int v = 0; v < K.height; ++v) {
-    for (int u = 0; u < K.width; ++u) {
-      const Eigen::Vector3d ray((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
-      double z = 1.5;  // background wall, outside the workspace
-      const double a = ray.squaredNorm(), b = -2.0 * ray.dot(c_C);
-      const double disc = b * b - 4 * a * (c_C.squaredNorm() - kRadiusM * kRadiusM);
-      if (disc >= 0) z = std::min(z, (-b - std::sqrt(disc)) / (2 * a));
-      const Eigen::Vector3d dir_G = (T_G_C.linear() * ray.normalized());
-      const RayHit hit = claw_G.Cast(T_G_C.translation().cast<float>(), dir_G.cast<float>());
-      if (hit.hit()) z = std::min(z, hit.t / std::sqrt(a));  // t along the unit ray
-      f.depth_m[v * K.width + u] = static_cast<float>(z);
-    }
-  }
-  return f;
-}
-
-GripperState State(int64_t utime) {
-  GripperState s;
-  s.utime = utime;
-  s.T_C_G = T_C_G_at(utime * 1e-6);
-  s.opening_m = kOpeningM;
-  return s;
-}
-
-class PipelineTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    raycaster_.AddMesh(Claw().Posed(kOpeningM));
-    raycaster_.Commit();
-  }
-  // Feeds 100 Hz states (offset 3.7 ms) and 30 Hz frames in time order.
-  void Feed(Pipeline* p, int num_frames, const CameraIntrinsics& K = CameraIntrinsics{}) {
-    int64_t next_state = 3700;
-    for (int i = 0; i < num_frames; ++i) {
-      const int64_t t = 100000 + i * 33333;
-      while (next_state <= t) {
-        p->AddGripperState(State(next_state));
-        next_state += 10000;
-      }
-      p->AddDepthFrame(Render(raycaster_, T_C_G_at(t * 1e-6), t, K));
-    }
-    p->AddGripperState(State(next_state));
-    p->Flush();
-  }
-  Raycaster raycaster_;
-};
 
 TEST_F(PipelineTest, CloudLiesOnTheSphereWithoutTheClaw) {
   Pipeline pipeline(PipelineConfig{}, Claw());
@@ -206,6 +123,117 @@ TEST_F(PipelineTest, FramesWithoutNearbyStatesAreSkippedAndCounted) {
   pipeline.Flush();
   EXPECT_EQ(pipeline.stats().frames_skipped_no_pose, 3);
   EXPECT_EQ(pipeline.stats().frames_integrated, 0);
+}
+
+// Every skipped frame comes back once, with its reason, from the call that
+// decided it; the stats count it under that reason.
+TEST_F(PipelineTest, EverySkippedFrameComesBackWithItsReason) {
+  PipelineConfig config;
+  config.max_pending_frames = 1;
+  Pipeline pipeline(config, Claw());
+  const DepthFrame frame = Render(raycaster_, T_C_G_at(0.1), 100000);
+  auto decided_once = [&](int64_t utime, FrameSkipReason skip) {
+    ASSERT_EQ(pipeline.decided().size(), 1u);
+    EXPECT_EQ(pipeline.decided()[0].utime, utime);
+    EXPECT_EQ(pipeline.decided()[0].skip, skip) << FrameSkipReasonName(pipeline.decided()[0].skip);
+  };
+  DepthFrame bad = frame;
+  bad.depth_m.resize(100);
+  EXPECT_EQ(pipeline.AddDepthFrame(bad), FrameOutcome::kBadFrame);
+  decided_once(100000, FrameSkipReason::kBadFrame);
+
+  // Waiting, then dropped for the next one (one pending slot).
+  EXPECT_EQ(pipeline.AddDepthFrame(frame), FrameOutcome::kPending);
+  EXPECT_TRUE(pipeline.decided().empty());
+  DepthFrame later = frame;
+  later.utime = 110000;
+  EXPECT_EQ(pipeline.AddDepthFrame(later), FrameOutcome::kPending);
+  decided_once(100000, FrameSkipReason::kPendingFull);
+
+  // Decided by a state: two states 150 ms apart around it.
+  pipeline.AddGripperState(State(50000));
+  EXPECT_TRUE(pipeline.decided().empty());
+  pipeline.AddGripperState(State(200000));
+  decided_once(110000, FrameSkipReason::kPoseGap);
+
+  DepthFrame early = frame;
+  early.utime = 20000;  // older than every state
+  EXPECT_EQ(pipeline.AddDepthFrame(early), FrameOutcome::kSkippedNoPose);
+  decided_once(20000, FrameSkipReason::kNoPoseBefore);
+
+  DepthFrame last = frame;
+  last.utime = 400000;  // never bracketed
+  EXPECT_EQ(pipeline.AddDepthFrame(last), FrameOutcome::kPending);
+  pipeline.Flush();
+  decided_once(400000, FrameSkipReason::kNoPoseAfter);
+
+  const FrameSkipCounts& skipped = pipeline.stats().skipped;
+  EXPECT_EQ(skipped.total(), 5);
+  for (FrameSkipReason r : {FrameSkipReason::kBadFrame, FrameSkipReason::kPendingFull,
+                            FrameSkipReason::kPoseGap, FrameSkipReason::kNoPoseBefore,
+                            FrameSkipReason::kNoPoseAfter}) {
+    EXPECT_EQ(skipped[r], 1) << FrameSkipReasonName(r);
+  }
+  EXPECT_EQ(pipeline.stats().frames_skipped_no_pose, 3);
+  EXPECT_EQ(pipeline.stats().frames_dropped, 1);
+}
+
+TEST_F(PipelineTest, FramesTheRefinementRejectsComeBackWithItsReason) {
+  Pipeline pipeline(PipelineConfig{}, Claw());
+  Feed(&pipeline, 6);
+  ASSERT_EQ(pipeline.stats().frames_integrated, 6);
+  // A frame with no depth at all: the claw is not seen.
+  const int64_t t = 100000 + 6 * 33333;
+  DepthFrame empty = Render(raycaster_, T_C_G_at(t * 1e-6), t);
+  std::fill(empty.depth_m.begin(), empty.depth_m.end(), 0.0f);
+  pipeline.AddGripperState(State(t + 10000));
+  EXPECT_EQ(pipeline.AddDepthFrame(empty), FrameOutcome::kSkippedRefine);
+  ASSERT_EQ(pipeline.decided().size(), 1u);
+  EXPECT_EQ(pipeline.decided()[0].skip, FrameSkipReason::kClawNotSeen);
+  // A frame rendered 1 cm off the state's pose: a correction that jumps.
+  const int64_t t2 = t + 33333;
+  Eigen::Isometry3d shifted = T_C_G_at(t2 * 1e-6);
+  shifted.translation() += Eigen::Vector3d(0.01, 0.0, 0.0);
+  pipeline.AddGripperState(State(t2 + 10000));
+  EXPECT_EQ(pipeline.AddDepthFrame(Render(raycaster_, shifted, t2)), FrameOutcome::kSkippedRefine);
+  ASSERT_EQ(pipeline.decided().size(), 1u);
+  EXPECT_EQ(pipeline.decided()[0].skip, FrameSkipReason::kRefineJump)
+      << FrameSkipReasonName(pipeline.decided()[0].skip);
+  EXPECT_EQ(pipeline.stats().skipped[FrameSkipReason::kClawNotSeen], 1);
+  EXPECT_EQ(pipeline.stats().skipped.total(), 2);
+}
+
+TEST_F(PipelineTest, FramesTheTrackingRejectsComeBackWithItsReason) {
+  PipelineConfig config;
+  config.track_object.enabled = true;
+  config.track_object.warmup_frames = 4;
+  Pipeline pipeline(config, Claw());
+  Feed(&pipeline, 6);
+  ASSERT_EQ(pipeline.stats().frames_integrated, 6);
+  ASSERT_TRUE(pipeline.tracker().has_model());
+  // The claw alone, no object: refinement sees the claw, tracking no object.
+  const int64_t t = 100000 + 6 * 33333;
+  pipeline.AddGripperState(State(t + 10000));
+  EXPECT_EQ(pipeline.AddDepthFrame(Render(raycaster_, T_C_G_at(t * 1e-6), t, {}, 0.0)),
+            FrameOutcome::kSkippedTracking);
+  ASSERT_EQ(pipeline.decided().size(), 1u);
+  EXPECT_EQ(pipeline.decided()[0].skip, FrameSkipReason::kTrackTooFewPoints)
+      << FrameSkipReasonName(pipeline.decided()[0].skip);
+  EXPECT_EQ(pipeline.stats().skipped[FrameSkipReason::kTrackTooFewPoints], 1);
+}
+
+TEST(FrameSkipReason, NamesAreDistinctAndReadBack) {
+  for (size_t i = 0; i < kNumFrameSkipReasons; ++i) {
+    const auto reason = static_cast<FrameSkipReason>(i);
+    const std::string name = FrameSkipReasonName(reason);
+    EXPECT_NE(name, "unknown");
+    EXPECT_EQ(FrameSkipReasonFromName(name), reason) << name;
+  }
+  EXPECT_FALSE(FrameSkipReasonFromName("unknown").has_value());
+  FrameSkipCounts counts;
+  counts.Count(FrameSkipReason::kPoseGap, 3);
+  counts.Count(FrameSkipReason::kClawNotSeen, 2);
+  EXPECT_EQ(FrameSkipText(counts), "pose_gap 3, claw_not_seen 2");
 }
 
 TEST_F(PipelineTest, RejectsBadFramesAndNonFiniteStates) {

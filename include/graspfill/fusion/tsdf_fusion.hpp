@@ -3,11 +3,13 @@
 // (Open3D's ScalableTSDFVolume: voxel blocks allocated only where depth
 // lands, so a cropped frame costs only the object's blocks).
 //
-// Threads: Open3D runs an OpenMP team of hardware_concurrency() threads per
+// Threads: Open3D runs an OpenMP team of a thread per physical core per
 // voxel block, whatever omp_set_num_threads says. On 2 cores with anything
 // else running, those barriers made a frame 15-30x slower (131-223 ms vs
-// 6-9 ms measured with `graspfill replay`), so processes that integrate
-// should start with OMP_THREAD_LIMIT=1 (the graspfill CLI and the tests do).
+// 6-9 ms measured with `graspfill replay`). Integrate runs that team on one
+// thread when the calling thread's OpenMP count is below it; the Pipeline
+// sets the count per call (PipelineConfig::num_threads, default 1;
+// core/openmp_threads.hpp).
 #pragma once
 
 #include <Eigen/Geometry>

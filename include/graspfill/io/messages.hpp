@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "graspfill/io/session_limits.hpp"
+#include "graspfill/core/frame_skip.hpp"
 #include "graspfill/types.hpp"
 
 namespace graspfill::io {
@@ -230,6 +231,8 @@ struct ModuleStatus {
   int64_t frames_skipped_clock_jump{0};
   int64_t frames_bad{0};
   int64_t frames_skipped_refine{0};  ///< pose refinement or object tracking
+  /// Every frame not fused, by reason (kPendingFull also in frames_dropped).
+  FrameSkipCounts frames_skipped_by_reason;
   int64_t decode_errors{0};   ///< messages on our channels that did not decode
   BadMessageCounts bad_messages;  ///< decode_errors per reason
   int64_t clock_jumps{0};     ///< backwards jumps the module started over at

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "graspfill/io/atomic_file.hpp"
 #include "graspfill/types.hpp"
@@ -51,6 +52,12 @@ void WriteCloudPly(const std::string& path, const ObjectCloud& cloud,
 /// @throws std::runtime_error (with the path) on a missing or malformed
 ///   file or out-of-range provenance.
 ObjectCloud ReadCloudPly(const std::string& path);
+
+/// The triangles of a PLY's faces over its vertices (ReadCloudPly's points,
+/// same order): faces fan-triangulated, faces with a repeated index
+/// dropped; empty when the file has no faces (a point cloud).
+/// @throws std::runtime_error (with the path) as ReadCloudPly.
+std::vector<Eigen::Vector3i> ReadPlyTriangles(const std::string& path);
 
 /// Writes a triangle mesh as binary little-endian PLY (float x y z, faces as
 /// `list uchar int vertex_indices`). Deterministic; an empty mesh is written.

@@ -13,14 +13,17 @@
 // to the visibility record (evidence/). Extraction is on demand.
 //
 // Single-threaded and NOT thread safe: rt/ owns the threads that feed it.
+// Open3D's OpenMP inside a call uses config.num_threads (default 1).
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "graspfill/claw/claw_mask.hpp"
 #include "graspfill/claw/claw_model.hpp"
+#include "graspfill/core/frame_skip.hpp"
 #include "graspfill/core/stage_timer.hpp"
 #include "graspfill/evidence/visibility_record.hpp"
 #include "graspfill/fusion/tsdf_fusion.hpp"
@@ -65,12 +68,19 @@ struct PipelineConfig {
   /// 1280 x 1024, leaves VGA, 720p and 1024 x 1024 cameras as they are and
   /// takes a 4096 x 4096 stream at 1/4 (docs/input-limits-and-fuzzing.md).
   int64_t max_fusion_pixels{1280 * 1024};
+  /// OpenMP threads of each call (Open3D's TSDF integration): 1 (default)
+  /// runs everything on the calling thread, N > 1 at most N threads, 0
+  /// OpenMP's own count (a thread per core). Applied per call and the
+  /// caller's settings restored after it, on whichever thread calls
+  /// (core/openmp_threads.hpp); no environment variable is needed. The
+  /// cloud is the same bytes at any count.
+  int num_threads{1};
 
   /// Throws std::invalid_argument naming the bad field.
   void Validate() const;
 };
 
-/// What became of a depth frame.
+/// What became of a depth frame (FrameDecision: why, when skipped).
 enum class FrameOutcome {
   kIntegrated,     ///< fused into the volume
   kPending,        ///< waiting for a later gripper state
@@ -78,6 +88,13 @@ enum class FrameOutcome {
   kBadFrame,       ///< wrong size or bad intrinsics: rejected
   kSkippedRefine,  ///< pose refinement rejected it (PipelineStats::refine says why)
   kSkippedTracking,  ///< object tracking rejected it (PipelineStats::tracking says why)
+};
+
+/// A depth frame decided: fused (skip kNone) or skipped, and why.
+struct FrameDecision {
+  int64_t utime{0};  ///< the frame's own stamp
+  FrameSkipReason skip{FrameSkipReason::kNone};
+  bool fused() const { return skip == FrameSkipReason::kNone; }
 };
 
 struct PipelineStats {
@@ -105,6 +122,9 @@ struct PipelineStats {
   /// at each extraction, and how many the last one removed.
   StageTotal carve;
   int64_t points_carved_last{0};
+  /// Every frame not fused, by reason (the frames_skipped_*, frames_bad
+  /// and frames_dropped counters above are sums of these).
+  FrameSkipCounts skipped;
 };
 
 class Pipeline {
@@ -127,6 +147,13 @@ class Pipeline {
 
   /// End of stream: pending frames with no later state are skipped.
   void Flush();
+
+  /// The depth frames the last AddGripperState, AddDepthFrame or Flush
+  /// decided, in arrival order, each fused or with the reason it was
+  /// skipped. Every frame given is decided exactly once (a pending one by
+  /// a later call), so a caller that reads this after each call sees every
+  /// skipped frame's reason. Valid until the next call.
+  const std::vector<FrameDecision>& decided() const;
 
   /// The object cloud fused so far (points, normals, all observed), in G,
   /// stamped with the last integrated frame's time and gripper pose.

@@ -56,6 +56,11 @@ struct RepairConfig {
   /// Optional hint of the object's "up" (towards the missing top) in the
   /// input frame; never required.
   std::optional<Eigen::Vector3d> up_hint;
+  /// OpenMP threads of the call (the libraries it uses; the repair's own
+  /// steps are single-threaded): 1 (default) the calling thread alone, N > 1
+  /// at most N, 0 OpenMP's own count. Applied for the call and the caller's
+  /// settings restored after it (core/openmp_threads.hpp).
+  int num_threads{1};
 
   /// Throws std::invalid_argument naming the bad field.
   void Validate() const;

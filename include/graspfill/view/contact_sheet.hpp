@@ -29,6 +29,10 @@ struct SheetConfig {
 struct SheetCloud {
   const ObjectCloud* cloud{nullptr};
   std::string title;  ///< e.g. the file's name; cut to the column's width
+  /// A mesh whose vertices are `cloud` (same order): drawn as filled
+  /// triangles (view/mesh_render.hpp) instead of the cloud's points; null:
+  /// the points.
+  const TriangleMesh* mesh{nullptr};
 };
 
 /// Where RenderSheet puts things [pixels, from the top-left corner].
@@ -50,7 +54,8 @@ struct SheetLayout {
 SheetLayout LayoutSheet(int columns, const SheetConfig& config);
 
 /// Renders the sheet (see the file comment). Pixels: white background,
-/// points in their provenance colours (view/cloud_render.hpp), dark text.
+/// points in their provenance colours (view/cloud_render.hpp), meshes as
+/// shaded surfaces (view/mesh_render.hpp), dark text.
 /// @throws std::invalid_argument on a bad config, no cloud or a null one.
 RgbImage RenderSheet(const std::vector<SheetCloud>& clouds, const SheetConfig& config);
 

@@ -79,6 +79,7 @@ TEST(RigConfig, DefaultsAreTheLibrariesDefaults) {
   EXPECT_EQ(pipeline.track_object.enabled, want.track_object.enabled);
   EXPECT_EQ(pipeline.workspace.min_G, want.workspace.min_G);
   EXPECT_EQ(pipeline.workspace.max_G, want.workspace.max_G);
+  EXPECT_EQ(pipeline.num_threads, want.num_threads);
   // The box a null workspace stands for is the library's.
   const RigConfig::Box box;
   EXPECT_EQ(Eigen::Vector3d(box.min_G_m[0], box.min_G_m[1], box.min_G_m[2]), want.workspace.min_G);
@@ -93,6 +94,7 @@ TEST(RigConfig, DefaultsAreTheLibrariesDefaults) {
   EXPECT_EQ(repair.mode, want_repair.mode);
   EXPECT_EQ(repair.safe_bound_voxel_m, want_repair.safe_bound_voxel_m);
   EXPECT_EQ(repair.top_rim_band_m, want_repair.top_rim_band_m);
+  EXPECT_EQ(repair.num_threads, want_repair.num_threads);
 
   const io::ChannelNames channels = ToChannelNames(c.channels);
   const io::ChannelNames want_channels;
@@ -121,6 +123,17 @@ TEST(RigConfig, TheRefineSectionReachesThePipeline) {
   EXPECT_EQ(pipeline.refine.min_correction_m, 0.001);
   EXPECT_EQ(pipeline.refine.min_correction_deg, 0.25);
   EXPECT_TRUE(pipeline.track_object.enabled);
+}
+
+TEST(RigConfig, TheThreadCountReachesThePipelineAndTheRepair) {
+  const RigConfig c = ParseRigConfig("compute:\n  num_threads: 3\n", "threads.yaml");
+  PipelineConfig pipeline;
+  repair::RepairConfig repair;
+  ApplyToPipeline(c, &pipeline);
+  ApplyToRepair(c, &repair);
+  EXPECT_EQ(pipeline.num_threads, 3);
+  EXPECT_EQ(repair.num_threads, 3);
+  EXPECT_EQ(ParseRigConfig("compute:\n  num_threads: 0\n", "own.yaml").compute.num_threads, 0);
 }
 
 TEST(RigConfig, TheRecordKeepsTheSafeBoundAtTheRepairsVoxel) {
@@ -238,6 +251,10 @@ TEST(RigConfig, EveryBadValueIsRefusedNamingItsField) {
       {"tsdf: 5\n", "tsdf", "tsdf: expected a map of keys, got '5'", 1},
       {"repair:\n  enabled: yes\n", "repair.enabled", "repair.enabled 'yes': expected true or false", 2},
       {"repair:\n  mode: fast\n", "repair.mode", "repair.mode 'fast': expected best or paper", 2},
+      {"compute:\n  num_threads: -1\n", "compute.num_threads",
+       "compute.num_threads '-1': out of range, expected 0..1024", 2},
+      {"compute:\n  num_threads: 2.5\n", "compute.num_threads",
+       "compute.num_threads '2.5': not an integer", 2},
       {"refine:\n  min_correction_deg: 5\n", "refine.min_correction_deg",
        "refine.min_correction_deg '5': out of range, expected 0..2 deg", 2},
       {"refine:\n  enabled: on\n", "refine.enabled", "refine.enabled 'on': expected true or false", 2},

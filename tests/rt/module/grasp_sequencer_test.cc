@@ -130,6 +130,8 @@ TEST(GraspSequencer, AReleaseStopsFusionUntilTheNextGrasp) {
   EXPECT_EQ(c.grasps_completed, 1);
   EXPECT_EQ(c.frames_fused, fused_in_grasp);
   EXPECT_GT(c.frames_released, 8);
+  EXPECT_EQ(c.skipped[FrameSkipReason::kClawEmpty], c.frames_released);
+  EXPECT_EQ(sequencer.stats().skipped[FrameSkipReason::kClawEmpty], c.frames_released);
 }
 
 TEST(GraspSequencer, ABackwardsClockJumpStartsOverInsteadOfSkippingForever) {
@@ -152,6 +154,11 @@ TEST(GraspSequencer, ABackwardsClockJumpStartsOverInsteadOfSkippingForever) {
   const SessionCounters c = sequencer.counters();
   EXPECT_EQ(c.clock_jumps, 1);
   EXPECT_EQ(c.frames_fused, 2 * fused_once);
+  // Every skipped frame under one reason: the jump's own, the no-pose ones.
+  EXPECT_EQ(c.skipped[FrameSkipReason::kClockJump], c.skipped_clock_jump);
+  EXPECT_EQ(c.skipped[FrameSkipReason::kNoPoseBefore] + c.skipped[FrameSkipReason::kPoseGap] +
+                c.skipped[FrameSkipReason::kNoPoseAfter],
+            c.skipped_no_pose);
   EXPECT_EQ(c.frames_since_fused, 0);
   EXPECT_EQ(sequencer.StallReason().find("behind"), std::string::npos);
   // Started over: the model is the one of the events after the jump (the
@@ -160,6 +167,34 @@ TEST(GraspSequencer, ABackwardsClockJumpStartsOverInsteadOfSkippingForever) {
   Feed(base, &fresh);
   fresh.Flush();
   EXPECT_TRUE(cloud.points_G == fresh.ExtractCloud().points_G);
+}
+
+// A frame waiting for a later state when the clock jumps back is lost to
+// the jump, and counted under that reason (not as a missing pose).
+TEST(GraspSequencer, AFrameWaitingAtAClockJumpIsSkippedForTheJump) {
+  const std::vector<SourceEvent> base = LoadEvents();
+  GraspSequencer sequencer(PipelineConfig{}, claw::ClawModel::ThreeFinger(), {}, nullptr);
+  Feed(base, &sequencer);
+  int64_t last_state = 0;
+  DepthFrame frame;
+  for (const SourceEvent& e : base) {
+    if (e.kind == SourceEvent::Kind::kGripperState) last_state = e.gripper.utime;
+    if (e.kind == SourceEvent::Kind::kDepth) frame = e.depth;
+  }
+  frame.utime = last_state + 5000;  // after every state: it waits
+  EXPECT_EQ(sequencer.AddDepthFrame(frame), FrameOutcome::kPending);
+  const SessionCounters before = sequencer.counters();
+  GripperState back;
+  for (const SourceEvent& e : base) {
+    if (e.kind == SourceEvent::Kind::kGripperState) back = e.gripper;
+  }
+  back.utime -= 10'000'000;  // 10 s back
+  sequencer.AddGripperState(back);
+  const SessionCounters c = sequencer.counters();
+  EXPECT_EQ(c.clock_jumps, 1);
+  EXPECT_EQ(c.skipped_clock_jump, 1);
+  EXPECT_EQ(c.skipped[FrameSkipReason::kClockJump], 1);
+  EXPECT_EQ(c.skipped[FrameSkipReason::kNoPoseAfter], before.skipped[FrameSkipReason::kNoPoseAfter]);
 }
 
 TEST(GraspSequencer, FramesOnAnotherClockThanTheStatesAreReportedAsStalled) {
