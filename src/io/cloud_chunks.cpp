@@ -85,6 +85,11 @@ std::vector<std::vector<uint8_t>> EncodeCloudChunks(const std::vector<uint8_t>& 
   return out;
 }
 
+void CloudChunkAssembler::ClearHad() {
+  for (uint32_t word : had_words_) had_bits_[word] = 0;
+  had_words_.clear();
+}
+
 CloudChunkAssembler::Result CloudChunkAssembler::Add(const void* data, size_t size, std::string* why) {
   const auto* bytes = static_cast<const uint8_t*>(data);
   if (bytes == nullptr || size < 8) {
@@ -140,20 +145,31 @@ CloudChunkAssembler::Result CloudChunkAssembler::Add(const void* data, size_t si
     if (pending_) ++dropped_unfinished_;
     pending_ = true;
     pending_key_ = key;
-    have_.assign(key.num_chunks, 0);
+    ClearHad();
+    // Grown, never shrunk or cleared: a header claiming a large cloud costs
+    // its allocation once, not a pass over it each time (every byte of the
+    // cloud is written by its slices before it completes).
+    const size_t words = (key.num_chunks + 63) / 64;
+    if (had_bits_.size() < words) had_bits_.resize(words, 0);
+    if (joining_.size() < key.num_bytes) joining_.resize(key.num_bytes);
     slices_missing_ = key.num_chunks;
-    cloud_.resize(key.num_bytes);
   }
-  if (have_[static_cast<size_t>(index)] != 0) return Result::kRepeat;
-  have_[static_cast<size_t>(index)] = 1;
-  std::memcpy(cloud_.data() + expected_offset, bytes + kChunkHeaderBytes, static_cast<size_t>(num_bytes));
+  const size_t word = static_cast<size_t>(index) / 64;
+  const uint64_t bit = uint64_t{1} << (static_cast<size_t>(index) % 64);
+  if ((had_bits_[word] & bit) != 0) return Result::kRepeat;
+  if (had_bits_[word] == 0) had_words_.push_back(static_cast<uint32_t>(word));
+  had_bits_[word] |= bit;
+  std::memcpy(joining_.data() + expected_offset, bytes + kChunkHeaderBytes, static_cast<size_t>(num_bytes));
   if (--slices_missing_ > 0) return Result::kPending;
   pending_ = false;
-  if (Crc32(cloud_.data(), cloud_.size()) != key.crc32) {
+  ClearHad();
+  if (Crc32(joining_.data(), key.num_bytes) != key.crc32) {
     completed_ = false;
     SetWhy(why, "the joined cloud's CRC-32 differs from its slices' (malformed)");
     return Result::kMalformed;
   }
+  // A copy of what the slices brought, so no more than they sent.
+  cloud_.assign(joining_.begin(), joining_.begin() + static_cast<std::ptrdiff_t>(key.num_bytes));
   completed_ = true;
   completed_key_ = key;
   return Result::kComplete;

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "graspfill/io/cloud_chunks.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
 
@@ -27,13 +28,17 @@ void WriteText(const fs::path& dir, const std::string& name, const std::string& 
   Write(dir, name, std::vector<uint8_t>(text.begin(), text.end()));
 }
 
-// fuzz_live_bus's record: channel (0 depth, 1 gripper state, 2 session
-// description), length (2 bytes little-endian), the message.
-void AppendRecord(std::vector<uint8_t>* out, uint8_t channel, const std::vector<uint8_t>& message) {
-  out->push_back(channel);
+// fuzz_cloud_chunks's record: length (2 bytes little-endian), the message.
+void AppendMessage(std::vector<uint8_t>* out, const std::vector<uint8_t>& message) {
   out->push_back(static_cast<uint8_t>(message.size() & 0xff));
   out->push_back(static_cast<uint8_t>(message.size() >> 8));
   out->insert(out->end(), message.begin(), message.end());
+}
+// fuzz_live_bus's record: channel (0 depth, 1 gripper state, 2 session
+// description), then the message as above.
+void AppendRecord(std::vector<uint8_t>* out, uint8_t channel, const std::vector<uint8_t>& message) {
+  out->push_back(channel);
+  AppendMessage(out, message);
 }
 
 void PutBigEndian(std::vector<uint8_t>* out, uint64_t v, int n) {
@@ -140,6 +145,44 @@ int main(int argc, char** argv) {
       AppendRecord(&records, 1, io::EncodeGripperState(after));
       Write(root / "live_bus", name, records);
     }
+  }
+
+  // The cloud channel: a model's slices (in order; shuffled with repeats,
+  // then the model whole), one cloud dropped for another, malformed slices.
+  {
+    const std::vector<uint8_t> whole = io::EncodeObjectCloud(cloud);
+    const auto slices = io::EncodeCloudChunks(whole, (whole.size() + 3) / 4);
+    if (slices.size() != 4) return 1;
+    ObjectCloud other_cloud = cloud;
+    other_cloud.seq = cloud.seq + 1;
+    const auto other = io::EncodeCloudChunks(io::EncodeObjectCloud(other_cloud), (whole.size() + 2) / 3);
+    const fs::path dir = root / "cloud_chunks";
+    std::vector<uint8_t> in_order, shuffled, dropped, malformed;
+    for (const auto& s : slices) AppendMessage(&in_order, s);
+    Write(dir, "slices_in_order", in_order);
+    for (int i : {3, 1, 1, 0, 3, 2}) AppendMessage(&shuffled, slices[static_cast<size_t>(i)]);
+    AppendMessage(&shuffled, whole);
+    Write(dir, "slices_shuffled_then_whole", shuffled);
+    AppendMessage(&dropped, slices[0]);
+    AppendMessage(&dropped, slices[1]);
+    for (const auto& s : other) AppendMessage(&dropped, s);
+    AppendMessage(&dropped, slices[2]);
+    Write(dir, "one_cloud_dropped_for_another", dropped);
+    auto cut = slices[1];
+    cut.pop_back();
+    auto flipped = slices[2];
+    flipped.back() ^= 0x40;  // the joined cloud's CRC differs
+    auto no_slices = slices[0];
+    no_slices[32] = no_slices[33] = no_slices[34] = no_slices[35] = 0;  // num_chunks 0
+    AppendMessage(&malformed, std::vector<uint8_t>(whole.begin(), whole.begin() + 5));
+    AppendMessage(&malformed, io::EncodeModuleStatus(status));
+    AppendMessage(&malformed, cut);
+    AppendMessage(&malformed, no_slices);
+    AppendMessage(&malformed, slices[0]);
+    AppendMessage(&malformed, slices[1]);
+    AppendMessage(&malformed, flipped);
+    AppendMessage(&malformed, slices[3]);
+    Write(dir, "malformed", malformed);
   }
 
   std::vector<uint8_t> huge;  // the 48-byte log: datalen 0x7fffffff

@@ -3,7 +3,8 @@
 // input: the seed corpora (tests/fuzz/corpus/) and the inputs the fuzzers
 // found crashes with (tests/fuzz/regressions/<target>/). A message that
 // decodes must encode and decode again; the log reader never reads past
-// the file; the PLY parser's errors name the file.
+// the file; the cloud-slice assembler keeps its contract; the PLY
+// parser's errors name the file.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "cloud_chunks_feed.hpp"
 #include "graspfill/io/lcm_log_reader.hpp"
 #include "graspfill/io/messages.hpp"
 #include "ply_parser.hpp"
@@ -118,6 +120,14 @@ TEST(FuzzRegressions, DepthGripperStatusAndLogInputsKeepTheirContracts) {
     LogEvent event;
     while (reader.Next(&event) == LogReadResult::kEvent) EXPECT_LE(reader.offset(), reader.file_size());
     std::fclose(f);
+  }
+}
+
+TEST(FuzzRegressions, CloudSliceInputsKeepTheAssemblersContract) {
+  const auto inputs = Inputs("cloud_chunks");
+  ASSERT_GE(inputs.size(), 4u);
+  for (const auto& bytes : inputs) {
+    EXPECT_EQ(testing::CheckCloudChunkInput(bytes.data(), bytes.size()), "");
   }
 }
 

@@ -20,7 +20,7 @@ namespace graspfill::io {
 /// (LCM sends up to 65,499 bytes unfragmented).
 constexpr size_t kCloudSliceBytes = 60000;
 /// The largest encoded cloud the slices may describe [bytes] (an assembler
-/// allocates this much at most, on a slice's word).
+/// allocates this much at most for the cloud it joins, on a slice's word).
 constexpr size_t kMaxChunkedCloudBytes = size_t{64} << 20;
 
 /// Cuts `cloud` (EncodeObjectCloud's bytes) into object_cloud_chunk_t
@@ -40,7 +40,10 @@ std::vector<std::vector<uint8_t>> EncodeCloudChunks(const std::vector<uint8_t>& 
 /// One cloud is joined at a time: a slice of another cloud drops an
 /// unfinished one (counted in dropped_unfinished()), as a publisher sends
 /// one cloud's slices before the next's. Malformed messages are rejected
-/// without allocating more than kMaxChunkedCloudBytes. Not thread safe.
+/// without allocating more than kMaxChunkedCloudBytes. Starting another
+/// cloud costs what the dropped one received, not the size its header
+/// claims (the buffers only grow), so slice headers alone cannot keep the
+/// reader busy. Not thread safe.
 class CloudChunkAssembler {
  public:
   enum class Result {
@@ -73,13 +76,18 @@ class CloudChunkAssembler {
     }
   };
 
+  // Forgets the pending cloud's slices in time proportional to how many came.
+  void ClearHad();
+
   Key pending_key_;
   bool pending_{false};              // a cloud is being joined
-  std::vector<uint8_t> have_;        // per slice of the pending cloud: 1 once had
+  std::vector<uint64_t> had_bits_;   // per slice of the pending cloud: a bit, set once had
+  std::vector<uint32_t> had_words_;  // the words of had_bits_ not zero (the others are)
   uint32_t slices_missing_{0};
+  std::vector<uint8_t> joining_;     // the pending cloud's bytes, at its front
   Key completed_key_;                // the cloud last completed: its repeats are ignored
   bool completed_{false};
-  std::vector<uint8_t> cloud_;       // the pending cloud, then the complete one
+  std::vector<uint8_t> cloud_;       // the complete cloud
   int64_t dropped_unfinished_{0};
 };
 
