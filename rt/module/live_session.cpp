@@ -37,15 +37,7 @@ LiveSession::LiveSession(const LiveSessionConfig& config)
   LcmBusSubscriber::Config bus;
   bus.url = config.lcm_url;
   bus.channels = config.channels;
-  if (config.T_C_B) {
-    bus.T_C_B = *config.T_C_B;
-    bus.T_C_B_from_session = false;
-  }
-  if (config.intrinsics) {
-    bus.intrinsics = config.intrinsics;
-    bus.intrinsics_from_session = false;
-  }
-  bus.gripper_clock_offset_us = config.gripper_clock_offset_us;
+  bus.overrides = config.overrides;
   bus.max_depth_pixels = config.max_depth_pixels;
   if (!config_.on_notice) {
     config_.on_notice = [](const std::string& text) {
