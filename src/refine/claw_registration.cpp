@@ -192,11 +192,8 @@ int ClawRegistration::CollectCandidates(const DepthFrame& frame, const Eigen::Is
                                         double gate_m) {
   points_C_.clear();
   normals_C_.clear();
+  if (!DepthPixelNormals::Fits(frame)) return 0;
   const CameraIntrinsics& K = frame.intrinsics;
-  if (K.width <= 0 || K.height <= 0 ||
-      frame.depth_m.size() != static_cast<size_t>(K.width) * K.height) {
-    return 0;
-  }
   Eigen::AlignedBox3f box_G = model_box_G_;
   box_G.min().array() -= static_cast<float>(gate_m);
   box_G.max().array() += static_cast<float>(gate_m);

@@ -162,11 +162,8 @@ void ObjectTracker::SetModel(const std::vector<Eigen::Vector3f>& points_O,
 int ObjectTracker::CollectPoints(const DepthFrame& frame) {
   points_C_.clear();
   normals_C_.clear();
+  if (!DepthPixelNormals::Fits(frame)) return 0;
   const CameraIntrinsics& K = frame.intrinsics;
-  if (K.width <= 0 || K.height <= 0 ||
-      frame.depth_m.size() != static_cast<size_t>(K.width) * K.height) {
-    return 0;
-  }
   const int step = config_.normal_step_px;
   const int W = K.width;
   const float* depth = frame.depth_m.data();
