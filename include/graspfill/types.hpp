@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <chrono>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -158,6 +159,10 @@ struct ObjectCloud {
   int64_t grasp_id{0};
   /// The grasp's final model (it ended, or the session stopped).
   bool is_final{false};
+  /// When its newest frame reached the live module (steady clock, this
+  /// process only: not sent on the bus); the clock's epoch when not known.
+  /// The latency timings are measured from it.
+  std::chrono::steady_clock::time_point newest_frame_arrival{};
 
   size_t size() const { return points_G.size(); }
 };

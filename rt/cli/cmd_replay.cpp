@@ -118,13 +118,7 @@ void ApplyConfig(const rt::RigConfig& c, ReplayOptions* o) {
     o->claw_from = "config file";
   }
   o->claw_mesh_root = c.claw.mesh_root;
-  if (c.robot.T_C_B) {  // the config's hand-eye over the session descriptions'
-    s.log.T_C_B = c.robot.T_C_B->ToIsometry();
-    s.log.T_C_B_from_session = false;
-  }
-  s.log.intrinsics = rt::IntrinsicsOverride(c);
-  s.log.intrinsics_from_session = !s.log.intrinsics.has_value();
-  s.log.gripper_clock_offset_us = rt::ClockOffsetUs(c);
+  s.log.overrides = rt::ToSourceOverrides(c);
   s.log.max_depth_pixels = c.camera.max_depth_pixels;
 }
 

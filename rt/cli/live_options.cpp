@@ -37,14 +37,9 @@ void ApplyRig(const rt::RigConfig& c, LiveOptions* o) {
     d.intrinsics.cx = c.camera.intrinsics_override->cx_px;
     d.intrinsics.cy = c.camera.intrinsics_override->cy_px;
   }
-  session_config.intrinsics = rt::IntrinsicsOverride(c);  // the bus's depth images
+  session_config.overrides = rt::ToSourceOverrides(c);  // for the bus's depth images too
+  camera.overrides = session_config.overrides;
   session_config.max_depth_pixels = c.camera.max_depth_pixels;
-  if (c.robot.T_C_B) {
-    session_config.T_C_B = c.robot.T_C_B->ToIsometry();
-    camera.T_C_B = session_config.T_C_B;
-  }
-  session_config.gripper_clock_offset_us = rt::ClockOffsetUs(c);
-  camera.gripper_clock_offset_us = session_config.gripper_clock_offset_us;
   if (!c.claw.spec.empty()) o->claw_spec = c.claw.spec;
   o->mesh_root = c.claw.mesh_root;
   rt::ApplyToPipeline(c, &module_config.pipeline);

@@ -861,4 +861,16 @@ std::optional<CameraIntrinsics> IntrinsicsOverride(const RigConfig& c) {
 
 int64_t ClockOffsetUs(const RigConfig& c) { return std::llround(c.robot.clock_offset_s * 1e6); }
 
+SourceOverrides ToSourceOverrides(const RigConfig& c) {
+  SourceOverrides o;
+  if (c.robot.T_C_B) {
+    o.T_C_B = c.robot.T_C_B->ToIsometry();
+    o.T_C_B_from_session = false;
+  }
+  o.intrinsics = IntrinsicsOverride(c);
+  o.intrinsics_from_session = !o.intrinsics.has_value();
+  o.gripper_clock_offset_us = ClockOffsetUs(c);
+  return o;
+}
+
 }  // namespace graspfill::rt

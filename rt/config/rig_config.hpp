@@ -31,6 +31,7 @@
 
 #include "graspfill/io/messages.hpp"
 #include "graspfill/types.hpp"
+#include "sources/session_overrides.hpp"
 
 namespace graspfill {
 struct PipelineConfig;  // graspfill/pipeline/pipeline.hpp
@@ -247,5 +248,8 @@ io::ChannelNames ToChannelNames(const RigConfig::Channels& channels);
 std::optional<CameraIntrinsics> IntrinsicsOverride(const RigConfig& config);
 /// robot.clock_offset_s in microseconds (rounded).
 int64_t ClockOffsetUs(const RigConfig& config);
+/// robot.T_C_B and the intrinsics override, each over the session
+/// descriptions' when the config has it, and the clock offset.
+SourceOverrides ToSourceOverrides(const RigConfig& config);
 
 }  // namespace graspfill::rt

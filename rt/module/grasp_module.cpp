@@ -105,6 +105,7 @@ void GraspModule::StampLatency(ObjectCloud* cloud,
     cloud->timings.push_back({"latency_queue_wait", taken.queue_wait_ms});
     if (extract_start) cloud->timings.push_back({"latency_extract", ms(now - *extract_start)});
     cloud->timings.push_back({"latency_frame_to_cloud", ms(now - taken.arrival)});
+    cloud->newest_frame_arrival = taken.arrival;
     return;
   }
 }

@@ -6,10 +6,11 @@
 // frames, and each grasp's final model (ObjectCloud::is_final) when the
 // grasp ends.
 //
-// Latency: each cloud handed out carries, in its timings, the age of its
-// newest frame: "latency_queue_wait" (arrival -> the worker took it),
+// Latency: each cloud handed out carries its newest frame's arrival
+// (ObjectCloud::newest_frame_arrival) and, in its timings, that frame's
+// age: "latency_queue_wait" (arrival -> the worker took it),
 // "latency_extract" and "latency_frame_to_cloud" (arrival -> extracted)
-// [ms]; the repair stage and the publisher add their parts.
+// [ms]; the repair stage and the publisher measure theirs from the arrival.
 //
 // Threads: Push* and the accessors are safe from any thread and never wait
 // for the worker's processing (they take a short lock to copy the data into
@@ -87,9 +88,9 @@ class GraspModule {
   // Worker thread, lock not held: extracts and hands out a cloud when
   // another extract_every_n_frames frames have been fused; true if it did.
   bool PublishIfDue();
-  // Worker: the latency timings of `cloud` (see the file comment), with
-  // its extraction's when its start is given; none when its newest frame
-  // is not known.
+  // Worker: the newest frame's arrival and the latency timings of `cloud`
+  // (see the file comment), with its extraction's when its start is given;
+  // none when its newest frame is not known.
   void StampLatency(ObjectCloud* cloud,
                     std::optional<std::chrono::steady_clock::time_point> extract_start) const;
   // Worker, lock held: the status from the sequencer (not touched by

@@ -37,15 +37,7 @@ LiveSession::LiveSession(const LiveSessionConfig& config)
   LcmBusSubscriber::Config bus;
   bus.url = config.lcm_url;
   bus.channels = config.channels;
-  if (config.T_C_B) {
-    bus.T_C_B = *config.T_C_B;
-    bus.T_C_B_from_session = false;
-  }
-  if (config.intrinsics) {
-    bus.intrinsics = config.intrinsics;
-    bus.intrinsics_from_session = false;
-  }
-  bus.gripper_clock_offset_us = config.gripper_clock_offset_us;
+  bus.overrides = config.overrides;
   bus.max_depth_pixels = config.max_depth_pixels;
   if (!config_.on_notice) {
     config_.on_notice = [](const std::string& text) {
@@ -126,23 +118,18 @@ std::optional<DescribedClaw> LiveSession::WaitForFirstEvent() {
 
 void LiveSession::PublishCloud(const ObjectCloud& cloud) {
   last_points_out_ = cloud.size();
-  const auto start = std::chrono::steady_clock::now();
   {
     std::lock_guard<std::mutex> lock(publisher_mutex_);
     publisher_.PublishCloud(config_.channels.object_cloud, cloud);
   }
-  const double publish_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  // The age of the cloud's newest frame when it went out: from the repair
-  // stage's stamp, or the module's when the repair is off.
-  double before_ms = -1.0;
-  for (const StageTiming& t : cloud.timings) {
-    if (t.stage == "latency_frame_to_repaired") before_ms = t.ms;
-    else if (t.stage == "latency_frame_to_cloud" && !repair_stage_) before_ms = t.ms;
-  }
+  // The age of the cloud's newest frame when it went out (when known).
+  const bool aged = cloud.newest_frame_arrival != std::chrono::steady_clock::time_point{};
+  const double age_ms = std::chrono::duration<double, std::milli>(
+                            std::chrono::steady_clock::now() - cloud.newest_frame_arrival)
+                            .count();
   std::lock_guard<std::mutex> lock(latency_mutex_);
   ++clouds_published_;
-  if (before_ms >= 0.0) latency_ms_.Add(before_ms + publish_ms);
+  if (aged) latency_ms_.Add(age_ms);
 }
 
 void LiveSession::Begin(claw::ClawModel claw, const io::SessionDescription& description,

@@ -49,6 +49,7 @@
 #include "sinks/session_recorder.hpp"
 #include "sources/frame_source.hpp"
 #include "sources/lcm_bus_subscriber.hpp"
+#include "sources/session_overrides.hpp"
 
 namespace graspfill::rt {
 
@@ -59,17 +60,9 @@ struct LiveSessionConfig {
   /// Subscribe to depth_image_t on the bus (else depth comes from Run's
   /// source).
   bool depth_from_bus{false};
-  /// Hand-eye calibration for base-frame gripper states that replaces the
-  /// session descriptions' (a rig config's robot.T_C_B); none = theirs,
-  /// else identity.
-  std::optional<Eigen::Isometry3d> T_C_B;
-  /// Intrinsics override of the bus's depth images that replaces the
-  /// session descriptions' (a rig config's); none = theirs, else the
-  /// images' own.
-  std::optional<CameraIntrinsics> intrinsics;
-  /// Added to every gripper state's utime [us] (the robot's clock onto the
-  /// camera's).
-  int64_t gripper_clock_offset_us{0};
+  /// The bus's hand-eye, intrinsics (of its depth images) and clock offset
+  /// over the session descriptions' (a rig config's).
+  SourceOverrides overrides;
   /// Depth images from the bus with more pixels are dropped (counted as
   /// bad_size) before their decoded size is allocated (a rig config's
   /// camera.max_depth_pixels).

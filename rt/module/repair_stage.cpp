@@ -24,13 +24,6 @@ double MsSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
-const StageTiming* FindTiming(const ObjectCloud& cloud, const char* stage) {
-  for (const StageTiming& t : cloud.timings) {
-    if (t.stage == stage) return &t;
-  }
-  return nullptr;
-}
-
 // The repair's verdict, or the reason it threw (the cloud is then as it was).
 template <typename RepairFn>
 bool RunGuarded(RepairFn&& repair, std::string* verdict) {
@@ -189,6 +182,7 @@ void RepairStage::WorkerLoop() {
         std::chrono::duration<double, std::milli>(Clock::now() - working_submitted_).count();
     const Clock::time_point start = Clock::now();
     const size_t points_in = working_.size();
+    const Clock::time_point arrival = working_.newest_frame_arrival;  // not the repair's to keep
     std::string verdict;
     bool failed = false;
     const Update update =
@@ -204,11 +198,11 @@ void RepairStage::WorkerLoop() {
                    "publishing it unrepaired\n",
                    static_cast<long long>(working_.seq), points_in, verdict.c_str());
     }
+    working_.newest_frame_arrival = arrival;
     working_.timings.push_back({"latency_repair_wait", wait_ms});
     working_.timings.push_back({"latency_repair", ms});
-    if (const StageTiming* to_cloud = FindTiming(working_, "latency_frame_to_cloud")) {
-      const double extra = MsSince(working_submitted_);
-      working_.timings.push_back({"latency_frame_to_repaired", to_cloud->ms + extra});
+    if (arrival != Clock::time_point{}) {
+      working_.timings.push_back({"latency_frame_to_repaired", MsSince(arrival)});
     }
 
     lock.lock();

@@ -21,8 +21,9 @@
 //
 // Latency: before the callback, the stage adds to the cloud's timings
 // "latency_repair_wait" (Submit -> taken), "latency_repair" (the update or
-// the full repair) and, when the cloud came with "latency_frame_to_cloud",
-// "latency_frame_to_repaired" (the newest frame's arrival -> now) [ms].
+// the full repair) and, when the cloud came with its newest frame's
+// arrival (ObjectCloud::newest_frame_arrival, kept on the repaired cloud),
+// "latency_frame_to_repaired" (that arrival -> now) [ms].
 //
 // Threads: Submit and status() are safe from any thread and never wait for
 // a repair (they take a short lock; Submit copies the cloud into a slot

@@ -72,7 +72,7 @@ std::unique_ptr<GraspSequencer> ReplaySession::MakeSequencer(
     io::SessionDescription used = *session;
     if (config_.voxel_fixed) used.voxel_m = 0.0;
     if (config_.workspace_fixed) used.workspace_G.reset();
-    if (!config_.log.T_C_B_from_session) used.T_C_B = Eigen::Isometry3d::Identity();
+    if (!config_.log.overrides.T_C_B_from_session) used.T_C_B = Eigen::Isometry3d::Identity();
     std::string why;
     if (!io::SessionWithinLimits(used, &why)) {
       throw std::runtime_error("the recording's session description " + why +

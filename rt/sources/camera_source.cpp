@@ -40,11 +40,7 @@ CameraSource::CameraSource(const Config& config) : config_(config) {
     // undecoded (no channel is named "").
     log_config.channels.depth.clear();
     log_config.session_events = true;
-    if (config_.T_C_B) {
-      log_config.T_C_B = *config_.T_C_B;
-      log_config.T_C_B_from_session = false;
-    }
-    log_config.gripper_clock_offset_us = config_.gripper_clock_offset_us;
+    log_config.overrides = config_.overrides;
     log_ = std::make_unique<LcmLogSource>(log_config);  // throws on a bad file
     log_first_depth_utime_ = FirstDepthUtime(config_.log, config_.channels.depth);
     FillLog();

@@ -18,6 +18,7 @@
 #include "sources/frame_source.hpp"
 #include "sources/lcm_log_source.hpp"
 #include "sources/openni2_source.hpp"
+#include "sources/session_overrides.hpp"
 
 namespace graspfill::rt {
 
@@ -31,12 +32,10 @@ class CameraSource : public FrameSource {
     /// The log's channels (its depth images are skipped: depth comes
     /// through OpenNI2).
     io::ChannelNames channels;
-    /// The log's base-frame gripper states: this hand-eye calibration
-    /// instead of its session descriptions' (a rig config's robot.T_C_B);
-    /// none = theirs.
-    std::optional<Eigen::Isometry3d> T_C_B;
-    /// Added to the log's gripper states' utime [us].
-    int64_t gripper_clock_offset_us{0};
+    /// The log's hand-eye and clock offset over its session descriptions'
+    /// (LcmLogSource::Config::overrides; the intrinsics apply to no image:
+    /// the depth comes through OpenNI2, see OpenNI2Source::Config).
+    SourceOverrides overrides;
   };
 
   /// Opens the device (and the log).

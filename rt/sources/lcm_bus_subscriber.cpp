@@ -68,7 +68,7 @@ void LcmBusSubscriber::HandleGripperState(const void* data, size_t size) {
     CountBad(s.reason);
     return;
   }
-  s.state.utime += s.config.gripper_clock_offset_us;
+  s.state.utime += s.config.overrides.gripper_clock_offset_us;
   if (!TakeTime(&s.state_clock, s.state.utime, true, kResyncAfterNonMonotonic)) {
     CountBad(io::MessageError::kNonMonotonicTime);
     return;
@@ -112,8 +112,8 @@ void LcmBusSubscriber::HandleSession(const void* data, size_t size) {
     return;
   }
   ++sessions_received_;
-  if (s.config.T_C_B_from_session) s.T_C_B = s.session.T_C_B;
-  if (s.config.intrinsics_from_session) s.intrinsics = s.session.intrinsics;
+  if (s.config.overrides.T_C_B_from_session) s.T_C_B = s.session.T_C_B;
+  if (s.config.overrides.intrinsics_from_session) s.intrinsics = s.session.intrinsics;
   if (s.on_session) s.on_session(s.session);
 }
 
@@ -130,8 +130,8 @@ LcmBusSubscriber::LcmBusSubscriber(const Config& config, StateCallback on_state,
   impl_->on_depth = std::move(on_depth);
   impl_->on_session = std::move(on_session);
   impl_->on_session_rejected = std::move(on_session_rejected);
-  impl_->T_C_B = config.T_C_B;
-  impl_->intrinsics = config.intrinsics;
+  impl_->T_C_B = config.overrides.T_C_B;
+  impl_->intrinsics = config.overrides.intrinsics;
   // Handlers are called from LCM's C code: they count errors, never throw.
   lcm::Subscription* states = impl_->lcm.subscribeFunction(
       config.channels.gripper_state,

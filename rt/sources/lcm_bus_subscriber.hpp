@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "graspfill/io/messages.hpp"
+#include "sources/session_overrides.hpp"
 
 namespace graspfill::rt {
 
@@ -30,21 +31,10 @@ class LcmBusSubscriber {
     /// LCM URL; "" = LCM's default (LCM_DEFAULT_URL, else udpm).
     std::string url;
     io::ChannelNames channels;
-    /// Hand-eye calibration for states given in the base frame (camera <- base).
-    Eigen::Isometry3d T_C_B{Eigen::Isometry3d::Identity()};
-    /// A session description's T_C_B replaces T_C_B above for the states
-    /// received after it (false: T_C_B above always).
-    bool T_C_B_from_session{true};
-    /// A session description's intrinsics override applies to the depth
-    /// images received after it; an image of another size is counted as a
-    /// decode error (false: the images' own intrinsics always).
-    bool intrinsics_from_session{true};
-    /// The intrinsics override until a session description replaces it
-    /// (for good with intrinsics_from_session false); none = the images' own.
-    std::optional<CameraIntrinsics> intrinsics;
-    /// Added to every gripper state's utime [us]: the robot's clock onto
-    /// the camera's.
-    int64_t gripper_clock_offset_us{0};
+    /// Hand-eye, intrinsics and clock offset over the session descriptions'
+    /// (a depth image of another size than the intrinsics is counted as a
+    /// decode error).
+    SourceOverrides overrides;
     /// Depth images with more pixels are counted as kBadSize and dropped,
     /// before their decoded size is allocated (io::DecodeDepthImage).
     int64_t max_depth_pixels{io::kDefaultMaxDepthPixels};

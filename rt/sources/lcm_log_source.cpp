@@ -11,8 +11,8 @@ namespace graspfill::rt {
 LcmLogSource::LcmLogSource(const Config& config)
     : config_(config),
       reader_(std::make_unique<io::LcmLogReader>(config.path)),
-      T_C_B_(config.T_C_B),
-      intrinsics_(config.intrinsics) {}
+      T_C_B_(config.overrides.T_C_B),
+      intrinsics_(config.overrides.intrinsics) {}
 
 LcmLogSource::~LcmLogSource() = default;
 
@@ -49,7 +49,7 @@ FrameResult LcmLogSource::Next(SourceEvent* event) {
                                   &event->gripper, &event->error)) {
         return FrameResult::kBadFrame;
       }
-      event->gripper.utime += config_.gripper_clock_offset_us;
+      event->gripper.utime += config_.overrides.gripper_clock_offset_us;
       return FrameResult::kOk;
     }
     if (channel == config_.channels.session) {
@@ -59,8 +59,8 @@ FrameResult LcmLogSource::Next(SourceEvent* event) {
         return FrameResult::kBadFrame;
       }
       ++sessions_read_;
-      if (config_.T_C_B_from_session) T_C_B_ = event->session.T_C_B;
-      if (config_.intrinsics_from_session) intrinsics_ = event->session.intrinsics;
+      if (config_.overrides.T_C_B_from_session) T_C_B_ = event->session.T_C_B;
+      if (config_.overrides.intrinsics_from_session) intrinsics_ = event->session.intrinsics;
       if (config_.session_events) return FrameResult::kOk;
       continue;
     }

@@ -17,6 +17,7 @@
 #include "graspfill/io/lcm_log_reader.hpp"
 #include "graspfill/io/messages.hpp"
 #include "sources/frame_source.hpp"
+#include "sources/session_overrides.hpp"
 
 namespace graspfill::rt {
 
@@ -33,22 +34,8 @@ class LcmLogSource : public FrameSource {
     /// Channels carrying depth_image_t, gripper_state_t and
     /// session_description_t.
     io::ChannelNames channels;
-    /// Hand-eye calibration (maps points from B to C), used for gripper
-    /// states recorded in the base frame.
-    Eigen::Isometry3d T_C_B{Eigen::Isometry3d::Identity()};
-    /// A session description's T_C_B replaces T_C_B above for the events
-    /// after it (false: T_C_B above always, e.g. given on the command line).
-    bool T_C_B_from_session{true};
-    /// A session description's intrinsics override applies to the depth
-    /// images after it (false: the images' own intrinsics always).
-    bool intrinsics_from_session{true};
-    /// The intrinsics override until a session description replaces it
-    /// (for good with intrinsics_from_session false, e.g. a rig config's);
-    /// none = the images' own.
-    std::optional<CameraIntrinsics> intrinsics;
-    /// Added to every gripper state's utime [us]: the robot's clock onto
-    /// the camera's (a rig config's robot.clock_offset_s).
-    int64_t gripper_clock_offset_us{0};
+    /// Hand-eye, intrinsics and clock offset over the session descriptions'.
+    SourceOverrides overrides;
     /// Hand session descriptions to the caller as SourceEvent::Kind::kSession
     /// events (false: they are read and applied as above, not returned).
     bool session_events{false};

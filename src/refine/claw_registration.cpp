@@ -1,29 +1,26 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/refine/claw_registration.hpp"
 
-#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
+
+#include "depth_pixel_normals.hpp"
+#include "gated_icp.hpp"
 
 namespace graspfill::refine {
 namespace {
 
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 // Box corners nearer than this to the camera plane: no projection.
 constexpr double kMinDepthM = 0.05;
-// A step is measured at this lever arm for the rotation's share [m].
-constexpr double kLeverM = 0.05;
 // Smallest / largest eigenvalue of the normal equations (rotations about
-// the centroid scaled by kLeverM) below this: the matches leave a motion
+// the centroid scaled by kIcpLeverM) below this: the matches leave a motion
 // unconstrained.
 constexpr double kMinConditioning = 1e-5;
-// A last step within this many convergence thresholds ends the iterations
-// as converged.
-constexpr double kSettledFactor = 4.0;
 
 void Require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("ClawRegistrationConfig: " + what);
@@ -33,6 +30,88 @@ void Require(bool ok, const std::string& what) {
 constexpr double kR2a = 0.7548776662466927;
 constexpr double kR2b = 0.5698402909980532;
 
+// The claw's ICP problem (gated_icp.hpp): depth points in C matched to
+// the model in G, residuals measured in G, the step a motion of C about the
+// depth points' centre. Also the centroid of the matched points.
+class ClawProblem {
+ public:
+  ClawProblem(const ClosestPointGrid& fine, const ClosestPointGrid& coarse, double fine_band_m,
+              const std::vector<Eigen::Vector3f>& model_points_G,
+              const std::vector<Eigen::Vector3f>& model_normals_G,
+              const std::vector<Eigen::Vector3f>& points_C,
+              const std::vector<Eigen::Vector3f>& normals_C)
+      : fine_(fine), coarse_(coarse), fine_band_m_(fine_band_m), model_points_G_(model_points_G),
+        model_normals_G_(model_normals_G), points_C_(points_C), normals_C_(normals_C) {}
+
+  void SetPose(const Eigen::Isometry3d& T_C_G, double gate_m) {
+    CloseCentroid();
+    grid_ = gate_m > fine_band_m_ ? &coarse_ : &fine_;
+    T_G_C_ = T_C_G.inverse().cast<float>();
+    R_C_G_ = T_C_G.linear().cast<float>();
+    t_C_G_ = T_C_G.translation().cast<float>();
+  }
+  size_t size() const { return points_C_.size(); }
+  bool Nearest(size_t i, Eigen::Vector3f* p_G, Eigen::Vector3f* q_G, Eigen::Vector3f* m_G) const {
+    *p_G = T_G_C_ * points_C_[i];
+    const int idx = grid_->Nearest(*p_G);
+    if (idx < 0) return false;
+    *q_G = model_points_G_[idx];
+    *m_G = model_normals_G_[idx];
+    return true;
+  }
+  Eigen::Vector3f Normal(size_t i) const { return T_G_C_.linear() * normals_C_[i]; }
+  void InStepFrame(const Eigen::Vector3f& q_G, const Eigen::Vector3f& m_G, Eigen::Vector3d* q_C,
+                   Eigen::Vector3d* m_C) const {
+    *q_C = (R_C_G_ * q_G + t_C_G_).cast<double>();
+    *m_C = (R_C_G_ * m_G).cast<double>();
+  }
+  void Matched(size_t i) {
+    sum_p_C_ += points_C_[i].cast<double>();
+    ++matched_;
+  }
+  bool Step(Eigen::Matrix<double, 6, 6>& H, const Eigen::Matrix<double, 6, 1>& g,
+            Eigen::Vector3d* w, Eigen::Vector3d* v) const {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(H,
+                                                                        Eigen::EigenvaluesOnly);
+    if (!(eig.eigenvalues()(0) > kMinConditioning * eig.eigenvalues()(5))) return false;
+    SolveFullStep(H, g, w, v);
+    return true;
+  }
+
+  // The centroid of the last iteration that matched any point.
+  bool has_centroid() {
+    CloseCentroid();
+    return has_centroid_;
+  }
+  const Eigen::Vector3d& centroid_C() const { return centroid_C_; }
+
+ private:
+  void CloseCentroid() {
+    if (matched_ > 0) {
+      centroid_C_ = sum_p_C_ / matched_;
+      has_centroid_ = true;
+    }
+    sum_p_C_.setZero();
+    matched_ = 0;
+  }
+
+  const ClosestPointGrid& fine_;
+  const ClosestPointGrid& coarse_;
+  const double fine_band_m_;
+  const std::vector<Eigen::Vector3f>& model_points_G_;
+  const std::vector<Eigen::Vector3f>& model_normals_G_;
+  const std::vector<Eigen::Vector3f>& points_C_;
+  const std::vector<Eigen::Vector3f>& normals_C_;
+  const ClosestPointGrid* grid_{nullptr};
+  Eigen::Isometry3f T_G_C_;
+  Eigen::Matrix3f R_C_G_;
+  Eigen::Vector3f t_C_G_;
+  Eigen::Vector3d sum_p_C_{Eigen::Vector3d::Zero()};
+  int matched_{0};
+  Eigen::Vector3d centroid_C_{Eigen::Vector3d::Zero()};
+  bool has_centroid_{false};
+};
+
 }  // namespace
 
 void ClawRegistrationConfig::Validate() const {
@@ -40,12 +119,7 @@ void ClawRegistrationConfig::Validate() const {
   Require(fine_cell_m > 0.0 && coarse_cell_m > 0.0, "grid cells must be > 0");
   Require(fine_band_m > 0.0 && coarse_band_m >= fine_band_m,
           "bands must be > 0 and coarse_band_m >= fine_band_m");
-  Require(max_points >= 10, "max_points must be >= 10");
-  Require(normal_step_px >= 1, "normal_step_px must be >= 1");
-  Require(normal_max_jump_m > 0.0, "normal_max_jump_m must be > 0");
-  Require(max_normal_angle_deg > 0.0 && max_normal_angle_deg <= 180.0,
-          "max_normal_angle_deg must be in (0, 180]");
-  Require(gate_shrink > 0.0 && gate_shrink <= 1.0, "gate_shrink must be in (0, 1]");
+  RequireSampledIcpFields(*this, Require);
   Require(final_gate_m > 0.0 && final_gate_m <= fine_band_m,
           "final_gate_m must be in (0, fine_band_m]");
   Require(max_iterations >= 1, "max_iterations must be >= 1");
@@ -118,11 +192,8 @@ int ClawRegistration::CollectCandidates(const DepthFrame& frame, const Eigen::Is
                                         double gate_m) {
   points_C_.clear();
   normals_C_.clear();
+  if (!DepthPixelNormals::Fits(frame)) return 0;
   const CameraIntrinsics& K = frame.intrinsics;
-  if (K.width <= 0 || K.height <= 0 ||
-      frame.depth_m.size() != static_cast<size_t>(K.width) * K.height) {
-    return 0;
-  }
   Eigen::AlignedBox3f box_G = model_box_G_;
   box_G.min().array() -= static_cast<float>(gate_m);
   box_G.max().array() += static_cast<float>(gate_m);
@@ -151,34 +222,18 @@ int ClawRegistration::CollectCandidates(const DepthFrame& frame, const Eigen::Is
   const double area = static_cast<double>(u1 - u0 + 1) * (v1 - v0 + 1);
   const int stride = std::max(1, static_cast<int>(std::ceil(std::sqrt(area / (10.0 * config_.max_points)))));
   const Eigen::Isometry3f T_G_C = T_C_G.inverse().cast<float>();
-  const float fx = static_cast<float>(K.fx), fy = static_cast<float>(K.fy);
-  const float cx = static_cast<float>(K.cx), cy = static_cast<float>(K.cy);
-  const float jump = static_cast<float>(config_.normal_max_jump_m);
+  const DepthPixelNormals pixels(K, frame.depth_m.data(), step, config_.normal_max_jump_m);
   const float* depth = frame.depth_m.data();
   const int W = K.width;
-  auto point = [&](int u, int v, float z) {
-    return Eigen::Vector3f((u - cx) / fx * z, (v - cy) / fy * z, z);
-  };
   const size_t cap = points_C_.capacity();
   for (int v = v0; v <= v1; v += stride) {
     for (int u = u0; u <= u1; u += stride) {
       const float z = depth[v * W + u];
       if (!(z > 0.0f) || z < zmin || z > zmax) continue;
-      const Eigen::Vector3f p_C = point(u, v, z);
+      const Eigen::Vector3f p_C = pixels.Point(u, v, z);
       if (!box_G.contains(T_G_C * p_C)) continue;
-      const float zl = depth[v * W + u - step], zr = depth[v * W + u + step];
-      const float zu = depth[(v - step) * W + u], zd = depth[(v + step) * W + u];
-      if (!(zl > 0.0f && zr > 0.0f && zu > 0.0f && zd > 0.0f)) continue;
-      if (std::abs(zl - z) > jump || std::abs(zr - z) > jump || std::abs(zu - z) > jump ||
-          std::abs(zd - z) > jump) {
-        continue;
-      }
-      Eigen::Vector3f n = (point(u + step, v, zr) - point(u - step, v, zl))
-                              .cross(point(u, v + step, zd) - point(u, v - step, zu));
-      const float len = n.norm();
-      if (!(len > 0.0f)) continue;
-      n /= len;
-      if (n.dot(p_C) > 0.0f) n = -n;  // facing the camera
+      Eigen::Vector3f n;
+      if (!pixels.Normal(u, v, z, p_C, &n)) continue;
       if (points_C_.size() == cap) break;  // never reallocate in the frame path
       points_C_.push_back(p_C);
       normals_C_.push_back(n);
@@ -205,7 +260,8 @@ RegistrationResult ClawRegistration::Register(const DepthFrame& frame,
   RegistrationResult result;
   result.T_C_G = T_C_G_initial;
   if (!has_claw()) return result;
-  double gate = std::min(std::max(initial_gate_m, config_.final_gate_m), config_.coarse_band_m);
+  const double gate =
+      std::min(std::max(initial_gate_m, config_.final_gate_m), config_.coarse_band_m);
   result.candidates = CollectCandidates(frame, T_C_G_initial, gate);
   if (result.candidates < config_.min_matches) {
     result.status = RegistrationStatus::kTooFewPoints;
@@ -215,80 +271,26 @@ RegistrationResult ClawRegistration::Register(const DepthFrame& frame,
   for (const Eigen::Vector3f& p : points_C_) centre += p.cast<double>();
   centre /= static_cast<double>(points_C_.size());
 
-  const float cos_min = static_cast<float>(std::cos(config_.max_normal_angle_deg * kDegToRad));
-  const double huber = config_.huber_m;
+  ClawProblem problem(fine_, coarse_, config_.fine_band_m, model_points_G_, model_normals_G_,
+                      points_C_, normals_C_);
   Eigen::Isometry3d T = T_C_G_initial;
-  bool converged = false;
-  bool settled = false;  // the last step at the final gate was small
-  result.status = RegistrationStatus::kNotConverged;
-  for (int it = 0; it < config_.max_iterations; ++it) {
-    const bool at_final = gate <= config_.final_gate_m * (1.0 + 1e-9);
-    const ClosestPointGrid& grid = gate > config_.fine_band_m ? coarse_ : fine_;
-    const Eigen::Isometry3f T_G_C = T.inverse().cast<float>();
-    const Eigen::Matrix3f R_C_G = T.linear().cast<float>();
-    const Eigen::Vector3f t_C_G = T.translation().cast<float>();
-    const float gate2 = static_cast<float>(gate * gate);
-    Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
-    Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
-    int matches = 0;
-    double sum_r2 = 0.0;
-    Eigen::Vector3d sum_p = Eigen::Vector3d::Zero();
-    for (size_t i = 0; i < points_C_.size(); ++i) {
-      const Eigen::Vector3f p_G = T_G_C * points_C_[i];
-      const int idx = grid.Nearest(p_G);
-      if (idx < 0) continue;
-      const Eigen::Vector3f& q_G = model_points_G_[idx];
-      const Eigen::Vector3f& m_G = model_normals_G_[idx];
-      const Eigen::Vector3f d = p_G - q_G;
-      if (d.squaredNorm() > gate2) continue;
-      if ((T_G_C.linear() * normals_C_[i]).dot(m_G) < cos_min) continue;
-      const double r = m_G.dot(d);
-      const Eigen::Vector3d q_C = (R_C_G * q_G + t_C_G).cast<double>() - centre;
-      const Eigen::Vector3d m_C = (R_C_G * m_G).cast<double>();
-      Eigen::Matrix<double, 6, 1> J;
-      J.head<3>() = -q_C.cross(m_C) / kLeverM;  // rotation as a length at kLeverM
-      J.tail<3>() = -m_C;
-      const double w = std::abs(r) <= huber ? 1.0 : huber / std::abs(r);
-      H.noalias() += w * J * J.transpose();
-      g.noalias() += w * r * J;
-      sum_r2 += r * r;
-      sum_p += points_C_[i].cast<double>();
-      ++matches;
-    }
-    result.iterations = it + 1;
-    result.matches = matches;
-    result.rms_m = matches > 0 ? std::sqrt(sum_r2 / matches) : 0.0;
-    if (matches > 0) result.centroid_C = sum_p / matches;
-    if (matches < config_.min_matches) {
-      result.status = RegistrationStatus::kTooFewPoints;
+  const GatedIcpOutcome icp = RunGatedIcp(GatedIcpScheduleOf(config_, gate), centre, problem, &T);
+  result.iterations = icp.iterations;
+  result.matches = icp.matches;
+  result.rms_m = icp.rms_m;
+  if (problem.has_centroid()) result.centroid_C = problem.centroid_C();
+  switch (icp.end) {
+    case GatedIcpEnd::kTooFewMatches: result.status = RegistrationStatus::kTooFewPoints; break;
+    case GatedIcpEnd::kNoStep: result.status = RegistrationStatus::kDegenerate; break;
+    // Correspondences switching back and forth at the gate's edge can leave
+    // a limit cycle a few times the threshold: converged too.
+    case GatedIcpEnd::kConverged:
+    case GatedIcpEnd::kIterationsSpent:
+      result.status = (icp.end == GatedIcpEnd::kConverged || icp.settled) &&
+                              result.rms_m <= config_.max_rms_m
+                          ? RegistrationStatus::kConverged
+                          : RegistrationStatus::kNotConverged;
       break;
-    }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(H, Eigen::EigenvaluesOnly);
-    if (!(eig.eigenvalues()(0) > kMinConditioning * eig.eigenvalues()(5))) {
-      result.status = RegistrationStatus::kDegenerate;
-      break;
-    }
-    const Eigen::Matrix<double, 6, 1> xi = -H.ldlt().solve(g);
-    const Eigen::Vector3d w = xi.head<3>() / kLeverM;
-    const Eigen::Vector3d v = xi.tail<3>();
-    Eigen::Isometry3d D = Eigen::Isometry3d::Identity();
-    const double angle = w.norm();
-    if (angle > 0.0) D.linear() = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
-    D.translation() = centre + v - D.linear() * centre;  // about the claw's centre
-    T = D * T;
-    if (at_final && v.norm() < config_.converged_m && angle < config_.converged_deg * kDegToRad) {
-      converged = true;
-      break;
-    }
-    settled = at_final && v.norm() < kSettledFactor * config_.converged_m &&
-              angle < kSettledFactor * config_.converged_deg * kDegToRad;
-    gate = std::max(config_.final_gate_m, gate * config_.gate_shrink);
-  }
-  // Correspondences switching back and forth at the gate's edge can leave
-  // a limit cycle a few times the threshold: converged too.
-  if (converged || (result.status == RegistrationStatus::kNotConverged && settled)) {
-    result.status = result.rms_m <= config_.max_rms_m ? RegistrationStatus::kConverged
-                                                       : RegistrationStatus::kNotConverged;
   }
   T.linear() = Eigen::Quaterniond(T.linear()).normalized().toRotationMatrix();
   result.T_C_G = T;

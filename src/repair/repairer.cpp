@@ -4,13 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <chrono>
 #include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "graspfill/core/openmp_threads.hpp"
+#include "graspfill/core/stage_timer.hpp"
 #include "graspfill/evidence/safe_bound.hpp"
 #include "evidence_stage.hpp"
 #include "hole_fill.hpp"
@@ -36,23 +36,6 @@ constexpr size_t kMinPoints = 200;
 // the voxels of the centroids flagged and of their nearest neighbours
 // (itself and 8: the band along a rim, ~2 voxels wide; with 4 the top-oblique row lost its claw holes).
 constexpr int kNearVoxels = 9;
-
-// Times one step into the report.
-class StepTimer {
- public:
-  StepTimer(RepairReport* report, const char* step)
-      : report_(report), step_(step), start_(std::chrono::steady_clock::now()) {}
-  ~StepTimer() {
-    report_->timings.push_back(
-        {step_, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_)
-                    .count()});
-  }
-
- private:
-  RepairReport* report_;
-  const char* step_;
-  std::chrono::steady_clock::time_point start_;
-};
 
 // The paper's linking replaces the gap-direction one when it links this
 // many times as many boundary points (see the boundary lines step).
@@ -196,7 +179,7 @@ Boundaries FindBoundaries(const PointList& input_G, const RepairSettings& config
   std::optional<NeighborIndex> all;
   AnalysisCloud analysis;
   {
-    StepTimer t(report, "analysis_cloud");
+    ScopedStageTimer t(&report->timings, "analysis_cloud");
     all.emplace(input_G);
     analysis = MakeAnalysisCloud(*all, config.analysis);
   }
@@ -215,7 +198,7 @@ Boundaries FindBoundaries(const PointList& input_G, const RepairSettings& config
   PointList& points = out.points;
   std::vector<char> work_kept(work.size(), 0);
   {
-    StepTimer t(report, "outliers");
+    ScopedStageTimer t(&report->timings, "outliers");
     table = work_index.AllKnn(std::max(config.outliers.nb_neighbors, config.boundary.k) + 1);
     kept = RemoveOutliers(*table, config.outliers);
     points.reserve(kept.size());
@@ -242,7 +225,7 @@ Boundaries FindBoundaries(const PointList& input_G, const RepairSettings& config
   std::vector<int>& boundary = out.boundary;
   std::vector<BoundaryPointInfo> boundary_info;  // which side the hole is on
   {
-    StepTimer t(report, "boundary_points");
+    ScopedStageTimer t(&report->timings, "boundary_points");
     // Over the kept points; when the filter kept all, work's index is theirs.
     std::optional<NeighborIndex> kept_index;
     const NeighborIndex* index = &work_index;
@@ -257,7 +240,7 @@ Boundaries FindBoundaries(const PointList& input_G, const RepairSettings& config
     // Again at full resolution, but only around the boundary the centroids
     // show (their voxels and their neighbours'): the rims come out as the
     // input samples them, for a tenth of the cost of testing every point.
-    StepTimer t(report, "boundary_points_full");
+    ScopedStageTimer t(&report->timings, "boundary_points_full");
     std::vector<char> near(work.size(), 0);
     for (int b : boundary) {
       const int* row = table->Row(static_cast<size_t>(b));
@@ -276,7 +259,7 @@ Boundaries FindBoundaries(const PointList& input_G, const RepairSettings& config
                                     &candidates);
   }
   {
-    StepTimer t(report, "boundary_lines");
+    ScopedStageTimer t(&report->timings, "boundary_lines");
     out.lines = LinkBoundaryPoints(points, boundary, config.link, &boundary_info);
     // The gap directions keep close holes apart, but one point whose
     // widest gap lies on the wrong side of a ragged rim can stop the only
@@ -306,7 +289,7 @@ std::optional<VirtualFrame> FindFrame(const Boundaries& found, const RepairSetti
   if (found.lines.empty()) {
     frame = WithAxis(VirtualFrame{}, config.up_hint->normalized(), points);
   } else {
-    StepTimer t(report, "virtual_frame");
+    ScopedStageTimer t(&report->timings, "virtual_frame");
     // All detected boundary points, not only the linked ones: measured 54/54
     // correct frames against 47/54 (6 shapes x 3 grasps x 3 seeds).
     PointList boundary_points;
@@ -326,7 +309,7 @@ std::optional<VirtualFrame> FindFrame(const Boundaries& found, const RepairSetti
   if (config.axis.enabled) {
     // Also on V from the hint (the claw's axis): the object may hang tilted
     // in an oblique grasp.
-    StepTimer t(report, "axis");
+    ScopedStageTimer t(&report->timings, "axis");
     const AxisRefinement axis = RefineAxis(found.normals, frame->T_in_V.linear().col(2), config.axis);
     if (axis.refined) frame = WithAxis(*frame, axis.axis, points);
   }
@@ -354,11 +337,11 @@ Holes ClassifyHoles(const PointList& points_V, const Boundaries& found, const Vi
                     const RepairSettings& config, RepairReport* report) {
   Holes holes;
   {
-    StepTimer t(report, "classify");
+    ScopedStageTimer t(&report->timings, "classify");
     holes.classified = ClassifyBoundaries(points_V, found.lines, config.classify);
   }
   {
-    StepTimer t(report, "complete");
+    ScopedStageTimer t(&report->timings, "complete");
     CompleteBoundaries(&holes.classified, config.completion);
   }
   for (size_t k = 0; k < holes.classified.size(); ++k) {
@@ -424,7 +407,7 @@ ClawFills FillClawHoles(const PointList& points_V, const Boundaries& found, cons
 SymmetryResult MirrorTop(const PointList& points_V, const Holes& holes, const NeighborIndex& index_V,
                          bool with_record, const RepairSettings& config, ClawFills* fills,
                          RepairReport* report) {
-  StepTimer t(report, "symmetry");
+  ScopedStageTimer t(&report->timings, "symmetry");
   SymmetryResult symmetry;
   if (!holes.Top()) {
     symmetry.reason = "no missing surface found";
@@ -458,7 +441,7 @@ EvidenceTopPoints TopFromEvidence(const evidence::VisibilityRecord* record, cons
                                   double spacing_m, PointList* surface_V, SymmetryResult* symmetry,
                                   RepairReport* report) {
   if (!record) return {};
-  StepTimer t(report, "evidence");
+  ScopedStageTimer t(&report->timings, "evidence");
   return ApplyEvidence(*record, config.evidence, T_in_V, index_V, spacing_m, surface_V, symmetry,
                        &report->evidence);
 }
@@ -509,7 +492,7 @@ TopCap SearchTop(const PointList& points_V, const ClawFills& fills,
                  SymmetryResult* symmetry, EvidenceTopPoints evidence_top, double spacing_m,
                  const evidence::VisibilityRecord* record, const Eigen::Isometry3f& T_in_V,
                  const RepairSettings& config, RepairReport* report) {
-  StepTimer t(report, "top_search");
+  ScopedStageTimer t(&report->timings, "top_search");
   // The rim: the observed points within two spacings of the highest (V's
   // z points at the missing top, so they border it). Not the classified
   // boundary line, which a finger's hole opening into the top can pull
@@ -622,7 +605,7 @@ void AppendAdded(const ObjectCloud& input, const ClawFills& fills, const Symmetr
     out->normals_G.clear();
     return;
   }
-  StepTimer t(report, "normals");
+  ScopedStageTimer t(&report->timings, "normals");
   // A flat cap's is V's axis (a bowl's cap: 27k points, 48 ms of kNN);
   // the other added points' come from their neighbours.
   std::vector<Eigen::Vector3f> known_G(out->points_G.size() - input.points_G.size(), Eigen::Vector3f::Zero());
@@ -780,7 +763,7 @@ RepairResult RepairWithSteps(const ObjectCloud& input, const RepairConfig& confi
   }
   const evidence::VisibilityRecord* record = UsableRecord(input, record_in, config, &report.evidence);
   if (record && config.safe_bound_voxel_m > 0.0) {
-    StepTimer t(&report, "safe_bound");
+    ScopedStageTimer t(&report.timings, "safe_bound");
     evidence::SafeBoundConfig bound;
     bound.voxel_m = config.safe_bound_voxel_m;
     result.cloud.safe_bound = evidence::ComputeSafeBound(*record, bound);
@@ -808,7 +791,7 @@ RepairResult RepairWithSteps(const ObjectCloud& input, const RepairConfig& confi
   std::optional<NeighborIndex> index_V;  // the steps from here on share it
   ClawFills fills;
   {
-    StepTimer t(&report, "claw_holes");
+    ScopedStageTimer t(&report.timings, "claw_holes");
     index_V.emplace(points_V);
     fills = FillClawHoles(points_V, found, holes, *index_V, config, &report);
   }

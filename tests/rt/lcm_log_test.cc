@@ -121,7 +121,7 @@ TEST_F(LcmLogTest, RenamedChannelsAndBaseFrameStates) {
   graspfill::rt::LcmLogSource::Config config = SourceConfig(Path("b.lcmlog"));
   config.channels.depth = "CAM";
   config.channels.gripper_state = "ARM";
-  config.T_C_B.translation() = Eigen::Vector3d(0.0, 0.0, 1.0);
+  config.overrides.T_C_B.translation() = Eigen::Vector3d(0.0, 0.0, 1.0);
   {
     LcmLogWriter writer(config.path);
     writer.Write("GRASPFILL_DEPTH", 1, io::EncodeDepthImage(SmallDepth(1, 1)));
@@ -410,9 +410,9 @@ TEST_F(LcmLogTest, SessionSetsHandEyeAndIntrinsicsForWhatFollows) {
 TEST_F(LcmLogTest, ConfigCanIgnoreTheSessionsHandEyeAndIntrinsics) {
   WriteSessionLog(Path("s.lcmlog"));
   LcmLogSource::Config config = SourceConfig(Path("s.lcmlog"));
-  config.T_C_B.translation() = Eigen::Vector3d(0.0, 0.2, 0.0);  // e.g. from the command line
-  config.T_C_B_from_session = false;
-  config.intrinsics_from_session = false;
+  config.overrides.T_C_B.translation() = Eigen::Vector3d(0.0, 0.2, 0.0);  // e.g. from the command line
+  config.overrides.T_C_B_from_session = false;
+  config.overrides.intrinsics_from_session = false;
   LcmLogSource source(config);
   SourceEvent event;
   for (int i = 0; i < 3; ++i) {
@@ -432,9 +432,9 @@ TEST_F(LcmLogTest, ConfigIntrinsicsAndClockOffsetHoldOverTheSessions) {
   WriteSessionLog(Path("s.lcmlog"));
   LcmLogSource::Config config = SourceConfig(Path("s.lcmlog"));
   const CameraIntrinsics K{8, 6, 30.0, 31.0, 3.5, 2.5};
-  config.intrinsics = K;
-  config.intrinsics_from_session = false;
-  config.gripper_clock_offset_us = 40000;
+  config.overrides.intrinsics = K;
+  config.overrides.intrinsics_from_session = false;
+  config.overrides.gripper_clock_offset_us = 40000;
   LcmLogSource source(config);
   std::vector<int64_t> state_utimes, depth_utimes;
   SourceEvent event;

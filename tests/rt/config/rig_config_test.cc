@@ -113,6 +113,24 @@ TEST(RigConfig, DefaultsAreTheLibrariesDefaults) {
   EXPECT_NO_THROW(c.Validate());
 }
 
+TEST(RigConfig, TheSourceOverridesReplaceTheSessionsOnlyWhereTheConfigSetsThem) {
+  const SourceOverrides none = ToSourceOverrides(RigConfig{});
+  EXPECT_TRUE(none.T_C_B_from_session);
+  EXPECT_TRUE(none.intrinsics_from_session);
+  EXPECT_FALSE(none.intrinsics.has_value());
+  EXPECT_EQ(none.gripper_clock_offset_us, 0);
+
+  const RigConfig c = EveryFieldChanged();
+  const SourceOverrides o = ToSourceOverrides(c);
+  EXPECT_FALSE(o.T_C_B_from_session);
+  EXPECT_TRUE(o.T_C_B.isApprox(c.robot.T_C_B->ToIsometry()));
+  EXPECT_NEAR(o.T_C_B.translation().x(), 0.3, 1e-12);
+  EXPECT_FALSE(o.intrinsics_from_session);
+  ASSERT_TRUE(o.intrinsics.has_value());
+  EXPECT_EQ(*o.intrinsics, (CameraIntrinsics{848, 480, 421.1 + 1e-13, 421.3, 424.7, 239.1}));
+  EXPECT_EQ(o.gripper_clock_offset_us, -12300);  // -0.0123 s
+}
+
 TEST(RigConfig, TheRefineSectionReachesThePipeline) {
   const RigConfig c = ParseRigConfig(
       "refine:\n  enabled: false\n  min_correction_m: 0.001\n  min_correction_deg: 0.25\n"

@@ -285,12 +285,13 @@ TEST(RepairStage, ALargeChangeRebasesInTheBackground) {
   EXPECT_EQ(s.full_ms.count, 2u);  // the first cloud's and the grown one's
 }
 
-// The stage adds its part to the age the module stamped on the cloud.
+// The stage measures the age from the newest frame's arrival the module
+// stamped on the cloud, and keeps the stamp on the repaired cloud.
 TEST(RepairStage, AddsItsPartToTheCloudsLatency) {
   Published out;
   RepairStage stage(repair::RepairConfig{}, [&](const ObjectCloud& c) { out.Record(c); });
   ObjectCloud cloud = ProtocolCloudWithSeq(1);
-  cloud.timings.push_back({"latency_frame_to_cloud", 25.0});
+  cloud.newest_frame_arrival = std::chrono::steady_clock::now() - std::chrono::milliseconds(25);
   stage.Submit(cloud);
   stage.Drain();
   ASSERT_EQ(out.clouds.size(), 1u);
@@ -299,6 +300,19 @@ TEST(RepairStage, AddsItsPartToTheCloudsLatency) {
   ASSERT_GT(repair_ms, 0.0);
   ASSERT_GE(wait_ms, 0.0);
   EXPECT_GE(TimingMs(out.clouds[0], "latency_frame_to_repaired"), 25.0 + repair_ms + wait_ms - 1e-6);
+  EXPECT_EQ(out.clouds[0].newest_frame_arrival, cloud.newest_frame_arrival);
+}
+
+TEST(RepairStage, ACloudWithNoArrivalGetsNoFrameAge) {
+  Published out;
+  RepairStage stage(repair::RepairConfig{}, [&](const ObjectCloud& c) { out.Record(c); });
+  stage.Submit(ProtocolCloudWithSeq(1));
+  stage.Drain();
+  ASSERT_EQ(out.clouds.size(), 1u);
+  for (const StageTiming& t : out.clouds[0].timings) {
+    EXPECT_NE(t.stage, "latency_frame_to_repaired");
+  }
+  EXPECT_EQ(out.clouds[0].newest_frame_arrival, std::chrono::steady_clock::time_point{});
 }
 
 TEST(RepairStage, DestructionWithACloudWaitingDoesNotHang) {
