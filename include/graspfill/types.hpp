@@ -71,6 +71,12 @@ struct TriangleMesh {
   TriangleMesh Transformed(const Eigen::Isometry3d& T) const;
 };
 
+/// What a collision mesh for the planner is (collision_mesh_t.kind).
+enum class CollisionMeshKind : uint8_t {
+  kDecimated = 0,   ///< the object's shape, decimated and inflated to hold its cloud
+  kConvexHull = 1,  ///< a convex hull of it
+};
+
 /// An 8-bit RGB picture for people (`graspfill view`): row-major from the
 /// top-left pixel, 3 bytes (red, green, blue) per pixel.
 struct RgbImage {

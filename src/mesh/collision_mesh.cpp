@@ -306,6 +306,8 @@ void CollisionMeshConfig::Validate() const {
         "fill_band_cells must be in band_cells..12, not " + std::to_string(fill_band_cells));
   check(std::isfinite(min_piece_fraction) && min_piece_fraction >= 0.0 && min_piece_fraction <= 1.0,
         "min_piece_fraction must be in 0..1, not " + std::to_string(min_piece_fraction));
+  check(std::isfinite(offset_m) && offset_m >= 0.0 && offset_m <= 0.5 * band_cells * cell_m,
+        "offset_m must be in 0..band_cells * cell_m / 2, not " + std::to_string(offset_m));
 }
 
 TriangleMesh BuildCollisionMesh(const ObjectCloud& cloud, const CollisionMeshConfig& config) {
@@ -414,7 +416,7 @@ TriangleMesh BuildCollisionMesh(const ObjectCloud& cloud, const CollisionMeshCon
       for (int j : nn) value += normals[j].dot(x - points[j]);
       value = std::clamp(value / static_cast<double>(nn.size()), -band_m, band_m);
     }
-    float v = static_cast<float>(value);
+    float v = static_cast<float>(value - config.offset_m);
     if (std::abs(v) < min_abs) v = v < 0.0f ? -min_abs : min_abs;
     f[n] = v;
   }

@@ -43,10 +43,15 @@ struct CollisionMeshConfig {
   /// Closed pieces with fewer triangles than this fraction of the largest
   /// piece's are dropped (skins around stray points) [unitless, 0..1].
   double min_piece_fraction{0.05};
+  /// The surface is the field's level set at this distance instead of 0:
+  /// moved out by about this much, still watertight by construction (the
+  /// planner mesh's inflation on coarse cells) [m].
+  double offset_m{0.0};
 
   /// @throws std::invalid_argument naming the field if out of range
   ///   (cell_m 0.0002..0.02 m, neighbors 1..64, band_cells 1.5..8,
-  ///   fill_band_cells band_cells..12, min_piece_fraction 0..1).
+  ///   fill_band_cells band_cells..12, min_piece_fraction 0..1, offset_m
+  ///   0..half the band, band_cells * cell_m / 2).
   void Validate() const;
 };
 
