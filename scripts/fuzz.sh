@@ -22,8 +22,8 @@ fi
 build="${GRASPFILL_FUZZ_BUILD:-build/fuzz}"
 jobs="${GRASPFILL_FUZZ_JOBS:-2}"
 all_targets="fuzz_lcm_log_reader fuzz_depth_image fuzz_gripper_state fuzz_object_cloud
-  fuzz_session_description fuzz_module_status fuzz_ply_reader fuzz_cloud_chunks fuzz_claw
-  fuzz_repair fuzz_live_bus"
+  fuzz_session_description fuzz_module_status fuzz_collision_mesh fuzz_ply_reader fuzz_cloud_chunks
+  fuzz_claw fuzz_repair fuzz_live_bus"
 targets="${GRASPFILL_FUZZ_TARGETS:-$all_targets}"
 
 command -v clang++ > /dev/null || { echo "scripts/fuzz.sh: clang++ not found (apt-get install clang)" >&2; exit 1; }

@@ -43,7 +43,8 @@ std::optional<ChannelNameProblem> FindChannelNameProblem(const ChannelNames& nam
       {"gripper_state", &names.gripper_state},
       {"object_cloud", &names.object_cloud},
       {"status", &names.status},
-      {"session", &names.session}};
+      {"session", &names.session},
+      {"collision_mesh", &names.collision_mesh}};
   for (const auto& [role, name] : roles) {
     if (std::string defect = ChannelNameDefect(*name); !defect.empty()) {
       return ChannelNameProblem{role, *name, std::move(defect), ""};

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "graspfill/io/cloud_chunks.hpp"
+#include "graspfill/io/collision_mesh_message.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
 
@@ -211,6 +212,24 @@ int main(int argc, char** argv) {
   fs::copy_file(tmp / "cloud.ply", ply / "binary_cloud", fs::copy_options::overwrite_existing);
   fs::copy_file(tmp / "mesh.ply", ply / "binary_mesh", fs::copy_options::overwrite_existing);
   fs::remove_all(tmp);
+
+  // The planner's mesh: the tetrahedron as a watertight hull with a pose,
+  // and as a decimated mesh that is not watertight (one face fewer).
+  io::CollisionMeshMessage hull;
+  hull.utime = 1700000000002000;
+  hull.seq = 3;
+  hull.grasp_id = 1;
+  hull.T_C_G = state.T_C_G;
+  hull.mesh = mesh;
+  hull.kind = CollisionMeshKind::kConvexHull;
+  hull.watertight = true;
+  hull.deviation_m = 0.0004;
+  io::CollisionMeshMessage open = hull;
+  open.mesh.triangles.pop_back();
+  open.kind = CollisionMeshKind::kDecimated;
+  open.watertight = false;
+  Write(root / "collision_mesh", "hull", io::EncodeCollisionMesh(hull));
+  Write(root / "collision_mesh", "open_decimated", io::EncodeCollisionMesh(open));
 
   const fs::path claw = root / "claw";
   WriteText(claw, "two_links",

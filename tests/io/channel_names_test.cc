@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Channel names as LCM takes them (issue 36): 1..63 characters of
-// A-Z a-z 0-9 _ - /, the five distinct; the first problem named with its
+// A-Z a-z 0-9 _ - /, the six distinct; the first problem named with its
 // channel.
 #include "graspfill/io/channel_names.hpp"
 
@@ -56,6 +56,16 @@ TEST(ChannelNames, TheFirstProblemNamesItsChannel) {
   names = ChannelNames{};
   names.status = names.depth;
   EXPECT_EQ(FindChannelNameProblem(names)->same_as, "depth");
+  // The collision mesh's channel is one of them.
+  names = ChannelNames{};
+  names.collision_mesh = names.object_cloud;
+  problem = FindChannelNameProblem(names);
+  ASSERT_TRUE(problem.has_value());
+  EXPECT_EQ(problem->role, "collision_mesh");
+  EXPECT_EQ(problem->same_as, "object_cloud");
+  names = ChannelNames{};
+  names.collision_mesh = "MESH*";
+  EXPECT_EQ(FindChannelNameProblem(names)->role, "collision_mesh");
 }
 
 }  // namespace

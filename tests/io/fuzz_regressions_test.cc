@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "cloud_chunks_feed.hpp"
+#include "graspfill/io/collision_mesh_message.hpp"
 #include "graspfill/io/lcm_log_reader.hpp"
 #include "graspfill/io/messages.hpp"
 #include "ply_parser.hpp"
@@ -121,6 +122,25 @@ TEST(FuzzRegressions, DepthGripperStatusAndLogInputsKeepTheirContracts) {
     while (reader.Next(&event) == LogReadResult::kEvent) EXPECT_LE(reader.offset(), reader.file_size());
     std::fclose(f);
   }
+}
+
+TEST(FuzzRegressions, DecodedCollisionMeshesReEncode) {
+  const auto inputs = Inputs("collision_mesh");
+  ASSERT_GE(inputs.size(), 2u);
+  int decoded = 0;
+  for (const auto& bytes : inputs) {
+    CollisionMeshMessage mesh;
+    std::string error;
+    if (!DecodeCollisionMesh(bytes.data(), bytes.size(), &mesh, &error)) continue;
+    ++decoded;
+    std::vector<uint8_t> again;
+    ASSERT_NO_THROW(again = EncodeCollisionMesh(mesh));
+    CollisionMeshMessage back;
+    ASSERT_TRUE(DecodeCollisionMesh(again.data(), again.size(), &back, &error)) << error;
+    EXPECT_EQ(back.mesh.vertices, mesh.mesh.vertices);
+    EXPECT_EQ(back.mesh.triangles, mesh.mesh.triangles);
+  }
+  EXPECT_GE(decoded, 2);  // the seeds
 }
 
 TEST(FuzzRegressions, CloudSliceInputsKeepTheAssemblersContract) {

@@ -6,7 +6,7 @@
 // graspfill therefore takes 1..63 characters of A-Z a-z 0-9 _ - / only
 // (none of them special in a regular expression, so a subscription matches
 // the name itself and nothing else), and a different name for each of its
-// five channels (a status channel that is also the depth channel would feed
+// six channels (a status channel that is also the depth channel would feed
 // the module its own status). One check for every way a name comes in: the
 // rig config's `channels`, the --*-channel flags of `live` and `replay`.
 #pragma once
@@ -27,10 +27,10 @@ constexpr size_t kMaxChannelNameLength = 63;
 /// expression)".
 std::string ChannelNameDefect(const std::string& name);
 
-/// The first bad name of the five, in the order depth, gripper_state,
-/// object_cloud, status, session.
+/// The first bad name of the six, in the order depth, gripper_state,
+/// object_cloud, status, session, collision_mesh.
 struct ChannelNameProblem {
-  std::string role;        ///< the channel at fault: "depth", ..., "session"
+  std::string role;        ///< the channel at fault: "depth", ..., "collision_mesh"
   std::string name;        ///< its name
   std::string defect;      ///< ChannelNameDefect's reason, or "" for a repeat
   std::string same_as;     ///< a repeat: the earlier channel of that name

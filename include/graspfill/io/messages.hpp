@@ -46,6 +46,9 @@ struct ChannelNames {
   /// session_description_t: what the session was set up with (published
   /// when a session starts, written at the head of every recording).
   std::string session{"GRASPFILL_SESSION"};
+  /// collision_mesh_t to the motion planner (the model's collision mesh,
+  /// when one is made: io/collision_mesh_message.hpp).
+  std::string collision_mesh{"GRASPFILL_COLLISION_MESH"};
 };
 
 /// Why a message was rejected: decoders report one (optional last
