@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The --*-channel flags of `live` and `replay`: once the config and the
-// flags have set them, the five names are checked as LCM takes them
+// flags have set them, the six names are checked as LCM takes them
 // (graspfill/io/channel_names.hpp), so that a name LCM would subscribe to
 // as a broken regular expression is a usage error, not a deaf module.
 #pragma once
@@ -17,6 +17,7 @@ namespace graspfill::cli {
 inline std::string ChannelFlag(const std::string& role) {
   if (role == "gripper_state") return "--gripper-channel";
   if (role == "object_cloud") return "--cloud-channel";
+  if (role == "collision_mesh") return "--mesh-channel";
   return "--" + role + "-channel";
 }
 

@@ -25,8 +25,9 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: graspfill repair IN.ply -o OUT.{ply,pcd} [--mode paper|best] [--up X,Y,Z] [--preview DIR]\n"
-    "                               [--mesh-out FILE.{ply,stl,obj}] [--scale S] [--num-threads N]\n"
-    "                               [--json] [--force]\n"
+    "                               [--mesh-out FILE.{ply,stl,obj} [--mesh-max-triangles N]\n"
+    "                               [--mesh-convex-hull]] [--scale S] [--num-threads N] [--json]\n"
+    "                               [--force]\n"
     "  IN.ply     unorganized cloud in meters, any pose, normals optional\n"
     "  --scale    multiply IN's coordinates by S first (0.001: a cloud in mm)\n"
     "  --mode     paper: the method as published; best (default): graspfill's\n"
@@ -34,7 +35,9 @@ constexpr const char* kUsage =
     "  --up       optional hint of the direction to the missing top, input frame\n"
     "  --json     print the holes found and the time of every step as JSON\n"
     "  --preview  also a picture of the cloud before and after: DIR/<OUT's stem>.png\n"
-    "  --mesh-out the repaired cloud's closed collision mesh (and its deviation)\n"
+    "  --mesh-out the repaired cloud's collision mesh for a planner (and its deviation):\n"
+    "             watertight, holding the cloud, at most --mesh-max-triangles N triangles\n"
+    "             (default 5000), or with --mesh-convex-hull the cloud's convex hull\n"
     "  --force    overwrite OUT (and the preview) if it exists\n"
     "  --num-threads  OpenMP threads of the repair, 0..1024 (default 1; 0: OpenMP's own count)\n"
     "example: graspfill repair scan.ply -o repaired.pcd --up 0,0,1 --mesh-out hull.stl\n";
@@ -89,6 +92,8 @@ int RunRepair(const Args& args) {
   bool json = false, force = false;
   double scale = 1.0;
   repair::RepairConfig config;
+  mesh::PlannerMeshConfig mesh_config;
+  bool mesh_flags = false;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     const bool has_value = i + 1 < args.size();
@@ -101,6 +106,13 @@ int RunRepair(const Args& args) {
       preview_dir = args[++i];
     } else if (a == "--mesh-out" && has_value) {
       mesh_out = args[++i];
+    } else if (a == "--mesh-max-triangles" || a == "--mesh-convex-hull") {
+      try {
+        ParseMeshFlag(args, &i, &mesh_config, &mesh_flags);
+      } catch (const UsageError& e) {
+        std::fprintf(stderr, "graspfill repair: %s\n%s", e.what(), kUsage);
+        return 2;
+      }
     } else if (a == "--json") {
       json = true;
     } else if (a == "--force") {
@@ -162,13 +174,11 @@ int RunRepair(const Args& args) {
     std::fprintf(stderr, "graspfill repair: -o %s\n%s", e.what(), kUsage);
     return 2;
   }
-  if (!mesh_out.empty()) {
-    try {
-      CheckMeshOutOption(mesh_out, out);
-    } catch (const UsageError& e) {
-      std::fprintf(stderr, "graspfill repair: %s\n%s", e.what(), kUsage);
-      return 2;
-    }
+  try {
+    CheckMeshOutOption(mesh_out, out, mesh_flags);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "graspfill repair: %s\n%s", e.what(), kUsage);
+    return 2;
   }
   try {
     io::CheckOutputFile(out, force);  // before the repair, not after it
@@ -196,7 +206,7 @@ int RunRepair(const Args& args) {
   nlohmann::ordered_json report = RepairReportJson(result.report, input.size(), result.cloud.size());
   if (!mesh_out.empty()) {
     try {
-      report["mesh"] = WriteCollisionMesh(mesh_out, result.cloud, force);
+      report["mesh"] = BuildAndWriteCollisionMesh(mesh_out, result.cloud, mesh_config, force);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "graspfill repair: collision mesh: %s\n", ErrorText(e).c_str());
       return 1;

@@ -16,10 +16,12 @@
 //
 // The session itself is rt::ReplaySession (rt/module/replay_session.hpp):
 // this file parses the flags, picks the claw, writes the preview and the
-// collision mesh of the model, and reports (replay_report.hpp).
+// collision mesh the session made of the model, and reports
+// (replay_report.hpp).
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include "channel_options.hpp"
@@ -51,8 +53,12 @@ constexpr const char* kUsage =
     "  -o, --output PATH        object cloud in the gripper frame (PLY or PCD, by its\n"
     "                           extension): the fused points, then the points the repair\n"
     "                           added (provenance: 0 observed, 1 surface, 2 symmetry)\n"
-    "  --mesh-out FILE          also the model's closed collision mesh (.ply, .stl or .obj),\n"
-    "                           its deviation from the cloud printed (and in --json)\n"
+    "  --mesh-out FILE          also the model's collision mesh for the planner (.ply, .stl\n"
+    "                           or .obj), its deviation from the cloud printed (and in\n"
+    "                           --json), published on the mesh channel (collision_mesh_t)\n"
+    "  --mesh-max-triangles N   the mesh's most triangles (default 5000): decimated,\n"
+    "                           watertight, inflated to hold the cloud\n"
+    "  --mesh-convex-hull       the cloud's convex hull as the mesh instead\n"
     "  --no-repair              write and publish the fused cloud only\n"
     "  --repair-mode MODE       paper: the repair as published; best (default): graspfill's\n"
     "  --no-evidence            repair from the cloud alone (without what the camera saw)\n"
@@ -71,6 +77,7 @@ constexpr const char* kUsage =
     "  --gripper-channel NAME   default GRASPFILL_GRIPPER_STATE\n"
     "  --cloud-channel NAME     default GRASPFILL_OBJECT_CLOUD\n"
     "  --session-channel NAME   default GRASPFILL_SESSION\n"
+    "  --mesh-channel NAME      default GRASPFILL_COLLISION_MESH\n"
     "                           (names: 1..63 of A-Z a-z 0-9 _ - /, each its own)\n"
     "  --voxel-m V              TSDF voxel size, 0.0005..0.01 m (default: the recording's, else 0.0015)\n"
     "  --skip-bad-frames        skip malformed events instead of failing\n"
@@ -89,6 +96,8 @@ struct ReplayOptions {
   rt::ReplaySessionConfig session;
   std::string preview_dir;  ///< --preview, "" = none
   std::string mesh_out;     ///< --mesh-out, "" = none
+  mesh::PlannerMeshConfig mesh;  ///< the config's collision_mesh, then the flags
+  bool mesh_flags{false};   ///< --mesh-max-triangles or --mesh-convex-hull given
   bool json{false};
   std::optional<std::string> claw;  ///< --claw or the config's; none = the recording's
   std::string claw_from{"command line"};  ///< where `claw` came from
@@ -110,6 +119,7 @@ void ApplyConfig(const rt::RigConfig& c, ReplayOptions* o) {
   s.workspace_fixed = c.workspace.has_value();
   s.sdf_trunc_voxels = c.tsdf.sdf_trunc_voxels;
   rt::ApplyToRepair(c, &s.repair_config);
+  rt::ApplyToCollisionMesh(c, &o->mesh);
   s.repair = c.repair.enabled;
   s.repair_evidence = c.repair.use_evidence;
   s.log.channels = rt::ToChannelNames(c.channels);
@@ -136,6 +146,7 @@ void Parse(const Args& args, ReplayOptions* o) {
     else if (a == "-o" || a == "--output") value(&s.output_path);
     else if (a == "--preview") value(&o->preview_dir);
     else if (a == "--mesh-out") value(&o->mesh_out);
+    else if (ParseMeshFlag(args, &i, &o->mesh, &o->mesh_flags)) continue;
     else if (a == "--json") o->json = true;
     else if (a == "--force") s.overwrite = true;
     else if (a == "--claw") {
@@ -166,6 +177,7 @@ void Parse(const Args& args, ReplayOptions* o) {
     else if (a == "--gripper-channel") value(&s.log.channels.gripper_state);
     else if (a == "--cloud-channel") value(&s.log.channels.object_cloud);
     else if (a == "--session-channel") value(&s.log.channels.session);
+    else if (a == "--mesh-channel") value(&s.log.channels.collision_mesh);
     else if (a == "--voxel-m") {
       value(&v);
       SetVoxel(ParseDouble(a, v, kMinVoxelM, kMaxVoxelM, "m"), s.sdf_trunc_voxels, &s.pipeline);
@@ -187,7 +199,8 @@ void Parse(const Args& args, ReplayOptions* o) {
     throw UsageError(std::string("-o ") + e.what());
   }
   if (o->claw) o->claw = ResolveClawSpec(*o->claw, InstalledClawsDir());
-  if (!o->mesh_out.empty()) CheckMeshOutOption(o->mesh_out, s.output_path);
+  CheckMeshOutOption(o->mesh_out, s.output_path, o->mesh_flags);
+  if (!o->mesh_out.empty()) s.collision_mesh = o->mesh;
   CheckChannelOptions(s.log.channels);  // the config's and the flags'
 }
 
@@ -337,8 +350,12 @@ bool WritePictureAndMesh(const ReplayOptions& o, const rt::ReplayResult& r,
     std::fprintf(stderr, "graspfill replay: %s\n", ErrorText(e).c_str());
     return false;
   }
+  if (o.mesh_out.empty()) return true;
   try {
-    if (!o.mesh_out.empty()) *mesh = WriteCollisionMesh(o.mesh_out, r.output, o.session.overwrite);
+    if (!r.collision_mesh) throw std::runtime_error(r.mesh_error);
+    *mesh = WriteCollisionMesh(o.mesh_out, r.output, *r.collision_mesh, o.mesh, r.mesh_ms,
+                               r.mesh_published ? o.session.log.channels.collision_mesh : "",
+                               o.session.overwrite);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "graspfill replay: collision mesh: %s\n", ErrorText(e).c_str());
     return false;

@@ -17,6 +17,7 @@
 #include "graspfill/core/regular_file.hpp"
 #include "graspfill/fusion/tsdf_fusion.hpp"
 #include "graspfill/io/channel_names.hpp"
+#include "graspfill/mesh/planner_mesh.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "graspfill/repair/repairer.hpp"
 
@@ -56,6 +57,7 @@ constexpr Range kCorrectionDeg{0.0, 2.0, "deg"};
 constexpr Range kPublishEvery{0, 100000, "frames"};
 constexpr Range kStatusPeriodS{0.05, 60.0, "s"};
 constexpr Range kNumThreads{0, kMaxOpenMpThreads, "threads"};
+constexpr Range kMeshTriangles{mesh::kMinPlannerTriangles, mesh::kMaxPlannerTriangles, "triangles"};
 constexpr double kUnitTolerance = 1e-3;  // |norm - 1| of a typed quaternion
 // yaml-cpp's parser refuses deeper nesting (its DepthGuard's default);
 // named in the message instead of the library's "bad file".
@@ -95,7 +97,7 @@ ConfigError SameChannelError(const std::string& role, const std::string& name,
                                 " (each channel needs its own)");
 }
 
-// The five names each as LCM takes it, and no two the same.
+// Every name as LCM takes it, and no two the same.
 void CheckChannels(const RigConfig::Channels& channels) {
   const std::optional<io::ChannelNameProblem> problem =
       io::FindChannelNameProblem(ToChannelNames(channels));
@@ -210,7 +212,11 @@ bool RigConfig::Refine::operator==(const Refine& o) const {
 }
 bool RigConfig::Channels::operator==(const Channels& o) const {
   return depth == o.depth && gripper_state == o.gripper_state &&
-         object_cloud == o.object_cloud && status == o.status && session == o.session;
+         object_cloud == o.object_cloud && status == o.status && session == o.session &&
+         collision_mesh == o.collision_mesh;
+}
+bool RigConfig::CollisionMesh::operator==(const CollisionMesh& o) const {
+  return max_triangles == o.max_triangles && convex_hull == o.convex_hull;
 }
 bool RigConfig::Rates::operator==(const Rates& o) const {
   return publish_every_n_frames == o.publish_every_n_frames &&
@@ -222,7 +228,7 @@ bool RigConfig::Compute::operator==(const Compute& o) const {
 bool RigConfig::operator==(const RigConfig& o) const {
   return camera == o.camera && robot == o.robot && claw == o.claw && workspace == o.workspace &&
          tsdf == o.tsdf && repair == o.repair && refine == o.refine && channels == o.channels &&
-         rates == o.rates && compute == o.compute;
+         collision_mesh == o.collision_mesh && rates == o.rates && compute == o.compute;
 }
 
 Eigen::Isometry3d RigConfig::Pose::ToIsometry() const {
@@ -260,6 +266,7 @@ void RigConfig::Validate() const {
   CheckRange("refine.min_correction_m", refine.min_correction_m, kCorrectionM);
   CheckRange("refine.min_correction_deg", refine.min_correction_deg, kCorrectionDeg);
   CheckChannels(channels);
+  CheckRange("collision_mesh.max_triangles", collision_mesh.max_triangles, kMeshTriangles);
   CheckRange("rates.publish_every_n_frames", rates.publish_every_n_frames, kPublishEvery);
   CheckRange("rates.status_period_s", rates.status_period_s, kStatusPeriodS);
   CheckRange("compute.num_threads", compute.num_threads, kNumThreads);
@@ -466,6 +473,15 @@ std::string DumpRigConfig(const RigConfig& c) {
   w.Key(1, "object_cloud", Quoted(c.channels.object_cloud));
   w.Key(1, "status", Quoted(c.channels.status));
   w.Key(1, "session", Quoted(c.channels.session));
+  w.Key(1, "collision_mesh", Quoted(c.channels.collision_mesh));
+  w.Blank();
+
+  w.Key(0, "collision_mesh", "");
+  w.Comment(1, "replay --mesh-out: at most this many triangles, decimated, watertight, holding");
+  w.Comment(1, "the cloud (default " + std::to_string(d.collision_mesh.max_triangles) + ").");
+  w.Key(1, "max_triangles", std::to_string(c.collision_mesh.max_triangles));
+  w.Comment(1, "The convex hull instead of the decimated shape.");
+  w.Key(1, "convex_hull", Bool(c.collision_mesh.convex_hull));
   w.Blank();
 
   w.Key(0, "rates", "");
@@ -650,8 +666,8 @@ RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
   if (root.IsNull()) return c;  // an empty file: the defaults
   const Reader r(name);
   r.Map(root, "",
-        {"camera", "robot", "claw", "workspace", "tsdf", "repair", "refine", "channels", "rates",
-         "compute"},
+        {"camera", "robot", "claw", "workspace", "tsdf", "repair", "refine", "channels",
+         "collision_mesh", "rates", "compute"},
         [&](const std::string& key, const YAML::Node& v, const std::string& path) {
     if (key == "camera") {
       r.Map(v, path, {"device", "width_px", "height_px", "fps", "depth_units", "intrinsics_override",
@@ -750,7 +766,7 @@ RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
         else c.refine.track_object = r.Bool(x, f);
       });
     } else if (key == "channels") {
-      r.Map(v, path, {"depth", "gripper_state", "object_cloud", "status", "session"},
+      r.Map(v, path, {"depth", "gripper_state", "object_cloud", "status", "session", "collision_mesh"},
             [&](const std::string& k, const YAML::Node& x, const std::string& f) {
         std::string value = r.String(x, f);
         r.Check(x, [&] { CheckChannel(f, value); });
@@ -758,7 +774,8 @@ RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
         else if (k == "gripper_state") c.channels.gripper_state = value;
         else if (k == "object_cloud") c.channels.object_cloud = value;
         else if (k == "status") c.channels.status = value;
-        else c.channels.session = value;
+        else if (k == "session") c.channels.session = value;
+        else c.channels.collision_mesh = value;
       });
       // Two the same: named at the line of the later one the file sets
       // (the other may be a default).
@@ -768,6 +785,12 @@ RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
         const std::string& other = later_set ? problem->same_as : problem->role;
         r.Check(v[role], [&] { throw SameChannelError(role, problem->name, other); });
       }
+    } else if (key == "collision_mesh") {
+      r.Map(v, path, {"max_triangles", "convex_hull"},
+            [&](const std::string& k, const YAML::Node& x, const std::string& f) {
+        if (k == "max_triangles") c.collision_mesh.max_triangles = r.Integer(x, f, kMeshTriangles);
+        else c.collision_mesh.convex_hull = r.Bool(x, f);
+      });
     } else if (key == "compute") {
       r.Map(v, path, {"num_threads"},
             [&](const std::string&, const YAML::Node& x, const std::string& f) {
@@ -836,6 +859,11 @@ void ApplyToRepair(const RigConfig& c, repair::RepairConfig* r) {
   r->num_threads = c.compute.num_threads;
 }
 
+void ApplyToCollisionMesh(const RigConfig& c, mesh::PlannerMeshConfig* m) {
+  m->max_triangles = c.collision_mesh.max_triangles;
+  m->convex_hull = c.collision_mesh.convex_hull;
+}
+
 io::ChannelNames ToChannelNames(const RigConfig::Channels& ch) {
   io::ChannelNames names;
   names.depth = ch.depth;
@@ -843,6 +871,7 @@ io::ChannelNames ToChannelNames(const RigConfig::Channels& ch) {
   names.object_cloud = ch.object_cloud;
   names.status = ch.status;
   names.session = ch.session;
+  names.collision_mesh = ch.collision_mesh;
   return names;
 }
 

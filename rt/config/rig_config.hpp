@@ -38,6 +38,9 @@ struct PipelineConfig;  // graspfill/pipeline/pipeline.hpp
 namespace repair {
 struct RepairConfig;  // graspfill/repair/repairer.hpp
 }  // namespace repair
+namespace mesh {
+struct PlannerMeshConfig;  // graspfill/mesh/planner_mesh.hpp
+}  // namespace mesh
 }  // namespace graspfill
 
 namespace graspfill::rt {
@@ -171,7 +174,17 @@ struct RigConfig {
     std::string object_cloud{"GRASPFILL_OBJECT_CLOUD"};
     std::string status{"GRASPFILL_STATUS"};
     std::string session{"GRASPFILL_SESSION"};
+    std::string collision_mesh{"GRASPFILL_COLLISION_MESH"};
     bool operator==(const Channels& o) const;
+  };
+  /// The collision mesh for the planner (`replay --mesh-out`;
+  /// mesh/planner_mesh.hpp).
+  struct CollisionMesh {
+    /// At most this many triangles (--mesh-max-triangles), 12..10,000,000.
+    int max_triangles{5000};
+    /// The convex hull instead of the decimated shape (--mesh-convex-hull).
+    bool convex_hull{false};
+    bool operator==(const CollisionMesh& o) const;
   };
   struct Rates {
     /// `live`: publish the cloud every N fused frames (0: only at each
@@ -200,6 +213,7 @@ struct RigConfig {
   Repair repair;
   Refine refine;
   Channels channels;
+  CollisionMesh collision_mesh;
   Rates rates;
   Compute compute;
 
@@ -243,6 +257,8 @@ RigConfig LoadRigConfig(const std::string& path);
 void ApplyToPipeline(const RigConfig& config, PipelineConfig* pipeline);
 /// mode, safe bound, rim band, threads.
 void ApplyToRepair(const RigConfig& config, repair::RepairConfig* repair);
+/// max_triangles, convex_hull.
+void ApplyToCollisionMesh(const RigConfig& config, mesh::PlannerMeshConfig* mesh);
 io::ChannelNames ToChannelNames(const RigConfig::Channels& channels);
 /// The override as CameraIntrinsics, or none.
 std::optional<CameraIntrinsics> IntrinsicsOverride(const RigConfig& config);

@@ -157,7 +157,35 @@ ReplayResult ReplaySession::Run() {
     }
   }
   result.output = std::move(ended_.back().cloud);
+  if (config_.collision_mesh) MakeCollisionMesh(&result);
   return result;
+}
+
+void ReplaySession::MakeCollisionMesh(ReplayResult* result) {
+  const auto t_start = Clock::now();
+  try {
+    result->collision_mesh = mesh::BuildPlannerMesh(result->output, *config_.collision_mesh);
+  } catch (const std::exception& e) {
+    result->mesh_error = ErrorText(e);
+    return;
+  }
+  result->mesh_ms = Ms(Clock::now() - t_start);
+  if (!config_.publish) return;
+  const ObjectCloud& cloud = result->output;
+  const mesh::PlannerMesh& m = *result->collision_mesh;
+  io::CollisionMeshMessage message;
+  message.utime = cloud.utime;
+  message.seq = cloud.seq;
+  message.grasp_id = cloud.grasp_id;
+  message.frame_name = cloud.frame_name;
+  message.T_C_G = cloud.T_C_G;
+  message.mesh = m.mesh;
+  message.kind = m.kind;
+  message.watertight = m.watertight;
+  message.deviation_m = m.outside.max_m;
+  if (!publisher_) publisher_ = std::make_unique<LcmPublisher>(config_.lcm_url);
+  result->mesh_published =
+      publisher_->PublishCollisionMesh(config_.log.channels.collision_mesh, message);
 }
 
 GraspDelivery ReplaySession::Deliver(ObjectCloud* model, const evidence::VisibilityRecord& seen,

@@ -3,7 +3,8 @@
 // ahead on a thread of its own) -> SequencerFeed -> GraspSequencer (made at
 // the first depth or gripper event, once the session description at the
 // recording's head is known) -> each grasp's final model delivered: hole
-// repair -> PLY -> LcmPublisher. rt::LiveSession is its live counterpart;
+// repair -> PLY -> LcmPublisher, then the output's collision mesh (when
+// asked for) -> LcmPublisher. rt::LiveSession is its live counterpart;
 // `graspfill replay` only parses its flags, picks the claw and reports.
 //
 // The recording's session description gives the workspace box and the
@@ -27,6 +28,7 @@
 #include <vector>
 
 #include "graspfill/io/messages.hpp"
+#include "graspfill/mesh/planner_mesh.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "graspfill/repair/repairer.hpp"
 #include "module/grasp_sequencer.hpp"
@@ -92,6 +94,12 @@ struct ReplaySessionConfig {
   /// (ReplayResult::output_fused; a picture of before and after). Only
   /// with the repair on.
   bool keep_output_fused{false};
+
+  /// The output model's collision mesh for the planner
+  /// (mesh/planner_mesh.hpp), made once the output is delivered and
+  /// published as collision_mesh_t on log.channels.collision_mesh (with
+  /// `publish`); none: no mesh.
+  std::optional<mesh::PlannerMeshConfig> collision_mesh;
 
   /// Called about every progress_period_ms while the log is fused, on
   /// Run's thread, with the depth frames read so far; none: not called.
@@ -188,6 +196,13 @@ struct ReplayResult {
   /// The same as fused, before its repair (keep_output_fused).
   std::optional<ObjectCloud> output_fused;
 
+  /// The output's collision mesh (config.collision_mesh, kDone), or why
+  /// it could not be made (mesh_error; the replay's other outputs stand).
+  std::optional<mesh::PlannerMesh> collision_mesh;
+  std::string mesh_error;
+  double mesh_ms{0.0};  ///< the mesh made (not its publication)
+  bool mesh_published{false};  ///< LCM took the mesh (config.publish)
+
   double fuse_ms{0.0};     ///< the log read and fused
   double extract_ms{0.0};  ///< the last grasp's model extracted
 };
@@ -224,6 +239,8 @@ class ReplaySession {
   /// The one delivery: see DeliveredModel for its error policy.
   GraspDelivery Deliver(ObjectCloud* model, const evidence::VisibilityRecord& seen,
                         const std::string& path, DeliveredModel which);
+  /// The output's collision mesh into *result, published (config_.publish).
+  void MakeCollisionMesh(ReplayResult* result);
 
   /// A grasp's final model and what the camera saw of it.
   struct EndedGrasp {

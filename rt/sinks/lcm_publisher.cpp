@@ -11,6 +11,21 @@
 #include <utility>
 
 namespace graspfill::rt {
+namespace {
+
+// *bytes from `encode`; false where it throws (an inconsistent cloud or
+// mesh: the caller's bug, not the bus's).
+template <typename Encode>
+bool TryEncode(Encode encode, std::vector<uint8_t>* bytes) {
+  try {
+    *bytes = encode();
+  } catch (const std::exception&) {
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
 
 class LcmPublisher::Impl {
  public:
@@ -72,11 +87,7 @@ LcmPublisher::~LcmPublisher() = default;
 bool LcmPublisher::PublishCloud(const std::string& channel,
                                 const ObjectCloud& cloud) {
   std::vector<uint8_t> bytes;
-  try {
-    bytes = io::EncodeObjectCloud(cloud);
-  } catch (const std::exception&) {
-    return false;  // an inconsistent cloud: the caller's bug, not the bus's
-  }
+  if (!TryEncode([&] { return io::EncodeObjectCloud(cloud); }, &bytes)) return false;
   if (!impl_->pacer_) {
     impl_->CheckSize(bytes.size());
     return impl_->Publish(channel, bytes);
@@ -100,6 +111,17 @@ int64_t LcmPublisher::paced_clouds_dropped() const {
 
 void LcmPublisher::set_on_warning(std::function<void(const std::string&)> on_warning) {
   impl_->on_warning_ = std::move(on_warning);
+}
+
+bool LcmPublisher::PublishCollisionMesh(const std::string& channel,
+                                        const io::CollisionMeshMessage& mesh) {
+  std::vector<uint8_t> bytes;
+  if (!TryEncode([&] { return io::EncodeCollisionMesh(mesh); }, &bytes)) return false;
+  // Whole on every provider, UDP multicast too (not through the pacer: its
+  // slices are object_cloud_chunk_t's): ~90 kB at 5,000 triangles, one
+  // message a replay, which a default receive buffer holds.
+  impl_->CheckSize(bytes.size());
+  return impl_->Publish(channel, bytes);
 }
 
 bool LcmPublisher::PublishStatus(const std::string& channel,

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Publishes graspfill's messages on an LCM bus (the object cloud for the
-// motion planner, the module's status).
+// Publishes graspfill's messages on an LCM bus (the object cloud and its
+// collision mesh for the motion planner, the module's status).
 #pragma once
 
 #include <cstdint>
@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "graspfill/io/collision_mesh_message.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/types.hpp"
 #include "sinks/cloud_pacer.hpp"
@@ -53,6 +54,11 @@ class LcmPublisher {
   /// Where PublishCloud's one warning goes (none: not told); called on the
   /// publishing thread.
   void set_on_warning(std::function<void(const std::string&)> on_warning);
+  /// Publishes `mesh` as collision_mesh_t (io::EncodeCollisionMesh), one
+  /// whole message at once on every provider (not paced; the size warning
+  /// as for PublishCloud).
+  /// @return false if encoding (an inconsistent mesh) or sending failed.
+  bool PublishCollisionMesh(const std::string& channel, const io::CollisionMeshMessage& mesh);
   /// Publishes `status` as module_status_t.
   bool PublishStatus(const std::string& channel, const io::ModuleStatus& status);
   /// Publishes already-encoded bytes (any message type).

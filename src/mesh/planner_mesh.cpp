@@ -11,6 +11,8 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
+#include <utility>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -207,15 +209,21 @@ PlannerMesh BuildDecimated(const ObjectCloud& cloud, const PlannerMeshConfig& co
     CollisionMeshConfig coarse = config.dense;
     int64_t triangles = dense_triangles;
     Candidate c;
+    std::optional<std::pair<TriangleMesh, CollisionMeshConfig>> first_fit;
     for (int attempt = 0; attempt < kMaxCoarsenTries && coarse.cell_m < kMaxCellM; ++attempt) {
       const double ratio = std::max(1.0, static_cast<double>(triangles) / config.max_triangles);
       coarse.cell_m = std::min(kMaxCellM, coarse.cell_m * std::sqrt(ratio) * kCoarsenMargin);
       const TriangleMesh m = BuildCollisionMesh(cloud, coarse);
       triangles = static_cast<int64_t>(m.triangles.size());
       if (triangles > config.max_triangles) continue;
-      c = OffsetGrid(m, cloud, coarse, config);
+      // Inflated as the quadric mesh is (tighter: it moves only where
+      // points are outside); the first that fits kept for the level set.
+      if (!first_fit) first_fit.emplace(m, coarse);
+      c = Inflated(m, cloud, config);
       if (Good(c, config)) break;
-      triangles = std::max(triangles, static_cast<int64_t>(c.mesh.triangles.size()));
+    }
+    if (!Good(c, config) && first_fit) {
+      c = OffsetGrid(first_fit->first, cloud, first_fit->second, config);
     }
     if (Good(c, config)) {
       result = Finish(std::move(c), CollisionMeshKind::kDecimated, PlannerMeshMethod::kCoarseGrid);

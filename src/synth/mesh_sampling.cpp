@@ -93,6 +93,20 @@ Eigen::AlignedBox3d Bounds(const TriangleMesh& mesh) {
   return box;
 }
 
+double WindingNumber(const TriangleMesh& mesh, const Eigen::Vector3d& p) {
+  // Van Oosterom and Strackee's solid angle of each triangle seen from p.
+  double sum = 0.0;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    const Eigen::Vector3d a = mesh.vertices[t[0]].cast<double>() - p;
+    const Eigen::Vector3d b = mesh.vertices[t[1]].cast<double>() - p;
+    const Eigen::Vector3d c = mesh.vertices[t[2]].cast<double>() - p;
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    sum += 2.0 * std::atan2(a.dot(b.cross(c)),
+                            la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb);
+  }
+  return sum / (4.0 * 3.14159265358979323846);
+}
+
 double PointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                              const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
   // Closest point by Voronoi regions (Ericson, Real-Time Collision

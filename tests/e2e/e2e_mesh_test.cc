@@ -1,13 +1,15 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // --mesh-out end to end: synth -> replay --mesh-out on the e2e shapes (one
 // format each), the mesh read back from the file: watertight by Open3D's
-// test, its surface within 1 mm (p95) of the repaired cloud replay wrote
-// where that target is met (three of six; the others within 1.25 mm), never
-// farther than the construction allows, covering the cloud, and the CLI's reported
-// deviation matching the test's own measurement. Then repair --mesh-out,
+// test, within the triangle cap, holding every point of the repaired cloud
+// replay wrote within the deviation it states (the test's own measure), its
+// surface near the cloud, and the CLI's reported deviation matching the
+// test's own measurement. Then the convex hull, repair --mesh-out,
 // determinism, and bad input.
 #include <gtest/gtest.h>
+#include <open3d/core/Tensor.h>
 #include <open3d/geometry/TriangleMesh.h>
+#include <open3d/t/geometry/RaycastingScene.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -27,33 +29,53 @@ namespace {
 using testing::RunCli;
 using testing::ScratchDir;
 
-constexpr double kTargetP95M = 0.001;  // the bound: 1 mm
-// Where the target is missed (docs/measurements/2026-12-03-collision-mesh.md:
-// the cuboid, 1.28 mm): a regression
-// guard 0.3 mm above it. (The cuboid's mesh was 1.14 mm from its cloud
-// until its mirrored top was stretched to the evidence's rather than cut
-// under it; the mesh is now closer to the truth, p95 1.42 -> 1.07 mm, and
-// the cloud no longer holds a second cap 1-2 mm under the first, but a
-// claw hole left open and the stretched band are sparser.)
-constexpr double kNearTargetP95M = 0.0013;
-// What the construction guarantees anywhere: every mesh vertex lies on a
-// grid edge with a node in the fill band, i.e. within that band plus a cell
-// of a point (CollisionMeshConfig defaults: 5 + 1 cells of 2 mm).
-constexpr double kConstructionBoundM = 0.012;
+// The default cap (--mesh-max-triangles) and containment tolerance
+// (mesh::PlannerMeshConfig).
+constexpr size_t kMaxTriangles = 5000;
+constexpr double kToleranceMm = 0.5;
+// The decimated, inflated mesh's surface to the cloud: a regression guard
+// over what these shapes give today (p95 1.05-5.08 mm, max up to 25.1 mm:
+// the triangular prism's and cuboid's meshes come from the coarse-grid
+// fallback, inflated up to 10 mm where decimation was not watertight;
+// docs/collision-mesh.md). The dense mesh alone was within 1.3 mm (p95).
+constexpr double kSurfaceP95M = 0.006;
+constexpr double kSurfaceMaxM = 0.030;
 
 struct Case {
   std::string shape;
   std::string claw;
   std::string grasp;
   std::string format;
-  // Whether the 1 mm target holds here; where not,
-  // docs/measurements/2026-12-03-collision-mesh.md gives the
-  // measured p95 and the test holds the construction's bound.
-  bool meets_target;
 };
 
 void PrintTo(const Case& c, std::ostream* os) {
   *os << c.shape << "/" << c.claw << "/" << c.grasp << "/" << c.format;
+}
+
+// Points of `cloud` outside `m` by more than `bound_m`: those farther from
+// its surface (Open3D's distance query) and outside by the winding number.
+// (Not mesh::OutsideDistances, the code under test; nor Open3D's occupancy,
+// whose ray casts hit nothing in Debian's Open3D 0.16.)
+int PointsOutsideBeyond(const TriangleMesh& m, const ObjectCloud& cloud, double bound_m) {
+  namespace core = open3d::core;
+  std::vector<float> v, q;
+  std::vector<uint32_t> t;
+  for (const Eigen::Vector3f& x : m.vertices) v.insert(v.end(), {x.x(), x.y(), x.z()});
+  for (const Eigen::Vector3i& x : m.triangles) {
+    t.insert(t.end(), {static_cast<uint32_t>(x[0]), static_cast<uint32_t>(x[1]), static_cast<uint32_t>(x[2])});
+  }
+  for (const Eigen::Vector3f& x : cloud.points_G) q.insert(q.end(), {x.x(), x.y(), x.z()});
+  const auto rows = [](const auto& a) { return static_cast<int64_t>(a.size() / 3); };
+  open3d::t::geometry::RaycastingScene scene;
+  scene.AddTriangles(core::Tensor(v, {rows(v), 3}, core::Float32), core::Tensor(t, {rows(t), 3}, core::UInt32));
+  const core::Tensor query(q, {rows(q), 3}, core::Float32);
+  const core::Tensor distance = scene.ComputeDistance(query).Contiguous();
+  int beyond = 0;
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    if (distance.GetDataPtr<float>()[i] <= bound_m) continue;
+    beyond += synth::WindingNumber(m, cloud.points_G[i].cast<double>()) < 0.5;
+  }
+  return beyond;
 }
 
 bool Watertight(const TriangleMesh& m) {
@@ -81,7 +103,7 @@ nlohmann::json JsonOf(const std::string& output) {
 
 class MeshE2E : public ::testing::TestWithParam<Case> {};
 
-TEST_P(MeshE2E, WatertightAndWithinAMillimetreOfTheRepairedCloud) {
+TEST_P(MeshE2E, WatertightUnderTheCapAndHoldingTheRepairedCloud) {
   const Case& c = GetParam();
   const std::string dir = ScratchDir("e2e_mesh_" + c.shape + "_" + c.claw + "_" + c.grasp);
   const auto synth = RunCli("synth --shape " + c.shape + " --claw " + c.claw + " --grasp " +
@@ -97,19 +119,27 @@ TEST_P(MeshE2E, WatertightAndWithinAMillimetreOfTheRepairedCloud) {
   const TriangleMesh mesh = io::ReadMesh(mesh_path);
   EXPECT_TRUE(Watertight(mesh));
   EXPECT_EQ(report["triangles"].get<size_t>(), mesh.triangles.size());
+  EXPECT_LE(mesh.triangles.size(), kMaxTriangles);
   EXPECT_TRUE(report["closed"].get<bool>());
+  EXPECT_TRUE(report["watertight"].get<bool>());
+  EXPECT_EQ(report["kind"], "decimated");
+  // Every point inside or within the stated deviation, by the test's own
+  // measure; the stated deviation within the tolerance.
+  const double stated_mm = report["deviation_mm"].get<double>();
+  EXPECT_LE(stated_mm, kToleranceMm);
+  EXPECT_EQ(PointsOutsideBeyond(mesh, cloud, stated_mm * 1e-3 + 1e-6), 0);
 
   // The mesh's surface to the cloud, measured here from the files.
   const synth::SurfaceSamples samples = synth::SampleSurface(mesh, 100000, 11);
   const std::vector<double> mesh_to_cloud = eval::NearestDistances(samples.points, cloud.points_G);
   const double p95 = eval::Percentile(mesh_to_cloud, 95.0);
-  std::printf("%s/%s/%s: %zu triangles, mesh to cloud p95 %.3f mm (reported %.3f), cloud to mesh "
-              "p95 %.3f mm\n", c.shape.c_str(), c.claw.c_str(), c.grasp.c_str(),
+  std::printf("%s/%s/%s: %zu triangles, mesh to cloud p95 %.3f mm (reported %.3f), deviation "
+              "%.3f mm, inflated %.3f mm\n", c.shape.c_str(), c.claw.c_str(), c.grasp.c_str(),
               mesh.triangles.size(), p95 * 1e3, report["surface_to_cloud_mm"]["p95"].get<double>(),
-              report["cloud_to_surface_mm"]["p95"].get<double>());
+              stated_mm, report["inflation_mm"].get<double>());
   RecordProperty("surface_to_cloud_p95_mm", std::to_string(p95 * 1e3));
-  EXPECT_LT(p95, c.meets_target ? kTargetP95M : kNearTargetP95M);
-  EXPECT_LT(report["surface_to_cloud_mm"]["max"].get<double>(), kConstructionBoundM * 1e3);
+  EXPECT_LT(p95, kSurfaceP95M);
+  EXPECT_LT(report["surface_to_cloud_mm"]["max"].get<double>(), kSurfaceMaxM * 1e3);
   // What the CLI reports is the same measurement on other samples: within
   // 0.05 mm, or between the 94.5th and 95.5th percentiles of these samples
   // (a p95 of 100k samples strays ~0.07% in rank: this is ~7 of those),
@@ -121,18 +151,16 @@ TEST_P(MeshE2E, WatertightAndWithinAMillimetreOfTheRepairedCloud) {
   EXPECT_TRUE(reported_mm >= band_lo_mm && reported_mm <= band_hi_mm)
       << "reported p95 " << reported_mm << " mm, these samples' 94.5-95.5th percentiles (+-0.05 mm) "
       << band_lo_mm << " .. " << band_hi_mm << " mm";
-  // The mesh covers the cloud: every point's distance to it is small.
-  EXPECT_LT(report["cloud_to_surface_mm"]["p95"].get<double>(), 1.0);
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Shapes, MeshE2E,
-    ::testing::Values(Case{"cuboid", "three-finger", "top-straight", "stl", false},
-                      Case{"triangular-prism", "three-finger", "top-straight", "obj", true},
-                      Case{"cylinder", "three-finger", "top-straight", "ply", true},
-                      Case{"sphere", "three-finger", "top-straight", "stl", true},
-                      Case{"elliptic-cylinder", "parallel", "top-straight", "obj", true},
-                      Case{"ellipsoid", "three-finger", "top-straight", "ply", true}),
+    ::testing::Values(Case{"cuboid", "three-finger", "top-straight", "stl"},
+                      Case{"triangular-prism", "three-finger", "top-straight", "obj"},
+                      Case{"cylinder", "three-finger", "top-straight", "ply"},
+                      Case{"sphere", "three-finger", "top-straight", "stl"},
+                      Case{"elliptic-cylinder", "parallel", "top-straight", "obj"},
+                      Case{"ellipsoid", "three-finger", "top-straight", "ply"}),
     [](const ::testing::TestParamInfo<Case>& info) {
       std::string name = info.param.shape + "_" + info.param.claw + "_" + info.param.grasp;
       std::replace(name.begin(), name.end(), '-', '_');
@@ -157,6 +185,31 @@ TEST(MeshE2ERepair, RepairWritesTheSameWatertightMeshTwice) {
   EXPECT_FALSE(a.empty());
   EXPECT_EQ(a, ReadBytes(dir + "/b.obj"));
   EXPECT_TRUE(Watertight(io::ReadMesh(dir + "/a.obj")));
+}
+
+// --mesh-convex-hull under a cap the cloud's hull fits: convex, watertight,
+// every point inside; then the mesh's flags out of range or alone.
+TEST(MeshE2EHull, ConvexHullHoldsEveryPointAndTheFlagsAreChecked) {
+  const std::string dir = ScratchDir("e2e_mesh_hull");
+  const std::string log = GRASPFILL_SOURCE_DIR "/replay/default/recording.lcmlog";
+  auto r = RunCli("replay " + log + " -o " + dir + "/cloud.ply --no-publish --json --mesh-out " + dir +
+                  "/hull.obj --mesh-convex-hull --mesh-max-triangles 3000");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json report = JsonOf(r.output)["mesh"];
+  EXPECT_EQ(report["kind"], "convex_hull");
+  const TriangleMesh hull = io::ReadMesh(dir + "/hull.obj");
+  EXPECT_LE(hull.triangles.size(), 3000u);
+  EXPECT_TRUE(Watertight(hull));
+  EXPECT_LT(report["deviation_mm"].get<double>(), 0.001);
+  EXPECT_EQ(PointsOutsideBeyond(hull, io::ReadCloudPly(dir + "/cloud.ply"), 1e-6), 0);
+
+  r = RunCli("replay " + log + " -o " + dir + "/c2.ply --mesh-out " + dir + "/m.ply --mesh-max-triangles 5");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--mesh-max-triangles '5': out of range"), std::string::npos) << r.output;
+  r = RunCli("repair " + dir + "/cloud.ply -o " + dir + "/c3.ply --mesh-convex-hull");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("need --mesh-out"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/c3.ply"));
 }
 
 TEST(MeshE2EBadInput, UnknownExtensionSameAsCloudAndExistingFilesAreRefused) {

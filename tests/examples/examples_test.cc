@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "cli_runner.hpp"
+#include "graspfill/io/collision_mesh_message.hpp"
 #include "graspfill/io/lcm_log_reader.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
@@ -167,6 +168,48 @@ TEST_F(ExamplesTest, JavaSubscriberPrintsThePublishedCloud) {
   EXPECT_NE(r.output.find(expected_), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("seq="), r.output.rfind("seq=")) << r.output;
 #endif
+}
+
+// replay --mesh-out publishes the model's collision mesh on its own
+// channel; the C++ subscriber (--meshes) prints what graspfill's decoder
+// reads of it, and that is the mesh the file holds.
+TEST(ExamplesMeshTest, CppSubscriberPrintsThePublishedCollisionMesh) {
+  const std::string dir = ScratchDir("examples_mesh_" + std::to_string(getpid()));
+  const std::string bus_log = dir + "/bus.lcmlog";
+  const CliResult replay =
+      RunCli("replay " GRASPFILL_SOURCE_DIR "/replay/default/recording.lcmlog -o " + dir +
+             "/cloud.ply --mesh-out " + dir + "/mesh.ply --lcm-url 'file://" + bus_log + "?mode=w'");
+  ASSERT_EQ(replay.exit_code, 0) << replay.output;
+  io::LcmLogReader reader(bus_log);
+  io::LogEvent event;
+  io::CollisionMeshMessage published;
+  int meshes = 0;
+  while (reader.Next(&event) == io::LogReadResult::kEvent) {
+    if (event.channel != "GRASPFILL_COLLISION_MESH") continue;
+    std::string error;
+    ASSERT_TRUE(io::DecodeCollisionMesh(event.data.data(), event.data.size(), &published, &error))
+        << error;
+    ++meshes;
+  }
+  ASSERT_EQ(meshes, 1);
+  const TriangleMesh written = io::ReadMesh(dir + "/mesh.ply");
+  EXPECT_EQ(published.mesh.triangles, written.triangles);
+  EXPECT_EQ(published.mesh.vertices, written.vertices);
+  EXPECT_LE(published.mesh.triangles.size(), 5000u);
+  EXPECT_TRUE(published.watertight);
+
+  char line[256];
+  std::snprintf(line, sizeof(line),
+                "mesh seq=%lld utime=%lld grasp=%lld kind=decimated watertight=1 vertices=%zu "
+                "triangles=%zu deviation_mm=%.3f\n",
+                static_cast<long long>(published.seq), static_cast<long long>(published.utime),
+                static_cast<long long>(published.grasp_id), published.mesh.vertices.size(),
+                published.mesh.triangles.size(), published.deviation_m * 1e3);
+  const CliResult r = RunLine(std::string(EXAMPLE_CPP_SUBSCRIBER) + " 'file://" + bus_log +
+                              "?speed=0' --meshes");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output, line);
+  std::filesystem::remove_all(dir);
 }
 
 // lcm-spy decodes the types it finds in the jars on CLASSPATH

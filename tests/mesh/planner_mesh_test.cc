@@ -23,8 +23,6 @@
 namespace graspfill::mesh {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // `count` points on `shape`, each moved along its normal by a uniform
 // -noise..+noise: half of them outside any mesh through their middle.
 ObjectCloud NoisyCloud(synth::Shape shape, const Eigen::Vector3d& size_m, int count, double noise_m) {
@@ -46,29 +44,13 @@ bool Open3dWatertight(const TriangleMesh& m) {
   return o.IsWatertight();
 }
 
-// The generalized winding number of `m` at `p` (Van Oosterom-Strackee solid
-// angles): ~1 inside a closed outward mesh, ~0 outside.
-double WindingNumber(const TriangleMesh& m, const Eigen::Vector3d& p) {
-  double sum = 0.0;
-  for (const Eigen::Vector3i& t : m.triangles) {
-    const Eigen::Vector3d a = m.vertices[t[0]].cast<double>() - p;
-    const Eigen::Vector3d b = m.vertices[t[1]].cast<double>() - p;
-    const Eigen::Vector3d c = m.vertices[t[2]].cast<double>() - p;
-    const double la = a.norm(), lb = b.norm(), lc = c.norm();
-    const double numerator = a.dot(b.cross(c));
-    const double denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
-    sum += 2.0 * std::atan2(numerator, denominator);
-  }
-  return sum / (4.0 * kPi);
-}
-
 // The farthest point of `cloud` (every `stride`-th) outside `m` [m], by
 // the test's own means.
 double FarthestOutside(const TriangleMesh& m, const ObjectCloud& cloud, size_t stride = 1) {
   double worst = 0.0;
   for (size_t i = 0; i < cloud.size(); i += stride) {
     const Eigen::Vector3d p = cloud.points_G[i].cast<double>();
-    if (WindingNumber(m, p) > 0.5) continue;
+    if (synth::WindingNumber(m, p) > 0.5) continue;
     double d = std::numeric_limits<double>::infinity();
     for (const Eigen::Vector3i& t : m.triangles) {
       d = std::min(d, synth::PointTriangleDistance(p, m.vertices[t[0]].cast<double>(),

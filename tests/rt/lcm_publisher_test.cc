@@ -102,6 +102,35 @@ TEST(LcmPublisher, StatusAndRawOverMemq) {
   EXPECT_EQ(collector.messages[1], (std::vector<uint8_t>{7, 8, 9}));
 }
 
+TEST(LcmPublisher, CollisionMeshArrivesOverMemqAndAnInconsistentOneIsNot) {
+  LcmPublisher dut("memq://");
+  Collector collector;
+  dut.lcm_instance()->subscribeFunction("LcmPublisher.Mesh", &Collector::Receive, &collector);
+  io::CollisionMeshMessage mesh;
+  mesh.seq = 3;
+  mesh.grasp_id = 2;
+  mesh.mesh.vertices = {{0, 0, 0}, {0.05f, 0, 0}, {0, 0.05f, 0}, {0, 0, 0.05f}};
+  mesh.mesh.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  mesh.watertight = true;
+  mesh.deviation_m = 0.0005;
+  ASSERT_TRUE(dut.PublishCollisionMesh("LcmPublisher.Mesh", mesh));
+  io::CollisionMeshMessage broken = mesh;
+  broken.mesh.triangles.push_back({0, 1, 4});  // no vertex 4
+  EXPECT_FALSE(dut.PublishCollisionMesh("LcmPublisher.Mesh", broken));
+  Pump(dut.lcm_instance(), collector, 2);
+  ASSERT_EQ(collector.messages.size(), 1u);
+  io::CollisionMeshMessage received;
+  std::string error;
+  ASSERT_TRUE(io::DecodeCollisionMesh(collector.messages[0].data(), collector.messages[0].size(),
+                                      &received, &error))
+      << error;
+  EXPECT_EQ(received.seq, 3);
+  EXPECT_EQ(received.grasp_id, 2);
+  EXPECT_EQ(received.mesh.triangles, mesh.mesh.triangles);
+  EXPECT_EQ(received.mesh.vertices, mesh.mesh.vertices);
+  EXPECT_TRUE(received.watertight);
+}
+
 TEST(LcmPublisher, InconsistentCloudIsNotPublished) {
   LcmPublisher dut("memq://");
   ObjectCloud cloud = testing::MakeTestCloud(10, 1);

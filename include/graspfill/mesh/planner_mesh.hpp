@@ -14,9 +14,10 @@
 // decimated a little further (to 85%, up to three times); where that or the
 // inflation fails (moved vertices can fold triangles over at concave
 // spots), the dense mesh is built again on coarser cells until it fits the
-// cap, and moved out through its distance field's level set instead
-// (CollisionMeshConfig::offset_m: watertight by construction) until it
-// holds the cloud; where that fails too, the convex hull is the answer
+// cap, and inflated the same way, or where that folds, moved out through
+// its distance field's level set instead (CollisionMeshConfig::offset_m:
+// watertight by construction, but by the farthest point everywhere) until
+// it holds the cloud; where that fails too, the convex hull is the answer
 // (method says which). The convex hull asked for: the cloud's (qhull, through Open3D),
 // or, with more triangles than the cap, the hull of the decimated mesh's
 // vertices (a closed mesh of V vertices has 2V - 4 triangles, so its hull

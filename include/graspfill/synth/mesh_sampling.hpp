@@ -43,6 +43,11 @@ bool IsClosedOriented(const TriangleMesh& mesh);
 /// Axis-aligned bounds of the vertices (empty box for an empty mesh).
 Eigen::AlignedBox3d Bounds(const TriangleMesh& mesh);
 
+/// The generalized winding number of `mesh` at `p` (the triangles' solid
+/// angles over 4 pi): about 1 inside a closed outward mesh, 0 outside,
+/// whatever a ray would graze.
+double WindingNumber(const TriangleMesh& mesh, const Eigen::Vector3d& p);
+
 /// Distance from `p` to the closest point of triangle (a, b, c).
 double PointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                              const Eigen::Vector3d& b, const Eigen::Vector3d& c);

@@ -13,6 +13,7 @@
 
 #include "config/rig_config.hpp"
 #include "graspfill/fusion/tsdf_fusion.hpp"
+#include "graspfill/mesh/planner_mesh.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "graspfill/repair/repairer.hpp"
 #include "module/grasp_module.hpp"
@@ -54,7 +55,9 @@ RigConfig EveryFieldChanged() {
   c.refine.min_correction_m = 0.00025;
   c.refine.min_correction_deg = 0.3;
   c.refine.track_object = true;
-  c.channels = {"D", "G", "C", "S", "SESSION_2"};
+  c.channels = {"D", "G", "C", "S", "SESSION_2", "MESH_2"};
+  c.collision_mesh.max_triangles = 1200;
+  c.collision_mesh.convex_hull = true;
   c.rates.publish_every_n_frames = 0;
   c.rates.status_period_s = 0.25;
   return c;
@@ -103,6 +106,13 @@ TEST(RigConfig, DefaultsAreTheLibrariesDefaults) {
   EXPECT_EQ(channels.object_cloud, want_channels.object_cloud);
   EXPECT_EQ(channels.status, want_channels.status);
   EXPECT_EQ(channels.session, want_channels.session);
+  EXPECT_EQ(channels.collision_mesh, want_channels.collision_mesh);
+  mesh::PlannerMeshConfig planner_mesh;
+  planner_mesh.max_triangles = 7;  // must come back as the default's
+  planner_mesh.convex_hull = true;
+  ApplyToCollisionMesh(c, &planner_mesh);
+  EXPECT_EQ(planner_mesh.max_triangles, mesh::PlannerMeshConfig{}.max_triangles);
+  EXPECT_FALSE(planner_mesh.convex_hull);
 
   EXPECT_EQ(c.rates.publish_every_n_frames, GraspModuleConfig{}.extract_every_n_frames);
   EXPECT_EQ(std::lround(c.rates.status_period_s * 1000.0), SessionLoopLimits{}.tick_ms);
@@ -179,6 +189,7 @@ TEST(RigConfig, DumpThenParseGivesTheSameStruct) {
   EXPECT_FALSE(changed.repair == defaults.repair);
   EXPECT_FALSE(changed.refine == defaults.refine);
   EXPECT_FALSE(changed.channels == defaults.channels);
+  EXPECT_FALSE(changed.collision_mesh == defaults.collision_mesh);
   EXPECT_FALSE(changed.rates == defaults.rates);
   const std::string text = DumpRigConfig(changed);
   const RigConfig back = ParseRigConfig(text, "changed.yaml");
@@ -195,7 +206,9 @@ TEST(RigConfig, TheDumpDocumentsEveryKeyWithItsUnit) {
                           "T_C_B: null", "clock_offset_s: 0", "max_pose_gap_s: 0.05", "spec: \"\"",
                           "workspace: null", "voxel_m: null", "sdf_trunc_voxels: 4",
                           "mode: best", "publish_every_n_frames: 30", "status_period_s: 1",
-                          "object_cloud: \"GRASPFILL_OBJECT_CLOUD\""}) {
+                          "object_cloud: \"GRASPFILL_OBJECT_CLOUD\"",
+                          "collision_mesh: \"GRASPFILL_COLLISION_MESH\"", "max_triangles: 5000",
+                          "convex_hull: false"}) {
     EXPECT_NE(text.find(key), std::string::npos) << key << "\n" << text;
   }
   // The built-in values the nulls stand for are in the comments.
@@ -318,6 +331,10 @@ TEST(RigConfig, EveryBadValueIsRefusedNamingItsField) {
        2},
       {"channels:\n  object_cloud: \"" + std::string(300, 'C') + "\"\n", "channels.object_cloud",
        "300 characters, over LCM's limit of 63", 2},
+      {"collision_mesh:\n  max_triangles: 11\n", "collision_mesh.max_triangles",
+       "collision_mesh.max_triangles '11': out of range", 2},
+      {"channels:\n  collision_mesh: GRASPFILL_SESSION\n", "channels.collision_mesh",
+       "channels.collision_mesh 'GRASPFILL_SESSION': the same name as channels.session", 2},
       {"channels:\n  gripper_state: GRASPFILL_STATUS\n", "channels.gripper_state",
        "channels.gripper_state 'GRASPFILL_STATUS': the same name as channels.status", 2},
       {"rates:\n  publish_every_n_frames: 3.5\n", "rates.publish_every_n_frames",
