@@ -8,7 +8,6 @@
 // determinism, and bad input.
 #include <gtest/gtest.h>
 #include <open3d/core/Tensor.h>
-#include <open3d/geometry/TriangleMesh.h>
 #include <open3d/t/geometry/RaycastingScene.h>
 
 #include <algorithm>
@@ -22,6 +21,7 @@
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/synth/mesh_sampling.hpp"
+#include "open3d_watertight.hpp"
 
 namespace graspfill {
 namespace {
@@ -78,14 +78,8 @@ int PointsOutsideBeyond(const TriangleMesh& m, const ObjectCloud& cloud, double 
   return beyond;
 }
 
-bool Watertight(const TriangleMesh& m) {
-  open3d::geometry::TriangleMesh o;
-  for (const Eigen::Vector3f& v : m.vertices) o.vertices_.push_back(v.cast<double>());
-  o.triangles_ = m.triangles;
-  // An STL repeats each vertex per triangle: merge them (by position) first.
-  o.RemoveDuplicatedVertices();
-  return o.IsWatertight();
-}
+// Merged first: an STL repeats each vertex per triangle.
+bool Watertight(const TriangleMesh& m) { return testing::Open3dWatertight(m, true); }
 
 std::string ReadBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

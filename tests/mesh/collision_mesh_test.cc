@@ -5,12 +5,12 @@
 #include "graspfill/mesh/collision_mesh.hpp"
 
 #include <gtest/gtest.h>
-#include <open3d/geometry/TriangleMesh.h>
 
 #include <cmath>
 #include <limits>
 
 #include "graspfill/synth/mesh_sampling.hpp"
+#include "open3d_watertight.hpp"
 #include "graspfill/synth/shapes.hpp"
 
 namespace graspfill::mesh {
@@ -28,13 +28,6 @@ ObjectCloud SampledCloud(synth::Shape shape, const Eigen::Vector3d& size_m, int 
   return cloud;
 }
 
-bool OpenWatertight(const TriangleMesh& m) {
-  open3d::geometry::TriangleMesh o;
-  for (const Eigen::Vector3f& v : m.vertices) o.vertices_.push_back(v.cast<double>());
-  o.triangles_ = m.triangles;
-  return o.IsWatertight();
-}
-
 // The sphere of radius 3 cm, ~1 mm spacing (11k points).
 class SphereMesh : public ::testing::Test {
  protected:
@@ -46,7 +39,7 @@ class SphereMesh : public ::testing::Test {
 
   void ExpectOnSphere(const TriangleMesh& m) const {
     ASSERT_FALSE(m.empty());
-    EXPECT_TRUE(OpenWatertight(m));
+    EXPECT_TRUE(testing::Open3dWatertight(m));
     EXPECT_TRUE(synth::IsClosedOriented(m));
     // Outward and the sphere's volume within 3% (cells round nothing off a
     // smooth surface; the sampling's noise is well under a cell).
@@ -95,7 +88,7 @@ TEST_F(SphereMesh, AHoleInTheCloudStillGivesAClosedMesh) {
   }
   ASSERT_LT(holey.size(), cloud_.size());
   const TriangleMesh m = BuildCollisionMesh(holey, CollisionMeshConfig{});
-  EXPECT_TRUE(OpenWatertight(m));
+  EXPECT_TRUE(testing::Open3dWatertight(m));
   EXPECT_TRUE(synth::IsClosedOriented(m));
 }
 
@@ -104,7 +97,7 @@ TEST(CollisionMesh, CuboidEdgesRoundOffWithinACell) {
   const ObjectCloud cloud = SampledCloud(synth::Shape::kCuboid, size, 20000);
   const CollisionMeshConfig config;
   const TriangleMesh m = BuildCollisionMesh(cloud, config);
-  EXPECT_TRUE(OpenWatertight(m));
+  EXPECT_TRUE(testing::Open3dWatertight(m));
   // Distance of each vertex to the box's surface (x, y centred, z from 0).
   const Eigen::Vector3d half = size / 2;
   int beyond_half_cell = 0;

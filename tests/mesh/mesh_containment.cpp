@@ -4,7 +4,6 @@
 // after): its triangles, Open3D's watertight test, and the cloud points
 // outside it (count, p99 and max of their distance, inside points as 0),
 // as one JSON line. Exit 1 with a message on a file it cannot read.
-#include <open3d/geometry/TriangleMesh.h>
 
 #include <cstdio>
 #include <exception>
@@ -12,6 +11,7 @@
 
 #include "graspfill/io/ply.hpp"
 #include "graspfill/mesh/mesh_deviation.hpp"
+#include "open3d_watertight.hpp"
 
 int main(int argc, char** argv) {
   if (argc != 3) {
@@ -21,11 +21,8 @@ int main(int argc, char** argv) {
   try {
     const graspfill::TriangleMesh mesh = graspfill::io::ReadMesh(argv[1]);
     const graspfill::ObjectCloud cloud = graspfill::io::ReadCloudPly(argv[2]);
-    open3d::geometry::TriangleMesh o;
-    for (const Eigen::Vector3f& v : mesh.vertices) o.vertices_.push_back(v.cast<double>());
-    o.triangles_ = mesh.triangles;
-    o.RemoveDuplicatedVertices();  // an STL repeats each vertex per triangle
-    const bool watertight = o.IsWatertight();
+    // Merged first: an STL repeats each vertex per triangle.
+    const bool watertight = graspfill::testing::Open3dWatertight(mesh, true);
     const graspfill::mesh::OutsideDeviation d =
         graspfill::mesh::SummarizeOutside(graspfill::mesh::OutsideDistances(mesh, cloud.points_G));
     std::printf("{\"triangles\": %zu, \"watertight\": %s, \"points\": %zu, \"points_outside\": %lld, "

@@ -10,7 +10,6 @@
 #include "graspfill/mesh/planner_mesh.hpp"
 
 #include <gtest/gtest.h>
-#include <open3d/geometry/TriangleMesh.h>
 
 #include <algorithm>
 #include <cmath>
@@ -18,6 +17,7 @@
 #include <string>
 
 #include "graspfill/synth/mesh_sampling.hpp"
+#include "open3d_watertight.hpp"
 #include "graspfill/synth/shapes.hpp"
 
 namespace graspfill::mesh {
@@ -35,13 +35,6 @@ ObjectCloud NoisyCloud(synth::Shape shape, const Eigen::Vector3d& size_m, int co
   }
   cloud.normals_G = s.normals;
   return cloud;
-}
-
-bool Open3dWatertight(const TriangleMesh& m) {
-  open3d::geometry::TriangleMesh o;
-  for (const Eigen::Vector3f& v : m.vertices) o.vertices_.push_back(v.cast<double>());
-  o.triangles_ = m.triangles;
-  return o.IsWatertight();
 }
 
 // The farthest point of `cloud` (every `stride`-th) outside `m` [m], by
@@ -96,7 +89,7 @@ TEST_P(PlannerMeshShapes, WatertightUnderTheCapAndHoldingTheCloud) {
   EXPECT_LE(p.mesh.triangles.size(), 1500u);
   EXPECT_GT(p.mesh.triangles.size(), 100u);  // a shape, not a token
   EXPECT_TRUE(p.watertight);
-  EXPECT_TRUE(Open3dWatertight(p.mesh));
+  EXPECT_TRUE(testing::Open3dWatertight(p.mesh));
   EXPECT_TRUE(synth::IsClosedOriented(p.mesh));
   EXPECT_GT(synth::SignedVolume(p.mesh), 0.0);  // facing outwards
   // Containment: the stated deviation is within the tolerance, and no
@@ -125,7 +118,7 @@ TEST(PlannerMesh, ConvexHullHoldsEveryPointAndIsConvex) {
   EXPECT_EQ(p.kind, CollisionMeshKind::kConvexHull);
   EXPECT_EQ(p.method, PlannerMeshMethod::kConvexHull);
   EXPECT_LE(p.mesh.triangles.size(), 5000u);
-  EXPECT_TRUE(Open3dWatertight(p.mesh));
+  EXPECT_TRUE(testing::Open3dWatertight(p.mesh));
   EXPECT_TRUE(synth::IsClosedOriented(p.mesh));
   EXPECT_LT(p.outside.max_m, 1e-6);
   EXPECT_LT(FarthestOutside(p.mesh, cloud), 1e-6);
@@ -146,7 +139,7 @@ TEST(PlannerMesh, ConvexHullOverTheCapIsTheDecimatedMeshsHull) {
   const PlannerMesh p = BuildPlannerMesh(cloud, config);
   EXPECT_EQ(p.kind, CollisionMeshKind::kConvexHull);
   EXPECT_LE(p.mesh.triangles.size(), 200u);
-  EXPECT_TRUE(Open3dWatertight(p.mesh));
+  EXPECT_TRUE(testing::Open3dWatertight(p.mesh));
   EXPECT_FALSE(p.fallback_reason.empty());
   EXPECT_LE(p.outside.max_m, config.outside_tolerance_m);
   EXPECT_LE(FarthestOutside(p.mesh, cloud), p.outside.max_m + 1e-6);
