@@ -84,13 +84,11 @@ inline nlohmann::ordered_json WriteCollisionMesh(const std::string& path, const 
   j["dense_triangles"] = m.dense_triangles;
   j["closed"] = synth::IsClosedOriented(m.mesh);
   j["watertight"] = m.watertight;
-  j["cell_mm"] = mm(config.dense.cell_m);
+  j["cell_mm"] = mm(m.cell_m);
   // The stated deviation: the farthest cloud point outside the mesh.
   j["deviation_mm"] = mm(m.outside.max_m);
   j["outside_mm"] = {{"p99", mm(m.outside.p99_m)}, {"max", mm(m.outside.max_m)},
-                     {"points", m.outside.points_outside},
-                     {"tolerance", mm(config.outside_tolerance_m)}};
-  j["inflation_mm"] = mm(m.inflation_max_m);
+                     {"points", m.outside.points_outside}};
   j["fallback"] = m.fallback_reason;
   j["surface_to_cloud_mm"] = {{"p50", mm(d.surface_to_cloud_p50_m)},
                               {"p95", mm(d.surface_to_cloud_p95_m)},
@@ -127,10 +125,9 @@ inline void PrintCollisionMesh(const nlohmann::ordered_json& j) {
               j["kind"].get<std::string>().c_str(), j["method"].get<std::string>().c_str(),
               j["watertight"].get<bool>() ? "watertight" : "NOT watertight",
               j["build_ms"].get<double>(), j["output"].get<std::string>().c_str());
-  std::printf("  holds the cloud within %.2f mm (points outside: %lld, p99 %.2f mm; inflated up "
-              "to %.2f mm)%s%s\n",
+  std::printf("  holds the cloud within %.2f mm (points outside: %lld, p99 %.2f mm; %.2g mm cells)%s%s\n",
               j["deviation_mm"].get<double>(), outside["points"].get<long long>(),
-              outside["p99"].get<double>(), j["inflation_mm"].get<double>(),
+              outside["p99"].get<double>(), j["cell_mm"].get<double>(),
               j["published"].get<std::string>().empty() ? "" : ", published on ",
               j["published"].get<std::string>().c_str());
   std::printf("  deviation: mesh to cloud p50 %.2f, p95 %.2f, max %.2f mm; "

@@ -170,6 +170,59 @@ void RegrowOutside(const Grid& grid, int max_steps, std::vector<uint8_t>* labels
   }
 }
 
+// The tetrahedron of the grid that holds `p` (the Triangulator's six per
+// cube along its main diagonal: the one whose path from corner 0 to 7
+// steps along the axes in the order of p's coordinates within the cube,
+// largest first): its four nodes and p's barycentric weights on them.
+struct TetrahedronAt {
+  std::array<int64_t, 4> node;
+  std::array<double, 4> weight;
+};
+
+TetrahedronAt LocateInGrid(const Grid& grid, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d c = (p - grid.origin) / grid.h;
+  const Eigen::Vector3i cell = c.array().floor().cast<int>();
+  const Eigen::Vector3d u = c - cell.cast<double>();
+  std::array<int, 3> axis{0, 1, 2};
+  std::sort(axis.begin(), axis.end(), [&](int a, int b) { return u[a] > u[b]; });
+  TetrahedronAt t;
+  Eigen::Vector3i corner = cell;
+  t.node[0] = grid.Index(corner.x(), corner.y(), corner.z());
+  t.weight[0] = 1.0 - u[axis[0]];
+  for (int step = 0; step < 3; ++step) {
+    corner[axis[step]] += 1;
+    t.node[step + 1] = grid.Index(corner.x(), corner.y(), corner.z());
+    t.weight[step + 1] = u[axis[step]] - (step < 2 ? u[axis[step + 1]] : 0.0);
+  }
+  return t;
+}
+
+// Lowers the field around every point it leaves outside, by just enough
+// (and a margin): on the four nodes of the point's tetrahedron, each in
+// proportion to its weight (the smallest change, in the least-squares
+// sense, that brings the linear field at the point down by that much), so
+// the bulge stays where the point is. Lowering never raises any other
+// point's field, so one pass holds them all.
+void HoldPoints(const Grid& grid, const std::vector<Eigen::Vector3d>& points, float min_abs,
+                std::vector<float>* f) {
+  for (const Eigen::Vector3d& p : points) {
+    const TetrahedronAt t = LocateInGrid(grid, p);
+    double value = 0.0, weight2 = 0.0;
+    for (int k = 0; k < 4; ++k) {
+      value += t.weight[k] * (*f)[t.node[k]];
+      weight2 += t.weight[k] * t.weight[k];
+    }
+    if (value < -min_abs) continue;
+    const double lower = (value + 2.0 * min_abs) / weight2;
+    for (int k = 0; k < 4; ++k) {
+      float& v = (*f)[t.node[k]];
+      v -= static_cast<float>(lower * t.weight[k]);
+      // Kept off zero as everywhere, by lowering only.
+      if (std::abs(v) < min_abs) v = -min_abs;
+    }
+  }
+}
+
 // Marching tetrahedra over the grid: vertices on the edges whose ends differ
 // in sign (one per edge, shared), triangles turned to face the positive side.
 class Triangulator {
@@ -306,8 +359,6 @@ void CollisionMeshConfig::Validate() const {
         "fill_band_cells must be in band_cells..12, not " + std::to_string(fill_band_cells));
   check(std::isfinite(min_piece_fraction) && min_piece_fraction >= 0.0 && min_piece_fraction <= 1.0,
         "min_piece_fraction must be in 0..1, not " + std::to_string(min_piece_fraction));
-  check(std::isfinite(offset_m) && offset_m >= 0.0 && offset_m <= 0.5 * band_cells * cell_m,
-        "offset_m must be in 0..band_cells * cell_m / 2, not " + std::to_string(offset_m));
 }
 
 TriangleMesh BuildCollisionMesh(const ObjectCloud& cloud, const CollisionMeshConfig& config) {
@@ -416,10 +467,11 @@ TriangleMesh BuildCollisionMesh(const ObjectCloud& cloud, const CollisionMeshCon
       for (int j : nn) value += normals[j].dot(x - points[j]);
       value = std::clamp(value / static_cast<double>(nn.size()), -band_m, band_m);
     }
-    float v = static_cast<float>(value - config.offset_m);
+    float v = static_cast<float>(value);
     if (std::abs(v) < min_abs) v = v < 0.0f ? -min_abs : min_abs;
     f[n] = v;
   }
+  if (config.hold_points) HoldPoints(grid, points, min_abs, &f);
   return DropSmallPieces(Triangulator(grid, f).Run(), config.min_piece_fraction);
 }
 

@@ -43,15 +43,16 @@ struct CollisionMeshConfig {
   /// Closed pieces with fewer triangles than this fraction of the largest
   /// piece's are dropped (skins around stray points) [unitless, 0..1].
   double min_piece_fraction{0.05};
-  /// The surface is the field's level set at this distance instead of 0:
-  /// moved out by about this much, still watertight by construction (the
-  /// planner mesh's inflation on coarse cells) [m].
-  double offset_m{0.0};
+  /// Every point inside: the field is lowered around each point the
+  /// surface would leave outside, just enough to take it in, so the mesh
+  /// bulges only there (still watertight: any field's zero set is). Off,
+  /// the surface follows the points' mean and about half lie outside.
+  /// Points in a dropped piece stay outside.
+  bool hold_points{false};
 
   /// @throws std::invalid_argument naming the field if out of range
   ///   (cell_m 0.0002..0.02 m, neighbors 1..64, band_cells 1.5..8,
-  ///   fill_band_cells band_cells..12, min_piece_fraction 0..1, offset_m
-  ///   0..half the band, band_cells * cell_m / 2).
+  ///   fill_band_cells band_cells..12, min_piece_fraction 0..1).
   void Validate() const;
 };
 
