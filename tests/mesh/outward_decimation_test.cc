@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "graspfill/synth/mesh_sampling.hpp"
+#include "farthest_outside.hpp"
 #include "open3d_watertight.hpp"
 
 namespace graspfill::mesh {
@@ -38,24 +39,6 @@ TriangleMesh GroovedTorus() {
   return FromOpen3d(*torus);
 }
 
-// Farthest distance of `inner`'s vertices outside `outer` (0 when all are
-// inside), by the winding number and the distance to `outer`'s triangles.
-double FarthestOutside(const TriangleMesh& outer, const TriangleMesh& inner) {
-  double farthest = 0.0;
-  for (const Eigen::Vector3f& v : inner.vertices) {
-    const Eigen::Vector3d p = v.cast<double>();
-    if (synth::WindingNumber(outer, p) > 0.5) continue;
-    double nearest = 1e9;
-    for (const Eigen::Vector3i& t : outer.triangles) {
-      nearest = std::min(nearest, synth::PointTriangleDistance(p, outer.vertices[t[0]].cast<double>(),
-                                                               outer.vertices[t[1]].cast<double>(),
-                                                               outer.vertices[t[2]].cast<double>()));
-    }
-    farthest = std::max(farthest, nearest);
-  }
-  return farthest;
-}
-
 // Farthest distance of `mesh`'s vertices from the sphere of radius r.
 double FarthestFromSphere(const TriangleMesh& mesh, double r) {
   double farthest = 0.0;
@@ -77,7 +60,7 @@ TEST(OutwardDecimation, ASphereStaysClosedAndHoldsTheDenseMesh) {
   EXPECT_GT(synth::SignedVolume(out.mesh), 0.0);  // still facing outwards
   // Every dense vertex inside: the hull never cuts in (1e-6 m: float
   // rounding of the output).
-  EXPECT_LT(FarthestOutside(out.mesh, dense), 1e-6);
+  EXPECT_LT(testing::FarthestOutside(out.mesh, dense.vertices), 1e-6);
   // And it does not balloon: 500 triangles on a 3 cm sphere are ~3 mm
   // across; a tangent facet stands off the sphere by well under 1 mm.
   EXPECT_LT(FarthestFromSphere(out.mesh, r), 0.001);
@@ -94,7 +77,7 @@ TEST(OutwardDecimation, AGroovedTorusKeepsItsHoleAndHoldsTheDenseMesh) {
   const int64_t v = static_cast<int64_t>(out.mesh.vertices.size());
   const int64_t f = static_cast<int64_t>(out.mesh.triangles.size());
   EXPECT_EQ(v - 3 * f / 2 + f, 0);
-  EXPECT_LT(FarthestOutside(out.mesh, dense), 1e-6);
+  EXPECT_LT(testing::FarthestOutside(out.mesh, dense.vertices), 1e-6);
   // The hole in the middle stays open: its centre is outside.
   EXPECT_LT(synth::WindingNumber(out.mesh, Eigen::Vector3d::Zero()), 0.5);
 }
@@ -107,7 +90,7 @@ TEST(OutwardDecimation, ABoxIsAlreadyAsSmallAsItCanBe) {
   const OutwardDecimation out = DecimateOutward(box, 4);
   EXPECT_FALSE(out.reached_budget);
   EXPECT_TRUE(testing::Open3dWatertight(out.mesh));
-  EXPECT_LT(FarthestOutside(out.mesh, box), 1e-6);
+  EXPECT_LT(testing::FarthestOutside(out.mesh, box.vertices), 1e-6);
 }
 
 TEST(OutwardDecimation, IsDeterministic) {

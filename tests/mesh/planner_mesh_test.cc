@@ -16,6 +16,7 @@
 #include <string>
 
 #include "graspfill/synth/mesh_sampling.hpp"
+#include "farthest_outside.hpp"
 #include "open3d_watertight.hpp"
 #include "graspfill/synth/shapes.hpp"
 
@@ -34,24 +35,6 @@ ObjectCloud NoisyCloud(synth::Shape shape, const Eigen::Vector3d& size_m, int co
   }
   cloud.normals_G = s.normals;
   return cloud;
-}
-
-// The farthest point of `cloud` (every `stride`-th) outside `m` [m], by
-// the test's own means.
-double FarthestOutside(const TriangleMesh& m, const ObjectCloud& cloud, size_t stride = 1) {
-  double worst = 0.0;
-  for (size_t i = 0; i < cloud.size(); i += stride) {
-    const Eigen::Vector3d p = cloud.points_G[i].cast<double>();
-    if (synth::WindingNumber(m, p) > 0.5) continue;
-    double d = std::numeric_limits<double>::infinity();
-    for (const Eigen::Vector3i& t : m.triangles) {
-      d = std::min(d, synth::PointTriangleDistance(p, m.vertices[t[0]].cast<double>(),
-                                                   m.vertices[t[1]].cast<double>(),
-                                                   m.vertices[t[2]].cast<double>()));
-    }
-    worst = std::max(worst, d);
-  }
-  return worst;
 }
 
 struct Case {
@@ -74,7 +57,7 @@ TEST_P(PlannerMeshShapes, WatertightUnderTheCapAndHoldingTheCloud) {
   // noisy cloud's points up to the noise outside.
   const TriangleMesh dense = BuildCollisionMesh(cloud, config.dense);
   ASSERT_GT(dense.triangles.size(), 5u * 1500u);
-  EXPECT_GT(FarthestOutside(dense, cloud, 20), 0.0004);
+  EXPECT_GT(testing::FarthestOutside(dense, cloud.points_G, 20), 0.0004);
 
   // The shape itself, decimated, not a fallback.
   EXPECT_EQ(p.kind, CollisionMeshKind::kDecimated) << p.fallback_reason;
@@ -89,7 +72,7 @@ TEST_P(PlannerMeshShapes, WatertightUnderTheCapAndHoldingTheCloud) {
   // Containment: every point inside (float rounding aside), as stated
   // and by the test's own measure.
   EXPECT_LT(p.outside.max_m, 1e-6);
-  EXPECT_LT(FarthestOutside(p.mesh, cloud), 1e-6);
+  EXPECT_LT(testing::FarthestOutside(p.mesh, cloud.points_G), 1e-6);
   // Not bloated: its volume at most 10% over the mesh holding the points
   // (decimation's share; the hold's own is the noise, 8-11% here), and
   // at most 20% over the shape's.
@@ -119,7 +102,7 @@ TEST(PlannerMesh, ConvexHullHoldsEveryPointAndIsConvex) {
   EXPECT_TRUE(testing::Open3dWatertight(p.mesh));
   EXPECT_TRUE(synth::IsClosedOriented(p.mesh));
   EXPECT_LT(p.outside.max_m, 1e-6);
-  EXPECT_LT(FarthestOutside(p.mesh, cloud), 1e-6);
+  EXPECT_LT(testing::FarthestOutside(p.mesh, cloud.points_G), 1e-6);
   // Convex and facing outwards: every vertex behind every face's plane.
   for (const Eigen::Vector3i& t : p.mesh.triangles) {
     const Eigen::Vector3d a = p.mesh.vertices[t[0]].cast<double>();
@@ -140,7 +123,7 @@ TEST(PlannerMesh, ConvexHullOverTheCapIsTheDecimatedMeshsHull) {
   EXPECT_TRUE(testing::Open3dWatertight(p.mesh));
   EXPECT_FALSE(p.fallback_reason.empty());
   EXPECT_LT(p.outside.max_m, 1e-6);
-  EXPECT_LT(FarthestOutside(p.mesh, cloud), 1e-6);
+  EXPECT_LT(testing::FarthestOutside(p.mesh, cloud.points_G), 1e-6);
 }
 
 TEST(PlannerMesh, SameCloudSameMesh) {
