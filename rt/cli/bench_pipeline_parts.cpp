@@ -8,8 +8,10 @@
 #include <stdexcept>
 #include <utility>
 
+#include "graspfill/core/percentile.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/messages.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
 #include "graspfill/synth/renderer.hpp"
 #include "module/cloud_repair.hpp"
 
@@ -46,8 +48,8 @@ std::unique_ptr<Pipeline> RunSceneThroughPipeline(const synth::Scene& scene,
   return pipeline;
 }
 
-synth::SurfaceSamples TruthSamples(const synth::Scene& scene) {
-  return synth::SampleSurface(scene.object_G(), 200000, 5);
+mesh::SurfaceSamples TruthSamples(const synth::Scene& scene) {
+  return mesh::SampleSurface(scene.object_G(), 200000, 5);
 }
 
 Outcome Measure(const ObjectCloud& cloud, size_t fused, const std::vector<Eigen::Vector3f>& truth,
@@ -55,13 +57,13 @@ Outcome Measure(const ObjectCloud& cloud, size_t fused, const std::vector<Eigen:
   Outcome o;
   o.points = cloud.size();
   o.added = cloud.size() - fused;
-  const std::vector<double> gt_to_cloud = eval::NearestDistances(truth, cloud.points_G);
+  const std::vector<double> gt_to_cloud = mesh::NearestDistances(truth, cloud.points_G);
   o.coverage = eval::FractionWithin(gt_to_cloud, kCoverageRadiusM);
   if (o.added > 0) {
     const std::vector<Eigen::Vector3f> added(cloud.points_G.begin() + static_cast<long>(fused),
                                              cloud.points_G.end());
-    const std::vector<double> d = eval::NearestDistances(added, truth);
-    o.added_p95_mm = 1000.0 * eval::Percentile(d, 95.0);
+    const std::vector<double> d = mesh::NearestDistances(added, truth);
+    o.added_p95_mm = 1000.0 * Percentile(d, 95.0);
     o.added_wrong = 1.0 - eval::FractionWithin(d, kWrongDistanceM);
     for (const Eigen::Vector3f& p : added) o.added_in_free += record.SeenFree(p);
   }

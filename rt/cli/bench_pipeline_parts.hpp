@@ -14,7 +14,7 @@
 #include "graspfill/evidence/visibility_record.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "graspfill/repair/repairer.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/synth/scene.hpp"
 #include "graspfill/types.hpp"
 
@@ -35,7 +35,7 @@ std::unique_ptr<Pipeline> RunSceneThroughPipeline(const synth::Scene& scene,
 
 /// The truth the benchmarks measure against: 200,000 samples of the
 /// object's surface in G (seed 5, whatever the scene's seed).
-synth::SurfaceSamples TruthSamples(const synth::Scene& scene);
+mesh::SurfaceSamples TruthSamples(const synth::Scene& scene);
 
 /// A repaired cloud against the truth.
 struct Outcome {

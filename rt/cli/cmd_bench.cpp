@@ -16,13 +16,13 @@
 
 #include "claw_option.hpp"
 #include "commands.hpp"
-#include "progress.hpp"
-#include "number_parsing.hpp"
 #include "data_paths.hpp"
-#include "unknown_option.hpp"
+#include "graspfill/core/percentile.hpp"
 #include "graspfill/core/pose_interpolation.hpp"
-#include "graspfill/eval/metrics.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
+#include "number_parsing.hpp"
+#include "progress.hpp"
+#include "unknown_option.hpp"
 #include "module/sequencer_feed.hpp"
 #include "module/session_loop.hpp"
 #include "sources/lcm_log_source.hpp"
@@ -147,7 +147,7 @@ ExtractionTimes ExtractionEvery(const PipelineConfig& config, const claw::ClawMo
 
 // 0 when no cloud was extracted (a recording of fewer than 3 fused frames).
 double PercentileMs(const std::vector<double>& v, double p) {
-  return v.empty() ? 0.0 : eval::Percentile(v, p);
+  return v.empty() ? 0.0 : Percentile(v, p);
 }
 
 double FramePathMs(const PipelineStats& s) {

@@ -25,15 +25,17 @@
 #include "bench_pipeline_parts.hpp"
 #include "commands.hpp"
 #include "error_text.hpp"
+#include "graspfill/core/percentile.hpp"
+#include "graspfill/eval/metrics.hpp"
+#include "graspfill/io/ply.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
+#include "graspfill/synth/scene.hpp"
 #include "number_parsing.hpp"
 #include "object_manifest.hpp"
 #include "object_mesh.hpp"
 #include "progress.hpp"
 #include "unknown_option.hpp"
-#include "graspfill/eval/metrics.hpp"
-#include "graspfill/io/ply.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
-#include "graspfill/synth/scene.hpp"
 
 namespace graspfill::cli {
 namespace {
@@ -223,15 +225,15 @@ RowResult RunRow(const RowSpec& s, const TriangleMesh& mesh, int frames, int rep
   const std::unique_ptr<Pipeline> pipeline =
       RunSceneThroughPipeline(*scene, PipelineFor(*scene, &r.workspace_grown));
   const ObjectCloud fused = pipeline->ExtractCloud();
-  const synth::SurfaceSamples truth = TruthSamples(*scene);
+  const mesh::SurfaceSamples truth = TruthSamples(*scene);
   r.fused_points = fused.size();
   if (fused.size() == 0) {
     r.not_run = "nothing fused";
     r.misses.push_back({"fused_points", r.not_run});
     return r;
   }
-  r.fused_coverage = eval::FractionWithin(eval::NearestDistances(truth.points, fused.points_G), kCoverageRadiusM);
-  r.fused_p99_mm = 1000.0 * eval::Percentile(eval::NearestDistances(fused.points_G, truth.points), 99.0);
+  r.fused_coverage = eval::FractionWithin(mesh::NearestDistances(truth.points, fused.points_G), kCoverageRadiusM);
+  r.fused_p99_mm = 1000.0 * Percentile(mesh::NearestDistances(fused.points_G, truth.points), 99.0);
   const evidence::VisibilityRecord& record = pipeline->visibility();
   const TimedRepair repair = RepairTimed(fused, &record, repeat);
   r.repaired = Measure(repair.cloud, fused.size(), truth.points, record);
@@ -314,7 +316,7 @@ struct ObjectTally {
   std::vector<double> outside_bound;  ///< truth outside the safe bound, per row that has one
 };
 
-double Median(const std::vector<double>& v) { return v.empty() ? 0.0 : eval::Percentile(v, 50.0); }
+double Median(const std::vector<double>& v) { return v.empty() ? 0.0 : Percentile(v, 50.0); }
 double Max(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
 
 struct Summary {
@@ -515,7 +517,7 @@ int RunBenchRepairObjects(const Args& args) {
                    ManifestPath(o.dir).c_str(), ErrorText(e).c_str());
       return 2;
     }
-    const double extent_m = synth::Bounds(meshes[m.name]).sizes().maxCoeff();
+    const double extent_m = mesh::Bounds(meshes[m.name]).sizes().maxCoeff();
     if (!(extent_m <= kMaxObjectExtentM)) {
       std::fprintf(stderr,
                    "%s: object '%s' in %s: mesh '%s' is %.3g m across; graspfill expects meters and "

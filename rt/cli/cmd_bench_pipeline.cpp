@@ -18,13 +18,14 @@
 #include "bench_pipeline_parts.hpp"
 #include "commands.hpp"
 #include "evidence_json.hpp"
-#include "progress.hpp"
-#include "number_parsing.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/ply.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
 #include "graspfill/synth/scene.hpp"
+#include "number_parsing.hpp"
+#include "progress.hpp"
 
 namespace graspfill::cli {
 namespace {
@@ -166,7 +167,7 @@ int RunBenchRepairPipeline(const Args& args) {
     Pipeline& pipeline = *pipeline_run;
     const ObjectCloud fused = pipeline.ExtractCloud();
     const PipelineStats& stats = pipeline.stats();
-    const synth::SurfaceSamples truth_samples = TruthSamples(scene);
+    const mesh::SurfaceSamples truth_samples = TruthSamples(scene);
     const std::vector<Eigen::Vector3f>& truth = truth_samples.points;
     const evidence::VisibilityRecord& record = pipeline.visibility();
 
@@ -201,7 +202,7 @@ int RunBenchRepairPipeline(const Args& args) {
                           io::IfExists::kFail);
       }
     }
-    const double fused_coverage = eval::FractionWithin(eval::NearestDistances(truth, fused.points_G), kCoverageRadiusM);
+    const double fused_coverage = eval::FractionWithin(mesh::NearestDistances(truth, fused.points_G), kCoverageRadiusM);
     const double frame_ms = stats.crop.mean_ms() + stats.mask.mean_ms() + stats.integrate.mean_ms() +
                             stats.visibility.mean_ms();
     if (json) {

@@ -20,7 +20,7 @@
 #include "progress.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/repair/repairer.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
 
 namespace graspfill::cli {
@@ -161,7 +161,7 @@ int RunBenchRepair(const Args& args) {
     pc.top_cut_fraction = top_cut;
     const synth::PaperProtocolCloud c = synth::MakePaperProtocolCloud(pc);
     // Floor: a third independent sample of the truth against the truth.
-    const synth::SurfaceSamples other = synth::SampleSurface(
+    const mesh::SurfaceSamples other = mesh::SampleSurface(
         synth::MakeShape(row.shape, c.size_m), num_points, seed + 1000);
     std::vector<Eigen::Vector3f> other_points;
     for (const Eigen::Vector3f& p : other.points) other_points.push_back(c.T_cloud_object.cast<float>() * p);

@@ -44,7 +44,7 @@
 #include "graspfill/io/atomic_file.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/synth/renderer.hpp"
 #include "graspfill/synth/rig_errors.hpp"
 #include "graspfill/synth/scene.hpp"
@@ -383,7 +383,7 @@ json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::Chann
   const synth::Placement& p = scene.placement();
   const synth::SensorModelConfig& s = c.sensor;
   const Eigen::AlignedBox3d workspace = scene.WorkspaceBoxG(0.02);
-  json object = {{"size_m", Vec(synth::Bounds(scene.object_O()).sizes())}};
+  json object = {{"size_m", Vec(mesh::Bounds(scene.object_O()).sizes())}};
   if (o.mesh_path) {
     object["source"] = "mesh";
     object["mesh_path"] = fs::absolute(*o.mesh_path).string();
@@ -524,7 +524,7 @@ int Run(const SynthOptions& o) {
       return 1;
     }
     config.mesh_name = *o.mesh_path;
-    const Eigen::Vector3d extent = synth::Bounds(config.mesh).sizes();
+    const Eigen::Vector3d extent = mesh::Bounds(config.mesh).sizes();
     if (extent.maxCoeff() > kMaxObjectExtentM) {
       std::fprintf(stderr,
                    "graspfill synth: mesh '%s' is %.3g m across; graspfill expects meters "
@@ -590,8 +590,8 @@ int Run(const SynthOptions& o) {
   // since PrepareOutputs is not replaced.
   const io::IfExists if_exists = io::ReplaceIf(o.force);
   io::WriteMeshPly((dir / "gt_mesh.ply").string(), scene.object_G_after_slip(), if_exists);
-  const synth::SurfaceSamples samples =
-      synth::SampleSurface(scene.object_G(), synth::kDefaultGroundTruthPoints, config.seed);
+  const mesh::SurfaceSamples samples =
+      mesh::SampleSurface(scene.object_G(), synth::kDefaultGroundTruthPoints, config.seed);
   ObjectCloud gt;
   gt.utime = scene.DepthUtime(0);
   gt.T_C_G = scene.T_C_G(0.0);

@@ -16,7 +16,7 @@
 #include "graspfill/io/atomic_file.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/synth/renderer.hpp"
 #include "graspfill/synth/scene.hpp"
 #include "graspfill/synth/shapes.hpp"
@@ -119,7 +119,7 @@ int RunSynthGrasps(const SynthGraspsOptions& o) {
       const fs::path gdir = dir / ("grasp" + std::to_string(grasp_id));
       fs::create_directories(gdir);
       io::WriteMeshPly((gdir / "gt_mesh.ply").string(), scene.object_G(), io::ReplaceIf(o.force));
-      const synth::SurfaceSamples samples = synth::SampleSurface(
+      const mesh::SurfaceSamples samples = mesh::SampleSurface(
           scene.object_G(), synth::kDefaultGroundTruthPoints, configs[k].seed);
       ObjectCloud gt;
       gt.utime = scene.DepthUtime(0);

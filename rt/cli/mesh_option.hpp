@@ -18,7 +18,7 @@
 #include "graspfill/io/mesh_export.hpp"
 #include "graspfill/mesh/mesh_deviation.hpp"
 #include "graspfill/mesh/planner_mesh.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 
 namespace graspfill::cli {
 
@@ -82,7 +82,7 @@ inline nlohmann::ordered_json WriteCollisionMesh(const std::string& path, const 
   j["triangles"] = m.mesh.triangles.size();
   j["max_triangles"] = config.max_triangles;
   j["dense_triangles"] = m.dense_triangles;
-  j["closed"] = synth::IsClosedOriented(m.mesh);
+  j["closed"] = mesh::IsClosedOriented(m.mesh);
   j["watertight"] = m.watertight;
   j["cell_mm"] = mm(m.cell_m);
   // The stated deviation: the farthest cloud point outside the mesh.

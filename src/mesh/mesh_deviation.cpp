@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Mesh-to-cloud and cloud-to-mesh distances: nearest points through
-// eval::NearestDistances (KD-tree), closest surface points through Open3D's
+// NearestDistances (a KD-tree), closest surface points through Open3D's
 // RaycastingScene (Embree's point queries), inside or not by counting
 // crossings along rays (graspfill's Raycaster, Embree too).
 #include "graspfill/mesh/mesh_deviation.hpp"
@@ -12,9 +12,10 @@
 #include <stdexcept>
 #include <vector>
 
+#include "graspfill/core/percentile.hpp"
 #include "graspfill/core/raycaster.hpp"
-#include "graspfill/eval/metrics.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
 
 namespace graspfill::mesh {
 namespace {
@@ -64,19 +65,19 @@ MeshDeviation MeasureDeviation(const TriangleMesh& mesh, const ObjectCloud& clou
   if (mesh.empty()) throw std::invalid_argument("mesh deviation: the mesh has no triangles");
   if (cloud.size() == 0) throw std::invalid_argument("mesh deviation: the cloud has no points");
   if (surface_samples < 1) throw std::invalid_argument("mesh deviation: surface_samples < 1");
-  const synth::SurfaceSamples samples = synth::SampleSurface(mesh, surface_samples, kSampleSeed);
+  const SurfaceSamples samples = SampleSurface(mesh, surface_samples, kSampleSeed);
   if (samples.points.empty()) throw std::invalid_argument("mesh deviation: the mesh has zero area");
 
   MeshDeviation d;
   d.surface_samples = static_cast<int>(samples.points.size());
-  const std::vector<double> out = eval::NearestDistances(samples.points, cloud.points_G);
-  d.surface_to_cloud_p50_m = eval::Percentile(out, 50.0);
-  d.surface_to_cloud_p95_m = eval::Percentile(out, 95.0);
-  d.surface_to_cloud_max_m = eval::Percentile(out, 100.0);
+  const std::vector<double> out = NearestDistances(samples.points, cloud.points_G);
+  d.surface_to_cloud_p50_m = Percentile(out, 50.0);
+  d.surface_to_cloud_p95_m = Percentile(out, 95.0);
+  d.surface_to_cloud_max_m = Percentile(out, 100.0);
   const std::vector<double> in = SurfaceDistances(mesh, cloud.points_G, 0);
-  d.cloud_to_surface_p50_m = eval::Percentile(in, 50.0);
-  d.cloud_to_surface_p95_m = eval::Percentile(in, 95.0);
-  d.cloud_to_surface_max_m = eval::Percentile(in, 100.0);
+  d.cloud_to_surface_p50_m = Percentile(in, 50.0);
+  d.cloud_to_surface_p95_m = Percentile(in, 95.0);
+  d.cloud_to_surface_max_m = Percentile(in, 100.0);
   return d;
 }
 
@@ -130,8 +131,8 @@ std::vector<double> OutsideDistances(const TriangleMesh& closed_mesh,
 OutsideDeviation SummarizeOutside(const std::vector<double>& outside_m) {
   OutsideDeviation o;
   if (outside_m.empty()) return o;
-  o.max_m = eval::Percentile(outside_m, 100.0);
-  o.p99_m = eval::Percentile(outside_m, 99.0);
+  o.max_m = Percentile(outside_m, 100.0);
+  o.p99_m = Percentile(outside_m, 99.0);
   for (const double d : outside_m) o.points_outside += d > 0.0;
   return o;
 }

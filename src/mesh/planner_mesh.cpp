@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "outward_decimation.hpp"
 
 namespace graspfill::mesh {
@@ -56,7 +56,7 @@ TriangleMesh ConvexHull(const std::vector<Eigen::Vector3f>& points) {
   } catch (const std::exception&) {
     return {};  // qhull's error: a flat or degenerate set
   }
-  if (synth::SignedVolume(hull) < 0.0) {  // qhull's triangles come either way
+  if (SignedVolume(hull) < 0.0) {  // qhull's triangles come either way
     for (Eigen::Vector3i& t : hull.triangles) std::swap(t[1], t[2]);
   }
   return hull;

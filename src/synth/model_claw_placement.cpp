@@ -10,7 +10,7 @@
 
 #include "graspfill/claw/opening_range.hpp"
 #include "graspfill/core/raycaster.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 
 namespace graspfill::synth {
 namespace {
@@ -33,9 +33,9 @@ ClawSamples SampleClaw(const claw::ClawModel& claw) {
     const claw::Link& link = claw.links()[i];
     std::vector<Eigen::Vector3d> points;
     if (!link.mesh.empty()) {
-      const int count = std::clamp(static_cast<int>(SurfaceArea(link.mesh) / kSampleAreaM2), 64,
+      const int count = std::clamp(static_cast<int>(mesh::SurfaceArea(link.mesh) / kSampleAreaM2), 64,
                                    kMaxSamplesPerLink);
-      const SurfaceSamples samples = SampleSurface(link.mesh, count, 1000 + i);
+      const mesh::SurfaceSamples samples = mesh::SampleSurface(link.mesh, count, 1000 + i);
       for (const Eigen::Vector3f& p : samples.points) points.push_back(link.T_link_mesh * p.cast<double>());
     }
     s.per_link.push_back(std::move(points));
@@ -46,7 +46,7 @@ ClawSamples SampleClaw(const claw::ClawModel& claw) {
 // Inside a closed mesh: an odd number of crossings along a fixed skew ray.
 class Solid {
  public:
-  explicit Solid(const TriangleMesh& mesh) : box_(Bounds(mesh)) {
+  explicit Solid(const TriangleMesh& mesh) : box_(mesh::Bounds(mesh)) {
     raycaster_.AddMesh(mesh);
     raycaster_.Commit();
   }

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "graspfill/synth/random.hpp"
+#include "graspfill/core/random.hpp"
 
 namespace graspfill::synth {
 namespace {

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "graspfill/synth/mesh_sampling.hpp"
-#include "graspfill/synth/random.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
+#include "graspfill/core/random.hpp"
 
 namespace graspfill::synth {
 namespace {
@@ -63,8 +63,8 @@ PaperProtocolCloud MakePaperProtocolCloud(const PaperProtocolConfig& config) {
         "paper protocol: size and point count must be positive, the cut fraction in [0, 1)");
   }
   const TriangleMesh mesh = MakeShape(config.shape, size);
-  const SurfaceSamples sample = SampleSurface(mesh, config.num_points, DeriveSeed(config.seed, 1));
-  const SurfaceSamples truth = SampleSurface(mesh, config.num_points, DeriveSeed(config.seed, 2));
+  const mesh::SurfaceSamples sample = mesh::SampleSurface(mesh, config.num_points, DeriveSeed(config.seed, 1));
+  const mesh::SurfaceSamples truth = mesh::SampleSurface(mesh, config.num_points, DeriveSeed(config.seed, 2));
   const double height = size.z();
   const double top_z = TopCutZ(config, height);
 

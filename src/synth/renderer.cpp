@@ -5,8 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include "graspfill/synth/mesh_sampling.hpp"
-#include "graspfill/synth/random.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
+#include "graspfill/core/random.hpp"
 
 namespace graspfill::synth {
 namespace {
@@ -40,7 +40,7 @@ void DepthRenderer::AddMesh(const TriangleMesh& mesh_G, SurfaceLabel label) {
   const unsigned id = raycaster_.AddMesh(mesh_G);
   if (labels_.size() <= id) labels_.resize(id + 1, SurfaceLabel::kNone);
   labels_[id] = label;
-  bounds_G_.extend(Bounds(mesh_G));
+  bounds_G_.extend(mesh::Bounds(mesh_G));
 }
 
 void DepthRenderer::Commit() { raycaster_.Commit(); }

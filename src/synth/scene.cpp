@@ -7,9 +7,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/synth/model_claw_placement.hpp"
-#include "graspfill/synth/random.hpp"
+#include "graspfill/core/random.hpp"
 
 namespace graspfill::synth {
 namespace {
@@ -167,7 +167,7 @@ Scene::Scene(const SceneConfig& config) : config_(config) {
   object_O_ = config_.mesh.empty()
                   ? MakeShape(config_.shape, config_.EffectiveSize(), config_.shape_segments)
                   : NormalizeToObjectFrame(config_.mesh);
-  const double height = Bounds(object_O_).sizes().z();
+  const double height = mesh::Bounds(object_O_).sizes().z();
   Require(height > 0.0, "the object mesh is flat or empty");
   const PlacementConfig& pc = config_.placement;
 
@@ -260,7 +260,7 @@ Scene::Scene(const SceneConfig& config) : config_(config) {
     const double len = config_.environment.arm_length_m;
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     // Behind the palm: a model claw's back is its lowest point.
-    const double palm_back_m = config_.claw_model ? -Bounds(claw_G_).min().z()
+    const double palm_back_m = config_.claw_model ? -mesh::Bounds(claw_G_).min().z()
                                                   : placement_.claw.palm_thickness_m;
     T.translation().z() = -palm_back_m - len;
     arm_G_ = MakeShape(Shape::kCylinder, Eigen::Vector3d(2 * r, 2 * r, len), kArmSegments)
@@ -269,7 +269,7 @@ Scene::Scene(const SceneConfig& config) : config_(config) {
 
   // Camera: at the object's centre's level minus the elevation, looking at
   // it; optical frame x right, y down, z forward.
-  const Eigen::AlignedBox3d box_G = Bounds(object_G_);
+  const Eigen::AlignedBox3d box_G = mesh::Bounds(object_G_);
   centre_G_ = Eigen::Vector3d(0.0, 0.0, box_G.center().z());
   const double e = config_.motion.camera_elevation_deg * kDegToRad;
   const Eigen::Vector3d forward(std::cos(e), 0.0, std::sin(e));
@@ -294,7 +294,7 @@ claw::ClawModel Scene::MakeClawModel() const {
 }
 
 Eigen::AlignedBox3d Scene::WorkspaceBoxG(double margin_m) const {
-  Eigen::AlignedBox3d box = Bounds(object_G_);
+  Eigen::AlignedBox3d box = mesh::Bounds(object_G_);
   box.min().array() -= margin_m;
   box.max().array() += margin_m;
   box.min().z() = std::max(box.min().z(), 0.0);

@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include "graspfill/synth/internal/zoo_shapes.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 
 namespace graspfill::synth {
 namespace {
@@ -199,7 +199,7 @@ double AnalyticVolume(Shape shape, const Eigen::Vector3d& size_m) {
 }
 
 TriangleMesh NormalizeToObjectFrame(const TriangleMesh& mesh) {
-  const Eigen::AlignedBox3d box = Bounds(mesh);
+  const Eigen::AlignedBox3d box = mesh::Bounds(mesh);
   if (box.isEmpty()) return mesh;
   const Eigen::Vector3d centre = box.center();
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();

@@ -20,8 +20,10 @@
 
 #include "cli_runner.hpp"
 #include "cloud_parts.hpp"
+#include "graspfill/core/percentile.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/ply.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
 
 namespace graspfill {
 namespace {
@@ -149,10 +151,10 @@ TEST(BenchObjectsE2E, TwoScansOneClawGraspSeedRowsMatchTheirDumpedClouds) {
 
     // The row's numbers, measured here from the files.
     const double fused_p99_mm =
-        1000.0 * eval::Percentile(eval::NearestDistances(fused.points_G, truth.points_G), 99.0);
+        1000.0 * Percentile(mesh::NearestDistances(fused.points_G, truth.points_G), 99.0);
     const double fused_coverage =
-        eval::FractionWithin(eval::NearestDistances(truth.points_G, fused.points_G), 0.002);
-    const double coverage = eval::FractionWithin(eval::NearestDistances(truth.points_G, repaired.points_G), 0.002);
+        eval::FractionWithin(mesh::NearestDistances(truth.points_G, fused.points_G), 0.002);
+    const double coverage = eval::FractionWithin(mesh::NearestDistances(truth.points_G, repaired.points_G), 0.002);
     EXPECT_NEAR(Get(row, "fused_p99_mm"), fused_p99_mm, 1e-6);
     EXPECT_NEAR(Get(row, "fused_coverage"), fused_coverage, 1e-9);
     EXPECT_NEAR(Get(row, "coverage_2mm"), coverage, 1e-9);
@@ -164,8 +166,8 @@ TEST(BenchObjectsE2E, TwoScansOneClawGraspSeedRowsMatchTheirDumpedClouds) {
     double added_p95_mm = 0.0, wrong = 0.0;
     if (repaired.size() > fused.size()) {
       const std::vector<Eigen::Vector3f> added(repaired.points_G.begin() + fused.size(), repaired.points_G.end());
-      const std::vector<double> d = eval::NearestDistances(added, truth.points_G);
-      added_p95_mm = 1000.0 * eval::Percentile(d, 95.0);
+      const std::vector<double> d = mesh::NearestDistances(added, truth.points_G);
+      added_p95_mm = 1000.0 * Percentile(d, 95.0);
       wrong = 1.0 - eval::FractionWithin(d, 0.003);
     }
     EXPECT_NEAR(Get(row, "added_p95_mm"), added_p95_mm, 1e-6);

@@ -25,9 +25,10 @@
 
 #include "cli_runner.hpp"
 #include "cloud_parts.hpp"
-#include "graspfill/eval/metrics.hpp"
+#include "graspfill/core/percentile.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
 #include "sinks/lcm_log_writer.hpp"
 
 namespace graspfill {
@@ -266,7 +267,7 @@ Fused ReplayAndMeasure(const std::string& dir, const std::string& log, const std
   f.points = fused.size();
   if (fused.empty()) return f;
   const ObjectCloud gt = io::ReadCloudPly(dir + "/gt_cloud.ply");
-  f.p95_m = eval::Percentile(eval::NearestDistances(fused, gt.points_G), 95.0);
+  f.p95_m = Percentile(mesh::NearestDistances(fused, gt.points_G), 95.0);
   std::printf("%s: %zu points, p95 %.3f mm\n", name.c_str(), f.points, 1000.0 * f.p95_m);
   return f;
 }

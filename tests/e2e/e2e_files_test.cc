@@ -18,10 +18,11 @@
 #include <vector>
 
 #include "cli_runner.hpp"
-#include "graspfill/eval/metrics.hpp"
+#include "graspfill/core/percentile.hpp"
 #include "graspfill/io/lcm_log_reader.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
 #include "sinks/lcm_log_writer.hpp"
 
 namespace graspfill {
@@ -156,9 +157,9 @@ TEST(GraspIds, ReusedIdsKeepEveryGraspsModel) {
     ASSERT_GT(model.size(), 500u) << path;
     std::vector<double> median_mm;
     for (size_t truth = 0; truth < 4; ++truth) {
-      const std::vector<double> d = eval::NearestDistances(
+      const std::vector<double> d = mesh::NearestDistances(
           model, io::ReadCloudPly(dir + "/grasp" + std::to_string(truth + 1) + "/gt_cloud.ply").points_G);
-      median_mm.push_back(1e3 * eval::Percentile(d, 50.0));
+      median_mm.push_back(1e3 * Percentile(d, 50.0));
     }
     for (size_t truth = 0; truth < 4; ++truth) {
       if (shapes[truth] == shapes[k]) continue;

@@ -10,8 +10,9 @@
 #include <vector>
 
 #include "cli_runner.hpp"
-#include "graspfill/eval/metrics.hpp"
+#include "graspfill/core/percentile.hpp"
 #include "graspfill/io/ply.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
 
 namespace graspfill::testing {
 namespace {
@@ -41,14 +42,14 @@ TEST(GraspsE2E, ThreeGraspsGiveThreeModelsEachOfItsOwnObject) {
     EXPECT_EQ(path, k == 3 ? dir + "/model.ply" : dir + "/model.grasp" + std::to_string(k) + ".ply");
     const std::vector<Eigen::Vector3f> model = io::ReadCloudPly(path).points_G;
     ASSERT_GT(model.size(), 1000u) << path;
-    const std::vector<double> to_own = eval::NearestDistances(model, truths[k - 1]);
-    const double p95 = eval::Percentile(to_own, 95.0);
+    const std::vector<double> to_own = mesh::NearestDistances(model, truths[k - 1]);
+    const double p95 = Percentile(to_own, 95.0);
     EXPECT_LT(p95, kP95M) << "grasp " << k;
     RecordProperty("p95_mm_grasp" + std::to_string(k), std::to_string(1000.0 * p95));
     if (k == 1) continue;
     // Nothing of the previous object: no point far from this object that
     // lies on the one before.
-    const std::vector<double> to_previous = eval::NearestDistances(model, truths[k - 2]);
+    const std::vector<double> to_previous = mesh::NearestDistances(model, truths[k - 2]);
     int leftovers = 0;
     for (size_t i = 0; i < model.size(); ++i) {
       leftovers += to_own[i] > kStrayM && to_previous[i] < kOnOtherM;

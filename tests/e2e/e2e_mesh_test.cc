@@ -18,9 +18,10 @@
 #include <string>
 
 #include "cli_runner.hpp"
-#include "graspfill/eval/metrics.hpp"
+#include "graspfill/core/percentile.hpp"
 #include "graspfill/io/ply.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
 #include "open3d_watertight.hpp"
 
 namespace graspfill {
@@ -70,7 +71,7 @@ int PointsOutsideBeyond(const TriangleMesh& m, const ObjectCloud& cloud, double 
   int beyond = 0;
   for (size_t i = 0; i < cloud.size(); ++i) {
     if (distance.GetDataPtr<float>()[i] <= bound_m) continue;
-    beyond += synth::WindingNumber(m, cloud.points_G[i].cast<double>()) < 0.5;
+    beyond += mesh::WindingNumber(m, cloud.points_G[i].cast<double>()) < 0.5;
   }
   return beyond;
 }
@@ -123,9 +124,9 @@ TEST_P(MeshE2E, WatertightUnderTheCapAndHoldingTheRepairedCloud) {
   EXPECT_EQ(PointsOutsideBeyond(mesh, cloud, stated_mm * 1e-3 + 1e-6), 0);
 
   // The mesh's surface to the cloud, measured here from the files.
-  const synth::SurfaceSamples samples = synth::SampleSurface(mesh, 100000, 11);
-  const std::vector<double> mesh_to_cloud = eval::NearestDistances(samples.points, cloud.points_G);
-  const double p95 = eval::Percentile(mesh_to_cloud, 95.0);
+  const mesh::SurfaceSamples samples = mesh::SampleSurface(mesh, 100000, 11);
+  const std::vector<double> mesh_to_cloud = mesh::NearestDistances(samples.points, cloud.points_G);
+  const double p95 = Percentile(mesh_to_cloud, 95.0);
   std::printf("%s/%s/%s: %zu triangles, mesh to cloud p95 %.3f mm (reported %.3f), deviation "
               "%.3f mm\n", c.shape.c_str(), c.claw.c_str(), c.grasp.c_str(), mesh.triangles.size(),
               p95 * 1e3, report["surface_to_cloud_mm"]["p95"].get<double>(), stated_mm);
@@ -138,8 +139,8 @@ TEST_P(MeshE2E, WatertightUnderTheCapAndHoldingTheRepairedCloud) {
   // which is wider where the p95 lies in the sparse tail of far samples (a
   // claw hole left open, the top's cap).
   const double reported_mm = report["surface_to_cloud_mm"]["p95"].get<double>();
-  const double band_lo_mm = eval::Percentile(mesh_to_cloud, 94.5) * 1e3 - 0.05;
-  const double band_hi_mm = eval::Percentile(mesh_to_cloud, 95.5) * 1e3 + 0.05;
+  const double band_lo_mm = Percentile(mesh_to_cloud, 94.5) * 1e3 - 0.05;
+  const double band_hi_mm = Percentile(mesh_to_cloud, 95.5) * 1e3 + 0.05;
   EXPECT_TRUE(reported_mm >= band_lo_mm && reported_mm <= band_hi_mm)
       << "reported p95 " << reported_mm << " mm, these samples' 94.5-95.5th percentiles (+-0.05 mm) "
       << band_lo_mm << " .. " << band_hi_mm << " mm";

@@ -16,8 +16,10 @@
 
 #include "cli_runner.hpp"
 #include "cloud_parts.hpp"
+#include "graspfill/core/percentile.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/ply.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
 
 namespace graspfill {
 namespace {
@@ -49,12 +51,12 @@ Fused ReplayAndMeasure(const std::string& dir, const std::string& extra, bool re
   const std::vector<Eigen::Vector3f> fused = ObservedPoints(output);
   const ObjectCloud gt = io::ReadCloudPly(dir + "/gt_cloud.ply");
   const std::vector<Eigen::Vector3f> claw = SampleSurface(io::ReadMesh(dir + "/claw.ply"), 0.001f);
-  const std::vector<double> to_gt = eval::NearestDistances(fused, gt.points_G);
-  const std::vector<double> to_claw = eval::NearestDistances(fused, claw);
-  f.p95_m = eval::Percentile(to_gt, 95.0);
+  const std::vector<double> to_gt = mesh::NearestDistances(fused, gt.points_G);
+  const std::vector<double> to_claw = mesh::NearestDistances(fused, claw);
+  f.p95_m = Percentile(to_gt, 95.0);
   for (size_t i = 0; i < fused.size(); ++i) f.claw_left += to_claw[i] < 0.002 && to_gt[i] > 0.002;
   f.points = fused.size();
-  f.coverage = eval::FractionWithin(eval::NearestDistances(gt.points_G, output.points_G), 0.002);
+  f.coverage = eval::FractionWithin(mesh::NearestDistances(gt.points_G, output.points_G), 0.002);
   return f;
 }
 

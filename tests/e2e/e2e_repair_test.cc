@@ -17,6 +17,7 @@
 #include "cli_runner.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/ply.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
 
 namespace graspfill {
 namespace {
@@ -100,7 +101,7 @@ TEST(RepairCli, ALargeCanInTheParallelClawGetsItsClawHolesFilled) {
   // surface within 2 mm of the model.
   const ObjectCloud repaired = io::ReadCloudPly(dir + "/repaired.ply");
   const ObjectCloud gt = io::ReadCloudPly(dir + "/gt_cloud.ply");
-  const double coverage = eval::FractionWithin(eval::NearestDistances(gt.points_G, repaired.points_G), 0.002);
+  const double coverage = eval::FractionWithin(mesh::NearestDistances(gt.points_G, repaired.points_G), 0.002);
   EXPECT_GE(coverage, 0.97);
 }
 

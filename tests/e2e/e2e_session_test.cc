@@ -18,9 +18,9 @@
 
 #include "cli_runner.hpp"
 #include "cloud_parts.hpp"
-#include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
 #include "sinks/lcm_log_writer.hpp"
 
 namespace graspfill {
@@ -54,8 +54,8 @@ ClawCount CountClawPoints(const std::string& dir, const std::string& cloud_ply) 
   const std::vector<Eigen::Vector3f> fused = ObservedPoints(io::ReadCloudPly(cloud_ply));
   const ObjectCloud gt = io::ReadCloudPly(dir + "/gt_cloud.ply");
   const std::vector<Eigen::Vector3f> claw = SampleSurface(io::ReadMesh(dir + "/claw.ply"), 0.001f);
-  const std::vector<double> to_gt = eval::NearestDistances(fused, gt.points_G);
-  const std::vector<double> to_claw = eval::NearestDistances(fused, claw);
+  const std::vector<double> to_gt = mesh::NearestDistances(fused, gt.points_G);
+  const std::vector<double> to_claw = mesh::NearestDistances(fused, claw);
   ClawCount count;
   count.fused = fused.size();
   for (size_t i = 0; i < fused.size(); ++i) count.claw_left += to_claw[i] < 0.002 && to_gt[i] > 0.002;

@@ -12,8 +12,10 @@
 
 #include "cli_runner.hpp"
 #include "cloud_parts.hpp"
+#include "graspfill/core/percentile.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/ply.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
 
 namespace graspfill {
 namespace {
@@ -51,14 +53,14 @@ TEST_P(ShapesE2E, CloudIsOnSurfaceClawFreeAndMissesOnlyClawAndTop) {
   RecordProperty("points_added", static_cast<int>(replayed.size() - fused.size()));
 
   // On the true surface: 95th percentile under 2 mm, < 0.5% beyond 3 mm.
-  const std::vector<double> to_gt = eval::NearestDistances(fused, gt.points_G);
-  EXPECT_LT(eval::Percentile(to_gt, 95.0), 0.002);
+  const std::vector<double> to_gt = mesh::NearestDistances(fused, gt.points_G);
+  EXPECT_LT(Percentile(to_gt, 95.0), 0.002);
   EXPECT_LT(1.0 - eval::FractionWithin(to_gt, 0.003), 0.005);
 
   // No claw left: < 0.1% of points within 2 mm of the claw and > 2 mm from
   // the object.
   const std::vector<Eigen::Vector3f> claw_points = SampleSurface(claw, 0.001f);
-  const std::vector<double> to_claw = eval::NearestDistances(fused, claw_points);
+  const std::vector<double> to_claw = mesh::NearestDistances(fused, claw_points);
   int claw_left = 0;
   for (size_t i = 0; i < fused.size(); ++i) claw_left += to_claw[i] < 0.002 && to_gt[i] > 0.002;
   EXPECT_LT(claw_left, 0.001 * fused.size()) << claw_left << " claw points";
@@ -66,8 +68,8 @@ TEST_P(ShapesE2E, CloudIsOnSurfaceClawFreeAndMissesOnlyClawAndTop) {
   // Coverage: a true-surface point farther than 3 mm from the cloud must be
   // where the claw was (within 15 mm of it: a finger also shadows its
   // surroundings at grazing views) or in the top band facing the palm.
-  const std::vector<double> gt_to_cloud = eval::NearestDistances(gt.points_G, fused);
-  const std::vector<double> gt_to_claw = eval::NearestDistances(gt.points_G, claw_points);
+  const std::vector<double> gt_to_cloud = mesh::NearestDistances(gt.points_G, fused);
+  const std::vector<double> gt_to_claw = mesh::NearestDistances(gt.points_G, claw_points);
   float top_z = 1e9f, bottom_z = -1e9f;
   for (const Eigen::Vector3f& p : gt.points_G) {
     top_z = std::min(top_z, p.z());

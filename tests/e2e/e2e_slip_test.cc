@@ -16,8 +16,9 @@
 
 #include "cli_runner.hpp"
 #include "cloud_parts.hpp"
-#include "graspfill/eval/metrics.hpp"
+#include "graspfill/core/percentile.hpp"
 #include "graspfill/io/ply.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
 
 namespace graspfill {
 namespace {
@@ -60,13 +61,13 @@ SlipFused ReplayAndMeasure(const std::string& dir, const std::string& extra = ""
                                       ? dir + "/gt_cloud_before_slip.ply"
                                       : dir + "/gt_cloud.ply";
   const std::vector<double> to_after =
-      eval::NearestDistances(fused, io::ReadCloudPly(dir + "/gt_cloud.ply").points_G);
+      mesh::NearestDistances(fused, io::ReadCloudPly(dir + "/gt_cloud.ply").points_G);
   const std::vector<double> to_before =
-      eval::NearestDistances(fused, io::ReadCloudPly(before_path).points_G);
+      mesh::NearestDistances(fused, io::ReadCloudPly(before_path).points_G);
   f.points = fused.size();
   if (fused.empty()) return f;
-  f.p95_after_m = eval::Percentile(to_after, 95.0);
-  f.p95_before_m = eval::Percentile(to_before, 95.0);
+  f.p95_after_m = Percentile(to_after, 95.0);
+  f.p95_before_m = Percentile(to_before, 95.0);
   size_t old_points = 0, new_points = 0;
   for (size_t i = 0; i < fused.size(); ++i) {
     old_points += to_before[i] <= kOnM && to_after[i] > kOffM;
@@ -83,8 +84,8 @@ SlipFused ReplayAndMeasure(const std::string& dir, const std::string& extra = ""
     f.shift_found_m = S.translation();
     std::vector<Eigen::Vector3f> moved;
     for (const Eigen::Vector3f& p : fused) moved.push_back((S * p.cast<double>()).cast<float>());
-    f.p95_tracked_pose_m = eval::Percentile(
-        eval::NearestDistances(moved, io::ReadCloudPly(dir + "/gt_cloud.ply").points_G), 95.0);
+    f.p95_tracked_pose_m = Percentile(
+        mesh::NearestDistances(moved, io::ReadCloudPly(dir + "/gt_cloud.ply").points_G), 95.0);
   }
   return f;
 }

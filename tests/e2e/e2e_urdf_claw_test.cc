@@ -14,8 +14,9 @@
 #include "cli_runner.hpp"
 #include "cloud_parts.hpp"
 #include "graspfill/claw/claw_model.hpp"
-#include "graspfill/eval/metrics.hpp"
+#include "graspfill/core/percentile.hpp"
 #include "graspfill/io/ply.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
 
 namespace graspfill {
 namespace {
@@ -60,20 +61,20 @@ TEST(UrdfClawE2E, RecordingWithUrdfClawReplaysClean) {
   const ObjectCloud gt = io::ReadCloudPly(dir + "/gt_cloud.ply");
   const TriangleMesh claw = io::ReadMesh(dir + "/claw.ply");
   ASSERT_GT(fused.size(), 1000u);
-  const std::vector<double> to_gt = eval::NearestDistances(fused, gt.points_G);
-  EXPECT_LT(eval::Percentile(to_gt, 95.0), 0.002);
+  const std::vector<double> to_gt = mesh::NearestDistances(fused, gt.points_G);
+  EXPECT_LT(Percentile(to_gt, 95.0), 0.002);
   // No claw left: < 0.1% of points within 2 mm of the claw and > 2 mm from
   // the object.
-  const std::vector<double> to_claw = eval::NearestDistances(fused, SampleSurface(claw, 0.001f));
+  const std::vector<double> to_claw = mesh::NearestDistances(fused, SampleSurface(claw, 0.001f));
   int claw_left = 0;
   for (size_t i = 0; i < fused.size(); ++i) claw_left += to_claw[i] < 0.002 && to_gt[i] > 0.002;
   EXPECT_LT(claw_left, 0.001 * fused.size()) << claw_left << " claw points of " << fused.size();
   // The claw holds the object: some of it within 2 mm of the object.
   const std::vector<double> claw_to_gt =
-      eval::NearestDistances(SampleSurface(claw, 0.002f), gt.points_G);
+      mesh::NearestDistances(SampleSurface(claw, 0.002f), gt.points_G);
   EXPECT_LT(*std::min_element(claw_to_gt.begin(), claw_to_gt.end()), 0.002);
   std::printf("URDF claw e2e: %zu points, p95 %.2f mm, %d claw points\n", fused.size(),
-              1e3 * eval::Percentile(to_gt, 95.0), claw_left);
+              1e3 * Percentile(to_gt, 95.0), claw_left);
 }
 
 TEST(UrdfClawE2E, ClawCommandWritesThePosedClaw) {

@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "graspfill/mesh/nearest_distances.hpp"
+
 namespace graspfill::eval {
 namespace {
 
@@ -75,8 +77,8 @@ TEST(MetricsTest, HalfMissingGivesHalfRecallFullPrecision) {
   const Cloud pred = Grid(0.0f, kN / 2);  // columns kN/2 .. kN-1 missing
   const double tau = 1e-3;
 
-  const std::vector<double> p2g = NearestDistances(pred, gt);
-  const std::vector<double> g2p = NearestDistances(gt, pred);
+  const std::vector<double> p2g = mesh::NearestDistances(pred, gt);
+  const std::vector<double> g2p = mesh::NearestDistances(gt, pred);
   const double precision = FractionWithin(p2g, tau);
   const double recall = FractionWithin(g2p, tau);
   EXPECT_EQ(precision, 1.0);
@@ -131,23 +133,6 @@ TEST(MetricsTest, OutlierRaisesMaxOnly) {
   EXPECT_EQ(m.precision_2mm, 1.0 - 1.0 / pred.size());
 }
 
-TEST(MetricsTest, NearestDistancesMatchBruteForce) {
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<float> u(-0.1f, 0.1f);
-  Cloud a(300), b(200);
-  for (auto& p : a) p = {u(rng), u(rng), u(rng)};
-  for (auto& p : b) p = {u(rng), u(rng), u(rng)};
-  const std::vector<double> d = NearestDistances(a, b);
-  ASSERT_EQ(d.size(), a.size());
-  for (size_t i = 0; i < a.size(); ++i) {
-    double best = std::numeric_limits<double>::infinity();
-    for (const auto& q : b) {
-      best = std::min(best, (a[i].cast<double>() - q.cast<double>()).norm());
-    }
-    EXPECT_NEAR(d[i], best, 1e-12) << "point " << i;
-  }
-}
-
 TEST(MetricsTest, Deterministic) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(-0.1f, 0.1f);
@@ -159,15 +144,6 @@ TEST(MetricsTest, Deterministic) {
   EXPECT_EQ(m1.chamfer_mm2, m2.chamfer_mm2);
   EXPECT_EQ(m1.p95_gt_to_pred_mm, m2.p95_gt_to_pred_mm);
   EXPECT_EQ(m1.fscore_1mm, m2.fscore_1mm);
-}
-
-TEST(MetricsTest, PercentileInterpolatesLinearly) {
-  EXPECT_DOUBLE_EQ(Percentile({4.0, 1.0, 3.0, 2.0}, 50.0), 2.5);
-  EXPECT_DOUBLE_EQ(Percentile({4.0, 1.0, 3.0, 2.0}, 0.0), 1.0);
-  EXPECT_DOUBLE_EQ(Percentile({4.0, 1.0, 3.0, 2.0}, 100.0), 4.0);
-  EXPECT_DOUBLE_EQ(Percentile({7.0}, 95.0), 7.0);
-  EXPECT_THROW(Percentile({}, 50.0), std::invalid_argument);
-  EXPECT_THROW(Percentile({1.0}, 101.0), std::invalid_argument);
 }
 
 // Expects `fn` to throw std::invalid_argument whose message has `needle`.
@@ -186,7 +162,6 @@ TEST(MetricsTest, EmptyInputThrows) {
   const Cloud c = Grid(0.0f);
   ExpectInvalid([&] { Compare({}, c); }, "predicted cloud is empty");
   ExpectInvalid([&] { Compare(c, {}); }, "ground-truth cloud is empty");
-  ExpectInvalid([&] { NearestDistances(c, {}); }, "empty");
 }
 
 TEST(MetricsTest, NonFiniteInputThrows) {

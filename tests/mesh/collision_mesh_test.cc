@@ -10,7 +10,7 @@
 #include <limits>
 #include <random>
 
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "open3d_watertight.hpp"
 #include "graspfill/synth/shapes.hpp"
 
@@ -21,7 +21,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 // A cloud of `count` points on `shape`, with the true outward normals.
 ObjectCloud SampledCloud(synth::Shape shape, const Eigen::Vector3d& size_m, int count) {
-  const synth::SurfaceSamples s = synth::SampleSurface(synth::MakeShape(shape, size_m), count, 3);
+  const mesh::SurfaceSamples s = mesh::SampleSurface(synth::MakeShape(shape, size_m), count, 3);
   ObjectCloud cloud;
   cloud.points_G = s.points;
   cloud.normals_G = s.normals;
@@ -41,11 +41,11 @@ class SphereMesh : public ::testing::Test {
   void ExpectOnSphere(const TriangleMesh& m) const {
     ASSERT_FALSE(m.empty());
     EXPECT_TRUE(testing::Open3dWatertight(m));
-    EXPECT_TRUE(synth::IsClosedOriented(m));
+    EXPECT_TRUE(mesh::IsClosedOriented(m));
     // Outward and the sphere's volume within 3% (cells round nothing off a
     // smooth surface; the sampling's noise is well under a cell).
     const double volume = 4.0 / 3.0 * kPi * std::pow(kRadius, 3);
-    EXPECT_NEAR(synth::SignedVolume(m), volume, 0.03 * volume);
+    EXPECT_NEAR(mesh::SignedVolume(m), volume, 0.03 * volume);
     // Every vertex within 0.4 mm of the true surface (a fifth of a cell).
     double worst = 0.0;
     for (const Eigen::Vector3f& v : m.vertices) {
@@ -90,7 +90,7 @@ TEST_F(SphereMesh, AHoleInTheCloudStillGivesAClosedMesh) {
   ASSERT_LT(holey.size(), cloud_.size());
   const TriangleMesh m = BuildCollisionMesh(holey, CollisionMeshConfig{});
   EXPECT_TRUE(testing::Open3dWatertight(m));
-  EXPECT_TRUE(synth::IsClosedOriented(m));
+  EXPECT_TRUE(mesh::IsClosedOriented(m));
 }
 
 TEST_F(SphereMesh, HoldingPointsTakesEveryNoisyPointInAndStaysClosed) {
@@ -103,7 +103,7 @@ TEST_F(SphereMesh, HoldingPointsTakesEveryNoisyPointInAndStaysClosed) {
   auto outside = [&](const TriangleMesh& m) {
     int count = 0;
     for (size_t i = 0; i < noisy.size(); i += 10) {
-      count += synth::WindingNumber(m, noisy.points_G[i].cast<double>()) < 0.5;
+      count += mesh::WindingNumber(m, noisy.points_G[i].cast<double>()) < 0.5;
     }
     return count;
   };
@@ -115,7 +115,7 @@ TEST_F(SphereMesh, HoldingPointsTakesEveryNoisyPointInAndStaysClosed) {
   const TriangleMesh held = BuildCollisionMesh(noisy, hold);
   EXPECT_EQ(outside(held), 0);
   EXPECT_TRUE(testing::Open3dWatertight(held));
-  EXPECT_TRUE(synth::IsClosedOriented(held));
+  EXPECT_TRUE(mesh::IsClosedOriented(held));
   // Bulging only where a point was left out: every vertex within the
   // noise and a cell (a node next to an outside point turns negative, and
   // the surface moves past it) of the sphere; on average out by about the

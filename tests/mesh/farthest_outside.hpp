@@ -8,7 +8,7 @@
 #include <limits>
 #include <vector>
 
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/types.hpp"
 
 namespace graspfill::testing {
@@ -20,10 +20,10 @@ inline double FarthestOutside(const TriangleMesh& m, const std::vector<Eigen::Ve
   double worst = 0.0;
   for (size_t i = 0; i < points.size(); i += stride) {
     const Eigen::Vector3d p = points[i].cast<double>();
-    if (synth::WindingNumber(m, p) > 0.5) continue;
+    if (mesh::WindingNumber(m, p) > 0.5) continue;
     double d = std::numeric_limits<double>::infinity();
     for (const Eigen::Vector3i& t : m.triangles) {
-      d = std::min(d, synth::PointTriangleDistance(p, m.vertices[t[0]].cast<double>(),
+      d = std::min(d, mesh::PointTriangleDistance(p, m.vertices[t[0]].cast<double>(),
                                                    m.vertices[t[1]].cast<double>(),
                                                    m.vertices[t[2]].cast<double>()));
     }

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/synth/shapes.hpp"
 
 namespace graspfill::mesh {
@@ -13,7 +13,7 @@ namespace {
 
 TEST(MeshDeviation, CloudOnTheMeshAndOffItByAKnownDistance) {
   const TriangleMesh box = synth::MakeShape(synth::Shape::kCuboid, Eigen::Vector3d(0.05, 0.05, 0.1));
-  const synth::SurfaceSamples s = synth::SampleSurface(box, 200000, 5);  // ~0.25 mm spacing
+  const mesh::SurfaceSamples s = mesh::SampleSurface(box, 200000, 5);  // ~0.25 mm spacing
   ObjectCloud on;
   on.points_G = s.points;
   const MeshDeviation d = MeasureDeviation(box, on, 20000);
@@ -33,7 +33,7 @@ TEST(MeshDeviation, CloudOnTheMeshAndOffItByAKnownDistance) {
 TEST(MeshDeviation, SameInputSameNumbers) {
   const TriangleMesh sphere = synth::MakeShape(synth::Shape::kSphere, Eigen::Vector3d::Constant(0.04));
   ObjectCloud cloud;
-  cloud.points_G = synth::SampleSurface(sphere, 5000, 9).points;
+  cloud.points_G = mesh::SampleSurface(sphere, 5000, 9).points;
   const MeshDeviation a = MeasureDeviation(sphere, cloud, 5000);
   const MeshDeviation b = MeasureDeviation(sphere, cloud, 5000);
   EXPECT_EQ(a.surface_to_cloud_p95_m, b.surface_to_cloud_p95_m);

@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "farthest_outside.hpp"
 #include "open3d_watertight.hpp"
 
@@ -57,7 +57,7 @@ TEST(OutwardDecimation, ASphereStaysClosedAndHoldsTheDenseMesh) {
   EXPECT_LE(out.mesh.triangles.size(), 500u);
   EXPECT_GE(out.mesh.triangles.size(), 490u);  // two triangles go per collapse
   EXPECT_TRUE(testing::Open3dWatertight(out.mesh));
-  EXPECT_GT(synth::SignedVolume(out.mesh), 0.0);  // still facing outwards
+  EXPECT_GT(mesh::SignedVolume(out.mesh), 0.0);  // still facing outwards
   // Every dense vertex inside: the hull never cuts in (1e-6 m: float
   // rounding of the output).
   EXPECT_LT(testing::FarthestOutside(out.mesh, dense.vertices), 1e-6);
@@ -79,7 +79,7 @@ TEST(OutwardDecimation, AGroovedTorusKeepsItsHoleAndHoldsTheDenseMesh) {
   EXPECT_EQ(v - 3 * f / 2 + f, 0);
   EXPECT_LT(testing::FarthestOutside(out.mesh, dense.vertices), 1e-6);
   // The hole in the middle stays open: its centre is outside.
-  EXPECT_LT(synth::WindingNumber(out.mesh, Eigen::Vector3d::Zero()), 0.5);
+  EXPECT_LT(mesh::WindingNumber(out.mesh, Eigen::Vector3d::Zero()), 0.5);
 }
 
 TEST(OutwardDecimation, ABoxIsAlreadyAsSmallAsItCanBe) {

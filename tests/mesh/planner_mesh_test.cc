@@ -15,7 +15,7 @@
 #include <random>
 #include <string>
 
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "farthest_outside.hpp"
 #include "open3d_watertight.hpp"
 #include "graspfill/synth/shapes.hpp"
@@ -26,7 +26,7 @@ namespace {
 // `count` points on `shape`, each moved along its normal by a uniform
 // -noise..+noise: half of them outside any mesh through their middle.
 ObjectCloud NoisyCloud(synth::Shape shape, const Eigen::Vector3d& size_m, int count, double noise_m) {
-  const synth::SurfaceSamples s = synth::SampleSurface(synth::MakeShape(shape, size_m), count, 5);
+  const mesh::SurfaceSamples s = mesh::SampleSurface(synth::MakeShape(shape, size_m), count, 5);
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> offset(static_cast<float>(-noise_m), static_cast<float>(noise_m));
   ObjectCloud cloud;
@@ -67,8 +67,8 @@ TEST_P(PlannerMeshShapes, WatertightUnderTheCapAndHoldingTheCloud) {
   EXPECT_GT(p.mesh.triangles.size(), 100u);  // a shape, not a token
   EXPECT_TRUE(p.watertight);
   EXPECT_TRUE(testing::Open3dWatertight(p.mesh));
-  EXPECT_TRUE(synth::IsClosedOriented(p.mesh));
-  EXPECT_GT(synth::SignedVolume(p.mesh), 0.0);  // facing outwards
+  EXPECT_TRUE(mesh::IsClosedOriented(p.mesh));
+  EXPECT_GT(mesh::SignedVolume(p.mesh), 0.0);  // facing outwards
   // Containment: every point inside (float rounding aside), as stated
   // and by the test's own measure.
   EXPECT_LT(p.outside.max_m, 1e-6);
@@ -78,10 +78,10 @@ TEST_P(PlannerMeshShapes, WatertightUnderTheCapAndHoldingTheCloud) {
   // at most 20% over the shape's.
   CollisionMeshConfig holding = config.dense;
   holding.hold_points = true;
-  const double held = synth::SignedVolume(BuildCollisionMesh(cloud, holding));
-  const double volume = synth::SignedVolume(dense);
-  EXPECT_LT(synth::SignedVolume(p.mesh), 1.1 * held);
-  EXPECT_LT(synth::SignedVolume(p.mesh), 1.2 * volume);
+  const double held = mesh::SignedVolume(BuildCollisionMesh(cloud, holding));
+  const double volume = mesh::SignedVolume(dense);
+  EXPECT_LT(mesh::SignedVolume(p.mesh), 1.1 * held);
+  EXPECT_LT(mesh::SignedVolume(p.mesh), 1.2 * volume);
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -100,7 +100,7 @@ TEST(PlannerMesh, ConvexHullHoldsEveryPointAndIsConvex) {
   EXPECT_EQ(p.method, PlannerMeshMethod::kConvexHull);
   EXPECT_LE(p.mesh.triangles.size(), 5000u);
   EXPECT_TRUE(testing::Open3dWatertight(p.mesh));
-  EXPECT_TRUE(synth::IsClosedOriented(p.mesh));
+  EXPECT_TRUE(mesh::IsClosedOriented(p.mesh));
   EXPECT_LT(p.outside.max_m, 1e-6);
   EXPECT_LT(testing::FarthestOutside(p.mesh, cloud.points_G), 1e-6);
   // Convex and facing outwards: every vertex behind every face's plane.

@@ -18,7 +18,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/synth/renderer.hpp"
 #include "graspfill/synth/scene.hpp"
 
@@ -53,7 +53,7 @@ class ObjectTrackerTest : public ::testing::Test {
  protected:
   ObjectTrackerTest() : scene_(SlippingSphere(0.003)), renderer_(scene_) {
     // The model: the object as grasped, in G (= its frame as first seen).
-    const synth::SurfaceSamples model = synth::SampleSurface(scene_.object_G(), 40000, 7);
+    const mesh::SurfaceSamples model = mesh::SampleSurface(scene_.object_G(), 40000, 7);
     points_ = model.points;
     normals_ = model.normals;
   }
@@ -165,7 +165,7 @@ TEST_F(ObjectTrackerTest, Open3DRegistrationFindsTheSameSlip) {
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / runs;
   // T maps the frame's points onto the model: the object's motion is T^-1,
   // measured at the sphere's centre.
-  const Eigen::Vector3d centre = synth::Bounds(scene_.object_G()).center();
+  const Eigen::Vector3d centre = mesh::Bounds(scene_.object_G()).center();
   const Eigen::Isometry3d S_open3d(T.inverse());
   const Eigen::Vector3d d = scene_.slip().Displacement_G();
   const double open3d_miss = (S_open3d * centre - centre - d).norm();

@@ -10,7 +10,7 @@
 #include "boundary_fixtures.hpp"
 #include "boundary_classification.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
-#include "graspfill/synth/random.hpp"
+#include "graspfill/core/random.hpp"
 
 namespace graspfill::repair {
 namespace {
@@ -26,7 +26,7 @@ constexpr double kMaxCurveErrorM = 0.0005;
 // (centre angle, half width) [rad].
 PointList EllipseWithGaps(double a, double b, double z, double noise_m,
                           const std::vector<std::pair<double, double>>& gaps, uint64_t seed) {
-  synth::Rng rng(seed);
+  Rng rng(seed);
   PointList out;
   const int n = static_cast<int>(2 * M_PI * std::max(a, b) / 0.001);
   for (int i = 0; i < n; ++i) {

@@ -15,7 +15,7 @@
 #include "boundary_fixtures.hpp"
 #include "cpu_time.hpp"
 #include "neighbor_index.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
 #include "graspfill/synth/shapes.hpp"
 
@@ -123,7 +123,7 @@ TEST(DetectBoundaryPoints, InfoPointsIntoTheHoleAndMeasuresSpacing) {
 TEST(DetectBoundaryPoints, ClosedSurfacesHaveAlmostNone) {
   for (const synth::Shape shape : {synth::Shape::kSphere, synth::Shape::kCylinder}) {
     const TriangleMesh mesh = synth::MakeShape(shape, synth::DefaultSize(shape));
-    const PointList points = synth::SampleSurface(mesh, 30000, 3).points;
+    const PointList points = mesh::SampleSurface(mesh, 30000, 3).points;
     const NeighborIndex index(points);
     const std::vector<int> boundary = DetectBoundaryPoints(index, BoundaryConfig{});
     std::printf("%s: %zu of %zu points flagged\n", synth::ShapeName(shape).c_str(),

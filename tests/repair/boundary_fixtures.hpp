@@ -14,7 +14,7 @@
 
 #include "graspfill/repair/repair_types.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
-#include "graspfill/synth/random.hpp"
+#include "graspfill/core/random.hpp"
 
 namespace graspfill::repair::testing {
 
@@ -27,7 +27,7 @@ struct Disc {
 /// points before the discs are cut out of it.
 inline PointList PlaneWithHoles(int n, float half_m, const std::vector<Disc>& holes,
                                 uint64_t seed) {
-  synth::Rng rng(seed);
+  Rng rng(seed);
   PointList points;
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector2f xy(static_cast<float>((2 * rng.Uniform() - 1) * half_m),
@@ -198,7 +198,7 @@ inline std::vector<BoundaryLine> OrderedLines(const PointList& points_O,
 /// Swaps neighbouring entries with probability `p` (a linker's zig-zag
 /// across a boundary band two points wide).
 inline void JitterOrder(std::vector<int>* indices, double p, uint64_t seed) {
-  synth::Rng rng(seed);
+  Rng rng(seed);
   for (size_t i = 0; i + 1 < indices->size(); ++i) {
     if (rng.Uniform() < p) {
       std::swap((*indices)[i], (*indices)[i + 1]);

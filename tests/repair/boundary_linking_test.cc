@@ -11,7 +11,7 @@
 #include "cpu_time.hpp"
 #include "boundary_detection.hpp"
 #include "neighbor_index.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
 #include "graspfill/synth/shapes.hpp"
 
@@ -210,7 +210,7 @@ TEST(LinkBoundaryPoints, TwoNearbyHolesStayTwoLines) {
 TEST(LinkBoundaryPoints, ClosedSurfacesGiveNoLines) {
   for (const synth::Shape shape : {synth::Shape::kSphere, synth::Shape::kCylinder}) {
     const TriangleMesh mesh = synth::MakeShape(shape, synth::DefaultSize(shape));
-    const PointList points = synth::SampleSurface(mesh, 30000, 3).points;
+    const PointList points = mesh::SampleSurface(mesh, 30000, 3).points;
     EXPECT_TRUE(DetectAndLink(points).empty()) << synth::ShapeName(shape);
   }
 }

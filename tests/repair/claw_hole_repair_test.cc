@@ -18,11 +18,13 @@
 
 #include "boundary_fixtures.hpp"
 #include "fill_checks.hpp"
+#include "graspfill/core/percentile.hpp"
 #include "graspfill/eval/metrics.hpp"
-#include "neighbor_index.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
 #include "graspfill/synth/shapes.hpp"
+#include "neighbor_index.hpp"
 
 namespace graspfill::repair {
 namespace {
@@ -73,7 +75,7 @@ Scene MakeScene(Shape shape, GraspWay grasp, int num_points = 50000,
     s.holes.push_back(hole);
   }
   const TriangleMesh mesh = synth::MakeShape(shape, s.cloud.size_m);
-  s.dense_truth = synth::SampleSurface(mesh, 300000, 99).points;
+  s.dense_truth = mesh::SampleSurface(mesh, 300000, 99).points;
   s.d = MeanNn(s.cloud.holey);
   return s;
 }
@@ -88,9 +90,9 @@ struct FillStats {
 FillStats Evaluate(const Scene& s, const PointList& added, double cover_m = 0.0) {
   if (cover_m <= 0.0) cover_m = kCoverD * s.d;
   FillStats st;
-  const std::vector<double> dist = eval::NearestDistances(added, s.dense_truth);
+  const std::vector<double> dist = mesh::NearestDistances(added, s.dense_truth);
   st.on_surface = eval::FractionWithin(dist, kSurfaceTolM);
-  st.p95_mm = 1e3 * eval::Percentile(dist, 95.0);
+  st.p95_mm = 1e3 * Percentile(dist, 95.0);
   PointList both = s.cloud.holey;
   both.insert(both.end(), added.begin(), added.end());
   for (size_t i = 0; i < s.patches.dirs.size(); ++i) {
@@ -99,9 +101,9 @@ FillStats Evaluate(const Scene& s, const PointList& added, double cover_m = 0.0)
       if (testing::WithinPatch(s.patches, i, p, 0.0) && p.z() <= s.top_z) in_hole.push_back(p);
     }
     if (in_hole.empty()) continue;
-    const std::vector<double> to_cloud = eval::NearestDistances(in_hole, s.cloud.holey);
-    const std::vector<double> to_added = eval::NearestDistances(in_hole, added);
-    const std::vector<double> to_both = eval::NearestDistances(in_hole, both);
+    const std::vector<double> to_cloud = mesh::NearestDistances(in_hole, s.cloud.holey);
+    const std::vector<double> to_added = mesh::NearestDistances(in_hole, added);
+    const std::vector<double> to_both = mesh::NearestDistances(in_hole, both);
     int interior = 0, interior_covered = 0;
     for (size_t i = 0; i < in_hole.size(); ++i) {
       if (to_cloud[i] <= cover_m) continue;
@@ -273,7 +275,7 @@ TEST(ClawHoleRepair, CylinderMiddleGraspHolesFilledOnTheSurface) {
   // About the hole area times the input density: 3 holes of 25 x 45 mm,
   // less the empty band of D kept along the rims.
   const double density = s.cloud.holey.size() /
-                         (synth::SurfaceArea(synth::MakeShape(Shape::kCylinder, s.cloud.size_m)) -
+                         (mesh::SurfaceArea(synth::MakeShape(Shape::kCylinder, s.cloud.size_m)) -
                           3 * 0.025 * 0.045 - M_PI * 0.035 * 0.035 -
                           2 * M_PI * 0.035 * (0.14 - s.top_z));
   const double expected = density * 3 * 0.025 * 0.045;
@@ -479,7 +481,7 @@ TEST(ClawHoleRepair, AHoleNoExplicitSurfaceExplainsIsLeftOpenUnlessPoissonIsAllo
                                            &left_open);
   EXPECT_TRUE(left_open.empty());
   if (!filled.empty()) {
-    for (const double d : eval::NearestDistances(filled, s.dense_truth)) EXPECT_LT(d, kSurfaceTolM);
+    for (const double d : mesh::NearestDistances(filled, s.dense_truth)) EXPECT_LT(d, kSurfaceTolM);
   }
 }
 

@@ -12,11 +12,13 @@
 #include <functional>
 #include <stdexcept>
 
+#include "graspfill/core/percentile.hpp"
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/messages.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "graspfill/repair/repairer.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
 #include "graspfill/synth/renderer.hpp"
 #include "graspfill/synth/scene.hpp"
 #include "fused_scene.hpp"
@@ -44,7 +46,7 @@ const Fused& Can() {
     Fused f;
     f.cloud = pipeline.ExtractCloud();
     f.record = pipeline.visibility();
-    f.truth = synth::SampleSurface(scene.object_G(), 100000, 3).points;
+    f.truth = mesh::SampleSurface(scene.object_G(), 100000, 3).points;
     return f;
   }();
   return fused;
@@ -79,7 +81,7 @@ TEST(EvidenceRepair, ClosesTheCansTopAndAddsNothingInSeenFreeSpace) {
   // Every added point is near the true surface.
   const std::vector<Eigen::Vector3f> added(seen.cloud.points_G.begin() + static_cast<long>(can.cloud.size()),
                                            seen.cloud.points_G.end());
-  EXPECT_LE(eval::Percentile(eval::NearestDistances(added, can.truth), 95.0), 0.002);
+  EXPECT_LE(Percentile(mesh::NearestDistances(added, can.truth), 95.0), 0.002);
   // Confidence: one per point, observed 1, added below.
   ASSERT_EQ(seen.cloud.confidence.size(), seen.cloud.size());
   EXPECT_EQ(seen.cloud.confidence.front(), 1.0f);
@@ -299,7 +301,7 @@ TEST(EvidenceRepair, ARoundTopGetsADomeOnTheBall) {
   EXPECT_LT(worst, 0.0015);  // a paraboloid over a 36 mm cap of a 60 mm ball
   // Every spot of the missing cap is within 2 mm of a dome point.
   const PointList cap = Ball([](const Eigen::Vector3f& p) { return p.z() > 0.024f; });
-  EXPECT_GE(eval::FractionWithin(eval::NearestDistances(cap, top.added_V), 0.002), 0.97);
+  EXPECT_GE(eval::FractionWithin(mesh::NearestDistances(cap, top.added_V), 0.002), 0.97);
   // Without the dome the same top stays open.
   EvidenceConfig no_dome;
   no_dome.dome_support_m = 0.0;
@@ -328,7 +330,7 @@ TEST(EvidenceRepair, ADomeClosesARoundTopSeenHighestOnOneSide) {
     return p.dot(tilt) > 0.022f && (p - Eigen::Vector3f(0.0f, 0.0f, 0.03f)).norm() < 0.015f;
   });
   ASSERT_GT(cap.size(), 100u);
-  EXPECT_GE(eval::FractionWithin(eval::NearestDistances(cap, top.added_V), 0.002), 0.97);
+  EXPECT_GE(eval::FractionWithin(mesh::NearestDistances(cap, top.added_V), 0.002), 0.97);
   // No dome point stands over the dome's support (a second layer): none
   // lies within 0.9 mm of a support point in x-y.
   float z_wall = 0.0f;
@@ -372,7 +374,7 @@ TEST(EvidenceRepair, ABoxHangingTiltedInTheGraspIsClosedAlongItsOwnAxis) {
   Pipeline pipeline(PipelineConfig{}, scene.MakeClawModel());
   testing::FuseScene(scene, &pipeline);
   const ObjectCloud fused = pipeline.ExtractCloud();
-  const std::vector<Eigen::Vector3f> truth = synth::SampleSurface(scene.object_G(), 100000, 3).points;
+  const std::vector<Eigen::Vector3f> truth = mesh::SampleSurface(scene.object_G(), 100000, 3).points;
   const RepairResult r = Repair(fused, InG(), &pipeline.visibility());
   const Eigen::Vector3d axis_V = r.report.frame.T_in_V.linear().col(2);
   const Eigen::Vector3d axis_true = scene.placement().T_G_O.linear().col(2);  // O's up
@@ -414,14 +416,14 @@ HeldOut RepairHeldOut(synth::Shape shape, const Eigen::Vector3d& size_m, synth::
   testing::FuseScene(scene, &pipeline);
   HeldOut h;
   h.fused = pipeline.ExtractCloud();
-  h.truth = synth::SampleSurface(scene.object_G(), 100000, 3).points;
+  h.truth = mesh::SampleSurface(scene.object_G(), 100000, 3).points;
   h.repaired = Repair(h.fused, InG(), &pipeline.visibility());
   h.coverage = Coverage(h.repaired.cloud, h.truth);
   const std::vector<Eigen::Vector3f> added(h.repaired.cloud.points_G.begin() + static_cast<long>(h.fused.size()),
                                            h.repaired.cloud.points_G.end());
   if (!added.empty()) {
-    const std::vector<double> d = eval::NearestDistances(added, h.truth);
-    h.added_p95_mm = 1000.0 * eval::Percentile(d, 95.0);
+    const std::vector<double> d = mesh::NearestDistances(added, h.truth);
+    h.added_p95_mm = 1000.0 * Percentile(d, 95.0);
     h.added_wrong = 1.0 - eval::FractionWithin(d, 0.003);
   }
   for (const Eigen::Vector3f& p : added) EXPECT_FALSE(pipeline.visibility().SeenFree(p));
@@ -562,7 +564,7 @@ TEST(EvidenceRepair, AMirroredRoundTopsOpenMiddleGetsTheDome) {
     }
   }
   ASSERT_GT(dome.size(), 100u);
-  const double median_mm = 1000.0 * eval::Percentile(eval::NearestDistances(dome, h.truth), 50.0);
+  const double median_mm = 1000.0 * Percentile(mesh::NearestDistances(dome, h.truth), 50.0);
   std::printf("dome: %zu points, median %.2f mm off the apple\n", dome.size(), median_mm);
   EXPECT_LT(median_mm, 1.5);  // 1.53 over the seen band alone
 }

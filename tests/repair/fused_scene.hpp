@@ -10,6 +10,7 @@
 
 #include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/messages.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "graspfill/synth/renderer.hpp"
 #include "graspfill/synth/scene.hpp"
@@ -41,7 +42,7 @@ inline void FuseScene(const synth::Scene& scene, Pipeline* pipeline,
 
 /// Share of `truth` within 2 mm of `cloud` (the zoo's coverage).
 inline double Coverage(const ObjectCloud& cloud, const std::vector<Eigen::Vector3f>& truth) {
-  return eval::FractionWithin(eval::NearestDistances(truth, cloud.points_G), 0.002);
+  return eval::FractionWithin(mesh::NearestDistances(truth, cloud.points_G), 0.002);
 }
 
 }  // namespace graspfill::testing

@@ -16,7 +16,7 @@
 #include "graspfill/io/messages.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "graspfill/repair/repairer.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/synth/renderer.hpp"
 #include "graspfill/synth/scene.hpp"
 #include "fused_scene.hpp"
@@ -55,7 +55,7 @@ const Session& Box() {
         s.snapshots.push_back(std::move(snap));
       }
     });
-    s.truth = synth::SampleSurface(scene.object_G(), 100000, 3).points;
+    s.truth = mesh::SampleSurface(scene.object_G(), 100000, 3).points;
     return s;
   }();
   return session;

@@ -12,7 +12,7 @@
 
 #include "cpu_time.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
-#include "graspfill/synth/random.hpp"
+#include "graspfill/core/random.hpp"
 
 namespace graspfill::repair {
 namespace {
@@ -20,7 +20,7 @@ namespace {
 using testing::CpuMs;
 
 PointList RandomCloud(int n, uint64_t seed) {
-  synth::Rng rng(seed);
+  Rng rng(seed);
   PointList points;
   for (int i = 0; i < n; ++i) {
     points.emplace_back(static_cast<float>(rng.Uniform()), static_cast<float>(rng.Uniform()),
@@ -66,7 +66,7 @@ TEST(NeighborIndex, KnnMatchesBruteForce) {
   EXPECT_EQ(&index.points(), &points);
   std::vector<int> nn;
   std::vector<double> d2;
-  synth::Rng rng(2);
+  Rng rng(2);
   for (int t = 0; t < 200; ++t) {
     // Half the queries are cloud points (themselves first), half are not.
     const Eigen::Vector3f q =
@@ -126,7 +126,7 @@ TEST(NeighborIndex, AnyWithinIsRadiusNotEmpty) {
   PointList points = RandomCloud(2000, 9);
   points.emplace_back(50.0f, 50.0f, 50.0f);  // a stray point, searched apart
   const NeighborIndex index(points);
-  synth::Rng rng(10);
+  Rng rng(10);
   std::vector<int> nn;
   int hits = 0, misses = 0;
   for (int t = 0; t < 600; ++t) {

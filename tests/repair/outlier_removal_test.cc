@@ -12,9 +12,9 @@
 
 #include "cpu_time.hpp"
 #include "neighbor_index.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
-#include "graspfill/synth/random.hpp"
+#include "graspfill/core/random.hpp"
 #include "graspfill/synth/shapes.hpp"
 
 namespace graspfill::repair {
@@ -32,11 +32,11 @@ Noisy SphereWithOutliers(int num_surface, int num_far, uint64_t seed) {
   const synth::Shape shape = synth::Shape::kSphere;
   const TriangleMesh mesh = synth::MakeShape(shape, synth::DefaultSize(shape));
   Noisy out;
-  out.points = synth::SampleSurface(mesh, num_surface, seed).points;
+  out.points = mesh::SampleSurface(mesh, num_surface, seed).points;
   out.num_surface = out.points.size();
   // The sphere (diameter 8 cm) sits on z = 0, centre at z = 4 cm.
   const Eigen::Vector3f centre(0.0f, 0.0f, 0.04f);
-  synth::Rng rng(seed + 1);
+  Rng rng(seed + 1);
   for (int i = 0; i < num_far; ++i) {
     Eigen::Vector3f dir(static_cast<float>(rng.Normal()), static_cast<float>(rng.Normal()),
                         static_cast<float>(rng.Normal()));
@@ -106,7 +106,7 @@ TEST(RemoveOutliers, CleanSampleKeepsItsSparseSpots) {
 TEST(RemoveOutliers, ClusteredOutliersAndTheNonFinite) {
   // A plane sample, a tight clump of 5 points 3 cm above it (each has the
   // other 4 close, but its 20 nearest reach down to the plane), and NaN/inf.
-  synth::Rng rng(3);
+  Rng rng(3);
   PointList points;
   for (int i = 0; i < 5000; ++i) {
     points.emplace_back(static_cast<float>(0.05 * rng.Uniform()),
@@ -156,7 +156,7 @@ TEST(RemoveOutliers, MatchesOpen3dAndTiming) {
   // surface. (Nearer ones may survive: these 200 far points widen the
   // spread of the mean distances, so the threshold, mean + 2 sigma, grows to
   // ~1.3 cm here. That is SOR's semantics, PCL's and Open3D's alike.)
-  synth::Rng rng(9);
+  Rng rng(9);
   while (points.size() < num_surface + 200) {
     const Eigen::Vector3f q(static_cast<float>(rng.Uniform() - 0.5),
                             static_cast<float>(rng.Uniform() - 0.5),

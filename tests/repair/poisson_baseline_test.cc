@@ -12,6 +12,7 @@
 
 #include "fill_checks.hpp"
 #include "graspfill/eval/metrics.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
 
 namespace graspfill::repair {
@@ -63,7 +64,7 @@ TEST(PoissonBaseline, FillsEveryHoleOfTheProtocolCylinder) {
   // Nothing where the cloud already is: every added point keeps the
   // default gap (2 D) to the cloud, up to sampling (half of it asserted).
   const double d = testing::MeanNn(cloud.holey);
-  const std::vector<double> to_cloud = eval::NearestDistances(added, cloud.holey);
+  const std::vector<double> to_cloud = mesh::NearestDistances(added, cloud.holey);
   EXPECT_GT(*std::min_element(to_cloud.begin(), to_cloud.end()), 0.5 * 1.9 * d);
   // Deterministic (Open3D's Poisson with one thread).
   EXPECT_TRUE(added == PoissonFillAll(cloud.holey, PoissonFillConfig{}, nullptr, &index));

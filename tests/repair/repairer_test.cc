@@ -10,7 +10,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
 #include "graspfill/synth/shapes.hpp"
 #include "repair_steps.hpp"
@@ -116,7 +116,7 @@ TEST(Repairer, ClosedSurfaceComesBackUnchanged) {
   for (const synth::Shape shape : {synth::Shape::kSphere, synth::Shape::kCuboid, synth::Shape::kCylinder}) {
     for (const int points : {20000, 50000}) {
       const TriangleMesh mesh = synth::MakeShape(shape, synth::DefaultSize(shape));
-      const synth::SurfaceSamples s = synth::SampleSurface(mesh, points, 3);
+      const mesh::SurfaceSamples s = mesh::SampleSurface(mesh, points, 3);
       const RepairResult r = Repair(Cloud(s.points));
       SCOPED_TRACE(synth::ShapeName(shape) + ", " + std::to_string(points) + " points");
       EXPECT_EQ(r.cloud.size(), s.points.size());
@@ -158,7 +158,7 @@ RepairResult RepairUp(const ObjectCloud& in) {
 // leaves it open: nothing above the rim, the hole reported unobserved.
 TEST(Repairer, AnOpeningNothingExplainsIsLeftOpenAndReportedUnobserved) {
   const Eigen::Vector3d size(0.07, 0.07, 0.2);
-  const synth::SurfaceSamples s = synth::SampleSurface(synth::MakeShape(synth::Shape::kBottle, size), 30000, 9);
+  const mesh::SurfaceSamples s = mesh::SampleSurface(synth::MakeShape(synth::Shape::kBottle, size), 30000, 9);
   ObjectCloud in;
   float rim_z = -1.0f;
   for (size_t i = 0; i < s.points.size(); ++i) {
@@ -187,8 +187,8 @@ TEST(Repairer, AnOpeningNothingExplainsIsLeftOpenAndReportedUnobserved) {
 // explains the rim as well (so the winner's posterior against it is
 // modest).
 TEST(Repairer, ABallsCutTopIsClosedByTheSearch) {
-  const synth::SurfaceSamples s =
-      synth::SampleSurface(synth::MakeShape(synth::Shape::kSphere, {0.06, 0.06, 0.06}), 30000, 4);
+  const mesh::SurfaceSamples s =
+      mesh::SampleSurface(synth::MakeShape(synth::Shape::kSphere, {0.06, 0.06, 0.06}), 30000, 4);
   ObjectCloud in;
   for (const Eigen::Vector3f& p : s.points) {
     if (p.z() < 0.048f) in.points_G.push_back(p);  // the top 12 mm cut off
@@ -299,7 +299,7 @@ TEST(Repairer, AsymmetricFrustumGetsItsClawHoleFilledAndNoMirror) {
     v.x() *= scale;
     v.y() *= scale;
   }
-  const synth::SurfaceSamples s = synth::SampleSurface(mesh, 40000, 5);
+  const mesh::SurfaceSamples s = mesh::SampleSurface(mesh, 40000, 5);
   std::vector<Eigen::Vector3f> holey;
   for (const Eigen::Vector3f& p : s.points) {
     const bool top = p.z() > 0.12f - 1e-5f;

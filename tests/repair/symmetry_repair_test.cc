@@ -15,13 +15,15 @@
 #include <cstdio>
 #include <limits>
 
-#include "fill_checks.hpp"
-#include "graspfill/eval/metrics.hpp"
 #include "claw_hole_repair.hpp"
-#include "neighbor_index.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "fill_checks.hpp"
+#include "graspfill/core/percentile.hpp"
+#include "graspfill/eval/metrics.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
+#include "graspfill/mesh/nearest_distances.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
 #include "graspfill/synth/shapes.hpp"
+#include "neighbor_index.hpp"
 
 namespace graspfill::repair {
 namespace {
@@ -80,7 +82,7 @@ Case ProtocolCase(Shape shape, double band_fraction, int num_claw_holes) {
   for (const Eigen::Vector3f& p : pc.holey) {
     if (p.z() <= c.top_z) c.cloud.push_back(p);
   }
-  c.dense_truth = synth::SampleSurface(synth::MakeShape(shape, pc.size_m), 300000, 99).points;
+  c.dense_truth = mesh::SampleSurface(synth::MakeShape(shape, pc.size_m), 300000, 99).points;
   c.d = MeanNn(c.cloud);
   // The completed missing-surface boundary (step 6 closes it across the
   // claw holes' mouths): the true rim just below the cut.
@@ -123,7 +125,7 @@ Case MeshCase(const TriangleMesh& mesh, double height) {
   Case c;
   c.height = height;
   c.top_z = 0.92 * height;
-  for (const Eigen::Vector3f& p : synth::SampleSurface(mesh, 50000, 5).points) {
+  for (const Eigen::Vector3f& p : mesh::SampleSurface(mesh, 50000, 5).points) {
     if (p.z() <= c.top_z) c.cloud.push_back(p);
   }
   c.d = MeanNn(c.cloud);
@@ -140,9 +142,9 @@ struct MirrorStats {
 MirrorStats Evaluate(const Case& c, const PointList& added) {
   MirrorStats st;
   if (added.empty()) return st;
-  const std::vector<double> dist = eval::NearestDistances(added, c.dense_truth);
+  const std::vector<double> dist = mesh::NearestDistances(added, c.dense_truth);
   st.on_surface = eval::FractionWithin(dist, kSurfaceTolM);
-  st.p95_mm = 1e3 * eval::Percentile(dist, 95.0);
+  st.p95_mm = 1e3 * Percentile(dist, 95.0);
   PointList missing;
   for (const Eigen::Vector3f& p : c.dense_truth) {
     if (p.z() > c.top_z) missing.push_back(p);
@@ -151,7 +153,7 @@ MirrorStats Evaluate(const Case& c, const PointList& added) {
   PointList repaired = c.cloud;
   repaired.insert(repaired.end(), c.claw_fill.begin(), c.claw_fill.end());
   repaired.insert(repaired.end(), added.begin(), added.end());
-  st.cover = eval::FractionWithin(eval::NearestDistances(missing, repaired), kCoverD * c.d);
+  st.cover = eval::FractionWithin(mesh::NearestDistances(missing, repaired), kCoverD * c.d);
   return st;
 }
 
@@ -244,7 +246,7 @@ TEST(SymmetryRepair, CylinderAndCuboidWithTheirTopFaceCutAreClosedExactly) {
     EXPECT_GE(st.on_surface, kSurfaceFraction);
     EXPECT_GE(st.cover, kCoverFraction);
     // The original is kept where the two overlap: nothing within D of it.
-    const std::vector<double> to_cloud = eval::NearestDistances(r.added_V, c.cloud);
+    const std::vector<double> to_cloud = mesh::NearestDistances(r.added_V, c.cloud);
     EXPECT_GT(*std::min_element(to_cloud.begin(), to_cloud.end()), 0.5 * c.d);
   }
 }
@@ -298,8 +300,8 @@ TEST(SymmetryRepair, SphereAndEllipsoidTopsAreMirroredOntoTheSurface) {
 // at mid-height.
 TEST(SymmetryRepair, ClawFillsProudOfANarrowFaceDoNotHideAConstantSection) {
   const Eigen::Vector3d size(0.09, 0.035, 0.11);
-  const synth::SurfaceSamples truth =
-      synth::SampleSurface(synth::MakeShape(Shape::kCuboid, size), 60000, 5);
+  const mesh::SurfaceSamples truth =
+      mesh::SampleSurface(synth::MakeShape(Shape::kCuboid, size), 60000, 5);
   Case c;
   c.height = size.z();
   c.top_z = size.z() - 0.0005;
@@ -365,7 +367,7 @@ TEST(SymmetryRepair, OpenClawHolesAreFilledByTheImage) {
   const auto hole_cover = [&](const SymmetryResult& r) {
     PointList repaired = c.cloud;
     repaired.insert(repaired.end(), r.added_V.begin(), r.added_V.end());
-    return eval::FractionWithin(eval::NearestDistances(in_holes, repaired), kCoverD * c.d);
+    return eval::FractionWithin(mesh::NearestDistances(in_holes, repaired), kCoverD * c.d);
   };
   const SymmetryResult closed_top = RepairMissingSurface(c.cloud, c.top, SymmetryConfig{}, &index);
   const SymmetryResult filled = RepairMissingSurface(c.cloud, c.top, SymmetryConfig{}, &index, nullptr, &open_V);
@@ -539,7 +541,7 @@ TEST(SymmetryRepair, TheImageOfALeaningFruitIsMovedOntoTheWallsAroundIt) {
       if (lean && v.z() > kR) v.x() += static_cast<float>(kLean * (v.z() - kR));
     }
     Case c = MeshCase(mesh, 2 * kR);
-    c.dense_truth = synth::SampleSurface(mesh, 300000, 99).points;
+    c.dense_truth = mesh::SampleSurface(mesh, 300000, 99).points;
     const auto in_hole = [&](const Eigen::Vector3f& p) {
       return p.z() > kR + 0.010 && p.z() < kR + 0.020 && p.x() > 0.0f &&
              std::abs(std::atan2(p.y(), p.x())) < 25.0 * M_PI / 180.0;
@@ -564,7 +566,7 @@ TEST(SymmetryRepair, TheImageOfALeaningFruitIsMovedOntoTheWallsAroundIt) {
     const MirrorStats st_mirrored = Evaluate(c, mirrored.added_V), st_fitted = Evaluate(c, fitted.added_V);
     // The hole's truth covered within 1 mm, by either.
     const auto hole_cover = [&](const SymmetryResult& r) {
-      return eval::FractionWithin(eval::NearestDistances(hole_truth, r.added_V), 1e-3);
+      return eval::FractionWithin(mesh::NearestDistances(hole_truth, r.added_V), 1e-3);
     };
     double moved_mm = 0.0;
     for (size_t i = 0; i < fitted.added_V.size(); ++i) {

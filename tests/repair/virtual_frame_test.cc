@@ -11,7 +11,7 @@
 
 #include "boundary_fixtures.hpp"
 #include "graspfill/synth/paper_protocol.hpp"
-#include "graspfill/synth/random.hpp"
+#include "graspfill/core/random.hpp"
 #include "graspfill/synth/shapes.hpp"
 
 namespace graspfill::repair {
@@ -162,7 +162,7 @@ TEST(VirtualFrame, RobustToSharpEdgeFalseBoundariesAndStrays) {
         }
       }
     }
-    synth::Rng rng(seed);
+    Rng rng(seed);
     const size_t strays = c.boundary.size() / 20;
     for (size_t k = 0; k < strays; ++k) {
       c.boundary.push_back(

@@ -22,8 +22,9 @@
 #include "graspfill/claw/claw_model.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/synth/object_slip.hpp"
+#include "graspfill/synth/scene.hpp"
 #include "graspfill/synth/shapes.hpp"
 
 namespace graspfill::cli {
@@ -136,7 +137,7 @@ TEST_F(SynthCliTest, WritesARecordingAndItsGroundTruth) {
 
   // Ground truth in G: inside the workspace box, the cloud on the mesh.
   const TriangleMesh gt_mesh = io::ReadMesh((dir_ / "gt_mesh.ply").string());
-  const Eigen::AlignedBox3d mesh_box = synth::Bounds(gt_mesh);
+  const Eigen::AlignedBox3d mesh_box = mesh::Bounds(gt_mesh);
   EXPECT_TRUE(Eigen::AlignedBox3d(ws_min, ws_max).contains(mesh_box));
   const ObjectCloud gt_cloud = io::ReadCloudPly((dir_ / "gt_cloud.ply").string());
   EXPECT_EQ(gt_cloud.size(), static_cast<size_t>(synth::kDefaultGroundTruthPoints));
@@ -152,8 +153,8 @@ TEST_F(SynthCliTest, WritesARecordingAndItsGroundTruth) {
   const claw::ClawModel model = claw::ClawModel::Load((dir_ / "claw" / "claw.json").string());
   const TriangleMesh posed = model.Posed(state.opening_m);
   const TriangleMesh claw_ply = io::ReadMesh((dir_ / "claw.ply").string());
-  EXPECT_TRUE(synth::Bounds(posed).isApprox(synth::Bounds(claw_ply), 1e-5));
-  EXPECT_NEAR(synth::SurfaceArea(posed), synth::SurfaceArea(claw_ply), 1e-6);
+  EXPECT_TRUE(mesh::Bounds(posed).isApprox(mesh::Bounds(claw_ply), 1e-5));
+  EXPECT_NEAR(mesh::SurfaceArea(posed), mesh::SurfaceArea(claw_ply), 1e-6);
 
   // The session description: the claw as rendered (scene.json's claw.used),
   // nothing else asked of the receiver.
@@ -244,7 +245,7 @@ TEST_F(SynthCliTest, ScalesAndTurnsAMeshFileUp) {
   const Eigen::Isometry3d z_to_y(Eigen::AngleAxisd(-0.5 * M_PI, Eigen::Vector3d::UnitX()));
   TriangleMesh mm = egg.Transformed(z_to_y);
   for (Eigen::Vector3f& v : mm.vertices) v *= 1000.0f;
-  const Eigen::Vector3d file_size = synth::Bounds(mm).sizes();
+  const Eigen::Vector3d file_size = mesh::Bounds(mm).sizes();
   ASSERT_NEAR(file_size.y(), 100.0, 1e-3);  // the height along y, in mm
   const std::string mm_path = (dir_ / "egg_mm_y_up.ply").string();
   io::WriteMeshPly(mm_path, mm);
@@ -255,10 +256,10 @@ TEST_F(SynthCliTest, ScalesAndTurnsAMeshFileUp) {
   EXPECT_EQ(scene["object"]["mesh_scale"].get<double>(), 0.001);
   EXPECT_EQ(scene["object"]["mesh_up"], "y");
   for (int k = 0; k < 3; ++k) {
-    EXPECT_NEAR(scene["object"]["size_m"][k].get<double>(), synth::Bounds(egg).sizes()[k], 1e-6) << k;
+    EXPECT_NEAR(scene["object"]["size_m"][k].get<double>(), mesh::Bounds(egg).sizes()[k], 1e-6) << k;
   }
   // The ground truth is the egg standing up, in meters.
-  const Eigen::Vector3d gt_size = synth::Bounds(io::ReadMesh((dir_ / "out" / "gt_mesh.ply").string())).sizes();
+  const Eigen::Vector3d gt_size = mesh::Bounds(io::ReadMesh((dir_ / "out" / "gt_mesh.ply").string())).sizes();
   EXPECT_NEAR(gt_size.z(), 0.1, 1e-4);
   // Bad values, and the options without --mesh, are usage errors.
   EXPECT_EQ(RunSynth({"--mesh", mm_path, "--mesh-scale", "0", "-o", (dir_ / "a").string()}), 2);
@@ -554,7 +555,7 @@ TEST_F(SynthCliTest, SlipIsSeededRecordedAndMovesOnlyTheObject) {
   const TriangleMesh mesh_after = io::ReadMesh((dir_ / "a" / "gt_mesh.ply").string());
   const TriangleMesh mesh_before = io::ReadMesh((dir_ / "a" / "gt_mesh_before_slip.ply").string());
   ASSERT_EQ(mesh_after.vertices.size(), mesh_before.vertices.size());
-  EXPECT_TRUE(synth::Bounds(mesh_after).min().isApprox(synth::Bounds(mesh_before).min() + d, 1e-6));
+  EXPECT_TRUE(mesh::Bounds(mesh_after).min().isApprox(mesh::Bounds(mesh_before).min() + d, 1e-6));
   EXPECT_EQ(FileBytes(dir_ / "a" / "gt_mesh_before_slip.ply"),
             FileBytes(dir_ / "still" / "gt_mesh.ply"));
 

@@ -10,7 +10,7 @@
 #include <cstring>
 #include <vector>
 
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/synth/shapes.hpp"
 
 namespace graspfill::synth {
@@ -340,7 +340,7 @@ TEST(SceneRendererTest, SlipMovesTheObjectAndNothingElse) {
   const CameraIntrinsics& k = moved.intrinsics;
   const Eigen::Isometry3d T_G_C = slipping.T_C_G_AtUtime(slipping.DepthUtime(last)).inverse();
   const double r = 0.5 * DefaultSize(Shape::kSphere).x();
-  const Eigen::Vector3d centre_G = Bounds(slipping.object_G()).center();
+  const Eigen::Vector3d centre_G = mesh::Bounds(slipping.object_G()).center();
   const Eigen::Vector3d d = slip.Displacement_G();
   std::vector<double> to_moved, to_unmoved;
   int claw_same = 0, claw_differs = 0;

@@ -9,7 +9,7 @@
 #include <tuple>
 
 #include "graspfill/core/pose_interpolation.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 
 namespace graspfill::synth {
 namespace {
@@ -34,7 +34,7 @@ SceneConfig MakeConfig(Shape shape, ClawType claw, GraspWay grasp) {
 // Object points (dense samples plus vertices) in G.
 std::vector<Eigen::Vector3d> ObjectPoints(const Scene& scene) {
   std::vector<Eigen::Vector3d> points;
-  for (const Eigen::Vector3f& p : SampleSurface(scene.object_G(), 200000, 11).points) {
+  for (const Eigen::Vector3f& p : mesh::SampleSurface(scene.object_G(), 200000, 11).points) {
     points.push_back(p.cast<double>());
   }
   for (const Eigen::Vector3f& v : scene.object_G().vertices) points.push_back(v.cast<double>());
@@ -92,7 +92,7 @@ TEST_P(GraspTest, ObjectHangsBelowThePalmTopFirst) {
   const auto [shape, claw_type, grasp] = GetParam();
   const Scene scene(MakeConfig(shape, claw_type, grasp));
   const Placement& placement = scene.placement();
-  const Eigen::AlignedBox3d box = Bounds(scene.object_G());
+  const Eigen::AlignedBox3d box = mesh::Bounds(scene.object_G());
   EXPECT_NEAR(box.min().z(), placement.palm_gap_m, 1e-6);
   EXPECT_GE(placement.palm_gap_m, scene.config().placement.min_palm_gap_m - 1e-9);
   // Object up (+z_O) is G's -z, up to the oblique tilt.
@@ -100,7 +100,7 @@ TEST_P(GraspTest, ObjectHangsBelowThePalmTopFirst) {
   const double tilt_deg = std::acos(-up_G.z()) * 180.0 / kPi;
   EXPECT_NEAR(tilt_deg, grasp == GraspWay::kTopOblique ? 20.0 : 0.0, 1e-6);
   // The fingertips end at the contact height plus half a pad.
-  const double height = Bounds(scene.object_O()).sizes().z();
+  const double height = mesh::Bounds(scene.object_O()).sizes().z();
   const Eigen::Vector3d contact_G =
       placement.T_G_O * Eigen::Vector3d(0, 0, (1.0 - placement.contact_fraction) * height);
   EXPECT_NEAR(placement.claw.finger_length_m,
@@ -189,7 +189,7 @@ TEST(SceneTest, OneTurnAboutTheGripperAxis) {
                                   T0.linear().col(0).dot(Thalf.linear().col(0)));
   EXPECT_NEAR(angle, kPi, 3.0 * kPi / 180.0);
   // The object's centre stays near the world origin at the camera's focus.
-  const Eigen::Vector3d centre_G = Bounds(scene.object_G()).center();
+  const Eigen::Vector3d centre_G = mesh::Bounds(scene.object_G()).center();
   for (double t : {0.0, 1.0, 2.0}) {
     EXPECT_LT((scene.T_W_G(t) * Eigen::Vector3d(0, 0, centre_G.z())).norm(), 0.005);
   }

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "graspfill/synth/internal/zoo_shapes.hpp"
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/synth/scene.hpp"
 
 namespace graspfill::synth {
@@ -30,9 +30,9 @@ TEST_P(ShapeTest, ClosedOrientedWithAnalyticVolume) {
        {DefaultSize(shape), Eigen::Vector3d(0.10, 0.10, 0.20),
         Eigen::Vector3d(0.05, 0.05, 0.10)}) {
     const TriangleMesh mesh = MakeShape(shape, size);
-    EXPECT_TRUE(IsClosedOriented(mesh)) << ShapeName(shape);
+    EXPECT_TRUE(mesh::IsClosedOriented(mesh)) << ShapeName(shape);
     const double expected = AnalyticVolume(shape, size);
-    EXPECT_NEAR(SignedVolume(mesh), expected, kVolumeRelTol * expected)
+    EXPECT_NEAR(mesh::SignedVolume(mesh), expected, kVolumeRelTol * expected)
         << ShapeName(shape);
   }
 }
@@ -40,7 +40,7 @@ TEST_P(ShapeTest, ClosedOrientedWithAnalyticVolume) {
 TEST_P(ShapeTest, BoundingBoxFollowsTheObjectFrame) {
   const Shape shape = GetParam();
   const Eigen::Vector3d size = DefaultSize(shape);
-  const Eigen::AlignedBox3d box = Bounds(MakeShape(shape, size));
+  const Eigen::AlignedBox3d box = mesh::Bounds(MakeShape(shape, size));
   // Faceted curves touch the bounding box at their vertices (segment 0 is
   // on +x), so the box matches the size to float precision.
   EXPECT_NEAR(box.min().z(), 0.0, 1e-7);
@@ -56,14 +56,14 @@ TEST_P(ShapeTest, BoundingBoxFollowsTheObjectFrame) {
 TEST_P(ShapeTest, SamplesLieOnTheSurface) {
   const Shape shape = GetParam();
   const TriangleMesh mesh = MakeShape(shape, DefaultSize(shape), 32);
-  const SurfaceSamples samples = SampleSurface(mesh, 2000, 7);
+  const mesh::SurfaceSamples samples = mesh::SampleSurface(mesh, 2000, 7);
   ASSERT_EQ(samples.points.size(), 2000u);
   ASSERT_EQ(samples.normals.size(), 2000u);
   for (size_t k = 0; k < samples.points.size(); ++k) {
     const Eigen::Vector3d p = samples.points[k].cast<double>();
     double best = 1e9;
     for (const Eigen::Vector3i& t : mesh.triangles) {
-      best = std::min(best, PointTriangleDistance(p, mesh.vertices[t[0]].cast<double>(),
+      best = std::min(best, mesh::PointTriangleDistance(p, mesh.vertices[t[0]].cast<double>(),
                                                   mesh.vertices[t[1]].cast<double>(),
                                                   mesh.vertices[t[2]].cast<double>()));
     }
@@ -169,11 +169,11 @@ TEST_P(ZooShapeTest, ClosedOrientedWithAnalyticVolume) {
   const Shape shape = GetParam();
   for (const Eigen::Vector3d& size : {DefaultSize(shape), OtherSize(shape)}) {
     const TriangleMesh mesh = MakeShape(shape, size);
-    EXPECT_TRUE(IsClosedOriented(mesh)) << ShapeName(shape);
+    EXPECT_TRUE(mesh::IsClosedOriented(mesh)) << ShapeName(shape);
     EXPECT_GT(SmallestTriangleArea(mesh), kMinTriangleAreaM2) << ShapeName(shape);
     const double expected = AnalyticVolume(shape, size);
     EXPECT_GT(expected, 0.0);
-    EXPECT_NEAR(SignedVolume(mesh), expected, kVolumeRelTol * expected)
+    EXPECT_NEAR(mesh::SignedVolume(mesh), expected, kVolumeRelTol * expected)
         << ShapeName(shape) << " " << size.transpose();
   }
 }
@@ -185,18 +185,18 @@ TEST_P(ZooShapeTest, FollowsSegments) {
   const Eigen::Vector3d size = DefaultSize(shape);
   const TriangleMesh coarse = MakeShape(shape, size, 16);
   const TriangleMesh fine = MakeShape(shape, size, 128);
-  EXPECT_TRUE(IsClosedOriented(coarse));
+  EXPECT_TRUE(mesh::IsClosedOriented(coarse));
   EXPECT_LT(4 * coarse.triangles.size(), fine.triangles.size());
   const double expected = AnalyticVolume(shape, size);
-  const double coarse_error = std::abs(SignedVolume(coarse) - expected);
+  const double coarse_error = std::abs(mesh::SignedVolume(coarse) - expected);
   EXPECT_LT(coarse_error, 0.08 * expected);
-  EXPECT_GT(coarse_error, std::abs(SignedVolume(fine) - expected));
+  EXPECT_GT(coarse_error, std::abs(mesh::SignedVolume(fine) - expected));
 }
 
 TEST_P(ZooShapeTest, BoundingBoxMatchesTheSize) {
   const Shape shape = GetParam();
   for (const Eigen::Vector3d& size : {DefaultSize(shape), OtherSize(shape)}) {
-    const Eigen::AlignedBox3d box = Bounds(MakeShape(shape, size));
+    const Eigen::AlignedBox3d box = mesh::Bounds(MakeShape(shape, size));
     EXPECT_NEAR(box.min().z(), 0.0, kZooBoxTolM) << ShapeName(shape);
     EXPECT_NEAR(box.max().z(), size.z(), kZooBoxTolM) << ShapeName(shape);
     for (int axis = 0; axis < 2; ++axis) {
@@ -242,7 +242,7 @@ TEST_P(ZooShapeTest, DefaultSizeIsHeldByBothClaws) {
       }
       EXPECT_NEAR(closest, 0.0, 1e-9) << what;
       EXPECT_GE(placement.palm_gap_m, config.placement.min_palm_gap_m - 1e-9) << what;
-      EXPECT_NEAR(Bounds(scene->object_G()).min().z(), placement.palm_gap_m, 1e-6) << what;
+      EXPECT_NEAR(mesh::Bounds(scene->object_G()).min().z(), placement.palm_gap_m, 1e-6) << what;
     }
   }
 }
@@ -357,26 +357,11 @@ TEST(ShapesTest, RejectsBadSizes) {
                std::invalid_argument);
 }
 
-TEST(MeshSamplingTest, SamplerIsSeededAndAreaWeighted) {
-  const TriangleMesh mesh = MakeShape(Shape::kCuboid, Eigen::Vector3d(0.02, 0.02, 0.16));
-  const SurfaceSamples a = SampleSurface(mesh, 20000, 3);
-  const SurfaceSamples b = SampleSurface(mesh, 20000, 3);
-  const SurfaceSamples c = SampleSurface(mesh, 20000, 4);
-  ASSERT_EQ(a.points.size(), b.points.size());
-  EXPECT_TRUE(a.points == b.points);
-  EXPECT_FALSE(a.points == c.points);
-  // Caps are 2 * 4 cm^2 of 2 * 4 + 4 * 32 = 136 cm^2: ~5.9 % of samples.
-  int on_caps = 0;
-  for (const Eigen::Vector3f& n : a.normals) on_caps += std::abs(n.z()) > 0.5f;
-  const double fraction = static_cast<double>(on_caps) / a.points.size();
-  EXPECT_NEAR(fraction, 8.0 / 136.0, 0.006);
-}
-
-TEST(MeshSamplingTest, NormalizeToObjectFrame) {
+TEST(ShapesTest, NormalizeToObjectFrame) {
   TriangleMesh mesh = MakeShape(Shape::kCuboid, Eigen::Vector3d(0.04, 0.06, 0.1));
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() = Eigen::Vector3d(0.3, -0.2, 0.5);
-  const Eigen::AlignedBox3d box = Bounds(NormalizeToObjectFrame(mesh.Transformed(T)));
+  const Eigen::AlignedBox3d box = mesh::Bounds(NormalizeToObjectFrame(mesh.Transformed(T)));
   EXPECT_NEAR(box.center().x(), 0.0, 1e-6);
   EXPECT_NEAR(box.center().y(), 0.0, 1e-6);
   EXPECT_NEAR(box.min().z(), 0.0, 1e-6);

@@ -5,7 +5,9 @@
 //
 // Units: inputs are in meters (like every graspfill cloud); the metrics are
 // reported in millimeters (distances) or square millimeters (chamfer), which
-// keeps the numbers of a hand-sized object readable.
+// keeps the numbers of a hand-sized object readable. The nearest distances
+// come from mesh/nearest_distances.hpp, the percentiles from
+// core/percentile.hpp.
 #pragma once
 
 #include <Eigen/Core>
@@ -46,21 +48,8 @@ struct CloudMetrics {
   size_t num_gt{0};    ///< number of ground-truth points
 };
 
-/// For every point of `from`, the Euclidean distance to its nearest
-/// neighbour in `to` [m], in the order of `from`. Uses Open3D's KD-tree.
-/// @throws std::invalid_argument if either cloud is empty or holds a
-///         non-finite coordinate.
-std::vector<double> NearestDistances(const std::vector<Eigen::Vector3f>& from,
-                                     const std::vector<Eigen::Vector3f>& to);
-
 /// Fraction of `distances_m` that are <= `tau_m` (0 for an empty vector).
 double FractionWithin(const std::vector<double>& distances_m, double tau_m);
-
-/// Percentile `q` in [0, 100] of `values` by linear interpolation between
-/// order statistics (numpy's default); same unit as `values`.
-/// @throws std::invalid_argument if `values` is empty or `q` is outside
-///         [0, 100].
-double Percentile(std::vector<double> values, double q);
 
 /// Compares a predicted cloud with the ground truth, both in meters and in
 /// the same frame. Deterministic: same inputs, same bits out.

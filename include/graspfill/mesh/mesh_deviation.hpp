@@ -12,7 +12,7 @@
 namespace graspfill::mesh {
 
 /// Distances between a mesh and a cloud [m]; percentiles interpolate
-/// linearly (eval::Percentile).
+/// linearly (core/percentile.hpp).
 struct MeshDeviation {
   /// Points sampled uniformly by area on the mesh, to their nearest cloud
   /// point. A mesh exactly on a cloud of spacing s still reads up to about

@@ -47,6 +47,11 @@
 
 namespace graspfill::synth {
 
+/// Default size of a scene's ground-truth cloud (points sampled on its
+/// object_G()): 100k points, i.e. ~0.7 mm mean spacing on the default
+/// 7 x 7 x 14 cm cuboid (490 cm^2).
+constexpr int kDefaultGroundTruthPoints = 100000;
+
 enum class ClawType { kThreeFinger, kParallel };
 /// The paper's three grasping ways (section 3.1.3).
 enum class GraspWay { kTopStraight, kMiddleStraight, kTopOblique };

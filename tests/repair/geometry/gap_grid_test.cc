@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "graspfill/synth/random.hpp"
+#include "graspfill/core/random.hpp"
 
 namespace graspfill::repair::geometry {
 namespace {
@@ -23,7 +23,7 @@ Eigen::Vector2d Xy(const Eigen::Vector3f& p) { return Eigen::Vector2d(p.x(), p.y
 // The grid's answer is the brute force's, queries anywhere on the grid,
 // at the gap of the cells and with cells coarsened for a wide box.
 TEST(GapGrid, AnswersAsBruteForce) {
-  synth::Rng rng(3);
+  Rng rng(3);
   std::vector<Eigen::Vector3f> points;
   for (int i = 0; i < 1500; ++i) {
     points.emplace_back(static_cast<float>(0.1 * rng.Uniform()), static_cast<float>(0.05 * rng.Uniform()),

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-#include "graspfill/synth/random.hpp"
+#include "graspfill/core/random.hpp"
 
 namespace graspfill::repair::geometry {
 namespace {
@@ -15,7 +15,7 @@ namespace {
 // `noise_m` of uniform noise along n.
 std::vector<Eigen::Vector3d> PlanePatch(const Eigen::Vector3d& n, const Eigen::Vector3d& centre,
                                         double noise_m, int count, uint64_t seed) {
-  synth::Rng rng(seed);
+  Rng rng(seed);
   const Eigen::Vector3d u = n.unitOrthogonal(), v = n.cross(u);
   std::vector<Eigen::Vector3d> points;
   for (int i = 0; i < count; ++i) {

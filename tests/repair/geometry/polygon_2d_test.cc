@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-#include "graspfill/synth/random.hpp"
+#include "graspfill/core/random.hpp"
 
 namespace graspfill::repair::geometry {
 namespace {
@@ -15,7 +15,7 @@ using Vec2 = Eigen::Vector2d;
 
 // Points filling a w x h rectangle turned by `angle` about `centre`.
 std::vector<Vec2> TurnedRectangle(double w, double h, double angle, const Vec2& centre, int count) {
-  synth::Rng rng(5);
+  Rng rng(5);
   const Vec2 a(std::cos(angle), std::sin(angle)), b(-a.y(), a.x());
   std::vector<Vec2> points;
   for (int i = 0; i < count; ++i) {
@@ -84,7 +84,7 @@ TEST(Polygon2d, TheMinimumAreaRectangleOfATurnedRectangle) {
 // vertices, more for a finer tolerance.
 TEST(Polygon2d, SimplifiedVertexCountOfARectanglesHullAndACircle) {
   // A 50 x 35 mm rectangle's outline, each point moved up to 0.25 mm.
-  synth::Rng rng(8);
+  Rng rng(8);
   std::vector<Vec2> points;
   for (int i = 0; i < 2000; ++i) {
     const double t = rng.Uniform() * 0.17, jitter_x = 0.0005 * (rng.Uniform() - 0.5),

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-#include "graspfill/synth/random.hpp"
+#include "graspfill/core/random.hpp"
 
 namespace graspfill::repair::geometry {
 namespace {
@@ -16,7 +16,7 @@ using Vec3 = Eigen::Vector3d;
 // Samples of a box's outline edges (x in [0, 0.1], y in [0, 0.06], z in
 // [0, 0.15]): its top rim (z = top) and the vertical edges, 1 mm noise.
 std::vector<Vec3> BoxEdges(double top, uint64_t seed) {
-  synth::Rng rng(seed);
+  Rng rng(seed);
   std::vector<Vec3> points;
   const auto noise = [&] { return 0.001 * (2.0 * rng.Uniform() - 1.0); };
   for (int i = 0; i < 400; ++i) {  // the rim: around the top rectangle
@@ -34,7 +34,7 @@ std::vector<Vec3> BoxEdges(double top, uint64_t seed) {
 
 // The cloud: the box's faces below `top` (the top is cut off).
 std::vector<Vec3> BoxSides(double top, uint64_t seed) {
-  synth::Rng rng(seed);
+  Rng rng(seed);
   std::vector<Vec3> cloud;
   for (int i = 0; i < 4000; ++i) {
     const double z = rng.Uniform() * top, t = rng.Uniform() * 0.32;
@@ -68,7 +68,7 @@ TEST(RansacPlanes, ACutFindsTheRimWithTheCloudOnOneSide) {
 
 TEST(RansacPlanes, FreshPlanesTakeThePointsNoneExplainsYet) {
   // Two planes of points: x = 0 (600) and y = 0.2 (300), then no more.
-  synth::Rng rng(4);
+  Rng rng(4);
   std::vector<Vec3> points;
   for (int i = 0; i < 600; ++i) points.emplace_back(0.0005 * (2 * rng.Uniform() - 1), 0.1 * rng.Uniform(), 0.1 * rng.Uniform());
   for (int i = 0; i < 300; ++i) points.emplace_back(0.1 + 0.1 * rng.Uniform(), 0.2, 0.1 * rng.Uniform());

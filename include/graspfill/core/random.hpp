@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Seeded random numbers for the synthetic data. The distributions are
-// written out here (not std::normal_distribution) so that a seed gives the
-// same numbers with every standard library, which keeps recordings
-// reproducible across machines.
+// Seeded random numbers (the synthetic data, a mesh's surface samples). The
+// distributions are written out here (not std::normal_distribution) so that
+// a seed gives the same numbers with every standard library, which keeps
+// recordings and measurements reproducible across machines.
 #pragma once
 
 #include <cstdint>
 #include <random>
 
-namespace graspfill::synth {
+namespace graspfill {
 
 /// SplitMix64 finalizer: a cheap, well-mixed 64-bit hash.
 uint64_t SplitMix64(uint64_t x);
@@ -35,4 +35,4 @@ class Rng {
   bool has_spare_{false};
 };
 
-}  // namespace graspfill::synth
+}  // namespace graspfill

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Measurements of closed triangle meshes and an area-weighted surface
-// sampler, used for the ground-truth cloud and by the tests.
+// Measurements of triangle meshes (area, signed volume, closed and
+// oriented, winding number, point-triangle distance) and an area-weighted
+// surface sampler: the mesh deviation, the planner mesh, the synthetic
+// ground truth and the tests use them.
 #pragma once
 
 #include <Eigen/Core>
@@ -10,7 +12,7 @@
 
 #include "graspfill/types.hpp"
 
-namespace graspfill::synth {
+namespace graspfill::mesh {
 
 /// Points sampled on a surface, with the unit normals of their triangles.
 struct SurfaceSamples {
@@ -18,13 +20,9 @@ struct SurfaceSamples {
   std::vector<Eigen::Vector3f> normals;
 };
 
-/// Default size of the ground-truth cloud: 100k points, i.e. ~0.7 mm mean
-/// spacing on the default 7 x 7 x 14 cm cuboid (490 cm^2).
-constexpr int kDefaultGroundTruthPoints = 100000;
-
-/// `count` points drawn uniformly by area over the mesh (seeded, so the
-/// same mesh, count and seed give the same points). Points and normals are
-/// in the mesh's frame [m]. Returns nothing for a mesh of zero area.
+/// `count` points drawn uniformly by area over the mesh, seeded (Rng of
+/// core/random.hpp: the same mesh, count and seed give the same points).
+/// Points and normals are in the mesh's frame [m]; none for zero area.
 SurfaceSamples SampleSurface(const TriangleMesh& mesh, int count,
                              uint64_t seed);
 
@@ -52,4 +50,4 @@ double WindingNumber(const TriangleMesh& mesh, const Eigen::Vector3d& p);
 double PointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                              const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
-}  // namespace graspfill::synth
+}  // namespace graspfill::mesh

@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "graspfill/synth/mesh_sampling.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <utility>
 
-#include "graspfill/synth/random.hpp"
+#include "graspfill/core/random.hpp"
 
-namespace graspfill::synth {
+namespace graspfill::mesh {
 namespace {
 
 Eigen::Vector3d Vertex(const TriangleMesh& mesh, int i) {
@@ -141,4 +141,4 @@ double PointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
   return (p - (a + ab * (vb * denom) + ac * (vc * denom))).norm();
 }
 
-}  // namespace graspfill::synth
+}  // namespace graspfill::mesh

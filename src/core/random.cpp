@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "graspfill/synth/random.hpp"
+#include "graspfill/core/random.hpp"
 
 #include <cmath>
 
-namespace graspfill::synth {
+namespace graspfill {
 
 uint64_t SplitMix64(uint64_t x) {
   x += 0x9e3779b97f4a7c15ULL;
@@ -35,4 +35,4 @@ double Rng::Normal() {
   return r * std::cos(kTwoPi * u2);
 }
 
-}  // namespace graspfill::synth
+}  // namespace graspfill
