@@ -1,9 +1,11 @@
 # SPDX-License-Identifier: BSD-3-Clause
 # graspfill as a package.
 #
-# Every library is exported as graspfill::<name>: installed (install(EXPORT),
-# find_package(graspfill)) and, for projects that add_subdirectory()
-# graspfill, as an ALIAS of the same name. graspfill_install_package() at the
+# Every product library is exported as graspfill::<name>: installed
+# (install(EXPORT), find_package(graspfill)) and, for projects that
+# add_subdirectory() graspfill, as an ALIAS of the same name. The CLI's and
+# the tests' tool libraries (synth, eval; graspfill_module(... INTERNAL)) and
+# the Poisson baseline are neither. graspfill_install_package() at the
 # end of the top-level CMakeLists installs the libraries, the public and the
 # generated LCM headers, graspfillConfig.cmake with its version file,
 # graspfill.pc, the CLI and its data.
@@ -48,7 +50,7 @@ endfunction()
 # into the consumer's flags (no public graspfill header includes either).
 function(graspfill_write_pkg_config)
   set(libs)
-  foreach(name rt_module rt_sources rt_sinks mesh synth eval io view pipeline refine repair
+  foreach(name rt_module rt_sources rt_sinks mesh io view pipeline refine repair
                evidence fusion claw core)
     string(APPEND libs " -lgraspfill_${name}")
   endforeach()

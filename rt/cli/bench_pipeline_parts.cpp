@@ -8,12 +8,12 @@
 #include <stdexcept>
 #include <utility>
 
+#include "eval/metrics.hpp"
 #include "graspfill/core/percentile.hpp"
-#include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/mesh/nearest_distances.hpp"
-#include "graspfill/synth/renderer.hpp"
 #include "module/cloud_repair.hpp"
+#include "synth/renderer.hpp"
 
 namespace graspfill::cli {
 namespace {

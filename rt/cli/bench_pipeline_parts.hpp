@@ -12,11 +12,11 @@
 #include <vector>
 
 #include "graspfill/evidence/visibility_record.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "graspfill/repair/repairer.hpp"
-#include "graspfill/mesh/mesh_geometry.hpp"
-#include "graspfill/synth/scene.hpp"
 #include "graspfill/types.hpp"
+#include "synth/scene.hpp"
 
 namespace graspfill::cli {
 

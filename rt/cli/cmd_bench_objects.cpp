@@ -25,16 +25,16 @@
 #include "bench_pipeline_parts.hpp"
 #include "commands.hpp"
 #include "error_text.hpp"
+#include "eval/metrics.hpp"
 #include "graspfill/core/percentile.hpp"
-#include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/mesh/nearest_distances.hpp"
-#include "graspfill/synth/scene.hpp"
 #include "number_parsing.hpp"
 #include "object_manifest.hpp"
 #include "object_mesh.hpp"
 #include "progress.hpp"
+#include "synth/scene.hpp"
 #include "unknown_option.hpp"
 
 namespace graspfill::cli {

@@ -17,15 +17,15 @@
 
 #include "bench_pipeline_parts.hpp"
 #include "commands.hpp"
+#include "eval/metrics.hpp"
 #include "evidence_json.hpp"
-#include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/mesh/nearest_distances.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
-#include "graspfill/synth/scene.hpp"
 #include "number_parsing.hpp"
 #include "progress.hpp"
+#include "synth/scene.hpp"
 
 namespace graspfill::cli {
 namespace {

@@ -15,13 +15,13 @@
 
 #include "cmd_synth_protocol.hpp"
 #include "commands.hpp"
+#include "eval/metrics.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
+#include "graspfill/repair/repairer.hpp"
 #include "number_parsing.hpp"
 #include "poisson_baseline.hpp"
 #include "progress.hpp"
-#include "graspfill/eval/metrics.hpp"
-#include "graspfill/repair/repairer.hpp"
-#include "graspfill/mesh/mesh_geometry.hpp"
-#include "graspfill/synth/paper_protocol.hpp"
+#include "synth/paper_protocol.hpp"
 
 namespace graspfill::cli {
 namespace {

@@ -24,9 +24,9 @@
 
 #include "commands.hpp"
 #include "error_text.hpp"
-#include "unknown_option.hpp"
-#include "graspfill/eval/metrics.hpp"
+#include "eval/metrics.hpp"
 #include "graspfill/io/ply.hpp"
+#include "unknown_option.hpp"
 
 namespace graspfill::cli {
 namespace {

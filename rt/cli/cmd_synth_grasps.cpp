@@ -10,17 +10,17 @@
 #include "claw_option.hpp"
 #include "commands.hpp"
 #include "error_text.hpp"
-#include "number_parsing.hpp"
-#include "output_dir.hpp"
-#include "progress.hpp"
 #include "graspfill/io/atomic_file.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/mesh/mesh_geometry.hpp"
-#include "graspfill/synth/renderer.hpp"
-#include "graspfill/synth/scene.hpp"
-#include "graspfill/synth/shapes.hpp"
+#include "number_parsing.hpp"
+#include "output_dir.hpp"
+#include "progress.hpp"
 #include "sinks/lcm_log_writer.hpp"
+#include "synth/renderer.hpp"
+#include "synth/scene.hpp"
+#include "synth/shapes.hpp"
 
 namespace graspfill::cli {
 

@@ -18,8 +18,8 @@
 
 #include "graspfill/io/atomic_file.hpp"
 #include "graspfill/io/ply.hpp"
-#include "graspfill/synth/paper_protocol.hpp"
 #include "output_dir.hpp"
+#include "synth/paper_protocol.hpp"
 
 namespace graspfill::cli {
 namespace {

@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <string>
 
-#include "graspfill/synth/scene.hpp"
-#include "graspfill/synth/shapes.hpp"
+#include "synth/scene.hpp"
+#include "synth/shapes.hpp"
 
 namespace graspfill::cli {
 

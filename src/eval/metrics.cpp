@@ -2,7 +2,7 @@
 // Chamfer distance (paper Eq. 6), F-scores and percentiles between two
 // clouds. Nearest neighbours come from mesh::NearestSquaredDistances
 // (Open3D's KD-tree).
-#include "graspfill/eval/metrics.hpp"
+#include "eval/metrics.hpp"
 
 #include <algorithm>
 #include <cmath>

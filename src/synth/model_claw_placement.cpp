@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "graspfill/synth/model_claw_placement.hpp"
+#include "synth/model_claw_placement.hpp"
 
 #include <algorithm>
 #include <cmath>

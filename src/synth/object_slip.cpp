@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "graspfill/synth/object_slip.hpp"
+#include "synth/object_slip.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "graspfill/synth/renderer.hpp"
+#include "synth/renderer.hpp"
 
 #include <algorithm>
 #include <cmath>

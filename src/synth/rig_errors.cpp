@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "graspfill/synth/rig_errors.hpp"
+#include "synth/rig_errors.hpp"
 
 #include <cmath>
 #include <stdexcept>

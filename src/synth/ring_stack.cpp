@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "graspfill/synth/internal/ring_stack.hpp"
+#include "synth/internal/ring_stack.hpp"
 
 #include <array>
 #include <map>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "graspfill/synth/scene.hpp"
+#include "synth/scene.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,9 +7,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "graspfill/mesh/mesh_geometry.hpp"
-#include "graspfill/synth/model_claw_placement.hpp"
 #include "graspfill/core/random.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
+#include "synth/model_claw_placement.hpp"
 
 namespace graspfill::synth {
 namespace {

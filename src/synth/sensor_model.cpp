@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "graspfill/synth/sensor_model.hpp"
+#include "synth/sensor_model.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "graspfill/synth/shapes.hpp"
+#include "synth/shapes.hpp"
 
 #include <cmath>
 #include <stdexcept>
 
-#include "graspfill/synth/internal/zoo_shapes.hpp"
 #include "graspfill/mesh/mesh_geometry.hpp"
+#include "synth/internal/zoo_shapes.hpp"
 
 namespace graspfill::synth {
 namespace {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "graspfill/synth/internal/zoo_shapes.hpp"
+#include "synth/internal/zoo_shapes.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "graspfill/synth/internal/ring_stack.hpp"
+#include "synth/internal/ring_stack.hpp"
 
 namespace graspfill::synth::internal {
 namespace {

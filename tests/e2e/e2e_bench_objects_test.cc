@@ -20,8 +20,8 @@
 
 #include "cli_runner.hpp"
 #include "cloud_parts.hpp"
+#include "eval/metrics.hpp"
 #include "graspfill/core/percentile.hpp"
-#include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/mesh/nearest_distances.hpp"
 

@@ -15,7 +15,7 @@
 #include <open3d/io/PointCloudIO.h>
 
 #include "cli_runner.hpp"
-#include "graspfill/eval/metrics.hpp"
+#include "eval/metrics.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/mesh/nearest_distances.hpp"
 

@@ -13,7 +13,7 @@
 
 #include "cli_runner.hpp"
 #include "cloud_parts.hpp"
-#include "graspfill/eval/metrics.hpp"
+#include "eval/metrics.hpp"
 #include "graspfill/io/lcm_log_reader.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"

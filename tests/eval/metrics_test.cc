@@ -2,7 +2,7 @@
 // Metrics on clouds whose nearest-neighbour distances follow from geometry:
 // a planar grid of spacing kSpacing compared with itself, shifted along its
 // normal, cut in half, or with an outlier added.
-#include "graspfill/eval/metrics.hpp"
+#include "eval/metrics.hpp"
 
 #include <gtest/gtest.h>
 

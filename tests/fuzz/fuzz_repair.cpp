@@ -11,8 +11,8 @@
 #include <stdexcept>
 
 #include "fuzz_check.hpp"
-#include "graspfill/synth/paper_protocol.hpp"
 #include "repair_steps.hpp"
+#include "synth/paper_protocol.hpp"
 
 using namespace graspfill;
 

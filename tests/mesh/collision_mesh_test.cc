@@ -12,7 +12,7 @@
 
 #include "graspfill/mesh/mesh_geometry.hpp"
 #include "open3d_watertight.hpp"
-#include "graspfill/synth/shapes.hpp"
+#include "synth/shapes.hpp"
 
 namespace graspfill::mesh {
 namespace {

@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "graspfill/mesh/mesh_geometry.hpp"
-#include "graspfill/synth/shapes.hpp"
+#include "synth/shapes.hpp"
 
 namespace graspfill::mesh {
 namespace {

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <utility>
 
-#include "graspfill/synth/shapes.hpp"
+#include "synth/shapes.hpp"
 
 namespace graspfill::mesh {
 namespace {

@@ -15,10 +15,10 @@
 #include <random>
 #include <string>
 
-#include "graspfill/mesh/mesh_geometry.hpp"
 #include "farthest_outside.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "open3d_watertight.hpp"
-#include "graspfill/synth/shapes.hpp"
+#include "synth/shapes.hpp"
 
 namespace graspfill::mesh {
 namespace {

@@ -19,8 +19,8 @@
 #include <vector>
 
 #include "graspfill/mesh/mesh_geometry.hpp"
-#include "graspfill/synth/renderer.hpp"
-#include "graspfill/synth/scene.hpp"
+#include "synth/renderer.hpp"
+#include "synth/scene.hpp"
 
 namespace graspfill::refine {
 namespace {

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "cpu_time.hpp"
-#include "graspfill/synth/paper_protocol.hpp"
+#include "synth/paper_protocol.hpp"
 
 namespace graspfill::repair {
 namespace {

@@ -8,7 +8,7 @@
 
 #include "boundary_detection.hpp"
 #include "neighbor_index.hpp"
-#include "graspfill/synth/paper_protocol.hpp"
+#include "synth/paper_protocol.hpp"
 
 namespace graspfill::repair {
 namespace {

@@ -10,9 +10,9 @@
 #include <ctime>
 
 #include "boundary_fixtures.hpp"
+#include "synth/paper_protocol.hpp"
+#include "synth/shapes.hpp"
 #include "virtual_frame.hpp"
-#include "graspfill/synth/paper_protocol.hpp"
-#include "graspfill/synth/shapes.hpp"
 
 namespace graspfill::repair {
 namespace {

@@ -7,10 +7,10 @@
 #include <cstdio>
 #include <ctime>
 
-#include "boundary_fixtures.hpp"
 #include "boundary_classification.hpp"
-#include "graspfill/synth/paper_protocol.hpp"
+#include "boundary_fixtures.hpp"
 #include "graspfill/core/random.hpp"
+#include "synth/paper_protocol.hpp"
 
 namespace graspfill::repair {
 namespace {

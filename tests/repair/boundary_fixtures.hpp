@@ -12,9 +12,9 @@
 #include <utility>
 #include <vector>
 
-#include "graspfill/repair/repair_types.hpp"
-#include "graspfill/synth/paper_protocol.hpp"
 #include "graspfill/core/random.hpp"
+#include "graspfill/repair/repair_types.hpp"
+#include "synth/paper_protocol.hpp"
 
 namespace graspfill::repair::testing {
 

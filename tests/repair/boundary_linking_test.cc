@@ -7,13 +7,13 @@
 #include <cmath>
 #include <cstdio>
 
+#include "boundary_detection.hpp"
 #include "boundary_fixtures.hpp"
 #include "cpu_time.hpp"
-#include "boundary_detection.hpp"
-#include "neighbor_index.hpp"
 #include "graspfill/mesh/mesh_geometry.hpp"
-#include "graspfill/synth/paper_protocol.hpp"
-#include "graspfill/synth/shapes.hpp"
+#include "neighbor_index.hpp"
+#include "synth/paper_protocol.hpp"
+#include "synth/shapes.hpp"
 
 namespace graspfill::repair {
 namespace {

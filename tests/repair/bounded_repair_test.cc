@@ -15,7 +15,7 @@
 
 #include "cpu_time.hpp"
 #include "graspfill/repair/repairer.hpp"
-#include "graspfill/synth/paper_protocol.hpp"
+#include "synth/paper_protocol.hpp"
 
 // tests/fuzz/fuzz_repair.cpp, compiled into this test.
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size);

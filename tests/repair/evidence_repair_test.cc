@@ -12,16 +12,16 @@
 #include <functional>
 #include <stdexcept>
 
+#include "eval/metrics.hpp"
+#include "fused_scene.hpp"
 #include "graspfill/core/percentile.hpp"
-#include "graspfill/eval/metrics.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/mesh/nearest_distances.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "graspfill/repair/repairer.hpp"
-#include "graspfill/synth/renderer.hpp"
-#include "graspfill/synth/scene.hpp"
-#include "fused_scene.hpp"
+#include "synth/renderer.hpp"
+#include "synth/scene.hpp"
 
 namespace graspfill::repair {
 namespace {

@@ -8,12 +8,12 @@
 #include <functional>
 #include <string>
 
-#include "graspfill/eval/metrics.hpp"
+#include "eval/metrics.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/mesh/nearest_distances.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
-#include "graspfill/synth/renderer.hpp"
-#include "graspfill/synth/scene.hpp"
+#include "synth/renderer.hpp"
+#include "synth/scene.hpp"
 
 namespace graspfill::testing {
 

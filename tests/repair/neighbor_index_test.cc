@@ -11,8 +11,8 @@
 #include <utility>
 
 #include "cpu_time.hpp"
-#include "graspfill/synth/paper_protocol.hpp"
 #include "graspfill/core/random.hpp"
+#include "synth/paper_protocol.hpp"
 
 namespace graspfill::repair {
 namespace {

@@ -11,11 +11,11 @@
 #include <memory>
 
 #include "cpu_time.hpp"
-#include "neighbor_index.hpp"
-#include "graspfill/mesh/mesh_geometry.hpp"
-#include "graspfill/synth/paper_protocol.hpp"
 #include "graspfill/core/random.hpp"
-#include "graspfill/synth/shapes.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
+#include "neighbor_index.hpp"
+#include "synth/paper_protocol.hpp"
+#include "synth/shapes.hpp"
 
 namespace graspfill::repair {
 namespace {

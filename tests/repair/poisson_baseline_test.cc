@@ -10,10 +10,10 @@
 #include <cstdio>
 #include <limits>
 
+#include "eval/metrics.hpp"
 #include "fill_checks.hpp"
-#include "graspfill/eval/metrics.hpp"
 #include "graspfill/mesh/nearest_distances.hpp"
-#include "graspfill/synth/paper_protocol.hpp"
+#include "synth/paper_protocol.hpp"
 
 namespace graspfill::repair {
 namespace {

@@ -11,9 +11,9 @@
 #include <cstdio>
 
 #include "graspfill/mesh/mesh_geometry.hpp"
-#include "graspfill/synth/paper_protocol.hpp"
-#include "graspfill/synth/shapes.hpp"
 #include "repair_steps.hpp"
+#include "synth/paper_protocol.hpp"
+#include "synth/shapes.hpp"
 
 namespace graspfill::repair {
 namespace {

@@ -16,14 +16,14 @@
 #include <limits>
 
 #include "claw_hole_repair.hpp"
+#include "eval/metrics.hpp"
 #include "fill_checks.hpp"
 #include "graspfill/core/percentile.hpp"
-#include "graspfill/eval/metrics.hpp"
 #include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/mesh/nearest_distances.hpp"
-#include "graspfill/synth/paper_protocol.hpp"
-#include "graspfill/synth/shapes.hpp"
 #include "neighbor_index.hpp"
+#include "synth/paper_protocol.hpp"
+#include "synth/shapes.hpp"
 
 namespace graspfill::repair {
 namespace {

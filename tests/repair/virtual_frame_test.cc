@@ -10,9 +10,9 @@
 #include <string>
 
 #include "boundary_fixtures.hpp"
-#include "graspfill/synth/paper_protocol.hpp"
 #include "graspfill/core/random.hpp"
-#include "graspfill/synth/shapes.hpp"
+#include "synth/paper_protocol.hpp"
+#include "synth/shapes.hpp"
 
 namespace graspfill::repair {
 namespace {

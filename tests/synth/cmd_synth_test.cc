@@ -23,9 +23,9 @@
 #include "graspfill/io/messages.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/mesh/mesh_geometry.hpp"
-#include "graspfill/synth/object_slip.hpp"
-#include "graspfill/synth/scene.hpp"
-#include "graspfill/synth/shapes.hpp"
+#include "synth/object_slip.hpp"
+#include "synth/scene.hpp"
+#include "synth/shapes.hpp"
 
 namespace graspfill::cli {
 namespace {

@@ -2,7 +2,7 @@
 // The slip model: off by default, the distance asked for in a seeded
 // direction near +z_G, a start in the middle of the recording, eased (no
 // jump) over the duration asked for.
-#include "graspfill/synth/object_slip.hpp"
+#include "synth/object_slip.hpp"
 
 #include <gtest/gtest.h>
 

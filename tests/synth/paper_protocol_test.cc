@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "graspfill/synth/paper_protocol.hpp"
+#include "synth/paper_protocol.hpp"
 
 #include <gtest/gtest.h>
 

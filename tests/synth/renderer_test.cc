@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "graspfill/synth/renderer.hpp"
+#include "synth/renderer.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "graspfill/mesh/mesh_geometry.hpp"
-#include "graspfill/synth/shapes.hpp"
+#include "synth/shapes.hpp"
 
 namespace graspfill::synth {
 namespace {

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The rig error model: exact sizes for the hand-eye error, the RMS asked
 // for in the noise, seeded and order-independent, off by default.
-#include "graspfill/synth/rig_errors.hpp"
+#include "synth/rig_errors.hpp"
 
 #include <gtest/gtest.h>
 

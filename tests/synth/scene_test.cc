@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "graspfill/synth/scene.hpp"
+#include "synth/scene.hpp"
 
 #include <gtest/gtest.h>
 

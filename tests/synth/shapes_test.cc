@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "graspfill/synth/shapes.hpp"
+#include "synth/shapes.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,9 +9,9 @@
 #include <set>
 #include <string>
 
-#include "graspfill/synth/internal/zoo_shapes.hpp"
 #include "graspfill/mesh/mesh_geometry.hpp"
-#include "graspfill/synth/scene.hpp"
+#include "synth/internal/zoo_shapes.hpp"
+#include "synth/scene.hpp"
 
 namespace graspfill::synth {
 namespace {

@@ -8,8 +8,8 @@
 
 #include <cstdint>
 
-#include "graspfill/synth/paper_protocol.hpp"
 #include "graspfill/types.hpp"
+#include "synth/paper_protocol.hpp"
 
 namespace graspfill::rt::testing {
 

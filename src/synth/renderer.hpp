@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "graspfill/core/raycaster.hpp"
-#include "graspfill/synth/scene.hpp"
-#include "graspfill/synth/sensor_model.hpp"
 #include "graspfill/types.hpp"
+#include "synth/scene.hpp"
+#include "synth/sensor_model.hpp"
 
 namespace graspfill::synth {
 

@@ -40,10 +40,10 @@
 #include <vector>
 
 #include "graspfill/claw/claw_model.hpp"
-#include "graspfill/synth/object_slip.hpp"
-#include "graspfill/synth/sensor_model.hpp"
-#include "graspfill/synth/shapes.hpp"
 #include "graspfill/types.hpp"
+#include "synth/object_slip.hpp"
+#include "synth/sensor_model.hpp"
+#include "synth/shapes.hpp"
 
 namespace graspfill::synth {
 

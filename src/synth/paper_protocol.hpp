@@ -9,8 +9,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "graspfill/synth/scene.hpp"
-#include "graspfill/synth/shapes.hpp"
+#include "synth/scene.hpp"
+#include "synth/shapes.hpp"
 
 namespace graspfill::synth {
 
