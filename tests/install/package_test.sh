@@ -4,7 +4,8 @@
 # one CTest test per step):
 #   install        a fresh `cmake --install` into PREFIX; the package files,
 #                  headers, libraries, CLI, data and planner bindings (Python, Java) are there and name no
-#                  path of this source or build tree
+#                  path of this source or build tree; nothing of the tools synth and eval is
+#                  (headers, libraries, targets, graspfill.pc)
 #   find_package   tests/install/downstream configured against PREFIX
 #                  (find_package(graspfill)), built, and its grasp_loop run
 #                  on the installed bundled recording
@@ -65,6 +66,20 @@ install)
     [ -f "$PREFIX/$f" ] || fail "not installed: $f"
   done
   [ -L "$PREFIX/share/graspfill/replay" ] && fail "share/graspfill/replay is a link, not the data"
+  # synth and eval are the CLI's and the tests' tools, not the package's: no
+  # headers, libraries, exported targets or pkg-config entries of theirs, and
+  # no installed header includes one of their headers.
+  for tool in synth eval; do
+    [ -e "$PREFIX/include/graspfill/$tool" ] && fail "installed: include/graspfill/$tool/ (a tool's headers)"
+    [ -e "$PREFIX/$libdir/libgraspfill_$tool.a" ] && fail "installed: $libdir/libgraspfill_$tool.a (a tool)"
+    grep -lE "graspfill::$tool([^_a-z]|\$)" "$PREFIX/$libdir/cmake/graspfill/"*.cmake \
+      && fail "the package's CMake files (above) name graspfill::$tool"
+    grep -qE -- "-lgraspfill_$tool( |\$)" "$PREFIX/$libdir/pkgconfig/graspfill.pc" \
+      && fail "graspfill.pc links graspfill_$tool"
+  done
+  if grep -rlE '#include [<"]((graspfill/)?(synth|eval)/)' "$PREFIX/include"; then
+    fail "installed headers (above) include a header of synth or eval"
+  fi
   # The planner bindings: the Python package imports from the prefix alone;
   # the jar is installed where the build made one (a JDK and lcm.jar found).
   PYDIR=$PREFIX/lib/python3/dist-packages
