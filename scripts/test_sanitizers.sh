@@ -39,7 +39,7 @@ supp="$PWD/tests/sanitizers"
 
 asan_tests="
   io_messages_test io_ply_test io_pcd_test io_atomic_file_test io_output_path_test io_lcm_log_reader_test
-  io_fuzz_regressions_test io_cloud_chunks_test
+  io_fuzz_regressions_test io_cloud_chunks_test io_collision_mesh_codec_test mesh_outward_decimation_test
   claw_model_test claw_mask_test claw_loader_test claw_validation_test urdf_claw_test mesh_file_test
   pose_interpolation_test raycaster_test bit_grid_test tsdf_fusion_test workspace_crop_test
   closest_point_grid_test
