@@ -3,7 +3,7 @@
 // a triangle budget by edge collapses, each of which keeps the mesh a
 // closed 2-manifold and moves the surface only outwards, so the result
 // contains the input (a progressive hull: Sander, Gu, Gortler, Hoppe and
-// Snyder, "Silhouette clipping", SIGGRAPH 2000, section 4).
+// Snyder, "Silhouette clipping", SIGGRAPH 2000).
 //
 // - Topology: an edge (a, b) collapses only if a and b share exactly the
 //   two neighbours opposite the edge (the link condition of Dey et al.),
@@ -11,12 +11,15 @@
 // - Outwards: the new vertex lies on or outside the plane of every
 //   triangle around a and b. Then every old triangle lies inside the new
 //   fan's cone, and the new solid holds the old one.
-// - Where: nearest to the position Garland and Heckbert's quadric error
-//   metric prefers (the sum of squared distances to the original planes
-//   around the merged vertices), moved onto the feasible side by at most
-//   three plane projections. The cheapest collapse goes first.
-// - No fold: a collapse is refused if any triangle around it would turn
-//   over (its normal by more than 90 degrees) or become degenerate.
+// - Where: of three places, the feasible one with the least quadric error
+//   (Garland and Heckbert: squared distances to the original planes
+//   around the merged vertices): the quadric's optimum moved onto the
+//   feasible side by at most three plane projections, and the edge's two
+//   ends. The cheapest collapse goes first.
+// - No fold, no crossing: a collapse is refused if any triangle around it
+//   would turn over (its normal by more than 90 degrees) or become
+//   degenerate, or if the new fan would cross another triangle (two sheets
+//   of a thin wall growing into each other).
 #pragma once
 
 #include "graspfill/types.hpp"
