@@ -362,6 +362,76 @@ fs::path ResolveMesh(const std::string& label, const std::string& link, const st
   return p.is_absolute() ? p : root / p;
 }
 
+// A mesh file's triangles, scaled, checked and without zero-area ones
+// (counted in *dropped).
+TriangleMesh ReadUrdfMesh(const std::string& label, const std::string& what,
+                          const std::string& link, const urdf::Mesh& m, const fs::path& root,
+                          bool confined, int* dropped) {
+  const fs::path file = ResolveMesh(label, link, m.filename, root, confined);
+  TriangleMesh mesh;
+  try {
+    mesh = ReadMeshFile(file.string());
+  } catch (const std::runtime_error& e) {
+    Fail(label, what + "mesh: " + e.what());
+  }
+  if (const std::string defect = MeshDefect(mesh); !defect.empty()) {
+    Fail(label, what + "mesh: " + file.string() + ": " + defect);
+  }
+  const Eigen::Vector3f scale(static_cast<float>(m.scale.x), static_cast<float>(m.scale.y),
+                              static_cast<float>(m.scale.z));
+  if (!scale.allFinite() || !(scale.array() > 0.0f).all()) {
+    Fail(label, what + "mesh: " + m.filename + ": scale must be positive");
+  }
+  for (Eigen::Vector3f& v : mesh.vertices) v = v.cwiseProduct(scale);
+  *dropped += DropDegenerateTriangles(&mesh);
+  if (mesh.empty()) Fail(label, what + "mesh: " + file.string() + ": every triangle has zero area");
+  return mesh;
+}
+
+// One <collision> or <visual> element's geometry as triangles, in its own
+// frame, checked.
+TriangleMesh ElementMesh(const std::string& label, const std::string& what,
+                         const std::string& link, const urdf::Geometry& geometry,
+                         const fs::path& root, bool confined, int* dropped) {
+  CheckGeometryLimits(label, what, geometry);
+  TriangleMesh mesh;
+  switch (geometry.type) {
+    case urdf::Geometry::MESH:
+      mesh = ReadUrdfMesh(label, what, link, static_cast<const urdf::Mesh&>(geometry), root,
+                          confined, dropped);
+      break;
+    case urdf::Geometry::BOX: {
+      const urdf::Vector3& dim = static_cast<const urdf::Box&>(geometry).dim;
+      mesh = BoxMesh(Eigen::Vector3d(dim.x, dim.y, dim.z));
+      break;
+    }
+    case urdf::Geometry::CYLINDER: {
+      const auto& cyl = static_cast<const urdf::Cylinder&>(geometry);
+      mesh = CylinderMesh(cyl.radius, cyl.length);
+      break;
+    }
+    case urdf::Geometry::SPHERE:
+      mesh = SphereMesh(static_cast<const urdf::Sphere&>(geometry).radius);
+      break;
+    default:
+      Fail(label, what + "geometry of an unknown type");
+  }
+  if (const std::string defect = MeshDefect(mesh); !defect.empty()) {
+    Fail(label, what + "geometry: " + defect);
+  }
+  CheckLimit(label, what + "geometry", MeshExtentDefect(mesh));
+  return mesh;
+}
+
+Eigen::Isometry3d ToIsometry(const urdf::Pose& p) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
+  T.linear() = Eigen::Quaterniond(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z)
+                   .normalized()
+                   .toRotationMatrix();
+  return T;
+}
+
 // The link's geometry of the chosen kind in the link frame (several
 // elements are merged); T_link_mesh is the single element's origin.
 void ReadLinkGeometry(const std::string& label, const urdf::Link& in, const UrdfClawConfig& c,
@@ -385,59 +455,11 @@ void ReadLinkGeometry(const std::string& label, const urdf::Link& in, const Urdf
   }
   for (const auto& [origin, geometry] : elements) {
     const std::string what = std::string("link '") + in.name + "': " + kind + " ";
-    CheckGeometryLimits(label, what, *geometry);
-    TriangleMesh mesh;
-    switch (geometry->type) {
-      case urdf::Geometry::MESH: {
-        const auto* m = static_cast<const urdf::Mesh*>(geometry.get());
-        const fs::path file = ResolveMesh(label, in.name, m->filename, root, c.confined);
-        try {
-          mesh = ReadMeshFile(file.string());
-        } catch (const std::runtime_error& e) {
-          Fail(label, what + "mesh: " + e.what());
-        }
-        if (const std::string defect = MeshDefect(mesh); !defect.empty()) {
-          Fail(label, what + "mesh: " + file.string() + ": " + defect);
-        }
-        const Eigen::Vector3f scale(static_cast<float>(m->scale.x), static_cast<float>(m->scale.y),
-                                    static_cast<float>(m->scale.z));
-        if (!scale.allFinite() || !(scale.array() > 0.0f).all()) {
-          Fail(label, what + "mesh: " + m->filename + ": scale must be positive");
-        }
-        for (Eigen::Vector3f& v : mesh.vertices) v = v.cwiseProduct(scale);
-        out->degenerate_triangles_dropped += DropDegenerateTriangles(&mesh);
-        if (mesh.empty()) Fail(label, what + "mesh: " + file.string() + ": every triangle has zero area");
-        break;
-      }
-      case urdf::Geometry::BOX: {
-        const auto* b = static_cast<const urdf::Box*>(geometry.get());
-        mesh = BoxMesh(Eigen::Vector3d(b->dim.x, b->dim.y, b->dim.z));
-        break;
-      }
-      case urdf::Geometry::CYLINDER: {
-        const auto* cyl = static_cast<const urdf::Cylinder*>(geometry.get());
-        mesh = CylinderMesh(cyl->radius, cyl->length);
-        break;
-      }
-      case urdf::Geometry::SPHERE: {
-        mesh = SphereMesh(static_cast<const urdf::Sphere*>(geometry.get())->radius);
-        break;
-      }
-      default:
-        Fail(label, what + "geometry of an unknown type");
-    }
-    if (const std::string defect = MeshDefect(mesh); !defect.empty()) {
-      Fail(label, what + "geometry: " + defect);
-    }
-    CheckLimit(label, what + "geometry", MeshExtentDefect(mesh));
+    TriangleMesh mesh = ElementMesh(label, what, in.name, *geometry, root, c.confined,
+                                    &out->degenerate_triangles_dropped);
     CheckOriginLimits(label, what, origin);
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.translation() = Eigen::Vector3d(origin.position.x, origin.position.y, origin.position.z);
-    T.linear() = Eigen::Quaterniond(origin.rotation.w, origin.rotation.x, origin.rotation.y,
-                                    origin.rotation.z)
-                     .normalized()
-                     .toRotationMatrix();
-    if (override_it != c.mesh_origins.end()) T = override_it->second;
+    const Eigen::Isometry3d T =
+        override_it != c.mesh_origins.end() ? override_it->second : ToIsometry(origin);
     if (elements.size() == 1) {
       out->T_link_mesh = T;
       out->mesh = std::move(mesh);
@@ -448,15 +470,6 @@ void ReadLinkGeometry(const std::string& label, const urdf::Link& in, const Urdf
 }
 
 // ---- kinematics and the opening --------------------------------------------
-
-Eigen::Isometry3d ToIsometry(const urdf::Pose& p) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
-  T.linear() = Eigen::Quaterniond(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z)
-                   .normalized()
-                   .toRotationMatrix();
-  return T;
-}
 
 // Mean distance from G's z axis of the given links' vertices.
 double MeanRadius(const ClawModel& model, const std::vector<int>& links,
@@ -510,7 +523,9 @@ void CheckHasGeometry(const std::string& label, const std::vector<Link>& links,
   Fail(label, why);
 }
 
-ClawModel Build(const std::string& label, const UrdfClawConfig& c, const fs::path& mesh_root) {
+// urdfdom's model of the config's URDF text, its angles and link count
+// checked (the angles before urdfdom turns them into quaternions).
+urdf::ModelInterfaceSharedPtr ParseUrdfModel(const std::string& label, const UrdfClawConfig& c) {
   CheckUrdfAngles(label, c.urdf_text);
   CapturedUrdfLog log;
   const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(c.urdf_text);
@@ -522,37 +537,40 @@ ClawModel Build(const std::string& label, const UrdfClawConfig& c, const fs::pat
       !defect.empty()) {
     Fail(label, defect);
   }
-  const urdf::LinkConstSharedPtr root = model->getRoot();
-  if (!root) Fail(label, "URDF has no root link");
-  const fs::path root_dir = mesh_root.empty() && !c.confined ? c.urdf_dir : mesh_root;
-
-  // Links parents-first (depth first from the root, children in urdfdom's
-  // order, which is by joint name).
-  std::vector<urdf::LinkConstSharedPtr> order;
-  std::vector<int> parent_of;
-  std::vector<std::pair<urdf::LinkConstSharedPtr, int>> stack = {{root, -1}};
-  while (!stack.empty()) {
-    auto [link, parent] = stack.back();
-    stack.pop_back();
-    const int index = static_cast<int>(order.size());
-    order.push_back(link);
-    parent_of.push_back(parent);
-    for (auto it = link->child_links.rbegin(); it != link->child_links.rend(); ++it) {
-      stack.emplace_back(*it, index);
-    }
-  }
-
+  if (!model->getRoot()) Fail(label, "URDF has no root link");
   for (const auto& [name, mapping] : c.joints) {
     if (model->joints_.count(name) == 0) Fail(label, "joints." + name + ": no such joint in the URDF");
   }
   for (const auto& [name, pose] : c.mesh_origins) {
     if (model->links_.count(name) == 0) Fail(label, "links." + name + ": no such link in the URDF");
   }
+  return model;
+}
 
-  // Actuated joints: movable and not mimic; default joint_index = their
-  // rank by name.
+// Links parents-first (depth first from the root, children in urdfdom's
+// order, which is by joint name), with each one's parent's position (-1:
+// the root).
+void LinksParentsFirst(const urdf::LinkConstSharedPtr& root,
+                       std::vector<urdf::LinkConstSharedPtr>* order, std::vector<int>* parent_of) {
+  std::vector<std::pair<urdf::LinkConstSharedPtr, int>> stack = {{root, -1}};
+  while (!stack.empty()) {
+    auto [link, parent] = stack.back();
+    stack.pop_back();
+    const int index = static_cast<int>(order->size());
+    order->push_back(link);
+    parent_of->push_back(parent);
+    for (auto it = link->child_links.rbegin(); it != link->child_links.rend(); ++it) {
+      stack.emplace_back(*it, index);
+    }
+  }
+}
+
+// Actuated joints: movable and not mimic, by name (their default
+// joint_index is their rank here).
+std::vector<std::string> ActuatedJoints(const std::string& label, const UrdfClawConfig& c,
+                                        const urdf::ModelInterface& model) {
   std::vector<std::string> actuated;
-  for (const auto& [name, joint] : model->joints_) {
+  for (const auto& [name, joint] : model.joints_) {
     const bool movable = joint->type == urdf::Joint::REVOLUTE ||
                          joint->type == urdf::Joint::CONTINUOUS ||
                          joint->type == urdf::Joint::PRISMATIC;
@@ -565,9 +583,48 @@ ClawModel Build(const std::string& label, const UrdfClawConfig& c, const fs::pat
                       "'; map that one");
     }
   }
+  return actuated;
+}
 
+// The joint from a link's parent: its origin, type, axis and limits (the
+// config's limits over the URDF's).
+void ReadJoint(const std::string& label, const UrdfClawConfig& c, const urdf::Joint& j,
+               Joint* out) {
+  CheckOriginLimits(label, "joint '" + j.name + "': ", j.parent_to_joint_origin_transform);
+  out->T_parent_joint = ToIsometry(j.parent_to_joint_origin_transform);
+  if (j.type == urdf::Joint::FIXED) return;
+  out->type = j.type == urdf::Joint::PRISMATIC ? JointType::kPrismatic : JointType::kRevolute;
+  out->axis = Eigen::Vector3d(j.axis.x, j.axis.y, j.axis.z);
+  if (!out->axis.allFinite() || !(out->axis.norm() > 1e-9)) {
+    Fail(label, "joint '" + j.name + "': zero or non-finite axis");
+  }
+  if (j.type == urdf::Joint::CONTINUOUS) {
+    out->lower = -std::numeric_limits<double>::infinity();
+    out->upper = std::numeric_limits<double>::infinity();
+  } else {
+    if (!j.limits) Fail(label, "joint '" + j.name + "': no <limit>");
+    out->lower = j.limits->lower;
+    out->upper = j.limits->upper;
+  }
+  const auto m = c.joints.find(j.name);
+  if (m != c.joints.end() && m->second.has_limits) {
+    out->lower = m->second.lower;
+    out->upper = m->second.upper;
+  }
+  CheckJointTravel(label, *out, j.name);
+  if (!(out->lower <= out->upper)) Fail(label, "joint '" + j.name + "': limits lower > upper");
+}
+
+// Every link (parents first) with its geometry and the joint from its
+// parent; link_of_joint: each joint's child link.
+std::vector<Link> ReadLinks(const std::string& label, const UrdfClawConfig& c,
+                            const urdf::ModelInterface& model, const fs::path& mesh_root,
+                            std::map<std::string, int>* link_of_joint) {
+  std::vector<urdf::LinkConstSharedPtr> order;
+  std::vector<int> parent_of;
+  LinksParentsFirst(model.getRoot(), &order, &parent_of);
+  const fs::path root_dir = mesh_root.empty() && !c.confined ? c.urdf_dir : mesh_root;
   std::vector<Link> links(order.size());
-  std::map<std::string, int> link_of_joint;
   for (size_t i = 0; i < order.size(); ++i) {
     const urdf::Link& in = *order[i];
     Link& out = links[i];
@@ -579,43 +636,26 @@ ClawModel Build(const std::string& label, const UrdfClawConfig& c, const fs::pat
       out.joint.T_parent_joint = c.T_G_root;
       continue;
     }
-    const urdf::Joint& j = *in.parent_joint;
-    link_of_joint[j.name] = static_cast<int>(i);
-    CheckOriginLimits(label, "joint '" + j.name + "': ", j.parent_to_joint_origin_transform);
-    out.joint.T_parent_joint = ToIsometry(j.parent_to_joint_origin_transform);
-    if (j.type == urdf::Joint::FIXED) continue;
-    out.joint.type = j.type == urdf::Joint::PRISMATIC ? JointType::kPrismatic : JointType::kRevolute;
-    out.joint.axis = Eigen::Vector3d(j.axis.x, j.axis.y, j.axis.z);
-    if (!out.joint.axis.allFinite() || !(out.joint.axis.norm() > 1e-9)) {
-      Fail(label, "joint '" + j.name + "': zero or non-finite axis");
-    }
-    if (j.type == urdf::Joint::CONTINUOUS) {
-      out.joint.lower = -std::numeric_limits<double>::infinity();
-      out.joint.upper = std::numeric_limits<double>::infinity();
-    } else {
-      if (!j.limits) Fail(label, "joint '" + j.name + "': no <limit>");
-      out.joint.lower = j.limits->lower;
-      out.joint.upper = j.limits->upper;
-    }
-    const auto m = c.joints.find(j.name);
-    if (m != c.joints.end() && m->second.has_limits) {
-      out.joint.lower = m->second.lower;
-      out.joint.upper = m->second.upper;
-    }
-    CheckJointTravel(label, out.joint, j.name);
-    if (!(out.joint.lower <= out.joint.upper)) {
-      Fail(label, "joint '" + j.name + "': limits lower > upper");
-    }
+    (*link_of_joint)[in.parent_joint->name] = static_cast<int>(i);
+    ReadJoint(label, c, *in.parent_joint, &out.joint);
   }
-  CheckHasGeometry(label, links, c, *model);
+  return links;
+}
 
-  // Opening drive of every actuated joint: q = open + (closed - open) * opening.
-  struct Drive {
-    double open{0.0};
-    double closed{0.0};
-    int index{0};
-    bool explicit_mapping{false};
-  };
+// Opening drive of an actuated joint: q = open + (closed - open) * opening.
+struct Drive {
+  double open{0.0};
+  double closed{0.0};
+  int index{0};
+  bool explicit_mapping{false};
+};
+
+// Each actuated joint's drive: the config's mapping (checked against the
+// joint's limits), else provisionally lower -> upper (OrientDrives decides).
+std::map<std::string, Drive> InitialDrives(const std::string& label, const UrdfClawConfig& c,
+                                           const std::vector<std::string>& actuated,
+                                           const std::vector<Link>& links,
+                                           const std::map<std::string, int>& link_of_joint) {
   std::map<std::string, Drive> drives;
   for (size_t k = 0; k < actuated.size(); ++k) {
     const std::string& name = actuated[k];
@@ -645,7 +685,6 @@ ClawModel Build(const std::string& label, const UrdfClawConfig& c, const fs::pat
     }
     drives[name] = d;
   }
-
   std::map<int, std::string> joint_at_index;
   for (const auto& [name, d] : drives) {
     const auto [it, added] = joint_at_index.emplace(d.index, name);
@@ -654,37 +693,56 @@ ClawModel Build(const std::string& label, const UrdfClawConfig& c, const fs::pat
                       "' and '" + name + "' (give every actuated joint its own)");
     }
   }
+  return drives;
+}
 
-  // The links a joint moves (its own and every mimic's subtree), their
-  // leaves first: the fingertips.
+// A joint's actuated master through its mimic chain:
+// q_joint = scale * q_master + bias.
+struct MimicChain {
+  std::string master;
+  double scale{1.0};
+  double bias{0.0};
+};
+
+MimicChain MasterOf(const std::string& label, const urdf::ModelInterface& model,
+                    const std::string& name) {
+  std::string current = name;
+  std::set<std::string> seen;
+  double scale = 1.0;
+  double bias = 0.0;
+  while (true) {
+    const urdf::JointConstSharedPtr j = model.getJoint(current);
+    if (!j->mimic) break;
+    if (!seen.insert(current).second) Fail(label, "joint '" + name + "': mimic cycle");
+    const urdf::JointConstSharedPtr m = model.getJoint(j->mimic->joint_name);
+    if (!m) {
+      Fail(label, "joint '" + current + "': mimics unknown joint '" + j->mimic->joint_name + "'");
+    }
+    // q_current = multiplier * q_next + offset
+    bias = scale * j->mimic->offset + bias;
+    scale *= j->mimic->multiplier;
+    current = m->name;
+  }
+  return {current, scale, bias};
+}
+
+std::vector<std::vector<int>> ChildrenOf(const std::vector<Link>& links) {
   std::vector<std::vector<int>> children(links.size());
   for (size_t i = 0; i < links.size(); ++i) {
     if (links[i].parent >= 0) children[links[i].parent].push_back(static_cast<int>(i));
   }
-  const auto master_of = [&](const std::string& name) {
-    std::string current = name;
-    std::set<std::string> seen;
-    double scale = 1.0;
-    double bias = 0.0;
-    while (true) {
-      const urdf::JointConstSharedPtr j = model->getJoint(current);
-      if (!j->mimic) break;
-      if (!seen.insert(current).second) Fail(label, "joint '" + name + "': mimic cycle");
-      const urdf::JointConstSharedPtr m = model->getJoint(j->mimic->joint_name);
-      if (!m) {
-        Fail(label, "joint '" + current + "': mimics unknown joint '" + j->mimic->joint_name + "'");
-      }
-      // q_current = multiplier * q_next + offset
-      bias = scale * j->mimic->offset + bias;
-      scale *= j->mimic->multiplier;
-      current = m->name;
-    }
-    return std::make_tuple(current, scale, bias);
-  };
-  std::map<std::string, std::vector<int>> moved;  // actuated joint -> links
+  return children;
+}
+
+// The links each actuated joint moves (its own subtree and every mimic's).
+std::map<std::string, std::vector<int>> MovedLinks(
+    const std::string& label, const urdf::ModelInterface& model, const std::vector<Link>& links,
+    const std::vector<std::vector<int>>& children, const std::map<std::string, int>& link_of_joint,
+    const std::map<std::string, Drive>& drives) {
+  std::map<std::string, std::vector<int>> moved;
   for (const auto& [name, link_index] : link_of_joint) {
     if (links[link_index].joint.type == JointType::kFixed) continue;
-    const std::string master = std::get<0>(master_of(name));
+    const std::string master = MasterOf(label, model, name).master;
     if (drives.count(master) == 0) {
       Fail(label, "joint '" + name + "': mimics '" + master + "', which does not move");
     }
@@ -696,40 +754,47 @@ ClawModel Build(const std::string& label, const UrdfClawConfig& c, const fs::pat
       for (const int ch : children[i]) todo.push_back(ch);
     }
   }
+  return moved;
+}
 
-  const auto apply_drives = [&](std::vector<Link>* out) {
-    for (const auto& [name, link_index] : link_of_joint) {
-      Joint& joint = (*out)[link_index].joint;
-      if (joint.type == JointType::kFixed) continue;
-      const auto [master, scale, bias] = master_of(name);
-      const Drive& d = drives.at(master);
-      joint.joint_index = d.index;
-      joint.joint_scale = scale;
-      joint.joint_bias = bias;
-      joint.offset = bias + scale * d.open;
-      joint.gain = scale * (d.closed - d.open);
-    }
-  };
+// Writes the drives into the movable joints (mimics through their chain).
+void ApplyDrives(const std::string& label, const urdf::ModelInterface& model,
+                 const std::map<std::string, int>& link_of_joint,
+                 const std::map<std::string, Drive>& drives, std::vector<Link>* links) {
+  for (const auto& [name, link_index] : link_of_joint) {
+    Joint& joint = (*links)[link_index].joint;
+    if (joint.type == JointType::kFixed) continue;
+    const MimicChain chain = MasterOf(label, model, name);
+    const Drive& d = drives.at(chain.master);
+    joint.joint_index = d.index;
+    joint.joint_scale = chain.scale;
+    joint.joint_bias = chain.bias;
+    joint.offset = chain.bias + chain.scale * d.open;
+    joint.gain = chain.scale * (d.closed - d.open);
+  }
+}
 
-  // Default rule: "closed" is the limit that brings the joint's fingertips
-  // nearer G's z axis. Joints are decided from the palm outwards, each with
-  // the joints before it half-closed (a grasping posture; with them open, an
-  // under-actuated hand's distal joint, which counter-rotates as the finger
-  // curls, would be judged backwards) and those after at their lower limits.
-  apply_drives(&links);
-  int max_index = 0;
-  for (const auto& [name, d] : drives) max_index = std::max(max_index, d.index);
+// Default rule: "closed" is the limit that brings the joint's fingertips
+// nearer G's z axis. Joints are decided from the palm outwards, each with
+// the joints before it half-closed (a grasping posture; with them open, an
+// under-actuated hand's distal joint, which counter-rotates as the finger
+// curls, would be judged backwards) and those after at their lower limits.
+// `links` carry the provisional drives.
+void OrientDrives(const std::string& label, const urdf::ModelInterface& model,
+                  const std::vector<Link>& links, const std::vector<std::vector<int>>& children,
+                  const std::map<std::string, std::vector<int>>& moved, int max_index,
+                  std::map<std::string, Drive>* drives) {
   std::vector<double> at_open(max_index + 1, 0.0);  // the posture judged in
-  for (const auto& [name, d] : drives) at_open[d.index] = d.open;
+  for (const auto& [name, d] : *drives) at_open[d.index] = d.open;
   const ClawModel probe(label, links);
   for (const Link& link : links) {
     if (link.parent < 0 || link.joint.type == JointType::kFixed) continue;
-    const urdf::JointConstSharedPtr joint = model->getLink(link.name)->parent_joint;
-    const auto it = drives.find(joint->name);
-    if (it == drives.end()) continue;  // a mimic
+    const urdf::JointConstSharedPtr joint = model.getLink(link.name)->parent_joint;
+    const auto it = drives->find(joint->name);
+    if (it == drives->end()) continue;  // a mimic
     Drive& d = it->second;
     if (d.explicit_mapping || d.open == d.closed) continue;
-    const std::vector<int>& all = moved[joint->name];
+    const std::vector<int>& all = moved.at(joint->name);
     std::vector<int> tips;
     for (const int i : all) {
       if (children[i].empty() && !links[i].mesh.empty()) tips.push_back(i);
@@ -742,20 +807,40 @@ ClawModel Build(const std::string& label, const UrdfClawConfig& c, const fs::pat
     }
     at_open[d.index] = 0.5 * (d.open + d.closed);
   }
-  apply_drives(&links);
+}
+
+// What the opening means, when the config does not say: the rule and the
+// joint_values order.
+std::string DefaultOpeningDoc(const std::map<std::string, Drive>& drives, int max_index) {
+  std::vector<std::string> by_index(max_index + 1);
+  for (const auto& [joint, d] : drives) by_index[d.index] += (by_index[d.index].empty() ? "" : "/") + joint;
+  std::string order_text;
+  for (const std::string& s : by_index) order_text += (order_text.empty() ? "" : ", ") + s;
+  return "Normalized closure in [0, 1]: 0 = every actuated joint at its open limit, 1 = at its "
+         "closed one (the limit that moves the fingertips towards the gripper axis), linear in "
+         "between; mimic joints follow. joint_values order: [" + order_text + "]";
+}
+
+ClawModel Build(const std::string& label, const UrdfClawConfig& c, const fs::path& mesh_root) {
+  const urdf::ModelInterfaceSharedPtr model = ParseUrdfModel(label, c);
+  const std::vector<std::string> actuated = ActuatedJoints(label, c, *model);
+  std::map<std::string, int> link_of_joint;
+  std::vector<Link> links = ReadLinks(label, c, *model, mesh_root, &link_of_joint);
+  CheckHasGeometry(label, links, c, *model);
+
+  std::map<std::string, Drive> drives = InitialDrives(label, c, actuated, links, link_of_joint);
+  const std::vector<std::vector<int>> children = ChildrenOf(links);
+  const std::map<std::string, std::vector<int>> moved =
+      MovedLinks(label, *model, links, children, link_of_joint, drives);
+  ApplyDrives(label, *model, link_of_joint, drives, &links);
+  int max_index = 0;
+  for (const auto& [name, d] : drives) max_index = std::max(max_index, d.index);
+  OrientDrives(label, *model, links, children, moved, max_index, &drives);
+  ApplyDrives(label, *model, link_of_joint, drives, &links);
 
   std::string name = c.name.empty() ? model->getName() : c.name;
-  std::string opening_doc = c.opening_doc;
-  if (opening_doc.empty()) {
-    std::vector<std::string> by_index(max_index + 1);
-    for (const auto& [joint, d] : drives) by_index[d.index] += (by_index[d.index].empty() ? "" : "/") + joint;
-    std::string order_text;
-    for (const std::string& s : by_index) order_text += (order_text.empty() ? "" : ", ") + s;
-    opening_doc =
-        "Normalized closure in [0, 1]: 0 = every actuated joint at its open limit, 1 = at its "
-        "closed one (the limit that moves the fingertips towards the gripper axis), linear in "
-        "between; mimic joints follow. joint_values order: [" + order_text + "]";
-  }
+  const std::string opening_doc =
+      c.opening_doc.empty() ? DefaultOpeningDoc(drives, max_index) : c.opening_doc;
   try {
     return WithinReach(label, ClawModel(name, std::move(links), opening_doc));
   } catch (const std::invalid_argument& e) {
