@@ -327,6 +327,188 @@ void WriteIntrinsics(Writer* w, int indent, const RigConfig::Intrinsics& K) {
   w->Key(indent, "cy_px", FormatNumber(K.cy_px));
 }
 
+
+// The camera: the device, its video mode, the intrinsics override, the depth size limit.
+void DumpCamera(Writer* w, const RigConfig& c, const RigConfig& d) {
+  w->Key(0, "camera", "");
+  w->Comment(1, "OpenNI2 device URI, an .oni file or graspfill-replay:LOG; \"\" = any device (live).");
+  w->Key(1, "device", Quoted(c.camera.device));
+  w->Comment(1, "Video mode asked of the device (live); 0 = the device's own.");
+  w->Key(1, "width_px", std::to_string(c.camera.width_px));
+  w->Key(1, "height_px", std::to_string(c.camera.height_px));
+  w->Key(1, "fps", std::to_string(c.camera.fps));
+  w->Comment(1, "Depth units asked of the device: mm or 100um.");
+  w->Key(1, "depth_units", c.camera.depth_units);
+  w->Comment(1, "Pinhole intrinsics instead of the depth images' own, for images of");
+  w->Comment(1, "width_px x height_px (an OpenNI2 device: fx, fy, cx, cy replace its own); all");
+  w->Comment(1, "six keys. null: the session description's override, else the images' own. E.g.:");
+  {
+    Writer example;
+    WriteIntrinsics(&example, 0, RigConfig::Intrinsics{});
+    std::istringstream lines(example.str());
+    std::string line;
+    w->Comment(1, "intrinsics_override:");
+    while (std::getline(lines, line)) w->Comment(1, "  " + line);
+  }
+  if (c.camera.intrinsics_override) {
+    w->Key(1, "intrinsics_override", "");
+    WriteIntrinsics(w, 2, *c.camera.intrinsics_override);
+  } else {
+    w->Key(1, "intrinsics_override", "null");
+  }
+  w->Comment(1, "Depth images (bus, log) with more pixels are refused before they are decoded,");
+  w->Comment(1, "counted as bad_size; 1.." + std::to_string(io::kMaxDepthPixels) + " (default " +
+                   std::to_string(d.camera.max_depth_pixels) + " = 8 MP: the largest common");
+  w->Comment(1, "depth sensors are ~5 MP; a 4096 x 4096 stream needs " +
+                   std::to_string(io::kMaxDepthPixels) + ").");
+  w->Key(1, "max_depth_pixels", std::to_string(c.camera.max_depth_pixels));
+}
+
+// The robot: hand-eye, clock offset, pose gap.
+void DumpRobot(Writer* w, const RigConfig& c, const RigConfig& d) {
+  w->Key(0, "robot", "");
+  w->Comment(1, "Hand-eye calibration T_C_B: maps points from the robot base B to the camera C");
+  w->Comment(1, "(p_C = R * p_B + t), for gripper states sent in the base frame; both keys.");
+  w->Comment(1, "null: the session description's, else identity:");
+  w->Comment(1, "T_C_B: {translation_m: " + List(RigConfig::Pose{}.translation_m) +
+                   ", rotation_wxyz: " + List(RigConfig::Pose{}.rotation_wxyz) + "}");
+  if (c.robot.T_C_B) {
+    w->Key(1, "T_C_B", "");
+    WritePose(w, 2, *c.robot.T_C_B);
+  } else {
+    w->Key(1, "T_C_B", "null");
+  }
+  w->Comment(1, "Added to every gripper state's stamp: the robot's clock onto the camera's [s]");
+  w->Comment(1, "(default " + FormatNumber(d.robot.clock_offset_s) + ").");
+  w->Key(1, "clock_offset_s", FormatNumber(c.robot.clock_offset_s));
+  w->Comment(1, "A depth frame is fused only between gripper states at most this far apart [s]");
+  w->Comment(1, "(default " + FormatNumber(d.robot.max_pose_gap_s) + ").");
+  w->Key(1, "max_pose_gap_s", FormatNumber(c.robot.max_pose_gap_s));
+}
+
+// The claw: its spec and mesh root.
+void DumpClaw(Writer* w, const RigConfig& c) {
+  w->Key(0, "claw", "");
+  w->Comment(1, "three-finger, parallel, a claw description .json, a .urdf or a URDF config");
+  w->Comment(1, ".json; \"\" = the session description's claw, else three-finger.");
+  w->Key(1, "spec", Quoted(c.claw.spec));
+  w->Comment(1, "Where a description's or URDF's meshes are; \"\" = beside it.");
+  w->Key(1, "mesh_root", Quoted(c.claw.mesh_root));
+}
+
+// The workspace: the object's box (null: the session description's).
+void DumpWorkspace(Writer* w, const RigConfig& c) {
+  w->Comment(0, "The object's box in the gripper frame G [m] (crops each depth frame); both keys.");
+  w->Comment(0, "null: the session description's, else:");
+  {
+    const RigConfig::Box b;
+    w->Comment(0, "workspace: {min_G_m: " + List(b.min_G_m) + ", max_G_m: " + List(b.max_G_m) + "}");
+  }
+  if (c.workspace) {
+    w->Key(0, "workspace", "");
+    WriteBox(w, 1, *c.workspace);
+  } else {
+    w->Key(0, "workspace", "null");
+  }
+}
+
+// The tsdf: the fusion's voxel and sampling.
+void DumpTsdf(Writer* w, const RigConfig& c, const RigConfig& d) {
+  w->Key(0, "tsdf", "");
+  w->Comment(1, "Voxel edge [m], " + FormatNumber(kVoxelM.min) + ".." + FormatNumber(kVoxelM.max) +
+                   "; null: the session description's, else " +
+                   FormatNumber(fusion::TsdfConfig{}.voxel_m) + ".");
+  w->Key(1, "voxel_m", c.tsdf.voxel_m ? FormatNumber(*c.tsdf.voxel_m) : "null");
+  w->Comment(1, "Truncation distance in voxels (default " + FormatNumber(d.tsdf.sdf_trunc_voxels) +
+                   ").");
+  w->Key(1, "sdf_trunc_voxels", FormatNumber(c.tsdf.sdf_trunc_voxels));
+  w->Comment(1, "Open3D's voxel block edge [voxels] (default " +
+                   std::to_string(d.tsdf.block_resolution) + ").");
+  w->Key(1, "block_resolution", std::to_string(c.tsdf.block_resolution));
+  w->Comment(1, "Every Nth pixel of each row and column is fused (default " +
+                   std::to_string(d.tsdf.depth_sampling_stride) + ").");
+  w->Key(1, "depth_sampling_stride", std::to_string(c.tsdf.depth_sampling_stride));
+  w->Comment(1, "Frames with more pixels are fused decimated, every f-th pixel and row "
+               "(default " + std::to_string(d.tsdf.max_fusion_pixels) + " = 1280 x 1024).");
+  w->Key(1, "max_fusion_pixels", std::to_string(c.tsdf.max_fusion_pixels));
+}
+
+// The repair: on/off, mode, evidence, safe bound, rim band, incremental.
+void DumpRepair(Writer* w, const RigConfig& c, const RigConfig& d) {
+  w->Key(0, "repair", "");
+  w->Comment(1, "Repair the fused cloud (claw holes, unseen top) before it goes out.");
+  w->Key(1, "enabled", Bool(c.repair.enabled));
+  w->Comment(1, "best (graspfill's) or paper (the method as published).");
+  w->Key(1, "mode", c.repair.mode);
+  w->Comment(1, "Use what the camera saw (the visibility record) in the repair.");
+  w->Key(1, "use_evidence", Bool(c.repair.use_evidence));
+  w->Comment(1, "The planner's safe bound's voxel edge [m]; 0 = no bound (default " +
+                   FormatNumber(d.repair.safe_bound_voxel_m) + ").");
+  w->Key(1, "safe_bound_voxel_m", FormatNumber(c.repair.safe_bound_voxel_m));
+  w->Comment(1, "Best mode: boundary points this close to the top form its rim [m] (default " +
+                   FormatNumber(d.repair.top_rim_band_m) + ").");
+  w->Key(1, "top_rim_band_m", FormatNumber(c.repair.top_rim_band_m));
+  w->Comment(1, "Live: update the last full repair between full repairs, which run behind");
+  w->Comment(1, "(false: a full repair per published cloud).");
+  w->Key(1, "incremental", Bool(c.repair.incremental));
+}
+
+// The refine: the pose refinement and object tracking.
+void DumpRefine(Writer* w, const RigConfig& c, const RigConfig& d) {
+  w->Key(0, "refine", "");
+  w->Comment(1, "Correct each frame's gripper pose by registering the claw model to the depth");
+  w->Comment(1, "(false: fuse at the logged poses).");
+  w->Key(1, "enabled", Bool(c.refine.enabled));
+  w->Comment(1, "Corrections beyond the prediction smaller than both are not fused (the");
+  w->Comment(1, "registration's jitter) [m], [deg] (defaults " + FormatNumber(d.refine.min_correction_m) +
+                   ", " + FormatNumber(d.refine.min_correction_deg) + ").");
+  w->Key(1, "min_correction_m", FormatNumber(c.refine.min_correction_m));
+  w->Key(1, "min_correction_deg", FormatNumber(c.refine.min_correction_deg));
+  w->Comment(1, "Follow the object slipping in the grasp (frame-to-model tracking).");
+  w->Key(1, "track_object", Bool(c.refine.track_object));
+}
+
+// The channels: the LCM channel names.
+void DumpChannels(Writer* w, const RigConfig& c) {
+  w->Comment(0, "LCM channels.");
+  w->Key(0, "channels", "");
+  w->Key(1, "depth", Quoted(c.channels.depth));
+  w->Key(1, "gripper_state", Quoted(c.channels.gripper_state));
+  w->Key(1, "object_cloud", Quoted(c.channels.object_cloud));
+  w->Key(1, "status", Quoted(c.channels.status));
+  w->Key(1, "session", Quoted(c.channels.session));
+  w->Key(1, "collision_mesh", Quoted(c.channels.collision_mesh));
+}
+
+// The collision_mesh: the planner mesh's size or convex hull.
+void DumpCollisionMesh(Writer* w, const RigConfig& c, const RigConfig& d) {
+  w->Key(0, "collision_mesh", "");
+  w->Comment(1, "replay --mesh-out: at most this many triangles, decimated, watertight, holding");
+  w->Comment(1, "the cloud (default " + std::to_string(d.collision_mesh.max_triangles) + ").");
+  w->Key(1, "max_triangles", std::to_string(c.collision_mesh.max_triangles));
+  w->Comment(1, "The convex hull instead of the decimated shape.");
+  w->Key(1, "convex_hull", Bool(c.collision_mesh.convex_hull));
+}
+
+// The rates: live publishing and status periods.
+void DumpRates(Writer* w, const RigConfig& c, const RigConfig& d) {
+  w->Key(0, "rates", "");
+  w->Comment(1, "live: publish the cloud every N fused frames; 0 = only at each grasp's end");
+  w->Comment(1, "(default " + std::to_string(d.rates.publish_every_n_frames) + ").");
+  w->Key(1, "publish_every_n_frames", std::to_string(c.rates.publish_every_n_frames));
+  w->Comment(1, "live: the module status's period [s] (default " +
+                   FormatNumber(d.rates.status_period_s) + ").");
+  w->Key(1, "status_period_s", FormatNumber(c.rates.status_period_s));
+}
+
+// The compute: OpenMP threads.
+void DumpCompute(Writer* w, const RigConfig& c, const RigConfig& d) {
+  w->Key(0, "compute", "");
+  w->Comment(1, "OpenMP threads of each pipeline and repair call (Open3D's TSDF integration):");
+  w->Comment(1, "1 = the calling thread alone, N = at most N, 0 = OpenMP's own count, a thread");
+  w->Comment(1, "per core (default " + std::to_string(d.compute.num_threads) + ").");
+  w->Key(1, "num_threads", std::to_string(c.compute.num_threads));
+}
 }  // namespace
 
 std::string DumpRigConfig(const RigConfig& c) {
@@ -340,164 +522,27 @@ std::string DumpRigConfig(const RigConfig& c) {
   w.Comment(0, "description (else the default commented above it). Keys left out keep their");
   w.Comment(0, "defaults; an unknown key, a bad value or a number with trailing text is an error.");
   w.Blank();
-  w.Key(0, "camera", "");
-  w.Comment(1, "OpenNI2 device URI, an .oni file or graspfill-replay:LOG; \"\" = any device (live).");
-  w.Key(1, "device", Quoted(c.camera.device));
-  w.Comment(1, "Video mode asked of the device (live); 0 = the device's own.");
-  w.Key(1, "width_px", std::to_string(c.camera.width_px));
-  w.Key(1, "height_px", std::to_string(c.camera.height_px));
-  w.Key(1, "fps", std::to_string(c.camera.fps));
-  w.Comment(1, "Depth units asked of the device: mm or 100um.");
-  w.Key(1, "depth_units", c.camera.depth_units);
-  w.Comment(1, "Pinhole intrinsics instead of the depth images' own, for images of");
-  w.Comment(1, "width_px x height_px (an OpenNI2 device: fx, fy, cx, cy replace its own); all");
-  w.Comment(1, "six keys. null: the session description's override, else the images' own. E.g.:");
-  {
-    Writer example;
-    WriteIntrinsics(&example, 0, RigConfig::Intrinsics{});
-    std::istringstream lines(example.str());
-    std::string line;
-    w.Comment(1, "intrinsics_override:");
-    while (std::getline(lines, line)) w.Comment(1, "  " + line);
-  }
-  if (c.camera.intrinsics_override) {
-    w.Key(1, "intrinsics_override", "");
-    WriteIntrinsics(&w, 2, *c.camera.intrinsics_override);
-  } else {
-    w.Key(1, "intrinsics_override", "null");
-  }
-  w.Comment(1, "Depth images (bus, log) with more pixels are refused before they are decoded,");
-  w.Comment(1, "counted as bad_size; 1.." + std::to_string(io::kMaxDepthPixels) + " (default " +
-                   std::to_string(d.camera.max_depth_pixels) + " = 8 MP: the largest common");
-  w.Comment(1, "depth sensors are ~5 MP; a 4096 x 4096 stream needs " +
-                   std::to_string(io::kMaxDepthPixels) + ").");
-  w.Key(1, "max_depth_pixels", std::to_string(c.camera.max_depth_pixels));
+  DumpCamera(&w, c, d);
   w.Blank();
-
-  w.Key(0, "robot", "");
-  w.Comment(1, "Hand-eye calibration T_C_B: maps points from the robot base B to the camera C");
-  w.Comment(1, "(p_C = R * p_B + t), for gripper states sent in the base frame; both keys.");
-  w.Comment(1, "null: the session description's, else identity:");
-  w.Comment(1, "T_C_B: {translation_m: " + List(RigConfig::Pose{}.translation_m) +
-                   ", rotation_wxyz: " + List(RigConfig::Pose{}.rotation_wxyz) + "}");
-  if (c.robot.T_C_B) {
-    w.Key(1, "T_C_B", "");
-    WritePose(&w, 2, *c.robot.T_C_B);
-  } else {
-    w.Key(1, "T_C_B", "null");
-  }
-  w.Comment(1, "Added to every gripper state's stamp: the robot's clock onto the camera's [s]");
-  w.Comment(1, "(default " + FormatNumber(d.robot.clock_offset_s) + ").");
-  w.Key(1, "clock_offset_s", FormatNumber(c.robot.clock_offset_s));
-  w.Comment(1, "A depth frame is fused only between gripper states at most this far apart [s]");
-  w.Comment(1, "(default " + FormatNumber(d.robot.max_pose_gap_s) + ").");
-  w.Key(1, "max_pose_gap_s", FormatNumber(c.robot.max_pose_gap_s));
+  DumpRobot(&w, c, d);
   w.Blank();
-
-  w.Key(0, "claw", "");
-  w.Comment(1, "three-finger, parallel, a claw description .json, a .urdf or a URDF config");
-  w.Comment(1, ".json; \"\" = the session description's claw, else three-finger.");
-  w.Key(1, "spec", Quoted(c.claw.spec));
-  w.Comment(1, "Where a description's or URDF's meshes are; \"\" = beside it.");
-  w.Key(1, "mesh_root", Quoted(c.claw.mesh_root));
+  DumpClaw(&w, c);
   w.Blank();
-
-  w.Comment(0, "The object's box in the gripper frame G [m] (crops each depth frame); both keys.");
-  w.Comment(0, "null: the session description's, else:");
-  {
-    const RigConfig::Box b;
-    w.Comment(0, "workspace: {min_G_m: " + List(b.min_G_m) + ", max_G_m: " + List(b.max_G_m) + "}");
-  }
-  if (c.workspace) {
-    w.Key(0, "workspace", "");
-    WriteBox(&w, 1, *c.workspace);
-  } else {
-    w.Key(0, "workspace", "null");
-  }
+  DumpWorkspace(&w, c);
   w.Blank();
-
-  w.Key(0, "tsdf", "");
-  w.Comment(1, "Voxel edge [m], " + FormatNumber(kVoxelM.min) + ".." + FormatNumber(kVoxelM.max) +
-                   "; null: the session description's, else " +
-                   FormatNumber(fusion::TsdfConfig{}.voxel_m) + ".");
-  w.Key(1, "voxel_m", c.tsdf.voxel_m ? FormatNumber(*c.tsdf.voxel_m) : "null");
-  w.Comment(1, "Truncation distance in voxels (default " + FormatNumber(d.tsdf.sdf_trunc_voxels) +
-                   ").");
-  w.Key(1, "sdf_trunc_voxels", FormatNumber(c.tsdf.sdf_trunc_voxels));
-  w.Comment(1, "Open3D's voxel block edge [voxels] (default " +
-                   std::to_string(d.tsdf.block_resolution) + ").");
-  w.Key(1, "block_resolution", std::to_string(c.tsdf.block_resolution));
-  w.Comment(1, "Every Nth pixel of each row and column is fused (default " +
-                   std::to_string(d.tsdf.depth_sampling_stride) + ").");
-  w.Key(1, "depth_sampling_stride", std::to_string(c.tsdf.depth_sampling_stride));
-  w.Comment(1, "Frames with more pixels are fused decimated, every f-th pixel and row "
-               "(default " + std::to_string(d.tsdf.max_fusion_pixels) + " = 1280 x 1024).");
-  w.Key(1, "max_fusion_pixels", std::to_string(c.tsdf.max_fusion_pixels));
+  DumpTsdf(&w, c, d);
   w.Blank();
-
-  w.Key(0, "repair", "");
-  w.Comment(1, "Repair the fused cloud (claw holes, unseen top) before it goes out.");
-  w.Key(1, "enabled", Bool(c.repair.enabled));
-  w.Comment(1, "best (graspfill's) or paper (the method as published).");
-  w.Key(1, "mode", c.repair.mode);
-  w.Comment(1, "Use what the camera saw (the visibility record) in the repair.");
-  w.Key(1, "use_evidence", Bool(c.repair.use_evidence));
-  w.Comment(1, "The planner's safe bound's voxel edge [m]; 0 = no bound (default " +
-                   FormatNumber(d.repair.safe_bound_voxel_m) + ").");
-  w.Key(1, "safe_bound_voxel_m", FormatNumber(c.repair.safe_bound_voxel_m));
-  w.Comment(1, "Best mode: boundary points this close to the top form its rim [m] (default " +
-                   FormatNumber(d.repair.top_rim_band_m) + ").");
-  w.Key(1, "top_rim_band_m", FormatNumber(c.repair.top_rim_band_m));
-  w.Comment(1, "Live: update the last full repair between full repairs, which run behind");
-  w.Comment(1, "(false: a full repair per published cloud).");
-  w.Key(1, "incremental", Bool(c.repair.incremental));
+  DumpRepair(&w, c, d);
   w.Blank();
-
-  w.Key(0, "refine", "");
-  w.Comment(1, "Correct each frame's gripper pose by registering the claw model to the depth");
-  w.Comment(1, "(false: fuse at the logged poses).");
-  w.Key(1, "enabled", Bool(c.refine.enabled));
-  w.Comment(1, "Corrections beyond the prediction smaller than both are not fused (the");
-  w.Comment(1, "registration's jitter) [m], [deg] (defaults " + FormatNumber(d.refine.min_correction_m) +
-                   ", " + FormatNumber(d.refine.min_correction_deg) + ").");
-  w.Key(1, "min_correction_m", FormatNumber(c.refine.min_correction_m));
-  w.Key(1, "min_correction_deg", FormatNumber(c.refine.min_correction_deg));
-  w.Comment(1, "Follow the object slipping in the grasp (frame-to-model tracking).");
-  w.Key(1, "track_object", Bool(c.refine.track_object));
+  DumpRefine(&w, c, d);
   w.Blank();
-
-  w.Comment(0, "LCM channels.");
-  w.Key(0, "channels", "");
-  w.Key(1, "depth", Quoted(c.channels.depth));
-  w.Key(1, "gripper_state", Quoted(c.channels.gripper_state));
-  w.Key(1, "object_cloud", Quoted(c.channels.object_cloud));
-  w.Key(1, "status", Quoted(c.channels.status));
-  w.Key(1, "session", Quoted(c.channels.session));
-  w.Key(1, "collision_mesh", Quoted(c.channels.collision_mesh));
+  DumpChannels(&w, c);
   w.Blank();
-
-  w.Key(0, "collision_mesh", "");
-  w.Comment(1, "replay --mesh-out: at most this many triangles, decimated, watertight, holding");
-  w.Comment(1, "the cloud (default " + std::to_string(d.collision_mesh.max_triangles) + ").");
-  w.Key(1, "max_triangles", std::to_string(c.collision_mesh.max_triangles));
-  w.Comment(1, "The convex hull instead of the decimated shape.");
-  w.Key(1, "convex_hull", Bool(c.collision_mesh.convex_hull));
+  DumpCollisionMesh(&w, c, d);
   w.Blank();
-
-  w.Key(0, "rates", "");
-  w.Comment(1, "live: publish the cloud every N fused frames; 0 = only at each grasp's end");
-  w.Comment(1, "(default " + std::to_string(d.rates.publish_every_n_frames) + ").");
-  w.Key(1, "publish_every_n_frames", std::to_string(c.rates.publish_every_n_frames));
-  w.Comment(1, "live: the module status's period [s] (default " +
-                   FormatNumber(d.rates.status_period_s) + ").");
-  w.Key(1, "status_period_s", FormatNumber(c.rates.status_period_s));
+  DumpRates(&w, c, d);
   w.Blank();
-
-  w.Key(0, "compute", "");
-  w.Comment(1, "OpenMP threads of each pipeline and repair call (Open3D's TSDF integration):");
-  w.Comment(1, "1 = the calling thread alone, N = at most N, 0 = OpenMP's own count, a thread");
-  w.Comment(1, "per core (default " + std::to_string(d.compute.num_threads) + ").");
-  w.Key(1, "num_threads", std::to_string(c.compute.num_threads));
+  DumpCompute(&w, c, d);
   return w.str();
 }
 
@@ -638,9 +683,8 @@ class Reader {
   std::string name_;
 };
 
-}  // namespace
-
-RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
+// The text's one YAML document (null: an empty file).
+YAML::Node LoadOneDocument(const std::string& text, const std::string& name) {
   YAML::Node root;
   try {
     const std::vector<YAML::Node> documents = YAML::LoadAll(text);
@@ -662,6 +706,178 @@ RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
   } catch (const YAML::Exception& e) {
     throw ConfigError("", name + ":" + std::to_string(e.mark.line + 1) + ": not YAML: " + e.msg);
   }
+  return root;
+}
+
+RigConfig::Intrinsics ReadIntrinsics(const Reader& r, const YAML::Node& x, const std::string& f) {
+  RigConfig::Intrinsics K;
+  r.Map(x, f, {"width_px", "height_px", "fx_px", "fy_px", "cx_px", "cy_px"},
+        [&](const std::string& kk, const YAML::Node& y, const std::string& ff) {
+    if (kk == "width_px") K.width_px = r.Integer(y, ff, kImagePx);
+    else if (kk == "height_px") K.height_px = r.Integer(y, ff, kImagePx);
+    else if (kk == "fx_px") K.fx_px = r.Number(y, ff, kFocalPx);
+    else if (kk == "fy_px") K.fy_px = r.Number(y, ff, kFocalPx);
+    else if (kk == "cx_px") K.cx_px = r.Number(y, ff, kCentrePx);
+    else K.cy_px = r.Number(y, ff, kCentrePx);
+  }, /*required=*/true);
+  return K;
+}
+
+void ReadCamera(const Reader& r, const YAML::Node& v, const std::string& path,
+                RigConfig::Camera* cam) {
+  r.Map(v, path, {"device", "width_px", "height_px", "fps", "depth_units", "intrinsics_override",
+                  "max_depth_pixels"},
+        [&](const std::string& k, const YAML::Node& x, const std::string& f) {
+    if (k == "device") cam->device = r.String(x, f);
+    else if (k == "max_depth_pixels") cam->max_depth_pixels = r.Integer(x, f, kDepthPixels);
+    else if (k == "width_px") cam->width_px = r.Integer(x, f, kVideoPx);
+    else if (k == "height_px") cam->height_px = r.Integer(x, f, kVideoPx);
+    else if (k == "fps") cam->fps = r.Integer(x, f, kFps);
+    else if (k == "depth_units") cam->depth_units = r.OneOf(x, f, {"mm", "100um"});
+    else if (x.IsNull()) cam->intrinsics_override.reset();
+    else cam->intrinsics_override = ReadIntrinsics(r, x, f);
+  });
+}
+
+void ReadRobot(const Reader& r, const YAML::Node& v, const std::string& path,
+               RigConfig::Robot* robot) {
+  r.Map(v, path, {"T_C_B", "clock_offset_s", "max_pose_gap_s"},
+        [&](const std::string& k, const YAML::Node& x, const std::string& f) {
+    if (k == "clock_offset_s") robot->clock_offset_s = r.Number(x, f, kClockOffsetS);
+    else if (k == "max_pose_gap_s") robot->max_pose_gap_s = r.Number(x, f, kPoseGapS);
+    else if (x.IsNull()) robot->T_C_B.reset();
+    else {
+      RigConfig::Pose pose;
+      r.Map(x, f, {"translation_m", "rotation_wxyz"},
+            [&](const std::string& kk, const YAML::Node& y, const std::string& ff) {
+        if (kk == "translation_m") pose.translation_m = r.Numbers<3>(y, ff, kTranslationM);
+        else pose.rotation_wxyz = r.Numbers<4>(y, ff, kQuaternion);
+      }, /*required=*/true);
+      r.Check(x["rotation_wxyz"], [&] { CheckPose(f, pose); });
+      robot->T_C_B = pose;
+    }
+  });
+}
+
+// null: none (the session description's).
+std::optional<RigConfig::Box> ReadWorkspace(const Reader& r, const YAML::Node& v,
+                                            const std::string& path) {
+  if (v.IsNull()) return std::nullopt;
+  RigConfig::Box box;
+  r.Map(v, path, {"min_G_m", "max_G_m"},
+        [&](const std::string& k, const YAML::Node& x, const std::string& f) {
+    (k == "min_G_m" ? box.min_G_m : box.max_G_m) = r.Numbers<3>(x, f, kBoxM);
+  }, /*required=*/true);
+  r.Check(v["max_G_m"], [&] { CheckBox(path, box); });
+  return box;
+}
+
+void ReadTsdf(const Reader& r, const YAML::Node& v, const std::string& path, RigConfig::Tsdf* tsdf) {
+  r.Map(v, path, {"voxel_m", "sdf_trunc_voxels", "block_resolution", "depth_sampling_stride",
+                  "max_fusion_pixels"},
+        [&](const std::string& k, const YAML::Node& x, const std::string& f) {
+    if (k == "voxel_m") {
+      if (x.IsNull()) tsdf->voxel_m.reset();
+      else tsdf->voxel_m = r.Number(x, f, kVoxelM);
+    }
+    else if (k == "sdf_trunc_voxels") tsdf->sdf_trunc_voxels = r.Number(x, f, kTruncVoxels);
+    else if (k == "block_resolution") tsdf->block_resolution = r.Integer(x, f, kBlockResolution);
+    else if (k == "depth_sampling_stride") tsdf->depth_sampling_stride = r.Integer(x, f, kStride);
+    else tsdf->max_fusion_pixels = r.Integer(x, f, kFusionPixels);
+  });
+}
+
+void ReadRepair(const Reader& r, const YAML::Node& v, const std::string& path,
+                RigConfig::Repair* repair) {
+  r.Map(v, path, {"enabled", "mode", "use_evidence", "safe_bound_voxel_m", "top_rim_band_m",
+                  "close_unknown_top", "incremental"},
+        [&](const std::string& k, const YAML::Node& x, const std::string& f) {
+    if (k == "enabled") repair->enabled = r.Bool(x, f);
+    else if (k == "mode") repair->mode = r.OneOf(x, f, {"best", "paper"});
+    else if (k == "use_evidence") repair->use_evidence = r.Bool(x, f);
+    else if (k == "safe_bound_voxel_m") {
+      repair->safe_bound_voxel_m = r.Number(x, f, kSafeBoundM);
+      r.Check(x, [&] { CheckSafeBound(f, repair->safe_bound_voxel_m); });
+    }
+    else if (k == "top_rim_band_m") repair->top_rim_band_m = r.Number(x, f, kRimBandM);
+    else if (k == "incremental") repair->incremental = r.Bool(x, f);
+    else r.Bool(x, f);  // close_unknown_top: read and ignored since the top search (2026-12)
+  });
+}
+
+void ReadChannels(const Reader& r, const YAML::Node& v, const std::string& path,
+                  RigConfig::Channels* channels) {
+  r.Map(v, path, {"depth", "gripper_state", "object_cloud", "status", "session", "collision_mesh"},
+        [&](const std::string& k, const YAML::Node& x, const std::string& f) {
+    std::string value = r.String(x, f);
+    r.Check(x, [&] { CheckChannel(f, value); });
+    if (k == "depth") channels->depth = value;
+    else if (k == "gripper_state") channels->gripper_state = value;
+    else if (k == "object_cloud") channels->object_cloud = value;
+    else if (k == "status") channels->status = value;
+    else if (k == "session") channels->session = value;
+    else channels->collision_mesh = value;
+  });
+  // Two the same: named at the line of the later one the file sets
+  // (the other may be a default).
+  if (const auto problem = io::FindChannelNameProblem(ToChannelNames(*channels))) {
+    const bool later_set = v[problem->role].IsDefined();
+    const std::string& role = later_set ? problem->role : problem->same_as;
+    const std::string& other = later_set ? problem->same_as : problem->role;
+    r.Check(v[role], [&] { throw SameChannelError(role, problem->name, other); });
+  }
+}
+
+void ReadClaw(const Reader& r, const YAML::Node& v, const std::string& path, RigConfig::Claw* claw) {
+  r.Map(v, path, {"spec", "mesh_root"},
+        [&](const std::string& k, const YAML::Node& x, const std::string& f) {
+    (k == "spec" ? claw->spec : claw->mesh_root) = r.String(x, f);
+  });
+}
+
+void ReadRefine(const Reader& r, const YAML::Node& v, const std::string& path,
+                RigConfig::Refine* refine) {
+  r.Map(v, path, {"enabled", "min_correction_m", "min_correction_deg", "track_object"},
+        [&](const std::string& k, const YAML::Node& x, const std::string& f) {
+    if (k == "enabled") refine->enabled = r.Bool(x, f);
+    else if (k == "min_correction_m") refine->min_correction_m = r.Number(x, f, kCorrectionM);
+    else if (k == "min_correction_deg") refine->min_correction_deg = r.Number(x, f, kCorrectionDeg);
+    else refine->track_object = r.Bool(x, f);
+  });
+}
+
+void ReadCollisionMesh(const Reader& r, const YAML::Node& v, const std::string& path,
+                       RigConfig::CollisionMesh* mesh) {
+  r.Map(v, path, {"max_triangles", "convex_hull"},
+        [&](const std::string& k, const YAML::Node& x, const std::string& f) {
+    if (k == "max_triangles") mesh->max_triangles = r.Integer(x, f, kMeshTriangles);
+    else mesh->convex_hull = r.Bool(x, f);
+  });
+}
+
+void ReadCompute(const Reader& r, const YAML::Node& v, const std::string& path,
+                 RigConfig::Compute* compute) {
+  r.Map(v, path, {"num_threads"}, [&](const std::string&, const YAML::Node& x, const std::string& f) {
+    compute->num_threads = r.Integer(x, f, kNumThreads);
+  });
+}
+
+void ReadRates(const Reader& r, const YAML::Node& v, const std::string& path,
+               RigConfig::Rates* rates) {
+  r.Map(v, path, {"publish_every_n_frames", "status_period_s"},
+        [&](const std::string& k, const YAML::Node& x, const std::string& f) {
+    if (k == "publish_every_n_frames") {
+      rates->publish_every_n_frames = r.Integer(x, f, kPublishEvery);
+    } else {
+      rates->status_period_s = r.Number(x, f, kStatusPeriodS);
+    }
+  });
+}
+
+}  // namespace
+
+RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
+  const YAML::Node root = LoadOneDocument(text, name);
   RigConfig c;
   if (root.IsNull()) return c;  // an empty file: the defaults
   const Reader r(name);
@@ -669,143 +885,17 @@ RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
         {"camera", "robot", "claw", "workspace", "tsdf", "repair", "refine", "channels",
          "collision_mesh", "rates", "compute"},
         [&](const std::string& key, const YAML::Node& v, const std::string& path) {
-    if (key == "camera") {
-      r.Map(v, path, {"device", "width_px", "height_px", "fps", "depth_units", "intrinsics_override",
-                      "max_depth_pixels"},
-            [&](const std::string& k, const YAML::Node& x, const std::string& f) {
-        RigConfig::Camera& cam = c.camera;
-        if (k == "device") cam.device = r.String(x, f);
-        else if (k == "max_depth_pixels") cam.max_depth_pixels = r.Integer(x, f, kDepthPixels);
-        else if (k == "width_px") cam.width_px = r.Integer(x, f, kVideoPx);
-        else if (k == "height_px") cam.height_px = r.Integer(x, f, kVideoPx);
-        else if (k == "fps") cam.fps = r.Integer(x, f, kFps);
-        else if (k == "depth_units") cam.depth_units = r.OneOf(x, f, {"mm", "100um"});
-        else if (x.IsNull()) cam.intrinsics_override.reset();
-        else {
-          RigConfig::Intrinsics K;
-          r.Map(x, f, {"width_px", "height_px", "fx_px", "fy_px", "cx_px", "cy_px"},
-                [&](const std::string& kk, const YAML::Node& y, const std::string& ff) {
-            if (kk == "width_px") K.width_px = r.Integer(y, ff, kImagePx);
-            else if (kk == "height_px") K.height_px = r.Integer(y, ff, kImagePx);
-            else if (kk == "fx_px") K.fx_px = r.Number(y, ff, kFocalPx);
-            else if (kk == "fy_px") K.fy_px = r.Number(y, ff, kFocalPx);
-            else if (kk == "cx_px") K.cx_px = r.Number(y, ff, kCentrePx);
-            else K.cy_px = r.Number(y, ff, kCentrePx);
-          }, /*required=*/true);
-          cam.intrinsics_override = K;
-        }
-      });
-    } else if (key == "robot") {
-      r.Map(v, path, {"T_C_B", "clock_offset_s", "max_pose_gap_s"},
-            [&](const std::string& k, const YAML::Node& x, const std::string& f) {
-        if (k == "clock_offset_s") c.robot.clock_offset_s = r.Number(x, f, kClockOffsetS);
-        else if (k == "max_pose_gap_s") c.robot.max_pose_gap_s = r.Number(x, f, kPoseGapS);
-        else if (x.IsNull()) c.robot.T_C_B.reset();
-        else {
-          RigConfig::Pose pose;
-          r.Map(x, f, {"translation_m", "rotation_wxyz"},
-                [&](const std::string& kk, const YAML::Node& y, const std::string& ff) {
-            if (kk == "translation_m") pose.translation_m = r.Numbers<3>(y, ff, kTranslationM);
-            else pose.rotation_wxyz = r.Numbers<4>(y, ff, kQuaternion);
-          }, /*required=*/true);
-          r.Check(x["rotation_wxyz"], [&] { CheckPose(f, pose); });
-          c.robot.T_C_B = pose;
-        }
-      });
-    } else if (key == "claw") {
-      r.Map(v, path, {"spec", "mesh_root"},
-            [&](const std::string& k, const YAML::Node& x, const std::string& f) {
-        (k == "spec" ? c.claw.spec : c.claw.mesh_root) = r.String(x, f);
-      });
-    } else if (key == "workspace") {
-      if (v.IsNull()) {
-        c.workspace.reset();
-        return;
-      }
-      RigConfig::Box box;
-      r.Map(v, path, {"min_G_m", "max_G_m"},
-            [&](const std::string& k, const YAML::Node& x, const std::string& f) {
-        (k == "min_G_m" ? box.min_G_m : box.max_G_m) = r.Numbers<3>(x, f, kBoxM);
-      }, /*required=*/true);
-      r.Check(v["max_G_m"], [&] { CheckBox(path, box); });
-      c.workspace = box;
-    } else if (key == "tsdf") {
-      r.Map(v, path, {"voxel_m", "sdf_trunc_voxels", "block_resolution", "depth_sampling_stride",
-                      "max_fusion_pixels"},
-            [&](const std::string& k, const YAML::Node& x, const std::string& f) {
-        if (k == "voxel_m") {
-          if (x.IsNull()) c.tsdf.voxel_m.reset();
-          else c.tsdf.voxel_m = r.Number(x, f, kVoxelM);
-        }
-        else if (k == "sdf_trunc_voxels") c.tsdf.sdf_trunc_voxels = r.Number(x, f, kTruncVoxels);
-        else if (k == "block_resolution") c.tsdf.block_resolution = r.Integer(x, f, kBlockResolution);
-        else if (k == "depth_sampling_stride") c.tsdf.depth_sampling_stride = r.Integer(x, f, kStride);
-        else c.tsdf.max_fusion_pixels = r.Integer(x, f, kFusionPixels);
-      });
-    } else if (key == "repair") {
-      r.Map(v, path, {"enabled", "mode", "use_evidence", "safe_bound_voxel_m", "top_rim_band_m",
-                      "close_unknown_top", "incremental"},
-            [&](const std::string& k, const YAML::Node& x, const std::string& f) {
-        if (k == "enabled") c.repair.enabled = r.Bool(x, f);
-        else if (k == "mode") c.repair.mode = r.OneOf(x, f, {"best", "paper"});
-        else if (k == "use_evidence") c.repair.use_evidence = r.Bool(x, f);
-        else if (k == "safe_bound_voxel_m") {
-          c.repair.safe_bound_voxel_m = r.Number(x, f, kSafeBoundM);
-          r.Check(x, [&] { CheckSafeBound(f, c.repair.safe_bound_voxel_m); });
-        }
-        else if (k == "top_rim_band_m") c.repair.top_rim_band_m = r.Number(x, f, kRimBandM);
-        else if (k == "incremental") c.repair.incremental = r.Bool(x, f);
-        else r.Bool(x, f);  // close_unknown_top: read and ignored since the top search (2026-12)
-      });
-    } else if (key == "refine") {
-      r.Map(v, path, {"enabled", "min_correction_m", "min_correction_deg", "track_object"},
-            [&](const std::string& k, const YAML::Node& x, const std::string& f) {
-        if (k == "enabled") c.refine.enabled = r.Bool(x, f);
-        else if (k == "min_correction_m") c.refine.min_correction_m = r.Number(x, f, kCorrectionM);
-        else if (k == "min_correction_deg") c.refine.min_correction_deg = r.Number(x, f, kCorrectionDeg);
-        else c.refine.track_object = r.Bool(x, f);
-      });
-    } else if (key == "channels") {
-      r.Map(v, path, {"depth", "gripper_state", "object_cloud", "status", "session", "collision_mesh"},
-            [&](const std::string& k, const YAML::Node& x, const std::string& f) {
-        std::string value = r.String(x, f);
-        r.Check(x, [&] { CheckChannel(f, value); });
-        if (k == "depth") c.channels.depth = value;
-        else if (k == "gripper_state") c.channels.gripper_state = value;
-        else if (k == "object_cloud") c.channels.object_cloud = value;
-        else if (k == "status") c.channels.status = value;
-        else if (k == "session") c.channels.session = value;
-        else c.channels.collision_mesh = value;
-      });
-      // Two the same: named at the line of the later one the file sets
-      // (the other may be a default).
-      if (const auto problem = io::FindChannelNameProblem(ToChannelNames(c.channels))) {
-        const bool later_set = v[problem->role].IsDefined();
-        const std::string& role = later_set ? problem->role : problem->same_as;
-        const std::string& other = later_set ? problem->same_as : problem->role;
-        r.Check(v[role], [&] { throw SameChannelError(role, problem->name, other); });
-      }
-    } else if (key == "collision_mesh") {
-      r.Map(v, path, {"max_triangles", "convex_hull"},
-            [&](const std::string& k, const YAML::Node& x, const std::string& f) {
-        if (k == "max_triangles") c.collision_mesh.max_triangles = r.Integer(x, f, kMeshTriangles);
-        else c.collision_mesh.convex_hull = r.Bool(x, f);
-      });
-    } else if (key == "compute") {
-      r.Map(v, path, {"num_threads"},
-            [&](const std::string&, const YAML::Node& x, const std::string& f) {
-        c.compute.num_threads = r.Integer(x, f, kNumThreads);
-      });
-    } else {  // rates
-      r.Map(v, path, {"publish_every_n_frames", "status_period_s"},
-            [&](const std::string& k, const YAML::Node& x, const std::string& f) {
-        if (k == "publish_every_n_frames") {
-          c.rates.publish_every_n_frames = r.Integer(x, f, kPublishEvery);
-        } else {
-          c.rates.status_period_s = r.Number(x, f, kStatusPeriodS);
-        }
-      });
-    }
+    if (key == "camera") ReadCamera(r, v, path, &c.camera);
+    else if (key == "robot") ReadRobot(r, v, path, &c.robot);
+    else if (key == "workspace") c.workspace = ReadWorkspace(r, v, path);
+    else if (key == "tsdf") ReadTsdf(r, v, path, &c.tsdf);
+    else if (key == "repair") ReadRepair(r, v, path, &c.repair);
+    else if (key == "channels") ReadChannels(r, v, path, &c.channels);
+    else if (key == "claw") ReadClaw(r, v, path, &c.claw);
+    else if (key == "refine") ReadRefine(r, v, path, &c.refine);
+    else if (key == "collision_mesh") ReadCollisionMesh(r, v, path, &c.collision_mesh);
+    else if (key == "compute") ReadCompute(r, v, path, &c.compute);
+    else ReadRates(r, v, path, &c.rates);
   });
   try {
     c.Validate();  // every field was checked as read; this is the net under it
