@@ -60,6 +60,7 @@
 #include "module/process_memory.hpp"
 #include "module/sample_window.hpp"
 #include "number_parsing.hpp"
+#include "option_walk.hpp"
 #include "private_network.hpp"
 #include "unknown_option.hpp"
 #include "sources/lcm_log_source.hpp"
@@ -736,43 +737,39 @@ struct BenchLiveOptions {
 BenchLiveOptions ParseBenchLiveArgs(const Args& args) {
   BenchLiveOptions o;
   bool log_given = false;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    const bool has_value = i + 1 < args.size();
-    if (a == "--help" || a == "-h") {
-      o.help = true;
-      return o;
-    } else if (a == "--json") {
+  o.help = ForEachOption(args, [&](const std::string& a, bool has_value, size_t* i) {
+    if (a == "--json") {
       o.json = true;
     } else if (a == "--speeds" && has_value) {
-      o.speeds = ParseSpeeds(args[++i]);
+      o.speeds = ParseSpeeds(args[++*i]);
     } else if (a == "--transport" && has_value) {
-      o.transport = args[++i];
+      o.transport = args[++*i];
       if (o.transport != "memq" && o.transport != "udpm" && o.transport != "both") {
         throw UsageError("--transport must be memq, udpm or both, not '" + o.transport + "'");
       }
     } else if (a == "--repair" && has_value) {
-      o.repair = args[++i];
+      o.repair = args[++*i];
       if (o.repair != "incremental" && o.repair != "full" && o.repair != "both") {
         throw UsageError("--repair must be incremental, full or both, not '" + o.repair + "'");
       }
     } else if (a == "--publish-every" && has_value) {
-      o.publish_every = ParseInteger<int>("--publish-every", args[++i], 1, 1000);
+      o.publish_every = ParseInteger<int>("--publish-every", args[++*i], 1, 1000);
     } else if (a == "--soak-s" && has_value) {
-      o.soak_s = ParseDouble("--soak-s", args[++i], 10.0, 86400.0);
+      o.soak_s = ParseDouble("--soak-s", args[++*i], 10.0, 86400.0);
     } else if (a == "--soak-faults" && has_value) {
-      o.soak_faults = ParseDouble("--soak-faults", args[++i], 0.001, 50.0);
+      o.soak_faults = ParseDouble("--soak-faults", args[++*i], 0.001, 50.0);
     } else if (a == "--soak-speed" && has_value) {
-      o.soak_speed = ParseDouble("--soak-speed", args[++i], 0.1, 100.0);
+      o.soak_speed = ParseDouble("--soak-speed", args[++*i], 0.1, 100.0);
     } else if (a == "--heap-reserve-mb" && has_value) {
-      o.heap_reserve_mb = ParseInteger<int>("--heap-reserve-mb", args[++i], 0, 65536);
+      o.heap_reserve_mb = ParseInteger<int>("--heap-reserve-mb", args[++*i], 0, 65536);
     } else if (!a.empty() && a[0] != '-' && !log_given) {
       o.log = a;
       log_given = true;
     } else {
       throw UsageError(BadOptionText(a, Usage()) + " (or its value is missing)");
     }
-  }
+  });
+  if (o.help) return o;
   if (o.soak_s > 0.0 && o.soak_s < 60.0 && o.soak_faults == 0.0) {
     throw UsageError("--soak-s must be >= 60 (RSS at minute 1), or come with --soak-faults");
   }

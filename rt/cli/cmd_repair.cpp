@@ -13,6 +13,7 @@
 #include "error_text.hpp"
 #include "mesh_option.hpp"
 #include "number_parsing.hpp"
+#include "option_walk.hpp"
 #include "threads_option.hpp"
 #include "preview.hpp"
 #include "unknown_option.hpp"
@@ -118,41 +119,37 @@ Eigen::Vector3d ParseUp(const std::string& text) {
 // @throws UsageError on an unknown option, a missing or bad value.
 RepairOptions ParseRepairArgs(const Args& args) {
   RepairOptions o;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    const bool has_value = i + 1 < args.size();
-    if (a == "--help" || a == "-h") {
-      o.help = true;
-      return o;
-    } else if ((a == "-o" || a == "--output") && has_value) {
-      o.out = args[++i];
+  o.help = ForEachOption(args, [&](const std::string& a, bool has_value, size_t* i) {
+    if ((a == "-o" || a == "--output") && has_value) {
+      o.out = args[++*i];
     } else if (a == "--preview" && has_value) {
-      o.preview_dir = args[++i];
+      o.preview_dir = args[++*i];
     } else if (a == "--mesh-out" && has_value) {
-      o.mesh_out = args[++i];
+      o.mesh_out = args[++*i];
     } else if (a == "--mesh-max-triangles" || a == "--mesh-convex-hull") {
-      ParseMeshFlag(args, &i, &o.mesh_config, &o.mesh_flags);
+      ParseMeshFlag(args, i, &o.mesh_config, &o.mesh_flags);
     } else if (a == "--json") {
       o.json = true;
     } else if (a == "--force") {
       o.force = true;
     } else if (a == "--mode" && has_value) {
-      const std::string m = args[++i];
+      const std::string m = args[++*i];
       if (m == "paper") o.config.mode = repair::RepairMode::kPaper;
       else if (m == "best") o.config.mode = repair::RepairMode::kBest;
       else throw UsageError("unknown mode '" + m + "'");
     } else if (a == "--num-threads" && has_value) {
-      o.config.num_threads = ParseNumThreads(args[++i]);
+      o.config.num_threads = ParseNumThreads(args[++*i]);
     } else if (a == "--scale" && has_value) {
-      o.scale = ParseDouble("--scale", args[++i], 1e-9, 1e9);
+      o.scale = ParseDouble("--scale", args[++*i], 1e-9, 1e9);
     } else if (a == "--up" && has_value) {
-      o.config.up_hint = ParseUp(args[++i]).normalized();
+      o.config.up_hint = ParseUp(args[++*i]).normalized();
     } else if (!a.empty() && a[0] != '-' && o.in.empty()) {
       o.in = a;
     } else {
       throw BadOption(a, kUsage);
     }
-  }
+  });
+  if (o.help) return o;
   if (o.in.empty() || o.out.empty()) throw UsageError("need IN.ply and -o OUT.ply");
   try {
     io::CloudFileFormatOf(o.out);
