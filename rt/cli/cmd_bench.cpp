@@ -79,17 +79,22 @@ std::vector<PosedFrame> LoadPosedFrames(const std::string& path) {
   return posed;
 }
 
+// Feeds every posed frame, its gripper state first, to the pipeline.
+void FeedFrames(const std::vector<PosedFrame>& frames, Pipeline* pipeline, FramesDone* progress) {
+  for (const PosedFrame& p : frames) {
+    pipeline->AddGripperState(p.state);
+    pipeline->AddDepthFrame(p.frame);
+    progress->Add();
+  }
+}
+
 // The frame path on the same frames with pose refinement off (its stages
 // only: every frame fused at its logged pose).
 double FramePathWithoutRefinementMs(PipelineConfig config, const claw::ClawModel& claw,
                                     const std::vector<PosedFrame>& frames, FramesDone* progress) {
   config.refine.enabled = false;
   Pipeline pipeline(config, claw);
-  for (const PosedFrame& p : frames) {
-    pipeline.AddGripperState(p.state);
-    pipeline.AddDepthFrame(p.frame);
-    progress->Add();
-  }
+  FeedFrames(frames, &pipeline, progress);
   const PipelineStats& s = pipeline.stats();
   return s.crop.mean_ms() + s.mask.mean_ms() + s.integrate.mean_ms() + s.visibility.mean_ms();
 }
@@ -100,11 +105,7 @@ PipelineStats FramePathWithTracking(PipelineConfig config, const claw::ClawModel
                                     const std::vector<PosedFrame>& frames, FramesDone* progress) {
   config.track_object.enabled = true;
   Pipeline pipeline(config, claw);
-  for (const PosedFrame& p : frames) {
-    pipeline.AddGripperState(p.state);
-    pipeline.AddDepthFrame(p.frame);
-    progress->Add();
-  }
+  FeedFrames(frames, &pipeline, progress);
   return pipeline.stats();
 }
 
@@ -181,149 +182,183 @@ double ReplayFps(const std::string& path, const claw::ClawModel& claw, int64_t* 
   return *frames / (Ms(Clock::now() - start) / 1000.0);
 }
 
-}  // namespace
-
-int RunBench(const Args& args) {
-  if (!args.empty() && args[0] == "repair") return RunBenchRepair(Args(args.begin() + 1, args.end()));
-  if (!args.empty() && args[0] == "live") return RunBenchLive(Args(args.begin() + 1, args.end()));
+struct BenchOptions {
   std::string log;  // the bundled recording unless given
-  std::string claw_spec = "three-finger";
-  int repeat = 3;
-  bool json = false;
+  std::string claw_spec{"three-finger"};
+  int repeat{3};
+  bool json{false};
+};
+
+// Reads the command line into *o. Returns -1 to go on, else the exit code:
+// 0 after --help, 2 after a bad option or value (said on stderr).
+int ParseBenchArgs(const Args& args, BenchOptions* o) {
   for (size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--help" || args[i] == "-h") {
       std::fputs(Usage().c_str(), stdout);
       return 0;
     } else if (args[i] == "--json") {
-      json = true;
-    } else if (args[i] == "--claw" && i + 1 < args.size()) {
+      o->json = true;
+    } else if ((args[i] == "--claw" || args[i] == "--repeat") && i + 1 < args.size()) {
       try {
-        claw_spec = ResolveClawSpec(args[++i], InstalledClawsDir());
-      } catch (const UsageError& e) {
-        std::fprintf(stderr, "graspfill bench: %s\n", e.what());
-        return 2;
-      }
-    } else if (args[i] == "--repeat" && i + 1 < args.size()) {
-      try {
-        repeat = ParseInteger<int>("--repeat", args[++i], 1, 1000);
+        if (args[i] == "--claw") o->claw_spec = ResolveClawSpec(args[++i], InstalledClawsDir());
+        else o->repeat = ParseInteger<int>("--repeat", args[++i], 1, 1000);
       } catch (const UsageError& e) {
         std::fprintf(stderr, "graspfill bench: %s\n", e.what());
         return 2;
       }
     } else if (!args[i].empty() && args[i][0] != '-') {
-      log = args[i];
+      o->log = args[i];
     } else {
       std::fprintf(stderr, "graspfill bench: %s\n%s", BadOptionText(args[i], Usage()).c_str(),
                    Usage().c_str());
       return 2;
     }
   }
-  if (log.empty()) log = (BundledRecordingDir() / "recording.lcmlog").string();
-  const claw::ClawModel claw = MakeClaw(claw_spec);
-  const std::vector<PosedFrame> frames = LoadPosedFrames(log);
-  // Refinement on (the default), its cost shown beside the path without.
-  const PipelineConfig config = [] {
-    PipelineConfig c;
-    c.refine.enabled = true;
-    return c;
-  }();
+  if (o->log.empty()) o->log = (BundledRecordingDir() / "recording.lcmlog").string();
+  return -1;
+}
 
-  // Six passes over the posed frames, then the replays of the whole log
-  // (a log's unposed frames can take the count past the total: capped).
-  ProgressLine line("bench", "frames", static_cast<int64_t>(frames.size()) * (6 + repeat));
-  FramesDone progress{line};
+// What the bench measured, for the table or the JSON.
+struct BenchResults {
+  size_t frames{0};
+  PipelineStats stats;  // graspfill's frame path, refinement on
+  double cut_ms{0.0};   // crop + claw cut-out
+  double total_ms{0.0};
+  double unrefined_total_ms{0.0};
+  size_t points{0};
+  PipelineStats tracked;  // with --track-object
+  ExtractionTimes extraction;
+  double raster_mask_ms{0.0};
+  double bare_integrate_ms{0.0};
+  int64_t replay_frames{0};
+  double best_fps{0.0};
+};
 
-  // graspfill's frame path, stage by stage (the Pipeline's own code path).
-  Pipeline pipeline(config, claw);
-  for (const PosedFrame& p : frames) {
-    pipeline.AddGripperState(p.state);
-    pipeline.AddDepthFrame(p.frame);
-    progress.Add();
-  }
-  const PipelineStats& s = pipeline.stats();
-  const double ours_cut_ms = s.crop.mean_ms() + s.mask.mean_ms();
-  const double ours_total_ms =
-      ours_cut_ms + s.integrate.mean_ms() + s.visibility.mean_ms() + s.refine_time.mean_ms();
-  const double unrefined_total_ms = FramePathWithoutRefinementMs(config, claw, frames, &progress);
-  const size_t ours_points = pipeline.ExtractCloud().size();
-  const PipelineStats tracked = FramePathWithTracking(config, claw, frames, &progress);
-  const ExtractionTimes extraction = ExtractionEvery(config, claw, frames, 3, &progress);
-
-  // The z-buffer alternative to Embree for the claw's depth, same frames.
-  PipelineConfig raster_config = config;
-  raster_config.mask.method = claw::ClawMaskMethod::kRaster;
-  Pipeline raster(raster_config, claw);
-  for (const PosedFrame& p : frames) {
-    raster.AddGripperState(p.state);
-    raster.AddDepthFrame(p.frame);
-    progress.Add();
-  }
-  const double raster_mask_ms = raster.stats().mask.mean_ms();
-
-  // Reference: Open3D's ScalableTSDFVolume on the same frames, unmasked,
-  // integrated in the camera frame. (In G, where the object is still, the
-  // static background sweeps a shell of voxel blocks around the gripper
-  // frame after frame: it took all 24 GB of this machine within 36 frames.)
+// Reference: Open3D's ScalableTSDFVolume on the same frames, unmasked,
+// integrated in the camera frame. (In G, where the object is still, the
+// static background sweeps a shell of voxel blocks around the gripper
+// frame after frame: it took all 24 GB of this machine within 36 frames.)
+double BareIntegrationMs(const PipelineConfig& config, const std::vector<PosedFrame>& frames,
+                         FramesDone* progress) {
   fusion::TsdfFusion bare(config.tsdf);
   StageTotal bare_integrate;
   for (const PosedFrame& p : frames) {
     ScopedStageTimer t(&bare_integrate);
     bare.Integrate(p.frame, Eigen::Isometry3d::Identity());
-    progress.Add();
+    progress->Add();
   }
+  return bare_integrate.mean_ms();
+}
 
-  int64_t replay_frames = 0;
-  double best_fps = 0.0;
-  for (int r = 0; r < repeat; ++r) best_fps = std::max(best_fps, ReplayFps(log, claw, &replay_frames, &progress));
+BenchResults Measure(const BenchOptions& o, const claw::ClawModel& claw,
+                     const std::vector<PosedFrame>& frames) {
+  // Refinement on (the default), its cost shown beside the path without.
+  PipelineConfig config;
+  config.refine.enabled = true;
+
+  // Six passes over the posed frames, then the replays of the whole log
+  // (a log's unposed frames can take the count past the total: capped).
+  ProgressLine line("bench", "frames", static_cast<int64_t>(frames.size()) * (6 + o.repeat));
+  FramesDone progress{line};
+  BenchResults r;
+  r.frames = frames.size();
+
+  // graspfill's frame path, stage by stage (the Pipeline's own code path).
+  Pipeline pipeline(config, claw);
+  FeedFrames(frames, &pipeline, &progress);
+  const PipelineStats& s = pipeline.stats();
+  r.cut_ms = s.crop.mean_ms() + s.mask.mean_ms();
+  r.total_ms = r.cut_ms + s.integrate.mean_ms() + s.visibility.mean_ms() + s.refine_time.mean_ms();
+  r.unrefined_total_ms = FramePathWithoutRefinementMs(config, claw, frames, &progress);
+  r.points = pipeline.ExtractCloud().size();
+  r.stats = pipeline.stats();
+  r.tracked = FramePathWithTracking(config, claw, frames, &progress);
+  r.extraction = ExtractionEvery(config, claw, frames, 3, &progress);
+
+  // The z-buffer alternative to Embree for the claw's depth, same frames.
+  PipelineConfig raster_config = config;
+  raster_config.mask.method = claw::ClawMaskMethod::kRaster;
+  Pipeline raster(raster_config, claw);
+  FeedFrames(frames, &raster, &progress);
+  r.raster_mask_ms = raster.stats().mask.mean_ms();
+  r.bare_integrate_ms = BareIntegrationMs(config, frames, &progress);
+
+  for (int k = 0; k < o.repeat; ++k) {
+    r.best_fps = std::max(r.best_fps, ReplayFps(o.log, claw, &r.replay_frames, &progress));
+  }
   line.Clear();
+  return r;
+}
 
-  if (json) {
-    nlohmann::ordered_json j;
-    j["log"] = log;
-    j["frames"] = frames.size();
-    j["graspfill"] = {{"crop_ms", s.crop.mean_ms()}, {"mask_ms", s.mask.mean_ms()},
-                      {"cutout_ms", ours_cut_ms}, {"mask_zbuffer_ms", raster_mask_ms}, {"integrate_ms", s.integrate.mean_ms()},
-                      {"visibility_ms", s.visibility.mean_ms()},
-                      {"refine_ms", s.refine_time.mean_ms()},
-                      {"frames_rejected_by_refine", s.frames_skipped_refine},
-                      {"frame_total_ms", ours_total_ms},
-                      {"frame_total_without_refine_ms", unrefined_total_ms}, {"points", ours_points},
-                      {"track_object_ms", tracked.track_time.mean_ms()},
-                      {"frames_rejected_by_track_object", tracked.frames_skipped_tracking},
-                      {"frame_total_with_track_object_ms", FramePathMs(tracked)}};
-    j["open3d_bare"] = {{"integrate_ms", bare_integrate.mean_ms()}};
-    j["extraction_every_3_frames"] = {
-        {"clouds", extraction.clouds},
-        {"cached_ms", {{"p50", PercentileMs(extraction.cached_ms, 50)}, {"p99", PercentileMs(extraction.cached_ms, 99)}}},
-        {"open3d_full_ms", {{"p50", PercentileMs(extraction.full_ms, 50)}, {"p99", PercentileMs(extraction.full_ms, 99)}}},
-        {"units_extracted_share", extraction.units_share}};
-    j["replay_fps"] = best_fps;
-    j["replay_frames"] = replay_frames;
-    std::printf("%s\n", j.dump(2).c_str());
-    return 0;
-  }
-  std::printf("graspfill bench: %s, %zu posed frames\n", log.c_str(), frames.size());
+void PrintBenchJson(const std::string& log, const BenchResults& r) {
+  const PipelineStats& s = r.stats;
+  const ExtractionTimes& extraction = r.extraction;
+  nlohmann::ordered_json j;
+  j["log"] = log;
+  j["frames"] = r.frames;
+  j["graspfill"] = {{"crop_ms", s.crop.mean_ms()}, {"mask_ms", s.mask.mean_ms()},
+                    {"cutout_ms", r.cut_ms}, {"mask_zbuffer_ms", r.raster_mask_ms}, {"integrate_ms", s.integrate.mean_ms()},
+                    {"visibility_ms", s.visibility.mean_ms()},
+                    {"refine_ms", s.refine_time.mean_ms()},
+                    {"frames_rejected_by_refine", s.frames_skipped_refine},
+                    {"frame_total_ms", r.total_ms},
+                    {"frame_total_without_refine_ms", r.unrefined_total_ms}, {"points", r.points},
+                    {"track_object_ms", r.tracked.track_time.mean_ms()},
+                    {"frames_rejected_by_track_object", r.tracked.frames_skipped_tracking},
+                    {"frame_total_with_track_object_ms", FramePathMs(r.tracked)}};
+  j["open3d_bare"] = {{"integrate_ms", r.bare_integrate_ms}};
+  j["extraction_every_3_frames"] = {
+      {"clouds", extraction.clouds},
+      {"cached_ms", {{"p50", PercentileMs(extraction.cached_ms, 50)}, {"p99", PercentileMs(extraction.cached_ms, 99)}}},
+      {"open3d_full_ms", {{"p50", PercentileMs(extraction.full_ms, 50)}, {"p99", PercentileMs(extraction.full_ms, 99)}}},
+      {"units_extracted_share", extraction.units_share}};
+  j["replay_fps"] = r.best_fps;
+  j["replay_frames"] = r.replay_frames;
+  std::printf("%s\n", j.dump(2).c_str());
+}
+
+void PrintBenchTable(const std::string& log, const BenchResults& r) {
+  const PipelineStats& s = r.stats;
+  const ExtractionTimes& extraction = r.extraction;
+  std::printf("graspfill bench: %s, %zu posed frames\n", log.c_str(), r.frames);
   std::printf("%-34s %12s %14s\n", "per frame [ms]", "graspfill", "open3d bare");
   std::printf("%-34s %12.3f %14s\n", "crop to workspace box", s.crop.mean_ms(), "-");
   std::printf("%-34s %12.3f %14s\n", "claw cut-out (Embree)", s.mask.mean_ms(), "-");
-  std::printf("%-34s %12.3f %14s\n", "  (claw cut-out by z-buffer instead)", raster_mask_ms, "-");
+  std::printf("%-34s %12.3f %14s\n", "  (claw cut-out by z-buffer instead)", r.raster_mask_ms, "-");
   std::printf("%-34s %12.3f %14.3f\n", "TSDF integration", s.integrate.mean_ms(),
-              bare_integrate.mean_ms());
+              r.bare_integrate_ms);
   std::printf("%-34s %12.3f %14s\n", "visibility record (key frames)", s.visibility.mean_ms(), "-");
   std::printf("%-34s %12.3f %14s\n", "pose refinement (claw registration)", s.refine_time.mean_ms(), "-");
-  std::printf("%-34s %12.3f %14.3f\n", "frame path total", ours_total_ms, bare_integrate.mean_ms());
-  std::printf("%-34s %12.3f %14s\n", "  (frame path without refinement)", unrefined_total_ms, "-");
-  std::printf("%-34s %12.3f %14s\n", "  (object tracking, --track-object)", tracked.track_time.mean_ms(), "-");
-  std::printf("%-34s %12.3f %14s\n", "  (frame path with object tracking)", FramePathMs(tracked), "-");
+  std::printf("%-34s %12.3f %14.3f\n", "frame path total", r.total_ms, r.bare_integrate_ms);
+  std::printf("%-34s %12.3f %14s\n", "  (frame path without refinement)", r.unrefined_total_ms, "-");
+  std::printf("%-34s %12.3f %14s\n", "  (object tracking, --track-object)", r.tracked.track_time.mean_ms(), "-");
+  std::printf("%-34s %12.3f %14s\n", "  (frame path with object tracking)", FramePathMs(r.tracked), "-");
   std::printf("cloud every 3 fused frames (%d clouds), extraction p50 / p99 [ms]: cached %.2f / %.2f, "
               "Open3D's whole volume %.2f / %.2f (%.0f%% of the units extracted anew)\n",
               extraction.clouds, PercentileMs(extraction.cached_ms, 50), PercentileMs(extraction.cached_ms, 99),
               PercentileMs(extraction.full_ms, 50), PercentileMs(extraction.full_ms, 99),
               100.0 * extraction.units_share);
   std::printf("masked path / bare integration: %.2f (target < 1)\n",
-              ours_total_ms / bare_integrate.mean_ms());
+              r.total_ms / r.bare_integrate_ms);
   std::printf("replay throughput (decode + pipeline): %.1f fps over %lld frames (target >= 100)\n",
-              best_fps, static_cast<long long>(replay_frames));
+              r.best_fps, static_cast<long long>(r.replay_frames));
+}
+
+}  // namespace
+
+int RunBench(const Args& args) {
+  if (!args.empty() && args[0] == "repair") return RunBenchRepair(Args(args.begin() + 1, args.end()));
+  if (!args.empty() && args[0] == "live") return RunBenchLive(Args(args.begin() + 1, args.end()));
+  BenchOptions o;
+  if (const int exit_code = ParseBenchArgs(args, &o); exit_code >= 0) return exit_code;
+  const claw::ClawModel claw = MakeClaw(o.claw_spec);
+  const std::vector<PosedFrame> frames = LoadPosedFrames(o.log);
+  const BenchResults results = Measure(o, claw, frames);
+  if (o.json) {
+    PrintBenchJson(o.log, results);
+  } else {
+    PrintBenchTable(o.log, results);
+  }
   return 0;
 }
 

@@ -60,6 +60,7 @@
 #include "module/process_memory.hpp"
 #include "module/sample_window.hpp"
 #include "number_parsing.hpp"
+#include "option_walk.hpp"
 #include "private_network.hpp"
 #include "unknown_option.hpp"
 #include "sources/lcm_log_source.hpp"
@@ -451,23 +452,10 @@ std::string ReadFile(const std::string& path) {
   return text;
 }
 
-RunResult RunAcrossProcesses(const Recording& rec, const RunSpec& spec, const std::string& url) {
-  RunResult result;
-  result.spec = spec;
-  lcm::LCM bus(url);
-  if (!bus.good()) throw std::runtime_error("cannot open LCM on " + url);
-  const int loops = LoopsOf(rec, spec);
-  LatencyProbe probe(rec, loops);
-  SubscribeProbe(&bus, rec.channels, &probe);
-  std::atomic<bool> receiving{true};
-  std::thread receiver([&] {
-    while (receiving) bus.handleTimeout(20);
-  });
-
-  char log_template[] = "/tmp/graspfill-bench-live-XXXXXX";
-  const int log_fd = mkstemp(log_template);
-  if (log_fd >= 0) close(log_fd);
-  const std::string child_log = log_template;
+// The command line of the `live` child: the bus, the run's settings, and a
+// duration that outlasts the play.
+std::vector<std::string> LiveChildArgs(const Recording& rec, const RunSpec& spec,
+                                       const std::string& url, int loops) {
   std::vector<std::string> args = {
       std::filesystem::read_symlink("/proc/self/exe").string(), "live", "--depth-from-lcm",
       "--lcm-url", url, "--publish-every", std::to_string(spec.publish_every), "--idle-exit-s",
@@ -477,22 +465,13 @@ RunResult RunAcrossProcesses(const Recording& rec, const RunSpec& spec, const st
   if (!spec.incremental) args.push_back("--no-incremental");
   args.insert(args.end(), {"--heap-reserve-mb", std::to_string(spec.heap_reserve_mb)});
   if (!rec.session) args.insert(args.end(), {"--claw", "three-finger"});
-  const auto finish = [&](const std::string& note) {
-    receiving = false;
-    receiver.join();
-    std::remove(child_log.c_str());
-    result.note = note;
-    return result;
-  };
-  std::unique_ptr<LiveChild> child;
-  try {
-    child = std::make_unique<LiveChild>(args, child_log);
-  } catch (const std::exception& e) {
-    return finish(e.what());
-  }
+  return args;
+}
 
-  // Until the child answers with a status, offer it the session description
-  // (it starts on the first one; without one it has started with --claw).
+// Until the child answers with a status (30 s at most), offers it the
+// session description (it starts on the first one; without one it has
+// started with --claw). False when no status came.
+bool WaitForFirstStatus(const Recording& rec, const LatencyProbe& probe, lcm::LCM* bus) {
   const io::LogEvent* session_event = nullptr;
   for (const io::LogEvent& e : rec.raw) {
     if (e.channel == rec.channels.session) {
@@ -503,34 +482,38 @@ RunResult RunAcrossProcesses(const Recording& rec, const RunSpec& spec, const st
   const Clock::time_point wait_until = Clock::now() + std::chrono::seconds(30);
   while (probe.statuses() == 0 && Clock::now() < wait_until) {
     if (session_event) {
-      bus.publish(session_event->channel, session_event->data.data(),
-                  static_cast<unsigned>(session_event->data.size()));
+      bus->publish(session_event->channel, session_event->data.data(),
+                   static_cast<unsigned>(session_event->data.size()));
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
   }
-  if (probe.statuses() == 0) {
-    child.reset();
-    const std::string out = ReadFile(child_log);
-    return finish("the live process never published a status" + (out.empty() ? "" : ": " + out));
-  }
-  result.rss_start_mb = probe.first_status().rss_mb;
+  return probe.statuses() > 0;
+}
 
-  std::optional<MalformedMessages> malformed;
-  if (spec.fault_percent > 0.0) {
-    const std::vector<uint8_t>* depth = nullptr;
-    const std::vector<uint8_t>* gripper = nullptr;
-    for (size_t i = 0; i < rec.raw.size(); ++i) {
-      if (!depth && rec.raw_depth_utime[i] != 0) depth = &rec.raw[i].data;
-      if (!gripper && rec.raw[i].channel == rec.channels.gripper_state) gripper = &rec.raw[i].data;
-    }
-    if (!depth || !gripper) return finish("the recording has no gripper state to break");
-    try {
-      malformed.emplace(rec.channels, *depth, *gripper);
-    } catch (const std::exception& e) {
-      return finish(e.what());
-    }
+// The malformed messages of a faults run, made from the recording's first
+// depth image and gripper state; a note instead when it cannot be.
+std::string MakeMalformed(const Recording& rec, std::optional<MalformedMessages>* malformed) {
+  const std::vector<uint8_t>* depth = nullptr;
+  const std::vector<uint8_t>* gripper = nullptr;
+  for (size_t i = 0; i < rec.raw.size(); ++i) {
+    if (!depth && rec.raw_depth_utime[i] != 0) depth = &rec.raw[i].data;
+    if (!gripper && rec.raw[i].channel == rec.channels.gripper_state) gripper = &rec.raw[i].data;
   }
-  if (spec.soak_s > 0.0) probe.CountCloudsInWindows(SoakWindowS(spec));
+  if (!depth || !gripper) return "the recording has no gripper state to break";
+  try {
+    malformed->emplace(rec.channels, *depth, *gripper);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Publishes the recording `loops` times at the run's speed, each loop a
+// recording's span later, with the faults run's malformed messages among
+// them; stops early when the child has ended.
+void PlayLoops(const Recording& rec, const RunSpec& spec, int loops, LiveChild* child,
+               MalformedMessages* malformed, lcm::LCM* bus, LatencyProbe* probe,
+               RunResult* result) {
   const Clock::time_point start = Clock::now();
   const int64_t first_log_us = rec.raw.empty() ? 0 : rec.raw.front().timestamp_us;
   double malformed_owed = 0.0;
@@ -550,38 +533,89 @@ RunResult RunAcrossProcesses(const Recording& rec, const RunSpec& spec, const st
         data = &shifted;
       }
       if (rec.raw_depth_utime[i] != 0) {
-        probe.Sent(rec.raw_depth_utime[i] + offset_us);
-        ++result.frames_sent;
+        probe->Sent(rec.raw_depth_utime[i] + offset_us);
+        ++result->frames_sent;
       }
-      bus.publish(e.channel, data->data(), static_cast<unsigned>(data->size()));
+      bus->publish(e.channel, data->data(), static_cast<unsigned>(data->size()));
       if (!malformed) continue;
       for (malformed_owed += spec.fault_percent / 100.0; malformed_owed >= 1.0; malformed_owed -= 1.0) {
         const MalformedMessage& m = malformed->Next();
-        bus.publish(m.channel, m.data.data(), static_cast<unsigned>(m.data.size()));
-        ++result.malformed_sent[static_cast<size_t>(m.reason)];
+        bus->publish(m.channel, m.data.data(), static_cast<unsigned>(m.data.size()));
+        ++result->malformed_sent[static_cast<size_t>(m.reason)];
       }
     }
   }
-  result.live_alive_at_end = child->Running();
-  result.play_s = MsBetween(start, Clock::now()) / 1000.0;
+  result->live_alive_at_end = child->Running();
+  result->play_s = MsBetween(start, Clock::now()) / 1000.0;
+}
+
+// What the probe saw of the run: the last status, memory, clouds, latency
+// and (soak) the clouds per window of the play.
+void TakeProbeResults(const RunSpec& spec, const LatencyProbe& probe, RunResult* result) {
+  result->last = probe.last_status();
+  result->rss_end_mb = result->last.rss_mb;
+  result->rss_peak_mb = probe.rss_peak_mb();
+  result->clouds = probe.clouds();
+  result->latency = probe.latency();
+  if (spec.soak_s > 0.0) {
+    result->window_s = SoakWindowS(spec);
+    result->clouds_per_window = probe.clouds_per_window();
+    // Windows that ended before the play did and received nothing count as 0.
+    const auto played = static_cast<size_t>(result->play_s / result->window_s);
+    if (result->clouds_per_window.size() < played) result->clouds_per_window.resize(played, 0);
+    result->clouds_per_window.resize(std::min(result->clouds_per_window.size(), played));
+  }
+}
+
+RunResult RunAcrossProcesses(const Recording& rec, const RunSpec& spec, const std::string& url) {
+  RunResult result;
+  result.spec = spec;
+  lcm::LCM bus(url);
+  if (!bus.good()) throw std::runtime_error("cannot open LCM on " + url);
+  const int loops = LoopsOf(rec, spec);
+  LatencyProbe probe(rec, loops);
+  SubscribeProbe(&bus, rec.channels, &probe);
+  std::atomic<bool> receiving{true};
+  std::thread receiver([&] {
+    while (receiving) bus.handleTimeout(20);
+  });
+
+  char log_template[] = "/tmp/graspfill-bench-live-XXXXXX";
+  const int log_fd = mkstemp(log_template);
+  if (log_fd >= 0) close(log_fd);
+  const std::string child_log = log_template;
+  const auto finish = [&](const std::string& note) {
+    receiving = false;
+    receiver.join();
+    std::remove(child_log.c_str());
+    result.note = note;
+    return result;
+  };
+  std::unique_ptr<LiveChild> child;
+  try {
+    child = std::make_unique<LiveChild>(LiveChildArgs(rec, spec, url, loops), child_log);
+  } catch (const std::exception& e) {
+    return finish(e.what());
+  }
+  if (!WaitForFirstStatus(rec, probe, &bus)) {
+    child.reset();
+    const std::string out = ReadFile(child_log);
+    return finish("the live process never published a status" + (out.empty() ? "" : ": " + out));
+  }
+  result.rss_start_mb = probe.first_status().rss_mb;
+
+  std::optional<MalformedMessages> malformed;
+  if (spec.fault_percent > 0.0) {
+    if (const std::string note = MakeMalformed(rec, &malformed); !note.empty()) return finish(note);
+  }
+  if (spec.soak_s > 0.0) probe.CountCloudsInWindows(SoakWindowS(spec));
+  PlayLoops(rec, spec, loops, child.get(), malformed ? &*malformed : nullptr, &bus, &probe, &result);
   const int rc = child->Wait(std::chrono::seconds(120));
   child.reset();
   std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the last messages in
   const std::string out = ReadFile(child_log);
   if (rc != 0) return finish("the live process exited with " + std::to_string(rc) + ": " + out);
-  result.last = probe.last_status();
-  result.rss_end_mb = result.last.rss_mb;
-  result.rss_peak_mb = probe.rss_peak_mb();
-  result.clouds = probe.clouds();
-  result.latency = probe.latency();
-  if (spec.soak_s > 0.0) {
-    result.window_s = SoakWindowS(spec);
-    result.clouds_per_window = probe.clouds_per_window();
-    // Windows that ended before the play did and received nothing count as 0.
-    const auto played = static_cast<size_t>(result.play_s / result.window_s);
-    if (result.clouds_per_window.size() < played) result.clouds_per_window.resize(played, 0);
-    result.clouds_per_window.resize(std::min(result.clouds_per_window.size(), played));
-  }
+  TakeProbeResults(spec, probe, &result);
   return finish("");
 }
 
@@ -684,95 +718,149 @@ std::vector<double> ParseSpeeds(const std::string& text) {
   return speeds;
 }
 
+struct BenchLiveOptions {
+  std::string log = (BundledRecordingDir() / "recording.lcmlog").string();
+  std::vector<double> speeds = {1.0, 2.0, 4.0};
+  std::string transport = "both";
+  std::string repair = "both";
+  int publish_every = 3;
+  double soak_s = 0.0;
+  double soak_faults = 0.0;
+  double soak_speed = 4.0;
+  int heap_reserve_mb = kLiveHeapReserveMb;
+  bool json = false;
+  bool help = false;
+};
+
+// The command line, up to --help if given.
+// @throws UsageError on an unknown option, a missing or bad value.
+BenchLiveOptions ParseBenchLiveArgs(const Args& args) {
+  BenchLiveOptions o;
+  bool log_given = false;
+  o.help = ForEachOption(args, [&](const std::string& a, bool has_value, size_t* i) {
+    if (a == "--json") {
+      o.json = true;
+    } else if (a == "--speeds" && has_value) {
+      o.speeds = ParseSpeeds(args[++*i]);
+    } else if (a == "--transport" && has_value) {
+      o.transport = args[++*i];
+      if (o.transport != "memq" && o.transport != "udpm" && o.transport != "both") {
+        throw UsageError("--transport must be memq, udpm or both, not '" + o.transport + "'");
+      }
+    } else if (a == "--repair" && has_value) {
+      o.repair = args[++*i];
+      if (o.repair != "incremental" && o.repair != "full" && o.repair != "both") {
+        throw UsageError("--repair must be incremental, full or both, not '" + o.repair + "'");
+      }
+    } else if (a == "--publish-every" && has_value) {
+      o.publish_every = ParseInteger<int>("--publish-every", args[++*i], 1, 1000);
+    } else if (a == "--soak-s" && has_value) {
+      o.soak_s = ParseDouble("--soak-s", args[++*i], 10.0, 86400.0);
+    } else if (a == "--soak-faults" && has_value) {
+      o.soak_faults = ParseDouble("--soak-faults", args[++*i], 0.001, 50.0);
+    } else if (a == "--soak-speed" && has_value) {
+      o.soak_speed = ParseDouble("--soak-speed", args[++*i], 0.1, 100.0);
+    } else if (a == "--heap-reserve-mb" && has_value) {
+      o.heap_reserve_mb = ParseInteger<int>("--heap-reserve-mb", args[++*i], 0, 65536);
+    } else if (!a.empty() && a[0] != '-' && !log_given) {
+      o.log = a;
+      log_given = true;
+    } else {
+      throw UsageError(BadOptionText(a, Usage()) + " (or its value is missing)");
+    }
+  });
+  if (o.help) return o;
+  if (o.soak_s > 0.0 && o.soak_s < 60.0 && o.soak_faults == 0.0) {
+    throw UsageError("--soak-s must be >= 60 (RSS at minute 1), or come with --soak-faults");
+  }
+  if (o.soak_faults > 0.0 && o.soak_s == 0.0) throw UsageError("--soak-faults needs --soak-s");
+  return o;
+}
+
+void PrintTableHeader(const BenchLiveOptions& o, const Recording& rec) {
+  std::printf("bench live: %s, %d depth frames over %.1f s, a cloud every %d fused frames, "
+              "heap reserve %d MB%s\n",
+              o.log.c_str(), rec.depth_frames, rec.duration_s(), o.publish_every, o.heap_reserve_mb,
+              rec.session ? "" : " (no session description: three-finger claw)");
+  std::printf("latency: a frame's send -> the receipt of the first cloud it is the newest frame of "
+              "[ms]; update/full: the repair's times [ms]\n");
+  std::printf("%-5s %5s %-11s %5s %5s %5s  %4s %5s  %7s %7s %7s %7s  %6s %6s  %6s %6s  %s\n",
+              "bus", "speed", "repair", "in", "used", "drop", "clds", "Hz", "lat50", "lat95",
+              "lat99", "latmax", "upd50", "upd99", "full50", "full99", "RSS MB");
+  std::fflush(stdout);
+}
+
+// Every run the options ask for, in order: each transport at each speed in
+// each repair mode, then the soak, then the faults soak without and with
+// its malformed messages.
+std::vector<RunSpec> RunSpecs(const BenchLiveOptions& o) {
+  std::vector<bool> modes;
+  if (o.repair != "full") modes.push_back(true);
+  if (o.repair != "incremental") modes.push_back(false);
+  std::vector<RunSpec> specs;
+  for (const std::string bus : {"memq", "udpm"}) {
+    if (o.transport != "both" && o.transport != bus) continue;
+    for (const double speed : o.speeds) {
+      for (const bool incremental : modes) {
+        specs.push_back(RunSpec{bus, speed, incremental, o.publish_every, 0.0, o.heap_reserve_mb});
+      }
+    }
+  }
+  if (o.soak_s > 0.0 && o.soak_faults == 0.0) {
+    specs.push_back(RunSpec{"memq", 1.0, o.repair != "full", o.publish_every, o.soak_s, o.heap_reserve_mb});
+  }
+  for (const double percent : {0.0, o.soak_faults}) {
+    if (o.soak_faults == 0.0) break;
+    specs.push_back(RunSpec{"udpm", o.soak_speed, o.repair != "full", o.publish_every, o.soak_s,
+                            o.heap_reserve_mb, percent});
+  }
+  return specs;
+}
+
+void PrintBenchLiveJson(const BenchLiveOptions& o, const Recording& rec,
+                        const std::vector<RunResult>& results) {
+  nlohmann::ordered_json j;
+  j["recording"] = o.log;
+  j["depth_frames"] = rec.depth_frames;
+  j["publish_every"] = o.publish_every;
+  j["heap_reserve_mb"] = o.heap_reserve_mb;
+  j["runs"] = nlohmann::ordered_json::array();
+  for (const RunResult& r : results) j["runs"].push_back(ToJson(r));
+  std::printf("%s\n", j.dump(2).c_str());
+}
+
 }  // namespace
 
 int RunBenchLive(const Args& args) {
-  std::string log = (BundledRecordingDir() / "recording.lcmlog").string();
-  std::vector<double> speeds = {1.0, 2.0, 4.0};
-  std::string transport = "both", repair = "both";
-  int publish_every = 3;
-  double soak_s = 0.0, soak_faults = 0.0, soak_speed = 4.0;
-  int heap_reserve_mb = kLiveHeapReserveMb;
-  bool json = false;
+  BenchLiveOptions o;
   try {
-    bool log_given = false;
-    for (size_t i = 0; i < args.size(); ++i) {
-      const std::string& a = args[i];
-      const bool has_value = i + 1 < args.size();
-      if (a == "--help" || a == "-h") {
-        std::fputs(Usage().c_str(), stdout);
-        return 0;
-      } else if (a == "--json") {
-        json = true;
-      } else if (a == "--speeds" && has_value) {
-        speeds = ParseSpeeds(args[++i]);
-      } else if (a == "--transport" && has_value) {
-        transport = args[++i];
-        if (transport != "memq" && transport != "udpm" && transport != "both") {
-          throw UsageError("--transport must be memq, udpm or both, not '" + transport + "'");
-        }
-      } else if (a == "--repair" && has_value) {
-        repair = args[++i];
-        if (repair != "incremental" && repair != "full" && repair != "both") {
-          throw UsageError("--repair must be incremental, full or both, not '" + repair + "'");
-        }
-      } else if (a == "--publish-every" && has_value) {
-        publish_every = ParseInteger<int>("--publish-every", args[++i], 1, 1000);
-      } else if (a == "--soak-s" && has_value) {
-        soak_s = ParseDouble("--soak-s", args[++i], 10.0, 86400.0);
-      } else if (a == "--soak-faults" && has_value) {
-        soak_faults = ParseDouble("--soak-faults", args[++i], 0.001, 50.0);
-      } else if (a == "--soak-speed" && has_value) {
-        soak_speed = ParseDouble("--soak-speed", args[++i], 0.1, 100.0);
-      } else if (a == "--heap-reserve-mb" && has_value) {
-        heap_reserve_mb = ParseInteger<int>("--heap-reserve-mb", args[++i], 0, 65536);
-      } else if (!a.empty() && a[0] != '-' && !log_given) {
-        log = a;
-        log_given = true;
-      } else {
-        throw UsageError(BadOptionText(a, Usage()) + " (or its value is missing)");
-      }
-    }
-    if (soak_s > 0.0 && soak_s < 60.0 && soak_faults == 0.0) {
-      throw UsageError("--soak-s must be >= 60 (RSS at minute 1), or come with --soak-faults");
-    }
-    if (soak_faults > 0.0 && soak_s == 0.0) throw UsageError("--soak-faults needs --soak-s");
+    o = ParseBenchLiveArgs(args);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "graspfill bench live: %s\n%s", e.what(), Usage().c_str());
     return 2;
+  }
+  if (o.help) {
+    std::fputs(Usage().c_str(), stdout);
+    return 0;
   }
 
   // The namespace first, while this is the only thread (unshare moves the
   // calling thread only).
   std::string no_bus;
-  if (transport != "memq" || soak_faults > 0.0) no_bus = EnterPrivateNetwork();
+  if (o.transport != "memq" || o.soak_faults > 0.0) no_bus = EnterPrivateNetwork();
   const std::string url = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608";
 
   Recording rec;
   try {
-    rec = LoadRecording(log);
+    rec = LoadRecording(o.log);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "graspfill bench live: %s\n", ErrorText(e).c_str());
     return 1;
   }
-  if (!json) {
-    std::printf("bench live: %s, %d depth frames over %.1f s, a cloud every %d fused frames, "
-                "heap reserve %d MB%s\n",
-                log.c_str(), rec.depth_frames, rec.duration_s(), publish_every, heap_reserve_mb,
-                rec.session ? "" : " (no session description: three-finger claw)");
-    std::printf("latency: a frame's send -> the receipt of the first cloud it is the newest frame of "
-                "[ms]; update/full: the repair's times [ms]\n");
-    std::printf("%-5s %5s %-11s %5s %5s %5s  %4s %5s  %7s %7s %7s %7s  %6s %6s  %6s %6s  %s\n",
-                "bus", "speed", "repair", "in", "used", "drop", "clds", "Hz", "lat50", "lat95",
-                "lat99", "latmax", "upd50", "upd99", "full50", "full99", "RSS MB");
-    std::fflush(stdout);
-  }
+  if (!o.json) PrintTableHeader(o, rec);
   std::vector<RunResult> results;
-  std::vector<bool> modes;
-  if (repair != "full") modes.push_back(true);
-  if (repair != "incremental") modes.push_back(false);
   try {
-    const auto run = [&](const RunSpec& spec) {
+    for (const RunSpec& spec : RunSpecs(o)) {
       RunResult r;
       if (spec.transport == "memq") {
         r = RunInProcess(rec, spec);
@@ -782,38 +870,14 @@ int RunBenchLive(const Args& args) {
       } else {
         r = RunAcrossProcesses(rec, spec, url);
       }
-      if (!json) PrintRow(r);
+      if (!o.json) PrintRow(r);
       results.push_back(r);
-    };
-    for (const std::string bus : {"memq", "udpm"}) {
-      if (transport != "both" && transport != bus) continue;
-      for (const double speed : speeds) {
-        for (const bool incremental : modes) {
-          run(RunSpec{bus, speed, incremental, publish_every, 0.0, heap_reserve_mb});
-        }
-      }
-    }
-    if (soak_s > 0.0 && soak_faults == 0.0) {
-      run(RunSpec{"memq", 1.0, repair != "full", publish_every, soak_s, heap_reserve_mb});
-    }
-    for (const double percent : {0.0, soak_faults}) {
-      if (soak_faults == 0.0) break;
-      run(RunSpec{"udpm", soak_speed, repair != "full", publish_every, soak_s, heap_reserve_mb, percent});
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "graspfill bench live: %s\n", ErrorText(e).c_str());
     return 1;
   }
-  if (json) {
-    nlohmann::ordered_json j;
-    j["recording"] = log;
-    j["depth_frames"] = rec.depth_frames;
-    j["publish_every"] = publish_every;
-    j["heap_reserve_mb"] = heap_reserve_mb;
-    j["runs"] = nlohmann::ordered_json::array();
-    for (const RunResult& r : results) j["runs"].push_back(ToJson(r));
-    std::printf("%s\n", j.dump(2).c_str());
-  }
+  if (o.json) PrintBenchLiveJson(o, rec, results);
   return 0;
 }
 

@@ -11,6 +11,7 @@
 #include <exception>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -76,66 +77,214 @@ std::vector<ZooCase> ZooCases() {
   };
 }
 
-}  // namespace
-
-int RunBenchRepairPipeline(const Args& args) {
-  bool json = false, verbose = false;
-  std::string only;
+struct PipelineBenchOptions {
+  bool json{false};
+  bool verbose{false};
+  std::string only;      // --case: labels or shapes containing it
   std::string dump_dir;  // each case's truth, fused and repaired clouds as PLY
-  int frames = 90;
-  int repeat = 3;  // repairs per row and mode, the fastest timed
+  int frames{90};
+  int repeat{3};  // repairs per row and mode, the fastest timed
   // The scenes' sensor noise and wobble phases: the tables of
   // docs/measurements/2026-12-04-shape-zoo-evidence.md use 11.
-  uint64_t seed = 11;
+  uint64_t seed{11};
+};
+
+constexpr const char* kCommand = "graspfill bench repair --pipeline";
+
+// Reads the command line into *o; false after a bad option or value (said
+// on stderr).
+bool ParsePipelineBenchArgs(const Args& args, PipelineBenchOptions* o) {
   try {
     for (size_t i = 0; i < args.size(); ++i) {
       if (args[i] == "--pipeline") continue;
-      if (args[i] == "--json") json = true;
-      else if (args[i] == "--verbose") verbose = true;
-      else if (args[i] == "--case" && i + 1 < args.size()) only = args[++i];
-      else if (args[i] == "--dump" && i + 1 < args.size()) dump_dir = args[++i];
-      else if (args[i] == "--repeat" && i + 1 < args.size()) repeat = ParseInteger<int>("--repeat", args[++i], 1, 100);
-      else if (args[i] == "--frames" && i + 1 < args.size()) frames = ParseInteger<int>("--frames", args[++i], 10, 3000);
+      if (args[i] == "--json") o->json = true;
+      else if (args[i] == "--verbose") o->verbose = true;
+      else if (args[i] == "--case" && i + 1 < args.size()) o->only = args[++i];
+      else if (args[i] == "--dump" && i + 1 < args.size()) o->dump_dir = args[++i];
+      else if (args[i] == "--repeat" && i + 1 < args.size()) o->repeat = ParseInteger<int>("--repeat", args[++i], 1, 100);
+      else if (args[i] == "--frames" && i + 1 < args.size()) o->frames = ParseInteger<int>("--frames", args[++i], 10, 3000);
       else if (args[i] == "--seed" && i + 1 < args.size()) {
-        seed = ParseInteger<uint64_t>("--seed", args[++i], 0, std::numeric_limits<uint64_t>::max());
+        o->seed = ParseInteger<uint64_t>("--seed", args[++i], 0, std::numeric_limits<uint64_t>::max());
       } else {
-        std::fprintf(stderr, "graspfill bench repair --pipeline: bad option '%s'\n", args[i].c_str());
-        return 2;
+        std::fprintf(stderr, "%s: bad option '%s'\n", kCommand, args[i].c_str());
+        return false;
       }
     }
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "graspfill bench repair --pipeline: %s\n", e.what());
-    return 2;
+    std::fprintf(stderr, "%s: %s\n", kCommand, e.what());
+    return false;
   }
-  nlohmann::ordered_json rows = nlohmann::json::array();
-  if (!json) {
-    std::printf("Shape zoo through the pipeline (%d frames, one turn): coverage = true surface within 2 mm;\n"
-                "added p95 / wrong (> 3 mm) / in seen-free space; cloud-only repair vs with evidence\n\n",
-                frames);
-    std::printf("%-12s %-17s %-12s %-15s | %6s %6s | %6s %6s %5s %5s %6s | %6s %6s %5s %5s %6s | %6s %6s\n",
-                "object", "shape", "claw", "grasp", "points", "fused", "cov", "p95mm", "wrong", "free", "ms",
-                "cov", "p95mm", "wrong", "free", "ms", "rec/fr", "frame");
-  }
+  return true;
+}
+
+std::vector<ZooCase> SelectedCases(const std::string& only) {
   std::vector<ZooCase> cases;
   for (const ZooCase& c : ZooCases()) {
     if (only.empty() || c.label.find(only) != std::string::npos || c.shape.find(only) != std::string::npos) {
       cases.push_back(c);
     }
   }
+  return cases;
+}
+
+std::string DumpPath(const std::string& dump_dir, const ZooCase& c, const char* what) {
+  std::string name = c.label;
+  std::replace(name.begin(), name.end(), ' ', '_');
+  return dump_dir + "/" + name + "_" + what + ".ply";
+}
+
+// A case that cannot be run: the message, said on stderr after the command.
+struct CaseFailed : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// One case's row: the fused cloud and both repairs measured.
+struct CaseResult {
+  size_t fused_points{0};
+  double fused_coverage{0.0};
+  Outcome outcome[2];  // cloud only, with evidence
+  double visibility_ms{0.0};
+  double frame_ms{0.0};
+  size_t key_frames{0};
+  double record_mb{0.0};
+};
+
+// Repairs the fused cloud without ([0]) and with ([1]) the evidence,
+// measured against the truth; --dump writes the clouds.
+void RepairBoth(const ZooCase& c, const PipelineBenchOptions& o, const ObjectCloud& fused,
+                const mesh::SurfaceSamples& truth_samples,
+                const evidence::VisibilityRecord& record, Outcome result[2]) {
+  for (int with_evidence = 0; with_evidence < 2; ++with_evidence) {
+    TimedRepair repaired;
+    try {
+      repaired = RepairTimed(fused, with_evidence ? &record : nullptr, o.repeat);
+    } catch (const std::runtime_error& e) {
+      throw CaseFailed(c.label + ": " + e.what());
+    }
+    const ObjectCloud& cloud = repaired.cloud;
+    const repair::RepairReport& report = repaired.report;
+    result[with_evidence] = Measure(cloud, fused.size(), truth_samples.points, record);
+    result[with_evidence].ms = repaired.best_ms;
+    result[with_evidence].note = RepairNote(report);
+    result[with_evidence].steps = repaired.best_steps;
+    result[with_evidence].evidence = report.evidence;
+    if (report.status == repair::RepairStatus::kRepaired) {
+      result[with_evidence].up_axis = report.frame.T_in_V.linear().col(2);
+    }
+    if (o.dump_dir.empty()) continue;
+    if (with_evidence == 0) {
+      io::WriteCloudPly(DumpPath(o.dump_dir, c, "fused"), fused, io::IfExists::kFail);
+      ObjectCloud truth_cloud;
+      truth_cloud.points_G = truth_samples.points;
+      truth_cloud.normals_G = truth_samples.normals;
+      io::WriteCloudPly(DumpPath(o.dump_dir, c, "truth"), truth_cloud, io::IfExists::kFail);
+    }
+    io::WriteCloudPly(DumpPath(o.dump_dir, c, with_evidence ? "evidence" : "cloud_only"), cloud,
+                      io::IfExists::kFail);
+  }
+}
+
+// The case's scene through the pipeline, then both repairs.
+// @throws CaseFailed
+CaseResult RunCase(const ZooCase& c, const PipelineBenchOptions& o) {
+  synth::SceneConfig sc;
+  const auto shape = synth::ParseShape(c.shape);
+  if (!shape) throw CaseFailed("unknown shape '" + c.shape + "'");
+  sc.shape = *shape;
+  sc.size_m = c.size_m;
+  sc.claw = c.claw;
+  sc.grasp = c.grasp;
+  sc.motion.camera_elevation_deg = c.camera_elevation_deg;
+  sc.num_frames = o.frames;
+  sc.seed = o.seed;
+  const synth::Scene scene(sc);
+  std::unique_ptr<Pipeline> pipeline_run;
+  try {
+    pipeline_run = RunSceneThroughPipeline(scene, PipelineConfig{});
+  } catch (const std::runtime_error& e) {
+    throw CaseFailed(e.what());
+  }
+  Pipeline& pipeline = *pipeline_run;
+  const ObjectCloud fused = pipeline.ExtractCloud();
+  const PipelineStats& stats = pipeline.stats();
+  const mesh::SurfaceSamples truth_samples = TruthSamples(scene);
+  const evidence::VisibilityRecord& record = pipeline.visibility();
+  CaseResult r;
+  RepairBoth(c, o, fused, truth_samples, record, r.outcome);
+  r.fused_points = fused.size();
+  r.fused_coverage = eval::FractionWithin(mesh::NearestDistances(truth_samples.points, fused.points_G), kCoverageRadiusM);
+  r.visibility_ms = stats.visibility.mean_ms();
+  r.frame_ms = stats.crop.mean_ms() + stats.mask.mean_ms() + stats.integrate.mean_ms() +
+               stats.visibility.mean_ms();
+  r.key_frames = record.size();
+  r.record_mb = record.memory_bytes() / 1e6;
+  return r;
+}
+
+nlohmann::ordered_json OutcomeJson(const Outcome& o) {
+  return nlohmann::ordered_json{{"points", o.points}, {"added", o.added}, {"coverage", o.coverage},
+                                {"added_p95_mm", o.added_p95_mm}, {"added_wrong", o.added_wrong},
+                                {"added_in_seen_free", o.added_in_free}, {"ms", o.ms},
+                                {"steps_ms", StepsJson(o.steps)}, {"note", o.note},
+                                {"up_axis", {o.up_axis.x(), o.up_axis.y(), o.up_axis.z()}},
+                                {"evidence_report", EvidenceJson(o.evidence)}};
+}
+
+nlohmann::ordered_json CaseJson(const ZooCase& c, const CaseResult& r) {
+  return {{"object", c.label}, {"shape", c.shape},
+          {"claw", synth::ClawTypeName(c.claw)}, {"grasp", synth::GraspWayName(c.grasp)},
+          {"closed_symmetric", c.closed_symmetric},
+          {"camera_elevation_deg", c.camera_elevation_deg}, {"fused_points", r.fused_points},
+          {"fused_coverage", r.fused_coverage}, {"cloud_only", OutcomeJson(r.outcome[0])},
+          {"evidence", OutcomeJson(r.outcome[1])},
+          {"visibility_ms_per_frame", r.visibility_ms},
+          {"frame_path_ms", r.frame_ms}, {"key_frames", r.key_frames},
+          {"record_mb", r.record_mb}};
+}
+
+void PrintHeader(int frames) {
+  std::printf("Shape zoo through the pipeline (%d frames, one turn): coverage = true surface within 2 mm;\n"
+              "added p95 / wrong (> 3 mm) / in seen-free space; cloud-only repair vs with evidence\n\n",
+              frames);
+  std::printf("%-12s %-17s %-12s %-15s | %6s %6s | %6s %6s %5s %5s %6s | %6s %6s %5s %5s %6s | %6s %6s\n",
+              "object", "shape", "claw", "grasp", "points", "fused", "cov", "p95mm", "wrong", "free", "ms",
+              "cov", "p95mm", "wrong", "free", "ms", "rec/fr", "frame");
+}
+
+void PrintCaseRow(const ZooCase& c, const CaseResult& r, bool verbose) {
+  std::printf("%-12s %-17s %-12s %-15s | %6zu %6.3f |", c.label.c_str(), c.shape.c_str(),
+              synth::ClawTypeName(c.claw).c_str(), synth::GraspWayName(c.grasp).c_str(), r.fused_points,
+              r.fused_coverage);
+  for (const Outcome& o : r.outcome) {
+    std::printf(" %6.3f %6.2f %5.3f %5d %6.0f |", o.coverage, o.added_p95_mm, o.added_wrong,
+                o.added_in_free, o.ms);
+  }
+  std::printf(" %6.2f %6.2f\n", r.visibility_ms, r.frame_ms);
+  if (verbose) {
+    std::printf("    cloud only: %s\n      ms:%s\n    evidence:   %s\n      ms:%s\n",
+                r.outcome[0].note.c_str(), StepsText(r.outcome[0].steps).c_str(), r.outcome[1].note.c_str(),
+                StepsText(r.outcome[1].steps).c_str());
+  }
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int RunBenchRepairPipeline(const Args& args) {
+  PipelineBenchOptions o;
+  if (!ParsePipelineBenchArgs(args, &o)) return 2;
+  nlohmann::ordered_json rows = nlohmann::json::array();
+  if (!o.json) PrintHeader(o.frames);
+  const std::vector<ZooCase> cases = SelectedCases(o.only);
   // --dump: checked before any work, and nothing there overwritten.
-  const auto dump_path = [&](const ZooCase& c, const char* what) {
-    std::string name = c.label;
-    std::replace(name.begin(), name.end(), ' ', '_');
-    return dump_dir + "/" + name + "_" + what + ".ply";
-  };
-  if (!dump_dir.empty()) {
+  if (!o.dump_dir.empty()) {
     std::vector<std::string> paths;
     for (const ZooCase& c : cases) {
-      for (const char* what : {"truth", "fused", "cloud_only", "evidence"}) paths.push_back(dump_path(c, what));
+      for (const char* what : {"truth", "fused", "cloud_only", "evidence"}) paths.push_back(DumpPath(o.dump_dir, c, what));
     }
-    const std::string problem = CheckDumpPaths(dump_dir, paths);
+    const std::string problem = CheckDumpPaths(o.dump_dir, paths);
     if (!problem.empty()) {
-      std::fprintf(stderr, "graspfill bench repair --pipeline: %s\n", problem.c_str());
+      std::fprintf(stderr, "%s: %s\n", kCommand, problem.c_str());
       return 1;
     }
   }
@@ -143,106 +292,22 @@ int RunBenchRepairPipeline(const Args& args) {
   for (size_t done = 0; done < cases.size(); ++done) {
     const ZooCase& c = cases[done];
     progress.Update(static_cast<int64_t>(done));
-    synth::SceneConfig sc;
-    const auto shape = synth::ParseShape(c.shape);
-    if (!shape) {
-      std::fprintf(stderr, "graspfill bench repair --pipeline: unknown shape '%s'\n", c.shape.c_str());
-      return 1;
-    }
-    sc.shape = *shape;
-    sc.size_m = c.size_m;
-    sc.claw = c.claw;
-    sc.grasp = c.grasp;
-    sc.motion.camera_elevation_deg = c.camera_elevation_deg;
-    sc.num_frames = frames;
-    sc.seed = seed;
-    const synth::Scene scene(sc);
-    std::unique_ptr<Pipeline> pipeline_run;
+    CaseResult r;
     try {
-      pipeline_run = RunSceneThroughPipeline(scene, PipelineConfig{});
-    } catch (const std::runtime_error& e) {
-      std::fprintf(stderr, "graspfill bench repair --pipeline: %s\n", e.what());
+      r = RunCase(c, o);
+    } catch (const CaseFailed& e) {
+      std::fprintf(stderr, "%s: %s\n", kCommand, e.what());
       return 1;
     }
-    Pipeline& pipeline = *pipeline_run;
-    const ObjectCloud fused = pipeline.ExtractCloud();
-    const PipelineStats& stats = pipeline.stats();
-    const mesh::SurfaceSamples truth_samples = TruthSamples(scene);
-    const std::vector<Eigen::Vector3f>& truth = truth_samples.points;
-    const evidence::VisibilityRecord& record = pipeline.visibility();
-
-    Outcome result[2];
-    for (int with_evidence = 0; with_evidence < 2; ++with_evidence) {
-      TimedRepair repaired;
-      try {
-        repaired = RepairTimed(fused, with_evidence ? &record : nullptr, repeat);
-      } catch (const std::runtime_error& e) {
-        std::fprintf(stderr, "graspfill bench repair --pipeline: %s: %s\n", c.label.c_str(), e.what());
-        return 1;
-      }
-      const ObjectCloud& cloud = repaired.cloud;
-      const repair::RepairReport& report = repaired.report;
-      result[with_evidence] = Measure(cloud, fused.size(), truth, record);
-      result[with_evidence].ms = repaired.best_ms;
-      result[with_evidence].note = RepairNote(report);
-      result[with_evidence].steps = repaired.best_steps;
-      result[with_evidence].evidence = report.evidence;
-      if (report.status == repair::RepairStatus::kRepaired) {
-        result[with_evidence].up_axis = report.frame.T_in_V.linear().col(2);
-      }
-      if (!dump_dir.empty()) {
-        if (with_evidence == 0) {
-          io::WriteCloudPly(dump_path(c, "fused"), fused, io::IfExists::kFail);
-          ObjectCloud truth_cloud;
-          truth_cloud.points_G = truth_samples.points;
-          truth_cloud.normals_G = truth_samples.normals;
-          io::WriteCloudPly(dump_path(c, "truth"), truth_cloud, io::IfExists::kFail);
-        }
-        io::WriteCloudPly(dump_path(c, with_evidence ? "evidence" : "cloud_only"), cloud,
-                          io::IfExists::kFail);
-      }
-    }
-    const double fused_coverage = eval::FractionWithin(mesh::NearestDistances(truth, fused.points_G), kCoverageRadiusM);
-    const double frame_ms = stats.crop.mean_ms() + stats.mask.mean_ms() + stats.integrate.mean_ms() +
-                            stats.visibility.mean_ms();
-    if (json) {
-      auto outcome = [](const Outcome& o) {
-        return nlohmann::ordered_json{{"points", o.points}, {"added", o.added}, {"coverage", o.coverage},
-                                      {"added_p95_mm", o.added_p95_mm}, {"added_wrong", o.added_wrong},
-                                      {"added_in_seen_free", o.added_in_free}, {"ms", o.ms},
-                                      {"steps_ms", StepsJson(o.steps)}, {"note", o.note},
-                                      {"up_axis", {o.up_axis.x(), o.up_axis.y(), o.up_axis.z()}},
-                                      {"evidence_report", EvidenceJson(o.evidence)}};
-      };
-      rows.push_back({{"object", c.label}, {"shape", c.shape},
-                      {"claw", synth::ClawTypeName(c.claw)}, {"grasp", synth::GraspWayName(c.grasp)},
-                      {"closed_symmetric", c.closed_symmetric},
-                      {"camera_elevation_deg", c.camera_elevation_deg}, {"fused_points", fused.size()},
-                      {"fused_coverage", fused_coverage}, {"cloud_only", outcome(result[0])},
-                      {"evidence", outcome(result[1])},
-                      {"visibility_ms_per_frame", stats.visibility.mean_ms()},
-                      {"frame_path_ms", frame_ms}, {"key_frames", record.size()},
-                      {"record_mb", record.memory_bytes() / 1e6}});
+    if (o.json) {
+      rows.push_back(CaseJson(c, r));
       continue;
     }
     progress.Clear();  // the row on a line of its own
-    std::printf("%-12s %-17s %-12s %-15s | %6zu %6.3f |", c.label.c_str(), c.shape.c_str(),
-                synth::ClawTypeName(c.claw).c_str(), synth::GraspWayName(c.grasp).c_str(), fused.size(),
-                fused_coverage);
-    for (const Outcome& o : result) {
-      std::printf(" %6.3f %6.2f %5.3f %5d %6.0f |", o.coverage, o.added_p95_mm, o.added_wrong,
-                  o.added_in_free, o.ms);
-    }
-    std::printf(" %6.2f %6.2f\n", stats.visibility.mean_ms(), frame_ms);
-    if (verbose) {
-      std::printf("    cloud only: %s\n      ms:%s\n    evidence:   %s\n      ms:%s\n",
-                  result[0].note.c_str(), StepsText(result[0].steps).c_str(), result[1].note.c_str(),
-                  StepsText(result[1].steps).c_str());
-    }
-    std::fflush(stdout);
+    PrintCaseRow(c, r, o.verbose);
   }
   progress.Clear();
-  if (json) std::printf("%s\n", rows.dump(2).c_str());
+  if (o.json) std::printf("%s\n", rows.dump(2).c_str());
   return 0;
 }
 

@@ -13,6 +13,7 @@
 #include "error_text.hpp"
 #include "mesh_option.hpp"
 #include "number_parsing.hpp"
+#include "option_walk.hpp"
 #include "threads_option.hpp"
 #include "preview.hpp"
 #include "unknown_option.hpp"
@@ -87,139 +88,82 @@ nlohmann::ordered_json RepairReportJson(const repair::RepairReport& r, size_t po
 
 }  // namespace
 
-int RunRepair(const Args& args) {
+namespace {
+
+struct RepairOptions {
+  bool help{false};
   std::string in, out, preview_dir, mesh_out;
-  bool json = false, force = false;
-  double scale = 1.0;
+  bool json{false};
+  bool force{false};
+  double scale{1.0};
   repair::RepairConfig config;
   mesh::PlannerMeshConfig mesh_config;
-  bool mesh_flags = false;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    const bool has_value = i + 1 < args.size();
-    if (a == "--help" || a == "-h") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    } else if ((a == "-o" || a == "--output") && has_value) {
-      out = args[++i];
+  bool mesh_flags{false};  // --mesh-max-triangles or --mesh-convex-hull given
+};
+
+// --up X,Y,Z: three strict numbers (no blanks, nothing after them), not all 0.
+Eigen::Vector3d ParseUp(const std::string& text) {
+  Eigen::Vector3d up;
+  size_t start = 0;
+  for (int k = 0; k < 3; ++k) {
+    const size_t comma = k < 2 ? text.find(',', start) : text.size();
+    if (comma == std::string::npos) throw UsageError("--up '" + text + "': expected X,Y,Z");
+    up[k] = ParseDouble("--up", text.substr(start, comma - start), -1e6, 1e6);
+    start = comma + 1;
+  }
+  if (up.norm() == 0.0) throw UsageError("--up '" + text + "': a zero vector has no direction");
+  return up;
+}
+
+// The command line, up to --help if given.
+// @throws UsageError on an unknown option, a missing or bad value.
+RepairOptions ParseRepairArgs(const Args& args) {
+  RepairOptions o;
+  o.help = ForEachOption(args, [&](const std::string& a, bool has_value, size_t* i) {
+    if ((a == "-o" || a == "--output") && has_value) {
+      o.out = args[++*i];
     } else if (a == "--preview" && has_value) {
-      preview_dir = args[++i];
+      o.preview_dir = args[++*i];
     } else if (a == "--mesh-out" && has_value) {
-      mesh_out = args[++i];
+      o.mesh_out = args[++*i];
     } else if (a == "--mesh-max-triangles" || a == "--mesh-convex-hull") {
-      try {
-        ParseMeshFlag(args, &i, &mesh_config, &mesh_flags);
-      } catch (const UsageError& e) {
-        std::fprintf(stderr, "graspfill repair: %s\n%s", e.what(), kUsage);
-        return 2;
-      }
+      ParseMeshFlag(args, i, &o.mesh_config, &o.mesh_flags);
     } else if (a == "--json") {
-      json = true;
+      o.json = true;
     } else if (a == "--force") {
-      force = true;
+      o.force = true;
     } else if (a == "--mode" && has_value) {
-      const std::string m = args[++i];
-      if (m == "paper") config.mode = repair::RepairMode::kPaper;
-      else if (m == "best") config.mode = repair::RepairMode::kBest;
-      else {
-        std::fprintf(stderr, "graspfill repair: unknown mode '%s'\n%s", m.c_str(), kUsage);
-        return 2;
-      }
+      const std::string m = args[++*i];
+      if (m == "paper") o.config.mode = repair::RepairMode::kPaper;
+      else if (m == "best") o.config.mode = repair::RepairMode::kBest;
+      else throw UsageError("unknown mode '" + m + "'");
     } else if (a == "--num-threads" && has_value) {
-      try {
-        config.num_threads = ParseNumThreads(args[++i]);
-      } catch (const UsageError& e) {
-        std::fprintf(stderr, "graspfill repair: %s\n%s", e.what(), kUsage);
-        return 2;
-      }
+      o.config.num_threads = ParseNumThreads(args[++*i]);
     } else if (a == "--scale" && has_value) {
-      try {
-        scale = ParseDouble("--scale", args[++i], 1e-9, 1e9);
-      } catch (const UsageError& e) {
-        std::fprintf(stderr, "graspfill repair: %s\n%s", e.what(), kUsage);
-        return 2;
-      }
+      o.scale = ParseDouble("--scale", args[++*i], 1e-9, 1e9);
     } else if (a == "--up" && has_value) {
-      // X,Y,Z: three strict numbers (no blanks, nothing after them), not all 0.
-      const std::string text = args[++i];
-      Eigen::Vector3d up;
-      try {
-        size_t start = 0;
-        for (int k = 0; k < 3; ++k) {
-          const size_t comma = k < 2 ? text.find(',', start) : text.size();
-          if (comma == std::string::npos) throw UsageError("--up '" + text + "': expected X,Y,Z");
-          up[k] = ParseDouble("--up", text.substr(start, comma - start), -1e6, 1e6);
-          start = comma + 1;
-        }
-        if (up.norm() == 0.0) throw UsageError("--up '" + text + "': a zero vector has no direction");
-      } catch (const UsageError& e) {
-        std::fprintf(stderr, "graspfill repair: %s\n%s", e.what(), kUsage);
-        return 2;
-      }
-      config.up_hint = up.normalized();
-    } else if (!a.empty() && a[0] != '-' && in.empty()) {
-      in = a;
+      o.config.up_hint = ParseUp(args[++*i]).normalized();
+    } else if (!a.empty() && a[0] != '-' && o.in.empty()) {
+      o.in = a;
     } else {
-      std::fprintf(stderr, "graspfill repair: %s\n%s", BadOptionText(a, kUsage).c_str(), kUsage);
-      return 2;
+      throw BadOption(a, kUsage);
     }
-  }
-  if (in.empty() || out.empty()) {
-    std::fprintf(stderr, "graspfill repair: need IN.ply and -o OUT.ply\n%s", kUsage);
-    return 2;
-  }
+  });
+  if (o.help) return o;
+  if (o.in.empty() || o.out.empty()) throw UsageError("need IN.ply and -o OUT.ply");
   try {
-    io::CloudFileFormatOf(out);
+    io::CloudFileFormatOf(o.out);
   } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "graspfill repair: -o %s\n%s", e.what(), kUsage);
-    return 2;
+    throw UsageError(std::string("-o ") + e.what());
   }
-  try {
-    CheckMeshOutOption(mesh_out, out, mesh_flags);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "graspfill repair: %s\n%s", e.what(), kUsage);
-    return 2;
-  }
-  try {
-    io::CheckOutputFile(out, force);  // before the repair, not after it
-    if (!mesh_out.empty()) io::CheckOutputFile(mesh_out, force);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "graspfill repair: %s\n", ErrorText(e).c_str());
-    return 1;
-  }
-  if (!preview_dir.empty() && !PreparePreview(preview_dir, out, force, "repair")) return 1;
-  ObjectCloud input = io::ReadCloudFile(in);  // throws with the path
-  if (scale != 1.0) {
-    for (Eigen::Vector3f& p : input.points_G) p *= static_cast<float>(scale);
-  }
-  const repair::RepairResult result = repair::Repair(input, config);
-  // Beyond the limits the cloud would come back unchanged: most often a
-  // cloud in other units, which a planner must not take as repaired.
-  if (result.report.status == repair::RepairStatus::kOutOfRange) {
-    std::fprintf(stderr,
-                 "graspfill repair: '%s': %s; graspfill expects meters and objects a claw can "
-                 "hold (--scale 0.001 for a cloud in mm); nothing written\n",
-                 in.c_str(), result.report.StatusText().c_str());
-    return 1;
-  }
-  io::WriteCloudFile(out, result.cloud, io::ReplaceIf(force));
-  nlohmann::ordered_json report = RepairReportJson(result.report, input.size(), result.cloud.size());
-  if (!mesh_out.empty()) {
-    try {
-      report["mesh"] = BuildAndWriteCollisionMesh(mesh_out, result.cloud, mesh_config, force);
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "graspfill repair: collision mesh: %s\n", ErrorText(e).c_str());
-      return 1;
-    }
-  }
-  // Written after the cloud: a picture only of what is on the disk.
-  const std::string preview =
-      preview_dir.empty() ? "" : WritePreview(preview_dir, out, &input, result.cloud, force);
-  if (json) {
-    std::printf("%s\n", report.dump(2).c_str());
-    return 0;
-  }
-  std::printf("%s: %zu points in, %zu out (%s)\n", in.c_str(), input.size(), result.cloud.size(),
+  CheckMeshOutOption(o.mesh_out, o.out, o.mesh_flags);
+  return o;
+}
+
+// The report in words: the holes, the symmetry, the time, where it went.
+void PrintRepairSummary(const RepairOptions& o, size_t points_in, const repair::RepairResult& result,
+                        const std::string& preview, const nlohmann::ordered_json& report) {
+  std::printf("%s: %zu points in, %zu out (%s)\n", o.in.c_str(), points_in, result.cloud.size(),
               result.report.StatusText().c_str());
   for (const HoleSummary& h : result.report.holes) {
     std::printf("  %-16s boundary %4d points, %5d points added\n", KindName(h.kind),
@@ -230,10 +174,72 @@ int RunRepair(const Args& args) {
   }
   double total = 0.0;
   for (const StageTiming& s : result.report.timings) total += s.ms;
-  std::printf("  repair took %.1f ms -> %s\n", total, out.c_str());
+  std::printf("  repair took %.1f ms -> %s\n", total, o.out.c_str());
   if (!preview.empty()) std::printf("  preview -> %s\n", preview.c_str());
-  if (!mesh_out.empty()) PrintCollisionMesh(report["mesh"]);
+  if (!o.mesh_out.empty()) PrintCollisionMesh(report.at("mesh"));
+}
+
+// Repairs, writes the cloud (and mesh, preview) and reports; the outputs
+// were checked before.
+int RepairAndWrite(const RepairOptions& o) {
+  ObjectCloud input = io::ReadCloudFile(o.in);  // throws with the path
+  if (o.scale != 1.0) {
+    for (Eigen::Vector3f& p : input.points_G) p *= static_cast<float>(o.scale);
+  }
+  const repair::RepairResult result = repair::Repair(input, o.config);
+  // Beyond the limits the cloud would come back unchanged: most often a
+  // cloud in other units, which a planner must not take as repaired.
+  if (result.report.status == repair::RepairStatus::kOutOfRange) {
+    std::fprintf(stderr,
+                 "graspfill repair: '%s': %s; graspfill expects meters and objects a claw can "
+                 "hold (--scale 0.001 for a cloud in mm); nothing written\n",
+                 o.in.c_str(), result.report.StatusText().c_str());
+    return 1;
+  }
+  io::WriteCloudFile(o.out, result.cloud, io::ReplaceIf(o.force));
+  nlohmann::ordered_json report = RepairReportJson(result.report, input.size(), result.cloud.size());
+  if (!o.mesh_out.empty()) {
+    try {
+      report["mesh"] = BuildAndWriteCollisionMesh(o.mesh_out, result.cloud, o.mesh_config, o.force);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "graspfill repair: collision mesh: %s\n", ErrorText(e).c_str());
+      return 1;
+    }
+  }
+  // Written after the cloud: a picture only of what is on the disk.
+  const std::string preview =
+      o.preview_dir.empty() ? "" : WritePreview(o.preview_dir, o.out, &input, result.cloud, o.force);
+  if (o.json) {
+    std::printf("%s\n", report.dump(2).c_str());
+    return 0;
+  }
+  PrintRepairSummary(o, input.size(), result, preview, report);
   return 0;
+}
+
+}  // namespace
+
+int RunRepair(const Args& args) {
+  RepairOptions o;
+  try {
+    o = ParseRepairArgs(args);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "graspfill repair: %s\n%s", e.what(), kUsage);
+    return 2;
+  }
+  if (o.help) {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  try {
+    io::CheckOutputFile(o.out, o.force);  // before the repair, not after it
+    if (!o.mesh_out.empty()) io::CheckOutputFile(o.mesh_out, o.force);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "graspfill repair: %s\n", ErrorText(e).c_str());
+    return 1;
+  }
+  if (!o.preview_dir.empty() && !PreparePreview(o.preview_dir, o.out, o.force, "repair")) return 1;
+  return RepairAndWrite(o);
 }
 
 }  // namespace graspfill::cli

@@ -48,6 +48,7 @@
 #include "synth/renderer.hpp"
 #include "synth/rig_errors.hpp"
 #include "synth/scene.hpp"
+#include "synth_recording.hpp"
 #include "unknown_option.hpp"
 
 namespace graspfill::cli {
@@ -180,66 +181,72 @@ void ParseMmDeg(const std::string& option, const std::string& text, double* m, d
   *deg = ParseDouble(option, text.substr(comma + 1), 0.0, 10.0, "deg");
 }
 
-SynthOptions Parse(const Args& args) {
-  SynthOptions o;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
-      return args[++i];
-    };
-    const bool recording_only = a == "--mesh" || a == "--mesh-scale" || a == "--mesh-up" ||
-                                a == "--claw" || a == "--frames" ||
-                                a == "--ideal" || a == "--wall-m" ||
-                                a == "--hand-eye-error" || a == "--pose-noise" ||
-                                a == "--clock-offset-ms" || a == "--width" || a == "--height" ||
-                                a == "--slip-mm" || a == "--speed-variation";
-    if (recording_only) o.recording_only_given.push_back(a);
-    if (a == "-h" || a == "--help") o.help = true;
-    else if (a == "--protocol") o.protocol = value();
-    else if (a == "--shape") o.shape = value();
-    else if (a == "--size") o.size = value();
-    else if (a == "--mesh") o.mesh_path = value();
-    else if (a == "--mesh-scale") {
-      o.mesh_scale = ParseDouble(a, value(), 1e-6, 1e6, "");
-      o.mesh_transform_given = true;
-    } else if (a == "--mesh-up") {
-      o.mesh_transform_given = true;
-      const std::string axis = value();
-      if (axis != "y" && axis != "z") throw UsageError("--mesh-up must be y or z, not '" + axis + "'");
-      o.mesh_y_up = axis == "y";
-    }
-    else if (a == "--grasps") o.grasps = value();
-    else if (a == "--claw") o.claw = value();
-    else if (a == "--claw-mesh-root") {
-      o.recording_only_given.push_back(a);
-      o.claw_mesh_root = value();
-    }
-    else if (a == "--grasp") o.grasp = value();
-    else if (a == "--seed") {
-      o.seed = ParseInteger<uint64_t>(a, value(), 0, std::numeric_limits<uint64_t>::max());
-    } else if (a == "--frames") o.frames = ParseInteger<int>(a, value(), 1, 100000);
-    else if (a == "--ideal") o.ideal = true;
-    else if (a == "--wall-m") o.wall_m = ParseDouble(a, value(), 0.0, 100.0, "m");
-    else if (a == "--points") {
-      o.points = ParseInteger<int>(a, value(), kMinProtocolPoints, kMaxProtocolPoints);
-    }
-    else if (a == "--hand-eye-error") {
-      ParseMmDeg(a, value(), &o.rig_errors.hand_eye_m, &o.rig_errors.hand_eye_deg);
-    } else if (a == "--pose-noise") {
-      ParseMmDeg(a, value(), &o.rig_errors.pose_noise_m, &o.rig_errors.pose_noise_deg);
-    } else if (a == "--clock-offset-ms") {
-      o.rig_errors.clock_offset_us = std::llround(1000.0 * ParseDouble(a, value(), -90.0, 90.0, "ms"));
-    }
-    else if (a == "--slip-mm") o.slip_mm = ParseDouble(a, value(), 0.0, 20.0, "mm");
-    else if (a == "--speed-variation") o.speed_variation = ParseDouble(a, value(), 0.0, 0.9, "");
-    else if (a == "--width") o.width = ParseInteger<int>(a, value(), 16, 4096);
-    else if (a == "--height") o.height = ParseInteger<int>(a, value(), 16, 4096);
-    else if (a == "--force") o.force = true;
-    else if (a == "-o" || a == "--output") o.output_dir = value();
-    else throw BadOption(a, kUsage);
+// Options of recordings only, refused with --protocol paper.
+bool IsRecordingOnly(const std::string& a) {
+  return a == "--mesh" || a == "--mesh-scale" || a == "--mesh-up" || a == "--claw" ||
+         a == "--frames" || a == "--ideal" || a == "--wall-m" || a == "--hand-eye-error" ||
+         a == "--pose-noise" || a == "--clock-offset-ms" || a == "--width" || a == "--height" ||
+         a == "--slip-mm" || a == "--speed-variation";
+}
+
+// args[*i] (and its value, advancing *i) into *o.
+// @throws UsageError on an unknown option, a missing or bad value.
+void ParseOption(const Args& args, size_t* i, SynthOptions* o) {
+  const std::string& a = args[*i];
+  auto value = [&]() -> std::string {
+    if (*i + 1 >= args.size()) throw UsageError(a + " needs a value");
+    return args[++*i];
+  };
+  if (IsRecordingOnly(a)) o->recording_only_given.push_back(a);
+  if (a == "-h" || a == "--help") o->help = true;
+  else if (a == "--protocol") o->protocol = value();
+  else if (a == "--shape") o->shape = value();
+  else if (a == "--size") o->size = value();
+  else if (a == "--mesh") o->mesh_path = value();
+  else if (a == "--mesh-scale") {
+    o->mesh_scale = ParseDouble(a, value(), 1e-6, 1e6, "");
+    o->mesh_transform_given = true;
+  } else if (a == "--mesh-up") {
+    o->mesh_transform_given = true;
+    const std::string axis = value();
+    if (axis != "y" && axis != "z") throw UsageError("--mesh-up must be y or z, not '" + axis + "'");
+    o->mesh_y_up = axis == "y";
   }
-  if (o.help) return o;
+  else if (a == "--grasps") o->grasps = value();
+  else if (a == "--claw") o->claw = value();
+  else if (a == "--claw-mesh-root") {
+    o->recording_only_given.push_back(a);
+    o->claw_mesh_root = value();
+  }
+  else if (a == "--grasp") o->grasp = value();
+  else if (a == "--seed") {
+    o->seed = ParseInteger<uint64_t>(a, value(), 0, std::numeric_limits<uint64_t>::max());
+  } else if (a == "--frames") o->frames = ParseInteger<int>(a, value(), 1, 100000);
+  else if (a == "--ideal") o->ideal = true;
+  else if (a == "--wall-m") o->wall_m = ParseDouble(a, value(), 0.0, 100.0, "m");
+  else if (a == "--points") {
+    o->points = ParseInteger<int>(a, value(), kMinProtocolPoints, kMaxProtocolPoints);
+  }
+  else if (a == "--hand-eye-error") {
+    ParseMmDeg(a, value(), &o->rig_errors.hand_eye_m, &o->rig_errors.hand_eye_deg);
+  } else if (a == "--pose-noise") {
+    ParseMmDeg(a, value(), &o->rig_errors.pose_noise_m, &o->rig_errors.pose_noise_deg);
+  } else if (a == "--clock-offset-ms") {
+    o->rig_errors.clock_offset_us = std::llround(1000.0 * ParseDouble(a, value(), -90.0, 90.0, "ms"));
+  }
+  else if (a == "--slip-mm") o->slip_mm = ParseDouble(a, value(), 0.0, 20.0, "mm");
+  else if (a == "--speed-variation") o->speed_variation = ParseDouble(a, value(), 0.0, 0.9, "");
+  else if (a == "--width") o->width = ParseInteger<int>(a, value(), 16, 4096);
+  else if (a == "--height") o->height = ParseInteger<int>(a, value(), 16, 4096);
+  else if (a == "--force") o->force = true;
+  else if (a == "-o" || a == "--output") o->output_dir = value();
+  else throw BadOption(a, kUsage);
+}
+
+// The options that go together: --protocol paper with a shape and nothing
+// of recordings, --grasps instead of --shape, one of --shape and --mesh.
+// @throws UsageError
+void CheckCombination(const SynthOptions& o) {
   if (o.protocol) {
     if (*o.protocol != "paper") {
       throw UsageError("unknown --protocol '" + *o.protocol + "' (the only one is 'paper')");
@@ -272,6 +279,12 @@ SynthOptions Parse(const Args& args) {
     throw UsageError("--mesh-scale and --mesh-up apply to --mesh only");
   }
   if (o.output_dir.empty()) throw UsageError("missing -o DIR");
+}
+
+SynthOptions Parse(const Args& args) {
+  SynthOptions o;
+  for (size_t i = 0; i < args.size(); ++i) ParseOption(args, &i, &o);
+  if (!o.help) CheckCombination(o);
   return o;
 }
 
@@ -377,12 +390,8 @@ json SlipJson(const synth::Scene& scene) {
           {"cloud_before_slip", "gt_cloud_before_slip.ply"}};
 }
 
-json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::ChannelNames& ch,
-               int64_t log_bytes, size_t gripper_states, const synth::RigErrors& rig) {
+json ObjectJson(const synth::Scene& scene, const SynthOptions& o) {
   const synth::SceneConfig& c = scene.config();
-  const synth::Placement& p = scene.placement();
-  const synth::SensorModelConfig& s = c.sensor;
-  const Eigen::AlignedBox3d workspace = scene.WorkspaceBoxG(0.02);
   json object = {{"size_m", Vec(mesh::Bounds(scene.object_O()).sizes())}};
   if (o.mesh_path) {
     object["source"] = "mesh";
@@ -395,12 +404,83 @@ json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::Chann
     object["size_m"] = Vec(c.EffectiveSize());
     object["segments"] = c.shape_segments;
   }
+  return object;
+}
+
+json SensorJson(const synth::SensorModelConfig& s, bool ideal) {
+  return {{"ideal", ideal},
+          {"noise", s.noise},
+          {"sigma_base_m", s.sigma_base_m},
+          {"sigma_quadratic_m", s.sigma_quadratic_m},
+          {"sigma_reference_depth_m", s.sigma_reference_depth_m},
+          {"sigma_angular_m", s.sigma_angular_m},
+          {"quantize", s.quantize},
+          {"baseline_m", s.baseline_m},
+          {"disparity_steps_per_px", s.disparity_steps_per_px},
+          {"min_range_m", s.min_range_m},
+          {"max_range_m", s.max_range_m},
+          {"grazing_start_deg", s.grazing_start_deg},
+          {"grazing_full_deg", s.grazing_full_deg},
+          {"edge_jump_m", s.edge_jump_m},
+          {"edge_dropout_prob", s.edge_dropout_prob},
+          {"random_dropout_prob", s.random_dropout_prob},
+          {"model_doc", "Nguyen et al. 2012 axial noise, 1/8 px disparity "
+                        "quantization, grazing/edge/random dropouts"}};
+}
+
+// The placement's config and what it gave.
+json PlacementJson(const synth::PlacementConfig& c, const synth::Placement& p) {
+  return {{"min_palm_gap_m", c.min_palm_gap_m},
+          {"top_contact_fraction", c.top_contact_fraction},
+          {"middle_contact_fraction", c.middle_contact_fraction},
+          {"finger_pad_m", c.finger_pad_m},
+          {"oblique_tilt_deg", c.oblique_tilt_deg},
+          {"finger_clearance_m", c.finger_clearance_m},
+          {"T_G_O", Matrix(p.T_G_O)},
+          {"palm_gap_m", p.palm_gap_m},
+          {"contact_fraction", p.contact_fraction},
+          {"opening_m", p.opening_m},
+          {"finger_touch_radius_m", p.finger_touch_radius_m}};
+}
+
+json MotionJson(const synth::Scene& scene) {
+  const synth::MotionConfig& m = scene.config().motion;
+  return {{"camera_distance_m", m.camera_distance_m},
+          {"camera_elevation_deg", m.camera_elevation_deg},
+          {"turns", m.turns},
+          {"wobble_deg", m.wobble_deg},
+          {"wobble_translation_m", m.wobble_translation_m},
+          {"start_utime", m.start_utime},
+          {"T_W_C", Matrix(scene.T_W_C())},
+          {"T_C_G_first_frame", Matrix(scene.T_C_G(0.0))}};
+}
+
+json LogJson(const synth::Scene& scene, const io::ChannelNames& ch, int64_t log_bytes,
+             size_t gripper_states) {
+  const int num_frames = scene.config().num_frames;
+  return {{"file", "recording.lcmlog"},
+          {"bytes", log_bytes},
+          {"depth_channel", ch.depth},
+          {"gripper_state_channel", ch.gripper_state},
+          {"depth_encoding", "zlib16"},
+          {"depth_scale_m", 0.001},
+          {"depth_frames", num_frames},
+          {"gripper_states", gripper_states},
+          {"first_depth_utime", scene.DepthUtime(0)},
+          {"last_depth_utime", scene.DepthUtime(num_frames - 1)}};
+}
+
+json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::ChannelNames& ch,
+               int64_t log_bytes, size_t gripper_states, const synth::RigErrors& rig) {
+  const synth::SceneConfig& c = scene.config();
+  const synth::Placement& p = scene.placement();
+  const Eigen::AlignedBox3d workspace = scene.WorkspaceBoxG(0.02);
   json j = {
       {"format", "graspfill-synth-scene/1"},
       {"software_version", io::SoftwareVersion()},
       {"frames_doc", "geometry in the gripper frame G (origin palm face centre, +z approach); "
                      "T_A_B maps points from B to A; meters, microseconds"},
-      {"object", object},
+      {"object", ObjectJson(scene, o)},
       {"claw", {{"type", c.claw_model ? c.claw_model->name() : synth::ClawTypeName(c.claw)},
                 {"config", ClawJson(c.claw_config)},
                 {"used", ClawJson(p.claw)},
@@ -415,59 +495,16 @@ json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::Chann
       {"intrinsics", {{"width", c.intrinsics.width}, {"height", c.intrinsics.height},
                       {"fx", c.intrinsics.fx}, {"fy", c.intrinsics.fy},
                       {"cx", c.intrinsics.cx}, {"cy", c.intrinsics.cy}}},
-      {"sensor", {{"ideal", o.ideal},
-                  {"noise", s.noise},
-                  {"sigma_base_m", s.sigma_base_m},
-                  {"sigma_quadratic_m", s.sigma_quadratic_m},
-                  {"sigma_reference_depth_m", s.sigma_reference_depth_m},
-                  {"sigma_angular_m", s.sigma_angular_m},
-                  {"quantize", s.quantize},
-                  {"baseline_m", s.baseline_m},
-                  {"disparity_steps_per_px", s.disparity_steps_per_px},
-                  {"min_range_m", s.min_range_m},
-                  {"max_range_m", s.max_range_m},
-                  {"grazing_start_deg", s.grazing_start_deg},
-                  {"grazing_full_deg", s.grazing_full_deg},
-                  {"edge_jump_m", s.edge_jump_m},
-                  {"edge_dropout_prob", s.edge_dropout_prob},
-                  {"random_dropout_prob", s.random_dropout_prob},
-                  {"model_doc", "Nguyen et al. 2012 axial noise, 1/8 px disparity "
-                                "quantization, grazing/edge/random dropouts"}}},
-      {"placement", {{"min_palm_gap_m", c.placement.min_palm_gap_m},
-                     {"top_contact_fraction", c.placement.top_contact_fraction},
-                     {"middle_contact_fraction", c.placement.middle_contact_fraction},
-                     {"finger_pad_m", c.placement.finger_pad_m},
-                     {"oblique_tilt_deg", c.placement.oblique_tilt_deg},
-                     {"finger_clearance_m", c.placement.finger_clearance_m},
-                     {"T_G_O", Matrix(p.T_G_O)},
-                     {"palm_gap_m", p.palm_gap_m},
-                     {"contact_fraction", p.contact_fraction},
-                     {"opening_m", p.opening_m},
-                     {"finger_touch_radius_m", p.finger_touch_radius_m}}},
-      {"motion", {{"camera_distance_m", c.motion.camera_distance_m},
-                  {"camera_elevation_deg", c.motion.camera_elevation_deg},
-                  {"turns", c.motion.turns},
-                  {"wobble_deg", c.motion.wobble_deg},
-                  {"wobble_translation_m", c.motion.wobble_translation_m},
-                  {"start_utime", c.motion.start_utime},
-                  {"T_W_C", Matrix(scene.T_W_C())},
-                  {"T_C_G_first_frame", Matrix(scene.T_C_G(0.0))}}},
+      {"sensor", SensorJson(c.sensor, o.ideal)},
+      {"placement", PlacementJson(c.placement, p)},
+      {"motion", MotionJson(scene)},
       {"environment", {{"wall_distance_m", c.environment.wall_distance_m},
                        {"arm_radius_m", c.environment.arm_radius_m},
                        {"arm_length_m", c.environment.arm_length_m}}},
       {"workspace_box_G", {{"min", Vec(workspace.min())}, {"max", Vec(workspace.max())},
                            {"doc", "object bounding box in G grown by 2 cm, cut at the "
                                    "palm face z = 0"}}},
-      {"log", {{"file", "recording.lcmlog"},
-               {"bytes", log_bytes},
-               {"depth_channel", ch.depth},
-               {"gripper_state_channel", ch.gripper_state},
-               {"depth_encoding", "zlib16"},
-               {"depth_scale_m", 0.001},
-               {"depth_frames", c.num_frames},
-               {"gripper_states", gripper_states},
-               {"first_depth_utime", scene.DepthUtime(0)},
-               {"last_depth_utime", scene.DepthUtime(c.num_frames - 1)}}},
+      {"log", LogJson(scene, ch, log_bytes, gripper_states)},
       {"rig_errors", RigErrorsJson(rig)},
       {"ground_truth", {{"mesh", "gt_mesh.ply"},
                         {"cloud", "gt_cloud.ply"},
@@ -498,7 +535,9 @@ io::SessionDescription SessionOf(const synth::Scene& scene, int64_t utime, const
   return session;
 }
 
-int Run(const SynthOptions& o) {
+// The scene the options describe; nullopt (said on stderr) when --mesh
+// cannot be read or is too large to be in meters.
+std::optional<synth::SceneConfig> SceneConfigOf(const SynthOptions& o) {
   synth::SceneConfig config;
   if (IsBuiltinClaw(o.claw)) {
     config.claw = *synth::ParseClawType(o.claw);
@@ -516,88 +555,75 @@ int Run(const SynthOptions& o) {
   if (o.shape) {
     config.shape = *synth::ParseShape(*o.shape);
     if (o.size) config.size_m = ParseSize(*o.size);
-  } else {
-    try {
-      config.mesh = ReadObjectMesh(*o.mesh_path, o.mesh_scale, o.mesh_y_up);
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "graspfill synth: cannot read mesh: %s\n", ErrorText(e).c_str());
-      return 1;
-    }
-    config.mesh_name = *o.mesh_path;
-    const Eigen::Vector3d extent = mesh::Bounds(config.mesh).sizes();
-    if (extent.maxCoeff() > kMaxObjectExtentM) {
-      std::fprintf(stderr,
-                   "graspfill synth: mesh '%s' is %.3g m across; graspfill expects meters "
-                   "and objects a claw can hold (--mesh-scale 0.001 for a mesh in mm)\n",
-                   o.mesh_path->c_str(), extent.maxCoeff());
-      return 1;
-    }
+    return config;
   }
+  try {
+    config.mesh = ReadObjectMesh(*o.mesh_path, o.mesh_scale, o.mesh_y_up);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "graspfill synth: cannot read mesh: %s\n", ErrorText(e).c_str());
+    return std::nullopt;
+  }
+  config.mesh_name = *o.mesh_path;
+  const Eigen::Vector3d extent = mesh::Bounds(config.mesh).sizes();
+  if (extent.maxCoeff() > kMaxObjectExtentM) {
+    std::fprintf(stderr,
+                 "graspfill synth: mesh '%s' is %.3g m across; graspfill expects meters "
+                 "and objects a claw can hold (--mesh-scale 0.001 for a mesh in mm)\n",
+                 o.mesh_path->c_str(), extent.maxCoeff());
+    return std::nullopt;
+  }
+  return config;
+}
 
-  const fs::path dir(o.output_dir);
-  // Every file this run writes, the claw's link meshes included, checked
-  // (and refused without --force) before any frame is rendered.
-  const synth::Scene scene(config);
-  const claw::ClawModel claw_model = scene.MakeClawModel();
+// Every file a recording writes, the claw's link meshes included.
+std::vector<std::string> RecordingOutputs(const claw::ClawModel& claw_model, bool slip) {
   std::vector<std::string> outputs = {"recording.lcmlog", "gt_mesh.ply", "gt_cloud.ply",
                                       "claw.ply", "scene.json", "claw/claw.json"};
   for (const claw::Link& link : claw_model.links()) outputs.push_back("claw/" + link.name + ".ply");
-  const bool slip = config.slip.any();
   if (slip) {
     outputs.push_back("gt_mesh_before_slip.ply");
     outputs.push_back("gt_cloud_before_slip.ply");
   }
-  if (!PrepareOutputs(dir, outputs, o.force, "synth")) return 1;
+  return outputs;
+}
 
-  const synth::SceneRenderer renderer(scene);
-  const synth::RigErrors rig(o.rig_errors, config.seed);
-  const io::ChannelNames channels;
-  const fs::path log_path = dir / "recording.lcmlog";
-  size_t gripper_states = 0;
-  {
-    rt::LcmLogWriter log(log_path.string(), o.force);
-    // The session description first, stamped with the first event's time
-    // (so that lcm-logplayer does not wait before the recording starts).
-    const std::vector<synth::TimelineEvent> timeline = scene.Timeline();
-    const int64_t start_utime = timeline.empty() ? config.motion.start_utime : timeline.front().utime;
-    log.Write(channels.session, start_utime,
-              io::EncodeSessionDescription(SessionOf(scene, start_utime, o)));
-    ProgressLine progress("synth", "frames", config.num_frames);
-    int64_t frames_done = 0;
-    for (const synth::TimelineEvent& event : timeline) {
-      if (event.kind == synth::TimelineEvent::Kind::kDepth) {
-        const DepthFrame frame = renderer.Render(event.index);
-        log.Write(channels.depth, event.utime,
-                  io::EncodeDepthImage(frame, io::DepthEncoding::kZlib16, 0.001));
-        progress.Update(++frames_done);
-      } else {
+// The log: the session description, then the frames and the gripper
+// states with the rig's errors. Returns the gripper states written.
+size_t WriteRecording(const synth::Scene& scene, const SynthOptions& o, const synth::RigErrors& rig,
+                      const io::ChannelNames& channels, const fs::path& log_path) {
+  rt::LcmLogWriter log(log_path.string(), o.force);
+  // The session description first, stamped with the first event's time
+  // (so that lcm-logplayer does not wait before the recording starts).
+  const std::vector<synth::TimelineEvent> timeline = scene.Timeline();
+  const int64_t start_utime =
+      timeline.empty() ? scene.config().motion.start_utime : timeline.front().utime;
+  log.Write(channels.session, start_utime,
+            io::EncodeSessionDescription(SessionOf(scene, start_utime, o)));
+  ProgressLine progress("synth", "frames", scene.config().num_frames);
+  int64_t frames_done = 0;
+  const int64_t states = WriteSceneEvents(
+      scene, timeline,
+      [&](const synth::TimelineEvent& event) {
         // The rig's errors: the true pose at the robot's clock, then the
         // hand-eye error and this state's noise (identity by default).
         GripperState state = scene.GripperStateAt(rig.TrueUtime(event.utime));
         state.utime = event.utime;
         state.T_C_G = rig.Logged(state.T_C_G, event.index);
-        log.Write(channels.gripper_state, event.utime, io::EncodeGripperState(state));
-        ++gripper_states;
-      }
-    }
-    log.Close();  // renamed into place only now, complete
-  }
-  const int64_t log_bytes = static_cast<int64_t>(fs::file_size(log_path));
+        return state;
+      },
+      channels, &log, &progress, &frames_done);
+  log.Close();  // renamed into place only now, complete
+  return static_cast<size_t>(states);
+}
 
-  // The truth is where the object ends; with a slip, the same samples
-  // moved by the slide (point for point) beside the truth as grasped.
-  // Created only where nothing is (without --force): a file that appeared
-  // since PrepareOutputs is not replaced.
-  const io::IfExists if_exists = io::ReplaceIf(o.force);
+// The truth is where the object ends; with a slip, the same samples
+// moved by the slide (point for point) beside the truth as grasped. Then
+// the claw, posed and as a description.
+void WriteTruthAndClaw(const synth::Scene& scene, const claw::ClawModel& claw_model,
+                       const fs::path& dir, io::IfExists if_exists) {
   io::WriteMeshPly((dir / "gt_mesh.ply").string(), scene.object_G_after_slip(), if_exists);
-  const mesh::SurfaceSamples samples =
-      mesh::SampleSurface(scene.object_G(), synth::kDefaultGroundTruthPoints, config.seed);
-  ObjectCloud gt;
-  gt.utime = scene.DepthUtime(0);
-  gt.T_C_G = scene.T_C_G(0.0);
-  gt.points_G = samples.points;
-  gt.normals_G = samples.normals;
-  if (slip) {
+  ObjectCloud gt = GroundTruthCloud(scene, scene.config().seed);
+  if (scene.config().slip.any()) {
     io::WriteMeshPly((dir / "gt_mesh_before_slip.ply").string(), scene.object_G(), if_exists);
     io::WriteCloudPly((dir / "gt_cloud_before_slip.ply").string(), gt, if_exists);
     const Eigen::Vector3f d = scene.slip().Displacement_G().cast<float>();
@@ -606,23 +632,49 @@ int Run(const SynthOptions& o) {
   io::WriteCloudPly((dir / "gt_cloud.ply").string(), gt, if_exists);
   io::WriteMeshPly((dir / "claw.ply").string(), scene.claw_G(), if_exists);
   WriteClawDescription(claw_model, dir / "claw", if_exists);
+}
 
-  const json scene_json = SceneJson(scene, o, channels, log_bytes, gripper_states, rig);
-  io::WriteFileAtomically((dir / "scene.json").string(), scene_json.dump(2) + "\n", "cannot write",
-                          if_exists);
+void PrintRecordingSummary(const synth::Scene& scene, const SynthOptions& o,
+                           const fs::path& log_path, size_t gripper_states, int64_t log_bytes) {
   const Eigen::AlignedBox3d ws = scene.WorkspaceBoxG(0.02);
   std::printf(
       "wrote %s: %d depth frames + %zu gripper states (%lld bytes), opening %.4f m, "
       "workspace box in G [%.3f %.3f %.3f] .. [%.3f %.3f %.3f] m\n",
-      log_path.string().c_str(), config.num_frames, gripper_states,
+      log_path.string().c_str(), scene.config().num_frames, gripper_states,
       static_cast<long long>(log_bytes), scene.placement().opening_m, ws.min().x(),
       ws.min().y(), ws.min().z(), ws.max().x(), ws.max().y(), ws.max().z());
-  if (slip) {
+  if (scene.config().slip.any()) {
     std::printf("slip: %.2f mm along [%.3f %.3f %.3f] in G from utime %lld over %.2f s\n",
                 o.slip_mm, scene.slip().direction_G().x(), scene.slip().direction_G().y(),
                 scene.slip().direction_G().z(), static_cast<long long>(scene.slip().start_utime()),
-                config.slip.duration_s);
+                scene.config().slip.duration_s);
   }
+}
+
+int Run(const SynthOptions& o) {
+  const std::optional<synth::SceneConfig> config = SceneConfigOf(o);
+  if (!config) return 1;
+  const fs::path dir(o.output_dir);
+  // Every file this run writes, the claw's link meshes included, checked
+  // (and refused without --force) before any frame is rendered.
+  const synth::Scene scene(*config);
+  const claw::ClawModel claw_model = scene.MakeClawModel();
+  if (!PrepareOutputs(dir, RecordingOutputs(claw_model, config->slip.any()), o.force, "synth")) {
+    return 1;
+  }
+  const synth::RigErrors rig(o.rig_errors, config->seed);
+  const io::ChannelNames channels;
+  const fs::path log_path = dir / "recording.lcmlog";
+  const size_t gripper_states = WriteRecording(scene, o, rig, channels, log_path);
+  const int64_t log_bytes = static_cast<int64_t>(fs::file_size(log_path));
+  // Created only where nothing is (without --force): a file that appeared
+  // since PrepareOutputs is not replaced.
+  const io::IfExists if_exists = io::ReplaceIf(o.force);
+  WriteTruthAndClaw(scene, claw_model, dir, if_exists);
+  const json scene_json = SceneJson(scene, o, channels, log_bytes, gripper_states, rig);
+  io::WriteFileAtomically((dir / "scene.json").string(), scene_json.dump(2) + "\n", "cannot write",
+                          if_exists);
+  PrintRecordingSummary(scene, o, log_path, gripper_states, log_bytes);
   return 0;
 }
 

@@ -273,6 +273,91 @@ struct MeshPlace {
   }
 };
 
+// links[i] of a description: its name (unique: index_of), joint, mesh
+// origin and mesh; *parent_name: its parent's name ("" for a root).
+Link ReadLink(const Context& ctx, const json& j, size_t i, const MeshPlace& meshes,
+              std::map<std::string, int>* index_of, std::string* parent_name) {
+  std::string field = "links[" + std::to_string(i) + "]";
+  if (!j.is_object()) ctx.Fail(field, "expected an object");
+  const json* name_json = Find(j, "name");
+  if (name_json == nullptr) ctx.Fail(field + ".name", "missing");
+  Link link;
+  link.name = ReadString(ctx, *name_json, field + ".name");
+  field += " (" + link.name + ")";
+  CheckKeys(ctx, j, field,
+            {"name", "parent", "joint", "mesh", "mesh_origin", "mesh_scale"});
+  if (!index_of->emplace(link.name, static_cast<int>(i)).second) {
+    ctx.Fail(field + ".name", "duplicate link name");
+  }
+  if (const json* p = Find(j, "parent"); p != nullptr && !p->is_null()) {
+    *parent_name = ReadString(ctx, *p, field + ".parent");
+  }
+  if (const json* joint = Find(j, "joint")) {
+    link.joint = ReadJoint(ctx, *joint, field + ".joint");
+  }
+  if (const json* origin = Find(j, "mesh_origin")) {
+    link.T_link_mesh = ReadPose(ctx, *origin, field + ".mesh_origin");
+  }
+  double scale = 1.0;
+  if (const json* s = Find(j, "mesh_scale")) {
+    scale = ReadNumber(ctx, *s, field + ".mesh_scale");
+    if (!(scale > 0.0)) ctx.Fail(field + ".mesh_scale", "must be > 0");
+    CheckLimit(ctx, field + ".mesh_scale", ScaleDefect(scale));
+  }
+  if (const json* mesh = Find(j, "mesh")) {
+    const std::string ref = ReadString(ctx, *mesh, field + ".mesh");
+    link.mesh = ReadMesh(ctx, meshes.Resolve(ctx, field + ".mesh", ref), scale,
+                         field + ".mesh", &link.degenerate_triangles_dropped);
+  }
+  return link;
+}
+
+// Each link's parent's position in the file (-1: a root).
+std::vector<int> ParentIndices(const Context& ctx, const std::vector<Link>& parsed,
+                               const std::vector<std::string>& parent_names,
+                               const std::map<std::string, int>& index_of) {
+  const int n = static_cast<int>(parsed.size());
+  std::vector<int> parent_index(n, -1);
+  for (int i = 0; i < n; ++i) {
+    if (parent_names[i].empty()) continue;
+    const auto it = index_of.find(parent_names[i]);
+    if (it == index_of.end()) {
+      ctx.Fail(
+          "links[" + std::to_string(i) + "] (" + parsed[i].name + ").parent",
+          "unknown parent link '" + parent_names[i] + "'");
+    }
+    parent_index[i] = it->second;
+  }
+  return parent_index;
+}
+
+// The links' file positions parents-first (the file may list them in any
+// order); *new_index: each file position's place in that order. A parent
+// cycle fails.
+std::vector<int> ParentsFirst(const Context& ctx, const std::vector<Link>& parsed,
+                              const std::vector<int>& parent_index, std::vector<int>* new_index) {
+  const int n = static_cast<int>(parsed.size());
+  std::vector<int> order;
+  new_index->assign(n, -1);
+  std::vector<int> state(n, 0);  // 0 new, 1 on the stack, 2 placed
+  for (int start = 0; start < n; ++start) {
+    std::vector<int> chain;
+    for (int i = start; i >= 0 && state[i] != 2; i = parent_index[i]) {
+      if (state[i] == 1) {
+        ctx.Fail("links (" + parsed[i].name + ")", "parent cycle");
+      }
+      state[i] = 1;
+      chain.push_back(i);
+    }
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+      state[*it] = 2;
+      (*new_index)[*it] = static_cast<int>(order.size());
+      order.push_back(*it);
+    }
+  }
+  return order;
+}
+
 // The claw of a parsed description; `name` unless it names itself.
 ClawModel FromDescription(const Context& ctx, const json& doc, std::string name,
                           const MeshPlace& meshes) {
@@ -296,79 +381,16 @@ ClawModel FromDescription(const Context& ctx, const json& doc, std::string name,
   std::vector<std::string> parent_names;
   std::map<std::string, int> index_of;
   for (size_t i = 0; i < links_json->size(); ++i) {
-    const json& j = (*links_json)[i];
-    std::string field = "links[" + std::to_string(i) + "]";
-    if (!j.is_object()) ctx.Fail(field, "expected an object");
-    const json* name_json = Find(j, "name");
-    if (name_json == nullptr) ctx.Fail(field + ".name", "missing");
-    Link link;
-    link.name = ReadString(ctx, *name_json, field + ".name");
-    field += " (" + link.name + ")";
-    CheckKeys(ctx, j, field,
-              {"name", "parent", "joint", "mesh", "mesh_origin", "mesh_scale"});
-    if (!index_of.emplace(link.name, static_cast<int>(i)).second) {
-      ctx.Fail(field + ".name", "duplicate link name");
-    }
     std::string parent;
-    if (const json* p = Find(j, "parent"); p != nullptr && !p->is_null()) {
-      parent = ReadString(ctx, *p, field + ".parent");
-    }
+    parsed.push_back(ReadLink(ctx, (*links_json)[i], i, meshes, &index_of, &parent));
     parent_names.push_back(parent);
-    if (const json* joint = Find(j, "joint")) {
-      link.joint = ReadJoint(ctx, *joint, field + ".joint");
-    }
-    if (const json* origin = Find(j, "mesh_origin")) {
-      link.T_link_mesh = ReadPose(ctx, *origin, field + ".mesh_origin");
-    }
-    double scale = 1.0;
-    if (const json* s = Find(j, "mesh_scale")) {
-      scale = ReadNumber(ctx, *s, field + ".mesh_scale");
-      if (!(scale > 0.0)) ctx.Fail(field + ".mesh_scale", "must be > 0");
-      CheckLimit(ctx, field + ".mesh_scale", ScaleDefect(scale));
-    }
-    if (const json* mesh = Find(j, "mesh")) {
-      const std::string ref = ReadString(ctx, *mesh, field + ".mesh");
-      link.mesh = ReadMesh(ctx, meshes.Resolve(ctx, field + ".mesh", ref), scale,
-                           field + ".mesh", &link.degenerate_triangles_dropped);
-    }
-    parsed.push_back(std::move(link));
   }
-
-  // Order links parents-first (the file may list them in any order) and
-  // resolve parent names to indices.
-  const int n = static_cast<int>(parsed.size());
-  std::vector<int> parent_index(n, -1);
-  for (int i = 0; i < n; ++i) {
-    if (parent_names[i].empty()) continue;
-    const auto it = index_of.find(parent_names[i]);
-    if (it == index_of.end()) {
-      ctx.Fail(
-          "links[" + std::to_string(i) + "] (" + parsed[i].name + ").parent",
-          "unknown parent link '" + parent_names[i] + "'");
-    }
-    parent_index[i] = it->second;
-  }
-  std::vector<int> order;
-  std::vector<int> new_index(n, -1);
-  std::vector<int> state(n, 0);  // 0 new, 1 on the stack, 2 placed
-  for (int start = 0; start < n; ++start) {
-    std::vector<int> chain;
-    for (int i = start; i >= 0 && state[i] != 2; i = parent_index[i]) {
-      if (state[i] == 1) {
-        ctx.Fail("links (" + parsed[i].name + ")", "parent cycle");
-      }
-      state[i] = 1;
-      chain.push_back(i);
-    }
-    for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
-      state[*it] = 2;
-      new_index[*it] = static_cast<int>(order.size());
-      order.push_back(*it);
-    }
-  }
+  const std::vector<int> parent_index = ParentIndices(ctx, parsed, parent_names, index_of);
+  std::vector<int> new_index;
+  const std::vector<int> order = ParentsFirst(ctx, parsed, parent_index, &new_index);
   CheckHasGeometry(ctx, parsed);
   std::vector<Link> links;
-  links.reserve(n);
+  links.reserve(parsed.size());
   for (const int i : order) {
     Link link = std::move(parsed[i]);
     link.parent = parent_index[i] < 0 ? -1 : new_index[parent_index[i]];

@@ -59,6 +59,93 @@ inline int CeilToInt(double x) {
   return i < x ? i + 1 : i;
 }
 
+
+// Where a triangle's pixel centres lie on each row: each barycentric weight
+// w = k_u du + k_v dv + k_0 >= -slack bounds du = u - a.u from below
+// (k_u > 0) or above (k_u < 0) by an affine function of dv = v - a.v, so
+// that long thin triangles (common in STL meshes) cost their covered
+// pixels, not their box. Bounds (b_0, b_v) on du = b_0 + b_v dv; the three
+// k_u sum to 0, so at most two bounds of each kind.
+struct RowSpans {
+  double lower[2][2];
+  double upper[2][2];
+};
+
+RowSpans RowSpansOf(const double (&k)[3][3]) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  RowSpans spans = {{{-kInf, 0.0}, {-kInf, 0.0}}, {{kInf, 0.0}, {kInf, 0.0}}};
+  int num_lower = 0;
+  int num_upper = 0;
+  for (const auto& e : k) {
+    if (e[0] == 0.0) continue;  // parallel to rows: left to the pixel test
+    double* bound = nullptr;
+    if (e[0] > 0.0 && num_lower < 2) bound = spans.lower[num_lower++];
+    if (e[0] < 0.0 && num_upper < 2) bound = spans.upper[num_upper++];
+    if (bound == nullptr) continue;
+    bound[0] = (-kEdgeSlack - e[2]) / e[0];
+    bound[1] = -e[1] / e[0];
+  }
+  return spans;
+}
+
+// Draws the triangle a, b, c (pixels u, v and 1/z) into the 1/z buffer
+// `inverse_depth` (rows of `width`), the nearest (largest 1/z) winning,
+// within box_roi; *drawn grows by the pixel box it may have covered.
+void DrawInverseDepth(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                      const Eigen::Vector3d& c, const Rect& box_roi, int width,
+                      float* inverse_depth, Rect* drawn) {
+  const double area2 = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+  if (area2 == 0.0) return;  // seen edge-on: no ray hits its inside
+  // Pixel centres inside the triangle's box, within the box rectangle
+  // (which is clipped to the image: no overflow below).
+  const double u_min = std::max<double>(box_roi.u0, std::min({a.x(), b.x(), c.x()}));
+  const double u_max = std::min<double>(box_roi.u1, std::max({a.x(), b.x(), c.x()}));
+  const double v_min = std::max<double>(box_roi.v0, std::min({a.y(), b.y(), c.y()}));
+  const double v_max = std::min<double>(box_roi.v1, std::max({a.y(), b.y(), c.y()}));
+  if (u_max < u_min || v_max < v_min) return;
+  const int u0 = CeilToInt(u_min);
+  const int u1 = FloorToInt(u_max);
+  const int v0 = CeilToInt(v_min);
+  const int v1 = FloorToInt(v_max);
+  if (u1 < u0 || v1 < v0) return;
+  drawn->Extend(u0, v0, u1, v1);
+  // Barycentric weights of b and c as affine functions of
+  // (du, dv) = (u - a.u, v - a.v); w_a = 1 - w_b - w_c.
+  const double inv_area2 = 1.0 / area2;
+  const double wb_u = (c.y() - a.y()) * inv_area2;
+  const double wb_v = -(c.x() - a.x()) * inv_area2;
+  const double wc_u = -(b.y() - a.y()) * inv_area2;
+  const double wc_v = (b.x() - a.x()) * inv_area2;
+  const double iz_b = b.z() - a.z();
+  const double iz_c = c.z() - a.z();
+  const double k[3][3] = {{wb_u, wb_v, 0.0},
+                          {wc_u, wc_v, 0.0},
+                          {-(wb_u + wc_u), -(wb_v + wc_v), 1.0}};
+  const RowSpans spans = RowSpansOf(k);
+  for (int v = v0; v <= v1; ++v) {
+    const double dv = v - a.y();
+    const double du_lo = std::max({spans.lower[0][0] + spans.lower[0][1] * dv,
+                                   spans.lower[1][0] + spans.lower[1][1] * dv, u_min - a.x()});
+    const double du_hi = std::min({spans.upper[0][0] + spans.upper[0][1] * dv,
+                                   spans.upper[1][0] + spans.upper[1][1] * dv, u_max - a.x()});
+    if (du_hi < du_lo) continue;
+    // Rounding of the bounds is covered by re-testing each pixel.
+    const int u_lo = std::max(u0, CeilToInt(a.x() + du_lo - 1e-6));
+    const int u_hi = std::min(u1, FloorToInt(a.x() + du_hi + 1e-6));
+    float* depth_row = &inverse_depth[static_cast<size_t>(v) * width];
+    for (int u = u_lo; u <= u_hi; ++u) {
+      const double du = u - a.x();
+      const double wb = wb_u * du + wb_v * dv;
+      const double wc = wc_u * du + wc_v * dv;
+      if (wb < -kEdgeSlack || wc < -kEdgeSlack || wb + wc > 1.0 + kEdgeSlack) continue;
+      // Nearest = largest 1/z; the empty value 0 loses to any triangle.
+      const float inv_z = static_cast<float>(a.z() + wb * iz_b + wc * iz_c);
+      float& d = depth_row[u];
+      d = std::max(d, inv_z);
+    }
+  }
+}
+
 }  // namespace
 
 struct ClawMask::Impl {
@@ -219,88 +306,9 @@ Rect ClawMask::Impl::Rasterize(const Rect& box_roi) {
   // the camera here, so 1/z > 0 wherever a triangle covers a pixel.
   Rect drawn;
   for (const Eigen::Vector3i& t : triangles) {
-    const Eigen::Vector3d a = vertices_px[t[0]].cast<double>();
-    const Eigen::Vector3d b = vertices_px[t[1]].cast<double>();
-    const Eigen::Vector3d c = vertices_px[t[2]].cast<double>();
-    const double area2 =
-        (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
-    if (area2 == 0.0) continue;  // seen edge-on: no ray hits its inside
-    // Pixel centres inside the triangle's box, within the box rectangle
-    // (which is clipped to the image: no overflow below).
-    const double u_min =
-        std::max<double>(box_roi.u0, std::min({a.x(), b.x(), c.x()}));
-    const double u_max =
-        std::min<double>(box_roi.u1, std::max({a.x(), b.x(), c.x()}));
-    const double v_min =
-        std::max<double>(box_roi.v0, std::min({a.y(), b.y(), c.y()}));
-    const double v_max =
-        std::min<double>(box_roi.v1, std::max({a.y(), b.y(), c.y()}));
-    if (u_max < u_min || v_max < v_min) continue;
-    const int u0 = CeilToInt(u_min);
-    const int u1 = FloorToInt(u_max);
-    const int v0 = CeilToInt(v_min);
-    const int v1 = FloorToInt(v_max);
-    if (u1 < u0 || v1 < v0) continue;
-    drawn.Extend(u0, v0, u1, v1);
-    // Barycentric weights of b and c as affine functions of
-    // (du, dv) = (u - a.u, v - a.v); w_a = 1 - w_b - w_c.
-    const double inv_area2 = 1.0 / area2;
-    const double wb_u = (c.y() - a.y()) * inv_area2;
-    const double wb_v = -(c.x() - a.x()) * inv_area2;
-    const double wc_u = -(b.y() - a.y()) * inv_area2;
-    const double wc_v = (b.x() - a.x()) * inv_area2;
-    const double iz_b = b.z() - a.z();
-    const double iz_c = c.z() - a.z();
-    // Each weight w = k_u du + k_v dv + k_0 >= -slack bounds du from below
-    // (k_u > 0) or above (k_u < 0) by an affine function of dv: the row's
-    // span, so that long thin triangles (common in STL meshes) cost their
-    // covered pixels, not their box.
-    const double k[3][3] = {{wb_u, wb_v, 0.0},
-                            {wc_u, wc_v, 0.0},
-                            {-(wb_u + wc_u), -(wb_v + wc_v), 1.0}};
-    // Bounds (b_0, b_v) on du = b_0 + b_v dv. The three k_u sum to 0, so at
-    // most two bounds of each kind.
-    constexpr double kInf = std::numeric_limits<double>::infinity();
-    double lower[2][2] = {{-kInf, 0.0}, {-kInf, 0.0}};
-    double upper[2][2] = {{kInf, 0.0}, {kInf, 0.0}};
-    int num_lower = 0;
-    int num_upper = 0;
-    for (const auto& e : k) {
-      if (e[0] == 0.0) continue;  // parallel to rows: left to the pixel test
-      double* bound = nullptr;
-      if (e[0] > 0.0 && num_lower < 2) bound = lower[num_lower++];
-      if (e[0] < 0.0 && num_upper < 2) bound = upper[num_upper++];
-      if (bound == nullptr) continue;
-      bound[0] = (-kEdgeSlack - e[2]) / e[0];
-      bound[1] = -e[1] / e[0];
-    }
-    for (int v = v0; v <= v1; ++v) {
-      const double dv = v - a.y();
-      const double du_lo =
-          std::max({lower[0][0] + lower[0][1] * dv,
-                    lower[1][0] + lower[1][1] * dv, u_min - a.x()});
-      const double du_hi =
-          std::min({upper[0][0] + upper[0][1] * dv,
-                    upper[1][0] + upper[1][1] * dv, u_max - a.x()});
-      if (du_hi < du_lo) continue;
-      // Rounding of the bounds is covered by re-testing each pixel.
-      const int u_lo = std::max(u0, CeilToInt(a.x() + du_lo - 1e-6));
-      const int u_hi = std::min(u1, FloorToInt(a.x() + du_hi + 1e-6));
-      float* depth_row = &claw_depth_m[static_cast<size_t>(v) * width];
-      for (int u = u_lo; u <= u_hi; ++u) {
-        const double du = u - a.x();
-        const double wb = wb_u * du + wb_v * dv;
-        const double wc = wc_u * du + wc_v * dv;
-        if (wb < -kEdgeSlack || wc < -kEdgeSlack ||
-            wb + wc > 1.0 + kEdgeSlack) {
-          continue;
-        }
-        // Nearest = largest 1/z; the empty value 0 loses to any triangle.
-        const float inv_z = static_cast<float>(a.z() + wb * iz_b + wc * iz_c);
-        float& d = depth_row[u];
-        d = std::max(d, inv_z);
-      }
-    }
+    DrawInverseDepth(vertices_px[t[0]].cast<double>(), vertices_px[t[1]].cast<double>(),
+                     vertices_px[t[2]].cast<double>(), box_roi, width, claw_depth_m.data(),
+                     &drawn);
   }
   // The buffer held 1/z while drawing (no division per covered pixel).
   for (int v = drawn.v0; v <= drawn.v1; ++v) {

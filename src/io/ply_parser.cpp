@@ -180,22 +180,66 @@ bool ParseCount(const std::string& s, int64_t* count) {
   return true;
 }
 
-}  // namespace
+struct Header {
+  Format format{Format::kAscii};
+  std::vector<Element> elements;
+  size_t body_start{0};  // the byte after 'end_header\n'
+};
 
-std::string ReadWholeFile(const std::string& path, const std::string& what) {
-  return ReadRegularFile(path, kMaxFileBytes, what);
+// A 'format', 'element' or 'property' line (its words `w`) into the header.
+void ReadHeaderLine(const std::vector<std::string>& w, const std::string& where,
+                    const std::string& path, const std::string& what, Header* header,
+                    bool* have_format) {
+  std::vector<Element>& elements = header->elements;
+  if (w[0] == "format") {
+    if (w.size() != 3 || w[2] != "1.0") Fail(what, path, where + ": expected 'format <type> 1.0'");
+    if (w[1] == "ascii") header->format = Format::kAscii;
+    else if (w[1] == "binary_little_endian") header->format = Format::kBinaryLittle;
+    else if (w[1] == "binary_big_endian") header->format = Format::kBinaryBig;
+    else Fail(what, path, where + ": unknown format '" + w[1] + "'");
+    *have_format = true;
+  } else if (w[0] == "element") {
+    Element e;
+    if (w.size() != 3 || !ParseCount(w[2], &e.count)) {
+      Fail(what, path, where + ": expected 'element <name> <count>' with a count >= 0");
+    }
+    e.name = w[1];
+    for (const Element& other : elements) {
+      if (other.name == e.name) Fail(what, path, where + ": element '" + e.name + "' declared twice");
+    }
+    elements.push_back(e);
+  } else if (w[0] == "property") {
+    if (elements.empty()) Fail(what, path, where + ": property before any element");
+    Property p;
+    if (w.size() == 3 && ParseType(w[1], &p.type)) {
+      p.name = w[2];
+    } else if (w.size() == 5 && w[1] == "list" && ParseType(w[2], &p.count_type) &&
+               IsInteger(p.count_type) && ParseType(w[3], &p.type)) {
+      p.is_list = true;
+      p.name = w[4];
+    } else {
+      Fail(what, path, where + ": expected 'property <type> <name>' or 'property list <int type> <type> <name>'");
+    }
+    for (const Property& other : elements.back().properties) {
+      if (other.name == p.name) {
+        Fail(what, path, where + ": property '" + p.name + "' declared twice");
+      }
+    }
+    elements.back().properties.push_back(p);
+  } else {
+    Fail(what, path, where + ": unknown keyword '" + w[0] + "'");
+  }
 }
 
-Parsed Parse(const std::string& bytes, const std::string& path, const std::string& what,
-             bool want_faces) {
+// The header, up to 'end_header', within kMaxHeaderLines and kMaxHeaderBytes.
+Header ReadHeader(const std::string& bytes, const std::string& path, const std::string& what) {
   size_t pos = 0;
   std::string line;
   if (!NextLine(bytes, &pos, &line) || line != "ply") {
     Fail(what, path, "not a PLY file (no 'ply' line at the start)");
   }
-  Format format = Format::kAscii;
+  Header header;
   bool have_format = false;
-  std::vector<Element> elements;
   bool ended = false;
   for (int n = 1; n < kMaxHeaderLines; ++n) {
     if (static_cast<int64_t>(pos) > kMaxHeaderBytes) break;
@@ -203,58 +247,25 @@ Parsed Parse(const std::string& bytes, const std::string& path, const std::strin
       Fail(what, path, "header ends at line " + std::to_string(n + 1) + " without 'end_header'");
     }
     const std::vector<std::string> w = Words(line);
-    const std::string where = "header line " + std::to_string(n + 1);
     if (w.empty()) continue;
     if (w[0] == "comment" || w[0] == "obj_info") continue;
     if (w[0] == "end_header") {
       ended = true;
       break;
     }
-    if (w[0] == "format") {
-      if (w.size() != 3 || w[2] != "1.0") Fail(what, path, where + ": expected 'format <type> 1.0'");
-      if (w[1] == "ascii") format = Format::kAscii;
-      else if (w[1] == "binary_little_endian") format = Format::kBinaryLittle;
-      else if (w[1] == "binary_big_endian") format = Format::kBinaryBig;
-      else Fail(what, path, where + ": unknown format '" + w[1] + "'");
-      have_format = true;
-    } else if (w[0] == "element") {
-      Element e;
-      if (w.size() != 3 || !ParseCount(w[2], &e.count)) {
-        Fail(what, path, where + ": expected 'element <name> <count>' with a count >= 0");
-      }
-      e.name = w[1];
-      for (const Element& other : elements) {
-        if (other.name == e.name) Fail(what, path, where + ": element '" + e.name + "' declared twice");
-      }
-      elements.push_back(e);
-    } else if (w[0] == "property") {
-      if (elements.empty()) Fail(what, path, where + ": property before any element");
-      Property p;
-      if (w.size() == 3 && ParseType(w[1], &p.type)) {
-        p.name = w[2];
-      } else if (w.size() == 5 && w[1] == "list" && ParseType(w[2], &p.count_type) &&
-                 IsInteger(p.count_type) && ParseType(w[3], &p.type)) {
-        p.is_list = true;
-        p.name = w[4];
-      } else {
-        Fail(what, path, where + ": expected 'property <type> <name>' or 'property list <int type> <type> <name>'");
-      }
-      for (const Property& other : elements.back().properties) {
-        if (other.name == p.name) {
-          Fail(what, path, where + ": property '" + p.name + "' declared twice");
-        }
-      }
-      elements.back().properties.push_back(p);
-    } else {
-      Fail(what, path, where + ": unknown keyword '" + w[0] + "'");
-    }
+    ReadHeaderLine(w, "header line " + std::to_string(n + 1), path, what, &header, &have_format);
   }
   if (!ended) Fail(what, path, "no 'end_header' within the first " + std::to_string(kMaxHeaderLines) + " lines / " + std::to_string(kMaxHeaderBytes) + " bytes");
   if (!have_format) Fail(what, path, "no 'format' line in the header");
+  header.body_start = pos;
+  return header;
+}
 
-  Parsed out;
+// The 'vertex' element, which must have scalar x, y and z.
+const Element& VertexElement(const Header& header, const std::string& path,
+                             const std::string& what) {
   const Element* vertex_element = nullptr;
-  for (const Element& e : elements) {
+  for (const Element& e : header.elements) {
     if (e.name == "vertex") vertex_element = &e;
   }
   if (vertex_element == nullptr) Fail(what, path, "no 'vertex' element");
@@ -268,18 +279,21 @@ Parsed Parse(const std::string& bytes, const std::string& path, const std::strin
     }
     if (!found) Fail(what, path, std::string("no '") + axis + "' vertex property");
   }
+  return *vertex_element;
+}
 
-  // Counts against the body before anything is allocated: every value takes
-  // at least 1 byte (binary) or 2 (ASCII: a digit and a separator), every
-  // list at least its count.
-  const size_t body_bytes = bytes.size() - pos;
-  const int64_t min_value_bytes = format == Format::kAscii ? 2 : 1;
+// Counts against the body before anything is allocated: every value takes
+// at least 1 byte (binary) or 2 (ASCII: a digit and a separator), every
+// list at least its count.
+void CheckDeclaredCounts(const std::string& bytes, const Header& header, const std::string& path,
+                         const std::string& what) {
+  const size_t body_bytes = bytes.size() - header.body_start;
+  const bool ascii = header.format == Format::kAscii;
   int64_t min_total = 0;
-  for (const Element& e : elements) {
+  for (const Element& e : header.elements) {
     int64_t per = 0;
     for (const Property& p : e.properties) {
-      per += p.is_list ? (format == Format::kAscii ? 2 : TypeBytes(p.count_type))
-                       : (format == Format::kAscii ? 2 : TypeBytes(p.type));
+      per += p.is_list ? (ascii ? 2 : TypeBytes(p.count_type)) : (ascii ? 2 : TypeBytes(p.type));
     }
     per = std::max<int64_t>(per, 0);
     if (per > 0 && e.count > static_cast<int64_t>(body_bytes) / per + 1) {
@@ -289,36 +303,117 @@ Parsed Parse(const std::string& bytes, const std::string& path, const std::strin
     }
     min_total += per * e.count;
   }
-  (void)min_value_bytes;
-  if (format != Format::kAscii && min_total > static_cast<int64_t>(body_bytes)) {
+  if (!ascii && min_total > static_cast<int64_t>(body_bytes)) {
     Fail(what, path, "the body has " + std::to_string(body_bytes) + " bytes, the header declares at least " +
                          std::to_string(min_total));
   }
+}
 
-  // A binary header over a text body of the right size (the case:
-  // "0.1 0.2 0.3\n" is 12 bytes, one float vertex) would be read as floats.
-  // Binary data that is all number characters with line breaks is
-  // practically impossible; text is.
-  if (format != Format::kAscii && body_bytes > 0) {
-    bool text = false;
-    bool only_number_chars = true;
-    for (size_t i = pos; i < bytes.size() && only_number_chars; ++i) {
-      const char c = bytes[i];
-      if (c == '\n') text = true;
-      only_number_chars = (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+' || c == 'e' ||
-                          c == 'E' || c == ' ' || c == '\t' || c == '\r' || c == '\n';
-    }
-    if (text && only_number_chars) {
-      Fail(what, path, "the body is ASCII text but the header says binary: the body does not match "
-                       "the binary header");
+// A binary header over a text body of the right size (the case:
+// "0.1 0.2 0.3\n" is 12 bytes, one float vertex) would be read as floats.
+// Binary data that is all number characters with line breaks is
+// practically impossible; text is.
+void CheckBinaryBodyIsNotText(const std::string& bytes, const Header& header,
+                              const std::string& path, const std::string& what) {
+  if (header.format == Format::kAscii || bytes.size() == header.body_start) return;
+  bool text = false;
+  bool only_number_chars = true;
+  for (size_t i = header.body_start; i < bytes.size() && only_number_chars; ++i) {
+    const char c = bytes[i];
+    if (c == '\n') text = true;
+    only_number_chars = (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+' || c == 'e' ||
+                        c == 'E' || c == ' ' || c == '\t' || c == '\r' || c == '\n';
+  }
+  if (text && only_number_chars) {
+    Fail(what, path, "the body is ASCII text but the header says binary: the body does not match "
+                     "the binary header");
+  }
+}
+
+// The position of the face element's index list ('vertex_indices' or
+// 'vertex_index', integers).
+int FaceListOf(const Element& e, const std::string& path, const std::string& what) {
+  int face_list = -1;
+  for (size_t k = 0; k < e.properties.size(); ++k) {
+    const Property& p = e.properties[k];
+    if (p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) {
+      face_list = static_cast<int>(k);
     }
   }
+  if (face_list < 0) Fail(what, path, "face element without a 'vertex_indices' list");
+  if (!IsInteger(e.properties[static_cast<size_t>(face_list)].type)) {
+    Fail(what, path, "face property 'vertex_indices' is not an integer list");
+  }
+  return face_list;
+}
 
-  out.num_vertices = vertex_element->count;
-  const size_t nv = static_cast<size_t>(vertex_element->count);
-  std::vector<std::vector<double>*> columns(vertex_element->properties.size(), nullptr);
-  for (size_t k = 0; k < vertex_element->properties.size(); ++k) {
-    const Property& p = vertex_element->properties[k];
+// One list property's values; kept (into out's faces) when `keep`: the
+// face's index list, each index checked against the vertex count.
+template <typename Where>
+void ReadList(Body* body, const Property& p, bool keep, const Where& where,
+              const std::string& path, const std::string& what, Parsed* out) {
+  const double count = body->Read(p.count_type, where);
+  if (count < 0 || count > static_cast<double>(body->remaining())) {
+    Fail(what, path, where() + ": list of " + std::to_string(static_cast<int64_t>(count)) +
+                         " values, more than the file holds");
+  }
+  if (keep && (count < 3 || count > kMaxFaceVertices)) {
+    Fail(what, path, where() + ": a face of " + std::to_string(static_cast<int64_t>(count)) +
+                         " vertices (expected 3.." + std::to_string(kMaxFaceVertices) + ")");
+  }
+  for (int64_t j = 0; j < static_cast<int64_t>(count); ++j) {
+    const double v = body->Read(p.type, where);
+    if (keep) {
+      if (!(v >= 0 && v < static_cast<double>(out->num_vertices))) {
+        Fail(what, path, where() + ": vertex index " + std::to_string(static_cast<int64_t>(v)) +
+                             " out of range (" + std::to_string(out->num_vertices) + " vertices)");
+      }
+      out->face_indices.push_back(static_cast<int64_t>(v));
+    }
+  }
+  if (keep) out->face_start.push_back(static_cast<int64_t>(out->face_indices.size()));
+}
+
+// One element's entries: the vertex's scalars into `columns` (null: not
+// the vertex; an entry null: a list), the face's index lists into out's
+// faces (face_list >= 0).
+void ReadElement(Body* body, const Element& e, const std::vector<std::vector<double>*>* columns,
+                 int face_list, const std::string& path, const std::string& what, Parsed* out) {
+  for (int64_t i = 0; i < e.count; ++i) {
+    for (size_t k = 0; k < e.properties.size(); ++k) {
+      const Property& p = e.properties[k];
+      auto where = [&] {
+        return e.name + " " + std::to_string(i) + ", property '" + p.name + "'";
+      };
+      if (p.is_list) {
+        ReadList(body, p, static_cast<int>(k) == face_list, where, path, what, out);
+      } else {
+        const double v = body->Read(p.type, where);
+        if (columns) (*(*columns)[k])[static_cast<size_t>(i)] = v;
+      }
+    }
+  }
+}
+
+}  // namespace
+
+std::string ReadWholeFile(const std::string& path, const std::string& what) {
+  return ReadRegularFile(path, kMaxFileBytes, what);
+}
+
+Parsed Parse(const std::string& bytes, const std::string& path, const std::string& what,
+             bool want_faces) {
+  const Header header = ReadHeader(bytes, path, what);
+  const Element& vertex_element = VertexElement(header, path, what);
+  CheckDeclaredCounts(bytes, header, path, what);
+  CheckBinaryBodyIsNotText(bytes, header, path, what);
+
+  Parsed out;
+  out.num_vertices = vertex_element.count;
+  const size_t nv = static_cast<size_t>(vertex_element.count);
+  std::vector<std::vector<double>*> columns(vertex_element.properties.size(), nullptr);
+  for (size_t k = 0; k < vertex_element.properties.size(); ++k) {
+    const Property& p = vertex_element.properties[k];
     if (!p.is_list) {
       auto& column = out.vertex[p.name];
       column.resize(nv);
@@ -326,60 +421,17 @@ Parsed Parse(const std::string& bytes, const std::string& path, const std::strin
     }
   }
 
-  Body body(bytes, pos, format, path, what);
-  for (const Element& e : elements) {
-    const bool is_vertex = &e == vertex_element;
-    const bool is_face = want_faces && e.name == "face";
-    int face_list = -1;
+  Body body(bytes, header.body_start, header.format, path, what);
+  for (const Element& e : header.elements) {
     if (e.properties.empty()) continue;  // nothing to read, whatever its count
-    if (is_face) {
-      for (size_t k = 0; k < e.properties.size(); ++k) {
-        const Property& p = e.properties[k];
-        if (p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) {
-          face_list = static_cast<int>(k);
-        }
-      }
-      if (face_list < 0) Fail(what, path, "face element without a 'vertex_indices' list");
-      if (!IsInteger(e.properties[static_cast<size_t>(face_list)].type)) {
-        Fail(what, path, "face property 'vertex_indices' is not an integer list");
-      }
+    int face_list = -1;
+    if (want_faces && e.name == "face") {
+      face_list = FaceListOf(e, path, what);
       out.has_faces = true;
       out.face_start.reserve(static_cast<size_t>(e.count) + 1);
     }
-    for (int64_t i = 0; i < e.count; ++i) {
-      for (size_t k = 0; k < e.properties.size(); ++k) {
-        const Property& p = e.properties[k];
-        auto where = [&] {
-          return e.name + " " + std::to_string(i) + ", property '" + p.name + "'";
-        };
-        if (p.is_list) {
-          const double count = body.Read(p.count_type, where);
-          if (count < 0 || count > static_cast<double>(body.remaining())) {
-            Fail(what, path, where() + ": list of " + std::to_string(static_cast<int64_t>(count)) +
-                                 " values, more than the file holds");
-          }
-          const bool keep = is_face && static_cast<int>(k) == face_list;
-          if (keep && (count < 3 || count > kMaxFaceVertices)) {
-            Fail(what, path, where() + ": a face of " + std::to_string(static_cast<int64_t>(count)) +
-                                 " vertices (expected 3.." + std::to_string(kMaxFaceVertices) + ")");
-          }
-          for (int64_t j = 0; j < static_cast<int64_t>(count); ++j) {
-            const double v = body.Read(p.type, where);
-            if (keep) {
-              if (!(v >= 0 && v < static_cast<double>(out.num_vertices))) {
-                Fail(what, path, where() + ": vertex index " + std::to_string(static_cast<int64_t>(v)) +
-                                     " out of range (" + std::to_string(out.num_vertices) + " vertices)");
-              }
-              out.face_indices.push_back(static_cast<int64_t>(v));
-            }
-          }
-          if (keep) out.face_start.push_back(static_cast<int64_t>(out.face_indices.size()));
-        } else {
-          const double v = body.Read(p.type, where);
-          if (is_vertex) (*columns[k])[static_cast<size_t>(i)] = v;
-        }
-      }
-    }
+    const bool is_vertex = &e == &vertex_element;
+    ReadElement(&body, e, is_vertex ? &columns : nullptr, face_list, path, what, &out);
   }
   body.ExpectEnd();
   return out;

@@ -343,6 +343,123 @@ TriangleMesh DropSmallPieces(const TriangleMesh& mesh, double min_fraction) {
   return kept;
 }
 
+// The grid: the cloud's box, padded by `reach` cells and more so that the
+// border lies beyond the bands.
+Grid GridAround(const std::vector<Eigen::Vector3d>& points, double h, int reach) {
+  Eigen::Vector3d lo = points[0], hi = points[0];
+  for (const Eigen::Vector3d& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  Grid grid;
+  grid.h = h;
+  // Offset by a fraction of a cell so that the flat faces of a box-shaped
+  // cloud do not lie on grid planes: there the field is near zero at whole
+  // planes of nodes and the mesh a stack of exactly symmetric slivers, which
+  // Open3D's self-intersection test misreads as crossing.
+  grid.origin = lo - Eigen::Vector3d::Constant((reach + 2 + kGridOffsetCells) * h);
+  double nodes = 1.0;
+  for (int a = 0; a < 3; ++a) {
+    grid.dims[a] = static_cast<int>(std::ceil((hi[a] - lo[a]) / h)) + 2 * (reach + 2) + 2;
+    nodes *= grid.dims[a];
+  }
+  if (nodes > static_cast<double>(kMaxNodes)) {
+    throw std::runtime_error("collision mesh: a " + std::to_string(h) + " m grid over the cloud's " +
+                             "box needs " + std::to_string(static_cast<int64_t>(nodes)) +
+                             " nodes (at most " + std::to_string(kMaxNodes) + "); use larger cells");
+  }
+  return grid;
+}
+
+// The bands: nodes within fill_m of a point (kBarrier), and within band_m
+// (kNear) with their nearest points into *nearest; every other node
+// kInside, for the fill to decide.
+std::vector<uint8_t> LabelBands(const Grid& grid, const std::vector<Eigen::Vector3d>& points,
+                                const CollisionMeshConfig& config, int reach,
+                                std::unordered_map<int64_t, std::vector<int>>* nearest) {
+  const double h = grid.h;
+  const double band_m = config.band_cells * h;
+  const double fill_m = config.fill_band_cells * h;
+  // The tree refers to `data` (not a copy): both live to the end.
+  Eigen::MatrixXd data(3, static_cast<Eigen::Index>(points.size()));
+  for (size_t i = 0; i < points.size(); ++i) data.col(static_cast<Eigen::Index>(i)) = points[i];
+  open3d::geometry::KDTreeFlann tree;
+  if (!tree.SetMatrixData(data)) throw std::runtime_error("collision mesh: KD-tree build failed");
+  std::vector<uint8_t> label(static_cast<size_t>(grid.size()), kInside);
+  for (const Eigen::Vector3d& p : points) {
+    const Eigen::Vector3d c = (p - grid.origin) / h;
+    const int ci = static_cast<int>(std::floor(c.x())), cj = static_cast<int>(std::floor(c.y())),
+              ck = static_cast<int>(std::floor(c.z()));
+    for (int k = ck - reach; k <= ck + reach + 1; ++k) {
+      for (int j = cj - reach; j <= cj + reach + 1; ++j) {
+        for (int i = ci - reach; i <= ci + reach + 1; ++i) label[grid.Index(i, j, k)] = kNear;
+      }
+    }
+  }
+  const int k_nn = std::min<int>(config.neighbors, static_cast<int>(points.size()));
+  std::vector<int> index;
+  std::vector<double> dist2;
+  for (int64_t n = 0; n < grid.size(); ++n) {
+    if (label[n] != kNear) continue;
+    tree.SearchKNN(grid.Position(n), k_nn, index, dist2);
+    if (dist2.empty() || dist2[0] > fill_m * fill_m) {
+      label[n] = kInside;  // beyond both bands after all; the fill decides
+    } else if (dist2[0] > band_m * band_m) {
+      label[n] = kBarrier;
+    } else {
+      nearest->emplace(n, index);
+    }
+  }
+  return label;
+}
+
+// Normals turned to face the outside where the grid tells: the first
+// node beyond the band along the normal, walking a cell at a time, lies
+// outside for an outward normal and inside for an inward one; where that
+// walk leaves the grid or finds nothing, the walk the other way decides.
+void OrientNormals(const Grid& grid, const std::vector<uint8_t>& label, double band_cells,
+                   const std::vector<Eigen::Vector3d>& points,
+                   std::vector<Eigen::Vector3d>* normals) {
+  const int max_steps = static_cast<int>(std::ceil(band_cells)) + 3;
+  auto first_beyond_band = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& step) {
+    for (int k = 1; k <= max_steps; ++k) {
+      const int64_t n = grid.Nearest(p + k * step);
+      if (n < 0) return kOutside;
+      if (label[n] != kNear) return static_cast<Label>(label[n]);
+    }
+    return kNear;  // undecided
+  };
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Label front = first_beyond_band(points[i], grid.h * (*normals)[i]);
+    const Label back = front == kNear ? first_beyond_band(points[i], -grid.h * (*normals)[i]) : kNear;
+    if (front == kInside || back == kOutside) (*normals)[i] = -(*normals)[i];
+  }
+}
+
+// The field: the mean plane distance in the band, +-band_m beyond it, never
+// nearer zero than min_abs.
+std::vector<float> SignedField(const Grid& grid, const std::vector<uint8_t>& label,
+                               const std::unordered_map<int64_t, std::vector<int>>& nearest,
+                               const std::vector<Eigen::Vector3d>& points,
+                               const std::vector<Eigen::Vector3d>& normals, double band_m,
+                               float min_abs) {
+  std::vector<float> f(static_cast<size_t>(grid.size()));
+  for (int64_t n = 0; n < grid.size(); ++n) {
+    double value = label[n] == kOutside ? band_m : -band_m;
+    if (label[n] == kNear) {
+      const Eigen::Vector3d x = grid.Position(n);
+      const std::vector<int>& nn = nearest.at(n);
+      value = 0.0;
+      for (int j : nn) value += normals[j].dot(x - points[j]);
+      value = std::clamp(value / static_cast<double>(nn.size()), -band_m, band_m);
+    }
+    float v = static_cast<float>(value);
+    if (std::abs(v) < min_abs) v = v < 0.0f ? -min_abs : min_abs;
+    f[n] = v;
+  }
+  return f;
+}
+
 }  // namespace
 
 void CollisionMeshConfig::Validate() const {
@@ -368,66 +485,11 @@ TriangleMesh BuildCollisionMesh(const ObjectCloud& cloud, const CollisionMeshCon
   for (size_t i = 0; i < cloud.size(); ++i) points[i] = cloud.points_G[i].cast<double>();
   std::vector<Eigen::Vector3d> normals = StartNormals(cloud, points);
 
-  // The grid: the cloud's box, padded so that the border lies beyond the bands.
   const double h = config.cell_m;
-  const double band_m = config.band_cells * h;
-  const double fill_m = config.fill_band_cells * h;
   const int reach = static_cast<int>(std::ceil(std::max(config.band_cells, config.fill_band_cells)));
-  Eigen::Vector3d lo = points[0], hi = points[0];
-  for (const Eigen::Vector3d& p : points) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  Grid grid;
-  grid.h = h;
-  // Offset by a fraction of a cell so that the flat faces of a box-shaped
-  // cloud do not lie on grid planes: there the field is near zero at whole
-  // planes of nodes and the mesh a stack of exactly symmetric slivers, which
-  // Open3D's self-intersection test misreads as crossing.
-  grid.origin = lo - Eigen::Vector3d::Constant((reach + 2 + kGridOffsetCells) * h);
-  double nodes = 1.0;
-  for (int a = 0; a < 3; ++a) {
-    grid.dims[a] = static_cast<int>(std::ceil((hi[a] - lo[a]) / h)) + 2 * (reach + 2) + 2;
-    nodes *= grid.dims[a];
-  }
-  if (nodes > static_cast<double>(kMaxNodes)) {
-    throw std::runtime_error("collision mesh: a " + std::to_string(h) + " m grid over the cloud's " +
-                             "box needs " + std::to_string(static_cast<int64_t>(nodes)) +
-                             " nodes (at most " + std::to_string(kMaxNodes) + "); use larger cells");
-  }
-
-  // The bands: nodes within fill_m of a point, and within band_m with their
-  // nearest points. The tree refers to `data` (not a copy): both live to the end.
-  Eigen::MatrixXd data(3, static_cast<Eigen::Index>(points.size()));
-  for (size_t i = 0; i < points.size(); ++i) data.col(static_cast<Eigen::Index>(i)) = points[i];
-  open3d::geometry::KDTreeFlann tree;
-  if (!tree.SetMatrixData(data)) throw std::runtime_error("collision mesh: KD-tree build failed");
-  std::vector<uint8_t> label(static_cast<size_t>(grid.size()), kInside);
-  for (const Eigen::Vector3d& p : points) {
-    const Eigen::Vector3d c = (p - grid.origin) / h;
-    const int ci = static_cast<int>(std::floor(c.x())), cj = static_cast<int>(std::floor(c.y())),
-              ck = static_cast<int>(std::floor(c.z()));
-    for (int k = ck - reach; k <= ck + reach + 1; ++k) {
-      for (int j = cj - reach; j <= cj + reach + 1; ++j) {
-        for (int i = ci - reach; i <= ci + reach + 1; ++i) label[grid.Index(i, j, k)] = kNear;
-      }
-    }
-  }
-  const int k_nn = std::min<int>(config.neighbors, static_cast<int>(points.size()));
+  const Grid grid = GridAround(points, h, reach);
   std::unordered_map<int64_t, std::vector<int>> nearest;  // band node -> its k nearest points
-  std::vector<int> index;
-  std::vector<double> dist2;
-  for (int64_t n = 0; n < grid.size(); ++n) {
-    if (label[n] != kNear) continue;
-    tree.SearchKNN(grid.Position(n), k_nn, index, dist2);
-    if (dist2.empty() || dist2[0] > fill_m * fill_m) {
-      label[n] = kInside;  // beyond both bands after all; the fill decides
-    } else if (dist2[0] > band_m * band_m) {
-      label[n] = kBarrier;
-    } else {
-      nearest.emplace(n, index);
-    }
-  }
+  std::vector<uint8_t> label = LabelBands(grid, points, config, reach, &nearest);
   // Beyond the bands: outside where the border reaches, else inside; the
   // wider fill band keeps holes up to twice its width from letting it in.
   // Then the outside grows back over the fill band's outer part, a few
@@ -435,42 +497,11 @@ TriangleMesh BuildCollisionMesh(const ObjectCloud& cloud, const CollisionMeshCon
   FloodFill(grid, &label);
   const int regrow_steps = static_cast<int>(std::ceil(config.fill_band_cells - config.band_cells)) + 2;
   RegrowOutside(grid, regrow_steps, &label);
+  OrientNormals(grid, label, config.band_cells, points, &normals);
 
-  // Normals turned to face the outside where the grid tells: the first
-  // node beyond the band along the normal, walking a cell at a time, lies
-  // outside for an outward normal and inside for an inward one; where that
-  // walk leaves the grid or finds nothing, the walk the other way decides.
-  const int max_steps = static_cast<int>(std::ceil(config.band_cells)) + 3;
-  auto first_beyond_band = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& step) {
-    for (int k = 1; k <= max_steps; ++k) {
-      const int64_t n = grid.Nearest(p + k * step);
-      if (n < 0) return kOutside;
-      if (label[n] != kNear) return static_cast<Label>(label[n]);
-    }
-    return kNear;  // undecided
-  };
-  for (size_t i = 0; i < points.size(); ++i) {
-    const Label front = first_beyond_band(points[i], h * normals[i]);
-    const Label back = front == kNear ? first_beyond_band(points[i], -h * normals[i]) : kNear;
-    if (front == kInside || back == kOutside) normals[i] = -normals[i];
-  }
-
-  // The field: the mean plane distance in the band, +-band_m beyond it.
   const float min_abs = static_cast<float>(kMinAbsDistanceCells * h);
-  std::vector<float> f(static_cast<size_t>(grid.size()));
-  for (int64_t n = 0; n < grid.size(); ++n) {
-    double value = label[n] == kOutside ? band_m : -band_m;
-    if (label[n] == kNear) {
-      const Eigen::Vector3d x = grid.Position(n);
-      const std::vector<int>& nn = nearest.at(n);
-      value = 0.0;
-      for (int j : nn) value += normals[j].dot(x - points[j]);
-      value = std::clamp(value / static_cast<double>(nn.size()), -band_m, band_m);
-    }
-    float v = static_cast<float>(value);
-    if (std::abs(v) < min_abs) v = v < 0.0f ? -min_abs : min_abs;
-    f[n] = v;
-  }
+  std::vector<float> f =
+      SignedField(grid, label, nearest, points, normals, config.band_cells * h, min_abs);
   if (config.hold_points) HoldPoints(grid, points, min_abs, &f);
   return DropSmallPieces(Triangulator(grid, f).Run(), config.min_piece_fraction);
 }

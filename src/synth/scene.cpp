@@ -183,92 +183,119 @@ Scene::Scene(const SceneConfig& config) : config_(config) {
                                     : pc.top_contact_fraction;
   const Eigen::Vector3d contact_O(0.0, 0.0, (1.0 - placement_.contact_fraction) * height);
   const Eigen::Vector3d contact_rot = R_G_O * contact_O;
+  if (config_.claw_model) {
+    PlaceInModelClaw(R_G_O, contact_rot);
+  } else {
+    PlaceInBuiltinClaw(R_G_O, contact_rot);
+  }
+  if (config_.environment.arm_radius_m > 0.0 && config_.environment.arm_length_m > 0.0) {
+    MakeArm();
+  }
+  PlaceCamera();
+
+  Rng rng(DeriveSeed(config_.seed, kWobbleStream));
+  for (double& phase : wobble_phase_) phase = 2.0 * kPi * rng.Uniform();
+
+  slip_ = ObjectSlip(config_.slip, config_.seed, DepthUtime(0), DepthUtime(config_.num_frames - 1));
+  object_G_after_slip_ =
+      config_.slip.any() ? object_G_.Transformed(slip_.S_G_final()) : object_G_;
+}
+
+// A description or URDF claw keeps its geometry and closes on the object.
+void Scene::PlaceInModelClaw(const Eigen::Matrix3d& R_G_O, const Eigen::Vector3d& contact_rot) {
+  const ModelClawHold hold = HoldInModelClaw(
+      *config_.claw_model, object_O_, R_G_O, Eigen::Vector2d(-contact_rot.x(), -contact_rot.y()),
+      config_.placement.min_palm_gap_m);
+  placement_.claw = config_.claw_config;
+  placement_.T_G_O = hold.T_G_O;
+  placement_.palm_gap_m = hold.palm_gap_m;
+  placement_.opening_m = hold.opening;
+  object_G_ = object_O_.Transformed(placement_.T_G_O);
+  claw_G_ = config_.claw_model->Posed(placement_.opening_m);
+}
+
+// Where each finger would touch: its footprint is |p . t| <= width/2 and
+// z in [0, finger_length]; the object's reach along d inside it.
+std::vector<double> Scene::FingerTouchRadii(const std::vector<Eigen::Vector3d>& dirs) const {
+  std::vector<double> radii;
+  for (const Eigen::Vector3d& d : dirs) {
+    const Eigen::Vector3d t = Eigen::Vector3d::UnitZ().cross(d);
+    const double half_w = 0.5 * placement_.claw.finger_width_m;
+    const std::vector<HalfSpace> region = {
+        {t, half_w},
+        {-t, half_w},
+        {-Eigen::Vector3d::UnitZ(), 0.0},
+        {Eigen::Vector3d::UnitZ(), placement_.claw.finger_length_m}};
+    radii.push_back(MaxSupportInRegion(object_G_, d, region));
+  }
+  return radii;
+}
+
+// A built-in claw: its fingertips below the object's top (fingers
+// lengthened when the palm would be too close), the object on G's z axis
+// (slid between opposed fingers until both touch), opened to the touch.
+void Scene::PlaceInBuiltinClaw(const Eigen::Matrix3d& R_G_O, const Eigen::Vector3d& contact_rot) {
+  const PlacementConfig& pc = config_.placement;
   double top_rot = std::numeric_limits<double>::infinity();  // highest point
   for (const Eigen::Vector3f& v : object_O_.vertices) {
     top_rot = std::min(top_rot, (R_G_O * v.cast<double>()).z());
   }
-  if (config_.claw_model) {
-    // A description or URDF claw keeps its geometry and closes on the object.
-    const ModelClawHold hold = HoldInModelClaw(
-        *config_.claw_model, object_O_, R_G_O, Eigen::Vector2d(-contact_rot.x(), -contact_rot.y()),
-        pc.min_palm_gap_m);
-    placement_.claw = config_.claw_config;
-    placement_.T_G_O = hold.T_G_O;
-    placement_.palm_gap_m = hold.palm_gap_m;
-    placement_.opening_m = hold.opening;
-    object_G_ = object_O_.Transformed(placement_.T_G_O);
-    claw_G_ = config_.claw_model->Posed(placement_.opening_m);
-  } else {
-    // Fingertip below the object's top, along G's z.
-    const double tip_depth = contact_rot.z() + 0.5 * pc.finger_pad_m - top_rot;
-    placement_.claw = config_.claw_config;
-    placement_.palm_gap_m = placement_.claw.finger_length_m - tip_depth;
-    if (placement_.palm_gap_m < pc.min_palm_gap_m) {
-      placement_.palm_gap_m = pc.min_palm_gap_m;
-      placement_.claw.finger_length_m = pc.min_palm_gap_m + tip_depth;
-    }
-    // The contact point sits on G's z axis; the top at the palm gap.
-    placement_.T_G_O.linear() = R_G_O;
-    placement_.T_G_O.translation() =
-        Eigen::Vector3d(-contact_rot.x(), -contact_rot.y(), placement_.palm_gap_m - top_rot);
-
-    // Where each finger would touch: its footprint is |p . t| <= width/2 and
-    // z in [0, finger_length]; the object's reach along d inside it.
-    const claw::ClawModel probe = MakeClaw(config_.claw, placement_.claw);
-    const std::vector<Eigen::Vector3d> dirs = FingerDirections(probe);
-    auto touch_radii = [&](const TriangleMesh& object_G) {
-      std::vector<double> radii;
-      for (const Eigen::Vector3d& d : dirs) {
-        const Eigen::Vector3d t = Eigen::Vector3d::UnitZ().cross(d);
-        const double half_w = 0.5 * placement_.claw.finger_width_m;
-        const std::vector<HalfSpace> region = {
-            {t, half_w},
-            {-t, half_w},
-            {-Eigen::Vector3d::UnitZ(), 0.0},
-            {Eigen::Vector3d::UnitZ(), placement_.claw.finger_length_m}};
-        radii.push_back(MaxSupportInRegion(object_G, d, region));
-      }
-      return radii;
-    };
-    object_G_ = object_O_.Transformed(placement_.T_G_O);
-    placement_.finger_touch_radius_m = touch_radii(object_G_);
-    std::vector<double>& radii = placement_.finger_touch_radius_m;
-    for (size_t i = 0; i < radii.size(); ++i) {
-      if (!std::isfinite(radii[i])) {
-        throw std::invalid_argument("Scene: finger " + std::to_string(i) +
-                                    " does not reach the object");
-      }
-    }
-    if (dirs.size() == 2 && dirs[0].dot(dirs[1]) < -0.999) {
-      // Opposed fingers close until both touch: slide the object along d0.
-      // The footprints do not depend on this slide, so one step is exact.
-      const double shift = 0.5 * (radii[1] - radii[0]);
-      placement_.T_G_O.pretranslate(shift * dirs[0]);
-      object_G_ = object_O_.Transformed(placement_.T_G_O);
-      radii = touch_radii(object_G_);
-    }
-    placement_.opening_m = *std::max_element(radii.begin(), radii.end()) + pc.finger_clearance_m;
-    Require(placement_.opening_m > 0.0, "the object is too thin for the claw");
-    // Keep the claw's joint limits from clamping the opening we need.
-    placement_.claw.max_opening_m = std::max(placement_.claw.max_opening_m, placement_.opening_m);
-    placement_.claw.min_opening_m = std::min(placement_.claw.min_opening_m, placement_.opening_m);
-    claw_G_ = MakeClawModel().Posed(placement_.opening_m);
+  // Fingertip below the object's top, along G's z.
+  const double tip_depth = contact_rot.z() + 0.5 * pc.finger_pad_m - top_rot;
+  placement_.claw = config_.claw_config;
+  placement_.palm_gap_m = placement_.claw.finger_length_m - tip_depth;
+  if (placement_.palm_gap_m < pc.min_palm_gap_m) {
+    placement_.palm_gap_m = pc.min_palm_gap_m;
+    placement_.claw.finger_length_m = pc.min_palm_gap_m + tip_depth;
   }
+  // The contact point sits on G's z axis; the top at the palm gap.
+  placement_.T_G_O.linear() = R_G_O;
+  placement_.T_G_O.translation() =
+      Eigen::Vector3d(-contact_rot.x(), -contact_rot.y(), placement_.palm_gap_m - top_rot);
 
-  if (config_.environment.arm_radius_m > 0.0 && config_.environment.arm_length_m > 0.0) {
-    const double r = config_.environment.arm_radius_m;
-    const double len = config_.environment.arm_length_m;
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    // Behind the palm: a model claw's back is its lowest point.
-    const double palm_back_m = config_.claw_model ? -mesh::Bounds(claw_G_).min().z()
-                                                  : placement_.claw.palm_thickness_m;
-    T.translation().z() = -palm_back_m - len;
-    arm_G_ = MakeShape(Shape::kCylinder, Eigen::Vector3d(2 * r, 2 * r, len), kArmSegments)
-                 .Transformed(T);
+  const claw::ClawModel probe = MakeClaw(config_.claw, placement_.claw);
+  const std::vector<Eigen::Vector3d> dirs = FingerDirections(probe);
+  object_G_ = object_O_.Transformed(placement_.T_G_O);
+  placement_.finger_touch_radius_m = FingerTouchRadii(dirs);
+  std::vector<double>& radii = placement_.finger_touch_radius_m;
+  for (size_t i = 0; i < radii.size(); ++i) {
+    if (!std::isfinite(radii[i])) {
+      throw std::invalid_argument("Scene: finger " + std::to_string(i) +
+                                  " does not reach the object");
+    }
   }
+  if (dirs.size() == 2 && dirs[0].dot(dirs[1]) < -0.999) {
+    // Opposed fingers close until both touch: slide the object along d0.
+    // The footprints do not depend on this slide, so one step is exact.
+    const double shift = 0.5 * (radii[1] - radii[0]);
+    placement_.T_G_O.pretranslate(shift * dirs[0]);
+    object_G_ = object_O_.Transformed(placement_.T_G_O);
+    radii = FingerTouchRadii(dirs);
+  }
+  placement_.opening_m = *std::max_element(radii.begin(), radii.end()) + pc.finger_clearance_m;
+  Require(placement_.opening_m > 0.0, "the object is too thin for the claw");
+  // Keep the claw's joint limits from clamping the opening we need.
+  placement_.claw.max_opening_m = std::max(placement_.claw.max_opening_m, placement_.opening_m);
+  placement_.claw.min_opening_m = std::min(placement_.claw.min_opening_m, placement_.opening_m);
+  claw_G_ = MakeClawModel().Posed(placement_.opening_m);
+}
 
-  // Camera: at the object's centre's level minus the elevation, looking at
-  // it; optical frame x right, y down, z forward.
+// The robot's arm: a cylinder behind the palm, along G's z.
+void Scene::MakeArm() {
+  const double r = config_.environment.arm_radius_m;
+  const double len = config_.environment.arm_length_m;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  // Behind the palm: a model claw's back is its lowest point.
+  const double palm_back_m = config_.claw_model ? -mesh::Bounds(claw_G_).min().z()
+                                                : placement_.claw.palm_thickness_m;
+  T.translation().z() = -palm_back_m - len;
+  arm_G_ = MakeShape(Shape::kCylinder, Eigen::Vector3d(2 * r, 2 * r, len), kArmSegments)
+               .Transformed(T);
+}
+
+// Camera: at the object's centre's level minus the elevation, looking at
+// it; optical frame x right, y down, z forward.
+void Scene::PlaceCamera() {
   const Eigen::AlignedBox3d box_G = mesh::Bounds(object_G_);
   centre_G_ = Eigen::Vector3d(0.0, 0.0, box_G.center().z());
   const double e = config_.motion.camera_elevation_deg * kDegToRad;
@@ -279,13 +306,6 @@ Scene::Scene(const SceneConfig& config) : config_(config) {
   T_W_C_.linear().col(1) = down;
   T_W_C_.linear().col(2) = forward;
   T_W_C_.translation() = -config_.motion.camera_distance_m * forward;
-
-  Rng rng(DeriveSeed(config_.seed, kWobbleStream));
-  for (double& phase : wobble_phase_) phase = 2.0 * kPi * rng.Uniform();
-
-  slip_ = ObjectSlip(config_.slip, config_.seed, DepthUtime(0), DepthUtime(config_.num_frames - 1));
-  object_G_after_slip_ =
-      config_.slip.any() ? object_G_.Transformed(slip_.S_G_final()) : object_G_;
 }
 
 claw::ClawModel Scene::MakeClawModel() const {

@@ -214,6 +214,14 @@ class Scene {
   std::vector<TimelineEvent> Timeline() const;
 
  private:
+  // The constructor's steps: the object placed in the claw (config_'s
+  // model or built-in), the arm behind it, the camera looking at it.
+  void PlaceInModelClaw(const Eigen::Matrix3d& R_G_O, const Eigen::Vector3d& contact_rot);
+  void PlaceInBuiltinClaw(const Eigen::Matrix3d& R_G_O, const Eigen::Vector3d& contact_rot);
+  std::vector<double> FingerTouchRadii(const std::vector<Eigen::Vector3d>& dirs) const;
+  void MakeArm();
+  void PlaceCamera();
+
   SceneConfig config_;
   TriangleMesh object_O_;
   TriangleMesh object_G_;

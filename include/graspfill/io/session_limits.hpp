@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // What a session description may ask of its receiver: the limits that the
-// rig config file (rt/config/rig_config.cpp) holds the same fields to, one
+// rig config file (rt/config/rig_config_checks.hpp) holds the same fields to, one
 // definition for both, so that a value the bus or a log gives is never
 // taken when the config file would refuse it (io::SessionWithinLimits in
 // messages.hpp checks a description against them).
