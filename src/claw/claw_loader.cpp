@@ -16,6 +16,7 @@
 #include "graspfill/claw/mesh_path.hpp"
 #include "graspfill/claw/urdf_claw.hpp"
 #include "graspfill/core/regular_file.hpp"
+#include "rpy_rotation.hpp"
 
 namespace graspfill::claw {
 namespace {
@@ -96,14 +97,6 @@ Eigen::Vector3d ReadVector3(const Context& ctx, const json& j,
     v[k] = ReadNumber(ctx, j[k], field + "[" + std::to_string(k) + "]");
   }
   return v;
-}
-
-// URDF convention: fixed-axis roll, pitch, yaw: R = Rz(yaw) Ry(pitch) Rx(roll).
-Eigen::Matrix3d RotationFromRpy(const Eigen::Vector3d& rpy) {
-  return (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
 }
 
 // {"xyz": [..], "rpy": [..]}, both optional (zero), like a URDF <origin>.

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "graspfill/claw/claw_limits.hpp"
+#include "rpy_rotation.hpp"
 #include "urdf_claw_parts.hpp"
 
 namespace graspfill::claw::urdf_parts {
@@ -58,13 +59,6 @@ void CheckKeys(const std::string& label, const json& j, const std::string& field
     Fail(label, field + (field.empty() ? "" : ": ") + "unknown key '" + key + "' (expected " +
                     list + ")");
   }
-}
-
-Eigen::Matrix3d RotationFromRpy(const Eigen::Vector3d& rpy) {
-  return (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
 }
 
 Eigen::Isometry3d ReadPose(const std::string& label, const json& j, const std::string& field) {

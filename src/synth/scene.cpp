@@ -9,6 +9,7 @@
 
 #include "graspfill/core/random.hpp"
 #include "graspfill/mesh/mesh_geometry.hpp"
+#include "synth/finger_touch.hpp"
 #include "synth/model_claw_placement.hpp"
 
 namespace graspfill::synth {
@@ -24,54 +25,6 @@ constexpr int kArmSegments = 32;
 
 void Require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("SceneConfig: " + what);
-}
-
-// A half-plane n . p <= offset for the triangle clipper.
-struct HalfSpace {
-  Eigen::Vector3d n;
-  double offset;
-};
-
-// Largest value of d . p over the parts of the mesh's triangles inside all
-// half-spaces (Sutherland-Hodgman clipping: a linear function over a
-// clipped convex polygon peaks at one of its vertices, so this is exact).
-// Returns -inf if no triangle reaches into the region.
-double MaxSupportInRegion(const TriangleMesh& mesh, const Eigen::Vector3d& d,
-                          const std::vector<HalfSpace>& region) {
-  double best = -std::numeric_limits<double>::infinity();
-  std::vector<Eigen::Vector3d> polygon;
-  std::vector<Eigen::Vector3d> clipped;
-  for (const Eigen::Vector3i& tri : mesh.triangles) {
-    polygon.clear();
-    for (int k = 0; k < 3; ++k) polygon.push_back(mesh.vertices[tri[k]].cast<double>());
-    for (const HalfSpace& h : region) {
-      clipped.clear();
-      for (size_t k = 0; k < polygon.size(); ++k) {
-        const Eigen::Vector3d& a = polygon[k];
-        const Eigen::Vector3d& b = polygon[(k + 1) % polygon.size()];
-        const double fa = h.n.dot(a) - h.offset;
-        const double fb = h.n.dot(b) - h.offset;
-        if (fa <= 0.0) clipped.push_back(a);
-        if ((fa < 0.0 && fb > 0.0) || (fa > 0.0 && fb < 0.0)) {
-          clipped.push_back(a + (fa / (fa - fb)) * (b - a));
-        }
-      }
-      polygon.swap(clipped);
-      if (polygon.empty()) break;
-    }
-    for (const Eigen::Vector3d& p : polygon) best = std::max(best, d.dot(p));
-  }
-  return best;
-}
-
-// Radial direction of every prismatic finger of a procedural claw, in G.
-std::vector<Eigen::Vector3d> FingerDirections(const claw::ClawModel& model) {
-  std::vector<Eigen::Vector3d> dirs;
-  for (const claw::Link& link : model.links()) {
-    if (link.joint.type != claw::JointType::kPrismatic) continue;
-    dirs.push_back((link.joint.T_parent_joint.linear() * link.joint.axis).normalized());
-  }
-  return dirs;
 }
 
 claw::ClawModel MakeClaw(ClawType type, const claw::ProceduralClawConfig& config) {
@@ -214,23 +167,6 @@ void Scene::PlaceInModelClaw(const Eigen::Matrix3d& R_G_O, const Eigen::Vector3d
   claw_G_ = config_.claw_model->Posed(placement_.opening_m);
 }
 
-// Where each finger would touch: its footprint is |p . t| <= width/2 and
-// z in [0, finger_length]; the object's reach along d inside it.
-std::vector<double> Scene::FingerTouchRadii(const std::vector<Eigen::Vector3d>& dirs) const {
-  std::vector<double> radii;
-  for (const Eigen::Vector3d& d : dirs) {
-    const Eigen::Vector3d t = Eigen::Vector3d::UnitZ().cross(d);
-    const double half_w = 0.5 * placement_.claw.finger_width_m;
-    const std::vector<HalfSpace> region = {
-        {t, half_w},
-        {-t, half_w},
-        {-Eigen::Vector3d::UnitZ(), 0.0},
-        {Eigen::Vector3d::UnitZ(), placement_.claw.finger_length_m}};
-    radii.push_back(MaxSupportInRegion(object_G_, d, region));
-  }
-  return radii;
-}
-
 // A built-in claw: its fingertips below the object's top (fingers
 // lengthened when the palm would be too close), the object on G's z axis
 // (slid between opposed fingers until both touch), opened to the touch.
@@ -256,7 +192,8 @@ void Scene::PlaceInBuiltinClaw(const Eigen::Matrix3d& R_G_O, const Eigen::Vector
   const claw::ClawModel probe = MakeClaw(config_.claw, placement_.claw);
   const std::vector<Eigen::Vector3d> dirs = FingerDirections(probe);
   object_G_ = object_O_.Transformed(placement_.T_G_O);
-  placement_.finger_touch_radius_m = FingerTouchRadii(dirs);
+  placement_.finger_touch_radius_m = FingerTouchRadii(
+      object_G_, dirs, placement_.claw.finger_width_m, placement_.claw.finger_length_m);
   std::vector<double>& radii = placement_.finger_touch_radius_m;
   for (size_t i = 0; i < radii.size(); ++i) {
     if (!std::isfinite(radii[i])) {
@@ -270,7 +207,8 @@ void Scene::PlaceInBuiltinClaw(const Eigen::Matrix3d& R_G_O, const Eigen::Vector
     const double shift = 0.5 * (radii[1] - radii[0]);
     placement_.T_G_O.pretranslate(shift * dirs[0]);
     object_G_ = object_O_.Transformed(placement_.T_G_O);
-    radii = FingerTouchRadii(dirs);
+    radii = FingerTouchRadii(object_G_, dirs, placement_.claw.finger_width_m,
+                             placement_.claw.finger_length_m);
   }
   placement_.opening_m = *std::max_element(radii.begin(), radii.end()) + pc.finger_clearance_m;
   Require(placement_.opening_m > 0.0, "the object is too thin for the claw");

@@ -218,7 +218,6 @@ class Scene {
   // model or built-in), the arm behind it, the camera looking at it.
   void PlaceInModelClaw(const Eigen::Matrix3d& R_G_O, const Eigen::Vector3d& contact_rot);
   void PlaceInBuiltinClaw(const Eigen::Matrix3d& R_G_O, const Eigen::Vector3d& contact_rot);
-  std::vector<double> FingerTouchRadii(const std::vector<Eigen::Vector3d>& dirs) const;
   void MakeArm();
   void PlaceCamera();
 
