@@ -53,14 +53,15 @@ class Printer {
     // Holes whose inside nothing is known of (an open mouth): keep clear.
     int unobserved = 0;
     for (const graspfill::HoleSummary& h : cloud_.holes) unobserved += h.unobserved ? 1 : 0;
-    std::printf("seq=%lld utime=%lld grasp=%lld final=%d points=%zu observed=%lld "
-                "surface=%lld symmetry=%lld holes=%zu unobserved=%d\n",
-                static_cast<long long>(cloud_.seq), static_cast<long long>(cloud_.utime),
-                static_cast<long long>(cloud_.grasp_id), cloud_.is_final ? 1 : 0, cloud_.points_G.size(),
-                by_provenance[static_cast<size_t>(graspfill::Provenance::kObserved)],
-                by_provenance[static_cast<size_t>(graspfill::Provenance::kSurface)],
-                by_provenance[static_cast<size_t>(graspfill::Provenance::kSymmetry)], cloud_.holes.size(),
-                unobserved);
+    std::printf(
+        "seq=%lld utime=%lld grasp=%lld final=%d points=%zu observed=%lld "
+        "surface=%lld symmetry=%lld holes=%zu unobserved=%d\n",
+        static_cast<long long>(cloud_.seq), static_cast<long long>(cloud_.utime),
+        static_cast<long long>(cloud_.grasp_id), cloud_.is_final ? 1 : 0, cloud_.points_G.size(),
+        by_provenance[static_cast<size_t>(graspfill::Provenance::kObserved)],
+        by_provenance[static_cast<size_t>(graspfill::Provenance::kSurface)],
+        by_provenance[static_cast<size_t>(graspfill::Provenance::kSymmetry)], cloud_.holes.size(),
+        unobserved);
     std::fflush(stdout);
     ++received;
   }
@@ -73,13 +74,14 @@ class Printer {
     // A planner adds mesh_.mesh as a collision object attached to the
     // gripper frame (mesh_.frame_name), trusting its inside only when
     // watertight, padded by deviation_m.
-    std::printf("mesh seq=%lld utime=%lld grasp=%lld kind=%s watertight=%d vertices=%zu "
-                "triangles=%zu deviation_mm=%.3f\n",
-                static_cast<long long>(mesh_.seq), static_cast<long long>(mesh_.utime),
-                static_cast<long long>(mesh_.grasp_id),
-                mesh_.kind == graspfill::CollisionMeshKind::kConvexHull ? "convex_hull" : "decimated",
-                mesh_.watertight ? 1 : 0, mesh_.mesh.vertices.size(), mesh_.mesh.triangles.size(),
-                mesh_.deviation_m * 1e3);
+    std::printf(
+        "mesh seq=%lld utime=%lld grasp=%lld kind=%s watertight=%d vertices=%zu "
+        "triangles=%zu deviation_mm=%.3f\n",
+        static_cast<long long>(mesh_.seq), static_cast<long long>(mesh_.utime),
+        static_cast<long long>(mesh_.grasp_id),
+        mesh_.kind == graspfill::CollisionMeshKind::kConvexHull ? "convex_hull" : "decimated",
+        mesh_.watertight ? 1 : 0, mesh_.mesh.vertices.size(), mesh_.mesh.triangles.size(),
+        mesh_.deviation_m * 1e3);
     std::fflush(stdout);
     ++received;
   }
@@ -101,14 +103,18 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has_value = i + 1 < argc;
-    if (a == "--channel" && has_value) channel = argv[++i];
-    else if (a == "--meshes") meshes = true;
-    else if (a == "--count" && has_value) count = std::atoi(argv[++i]);
-    else if (a == "--timeout-s" && has_value) timeout_s = std::atoi(argv[++i]);
-    else if (url.empty() && !a.empty() && a[0] != '-') url = a;
+    if (a == "--channel" && has_value)
+      channel = argv[++i];
+    else if (a == "--meshes")
+      meshes = true;
+    else if (a == "--count" && has_value)
+      count = std::atoi(argv[++i]);
+    else if (a == "--timeout-s" && has_value)
+      timeout_s = std::atoi(argv[++i]);
+    else if (url.empty() && !a.empty() && a[0] != '-')
+      url = a;
     else {
-      std::fprintf(stderr,
-                   "usage: %s [URL] [--meshes] [--channel NAME] [--count N] [--timeout-s S]\n",
+      std::fprintf(stderr, "usage: %s [URL] [--meshes] [--channel NAME] [--count N] [--timeout-s S]\n",
                    argv[0]);
       return 1;
     }
@@ -135,8 +141,8 @@ int main(int argc, char** argv) {
       return 1;
     }
     if (status < 0) {  // a log's end, or the bus failed
-      std::fprintf(stderr, "object_cloud_subscriber: %d of %d %s, then LCM ended\n",
-                   printer.received, count, whats);
+      std::fprintf(stderr, "object_cloud_subscriber: %d of %d %s, then LCM ended\n", printer.received, count,
+                   whats);
       return 1;
     }
   }

@@ -28,8 +28,7 @@ struct CameraIntrinsics {
   double cy{239.5};
 
   bool operator==(const CameraIntrinsics& o) const {
-    return width == o.width && height == o.height && fx == o.fx &&
-           fy == o.fy && cx == o.cx && cy == o.cy;
+    return width == o.width && height == o.height && fx == o.fx && fy == o.fy && cx == o.cx && cy == o.cy;
   }
   bool operator!=(const CameraIntrinsics& o) const { return !(*this == o); }
 };

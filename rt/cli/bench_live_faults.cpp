@@ -74,8 +74,7 @@ void ShiftEncodedUtime(std::vector<uint8_t>* message, int64_t offset_us) {
   PutBigEndian(message, kUtimeAt, utime + static_cast<uint64_t>(offset_us), 8);
 }
 
-MalformedMessages::MalformedMessages(const io::ChannelNames& channels,
-                                     const std::vector<uint8_t>& depth,
+MalformedMessages::MalformedMessages(const io::ChannelNames& channels, const std::vector<uint8_t>& depth,
                                      const std::vector<uint8_t>& gripper_state) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   io::SessionDescription session;
@@ -90,8 +89,8 @@ MalformedMessages::MalformedMessages(const io::ChannelNames& channels,
   std::copy(evil.begin(), evil.end(), at);
   io::SessionDescription big_voxel = session, far_workspace = session, far_camera = session;
   big_voxel.voxel_m = 1.0;
-  far_workspace.workspace_G = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-1e300),
-                                                  Eigen::Vector3d::Constant(1e300));
+  far_workspace.workspace_G =
+      Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-1e300), Eigen::Vector3d::Constant(1e300));
   far_camera.T_C_B.translation() = Eigen::Vector3d(100.0, 0.0, 0.0);
 
   const auto add = [&](const std::string& channel, std::vector<uint8_t> m, const std::string& defect) {

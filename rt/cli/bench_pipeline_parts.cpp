@@ -26,8 +26,7 @@ double MsSince(Clock::time_point start) {
 
 }  // namespace
 
-std::unique_ptr<Pipeline> RunSceneThroughPipeline(const synth::Scene& scene,
-                                                  const PipelineConfig& config) {
+std::unique_ptr<Pipeline> RunSceneThroughPipeline(const synth::Scene& scene, const PipelineConfig& config) {
   const synth::SceneRenderer renderer(scene);
   auto pipeline = std::make_unique<Pipeline>(config, scene.MakeClawModel());
   DepthFrame frame;
@@ -76,8 +75,7 @@ Outcome Measure(const ObjectCloud& cloud, size_t fused, const std::vector<Eigen:
   return o;
 }
 
-TimedRepair RepairTimed(const ObjectCloud& fused, const evidence::VisibilityRecord* record,
-                        int repeat) {
+TimedRepair RepairTimed(const ObjectCloud& fused, const evidence::VisibilityRecord* record, int repeat) {
   TimedRepair out;
   out.best_ms = std::numeric_limits<double>::infinity();
   for (int r = 0; r < repeat; ++r) {
@@ -103,7 +101,8 @@ std::string RepairNote(const repair::RepairReport& r) {
   if (!r.symmetry_reason.empty()) note += "; " + r.symmetry_reason;
   if (!r.top_completion.empty()) {
     char text[96];
-    std::snprintf(text, sizeof(text), "; the top: %s, confidence %.2f", r.top_completion.c_str(), r.top_confidence);
+    std::snprintf(text, sizeof(text), "; the top: %s, confidence %.2f", r.top_completion.c_str(),
+                  r.top_confidence);
     note += text;
   }
   if (!r.evidence.top.empty()) note += "; the rays' top: " + r.evidence.top;

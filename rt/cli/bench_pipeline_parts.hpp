@@ -30,8 +30,7 @@ constexpr double kWrongDistanceM = 0.003;
 /// in time order to a pipeline with `config` and the scene's claw; flushed.
 /// @throws std::runtime_error when a frame does not decode,
 ///   std::invalid_argument on a bad config.
-std::unique_ptr<Pipeline> RunSceneThroughPipeline(const synth::Scene& scene,
-                                                  const PipelineConfig& config);
+std::unique_ptr<Pipeline> RunSceneThroughPipeline(const synth::Scene& scene, const PipelineConfig& config);
 
 /// The truth the benchmarks measure against: 200,000 samples of the
 /// object's surface in G (seed 5, whatever the scene's seed).
@@ -49,8 +48,8 @@ struct Outcome {
   /// keep-out (NaN: the cloud carries none): the bound must hold the whole
   /// object, the unseen top and what the claw hid included.
   double truth_outside_bound{0.0};
-  double ms{0.0};            ///< the fastest repair
-  std::string note;          ///< RepairNote of the report
+  double ms{0.0};              ///< the fastest repair
+  std::string note;            ///< RepairNote of the report
   std::string top_completion;  ///< the report's (what won the top's search)
   float top_confidence{0.0f};
   std::vector<StageTiming> steps;  ///< the fastest repair's steps
@@ -75,8 +74,7 @@ struct TimedRepair {
 /// `record` null: from the cloud alone. The fastest of `repeat` runs is
 /// timed (a shared machine's times move by tens of % between runs).
 /// @throws std::runtime_error when a run's cloud differs from the first's.
-TimedRepair RepairTimed(const ObjectCloud& fused, const evidence::VisibilityRecord* record,
-                        int repeat);
+TimedRepair RepairTimed(const ObjectCloud& fused, const evidence::VisibilityRecord* record, int repeat);
 
 /// The report's status, and what the repair refused or left open.
 std::string RepairNote(const repair::RepairReport& report);

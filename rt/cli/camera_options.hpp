@@ -34,36 +34,45 @@ constexpr const char* kCameraUsage =
 inline bool ParseCameraOption(const std::vector<std::string>& args, size_t* i,
                               rt::CameraSource::Config* config) {
   const std::string& a = args[*i];
-  const bool is_option = a == "--width" || a == "--height" || a == "--fps" ||
-                         a == "--depth-units" || a == "--fx" || a == "--fy" || a == "--cx" ||
-                         a == "--cy" || a == "--fov-deg" || a == "--replay-speed" ||
-                         a == "--gripper-log";
+  const bool is_option = a == "--width" || a == "--height" || a == "--fps" || a == "--depth-units" ||
+                         a == "--fx" || a == "--fy" || a == "--cx" || a == "--cy" || a == "--fov-deg" ||
+                         a == "--replay-speed" || a == "--gripper-log";
   if (!is_option) return false;
   if (*i + 1 >= args.size()) throw UsageError(a + " needs a value");
   const std::string& v = args[++*i];
   rt::OpenNI2Source::Config& d = config->device;
   rt::OpenNI2Source::IntrinsicsOverride& K = d.intrinsics;
   constexpr double kMaxPixels = 100000.0;
-  if (a == "--width") d.width = ParseInteger<int>(a, v, 1, 16384);
-  else if (a == "--height") d.height = ParseInteger<int>(a, v, 1, 16384);
-  else if (a == "--fps") d.fps = ParseInteger<int>(a, v, 1, 1000);
+  if (a == "--width")
+    d.width = ParseInteger<int>(a, v, 1, 16384);
+  else if (a == "--height")
+    d.height = ParseInteger<int>(a, v, 1, 16384);
+  else if (a == "--fps")
+    d.fps = ParseInteger<int>(a, v, 1, 1000);
   else if (a == "--depth-units") {
-    if (v == "mm") d.depth_mode = rt::OpenNI2Source::DepthMode::k1mm;
-    else if (v == "100um") d.depth_mode = rt::OpenNI2Source::DepthMode::k100um;
-    else throw UsageError("--depth-units must be mm or 100um, not '" + v + "'");
-  }
-  else if (a == "--fx") K.fx = ParseDouble(a, v, 1.0, kMaxPixels, "pixels");
-  else if (a == "--fy") K.fy = ParseDouble(a, v, 1.0, kMaxPixels, "pixels");
-  else if (a == "--cx") K.cx = ParseDouble(a, v, -kMaxPixels, kMaxPixels, "pixels");
-  else if (a == "--cy") K.cy = ParseDouble(a, v, -kMaxPixels, kMaxPixels, "pixels");
+    if (v == "mm")
+      d.depth_mode = rt::OpenNI2Source::DepthMode::k1mm;
+    else if (v == "100um")
+      d.depth_mode = rt::OpenNI2Source::DepthMode::k100um;
+    else
+      throw UsageError("--depth-units must be mm or 100um, not '" + v + "'");
+  } else if (a == "--fx")
+    K.fx = ParseDouble(a, v, 1.0, kMaxPixels, "pixels");
+  else if (a == "--fy")
+    K.fy = ParseDouble(a, v, 1.0, kMaxPixels, "pixels");
+  else if (a == "--cx")
+    K.cx = ParseDouble(a, v, -kMaxPixels, kMaxPixels, "pixels");
+  else if (a == "--cy")
+    K.cy = ParseDouble(a, v, -kMaxPixels, kMaxPixels, "pixels");
   else if (a == "--fov-deg") {
     const size_t comma = v.find(',');
     if (comma == std::string::npos) throw UsageError("--fov-deg wants H,V, not '" + v + "'");
     K.hfov_deg = ParseDouble(a, v.substr(0, comma), 1.0, 179.0, "degrees");
     K.vfov_deg = ParseDouble(a, v.substr(comma + 1), 1.0, 179.0, "degrees");
-  }
-  else if (a == "--replay-speed") d.replay_speed = static_cast<float>(ParseDouble(a, v, 0.0, 100.0));
-  else config->log = v;  // --gripper-log
+  } else if (a == "--replay-speed")
+    d.replay_speed = static_cast<float>(ParseDouble(a, v, 0.0, 100.0));
+  else
+    config->log = v;  // --gripper-log
   return true;
 }
 
@@ -72,8 +81,7 @@ inline bool ParseCameraOption(const std::vector<std::string>& args, size_t* i,
 /// until the live session's frame queue of `capacity` has room: the module
 /// drops the oldest frame when its queue is full. Gives up waiting after 2 s
 /// (a frame waiting for gripper states that never come), then goes on.
-inline void GateFramesOnRoom(rt::CameraSource* source, const rt::LiveSession& live,
-                             int capacity) {
+inline void GateFramesOnRoom(rt::CameraSource* source, const rt::LiveSession& live, int capacity) {
   source->SetFrameGate([&live, capacity] {
     const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(2);
     for (;;) {

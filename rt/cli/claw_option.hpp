@@ -19,10 +19,10 @@
 #include <string>
 #include <vector>
 
-#include "number_parsing.hpp"
 #include "graspfill/claw/claw_model.hpp"
 #include "graspfill/claw/urdf_claw.hpp"
 #include "graspfill/io/messages.hpp"
+#include "number_parsing.hpp"
 
 namespace graspfill::cli {
 
@@ -57,9 +57,7 @@ inline std::optional<std::filesystem::path> FindClawFile(const std::string& spec
 }
 
 /// True for the built-in claw names (the others are files).
-inline bool IsBuiltinClaw(const std::string& spec) {
-  return spec == "three-finger" || spec == "parallel";
-}
+inline bool IsBuiltinClaw(const std::string& spec) { return spec == "three-finger" || spec == "parallel"; }
 
 /// `spec` as MakeClaw takes it: a built-in's name as it is, else the file
 /// FindClawFile finds for it.
@@ -98,14 +96,13 @@ struct ProceduralField {
 };
 inline const std::vector<ProceduralField>& ProceduralFields() {
   using C = claw::ProceduralClawConfig;
-  static const std::vector<ProceduralField> fields = {
-      {"palm_radius_m", &C::palm_radius_m},
-      {"palm_thickness_m", &C::palm_thickness_m},
-      {"finger_length_m", &C::finger_length_m},
-      {"finger_width_m", &C::finger_width_m},
-      {"finger_thickness_m", &C::finger_thickness_m},
-      {"min_opening_m", &C::min_opening_m},
-      {"max_opening_m", &C::max_opening_m}};
+  static const std::vector<ProceduralField> fields = {{"palm_radius_m", &C::palm_radius_m},
+                                                      {"palm_thickness_m", &C::palm_thickness_m},
+                                                      {"finger_length_m", &C::finger_length_m},
+                                                      {"finger_width_m", &C::finger_width_m},
+                                                      {"finger_thickness_m", &C::finger_thickness_m},
+                                                      {"min_opening_m", &C::min_opening_m},
+                                                      {"max_opening_m", &C::max_opening_m}};
   return fields;
 }
 
@@ -152,8 +149,7 @@ inline claw::ProceduralClawConfig ParseProceduralClawText(const std::string& tex
   if (!j.is_object()) throw std::runtime_error("claw dimensions: not a JSON object");
   claw::ProceduralClawConfig config;
   for (const internal::ProceduralField& f : internal::ProceduralFields()) {
-    if (!j.contains(f.name) || !j[f.name].is_number() ||
-        !std::isfinite(j[f.name].get<double>())) {
+    if (!j.contains(f.name) || !j[f.name].is_number() || !std::isfinite(j[f.name].get<double>())) {
       throw std::runtime_error(std::string("claw dimensions: ") + f.name +
                                ": missing or not a finite number");
     }
@@ -194,7 +190,8 @@ inline void DescribeFileClaw(const std::string& spec, const std::string& mesh_ro
     session->claw_text = claw::UrdfClawBundle(spec, mesh_root);
     session->claw_mesh_root = mesh_root.empty() ? "" : absolute(mesh_root);
   } else {
-    session->claw_mesh_root = absolute(mesh_root.empty() ? fs::path(spec).parent_path() : fs::path(mesh_root));
+    session->claw_mesh_root =
+        absolute(mesh_root.empty() ? fs::path(spec).parent_path() : fs::path(mesh_root));
     session->claw_kind = io::SessionClawKind::kDescription;
     std::ifstream in(spec, std::ios::binary);
     std::ostringstream text;
@@ -223,8 +220,7 @@ inline std::string SessionClawLabel(const io::SessionDescription& session) {
       } catch (const std::exception&) {
         changed = "unreadable dimensions";
       }
-      return changed.empty() ? session.claw_name
-                             : session.claw_name + " (as recorded: " + changed + ")";
+      return changed.empty() ? session.claw_name : session.claw_name + " (as recorded: " + changed + ")";
     }
     case io::SessionClawKind::kDescription:
       return "description '" + session.claw_name + "'" +
@@ -257,20 +253,16 @@ inline claw::ClawModel MakeSessionClaw(const io::SessionDescription& session,
       }
       case io::SessionClawKind::kDescription:
         return claw::ClawModel::LoadDescriptionText(
-            session.claw_text, session.claw_name, "claw description '" + session.claw_name + "'",
-            mesh_root);
+            session.claw_text, session.claw_name, "claw description '" + session.claw_name + "'", mesh_root);
       case io::SessionClawKind::kUrdf:
-        return claw::LoadUrdfClawText(session.claw_text, "URDF claw '" + session.claw_name + "'",
-                                      mesh_root);
+        return claw::LoadUrdfClawText(session.claw_text, "URDF claw '" + session.claw_name + "'", mesh_root);
     }
     throw std::runtime_error("unknown claw kind");
   } catch (const std::exception& e) {
-    const std::string recorded = session.claw_mesh_root.empty()
-                                     ? ""
-                                     : "; it was made with meshes in " + session.claw_mesh_root;
+    const std::string recorded =
+        session.claw_mesh_root.empty() ? "" : "; it was made with meshes in " + session.claw_mesh_root;
     throw std::runtime_error("the session description's claw " + label + ": " + e.what() +
-                             " (pass --claw SPEC, or --claw-mesh-root DIR for its meshes" +
-                             recorded + ")");
+                             " (pass --claw SPEC, or --claw-mesh-root DIR for its meshes" + recorded + ")");
   }
 }
 

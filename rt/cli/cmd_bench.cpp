@@ -5,11 +5,11 @@
 // throughput (log decoding + the whole pipeline) in frames per second.
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -20,13 +20,13 @@
 #include "graspfill/core/percentile.hpp"
 #include "graspfill/core/pose_interpolation.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
-#include "number_parsing.hpp"
-#include "progress.hpp"
-#include "unknown_option.hpp"
 #include "module/sequencer_feed.hpp"
 #include "module/session_loop.hpp"
+#include "number_parsing.hpp"
+#include "progress.hpp"
 #include "sources/lcm_log_source.hpp"
 #include "sources/prefetching_source.hpp"
+#include "unknown_option.hpp"
 
 namespace graspfill::cli {
 namespace {
@@ -65,8 +65,10 @@ std::vector<PosedFrame> LoadPosedFrames(const std::string& path) {
   rt::SourceEvent event;
   for (rt::FrameResult r; (r = source.Next(&event)) != rt::FrameResult::kEndOfStream;) {
     if (r != rt::FrameResult::kOk) throw std::runtime_error("bad event: " + event.error);
-    if (event.kind == rt::SourceEvent::Kind::kDepth) frames.push_back(event.depth);
-    else states.Push(event.gripper);
+    if (event.kind == rt::SourceEvent::Kind::kDepth)
+      frames.push_back(event.depth);
+    else
+      states.Push(event.gripper);
   }
   std::vector<PosedFrame> posed;
   for (DepthFrame& f : frames) {
@@ -147,9 +149,7 @@ ExtractionTimes ExtractionEvery(const PipelineConfig& config, const claw::ClawMo
 }
 
 // 0 when no cloud was extracted (a recording of fewer than 3 fused frames).
-double PercentileMs(const std::vector<double>& v, double p) {
-  return v.empty() ? 0.0 : Percentile(v, p);
-}
+double PercentileMs(const std::vector<double>& v, double p) { return v.empty() ? 0.0 : Percentile(v, p); }
 
 double FramePathMs(const PipelineStats& s) {
   return s.crop.mean_ms() + s.mask.mean_ms() + s.integrate.mean_ms() + s.visibility.mean_ms() +
@@ -166,8 +166,8 @@ double ReplayFps(const std::string& path, const claw::ClawModel& claw, int64_t* 
   // The session loop replay and live run, bad events skipped.
   rt::SequencerFeed feed(
       [&](const std::optional<io::SessionDescription>&) {
-        return std::make_unique<rt::GraspSequencer>(PipelineConfig{}, claw,
-                                                    rt::GraspSequencerConfig{}, nullptr);
+        return std::make_unique<rt::GraspSequencer>(PipelineConfig{}, claw, rt::GraspSequencerConfig{},
+                                                    nullptr);
       },
       /*skip_bad=*/true);
   rt::SessionLoopLimits limits;
@@ -200,8 +200,10 @@ int ParseBenchArgs(const Args& args, BenchOptions* o) {
       o->json = true;
     } else if ((args[i] == "--claw" || args[i] == "--repeat") && i + 1 < args.size()) {
       try {
-        if (args[i] == "--claw") o->claw_spec = ResolveClawSpec(args[++i], InstalledClawsDir());
-        else o->repeat = ParseInteger<int>("--repeat", args[++i], 1, 1000);
+        if (args[i] == "--claw")
+          o->claw_spec = ResolveClawSpec(args[++i], InstalledClawsDir());
+        else
+          o->repeat = ParseInteger<int>("--repeat", args[++i], 1, 1000);
       } catch (const UsageError& e) {
         std::fprintf(stderr, "graspfill bench: %s\n", e.what());
         return 2;
@@ -296,21 +298,27 @@ void PrintBenchJson(const std::string& log, const BenchResults& r) {
   nlohmann::ordered_json j;
   j["log"] = log;
   j["frames"] = r.frames;
-  j["graspfill"] = {{"crop_ms", s.crop.mean_ms()}, {"mask_ms", s.mask.mean_ms()},
-                    {"cutout_ms", r.cut_ms}, {"mask_zbuffer_ms", r.raster_mask_ms}, {"integrate_ms", s.integrate.mean_ms()},
+  j["graspfill"] = {{"crop_ms", s.crop.mean_ms()},
+                    {"mask_ms", s.mask.mean_ms()},
+                    {"cutout_ms", r.cut_ms},
+                    {"mask_zbuffer_ms", r.raster_mask_ms},
+                    {"integrate_ms", s.integrate.mean_ms()},
                     {"visibility_ms", s.visibility.mean_ms()},
                     {"refine_ms", s.refine_time.mean_ms()},
                     {"frames_rejected_by_refine", s.frames_skipped_refine},
                     {"frame_total_ms", r.total_ms},
-                    {"frame_total_without_refine_ms", r.unrefined_total_ms}, {"points", r.points},
+                    {"frame_total_without_refine_ms", r.unrefined_total_ms},
+                    {"points", r.points},
                     {"track_object_ms", r.tracked.track_time.mean_ms()},
                     {"frames_rejected_by_track_object", r.tracked.frames_skipped_tracking},
                     {"frame_total_with_track_object_ms", FramePathMs(r.tracked)}};
   j["open3d_bare"] = {{"integrate_ms", r.bare_integrate_ms}};
   j["extraction_every_3_frames"] = {
       {"clouds", extraction.clouds},
-      {"cached_ms", {{"p50", PercentileMs(extraction.cached_ms, 50)}, {"p99", PercentileMs(extraction.cached_ms, 99)}}},
-      {"open3d_full_ms", {{"p50", PercentileMs(extraction.full_ms, 50)}, {"p99", PercentileMs(extraction.full_ms, 99)}}},
+      {"cached_ms",
+       {{"p50", PercentileMs(extraction.cached_ms, 50)}, {"p99", PercentileMs(extraction.cached_ms, 99)}}},
+      {"open3d_full_ms",
+       {{"p50", PercentileMs(extraction.full_ms, 50)}, {"p99", PercentileMs(extraction.full_ms, 99)}}},
       {"units_extracted_share", extraction.units_share}};
   j["replay_fps"] = r.best_fps;
   j["replay_frames"] = r.replay_frames;
@@ -325,21 +333,21 @@ void PrintBenchTable(const std::string& log, const BenchResults& r) {
   std::printf("%-34s %12.3f %14s\n", "crop to workspace box", s.crop.mean_ms(), "-");
   std::printf("%-34s %12.3f %14s\n", "claw cut-out (Embree)", s.mask.mean_ms(), "-");
   std::printf("%-34s %12.3f %14s\n", "  (claw cut-out by z-buffer instead)", r.raster_mask_ms, "-");
-  std::printf("%-34s %12.3f %14.3f\n", "TSDF integration", s.integrate.mean_ms(),
-              r.bare_integrate_ms);
+  std::printf("%-34s %12.3f %14.3f\n", "TSDF integration", s.integrate.mean_ms(), r.bare_integrate_ms);
   std::printf("%-34s %12.3f %14s\n", "visibility record (key frames)", s.visibility.mean_ms(), "-");
   std::printf("%-34s %12.3f %14s\n", "pose refinement (claw registration)", s.refine_time.mean_ms(), "-");
   std::printf("%-34s %12.3f %14.3f\n", "frame path total", r.total_ms, r.bare_integrate_ms);
   std::printf("%-34s %12.3f %14s\n", "  (frame path without refinement)", r.unrefined_total_ms, "-");
-  std::printf("%-34s %12.3f %14s\n", "  (object tracking, --track-object)", r.tracked.track_time.mean_ms(), "-");
+  std::printf("%-34s %12.3f %14s\n", "  (object tracking, --track-object)", r.tracked.track_time.mean_ms(),
+              "-");
   std::printf("%-34s %12.3f %14s\n", "  (frame path with object tracking)", FramePathMs(r.tracked), "-");
-  std::printf("cloud every 3 fused frames (%d clouds), extraction p50 / p99 [ms]: cached %.2f / %.2f, "
-              "Open3D's whole volume %.2f / %.2f (%.0f%% of the units extracted anew)\n",
-              extraction.clouds, PercentileMs(extraction.cached_ms, 50), PercentileMs(extraction.cached_ms, 99),
-              PercentileMs(extraction.full_ms, 50), PercentileMs(extraction.full_ms, 99),
-              100.0 * extraction.units_share);
-  std::printf("masked path / bare integration: %.2f (target < 1)\n",
-              r.total_ms / r.bare_integrate_ms);
+  std::printf(
+      "cloud every 3 fused frames (%d clouds), extraction p50 / p99 [ms]: cached %.2f / %.2f, "
+      "Open3D's whole volume %.2f / %.2f (%.0f%% of the units extracted anew)\n",
+      extraction.clouds, PercentileMs(extraction.cached_ms, 50), PercentileMs(extraction.cached_ms, 99),
+      PercentileMs(extraction.full_ms, 50), PercentileMs(extraction.full_ms, 99),
+      100.0 * extraction.units_share);
+  std::printf("masked path / bare integration: %.2f (target < 1)\n", r.total_ms / r.bare_integrate_ms);
   std::printf("replay throughput (decode + pipeline): %.1f fps over %lld frames (target >= 100)\n",
               r.best_fps, static_cast<long long>(r.replay_frames));
 }

@@ -25,6 +25,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <fcntl.h>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -32,7 +33,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fcntl.h>
 #include <filesystem>
 #include <lcm/lcm-cpp.hpp>
 #include <limits>
@@ -51,10 +51,10 @@
 #include "claw_option.hpp"
 #include "commands.hpp"
 #include "data_paths.hpp"
+#include "error_text.hpp"
 #include "graspfill/io/cloud_chunks.hpp"
 #include "graspfill/io/lcm_log_reader.hpp"
 #include "graspfill/io/messages.hpp"
-#include "error_text.hpp"
 #include "module/cloud_repair.hpp"
 #include "module/live_session.hpp"
 #include "module/process_memory.hpp"
@@ -62,8 +62,8 @@
 #include "number_parsing.hpp"
 #include "option_walk.hpp"
 #include "private_network.hpp"
-#include "unknown_option.hpp"
 #include "sources/lcm_log_source.hpp"
+#include "unknown_option.hpp"
 
 namespace graspfill::cli {
 namespace {
@@ -94,7 +94,8 @@ std::string Usage() {
          "                     and the clouds of every minute (of every tenth when S < 600)\n"
          "  --soak-speed X     the fault soak's playback speed (default 4)\n"
          "  --heap-reserve-mb N `graspfill live`'s --heap-reserve-mb, in-process and in the child\n"
-         "                     (default " + std::to_string(kLiveHeapReserveMb) + "; 0: the allocator's defaults)\n";
+         "                     (default " +
+         std::to_string(kLiveHeapReserveMb) + "; 0: the allocator's defaults)\n";
 }
 
 double MsBetween(Clock::time_point a, Clock::time_point b) {
@@ -106,9 +107,9 @@ double MsBetween(Clock::time_point a, Clock::time_point b) {
 struct Recording {
   std::string path;
   std::optional<io::SessionDescription> session;
-  std::vector<int64_t> depth_utimes;    // in log order
-  std::vector<io::LogEvent> raw;        // every event of our channels, in log order
-  std::vector<int64_t> raw_depth_utime; // beside raw: a depth frame's utime, else 0
+  std::vector<int64_t> depth_utimes;     // in log order
+  std::vector<io::LogEvent> raw;         // every event of our channels, in log order
+  std::vector<int64_t> raw_depth_utime;  // beside raw: a depth frame's utime, else 0
   io::ChannelNames channels;
   int depth_frames{0};
   int64_t first_utime{0}, last_utime{0};  // of the depth frames
@@ -187,7 +188,7 @@ struct RunResult {
   rt::Percentiles latency;
   double rss_start_mb{0.0}, rss_end_mb{0.0};
   double rss_minute1_mb{0.0};  // soak only
-  std::string note;             // why the run did not happen, if it did not
+  std::string note;            // why the run did not happen, if it did not
   // The fault soak (udpm soaks): `live` alive when the play ended, malformed
   // messages sent by reason, its highest RSS, clouds in each window.
   bool live_alive_at_end{false};
@@ -243,13 +244,34 @@ class LatencyProbe {
     window_s_ = window_s;
     windows_start_ = Clock::now();
   }
-  std::vector<int64_t> clouds_per_window() const { std::lock_guard<std::mutex> lock(mutex_); return clouds_per_window_; }
-  double rss_peak_mb() const { std::lock_guard<std::mutex> lock(mutex_); return rss_peak_mb_; }
-  int64_t clouds() const { std::lock_guard<std::mutex> lock(mutex_); return clouds_; }
-  int64_t statuses() const { std::lock_guard<std::mutex> lock(mutex_); return statuses_; }
-  rt::Percentiles latency() const { std::lock_guard<std::mutex> lock(mutex_); return latency_.Summary(); }
-  io::ModuleStatus first_status() const { std::lock_guard<std::mutex> lock(mutex_); return first_status_; }
-  io::ModuleStatus last_status() const { std::lock_guard<std::mutex> lock(mutex_); return last_status_; }
+  std::vector<int64_t> clouds_per_window() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return clouds_per_window_;
+  }
+  double rss_peak_mb() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return rss_peak_mb_;
+  }
+  int64_t clouds() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return clouds_;
+  }
+  int64_t statuses() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return statuses_;
+  }
+  rt::Percentiles latency() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return latency_.Summary();
+  }
+  io::ModuleStatus first_status() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return first_status_;
+  }
+  io::ModuleStatus last_status() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return last_status_;
+  }
 
  private:
   std::unordered_map<int64_t, size_t> index_;
@@ -364,8 +386,7 @@ RunResult RunInProcess(const Recording& rec, const RunSpec& spec) {
           e.gripper.utime = shifted;
           live.OnGripperState(e.gripper);
         }
-        if (spec.soak_s > 0.0 && rss_minute1 == 0.0 &&
-            Clock::now() - start >= std::chrono::seconds(60)) {
+        if (spec.soak_s > 0.0 && rss_minute1 == 0.0 && Clock::now() - start >= std::chrono::seconds(60)) {
           rss_minute1 = rt::ResidentMemoryMb();
         }
       }
@@ -395,8 +416,8 @@ class LiveChild {
     argv.push_back(nullptr);
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(),
-                                     O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                     0600);
     posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
     const int rc = posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), environ);
     posix_spawn_file_actions_destroy(&actions);
@@ -454,14 +475,15 @@ std::string ReadFile(const std::string& path) {
 
 // The command line of the `live` child: the bus, the run's settings, and a
 // duration that outlasts the play.
-std::vector<std::string> LiveChildArgs(const Recording& rec, const RunSpec& spec,
-                                       const std::string& url, int loops) {
+std::vector<std::string> LiveChildArgs(const Recording& rec, const RunSpec& spec, const std::string& url,
+                                       int loops) {
   std::vector<std::string> args = {
-      std::filesystem::read_symlink("/proc/self/exe").string(), "live", "--depth-from-lcm",
-      "--lcm-url", url, "--publish-every", std::to_string(spec.publish_every), "--idle-exit-s",
+      std::filesystem::read_symlink("/proc/self/exe").string(), "live", "--depth-from-lcm", "--lcm-url", url,
+      "--publish-every", std::to_string(spec.publish_every), "--idle-exit-s",
       // A soak outlasts the stalls of a loaded machine (seconds): `live`
       // must not end the session on one, as it rightly does after 1 s idle.
-      spec.soak_s > 0.0 ? "10" : "1", "--duration-s", std::to_string(static_cast<int>(loops * rec.loop_span_us * 1e-6 / spec.speed) + 60)};
+      spec.soak_s > 0.0 ? "10" : "1", "--duration-s",
+      std::to_string(static_cast<int>(loops * rec.loop_span_us * 1e-6 / spec.speed) + 60)};
   if (!spec.incremental) args.push_back("--no-incremental");
   args.insert(args.end(), {"--heap-reserve-mb", std::to_string(spec.heap_reserve_mb)});
   if (!rec.session) args.insert(args.end(), {"--claw", "three-finger"});
@@ -512,8 +534,7 @@ std::string MakeMalformed(const Recording& rec, std::optional<MalformedMessages>
 // recording's span later, with the faults run's malformed messages among
 // them; stops early when the child has ended.
 void PlayLoops(const Recording& rec, const RunSpec& spec, int loops, LiveChild* child,
-               MalformedMessages* malformed, lcm::LCM* bus, LatencyProbe* probe,
-               RunResult* result) {
+               MalformedMessages* malformed, lcm::LCM* bus, LatencyProbe* probe, RunResult* result) {
   const Clock::time_point start = Clock::now();
   const int64_t first_log_us = rec.raw.empty() ? 0 : rec.raw.front().timestamp_us;
   double malformed_owed = 0.0;
@@ -634,10 +655,10 @@ nlohmann::ordered_json ToJson(const RunResult& r) {
   j["frames_dropped"] = r.last.frames_dropped;
   j["clouds"] = r.clouds;
   j["cloud_hz"] = r.play_s > 0 ? r.clouds / r.play_s : 0.0;
-  j["latency_ms"] = {{"p50", r.latency.p50}, {"p95", r.latency.p95}, {"p99", r.latency.p99},
-                     {"max", r.latency.max}};
-  j["module_latency_ms"] = {{"p50", r.last.latency_ms_p50}, {"p99", r.last.latency_ms_p99},
-                            {"max", r.last.latency_ms_max}};
+  j["latency_ms"] = {
+      {"p50", r.latency.p50}, {"p95", r.latency.p95}, {"p99", r.latency.p99}, {"max", r.latency.max}};
+  j["module_latency_ms"] = {
+      {"p50", r.last.latency_ms_p50}, {"p99", r.last.latency_ms_p99}, {"max", r.last.latency_ms_max}};
   j["update_ms"] = {{"p50", r.last.update_ms_p50}, {"p99", r.last.update_ms_p99}};
   j["full_repair_ms"] = {{"p50", r.last.full_repair_ms_p50}, {"p99", r.last.full_repair_ms_p99}};
   j["rss_mb"] = {{"start", r.rss_start_mb}, {"end", r.rss_end_mb}};
@@ -657,7 +678,8 @@ nlohmann::ordered_json ToJson(const RunResult& r) {
       const auto reason = static_cast<io::MessageError>(i);
       sent_total += r.malformed_sent[i];
       if (r.malformed_sent[i] > 0) sent[io::MessageErrorName(reason)] = r.malformed_sent[i];
-      if (r.last.bad_messages[reason] > 0) counted[io::MessageErrorName(reason)] = r.last.bad_messages[reason];
+      if (r.last.bad_messages[reason] > 0)
+        counted[io::MessageErrorName(reason)] = r.last.bad_messages[reason];
     }
     j["malformed_sent"] = sent_total;
     j["rejects_counted"] = r.last.decode_errors;
@@ -674,14 +696,14 @@ void PrintRow(const RunResult& r) {
                 r.note.c_str());
     return;
   }
-  std::printf("%-5s %4.1fx %-11s %5lld %5lld %5lld  %4lld %5.1f  %7.1f %7.1f %7.1f %7.1f  %6.1f %6.1f  "
-              "%6.0f %6.0f  %6.1f -> %6.1f\n",
-              r.spec.transport.c_str(), r.spec.speed, repair,
-              static_cast<long long>(r.last.frames_in), static_cast<long long>(r.last.frames_used),
-              static_cast<long long>(r.last.frames_dropped), static_cast<long long>(r.clouds),
-              r.play_s > 0 ? r.clouds / r.play_s : 0.0, r.latency.p50, r.latency.p95, r.latency.p99,
-              r.latency.max, r.last.update_ms_p50, r.last.update_ms_p99, r.last.full_repair_ms_p50,
-              r.last.full_repair_ms_p99, r.rss_start_mb, r.rss_end_mb);
+  std::printf(
+      "%-5s %4.1fx %-11s %5lld %5lld %5lld  %4lld %5.1f  %7.1f %7.1f %7.1f %7.1f  %6.1f %6.1f  "
+      "%6.0f %6.0f  %6.1f -> %6.1f\n",
+      r.spec.transport.c_str(), r.spec.speed, repair, static_cast<long long>(r.last.frames_in),
+      static_cast<long long>(r.last.frames_used), static_cast<long long>(r.last.frames_dropped),
+      static_cast<long long>(r.clouds), r.play_s > 0 ? r.clouds / r.play_s : 0.0, r.latency.p50,
+      r.latency.p95, r.latency.p99, r.latency.max, r.last.update_ms_p50, r.last.update_ms_p99,
+      r.last.full_repair_ms_p50, r.last.full_repair_ms_p99, r.rss_start_mb, r.rss_end_mb);
   if (r.spec.soak_s > 0.0 && r.spec.transport != "memq") {
     int64_t sent = 0, counted_as_sent = 0;
     for (size_t i = 1; i < io::BadMessageCounts::kNumReasons; ++i) {
@@ -692,14 +714,14 @@ void PrintRow(const RunResult& r) {
     for (const int64_t n : r.clouds_per_window) fewest = std::min(fewest, n);
     // A valid frame the module never received was lost on the way (a full
     // socket buffer): malformed messages may have been too.
-    std::printf("  soak %.0f s, %.1f%% malformed: live %s at the end; malformed sent %lld, rejects "
-                "counted %lld (%lld under the reason sent); valid frames lost on the way %lld; RSS "
-                "peak %.1f MB, end %.1f MB; clouds per %.0f s: fewest %lld of %zu windows\n",
-                r.play_s, r.spec.fault_percent, r.live_alive_at_end ? "alive" : "NOT alive",
-                static_cast<long long>(sent), static_cast<long long>(r.last.decode_errors),
-                static_cast<long long>(counted_as_sent),
-                static_cast<long long>(r.frames_sent - r.last.frames_in), r.rss_peak_mb, r.rss_end_mb,
-                r.window_s, static_cast<long long>(fewest), r.clouds_per_window.size());
+    std::printf(
+        "  soak %.0f s, %.1f%% malformed: live %s at the end; malformed sent %lld, rejects "
+        "counted %lld (%lld under the reason sent); valid frames lost on the way %lld; RSS "
+        "peak %.1f MB, end %.1f MB; clouds per %.0f s: fewest %lld of %zu windows\n",
+        r.play_s, r.spec.fault_percent, r.live_alive_at_end ? "alive" : "NOT alive",
+        static_cast<long long>(sent), static_cast<long long>(r.last.decode_errors),
+        static_cast<long long>(counted_as_sent), static_cast<long long>(r.frames_sent - r.last.frames_in),
+        r.rss_peak_mb, r.rss_end_mb, r.window_s, static_cast<long long>(fewest), r.clouds_per_window.size());
   } else if (r.spec.soak_s > 0.0) {
     std::printf("  soak %.0f s: RSS %.1f MB at minute 1, %.1f MB at the end (%+.1f%%)\n", r.play_s,
                 r.rss_minute1_mb, r.rss_end_mb,
@@ -778,15 +800,17 @@ BenchLiveOptions ParseBenchLiveArgs(const Args& args) {
 }
 
 void PrintTableHeader(const BenchLiveOptions& o, const Recording& rec) {
-  std::printf("bench live: %s, %d depth frames over %.1f s, a cloud every %d fused frames, "
-              "heap reserve %d MB%s\n",
-              o.log.c_str(), rec.depth_frames, rec.duration_s(), o.publish_every, o.heap_reserve_mb,
-              rec.session ? "" : " (no session description: three-finger claw)");
-  std::printf("latency: a frame's send -> the receipt of the first cloud it is the newest frame of "
-              "[ms]; update/full: the repair's times [ms]\n");
-  std::printf("%-5s %5s %-11s %5s %5s %5s  %4s %5s  %7s %7s %7s %7s  %6s %6s  %6s %6s  %s\n",
-              "bus", "speed", "repair", "in", "used", "drop", "clds", "Hz", "lat50", "lat95",
-              "lat99", "latmax", "upd50", "upd99", "full50", "full99", "RSS MB");
+  std::printf(
+      "bench live: %s, %d depth frames over %.1f s, a cloud every %d fused frames, "
+      "heap reserve %d MB%s\n",
+      o.log.c_str(), rec.depth_frames, rec.duration_s(), o.publish_every, o.heap_reserve_mb,
+      rec.session ? "" : " (no session description: three-finger claw)");
+  std::printf(
+      "latency: a frame's send -> the receipt of the first cloud it is the newest frame of "
+      "[ms]; update/full: the repair's times [ms]\n");
+  std::printf("%-5s %5s %-11s %5s %5s %5s  %4s %5s  %7s %7s %7s %7s  %6s %6s  %6s %6s  %s\n", "bus", "speed",
+              "repair", "in", "used", "drop", "clds", "Hz", "lat50", "lat95", "lat99", "latmax", "upd50",
+              "upd99", "full50", "full99", "RSS MB");
   std::fflush(stdout);
 }
 

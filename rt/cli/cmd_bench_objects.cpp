@@ -128,7 +128,8 @@ std::vector<Miss> MissedTargets(ObjectKind kind, const Outcome& o, double fused_
       misses.push_back({"coverage_2mm", Format("coverage %.3f < %.2f", o.coverage, kMinCoverageSymmetric)});
     }
     if (o.added_p95_mm > kMaxAddedP95MmSymmetric) {
-      misses.push_back({"added_p95_mm", Format("added p95 %.2f > %.0f mm", o.added_p95_mm, kMaxAddedP95MmSymmetric)});
+      misses.push_back(
+          {"added_p95_mm", Format("added p95 %.2f > %.0f mm", o.added_p95_mm, kMaxAddedP95MmSymmetric)});
     }
   } else if (o.coverage < fused_coverage) {
     misses.push_back({"coverage_2mm", Format("coverage %.3f < fused %.3f", o.coverage, fused_coverage)});
@@ -232,7 +233,8 @@ RowResult RunRow(const RowSpec& s, const TriangleMesh& mesh, int frames, int rep
     r.misses.push_back({"fused_points", r.not_run});
     return r;
   }
-  r.fused_coverage = eval::FractionWithin(mesh::NearestDistances(truth.points, fused.points_G), kCoverageRadiusM);
+  r.fused_coverage =
+      eval::FractionWithin(mesh::NearestDistances(truth.points, fused.points_G), kCoverageRadiusM);
   r.fused_p99_mm = 1000.0 * Percentile(mesh::NearestDistances(fused.points_G, truth.points), 99.0);
   const evidence::VisibilityRecord& record = pipeline->visibility();
   const TimedRepair repair = RepairTimed(fused, &record, repeat);
@@ -285,8 +287,8 @@ nlohmann::ordered_json RowJson(const RowSpec& s, const RowResult& r) {
       {"added_p95_mm", NumberOrNull(ran, r.repaired.added_p95_mm)},
       {"wrong_share", NumberOrNull(ran, r.repaired.added_wrong)},
       {"seen_free_points", NumberOrNull(ran, r.repaired.added_in_free)},
-      {"truth_outside_bound", NumberOrNull(ran && std::isfinite(r.repaired.truth_outside_bound),
-                                           r.repaired.truth_outside_bound)},
+      {"truth_outside_bound",
+       NumberOrNull(ran && std::isfinite(r.repaired.truth_outside_bound), r.repaired.truth_outside_bound)},
       {"repair_ms", NumberOrNull(ran, r.repaired.ms)},
       {"meets", r.meets()},
       {"failed", failed},
@@ -344,13 +346,14 @@ struct Summary {
       o.fused_p99_mm.push_back(r.fused_p99_mm);
       o.repair_ms.push_back(r.repaired.ms);
       repair_ms.push_back(r.repaired.ms);
-      if (std::isfinite(r.repaired.truth_outside_bound)) o.outside_bound.push_back(r.repaired.truth_outside_bound);
+      if (std::isfinite(r.repaired.truth_outside_bound))
+        o.outside_bound.push_back(r.repaired.truth_outside_bound);
     }
   }
 
   int OverTarget() const {
-    return static_cast<int>(std::count_if(repair_ms.begin(), repair_ms.end(),
-                                          [](double ms) { return ms > kRepairTargetMs; }));
+    return static_cast<int>(
+        std::count_if(repair_ms.begin(), repair_ms.end(), [](double ms) { return ms > kRepairTargetMs; }));
   }
 };
 
@@ -368,7 +371,8 @@ nlohmann::ordered_json SummaryJson(const Summary& s) {
   nlohmann::ordered_json by_object = nlohmann::ordered_json::object();
   for (const std::string& name : s.object_order) {
     const ObjectTally& o = s.by_object.at(name);
-    by_object[name] = {{"rows", o.tally.rows}, {"met", o.tally.met},
+    by_object[name] = {{"rows", o.tally.rows},
+                       {"met", o.tally.met},
                        {"fused_p99_mm_median", Median(o.fused_p99_mm)},
                        {"fused_p99_mm_max", Max(o.fused_p99_mm)},
                        {"repair_ms_max", Max(o.repair_ms)},
@@ -379,8 +383,11 @@ nlohmann::ordered_json SummaryJson(const Summary& s) {
           {"by_split", by_split},
           {"by_split_kind", by_split_kind},
           {"by_object", by_object},
-          {"repair_ms", {{"median", Median(s.repair_ms)}, {"max", Max(s.repair_ms)},
-                         {"over_target", s.OverTarget()}, {"target_ms", kRepairTargetMs}}},
+          {"repair_ms",
+           {{"median", Median(s.repair_ms)},
+            {"max", Max(s.repair_ms)},
+            {"over_target", s.OverTarget()},
+            {"target_ms", kRepairTargetMs}}},
           {"workspace_grown_rows", s.workspace_grown},
           {"fingers_lengthened_rows", s.fingers_lengthened}};
 }
@@ -391,24 +398,29 @@ void PrintSummary(const Summary& s) {
                 t.rows ? 100.0 * t.met / t.rows : 0.0);
   };
   std::printf("\nRows meeting their kind's targets / rows\n");
-  for (const auto& [key, t] : s.by_split_kind) line(ObjectSplitName(key.first) + ", " + ObjectKindName(key.second), t);
+  for (const auto& [key, t] : s.by_split_kind)
+    line(ObjectSplitName(key.first) + ", " + ObjectKindName(key.second), t);
   for (const auto& [split, t] : s.by_split) line(ObjectSplitName(split), t);
   for (const auto& [kind, t] : s.by_kind) line(ObjectKindName(kind), t);
   line("all", s.all);
-  std::printf("\nPer object: met / rows, fused cloud's p99 to the truth [mm] median and max, "
-              "repair max [ms], the truth's largest share outside the safe bound\n");
+  std::printf(
+      "\nPer object: met / rows, fused cloud's p99 to the truth [mm] median and max, "
+      "repair max [ms], the truth's largest share outside the safe bound\n");
   for (const std::string& name : s.object_order) {
     const ObjectTally& o = s.by_object.at(name);
     std::printf("  %-25s %3d / %-3d  p99 %5.2f %5.2f  %6.1f  %.4f\n", name.c_str(), o.tally.met, o.tally.rows,
                 Median(o.fused_p99_mm), Max(o.fused_p99_mm), Max(o.repair_ms), Max(o.outside_bound));
   }
-  std::printf("\nRepair with the record, fastest of the repeats, one core: median %.1f ms, max %.1f ms, "
-              "%d of %zu clouds over %.0f ms\n",
-              Median(s.repair_ms), Max(s.repair_ms), s.OverTarget(), s.repair_ms.size(), kRepairTargetMs);
+  std::printf(
+      "\nRepair with the record, fastest of the repeats, one core: median %.1f ms, max %.1f ms, "
+      "%d of %zu clouds over %.0f ms\n",
+      Median(s.repair_ms), Max(s.repair_ms), s.OverTarget(), s.repair_ms.size(), kRepairTargetMs);
   if (s.workspace_grown > 0 || s.fingers_lengthened > 0) {
-    std::printf("The placement's liberties (--verbose names them per row): %d rows with the pipeline's "
-                "workspace box grown to hold the object, %d with the claw's fingers lengthened to reach "
-                "the grasp's height\n", s.workspace_grown, s.fingers_lengthened);
+    std::printf(
+        "The placement's liberties (--verbose names them per row): %d rows with the pipeline's "
+        "workspace box grown to hold the object, %d with the claw's fingers lengthened to reach "
+        "the grasp's height\n",
+        s.workspace_grown, s.fingers_lengthened);
   }
 }
 
@@ -437,8 +449,10 @@ Options Parse(const Args& args) {
       if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
       return args[++i];
     };
-    if (a == "--objects") o.dir = value(), dir_given = true;
-    else if (a == "--object") o.objects = SplitList(a, value());
+    if (a == "--objects")
+      o.dir = value(), dir_given = true;
+    else if (a == "--object")
+      o.objects = SplitList(a, value());
     else if (a == "--split") {
       const std::string v = value();
       o.split = ParseObjectSplit(v);
@@ -464,12 +478,18 @@ Options Parse(const Args& args) {
       for (const std::string& item : SplitList(a, value())) {
         o.seeds.push_back(ParseInteger<uint64_t>(a, item, 0, std::numeric_limits<uint64_t>::max()));
       }
-    } else if (a == "--frames") o.frames = ParseInteger<int>(a, value(), 10, 3000);
-    else if (a == "--repeat") o.repeat = ParseInteger<int>(a, value(), 1, 100);
-    else if (a == "--dump") o.dump_dir = value();
-    else if (a == "--json") o.json = true;
-    else if (a == "--verbose") o.verbose = true;
-    else throw BadOption(a, kUsage);
+    } else if (a == "--frames")
+      o.frames = ParseInteger<int>(a, value(), 10, 3000);
+    else if (a == "--repeat")
+      o.repeat = ParseInteger<int>(a, value(), 1, 100);
+    else if (a == "--dump")
+      o.dump_dir = value();
+    else if (a == "--json")
+      o.json = true;
+    else if (a == "--verbose")
+      o.verbose = true;
+    else
+      throw BadOption(a, kUsage);
   }
   if (!dir_given || o.dir.empty()) throw UsageError("--objects needs a folder with objects.json");
   return o;
@@ -500,15 +520,18 @@ int RunBenchRepairObjects(const Args& args) {
     return 2;
   }
   for (const std::string& name : o.objects) {
-    if (std::none_of(manifest.begin(), manifest.end(), [&](const ManifestObject& m) { return m.name == name; })) {
-      std::fprintf(stderr, "%s: --object '%s': not in %s\n", kCommand, name.c_str(), ManifestPath(o.dir).c_str());
+    if (std::none_of(manifest.begin(), manifest.end(),
+                     [&](const ManifestObject& m) { return m.name == name; })) {
+      std::fprintf(stderr, "%s: --object '%s': not in %s\n", kCommand, name.c_str(),
+                   ManifestPath(o.dir).c_str());
       return 2;
     }
   }
   std::vector<const ManifestObject*> selected;
   std::map<std::string, TriangleMesh> meshes;
   for (const ManifestObject& m : manifest) {
-    if (!o.objects.empty() && std::find(o.objects.begin(), o.objects.end(), m.name) == o.objects.end()) continue;
+    if (!o.objects.empty() && std::find(o.objects.begin(), o.objects.end(), m.name) == o.objects.end())
+      continue;
     if (o.split && m.split != *o.split) continue;
     try {
       meshes[m.name] = ReadObjectMesh(m.path, m.mesh_scale, m.mesh_y_up);
@@ -548,7 +571,8 @@ int RunBenchRepairObjects(const Args& args) {
     const std::set<std::string> distinct(paths.begin(), paths.end());
     std::string problem = CheckDumpPaths(o.dump_dir, paths);
     if (problem.empty() && distinct.size() != paths.size()) {
-      problem = "two objects' names give the same --dump file names (letters, digits, '-', '_', '.' are kept)";
+      problem =
+          "two objects' names give the same --dump file names (letters, digits, '-', '_', '.' are kept)";
     }
     if (!problem.empty()) {
       std::fprintf(stderr, "%s: %s\n", kCommand, problem.c_str());
@@ -557,11 +581,12 @@ int RunBenchRepairObjects(const Args& args) {
   }
 
   if (!o.json) {
-    std::printf("Objects of %s through the pipeline (%d frames, one turn), repaired with the record:\n"
-                "fused: its points, coverage (truth within 2 mm) and p99 distance to the truth;\n"
-                "repaired: points, coverage, added points' p95 / share > 3 mm / in seen-free space, "
-                "repair ms (fastest of %d)\n\n",
-                ManifestPath(o.dir).c_str(), o.frames, o.repeat);
+    std::printf(
+        "Objects of %s through the pipeline (%d frames, one turn), repaired with the record:\n"
+        "fused: its points, coverage (truth within 2 mm) and p99 distance to the truth;\n"
+        "repaired: points, coverage, added points' p95 / share > 3 mm / in seen-free space, "
+        "repair ms (fastest of %d)\n\n",
+        ManifestPath(o.dir).c_str(), o.frames, o.repeat);
     std::printf("%-25s %-17s %-5s %-12s %-15s %4s | %6s %6s %6s | %6s %6s %6s %6s %5s %6s | %s\n", "object",
                 "kind", "split", "claw", "grasp", "seed", "fused", "cov", "p99mm", "points", "cov", "p95mm",
                 "wrong", "free", "ms", "meets");
@@ -613,8 +638,11 @@ int RunBenchRepairObjects(const Args& args) {
   if (o.json) {
     nlohmann::ordered_json seeds = nlohmann::ordered_json::array();
     for (uint64_t seed : o.seeds) seeds.push_back(seed);
-    const nlohmann::ordered_json out = {{"objects", ManifestPath(o.dir)}, {"frames", o.frames},
-                                        {"seeds", seeds}, {"rows", rows}, {"summary", SummaryJson(summary)}};
+    const nlohmann::ordered_json out = {{"objects", ManifestPath(o.dir)},
+                                        {"frames", o.frames},
+                                        {"seeds", seeds},
+                                        {"rows", rows},
+                                        {"summary", SummaryJson(summary)}};
     std::printf("%s\n", out.dump(2).c_str());
   } else {
     PrintSummary(summary);

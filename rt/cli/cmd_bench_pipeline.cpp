@@ -11,8 +11,8 @@
 #include <exception>
 #include <limits>
 #include <memory>
-#include <stdexcept>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -37,7 +37,7 @@ struct ZooCase {
   Eigen::Vector3d size_m;  // 0: the shape's default
   synth::ClawType claw;
   synth::GraspWay grasp;
-  bool closed_symmetric;  // the targets apply (else: nothing wrong added)
+  bool closed_symmetric;              // the targets apply (else: nothing wrong added)
   double camera_elevation_deg{25.0};  // camera below the object (> 0), above it (< 0)
 };
 
@@ -97,12 +97,18 @@ bool ParsePipelineBenchArgs(const Args& args, PipelineBenchOptions* o) {
   try {
     for (size_t i = 0; i < args.size(); ++i) {
       if (args[i] == "--pipeline") continue;
-      if (args[i] == "--json") o->json = true;
-      else if (args[i] == "--verbose") o->verbose = true;
-      else if (args[i] == "--case" && i + 1 < args.size()) o->only = args[++i];
-      else if (args[i] == "--dump" && i + 1 < args.size()) o->dump_dir = args[++i];
-      else if (args[i] == "--repeat" && i + 1 < args.size()) o->repeat = ParseInteger<int>("--repeat", args[++i], 1, 100);
-      else if (args[i] == "--frames" && i + 1 < args.size()) o->frames = ParseInteger<int>("--frames", args[++i], 10, 3000);
+      if (args[i] == "--json")
+        o->json = true;
+      else if (args[i] == "--verbose")
+        o->verbose = true;
+      else if (args[i] == "--case" && i + 1 < args.size())
+        o->only = args[++i];
+      else if (args[i] == "--dump" && i + 1 < args.size())
+        o->dump_dir = args[++i];
+      else if (args[i] == "--repeat" && i + 1 < args.size())
+        o->repeat = ParseInteger<int>("--repeat", args[++i], 1, 100);
+      else if (args[i] == "--frames" && i + 1 < args.size())
+        o->frames = ParseInteger<int>("--frames", args[++i], 10, 3000);
       else if (args[i] == "--seed" && i + 1 < args.size()) {
         o->seed = ParseInteger<uint64_t>("--seed", args[++i], 0, std::numeric_limits<uint64_t>::max());
       } else {
@@ -152,8 +158,8 @@ struct CaseResult {
 // Repairs the fused cloud without ([0]) and with ([1]) the evidence,
 // measured against the truth; --dump writes the clouds.
 void RepairBoth(const ZooCase& c, const PipelineBenchOptions& o, const ObjectCloud& fused,
-                const mesh::SurfaceSamples& truth_samples,
-                const evidence::VisibilityRecord& record, Outcome result[2]) {
+                const mesh::SurfaceSamples& truth_samples, const evidence::VisibilityRecord& record,
+                Outcome result[2]) {
   for (int with_evidence = 0; with_evidence < 2; ++with_evidence) {
     TimedRepair repaired;
     try {
@@ -212,40 +218,52 @@ CaseResult RunCase(const ZooCase& c, const PipelineBenchOptions& o) {
   CaseResult r;
   RepairBoth(c, o, fused, truth_samples, record, r.outcome);
   r.fused_points = fused.size();
-  r.fused_coverage = eval::FractionWithin(mesh::NearestDistances(truth_samples.points, fused.points_G), kCoverageRadiusM);
+  r.fused_coverage =
+      eval::FractionWithin(mesh::NearestDistances(truth_samples.points, fused.points_G), kCoverageRadiusM);
   r.visibility_ms = stats.visibility.mean_ms();
-  r.frame_ms = stats.crop.mean_ms() + stats.mask.mean_ms() + stats.integrate.mean_ms() +
-               stats.visibility.mean_ms();
+  r.frame_ms =
+      stats.crop.mean_ms() + stats.mask.mean_ms() + stats.integrate.mean_ms() + stats.visibility.mean_ms();
   r.key_frames = record.size();
   r.record_mb = record.memory_bytes() / 1e6;
   return r;
 }
 
 nlohmann::ordered_json OutcomeJson(const Outcome& o) {
-  return nlohmann::ordered_json{{"points", o.points}, {"added", o.added}, {"coverage", o.coverage},
-                                {"added_p95_mm", o.added_p95_mm}, {"added_wrong", o.added_wrong},
-                                {"added_in_seen_free", o.added_in_free}, {"ms", o.ms},
-                                {"steps_ms", StepsJson(o.steps)}, {"note", o.note},
+  return nlohmann::ordered_json{{"points", o.points},
+                                {"added", o.added},
+                                {"coverage", o.coverage},
+                                {"added_p95_mm", o.added_p95_mm},
+                                {"added_wrong", o.added_wrong},
+                                {"added_in_seen_free", o.added_in_free},
+                                {"ms", o.ms},
+                                {"steps_ms", StepsJson(o.steps)},
+                                {"note", o.note},
                                 {"up_axis", {o.up_axis.x(), o.up_axis.y(), o.up_axis.z()}},
                                 {"evidence_report", EvidenceJson(o.evidence)}};
 }
 
 nlohmann::ordered_json CaseJson(const ZooCase& c, const CaseResult& r) {
-  return {{"object", c.label}, {"shape", c.shape},
-          {"claw", synth::ClawTypeName(c.claw)}, {"grasp", synth::GraspWayName(c.grasp)},
+  return {{"object", c.label},
+          {"shape", c.shape},
+          {"claw", synth::ClawTypeName(c.claw)},
+          {"grasp", synth::GraspWayName(c.grasp)},
           {"closed_symmetric", c.closed_symmetric},
-          {"camera_elevation_deg", c.camera_elevation_deg}, {"fused_points", r.fused_points},
-          {"fused_coverage", r.fused_coverage}, {"cloud_only", OutcomeJson(r.outcome[0])},
+          {"camera_elevation_deg", c.camera_elevation_deg},
+          {"fused_points", r.fused_points},
+          {"fused_coverage", r.fused_coverage},
+          {"cloud_only", OutcomeJson(r.outcome[0])},
           {"evidence", OutcomeJson(r.outcome[1])},
           {"visibility_ms_per_frame", r.visibility_ms},
-          {"frame_path_ms", r.frame_ms}, {"key_frames", r.key_frames},
+          {"frame_path_ms", r.frame_ms},
+          {"key_frames", r.key_frames},
           {"record_mb", r.record_mb}};
 }
 
 void PrintHeader(int frames) {
-  std::printf("Shape zoo through the pipeline (%d frames, one turn): coverage = true surface within 2 mm;\n"
-              "added p95 / wrong (> 3 mm) / in seen-free space; cloud-only repair vs with evidence\n\n",
-              frames);
+  std::printf(
+      "Shape zoo through the pipeline (%d frames, one turn): coverage = true surface within 2 mm;\n"
+      "added p95 / wrong (> 3 mm) / in seen-free space; cloud-only repair vs with evidence\n\n",
+      frames);
   std::printf("%-12s %-17s %-12s %-15s | %6s %6s | %6s %6s %5s %5s %6s | %6s %6s %5s %5s %6s | %6s %6s\n",
               "object", "shape", "claw", "grasp", "points", "fused", "cov", "p95mm", "wrong", "free", "ms",
               "cov", "p95mm", "wrong", "free", "ms", "rec/fr", "frame");
@@ -256,8 +274,8 @@ void PrintCaseRow(const ZooCase& c, const CaseResult& r, bool verbose) {
               synth::ClawTypeName(c.claw).c_str(), synth::GraspWayName(c.grasp).c_str(), r.fused_points,
               r.fused_coverage);
   for (const Outcome& o : r.outcome) {
-    std::printf(" %6.3f %6.2f %5.3f %5d %6.0f |", o.coverage, o.added_p95_mm, o.added_wrong,
-                o.added_in_free, o.ms);
+    std::printf(" %6.3f %6.2f %5.3f %5d %6.0f |", o.coverage, o.added_p95_mm, o.added_wrong, o.added_in_free,
+                o.ms);
   }
   std::printf(" %6.2f %6.2f\n", r.visibility_ms, r.frame_ms);
   if (verbose) {
@@ -280,7 +298,8 @@ int RunBenchRepairPipeline(const Args& args) {
   if (!o.dump_dir.empty()) {
     std::vector<std::string> paths;
     for (const ZooCase& c : cases) {
-      for (const char* what : {"truth", "fused", "cloud_only", "evidence"}) paths.push_back(DumpPath(o.dump_dir, c, what));
+      for (const char* what : {"truth", "fused", "cloud_only", "evidence"})
+        paths.push_back(DumpPath(o.dump_dir, c, what));
     }
     const std::string problem = CheckDumpPaths(o.dump_dir, paths);
     if (!problem.empty()) {

@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
-#include <limits>
 #include <cstdio>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -41,8 +41,8 @@ struct Row {
 // Table 1's cuboid is 10 x 10 x 20 cm (Table 2); the other shapes' sizes
 // are not given in the paper, so their default sizes are used.
 std::vector<Row> PaperRows() {
-  using synth::Shape;
   using synth::GraspWay;
+  using synth::Shape;
   const GraspWay top = GraspWay::kTopStraight;
   return {
       {"1", "cuboid", Shape::kCuboid, {0.10, 0.10, 0.20}, top, 33.81, 0.045},
@@ -72,12 +72,12 @@ double Chamfer(const std::vector<Eigen::Vector3f>& pred, const std::vector<Eigen
 }
 
 void PrintReport(const std::string& label, const repair::RepairReport& r) {
-  std::fprintf(stderr, "%s: %s; %d boundary points, %d lines; %s%s\n", label.c_str(),
-               r.StatusText().c_str(), r.boundary_points, r.boundary_lines,
+  std::fprintf(stderr, "%s: %s; %d boundary points, %d lines; %s%s\n", label.c_str(), r.StatusText().c_str(),
+               r.boundary_points, r.boundary_lines,
                r.symmetric ? "symmetric" : "not symmetric: ", r.symmetry_reason.c_str());
   for (const HoleSummary& h : r.holes) {
-    std::fprintf(stderr, "  %-7s boundary %4d, added %5d\n",
-                 h.kind == HoleKind::kClaw ? "claw" : "missing", h.boundary_points, h.points_added);
+    std::fprintf(stderr, "  %-7s boundary %4d, added %5d\n", h.kind == HoleKind::kClaw ? "claw" : "missing",
+                 h.boundary_points, h.points_added);
   }
 }
 
@@ -100,21 +100,22 @@ int RunBenchRepair(const Args& args) {
   try {
     for (size_t i = 0; i < args.size(); ++i) {
       if (args[i] == "--help" || args[i] == "-h") {
-        std::printf("usage: graspfill bench repair [--points N] [--seed S] [--case TEXT] [--verbose] [--json]\n"
-                    "       graspfill bench repair --pipeline [--frames N] [--seed S] [--case TEXT] [--verbose]\n"
-                    "                                         [--json] [--dump DIR] [--repeat N]\n"
-                    "       graspfill bench repair --objects DIR [...]   (graspfill bench repair --objects --help)\n"
-                    "  --pipeline   the shape zoo through the whole pipeline, cloud-only vs with evidence\n"
-                    "  --objects DIR  the meshes DIR/objects.json lists (e.g. scanned objects) through the\n"
-                    "               whole pipeline and the repair, against their kind's targets\n"
-                    "  --dump DIR   (--pipeline) each case's truth, fused, cloud-only and evidence clouds as PLY\n"
-                    "  --seed S     (--pipeline) the scenes' noise and wobble (default 11, as in docs/measurements)\n"
-                    "  --repeat N   (--pipeline) repairs of each cloud, the fastest timed (default 3; each must\n"
-                    "               give the same cloud)\n"
-                    "  the paper's Tables 1-3 next to graspfill's numbers on the same protocol\n"
-                    "  --case TEXT  only the rows whose label contains TEXT\n"
-                    "  --top-cut F  cut every shape's top band above (1 - F) x its height (0.02, 0.15)\n"
-                    "  --verbose    each repair's status, holes and symmetry finding\n");
+        std::printf(
+            "usage: graspfill bench repair [--points N] [--seed S] [--case TEXT] [--verbose] [--json]\n"
+            "       graspfill bench repair --pipeline [--frames N] [--seed S] [--case TEXT] [--verbose]\n"
+            "                                         [--json] [--dump DIR] [--repeat N]\n"
+            "       graspfill bench repair --objects DIR [...]   (graspfill bench repair --objects --help)\n"
+            "  --pipeline   the shape zoo through the whole pipeline, cloud-only vs with evidence\n"
+            "  --objects DIR  the meshes DIR/objects.json lists (e.g. scanned objects) through the\n"
+            "               whole pipeline and the repair, against their kind's targets\n"
+            "  --dump DIR   (--pipeline) each case's truth, fused, cloud-only and evidence clouds as PLY\n"
+            "  --seed S     (--pipeline) the scenes' noise and wobble (default 11, as in docs/measurements)\n"
+            "  --repeat N   (--pipeline) repairs of each cloud, the fastest timed (default 3; each must\n"
+            "               give the same cloud)\n"
+            "  the paper's Tables 1-3 next to graspfill's numbers on the same protocol\n"
+            "  --case TEXT  only the rows whose label contains TEXT\n"
+            "  --top-cut F  cut every shape's top band above (1 - F) x its height (0.02, 0.15)\n"
+            "  --verbose    each repair's status, holes and symmetry finding\n");
         return 0;
       } else if (args[i] == "--points" && i + 1 < args.size()) {
         num_points = ParseInteger<int>("--points", args[++i], kMinProtocolPoints, kMaxProtocolPoints);
@@ -124,7 +125,8 @@ int RunBenchRepair(const Args& args) {
         // In (0, 0.5): the open ends are refused below.
         top_cut = ParseDouble("--top-cut", args[++i], 0.0, 0.5);
         if (!(top_cut > 0.0 && top_cut < 0.5)) {
-          throw UsageError("--top-cut '" + args[i] + "': out of range, expected more than 0 and "
+          throw UsageError("--top-cut '" + args[i] +
+                           "': out of range, expected more than 0 and "
                            "less than 0.5");
         }
       } else if (args[i] == "--case" && i + 1 < args.size()) {
@@ -161,8 +163,8 @@ int RunBenchRepair(const Args& args) {
     pc.top_cut_fraction = top_cut;
     const synth::PaperProtocolCloud c = synth::MakePaperProtocolCloud(pc);
     // Floor: a third independent sample of the truth against the truth.
-    const mesh::SurfaceSamples other = mesh::SampleSurface(
-        synth::MakeShape(row.shape, c.size_m), num_points, seed + 1000);
+    const mesh::SurfaceSamples other =
+        mesh::SampleSurface(synth::MakeShape(row.shape, c.size_m), num_points, seed + 1000);
     std::vector<Eigen::Vector3f> other_points;
     for (const Eigen::Vector3f& p : other.points) other_points.push_back(c.T_cloud_object.cast<float>() * p);
     const double floor = Chamfer(other_points, c.ground_truth);
@@ -184,11 +186,19 @@ int RunBenchRepair(const Args& args) {
     const double before = Chamfer(c.holey, c.ground_truth);
 
     if (json) {
-      rows.push_back({{"table", row.table}, {"case", row.label}, {"top_cut", top_cut}, {"paper_before_mm2", row.paper_before_mm2},
-                      {"paper_after_mm2", row.paper_after_mm2}, {"before_mm2", before},
-                      {"mode_paper_mm2", after[0]}, {"mode_best_mm2", after[1]},
-                      {"poisson_only_mm2", baseline}, {"floor_mm2", floor},
-                      {"best_over_floor", after[1] / floor}, {"ms_paper", ms[0]}, {"ms_best", ms[1]}});
+      rows.push_back({{"table", row.table},
+                      {"case", row.label},
+                      {"top_cut", top_cut},
+                      {"paper_before_mm2", row.paper_before_mm2},
+                      {"paper_after_mm2", row.paper_after_mm2},
+                      {"before_mm2", before},
+                      {"mode_paper_mm2", after[0]},
+                      {"mode_best_mm2", after[1]},
+                      {"poisson_only_mm2", baseline},
+                      {"floor_mm2", floor},
+                      {"best_over_floor", after[1] / floor},
+                      {"ms_paper", ms[0]},
+                      {"ms_best", ms[1]}});
       continue;
     }
     progress.Clear();  // the row on a line of its own
@@ -197,13 +207,12 @@ int RunBenchRepair(const Args& args) {
       if (top_cut > 0.0) std::printf("\n(top cut at %.0f%% of the height for every shape)", 100.0 * top_cut);
       std::printf("\nTable %s (chamfer, mm^2; %d points; seed %llu)\n", table.c_str(), num_points,
                   static_cast<unsigned long long>(seed));
-      std::printf("%-18s | %8s %8s | %8s %8s %8s %8s %8s %6s | %7s %7s\n", "case", "paper:bef",
-                  "paper:aft", "before", "paper", "best", "poisson", "floor", "b/flr", "ms:pap",
-                  "ms:best");
+      std::printf("%-18s | %8s %8s | %8s %8s %8s %8s %8s %6s | %7s %7s\n", "case", "paper:bef", "paper:aft",
+                  "before", "paper", "best", "poisson", "floor", "b/flr", "ms:pap", "ms:best");
     }
     std::printf("%-18s | %8.2f %8.3f | %8.2f %8.3f %8.3f %8.3f %8.3f %6.2f | %7.1f %7.1f\n",
-                row.label.c_str(), row.paper_before_mm2, row.paper_after_mm2, before, after[0],
-                after[1], baseline, floor, after[1] / floor, ms[0], ms[1]);
+                row.label.c_str(), row.paper_before_mm2, row.paper_after_mm2, before, after[0], after[1],
+                baseline, floor, after[1] / floor, ms[0], ms[1]);
   }
   progress.Clear();
   // The issue's time target: a 50k-point cloud (after the cut and the
@@ -228,13 +237,16 @@ int RunBenchRepair(const Args& args) {
     std::sort(best_ms.begin(), best_ms.end());
     std::sort(paper_ms.begin(), paper_ms.end());
     if (json) {
-      rows.push_back({{"case", "timing, protocol cylinder"}, {"points", cloud.size()},
-                      {"ms_best_median_of_5", best_ms[2]}, {"ms_paper_median_of_5", paper_ms[2]},
+      rows.push_back({{"case", "timing, protocol cylinder"},
+                      {"points", cloud.size()},
+                      {"ms_best_median_of_5", best_ms[2]},
+                      {"ms_paper_median_of_5", paper_ms[2]},
                       {"target_ms", 100.0}});
     } else {
-      std::printf("\nRepair of a %zu-point cloud (protocol cylinder), median of 5, one core: "
-                  "best %.1f ms, paper %.1f ms; target 100 ms (issue 3), the paper ~1 s\n",
-                  cloud.size(), best_ms[2], paper_ms[2]);
+      std::printf(
+          "\nRepair of a %zu-point cloud (protocol cylinder), median of 5, one core: "
+          "best %.1f ms, paper %.1f ms; target 100 ms (issue 3), the paper ~1 s\n",
+          cloud.size(), best_ms[2], paper_ms[2]);
     }
   }
   if (json) std::printf("%s\n", rows.dump(2).c_str());

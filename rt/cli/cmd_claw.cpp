@@ -9,11 +9,11 @@
 
 #include "claw_option.hpp"
 #include "commands.hpp"
+#include "data_paths.hpp"
+#include "error_text.hpp"
 #include "graspfill/claw/claw_limits.hpp"
 #include "graspfill/io/output_path.hpp"
 #include "graspfill/io/ply.hpp"
-#include "data_paths.hpp"
-#include "error_text.hpp"
 #include "number_parsing.hpp"
 #include "unknown_option.hpp"
 
@@ -106,8 +106,8 @@ int RunClaw(const Args& args) {
   std::printf("  reach: at most %.3f m from G's origin in any pose (limit %g m)\n",
               claw::ClawReachBoundM(model), claw::kMaxClawReachM);
   if (!posed.empty()) {
-    std::printf("  bounds in G [m]: x %.4f..%.4f  y %.4f..%.4f  z %.4f..%.4f\n", box.min().x(),
-                box.max().x(), box.min().y(), box.max().y(), box.min().z(), box.max().z());
+    std::printf("  bounds in G [m]: x %.4f..%.4f  y %.4f..%.4f  z %.4f..%.4f\n", box.min().x(), box.max().x(),
+                box.min().y(), box.max().y(), box.min().z(), box.max().z());
   }
   std::printf("  -> %s\n", out.c_str());
   return 0;

@@ -10,9 +10,9 @@
 
 #include "commands.hpp"
 #include "config/rig_config.hpp"
+#include "error_text.hpp"
 #include "graspfill/io/atomic_file.hpp"
 #include "graspfill/io/output_path.hpp"
-#include "error_text.hpp"
 #include "number_parsing.hpp"
 #include "unknown_option.hpp"
 

@@ -9,8 +9,8 @@
 #include "commands.hpp"
 #include "data_paths.hpp"
 #include "error_text.hpp"
-#include "unknown_option.hpp"
 #include "graspfill/io/output_path.hpp"
+#include "unknown_option.hpp"
 
 namespace graspfill::cli {
 
@@ -21,16 +21,17 @@ int RunDemo(const Args& args) {
   Args replay_extra;
   for (size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--help" || args[i] == "-h") {
-      std::printf("usage: graspfill demo [-o DIR] [--force] [--lcm-url URL] [--no-publish]\n"
-                  "  replays the bundled recording, writes DIR/cloud.ply, publishes the cloud\n"
-                  "  over LCM and evaluates it against the ground truth\n"
-                  "  recording: %s/replay/default/recording.lcmlog\n"
-                  "             (the data folder: $GRASPFILL_DATA_DIR, else the executable's\n"
-                  "             ../share/graspfill)\n"
-                  "  DIR:       default %s\n"
-                  "             (the demo's own folder, rewritten each run); a DIR\n"
-                  "             given with -o is not overwritten without --force\n",
-                  DataDir().c_str(), out_dir.c_str());
+      std::printf(
+          "usage: graspfill demo [-o DIR] [--force] [--lcm-url URL] [--no-publish]\n"
+          "  replays the bundled recording, writes DIR/cloud.ply, publishes the cloud\n"
+          "  over LCM and evaluates it against the ground truth\n"
+          "  recording: %s/replay/default/recording.lcmlog\n"
+          "             (the data folder: $GRASPFILL_DATA_DIR, else the executable's\n"
+          "             ../share/graspfill)\n"
+          "  DIR:       default %s\n"
+          "             (the demo's own folder, rewritten each run); a DIR\n"
+          "             given with -o is not overwritten without --force\n",
+          DataDir().c_str(), out_dir.c_str());
       return 0;
     }
     if (args[i] == "-o" && i + 1 < args.size()) {

@@ -67,8 +67,7 @@ bool IsPly(const std::string& path) {
 
 // Reads `path` as a cloud of finite points; on failure prints why (naming
 // the file) and returns nothing.
-std::optional<std::vector<Eigen::Vector3f>> LoadCloud(const std::string& path,
-                                                      const char* role) {
+std::optional<std::vector<Eigen::Vector3f>> LoadCloud(const std::string& path, const char* role) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
     const bool exists = std::filesystem::exists(path, ec);
@@ -79,7 +78,8 @@ std::optional<std::vector<Eigen::Vector3f>> LoadCloud(const std::string& path,
   open3d::geometry::PointCloud cloud;
   if (IsPly(path)) {
     try {
-      for (const Eigen::Vector3f& p : io::ReadCloudPly(path).points_G) cloud.points_.push_back(p.cast<double>());
+      for (const Eigen::Vector3f& p : io::ReadCloudPly(path).points_G)
+        cloud.points_.push_back(p.cast<double>());
     } catch (const std::exception& e) {  // names the file and what is wrong
       std::fprintf(stderr, "graspfill eval: %s file: %s\n", role, ErrorText(e).c_str());
       return std::nullopt;
@@ -92,14 +92,12 @@ std::optional<std::vector<Eigen::Vector3f>> LoadCloud(const std::string& path,
       ok = open3d::io::ReadPointCloud(path, cloud);
     }
     if (!ok) {
-      std::fprintf(stderr, "graspfill eval: cannot read %s file '%s'\n", role,
-                   path.c_str());
+      std::fprintf(stderr, "graspfill eval: cannot read %s file '%s'\n", role, path.c_str());
       return std::nullopt;
     }
   }
   if (cloud.points_.empty()) {
-    std::fprintf(stderr, "graspfill eval: %s file '%s' has no points\n", role,
-                 path.c_str());
+    std::fprintf(stderr, "graspfill eval: %s file '%s' has no points\n", role, path.c_str());
     return std::nullopt;
   }
   std::vector<Eigen::Vector3f> points;
@@ -119,8 +117,7 @@ std::optional<std::vector<Eigen::Vector3f>> LoadCloud(const std::string& path,
   return points;
 }
 
-nlohmann::json ToJson(const eval::CloudMetrics& m, const std::string& pred,
-                      const std::string& gt) {
+nlohmann::json ToJson(const eval::CloudMetrics& m, const std::string& pred, const std::string& gt) {
   return nlohmann::json{
       {"pred", pred},
       {"gt", gt},
@@ -160,8 +157,7 @@ int RunEval(const Args& args) {
     }
   }
   if (files.size() != 2) {
-    std::fprintf(stderr, "graspfill eval: expected 2 files, got %zu\n",
-                 files.size());
+    std::fprintf(stderr, "graspfill eval: expected 2 files, got %zu\n", files.size());
     std::fputs(kUsage, stderr);
     return 2;
   }
@@ -185,10 +181,9 @@ int RunEval(const Args& args) {
       "F-score: %.4f @1mm, %.4f @2mm; at 2 mm: coverage %.4f, precision %.4f\n"
       "p95 distance: pred->gt %.4g mm, gt->pred %.4g mm; max pred->gt %.4g "
       "mm\n",
-      pred_path.c_str(), m.num_pred, gt_path.c_str(), m.num_gt, m.chamfer_mm2,
-      m.pred_to_gt_mean_sq_mm2, m.gt_to_pred_mean_sq_mm2, m.fscore_1mm,
-      m.fscore_2mm, m.coverage_2mm, m.precision_2mm, m.p95_pred_to_gt_mm, m.p95_gt_to_pred_mm,
-      m.max_pred_to_gt_mm);
+      pred_path.c_str(), m.num_pred, gt_path.c_str(), m.num_gt, m.chamfer_mm2, m.pred_to_gt_mean_sq_mm2,
+      m.gt_to_pred_mean_sq_mm2, m.fscore_1mm, m.fscore_2mm, m.coverage_2mm, m.precision_2mm,
+      m.p95_pred_to_gt_mm, m.p95_gt_to_pred_mm, m.max_pred_to_gt_mm);
   return 0;
 }
 

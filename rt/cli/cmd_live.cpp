@@ -58,12 +58,12 @@
 #include "commands.hpp"
 #include "config_option.hpp"
 #include "error_text.hpp"
+#include "graspfill/io/output_path.hpp"
 #include "live_options.hpp"
 #include "live_report.hpp"
-#include "number_parsing.hpp"
-#include "graspfill/io/output_path.hpp"
 #include "module/cloud_repair.hpp"
 #include "module/live_session.hpp"
+#include "number_parsing.hpp"
 
 namespace graspfill::cli {
 namespace {
@@ -99,9 +99,9 @@ struct LiveClaw {
 // A description's box and voxel go into *pipeline unless the config fixed
 // them. Prints which claw and why; nullopt (told on stderr): a description
 // beyond the config file's limits.
-std::optional<LiveClaw> PickClaw(const Args& args, const LiveOptions& o,
-                                 const std::string& config_path, rt::LiveSession& live,
-                                 const rt::CameraSource* camera_source, PipelineConfig* pipeline) {
+std::optional<LiveClaw> PickClaw(const Args& args, const LiveOptions& o, const std::string& config_path,
+                                 rt::LiveSession& live, const rt::CameraSource* camera_source,
+                                 PipelineConfig* pipeline) {
   std::optional<rt::DescribedClaw> session;
   if (!o.claw_spec && o.depth_from_lcm) session = live.WaitForFirstEvent();
   if (!o.claw_spec && camera_source && camera_source->session()) {
@@ -157,23 +157,24 @@ std::optional<LiveClaw> PickClaw(const Args& args, const LiveOptions& o,
 // (on the claw checker's thread; the status is never held up by it).
 std::function<void(const io::SessionDescription&)> OtherClawWarning(const LiveOptions& o,
                                                                     const LiveClaw& claw) {
-  return [claw_spec = o.claw_spec, claw_label = claw.label,
-          session_channel = o.session.channels.session,
+  return [claw_spec = o.claw_spec, claw_label = claw.label, session_channel = o.session.channels.session,
           from_session = claw.from_session](const io::SessionDescription& received) {
     if (claw_spec) {
-      std::fprintf(stderr, "graspfill live: warning: --claw %s differs from the claw of the "
-                   "session description on %s (%s); using %s\n", claw_spec->c_str(),
-                   session_channel.c_str(), SessionClawLabel(received).c_str(),
+      std::fprintf(stderr,
+                   "graspfill live: warning: --claw %s differs from the claw of the "
+                   "session description on %s (%s); using %s\n",
+                   claw_spec->c_str(), session_channel.c_str(), SessionClawLabel(received).c_str(),
                    claw_spec->c_str());
     } else if (from_session) {
-      std::fprintf(stderr, "graspfill live: warning: a later session description on %s names "
-                   "another claw (%s); it is ignored, using %s\n", session_channel.c_str(),
-                   SessionClawLabel(received).c_str(), claw_label.c_str());
+      std::fprintf(stderr,
+                   "graspfill live: warning: a later session description on %s names "
+                   "another claw (%s); it is ignored, using %s\n",
+                   session_channel.c_str(), SessionClawLabel(received).c_str(), claw_label.c_str());
     } else {
-      std::fprintf(stderr, "graspfill live: warning: the session description on %s came after "
+      std::fprintf(stderr,
+                   "graspfill live: warning: the session description on %s came after "
                    "the first depth frame; its claw %s is ignored, using %s\n",
-                   session_channel.c_str(), SessionClawLabel(received).c_str(),
-                   claw_label.c_str());
+                   session_channel.c_str(), SessionClawLabel(received).c_str(), claw_label.c_str());
     }
   };
 }
@@ -253,8 +254,7 @@ int RunLive(const Args& args) {
   std::signal(SIGHUP, [](int) { g_interrupted = true; });  // a closed terminal: end cleanly
 
   PipelineConfig pipeline = session_config.module.pipeline;
-  const std::optional<LiveClaw> claw =
-      PickClaw(args, o, config_path, live, camera_source.get(), &pipeline);
+  const std::optional<LiveClaw> claw = PickClaw(args, o, config_path, live, camera_source.get(), &pipeline);
   if (!claw) return 1;
   *other_claw_warning = OtherClawWarning(o, *claw);
   live.Begin(claw->model, claw->description, pipeline);

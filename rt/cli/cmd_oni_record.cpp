@@ -11,8 +11,8 @@
 #include "commands.hpp"
 #include "graspfill/io/output_path.hpp"
 #include "number_parsing.hpp"
-#include "unknown_option.hpp"
 #include "sources/openni2_source.hpp"
+#include "unknown_option.hpp"
 
 namespace graspfill::cli {
 namespace {
@@ -39,14 +39,23 @@ int RunOniRecord(const Args& args) {
     for (size_t i = 0; i < args.size(); ++i) {
       const std::string& a = args[i];
       const bool has_value = i + 1 < args.size();
-      if (a == "--help" || a == "-h") { std::fputs(kUsage, stdout); std::fputs(kCameraUsage, stdout); return 0; }
-      else if (a == "--device" && has_value) camera.device.uri = args[++i];
-      else if (a == "-o" && has_value) out = args[++i];
-      else if (a == "--frames" && has_value) max_frames = ParseInteger<int64_t>(a, args[++i], 1, 100000000);
-      else if (a == "--duration-s" && has_value) duration_s = ParseDouble(a, args[++i], 0.0, 7 * 24 * 3600.0, "s");
-      else if (a == "--force") force = true;
-      else if (a != "--gripper-log" && ParseCameraOption(args, &i, &camera)) {}
-      else throw BadOption(a, std::string(kUsage) + kCameraUsage);
+      if (a == "--help" || a == "-h") {
+        std::fputs(kUsage, stdout);
+        std::fputs(kCameraUsage, stdout);
+        return 0;
+      } else if (a == "--device" && has_value)
+        camera.device.uri = args[++i];
+      else if (a == "-o" && has_value)
+        out = args[++i];
+      else if (a == "--frames" && has_value)
+        max_frames = ParseInteger<int64_t>(a, args[++i], 1, 100000000);
+      else if (a == "--duration-s" && has_value)
+        duration_s = ParseDouble(a, args[++i], 0.0, 7 * 24 * 3600.0, "s");
+      else if (a == "--force")
+        force = true;
+      else if (a != "--gripper-log" && ParseCameraOption(args, &i, &camera)) {
+      } else
+        throw BadOption(a, std::string(kUsage) + kCameraUsage);
     }
     if (camera.device.uri.empty()) throw UsageError("--device is required");
     if (out.empty()) throw UsageError("-o FILE.oni is required");
@@ -60,20 +69,22 @@ int RunOniRecord(const Args& args) {
   std::string mode;
   {
     rt::OpenNI2Source source(camera.device);  // throws naming the device
-  source.StartRecording(out);
-  mode = source.mode_text();
-  const auto start = std::chrono::steady_clock::now();
-  for (;;) {
-    if (max_frames > 0 && frames >= max_frames) break;
-    if (duration_s > 0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-                                  .count() > duration_s) {
-      break;
+    source.StartRecording(out);
+    mode = source.mode_text();
+    const auto start = std::chrono::steady_clock::now();
+    for (;;) {
+      if (max_frames > 0 && frames >= max_frames) break;
+      if (duration_s > 0 &&
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > duration_s) {
+        break;
+      }
+      const rt::FrameResult r = source.Next(&frame);
+      if (r == rt::FrameResult::kEndOfStream) break;
+      if (r == rt::FrameResult::kOk)
+        ++frames;
+      else
+        ++bad;
     }
-    const rt::FrameResult r = source.Next(&frame);
-    if (r == rt::FrameResult::kEndOfStream) break;
-    if (r == rt::FrameResult::kOk) ++frames;
-    else ++bad;
-  }
   }  // the recorder writes what it holds and its index as the source closes
   // Read the file back: OpenNI2's recorder reports no error of its own.
   rt::OpenNI2Source::Config check;
@@ -83,8 +94,8 @@ int RunOniRecord(const Args& args) {
   rt::FrameResult r;
   while ((r = playback.Next(&frame)) != rt::FrameResult::kEndOfStream) recorded += r == rt::FrameResult::kOk;
   std::printf("oni-record: %lld frames (%s) into %s, %lld read back; %lld bad\n",
-              static_cast<long long>(frames), mode.c_str(), out.c_str(),
-              static_cast<long long>(recorded), static_cast<long long>(bad));
+              static_cast<long long>(frames), mode.c_str(), out.c_str(), static_cast<long long>(recorded),
+              static_cast<long long>(bad));
   if (recorded != frames) {
     std::fprintf(stderr, "graspfill oni-record: %s holds %lld of the %lld frames read\n", out.c_str(),
                  static_cast<long long>(recorded), static_cast<long long>(frames));

@@ -11,15 +11,15 @@
 
 #include "commands.hpp"
 #include "error_text.hpp"
+#include "graspfill/io/cloud_file.hpp"
+#include "graspfill/io/output_path.hpp"
+#include "graspfill/repair/repairer.hpp"
 #include "mesh_option.hpp"
 #include "number_parsing.hpp"
 #include "option_walk.hpp"
-#include "threads_option.hpp"
 #include "preview.hpp"
+#include "threads_option.hpp"
 #include "unknown_option.hpp"
-#include "graspfill/io/output_path.hpp"
-#include "graspfill/io/cloud_file.hpp"
-#include "graspfill/repair/repairer.hpp"
 
 namespace graspfill::cli {
 namespace {
@@ -43,16 +43,13 @@ constexpr const char* kUsage =
     "  --num-threads  OpenMP threads of the repair, 0..1024 (default 1; 0: OpenMP's own count)\n"
     "example: graspfill repair scan.ply -o repaired.pcd --up 0,0,1 --mesh-out hull.stl\n";
 
-const char* KindName(HoleKind kind) {
-  return kind == HoleKind::kClaw ? "claw" : "missing_surface";
-}
+const char* KindName(HoleKind kind) { return kind == HoleKind::kClaw ? "claw" : "missing_surface"; }
 
 }  // namespace
 
 namespace {
 
-nlohmann::ordered_json RepairReportJson(const repair::RepairReport& r, size_t points_in,
-                                        size_t points_out) {
+nlohmann::ordered_json RepairReportJson(const repair::RepairReport& r, size_t points_in, size_t points_out) {
   nlohmann::ordered_json j;
   j["status"] = r.StatusText();
   j["points_in"] = points_in;
@@ -134,9 +131,12 @@ RepairOptions ParseRepairArgs(const Args& args) {
       o.force = true;
     } else if (a == "--mode" && has_value) {
       const std::string m = args[++*i];
-      if (m == "paper") o.config.mode = repair::RepairMode::kPaper;
-      else if (m == "best") o.config.mode = repair::RepairMode::kBest;
-      else throw UsageError("unknown mode '" + m + "'");
+      if (m == "paper")
+        o.config.mode = repair::RepairMode::kPaper;
+      else if (m == "best")
+        o.config.mode = repair::RepairMode::kBest;
+      else
+        throw UsageError("unknown mode '" + m + "'");
     } else if (a == "--num-threads" && has_value) {
       o.config.num_threads = ParseNumThreads(args[++*i]);
     } else if (a == "--scale" && has_value) {
@@ -166,8 +166,8 @@ void PrintRepairSummary(const RepairOptions& o, size_t points_in, const repair::
   std::printf("%s: %zu points in, %zu out (%s)\n", o.in.c_str(), points_in, result.cloud.size(),
               result.report.StatusText().c_str());
   for (const HoleSummary& h : result.report.holes) {
-    std::printf("  %-16s boundary %4d points, %5d points added\n", KindName(h.kind),
-                h.boundary_points, h.points_added);
+    std::printf("  %-16s boundary %4d points, %5d points added\n", KindName(h.kind), h.boundary_points,
+                h.points_added);
   }
   if (result.report.status == repair::RepairStatus::kRepaired && !result.report.symmetric) {
     std::printf("  no symmetry used: %s\n", result.report.symmetry_reason.c_str());

@@ -30,18 +30,18 @@
 #include "config_option.hpp"
 #include "data_paths.hpp"
 #include "error_text.hpp"
+#include "graspfill/io/cloud_file.hpp"
+#include "graspfill/io/lcm_log_reader.hpp"
+#include "graspfill/io/output_path.hpp"
 #include "mesh_option.hpp"
+#include "module/replay_session.hpp"
 #include "number_parsing.hpp"
 #include "preview.hpp"
 #include "progress.hpp"
 #include "refine_json.hpp"
 #include "replay_report.hpp"
-#include "unknown_option.hpp"
-#include "graspfill/io/cloud_file.hpp"
-#include "graspfill/io/lcm_log_reader.hpp"
-#include "graspfill/io/output_path.hpp"
-#include "module/replay_session.hpp"
 #include "threads_option.hpp"
+#include "unknown_option.hpp"
 
 namespace graspfill::cli {
 namespace {
@@ -94,12 +94,12 @@ constexpr const char* kUsage =
 
 struct ReplayOptions {
   rt::ReplaySessionConfig session;
-  std::string preview_dir;  ///< --preview, "" = none
-  std::string mesh_out;     ///< --mesh-out, "" = none
+  std::string preview_dir;       ///< --preview, "" = none
+  std::string mesh_out;          ///< --mesh-out, "" = none
   mesh::PlannerMeshConfig mesh;  ///< the config's collision_mesh, then the flags
-  bool mesh_flags{false};   ///< --mesh-max-triangles or --mesh-convex-hull given
+  bool mesh_flags{false};        ///< --mesh-max-triangles or --mesh-convex-hull given
   bool json{false};
-  std::optional<std::string> claw;  ///< --claw or the config's; none = the recording's
+  std::optional<std::string> claw;        ///< --claw or the config's; none = the recording's
   std::string claw_from{"command line"};  ///< where `claw` came from
   std::string claw_mesh_root;
   std::string config_path;  ///< --config, "" = none
@@ -142,42 +142,63 @@ void Parse(const Args& args, ReplayOptions* o) {
       *out = args[++i];
     };
     std::string v;
-    if (a == "--config") value(&o->config_path);  // read before (LoadConfigOption)
-    else if (a == "-o" || a == "--output") value(&s.output_path);
-    else if (a == "--preview") value(&o->preview_dir);
-    else if (a == "--mesh-out") value(&o->mesh_out);
-    else if (ParseMeshFlag(args, &i, &o->mesh, &o->mesh_flags)) continue;
-    else if (a == "--json") o->json = true;
-    else if (a == "--force") s.overwrite = true;
+    if (a == "--config")
+      value(&o->config_path);  // read before (LoadConfigOption)
+    else if (a == "-o" || a == "--output")
+      value(&s.output_path);
+    else if (a == "--preview")
+      value(&o->preview_dir);
+    else if (a == "--mesh-out")
+      value(&o->mesh_out);
+    else if (ParseMeshFlag(args, &i, &o->mesh, &o->mesh_flags))
+      continue;
+    else if (a == "--json")
+      o->json = true;
+    else if (a == "--force")
+      s.overwrite = true;
     else if (a == "--claw") {
       value(&v);
       o->claw = v;
       o->claw_from = "command line";
-    }
-    else if (a == "--claw-mesh-root") value(&o->claw_mesh_root);
-    else if (a == "--lcm-url") value(&s.lcm_url);
-    else if (a == "--no-publish") s.publish = false;
-    else if (a == "--skip-bad-frames") s.skip_bad_events = true;
-    else if (a == "--no-repair") s.repair = false;
-    else if (a == "--no-evidence") s.repair_evidence = false;
-    else if (a == "--no-refine") s.pipeline.refine.enabled = false;
-    else if (a == "--refine") s.pipeline.refine.enabled = true;
-    else if (a == "--track-object") s.pipeline.track_object.enabled = true;
+    } else if (a == "--claw-mesh-root")
+      value(&o->claw_mesh_root);
+    else if (a == "--lcm-url")
+      value(&s.lcm_url);
+    else if (a == "--no-publish")
+      s.publish = false;
+    else if (a == "--skip-bad-frames")
+      s.skip_bad_events = true;
+    else if (a == "--no-repair")
+      s.repair = false;
+    else if (a == "--no-evidence")
+      s.repair_evidence = false;
+    else if (a == "--no-refine")
+      s.pipeline.refine.enabled = false;
+    else if (a == "--refine")
+      s.pipeline.refine.enabled = true;
+    else if (a == "--track-object")
+      s.pipeline.track_object.enabled = true;
     else if (a == "--num-threads") {
       value(&v);
       s.pipeline.num_threads = s.repair_config.num_threads = ParseNumThreads(v);
-    }
-    else if (a == "--repair-mode") {
+    } else if (a == "--repair-mode") {
       value(&v);
-      if (v == "paper") s.repair_config.mode = repair::RepairMode::kPaper;
-      else if (v == "best") s.repair_config.mode = repair::RepairMode::kBest;
-      else throw UsageError("--repair-mode must be paper or best, not '" + v + "'");
-    }
-    else if (a == "--depth-channel") value(&s.log.channels.depth);
-    else if (a == "--gripper-channel") value(&s.log.channels.gripper_state);
-    else if (a == "--cloud-channel") value(&s.log.channels.object_cloud);
-    else if (a == "--session-channel") value(&s.log.channels.session);
-    else if (a == "--mesh-channel") value(&s.log.channels.collision_mesh);
+      if (v == "paper")
+        s.repair_config.mode = repair::RepairMode::kPaper;
+      else if (v == "best")
+        s.repair_config.mode = repair::RepairMode::kBest;
+      else
+        throw UsageError("--repair-mode must be paper or best, not '" + v + "'");
+    } else if (a == "--depth-channel")
+      value(&s.log.channels.depth);
+    else if (a == "--gripper-channel")
+      value(&s.log.channels.gripper_state);
+    else if (a == "--cloud-channel")
+      value(&s.log.channels.object_cloud);
+    else if (a == "--session-channel")
+      value(&s.log.channels.session);
+    else if (a == "--mesh-channel")
+      value(&s.log.channels.collision_mesh);
     else if (a == "--voxel-m") {
       value(&v);
       SetVoxel(ParseDouble(a, v, kMinVoxelM, kMaxVoxelM, "m"), s.sdf_trunc_voxels, &s.pipeline);
@@ -208,8 +229,8 @@ void Parse(const Args& args, ReplayOptions* o) {
 // the config's claw.spec over the recording's (warned about when they
 // differ), else the recording's, else the three-finger default.
 // Throws std::runtime_error on a claw that cannot be built.
-claw::ClawModel ChooseClaw(const ReplayOptions& o,
-                           const std::optional<io::SessionDescription>& session, ClawUse* use) {
+claw::ClawModel ChooseClaw(const ReplayOptions& o, const std::optional<io::SessionDescription>& session,
+                           ClawUse* use) {
   if (o.claw) {
     claw::ClawModel model = MakeClaw(*o.claw, o.claw_mesh_root);
     use->label = *o.claw;
@@ -259,7 +280,8 @@ int64_t CountDepthFrames(const std::string& path, const std::string& channel) {
 // cut short), in the order the replay met them.
 void PrintNotes(const ReplayOptions& o, const rt::ReplayResult& r) {
   if (r.late_sessions > 0) {
-    std::fprintf(stderr, "graspfill replay: warning: the session description at utime %lld "
+    std::fprintf(stderr,
+                 "graspfill replay: warning: the session description at utime %lld "
                  "comes after the recording's first one or its first events; its claw, "
                  "workspace box and voxel are ignored\n",
                  static_cast<long long>(r.late_session_utime));
@@ -267,7 +289,8 @@ void PrintNotes(const ReplayOptions& o, const rt::ReplayResult& r) {
   if (r.partial_event_bytes > 0) {
     // A recording cut short (crash, kill, power cut, full disk): the whole
     // events before its partial last one are the log.
-    std::fprintf(stderr, "graspfill replay: note: log '%s' ends in a partial event (%lld bytes "
+    std::fprintf(stderr,
+                 "graspfill replay: note: log '%s' ends in a partial event (%lld bytes "
                  "after its %lld whole events: a recording cut short), skipped\n",
                  o.session.log.path.c_str(), static_cast<long long>(r.partial_event_bytes),
                  static_cast<long long>(r.events_read));
@@ -275,13 +298,14 @@ void PrintNotes(const ReplayOptions& o, const rt::ReplayResult& r) {
 }
 
 // Why the replay failed, on stderr (its exit code is 1).
-void PrintFailure(const ReplayOptions& o, const rt::ReplaySession& session,
-                  const rt::ReplayResult& r) {
+void PrintFailure(const ReplayOptions& o, const rt::ReplaySession& session, const rt::ReplayResult& r) {
   const rt::ReplaySessionConfig& c = o.session;
   switch (r.end) {
-    case rt::ReplayEnd::kDone: return;
+    case rt::ReplayEnd::kDone:
+      return;
     case rt::ReplayEnd::kBadEvent:
-      std::fprintf(stderr, "graspfill replay: bad event in '%s': %s\n"
+      std::fprintf(stderr,
+                   "graspfill replay: bad event in '%s': %s\n"
                    "(pass --skip-bad-frames to skip such events)\n",
                    c.log.path.c_str(), r.error.c_str());
       return;
@@ -297,20 +321,25 @@ void PrintFailure(const ReplayOptions& o, const rt::ReplaySession& session,
       return;
     }
     case rt::ReplayEnd::kRefineRejectedEvery:
-      std::fprintf(stderr, "graspfill replay: pose refinement rejected every posed frame (%s)\n"
+      std::fprintf(stderr,
+                   "graspfill replay: pose refinement rejected every posed frame (%s)\n"
                    "(pass --no-refine to fuse at the logged poses)\n",
                    RefineSummary(*session.pipeline()).c_str());
       return;
     case rt::ReplayEnd::kNoPosedFrames:
-      std::fprintf(stderr, "graspfill replay: no depth frame had a gripper pose within %.1f ms "
-                   "(%lld frames, %lld gripper states)\n", c.pipeline.max_pose_gap_us / 1000.0,
-                   static_cast<long long>(r.stats.frames_in), static_cast<long long>(r.stats.states_in));
+      std::fprintf(stderr,
+                   "graspfill replay: no depth frame had a gripper pose within %.1f ms "
+                   "(%lld frames, %lld gripper states)\n",
+                   c.pipeline.max_pose_gap_us / 1000.0, static_cast<long long>(r.stats.frames_in),
+                   static_cast<long long>(r.stats.states_in));
       return;
-    case rt::ReplayEnd::kDeliveryFailed: break;
+    case rt::ReplayEnd::kDeliveryFailed:
+      break;
   }
   const rt::GraspDelivery& g = r.grasps.back();
   if (g.step == rt::DeliveryStep::kRepairFailed) {
-    std::fprintf(stderr, "graspfill replay: hole repair failed on the fused cloud (%zu points): %s\n"
+    std::fprintf(stderr,
+                 "graspfill replay: hole repair failed on the fused cloud (%zu points): %s\n"
                  "(pass --no-repair to write the fused cloud as is)\n",
                  g.fused_points, g.repair_error.c_str());
   } else if (g.model == rt::DeliveredModel::kEarlierGrasp) {
@@ -338,13 +367,13 @@ bool CheckOutputs(const ReplayOptions& o) {
 
 // The preview and the collision mesh of the model written (the last
 // grasp's), into *report. False after saying why one failed.
-bool WritePictureAndMesh(const ReplayOptions& o, const rt::ReplayResult& r,
-                         std::string* preview_path, nlohmann::ordered_json* mesh) {
+bool WritePictureAndMesh(const ReplayOptions& o, const rt::ReplayResult& r, std::string* preview_path,
+                         nlohmann::ordered_json* mesh) {
   try {
     if (!o.preview_dir.empty()) {
-      *preview_path = WritePreview(o.preview_dir, o.session.output_path,
-                                   r.output_fused ? &*r.output_fused : nullptr, r.output,
-                                   o.session.overwrite);
+      *preview_path =
+          WritePreview(o.preview_dir, o.session.output_path, r.output_fused ? &*r.output_fused : nullptr,
+                       r.output, o.session.overwrite);
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "graspfill replay: %s\n", ErrorText(e).c_str());
@@ -411,10 +440,17 @@ int RunReplay(const Args& args) {
   std::string preview_path;
   nlohmann::ordered_json mesh;
   if (!WritePictureAndMesh(o, result, &preview_path, &mesh)) return 1;
-  const ReplayReport report{o.session, result, *session.pipeline(), claw_use, o.config_path,
-                            preview_path, o.mesh_out.empty() ? nullptr : &mesh};
-  if (o.json) std::printf("%s\n", ReplayReportJson(report).dump(2).c_str());
-  else PrintReplayReport(report);
+  const ReplayReport report{o.session,
+                            result,
+                            *session.pipeline(),
+                            claw_use,
+                            o.config_path,
+                            preview_path,
+                            o.mesh_out.empty() ? nullptr : &mesh};
+  if (o.json)
+    std::printf("%s\n", ReplayReportJson(report).dump(2).c_str());
+  else
+    PrintReplayReport(report);
   return 0;
 }
 

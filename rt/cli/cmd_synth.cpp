@@ -120,7 +120,7 @@ std::optional<synth::SceneConfig> SceneConfigOf(const SynthOptions& o) {
 // Every file a recording writes, the claw's link meshes included.
 std::vector<std::string> RecordingOutputs(const claw::ClawModel& claw_model, bool slip) {
   std::vector<std::string> outputs = {"recording.lcmlog", "gt_mesh.ply", "gt_cloud.ply",
-                                      "claw.ply", "scene.json", "claw/claw.json"};
+                                      "claw.ply",         "scene.json",  "claw/claw.json"};
   for (const claw::Link& link : claw_model.links()) outputs.push_back("claw/" + link.name + ".ply");
   if (slip) {
     outputs.push_back("gt_mesh_before_slip.ply");
@@ -137,10 +137,8 @@ size_t WriteRecording(const synth::Scene& scene, const SynthOptions& o, const sy
   // The session description first, stamped with the first event's time
   // (so that lcm-logplayer does not wait before the recording starts).
   const std::vector<synth::TimelineEvent> timeline = scene.Timeline();
-  const int64_t start_utime =
-      timeline.empty() ? scene.config().motion.start_utime : timeline.front().utime;
-  log.Write(channels.session, start_utime,
-            io::EncodeSessionDescription(SessionOf(scene, start_utime, o)));
+  const int64_t start_utime = timeline.empty() ? scene.config().motion.start_utime : timeline.front().utime;
+  log.Write(channels.session, start_utime, io::EncodeSessionDescription(SessionOf(scene, start_utime, o)));
   ProgressLine progress("synth", "frames", scene.config().num_frames);
   int64_t frames_done = 0;
   const int64_t states = WriteSceneEvents(
@@ -161,8 +159,8 @@ size_t WriteRecording(const synth::Scene& scene, const SynthOptions& o, const sy
 // The truth is where the object ends; with a slip, the same samples
 // moved by the slide (point for point) beside the truth as grasped. Then
 // the claw, posed and as a description.
-void WriteTruthAndClaw(const synth::Scene& scene, const claw::ClawModel& claw_model,
-                       const fs::path& dir, io::IfExists if_exists) {
+void WriteTruthAndClaw(const synth::Scene& scene, const claw::ClawModel& claw_model, const fs::path& dir,
+                       io::IfExists if_exists) {
   io::WriteMeshPly((dir / "gt_mesh.ply").string(), scene.object_G_after_slip(), if_exists);
   ObjectCloud gt = GroundTruthCloud(scene, scene.config().seed);
   if (scene.config().slip.any()) {
@@ -176,18 +174,18 @@ void WriteTruthAndClaw(const synth::Scene& scene, const claw::ClawModel& claw_mo
   WriteClawDescription(claw_model, dir / "claw", if_exists);
 }
 
-void PrintRecordingSummary(const synth::Scene& scene, const SynthOptions& o,
-                           const fs::path& log_path, size_t gripper_states, int64_t log_bytes) {
+void PrintRecordingSummary(const synth::Scene& scene, const SynthOptions& o, const fs::path& log_path,
+                           size_t gripper_states, int64_t log_bytes) {
   const Eigen::AlignedBox3d ws = scene.WorkspaceBoxG(0.02);
   std::printf(
       "wrote %s: %d depth frames + %zu gripper states (%lld bytes), opening %.4f m, "
       "workspace box in G [%.3f %.3f %.3f] .. [%.3f %.3f %.3f] m\n",
-      log_path.string().c_str(), scene.config().num_frames, gripper_states,
-      static_cast<long long>(log_bytes), scene.placement().opening_m, ws.min().x(),
-      ws.min().y(), ws.min().z(), ws.max().x(), ws.max().y(), ws.max().z());
+      log_path.string().c_str(), scene.config().num_frames, gripper_states, static_cast<long long>(log_bytes),
+      scene.placement().opening_m, ws.min().x(), ws.min().y(), ws.min().z(), ws.max().x(), ws.max().y(),
+      ws.max().z());
   if (scene.config().slip.any()) {
-    std::printf("slip: %.2f mm along [%.3f %.3f %.3f] in G from utime %lld over %.2f s\n",
-                o.slip_mm, scene.slip().direction_G().x(), scene.slip().direction_G().y(),
+    std::printf("slip: %.2f mm along [%.3f %.3f %.3f] in G from utime %lld over %.2f s\n", o.slip_mm,
+                scene.slip().direction_G().x(), scene.slip().direction_G().y(),
                 scene.slip().direction_G().z(), static_cast<long long>(scene.slip().start_utime()),
                 scene.config().slip.duration_s);
   }

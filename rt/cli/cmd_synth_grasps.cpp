@@ -69,17 +69,16 @@ std::vector<synth::SceneConfig> GraspConfigs(const SynthGraspsOptions& o) {
     configs.push_back(config);
     const synth::Scene scene(config);
     const std::vector<synth::TimelineEvent> timeline = scene.Timeline();
-    start_utime = timeline.back().utime + kGapBetweenGraspsUs +
-                  static_cast<int64_t>(1e6 * config.gripper_lead_s);
+    start_utime =
+        timeline.back().utime + kGapBetweenGraspsUs + static_cast<int64_t>(1e6 * config.gripper_lead_s);
   }
   return configs;
 }
 
 // Grasp k's events (its gripper states carrying grasp_id k) into the log,
 // its truth into DIR/grasp<k>/; returns its entry of grasps.json.
-nlohmann::ordered_json WriteGrasp(const SynthGraspsOptions& o, size_t k,
-                                  const synth::SceneConfig& config, const synth::Scene& scene,
-                                  const fs::path& dir, rt::LcmLogWriter* log,
+nlohmann::ordered_json WriteGrasp(const SynthGraspsOptions& o, size_t k, const synth::SceneConfig& config,
+                                  const synth::Scene& scene, const fs::path& dir, rt::LcmLogWriter* log,
                                   ProgressLine* progress, int64_t* frames_done) {
   const int64_t grasp_id = static_cast<int64_t>(k) + 1;
   const std::vector<synth::TimelineEvent> timeline = scene.Timeline();
@@ -97,9 +96,8 @@ nlohmann::ordered_json WriteGrasp(const SynthGraspsOptions& o, size_t k,
   io::WriteCloudPly((gdir / "gt_cloud.ply").string(), GroundTruthCloud(scene, config.seed),
                     io::ReplaceIf(o.force));
   progress->Clear();  // the grasp's line on a line of its own
-  std::printf("grasp %lld: %s, %d depth frames + %lld gripper states\n",
-              static_cast<long long>(grasp_id), o.shapes[k].c_str(), config.num_frames,
-              static_cast<long long>(states));
+  std::printf("grasp %lld: %s, %d depth frames + %lld gripper states\n", static_cast<long long>(grasp_id),
+              o.shapes[k].c_str(), config.num_frames, static_cast<long long>(states));
   return {{"grasp_id", grasp_id},
           {"shape", o.shapes[k]},
           {"seed", config.seed},
@@ -133,7 +131,8 @@ bool WriteGrasps(const SynthGraspsOptions& o, const std::vector<synth::SceneConf
       DescribeBuiltinClaw(o.claw, scene.placement().claw, &session);
       log.Write(channels.session, session.utime, io::EncodeSessionDescription(session));
     } else if (text != claw_text) {
-      std::fprintf(stderr, "graspfill synth: --grasps: shape '%s' needs other claw dimensions "
+      std::fprintf(stderr,
+                   "graspfill synth: --grasps: shape '%s' needs other claw dimensions "
                    "than the first grasp's (one claw holds every object)\n",
                    o.shapes[k].c_str());
       return false;
@@ -169,8 +168,7 @@ int RunSynthGrasps(const SynthGraspsOptions& o) {
     std::fprintf(stderr, "graspfill synth: error: %s\n", ErrorText(e).c_str());
     return 1;
   }
-  std::printf("wrote %s: %zu grasps\n", (dir / "recording.lcmlog").string().c_str(),
-              o.shapes.size());
+  std::printf("wrote %s: %zu grasps\n", (dir / "recording.lcmlog").string().c_str(), o.shapes.size());
   return 0;
 }
 

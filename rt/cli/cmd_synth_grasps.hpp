@@ -18,11 +18,11 @@ struct SynthGraspsOptions {
   std::vector<std::string> shapes;  ///< one per grasp, in order
   std::string claw{"three-finger"};
   std::string grasp{"top-straight"};
-  uint64_t seed{1};                 ///< grasp k uses seed + k - 1
-  int frames{90};                   ///< depth frames per grasp
+  uint64_t seed{1};  ///< grasp k uses seed + k - 1
+  int frames{90};    ///< depth frames per grasp
   bool ideal{false};
   double wall_m{0.0};
-  CameraIntrinsics intrinsics;      ///< the camera (--width, --height)
+  CameraIntrinsics intrinsics;  ///< the camera (--width, --height)
   bool force{false};
   std::string output_dir;
 };

@@ -60,11 +60,13 @@ json ProtocolJson(const SynthProtocolOptions& o, const synth::PaperProtocolCloud
   for (const Eigen::Vector3d& centre : c.claw_hole_centres) centres.push_back(Vec(centre));
   return {
       {"format", "graspfill-synth-protocol/1"},
-      {"doc", "the simulated protocol of Cui et al. 2021, section 3.1: a dense sample of the "
-              "shape, the top cut off, three claw-sized holes dug out of the side, a random "
-              "rigid pose; ground truth an independent sample of the whole surface"},
-      {"frames_doc", "object frame: z up, base at z = 0, x and y centred on the shape; "
-                     "T_cloud_object maps object points into the clouds' frame; meters"},
+      {"doc",
+       "the simulated protocol of Cui et al. 2021, section 3.1: a dense sample of the "
+       "shape, the top cut off, three claw-sized holes dug out of the side, a random "
+       "rigid pose; ground truth an independent sample of the whole surface"},
+      {"frames_doc",
+       "object frame: z up, base at z = 0, x and y centred on the shape; "
+       "T_cloud_object maps object points into the clouds' frame; meters"},
       {"protocol", "paper"},
       {"shape", synth::ShapeName(o.shape)},
       {"size_m", Vec(c.size_m)},
@@ -75,7 +77,8 @@ json ProtocolJson(const SynthProtocolOptions& o, const synth::PaperProtocolCloud
       {"ground_truth", {{"file", kTruthFile}, {"points", c.ground_truth.size()}}},
       {"T_cloud_object", MatrixRows(c.T_cloud_object)},
       {"claw_hole_centres", centres},
-      {"claw_hole_centres_doc", "one per claw hole, cloud frame: a marker near the surface, not a surface point"},
+      {"claw_hole_centres_doc",
+       "one per claw hole, cloud frame: a marker near the surface, not a surface point"},
   };
 }
 
@@ -95,8 +98,7 @@ int RunSynthProtocol(const SynthProtocolOptions& o) {
       if (fs::exists(fs::symlink_status(path, ec))) existing.push_back(path.string());
     }
     if (!existing.empty()) {
-      std::fprintf(stderr,
-                   "graspfill synth: refusing to overwrite existing output (use --force):\n");
+      std::fprintf(stderr, "graspfill synth: refusing to overwrite existing output (use --force):\n");
       for (const std::string& path : existing) std::fprintf(stderr, "  %s\n", path.c_str());
       return 1;
     }
@@ -118,9 +120,8 @@ int RunSynthProtocol(const SynthProtocolOptions& o) {
   io::WriteFileAtomically(json_path.string(), ProtocolJson(o, cloud).dump(2) + "\n", "cannot write",
                           if_exists);
   std::printf("wrote %s: %zu points (%s, top cut, %zu claw holes); truth %s: %zu points; %s\n",
-              holey_path.string().c_str(), cloud.holey.size(),
-              synth::ShapeName(o.shape).c_str(), cloud.claw_hole_centres.size(),
-              truth_path.string().c_str(), cloud.ground_truth.size(),
+              holey_path.string().c_str(), cloud.holey.size(), synth::ShapeName(o.shape).c_str(),
+              cloud.claw_hole_centres.size(), truth_path.string().c_str(), cloud.ground_truth.size(),
               json_path.string().c_str());
   return 0;
 }

@@ -10,13 +10,13 @@
 
 #include "commands.hpp"
 #include "error_text.hpp"
-#include "number_parsing.hpp"
-#include "unknown_option.hpp"
-#include "graspfill/io/output_path.hpp"
 #include "graspfill/io/cloud_file.hpp"
+#include "graspfill/io/output_path.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/io/png.hpp"
 #include "graspfill/view/contact_sheet.hpp"
+#include "number_parsing.hpp"
+#include "unknown_option.hpp"
 
 namespace graspfill::cli {
 namespace {
@@ -46,11 +46,16 @@ void Parse(const Args& args, ViewOptions* o) {
       if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
       return args[++i];
     };
-    if (a == "-o" || a == "--output") o->output_path = value();
-    else if (a == "--views") o->sheet.views = ParseInteger<int>("--views", value(), 1, 12);
-    else if (a == "--force") o->force = true;
-    else if (!a.empty() && a[0] != '-') o->clouds.push_back(a);
-    else throw BadOption(a, kUsage);
+    if (a == "-o" || a == "--output")
+      o->output_path = value();
+    else if (a == "--views")
+      o->sheet.views = ParseInteger<int>("--views", value(), 1, 12);
+    else if (a == "--force")
+      o->force = true;
+    else if (!a.empty() && a[0] != '-')
+      o->clouds.push_back(a);
+    else
+      throw BadOption(a, kUsage);
   }
   if (o->clouds.empty()) throw UsageError("need a CLOUD.ply");
   if (o->clouds.size() > 2) throw UsageError("at most two clouds (before and after)");
@@ -93,8 +98,8 @@ int RunView(const Args& args) {
     }
     const RgbImage image = view::RenderSheet(sheet, o.sheet);
     io::WritePng(o.output_path, image, io::ReplaceIf(o.force));
-    std::printf("wrote %s: %zu cloud(s) x %d view(s), %d x %d pixels\n", o.output_path.c_str(),
-                clouds.size(), o.sheet.views, image.width, image.height);
+    std::printf("wrote %s: %zu cloud(s) x %d view(s), %d x %d pixels\n", o.output_path.c_str(), clouds.size(),
+                o.sheet.views, image.width, image.height);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "graspfill view: %s\n", ErrorText(e).c_str());
     return 1;

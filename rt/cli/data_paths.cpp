@@ -14,8 +14,7 @@ fs::path ExecutableDir() {
   std::error_code error;
   const fs::path exe = fs::read_symlink("/proc/self/exe", error);
   if (error) {
-    throw std::runtime_error("cannot locate the graspfill executable (/proc/self/exe): " +
-                             error.message());
+    throw std::runtime_error("cannot locate the graspfill executable (/proc/self/exe): " + error.message());
   }
   return exe.parent_path();
 }

@@ -7,11 +7,11 @@
 #include "channel_options.hpp"
 #include "claw_option.hpp"
 #include "data_paths.hpp"
+#include "module/cloud_repair.hpp"
 #include "number_parsing.hpp"
+#include "sources/openni2_source.hpp"
 #include "threads_option.hpp"
 #include "unknown_option.hpp"
-#include "module/cloud_repair.hpp"
-#include "sources/openni2_source.hpp"
 
 namespace graspfill::cli {
 namespace {
@@ -115,48 +115,63 @@ LiveOptions ParseLiveOptions(const Args& args, const std::optional<rt::RigConfig
     if (a == "--help" || a == "-h") {
       o.help = true;
       return o;
-    }
-    else if (a == "--config" && has_value) ++i;  // read above
-    else if (a == "--device" && has_value) camera.device.uri = args[++i];
-    else if (ParseCameraOption(args, &i, &camera)) {}
-    else if (a == "--depth-from-lcm") o.depth_from_lcm = true;
+    } else if (a == "--config" && has_value)
+      ++i;  // read above
+    else if (a == "--device" && has_value)
+      camera.device.uri = args[++i];
+    else if (ParseCameraOption(args, &i, &camera)) {
+    } else if (a == "--depth-from-lcm")
+      o.depth_from_lcm = true;
     else if (a == "--idle-exit-s" && has_value) {
       session_config.limits.idle_exit_s = ParseDouble(a, args[++i], 0.0, kMaxSeconds, "s");
-    }
-    else if (a == "--depth-channel" && has_value) channels.depth = args[++i];
-    else if (a == "--lcm-url" && has_value) session_config.lcm_url = args[++i];
-    else if (a == "--claw" && has_value) o.claw_spec = args[++i];
-    else if (a == "--claw-mesh-root" && has_value) o.mesh_root = args[++i];
+    } else if (a == "--depth-channel" && has_value)
+      channels.depth = args[++i];
+    else if (a == "--lcm-url" && has_value)
+      session_config.lcm_url = args[++i];
+    else if (a == "--claw" && has_value)
+      o.claw_spec = args[++i];
+    else if (a == "--claw-mesh-root" && has_value)
+      o.mesh_root = args[++i];
     else if (a == "--publish-every" && has_value) {
       module_config.extract_every_n_frames = ParseInteger<int>(a, args[++i], 0, 100000);
-    }
-    else if (a == "--no-repair") session_config.repair = false;
-    else if (a == "--no-incremental") session_config.repair_options.incremental = false;
-    else if (a == "--no-refine") module_config.pipeline.refine.enabled = false;
-    else if (a == "--refine") module_config.pipeline.refine.enabled = true;
-    else if (a == "--track-object") module_config.pipeline.track_object.enabled = true;
+    } else if (a == "--no-repair")
+      session_config.repair = false;
+    else if (a == "--no-incremental")
+      session_config.repair_options.incremental = false;
+    else if (a == "--no-refine")
+      module_config.pipeline.refine.enabled = false;
+    else if (a == "--refine")
+      module_config.pipeline.refine.enabled = true;
+    else if (a == "--track-object")
+      module_config.pipeline.track_object.enabled = true;
     else if (a == "--num-threads" && has_value) {
       module_config.pipeline.num_threads = repair_config.num_threads = ParseNumThreads(args[++i]);
-    }
-    else if (a == "--repair-mode" && has_value) {
+    } else if (a == "--repair-mode" && has_value) {
       const std::string mode = args[++i];
-      if (mode == "paper") repair_config.mode = repair::RepairMode::kPaper;
-      else if (mode == "best") repair_config.mode = repair::RepairMode::kBest;
-      else throw UsageError("--repair-mode must be paper or best, not '" + mode + "'");
-    }
-    else if (a == "--record" && has_value) session_config.record.path = args[++i];
-    else if (a == "--force") o.force = true;
+      if (mode == "paper")
+        repair_config.mode = repair::RepairMode::kPaper;
+      else if (mode == "best")
+        repair_config.mode = repair::RepairMode::kBest;
+      else
+        throw UsageError("--repair-mode must be paper or best, not '" + mode + "'");
+    } else if (a == "--record" && has_value)
+      session_config.record.path = args[++i];
+    else if (a == "--force")
+      o.force = true;
     else if (a == "--heap-reserve-mb" && has_value) {
       session_config.heap_reserve_mb = ParseInteger<int>(a, args[++i], 0, 65536);
-    }
-    else if (a == "--duration-s" && has_value) {
+    } else if (a == "--duration-s" && has_value) {
       session_config.limits.duration_s = ParseDouble(a, args[++i], 0.0, kMaxSeconds, "s");
-    }
-    else if (a == "--gripper-channel" && has_value) channels.gripper_state = args[++i];
-    else if (a == "--cloud-channel" && has_value) channels.object_cloud = args[++i];
-    else if (a == "--status-channel" && has_value) channels.status = args[++i];
-    else if (a == "--session-channel" && has_value) channels.session = args[++i];
-    else throw BadOption(a, std::string(kLiveUsage) + kCameraUsage);
+    } else if (a == "--gripper-channel" && has_value)
+      channels.gripper_state = args[++i];
+    else if (a == "--cloud-channel" && has_value)
+      channels.object_cloud = args[++i];
+    else if (a == "--status-channel" && has_value)
+      channels.status = args[++i];
+    else if (a == "--session-channel" && has_value)
+      channels.session = args[++i];
+    else
+      throw BadOption(a, std::string(kLiveUsage) + kCameraUsage);
   }
   CheckChannelOptions(channels);  // the config's and the flags'
   if (o.claw_spec) o.claw_spec = ResolveClawSpec(*o.claw_spec, InstalledClawsDir());

@@ -7,9 +7,9 @@
 #include <string>
 
 #include "commands.hpp"
+#include "config/rig_config.hpp"
 #include "graspfill/repair/repairer.hpp"
 #include "module/live_session.hpp"
-#include "config/rig_config.hpp"
 #include "sources/camera_source.hpp"
 
 namespace graspfill::cli {

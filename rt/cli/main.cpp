@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "graspfill/core/openmp_threads.hpp"
 #include "error_text.hpp"
+#include "graspfill/core/openmp_threads.hpp"
 #include "graspfill/io/messages.hpp"
 #include "progress.hpp"
 #include "unknown_option.hpp"
@@ -41,23 +41,23 @@ void KeepFreedMemoryForReuse() {
 
 void PrintUsage() {
   std::fprintf(stderr,
-      "usage: graspfill <command> [options]\n"
-      "commands:\n"
-      "  synth   write a synthetic recording (LCM log) and its ground truth\n"
-      "  replay  replay a recording through the pipeline, repair and write the cloud\n"
-      "  eval    compare a predicted cloud with the ground truth\n"
-      "  bench   per-frame timings against Open3D's bare integration; `bench repair`: Tables 1-3;\n"
-      "          `bench live`: the live module's latency and drops at 1x, 2x, 4x\n"
-      "  demo    replay the bundled recording and evaluate it\n"
-      "  live    OpenNI2 camera + gripper states over LCM -> object cloud over LCM\n"
-      "  oni-record  an OpenNI2 device's depth into an .oni file (OpenNI2's recorder)\n"
-      "  repair  fill the claw holes and the unseen top of an object cloud\n"
-      "  claw    write a claw (built-in, description or URDF) posed at an opening as PLY\n"
-      "  config  the rig config: --dump-defaults (documented YAML), --check FILE\n"
-      "  view    a picture (PNG) of clouds in their provenance colours, before / after\n"
-      "run `graspfill <command> --help` for the command's options\n"
-      "options of every command: --quiet (no progress line on a terminal)\n"
-      "graspfill --version: the version\n");
+               "usage: graspfill <command> [options]\n"
+               "commands:\n"
+               "  synth   write a synthetic recording (LCM log) and its ground truth\n"
+               "  replay  replay a recording through the pipeline, repair and write the cloud\n"
+               "  eval    compare a predicted cloud with the ground truth\n"
+               "  bench   per-frame timings against Open3D's bare integration; `bench repair`: Tables 1-3;\n"
+               "          `bench live`: the live module's latency and drops at 1x, 2x, 4x\n"
+               "  demo    replay the bundled recording and evaluate it\n"
+               "  live    OpenNI2 camera + gripper states over LCM -> object cloud over LCM\n"
+               "  oni-record  an OpenNI2 device's depth into an .oni file (OpenNI2's recorder)\n"
+               "  repair  fill the claw holes and the unseen top of an object cloud\n"
+               "  claw    write a claw (built-in, description or URDF) posed at an opening as PLY\n"
+               "  config  the rig config: --dump-defaults (documented YAML), --check FILE\n"
+               "  view    a picture (PNG) of clouds in their provenance colours, before / after\n"
+               "run `graspfill <command> --help` for the command's options\n"
+               "options of every command: --quiet (no progress line on a terminal)\n"
+               "graspfill --version: the version\n");
 }
 
 }  // namespace
@@ -81,8 +81,10 @@ int main(int argc, char** argv) {
   // --quiet is every command's: taken off before the command reads its own.
   graspfill::cli::Args args;
   for (int i = 2; i < argc; ++i) {
-    if (std::string(argv[i]) == "--quiet") graspfill::cli::ProgressQuiet() = true;
-    else args.emplace_back(argv[i]);
+    if (std::string(argv[i]) == "--quiet")
+      graspfill::cli::ProgressQuiet() = true;
+    else
+      args.emplace_back(argv[i]);
   }
   try {
     if (command == "synth") return graspfill::cli::RunSynth(args);
@@ -105,7 +107,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   const std::string near = graspfill::cli::Nearest(
-      command, {"synth", "replay", "eval", "bench", "demo", "live", "oni-record", "repair", "claw", "config", "view"});
+      command,
+      {"synth", "replay", "eval", "bench", "demo", "live", "oni-record", "repair", "claw", "config", "view"});
   std::fprintf(stderr, "graspfill: unknown command '%s'%s\n", command.c_str(),
                near.empty() ? "" : (" (did you mean " + near + "?)").c_str());
   PrintUsage();

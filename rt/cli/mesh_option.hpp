@@ -14,11 +14,11 @@
 #include <system_error>
 
 #include "commands.hpp"
-#include "number_parsing.hpp"
 #include "graspfill/io/mesh_export.hpp"
 #include "graspfill/mesh/mesh_deviation.hpp"
-#include "graspfill/mesh/planner_mesh.hpp"
 #include "graspfill/mesh/mesh_geometry.hpp"
+#include "graspfill/mesh/planner_mesh.hpp"
+#include "number_parsing.hpp"
 
 namespace graspfill::cli {
 
@@ -26,15 +26,14 @@ namespace graspfill::cli {
 /// *config (advancing *i past a value); *given: one was. False for any other
 /// argument.
 /// @throws UsageError on a missing or bad value.
-inline bool ParseMeshFlag(const Args& args, size_t* i, mesh::PlannerMeshConfig* config,
-                          bool* given) {
+inline bool ParseMeshFlag(const Args& args, size_t* i, mesh::PlannerMeshConfig* config, bool* given) {
   const std::string& a = args[*i];
   if (a == "--mesh-convex-hull") {
     config->convex_hull = true;
   } else if (a == "--mesh-max-triangles") {
     if (*i + 1 >= args.size()) throw UsageError(a + " needs a value");
-    config->max_triangles = ParseInteger<int>(a, args[++*i], mesh::kMinPlannerTriangles,
-                                              mesh::kMaxPlannerTriangles);
+    config->max_triangles =
+        ParseInteger<int>(a, args[++*i], mesh::kMinPlannerTriangles, mesh::kMaxPlannerTriangles);
   } else {
     return false;
   }
@@ -68,9 +67,8 @@ inline void CheckMeshOutOption(const std::string& mesh_path, const std::string& 
 /// @throws std::exception from the write.
 inline nlohmann::ordered_json WriteCollisionMesh(const std::string& path, const ObjectCloud& cloud,
                                                  const mesh::PlannerMesh& m,
-                                                 const mesh::PlannerMeshConfig& config,
-                                                 double build_ms, const std::string& channel,
-                                                 bool force) {
+                                                 const mesh::PlannerMeshConfig& config, double build_ms,
+                                                 const std::string& channel, bool force) {
   io::WriteMesh(path, m.mesh, io::ReplaceIf(force));
   const mesh::MeshDeviation d = mesh::MeasureDeviation(m.mesh, cloud);
   auto mm = [](double meters) { return meters * 1e3; };
@@ -87,8 +85,8 @@ inline nlohmann::ordered_json WriteCollisionMesh(const std::string& path, const 
   j["cell_mm"] = mm(m.cell_m);
   // The stated deviation: the farthest cloud point outside the mesh.
   j["deviation_mm"] = mm(m.outside.max_m);
-  j["outside_mm"] = {{"p99", mm(m.outside.p99_m)}, {"max", mm(m.outside.max_m)},
-                     {"points", m.outside.points_outside}};
+  j["outside_mm"] = {
+      {"p99", mm(m.outside.p99_m)}, {"max", mm(m.outside.max_m)}, {"points", m.outside.points_outside}};
   j["fallback"] = m.fallback_reason;
   j["surface_to_cloud_mm"] = {{"p50", mm(d.surface_to_cloud_p50_m)},
                               {"p95", mm(d.surface_to_cloud_p95_m)},
@@ -104,10 +102,8 @@ inline nlohmann::ordered_json WriteCollisionMesh(const std::string& path, const 
 /// Builds the planner mesh of `cloud` (not published: `repair` has no bus)
 /// and writes it (WriteCollisionMesh).
 /// @throws std::exception from the mesh (a cloud too small) or the write.
-inline nlohmann::ordered_json BuildAndWriteCollisionMesh(const std::string& path,
-                                                         const ObjectCloud& cloud,
-                                                         const mesh::PlannerMeshConfig& config,
-                                                         bool force) {
+inline nlohmann::ordered_json BuildAndWriteCollisionMesh(const std::string& path, const ObjectCloud& cloud,
+                                                         const mesh::PlannerMeshConfig& config, bool force) {
   const auto t0 = std::chrono::steady_clock::now();
   const mesh::PlannerMesh m = mesh::BuildPlannerMesh(cloud, config);
   const double build_ms =
@@ -121,19 +117,20 @@ inline void PrintCollisionMesh(const nlohmann::ordered_json& j) {
   const auto& in = j["cloud_to_surface_mm"];
   const auto& outside = j["outside_mm"];
   std::printf("collision mesh: %zu vertices, %zu triangles (%s, %s, %s, %.0f ms) -> %s\n",
-              j["vertices"].get<size_t>(), j["triangles"].get<size_t>(),
-              j["kind"].get<std::string>().c_str(), j["method"].get<std::string>().c_str(),
-              j["watertight"].get<bool>() ? "watertight" : "NOT watertight",
-              j["build_ms"].get<double>(), j["output"].get<std::string>().c_str());
+              j["vertices"].get<size_t>(), j["triangles"].get<size_t>(), j["kind"].get<std::string>().c_str(),
+              j["method"].get<std::string>().c_str(),
+              j["watertight"].get<bool>() ? "watertight" : "NOT watertight", j["build_ms"].get<double>(),
+              j["output"].get<std::string>().c_str());
   std::printf("  holds the cloud within %.2f mm (points outside: %lld, p99 %.2f mm; %.2g mm cells)%s%s\n",
               j["deviation_mm"].get<double>(), outside["points"].get<long long>(),
               outside["p99"].get<double>(), j["cell_mm"].get<double>(),
               j["published"].get<std::string>().empty() ? "" : ", published on ",
               j["published"].get<std::string>().c_str());
-  std::printf("  deviation: mesh to cloud p50 %.2f, p95 %.2f, max %.2f mm; "
-              "cloud to mesh p50 %.2f, p95 %.2f, max %.2f mm\n",
-              out["p50"].get<double>(), out["p95"].get<double>(), out["max"].get<double>(),
-              in["p50"].get<double>(), in["p95"].get<double>(), in["max"].get<double>());
+  std::printf(
+      "  deviation: mesh to cloud p50 %.2f, p95 %.2f, max %.2f mm; "
+      "cloud to mesh p50 %.2f, p95 %.2f, max %.2f mm\n",
+      out["p50"].get<double>(), out["p95"].get<double>(), out["max"].get<double>(), in["p50"].get<double>(),
+      in["p95"].get<double>(), in["max"].get<double>());
   if (!j["fallback"].get<std::string>().empty()) {
     std::printf("  fallback: %s\n", j["fallback"].get<std::string>().c_str());
   }

@@ -27,8 +27,8 @@ struct UsageError : std::invalid_argument {
 /// 0.0005, 0.02, "m")`): rt::ReadNumber's, its error a usage error.
 /// @throws UsageError "--voxel-m 'abc': not a number" or "--voxel-m '1.5':
 ///   out of range, expected 0.0005..0.02 m".
-inline double ParseDouble(const std::string& option, const std::string& text, double min,
-                          double max, const std::string& unit = "") {
+inline double ParseDouble(const std::string& option, const std::string& text, double min, double max,
+                          const std::string& unit = "") {
   try {
     return rt::ReadNumber(option, text, min, max, unit);
   } catch (const std::invalid_argument& e) {

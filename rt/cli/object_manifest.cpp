@@ -22,9 +22,12 @@ std::string Quoted(const std::string& s) { return "'" + s + "'"; }
 
 std::string ObjectKindName(ObjectKind kind) {
   switch (kind) {
-    case ObjectKind::kClosedSymmetric: return "closed_symmetric";
-    case ObjectKind::kClosedAsymmetric: return "closed_asymmetric";
-    case ObjectKind::kOpen: return "open";
+    case ObjectKind::kClosedSymmetric:
+      return "closed_symmetric";
+    case ObjectKind::kClosedAsymmetric:
+      return "closed_asymmetric";
+    case ObjectKind::kOpen:
+      return "open";
   }
   return "unknown";
 }

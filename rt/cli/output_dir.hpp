@@ -36,8 +36,7 @@ inline bool PrepareOutputs(const std::filesystem::path& dir, const std::vector<s
       }
     }
     if (!existing.empty()) {
-      std::fprintf(stderr, "graspfill %s: refusing to overwrite existing output (use --force):\n",
-                   command);
+      std::fprintf(stderr, "graspfill %s: refusing to overwrite existing output (use --force):\n", command);
       for (const std::string& path : existing) std::fprintf(stderr, "  %s\n", path.c_str());
       return false;
     }

@@ -46,23 +46,23 @@ inline nlohmann::ordered_json RefineJson(const Pipeline& pipeline) {
   for (int row = 0; row < 4; ++row) {
     rows.push_back({H(row, 0), H(row, 1), H(row, 2), H(row, 3)});
   }
-  j["hand_eye_correction"] = {
-      {"frames", refiner.hand_eye_samples()},
-      {"H_C", rows},
-      {"rotation_deg", aa.angle() * 180.0 / 3.14159265358979323846},
-      {"translation_mm", 1000.0 * H.translation().norm()},
-      {"shift_at_claw_mm", 1000.0 * (H * centre - centre).norm()},
-      {"claw_centre_C", {centre.x(), centre.y(), centre.z()}}};
+  j["hand_eye_correction"] = {{"frames", refiner.hand_eye_samples()},
+                              {"H_C", rows},
+                              {"rotation_deg", aa.angle() * 180.0 / 3.14159265358979323846},
+                              {"translation_mm", 1000.0 * H.translation().norm()},
+                              {"shift_at_claw_mm", 1000.0 * (H * centre - centre).norm()},
+                              {"claw_centre_C", {centre.x(), centre.y(), centre.z()}}};
   // The clock offset (RefineConfig::clock_*): from how the corrections
   // follow the motion's rate; null where not estimable (a steady turn).
   const refine::ClockOffsetEstimate& clock = refiner.clock_offset();
   const bool estimable = std::isfinite(clock.stderr_s);
-  j["clock_offset"] = {
-      {"applied", clock.applied},
-      {"offset_ms", estimable ? nlohmann::ordered_json(1000.0 * clock.offset_s) : nlohmann::ordered_json(nullptr)},
-      {"stderr_ms", estimable ? nlohmann::ordered_json(1000.0 * clock.stderr_s) : nlohmann::ordered_json(nullptr)},
-      {"frames", clock.frames},
-      {"jump_frames_in_fit", r.clock_only_samples}};
+  j["clock_offset"] = {{"applied", clock.applied},
+                       {"offset_ms", estimable ? nlohmann::ordered_json(1000.0 * clock.offset_s)
+                                               : nlohmann::ordered_json(nullptr)},
+                       {"stderr_ms", estimable ? nlohmann::ordered_json(1000.0 * clock.stderr_s)
+                                               : nlohmann::ordered_json(nullptr)},
+                       {"frames", clock.frames},
+                       {"jump_frames_in_fit", r.clock_only_samples}};
   j["ms_per_frame"] = stats.refine_time.mean_ms();
   return j;
 }
@@ -86,8 +86,8 @@ inline std::string RefineSummary(const Pipeline& pipeline) {
                 "per frame beyond it %.2f mm; clock offset %s; %.3f ms a frame",
                 static_cast<long long>(r.frames_refined), static_cast<long long>(r.rejected()),
                 static_cast<long long>(r.rejected_claw_not_seen),
-                static_cast<long long>(r.rejected_not_converged),
-                static_cast<long long>(r.rejected_jump), 1000.0 * (H * centre - centre).norm(),
+                static_cast<long long>(r.rejected_not_converged), static_cast<long long>(r.rejected_jump),
+                1000.0 * (H * centre - centre).norm(),
                 Eigen::AngleAxisd(H.linear()).angle() * 180.0 / 3.14159265358979323846,
                 1000.0 * r.residual_sum_m / std::max<double>(1.0, static_cast<double>(r.frames_tracked)),
                 clock, pipeline.stats().refine_time.mean_ms());

@@ -3,23 +3,19 @@
 
 #include <cstdio>
 
+#include "claw_option.hpp"
 #include "evidence_json.hpp"
+#include "graspfill/io/messages.hpp"
 #include "mesh_option.hpp"
 #include "refine_json.hpp"
 #include "track_json.hpp"
-#include "claw_option.hpp"
-#include "graspfill/io/messages.hpp"
 
 namespace graspfill::cli {
 namespace {
 
-const char* HoleKindName(HoleKind kind) {
-  return kind == HoleKind::kClaw ? "claw" : "missing_surface";
-}
+const char* HoleKindName(HoleKind kind) { return kind == HoleKind::kClaw ? "claw" : "missing_surface"; }
 
-double FramesPerSecond(const rt::ReplayResult& r) {
-  return r.stats.frames_integrated / (r.fuse_ms / 1000.0);
-}
+double FramesPerSecond(const rt::ReplayResult& r) { return r.stats.frames_integrated / (r.fuse_ms / 1000.0); }
 
 nlohmann::ordered_json GraspsJson(const rt::ReplayResult& r) {
   nlohmann::ordered_json grasps = nlohmann::json::array();
@@ -27,8 +23,10 @@ nlohmann::ordered_json GraspsJson(const rt::ReplayResult& r) {
     if (g.model == rt::DeliveredModel::kOutput) {
       grasps.push_back({{"grasp_id", g.grasp_id}, {"points", g.points}, {"output", g.path}});
     } else {
-      grasps.push_back({{"grasp_id", g.grasp_id}, {"points", g.points},
-                        {"repair", g.RepairStatusText()}, {"output", g.path}});
+      grasps.push_back({{"grasp_id", g.grasp_id},
+                        {"points", g.points},
+                        {"repair", g.RepairStatusText()},
+                        {"output", g.path}});
     }
   }
   return grasps;
@@ -81,8 +79,8 @@ void PrintRepair(const rt::GraspDelivery& output) {
           ? ", " + std::to_string(repair.claw_holes_left_open) + " of them left open"
           : "";
   std::printf("repair: %s; %zu points added (%d claw holes%s, %d missing top%s) in %.1f ms\n",
-              repair.StatusText().c_str(), output.points - output.fused_points, claw_holes,
-              left_open.c_str(), missing_surfaces, symmetry.c_str(), output.repair_ms);
+              repair.StatusText().c_str(), output.points - output.fused_points, claw_holes, left_open.c_str(),
+              missing_surfaces, symmetry.c_str(), output.repair_ms);
 }
 
 }  // namespace
@@ -110,8 +108,7 @@ nlohmann::ordered_json ReplayReportJson(const ReplayReport& report) {
   j["gripper_states"] = stats.states_in;
   j["gripper_states_rejected"] = stats.states_rejected;
   j["claw"] = {{"name", report.claw.label}, {"from", report.claw.from}};
-  j["config"] = report.config_path.empty() ? nlohmann::json(nullptr)
-                                           : nlohmann::json(report.config_path);
+  j["config"] = report.config_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(report.config_path);
   if (r.session) {
     j["session"] = {{"software_version", r.session->software_version},
                     {"utime", r.session->utime},
@@ -128,8 +125,7 @@ nlohmann::ordered_json ReplayReportJson(const ReplayReport& report) {
   j["clock_jumps"] = r.counters.clock_jumps;
   j["frames_skipped_clock_jump"] = r.counters.skipped_clock_jump;
   j["published"] = c.publish ? c.log.channels.object_cloud : "";
-  j["preview"] = report.preview_path.empty() ? nlohmann::json(nullptr)
-                                             : nlohmann::json(report.preview_path);
+  j["preview"] = report.preview_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(report.preview_path);
   j["software_version"] = io::SoftwareVersion();
   j["repair"] = RepairJson(output);
   j["timings_ms"] = {{"crop_per_frame", stats.crop.mean_ms()},
@@ -151,8 +147,8 @@ void PrintEarlierGrasps(const rt::ReplayResult& result) {
     if (g.model != rt::DeliveredModel::kEarlierGrasp || g.step != rt::DeliveryStep::kDelivered) {
       continue;
     }
-    std::printf("grasp %lld: %zu points -> %s (repair: %s)\n", static_cast<long long>(g.grasp_id),
-                g.points, g.path.c_str(), g.RepairStatusText().c_str());
+    std::printf("grasp %lld: %zu points -> %s (repair: %s)\n", static_cast<long long>(g.grasp_id), g.points,
+                g.path.c_str(), g.RepairStatusText().c_str());
   }
 }
 
@@ -179,10 +175,11 @@ void PrintReplayReport(const ReplayReport& report) {
   std::printf("object cloud: %zu points -> %s%s%s\n", r.output.size(), c.output_path.c_str(),
               c.publish ? ", published on " : "", c.publish ? c.log.channels.object_cloud.c_str() : "");
   if (!report.preview_path.empty()) std::printf("preview: %s\n", report.preview_path.c_str());
-  std::printf("per frame: crop %.3f ms, claw mask %.3f ms, integrate %.3f ms; "
-              "replay %.1f fps; extract %.1f ms\n",
-              stats.crop.mean_ms(), stats.mask.mean_ms(), stats.integrate.mean_ms(),
-              FramesPerSecond(r), r.extract_ms);
+  std::printf(
+      "per frame: crop %.3f ms, claw mask %.3f ms, integrate %.3f ms; "
+      "replay %.1f fps; extract %.1f ms\n",
+      stats.crop.mean_ms(), stats.mask.mean_ms(), stats.integrate.mean_ms(), FramesPerSecond(r),
+      r.extract_ms);
   PrintRepair(r.grasps.back());
   if (report.mesh != nullptr) PrintCollisionMesh(*report.mesh);
 }

@@ -42,8 +42,9 @@ json Pose(const Eigen::Isometry3d& T) {
 json RigErrorsJson(const synth::RigErrors& rig) {
   const synth::RigErrorConfig& c = rig.config();
   const Eigen::AngleAxisd error(rig.hand_eye_error().linear());
-  return {{"doc", "a state stamped t logs E_C * T_C_G_true(t + clock_offset) * N_k; frames and "
-                  "ground truth in the true G"},
+  return {{"doc",
+           "a state stamped t logs E_C * T_C_G_true(t + clock_offset) * N_k; frames and "
+           "ground truth in the true G"},
           {"hand_eye_error_m", c.hand_eye_m},
           {"hand_eye_error_deg", c.hand_eye_deg},
           {"E_C", Matrix(rig.hand_eye_error())},
@@ -64,10 +65,11 @@ json SlipJson(const synth::Scene& scene) {
     if (progress > 0.0) first_moved = i;
     if (progress >= 1.0) first_settled = i;
   }
-  return {{"doc", "the object slides by displacement_G_m = distance_m * direction_G (in G) "
-                  "relative to the claw, smoothstep-eased from start_utime over duration_s; "
-                  "the claw and the gripper states do not move; gt_mesh.ply and gt_cloud.ply "
-                  "hold the object after the slip, gt_*_before_slip.ply before it"},
+  return {{"doc",
+           "the object slides by displacement_G_m = distance_m * direction_G (in G) "
+           "relative to the claw, smoothstep-eased from start_utime over duration_s; "
+           "the claw and the gripper states do not move; gt_mesh.ply and gt_cloud.ply "
+           "hold the object after the slip, gt_*_before_slip.ply before it"},
           {"distance_mm", 1000.0 * c.distance_m},
           {"distance_m", c.distance_m},
           {"direction_G", Vec(slip.direction_G())},
@@ -117,8 +119,9 @@ json SensorJson(const synth::SensorModelConfig& s, bool ideal) {
           {"edge_jump_m", s.edge_jump_m},
           {"edge_dropout_prob", s.edge_dropout_prob},
           {"random_dropout_prob", s.random_dropout_prob},
-          {"model_doc", "Nguyen et al. 2012 axial noise, 1/8 px disparity "
-                        "quantization, grazing/edge/random dropouts"}};
+          {"model_doc",
+           "Nguyen et al. 2012 axial noise, 1/8 px disparity "
+           "quantization, grazing/edge/random dropouts"}};
 }
 
 // The placement's config and what it gave.
@@ -174,22 +177,20 @@ void WriteClawDescription(const claw::ClawModel& model, const fs::path& dir, io:
     json j = {{"name", link.name}, {"mesh", mesh_file}, {"mesh_origin", Pose(link.T_link_mesh)}};
     if (link.parent >= 0) j["parent"] = model.links()[link.parent].name;
     if (link.joint.type != claw::JointType::kFixed) {
-      j["joint"] = {
-          {"type", link.joint.type == claw::JointType::kPrismatic ? "prismatic" : "revolute"},
-          {"origin", Pose(link.joint.T_parent_joint)},
-          {"axis", Vec(link.joint.axis)},
-          {"limits", {{"lower", link.joint.lower}, {"upper", link.joint.upper}}},
-          {"drive", {{"opening_gain", link.joint.gain}, {"opening_offset", link.joint.offset}}}};
+      j["joint"] = {{"type", link.joint.type == claw::JointType::kPrismatic ? "prismatic" : "revolute"},
+                    {"origin", Pose(link.joint.T_parent_joint)},
+                    {"axis", Vec(link.joint.axis)},
+                    {"limits", {{"lower", link.joint.lower}, {"upper", link.joint.upper}}},
+                    {"drive", {{"opening_gain", link.joint.gain}, {"opening_offset", link.joint.offset}}}};
       if (link.joint.joint_index >= 0) j["joint"]["drive"]["joint_index"] = link.joint.joint_index;
     } else {  // a root's too: a description or URDF claw's root is placed in G
       j["joint"] = {{"type", "fixed"}, {"origin", Pose(link.joint.T_parent_joint)}};
     }
     links.push_back(j);
   }
-  const json description = {
-      {"name", model.name()},
-      {"opening_doc", "radius of the fingers' inner faces from G's z axis [m]"},
-      {"links", links}};
+  const json description = {{"name", model.name()},
+                            {"opening_doc", "radius of the fingers' inner faces from G's z axis [m]"},
+                            {"links", links}};
   io::WriteFileAtomically((dir / "claw.json").string(), description.dump(2) + "\n", "cannot write",
                           if_exists);
 }
@@ -202,13 +203,15 @@ json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::Chann
   json j = {
       {"format", "graspfill-synth-scene/1"},
       {"software_version", io::SoftwareVersion()},
-      {"frames_doc", "geometry in the gripper frame G (origin palm face centre, +z approach); "
-                     "T_A_B maps points from B to A; meters, microseconds"},
+      {"frames_doc",
+       "geometry in the gripper frame G (origin palm face centre, +z approach); "
+       "T_A_B maps points from B to A; meters, microseconds"},
       {"object", ObjectJson(scene, o)},
-      {"claw", {{"type", c.claw_model ? c.claw_model->name() : synth::ClawTypeName(c.claw)},
-                {"config", ClawJson(c.claw_config)},
-                {"used", ClawJson(p.claw)},
-                {"description", "claw/claw.json"}}},
+      {"claw",
+       {{"type", c.claw_model ? c.claw_model->name() : synth::ClawTypeName(c.claw)},
+        {"config", ClawJson(c.claw_config)},
+        {"used", ClawJson(p.claw)},
+        {"description", "claw/claw.json"}}},
       {"grasp", synth::GraspWayName(c.grasp)},
       {"seed", c.seed},
       {"num_frames", c.num_frames},
@@ -216,25 +219,34 @@ json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::Chann
       {"gripper_rate_hz", c.gripper_rate_hz},
       {"gripper_offset_us", c.gripper_offset_us},
       {"gripper_lead_s", c.gripper_lead_s},
-      {"intrinsics", {{"width", c.intrinsics.width}, {"height", c.intrinsics.height},
-                      {"fx", c.intrinsics.fx}, {"fy", c.intrinsics.fy},
-                      {"cx", c.intrinsics.cx}, {"cy", c.intrinsics.cy}}},
+      {"intrinsics",
+       {{"width", c.intrinsics.width},
+        {"height", c.intrinsics.height},
+        {"fx", c.intrinsics.fx},
+        {"fy", c.intrinsics.fy},
+        {"cx", c.intrinsics.cx},
+        {"cy", c.intrinsics.cy}}},
       {"sensor", SensorJson(c.sensor, o.ideal)},
       {"placement", PlacementJson(c.placement, p)},
       {"motion", MotionJson(scene)},
-      {"environment", {{"wall_distance_m", c.environment.wall_distance_m},
-                       {"arm_radius_m", c.environment.arm_radius_m},
-                       {"arm_length_m", c.environment.arm_length_m}}},
-      {"workspace_box_G", {{"min", Vec(workspace.min())}, {"max", Vec(workspace.max())},
-                           {"doc", "object bounding box in G grown by 2 cm, cut at the "
-                                   "palm face z = 0"}}},
+      {"environment",
+       {{"wall_distance_m", c.environment.wall_distance_m},
+        {"arm_radius_m", c.environment.arm_radius_m},
+        {"arm_length_m", c.environment.arm_length_m}}},
+      {"workspace_box_G",
+       {{"min", Vec(workspace.min())},
+        {"max", Vec(workspace.max())},
+        {"doc",
+         "object bounding box in G grown by 2 cm, cut at the "
+         "palm face z = 0"}}},
       {"log", LogJson(scene, ch, log_bytes, gripper_states)},
       {"rig_errors", RigErrorsJson(rig)},
-      {"ground_truth", {{"mesh", "gt_mesh.ply"},
-                        {"cloud", "gt_cloud.ply"},
-                        {"cloud_points", synth::kDefaultGroundTruthPoints},
-                        {"cloud_seed", c.seed},
-                        {"claw_mesh", "claw.ply"}}},
+      {"ground_truth",
+       {{"mesh", "gt_mesh.ply"},
+        {"cloud", "gt_cloud.ply"},
+        {"cloud_points", synth::kDefaultGroundTruthPoints},
+        {"cloud_seed", c.seed},
+        {"claw_mesh", "claw.ply"}}},
   };
   // Only with a slip: without one scene.json stays as it was.
   if (c.slip.any()) j["slip"] = SlipJson(scene);

@@ -26,8 +26,7 @@ void WriteClawDescription(const claw::ClawModel& model, const std::filesystem::p
 
 /// scene.json of a recording: the scene, the log (`log_bytes`, its
 /// gripper states), the rig's errors and, with one, the slip.
-nlohmann::json SceneJson(const synth::Scene& scene, const SynthOptions& o,
-                         const io::ChannelNames& ch, int64_t log_bytes, size_t gripper_states,
-                         const synth::RigErrors& rig);
+nlohmann::json SceneJson(const synth::Scene& scene, const SynthOptions& o, const io::ChannelNames& ch,
+                         int64_t log_bytes, size_t gripper_states, const synth::RigErrors& rig);
 
 }  // namespace graspfill::cli

@@ -110,10 +110,10 @@ void ParseMmDeg(const std::string& option, const std::string& text, double* m, d
 
 // Options of recordings only, refused with --protocol paper.
 bool IsRecordingOnly(const std::string& a) {
-  return a == "--mesh" || a == "--mesh-scale" || a == "--mesh-up" || a == "--claw" ||
-         a == "--frames" || a == "--ideal" || a == "--wall-m" || a == "--hand-eye-error" ||
-         a == "--pose-noise" || a == "--clock-offset-ms" || a == "--width" || a == "--height" ||
-         a == "--slip-mm" || a == "--speed-variation";
+  return a == "--mesh" || a == "--mesh-scale" || a == "--mesh-up" || a == "--claw" || a == "--frames" ||
+         a == "--ideal" || a == "--wall-m" || a == "--hand-eye-error" || a == "--pose-noise" ||
+         a == "--clock-offset-ms" || a == "--width" || a == "--height" || a == "--slip-mm" ||
+         a == "--speed-variation";
 }
 
 // args[*i] (and its value, advancing *i) into *o.
@@ -125,11 +125,16 @@ void ParseOption(const Args& args, size_t* i, SynthOptions* o) {
     return args[++*i];
   };
   if (IsRecordingOnly(a)) o->recording_only_given.push_back(a);
-  if (a == "-h" || a == "--help") o->help = true;
-  else if (a == "--protocol") o->protocol = value();
-  else if (a == "--shape") o->shape = value();
-  else if (a == "--size") o->size = value();
-  else if (a == "--mesh") o->mesh_path = value();
+  if (a == "-h" || a == "--help")
+    o->help = true;
+  else if (a == "--protocol")
+    o->protocol = value();
+  else if (a == "--shape")
+    o->shape = value();
+  else if (a == "--size")
+    o->size = value();
+  else if (a == "--mesh")
+    o->mesh_path = value();
   else if (a == "--mesh-scale") {
     o->mesh_scale = ParseDouble(a, value(), 1e-6, 1e6, "");
     o->mesh_transform_given = true;
@@ -138,36 +143,45 @@ void ParseOption(const Args& args, size_t* i, SynthOptions* o) {
     const std::string axis = value();
     if (axis != "y" && axis != "z") throw UsageError("--mesh-up must be y or z, not '" + axis + "'");
     o->mesh_y_up = axis == "y";
-  }
-  else if (a == "--grasps") o->grasps = value();
-  else if (a == "--claw") o->claw = value();
+  } else if (a == "--grasps")
+    o->grasps = value();
+  else if (a == "--claw")
+    o->claw = value();
   else if (a == "--claw-mesh-root") {
     o->recording_only_given.push_back(a);
     o->claw_mesh_root = value();
-  }
-  else if (a == "--grasp") o->grasp = value();
+  } else if (a == "--grasp")
+    o->grasp = value();
   else if (a == "--seed") {
     o->seed = ParseInteger<uint64_t>(a, value(), 0, std::numeric_limits<uint64_t>::max());
-  } else if (a == "--frames") o->frames = ParseInteger<int>(a, value(), 1, 100000);
-  else if (a == "--ideal") o->ideal = true;
-  else if (a == "--wall-m") o->wall_m = ParseDouble(a, value(), 0.0, 100.0, "m");
+  } else if (a == "--frames")
+    o->frames = ParseInteger<int>(a, value(), 1, 100000);
+  else if (a == "--ideal")
+    o->ideal = true;
+  else if (a == "--wall-m")
+    o->wall_m = ParseDouble(a, value(), 0.0, 100.0, "m");
   else if (a == "--points") {
     o->points = ParseInteger<int>(a, value(), kMinProtocolPoints, kMaxProtocolPoints);
-  }
-  else if (a == "--hand-eye-error") {
+  } else if (a == "--hand-eye-error") {
     ParseMmDeg(a, value(), &o->rig_errors.hand_eye_m, &o->rig_errors.hand_eye_deg);
   } else if (a == "--pose-noise") {
     ParseMmDeg(a, value(), &o->rig_errors.pose_noise_m, &o->rig_errors.pose_noise_deg);
   } else if (a == "--clock-offset-ms") {
     o->rig_errors.clock_offset_us = std::llround(1000.0 * ParseDouble(a, value(), -90.0, 90.0, "ms"));
-  }
-  else if (a == "--slip-mm") o->slip_mm = ParseDouble(a, value(), 0.0, 20.0, "mm");
-  else if (a == "--speed-variation") o->speed_variation = ParseDouble(a, value(), 0.0, 0.9, "");
-  else if (a == "--width") o->width = ParseInteger<int>(a, value(), 16, 4096);
-  else if (a == "--height") o->height = ParseInteger<int>(a, value(), 16, 4096);
-  else if (a == "--force") o->force = true;
-  else if (a == "-o" || a == "--output") o->output_dir = value();
-  else throw BadOption(a, kSynthUsage);
+  } else if (a == "--slip-mm")
+    o->slip_mm = ParseDouble(a, value(), 0.0, 20.0, "mm");
+  else if (a == "--speed-variation")
+    o->speed_variation = ParseDouble(a, value(), 0.0, 0.9, "");
+  else if (a == "--width")
+    o->width = ParseInteger<int>(a, value(), 16, 4096);
+  else if (a == "--height")
+    o->height = ParseInteger<int>(a, value(), 16, 4096);
+  else if (a == "--force")
+    o->force = true;
+  else if (a == "-o" || a == "--output")
+    o->output_dir = value();
+  else
+    throw BadOption(a, kSynthUsage);
 }
 
 // The options that go together: --protocol paper with a shape and nothing
@@ -193,8 +207,9 @@ void CheckCombination(const SynthOptions& o) {
     if (o.slip_mm != 0.0) throw UsageError("--slip-mm applies to one grasp, not to --grasps");
     // Not silently dropped: the grasps' scenes take neither.
     if (o.rig_errors.any()) {
-      throw UsageError("--hand-eye-error, --pose-noise and --clock-offset-ms apply to one grasp, "
-                       "not to --grasps");
+      throw UsageError(
+          "--hand-eye-error, --pose-noise and --clock-offset-ms apply to one grasp, "
+          "not to --grasps");
     }
     if (o.speed_variation != 0.0) throw UsageError("--speed-variation applies to one grasp, not to --grasps");
     ParseGraspShapes(*o.grasps);

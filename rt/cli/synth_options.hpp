@@ -23,8 +23,8 @@ struct SynthOptions {
   std::optional<std::string> shape;
   std::optional<std::string> size;
   std::optional<std::string> mesh_path;
-  double mesh_scale{1.0};     ///< --mesh-scale
-  bool mesh_y_up{false};      ///< --mesh-up y
+  double mesh_scale{1.0};  ///< --mesh-scale
+  bool mesh_y_up{false};   ///< --mesh-up y
   bool mesh_transform_given{false};
   std::optional<std::string> grasps;  ///< --grasps S1,S2,...
   std::string claw{"three-finger"};
@@ -37,11 +37,11 @@ struct SynthOptions {
   bool force{false};
   std::string output_dir;
   bool help{false};
-  std::optional<int> points;  ///< --protocol only
-  synth::RigErrorConfig rig_errors;  ///< logged-pose errors (all off)
-  double slip_mm{0.0};  ///< --slip-mm: the object's slide in the grasp (off)
-  double speed_variation{0.0};  ///< --speed-variation (steady turn)
-  int width{CameraIntrinsics{}.width};    ///< depth image size [pixels]
+  std::optional<int> points;            ///< --protocol only
+  synth::RigErrorConfig rig_errors;     ///< logged-pose errors (all off)
+  double slip_mm{0.0};                  ///< --slip-mm: the object's slide in the grasp (off)
+  double speed_variation{0.0};          ///< --speed-variation (steady turn)
+  int width{CameraIntrinsics{}.width};  ///< depth image size [pixels]
   int height{CameraIntrinsics{}.height};
   /// Options given that only a recording uses, to refuse them in protocol
   /// mode rather than silently ignore them.

@@ -7,18 +7,16 @@
 
 namespace graspfill::cli {
 
-int64_t WriteSceneEvents(const synth::Scene& scene,
-                         const std::vector<synth::TimelineEvent>& timeline,
+int64_t WriteSceneEvents(const synth::Scene& scene, const std::vector<synth::TimelineEvent>& timeline,
                          const std::function<GripperState(const synth::TimelineEvent&)>& state_at,
-                         const io::ChannelNames& channels, rt::LcmLogWriter* log,
-                         ProgressLine* progress, int64_t* frames_done) {
+                         const io::ChannelNames& channels, rt::LcmLogWriter* log, ProgressLine* progress,
+                         int64_t* frames_done) {
   const synth::SceneRenderer renderer(scene);
   int64_t states = 0;
   for (const synth::TimelineEvent& event : timeline) {
     if (event.kind == synth::TimelineEvent::Kind::kDepth) {
       log->Write(channels.depth, event.utime,
-                 io::EncodeDepthImage(renderer.Render(event.index), io::DepthEncoding::kZlib16,
-                                      0.001));
+                 io::EncodeDepthImage(renderer.Render(event.index), io::DepthEncoding::kZlib16, 0.001));
       progress->Update(++*frames_done);
     } else {
       log->Write(channels.gripper_state, event.utime, io::EncodeGripperState(state_at(event)));

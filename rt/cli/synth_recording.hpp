@@ -19,11 +19,10 @@ namespace graspfill::cli {
 /// (ZLIB16, 1 mm units), each gripper event as `state_at` makes it, stamped
 /// with the event's time. *frames_done counts the depth frames on for the
 /// progress line. Returns the gripper states written.
-int64_t WriteSceneEvents(const synth::Scene& scene,
-                         const std::vector<synth::TimelineEvent>& timeline,
+int64_t WriteSceneEvents(const synth::Scene& scene, const std::vector<synth::TimelineEvent>& timeline,
                          const std::function<GripperState(const synth::TimelineEvent&)>& state_at,
-                         const io::ChannelNames& channels, rt::LcmLogWriter* log,
-                         ProgressLine* progress, int64_t* frames_done);
+                         const io::ChannelNames& channels, rt::LcmLogWriter* log, ProgressLine* progress,
+                         int64_t* frames_done);
 
 /// synth::kDefaultGroundTruthPoints points sampled (seeded) on the object
 /// in G, with their normals, stamped as the first depth frame.

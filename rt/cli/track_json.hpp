@@ -59,8 +59,8 @@ inline std::string TrackSummary(const Pipeline& pipeline) {
                 "frame",
                 static_cast<long long>(t.frames_tracked), static_cast<long long>(t.rejected()),
                 static_cast<long long>(t.rejected_too_few_points),
-                static_cast<long long>(t.rejected_not_converged),
-                static_cast<long long>(t.rejected_jump), 1000.0 * S.translation().norm(),
+                static_cast<long long>(t.rejected_not_converged), static_cast<long long>(t.rejected_jump),
+                1000.0 * S.translation().norm(),
                 Eigen::AngleAxisd(S.linear()).angle() * 180.0 / 3.14159265358979323846,
                 pipeline.stats().track_time.mean_ms());
   return line;

@@ -55,7 +55,8 @@ inline std::vector<std::string> OptionsIn(const std::string& usage) {
       continue;
     }
     size_t end = at + 2;
-    while (end < usage.size() && (std::isalnum(static_cast<unsigned char>(usage[end])) || usage[end] == '-')) ++end;
+    while (end < usage.size() && (std::isalnum(static_cast<unsigned char>(usage[end])) || usage[end] == '-'))
+      ++end;
     const std::string name = usage.substr(at, end - at);
     if (name.size() > 2 && std::find(options.begin(), options.end(), name) == options.end()) {
       options.push_back(name);

@@ -41,8 +41,8 @@ inline double ReadNumber(const std::string& name, const std::string& text, doubl
   if (text.empty() || ptr != end || ec == std::errc::invalid_argument) {
     throw std::invalid_argument(quoted + ": not a number");
   }
-  const std::string expected = internal::FormatBound(min) + ".." + internal::FormatBound(max) +
-                               (unit.empty() ? "" : " " + unit);
+  const std::string expected =
+      internal::FormatBound(min) + ".." + internal::FormatBound(max) + (unit.empty() ? "" : " " + unit);
   if (ec == std::errc::result_out_of_range || !std::isfinite(value) || value < min || value > max) {
     throw std::invalid_argument(quoted + ": out of range, expected " + expected);
   }

@@ -19,31 +19,25 @@ using namespace internal;  // the ranges and checks (rig_config_checks.hpp)
 // ---- equality ----
 
 bool RigConfig::Intrinsics::operator==(const Intrinsics& o) const {
-  return width_px == o.width_px && height_px == o.height_px && fx_px == o.fx_px &&
-         fy_px == o.fy_px && cx_px == o.cx_px && cy_px == o.cy_px;
+  return width_px == o.width_px && height_px == o.height_px && fx_px == o.fx_px && fy_px == o.fy_px &&
+         cx_px == o.cx_px && cy_px == o.cy_px;
 }
 bool RigConfig::Camera::operator==(const Camera& o) const {
-  return device == o.device && width_px == o.width_px && height_px == o.height_px &&
-         fps == o.fps && depth_units == o.depth_units &&
-         intrinsics_override == o.intrinsics_override && max_depth_pixels == o.max_depth_pixels;
+  return device == o.device && width_px == o.width_px && height_px == o.height_px && fps == o.fps &&
+         depth_units == o.depth_units && intrinsics_override == o.intrinsics_override &&
+         max_depth_pixels == o.max_depth_pixels;
 }
 bool RigConfig::Pose::operator==(const Pose& o) const {
   return translation_m == o.translation_m && rotation_wxyz == o.rotation_wxyz;
 }
 bool RigConfig::Robot::operator==(const Robot& o) const {
-  return T_C_B == o.T_C_B && clock_offset_s == o.clock_offset_s &&
-         max_pose_gap_s == o.max_pose_gap_s;
+  return T_C_B == o.T_C_B && clock_offset_s == o.clock_offset_s && max_pose_gap_s == o.max_pose_gap_s;
 }
-bool RigConfig::Claw::operator==(const Claw& o) const {
-  return spec == o.spec && mesh_root == o.mesh_root;
-}
-bool RigConfig::Box::operator==(const Box& o) const {
-  return min_G_m == o.min_G_m && max_G_m == o.max_G_m;
-}
+bool RigConfig::Claw::operator==(const Claw& o) const { return spec == o.spec && mesh_root == o.mesh_root; }
+bool RigConfig::Box::operator==(const Box& o) const { return min_G_m == o.min_G_m && max_G_m == o.max_G_m; }
 bool RigConfig::Tsdf::operator==(const Tsdf& o) const {
   return voxel_m == o.voxel_m && sdf_trunc_voxels == o.sdf_trunc_voxels &&
-         block_resolution == o.block_resolution &&
-         depth_sampling_stride == o.depth_sampling_stride &&
+         block_resolution == o.block_resolution && depth_sampling_stride == o.depth_sampling_stride &&
          max_fusion_pixels == o.max_fusion_pixels;
 }
 bool RigConfig::Repair::operator==(const Repair& o) const {
@@ -56,20 +50,16 @@ bool RigConfig::Refine::operator==(const Refine& o) const {
          min_correction_deg == o.min_correction_deg && track_object == o.track_object;
 }
 bool RigConfig::Channels::operator==(const Channels& o) const {
-  return depth == o.depth && gripper_state == o.gripper_state &&
-         object_cloud == o.object_cloud && status == o.status && session == o.session &&
-         collision_mesh == o.collision_mesh;
+  return depth == o.depth && gripper_state == o.gripper_state && object_cloud == o.object_cloud &&
+         status == o.status && session == o.session && collision_mesh == o.collision_mesh;
 }
 bool RigConfig::CollisionMesh::operator==(const CollisionMesh& o) const {
   return max_triangles == o.max_triangles && convex_hull == o.convex_hull;
 }
 bool RigConfig::Rates::operator==(const Rates& o) const {
-  return publish_every_n_frames == o.publish_every_n_frames &&
-         status_period_s == o.status_period_s;
+  return publish_every_n_frames == o.publish_every_n_frames && status_period_s == o.status_period_s;
 }
-bool RigConfig::Compute::operator==(const Compute& o) const {
-  return num_threads == o.num_threads;
-}
+bool RigConfig::Compute::operator==(const Compute& o) const { return num_threads == o.num_threads; }
 bool RigConfig::operator==(const RigConfig& o) const {
   return camera == o.camera && robot == o.robot && claw == o.claw && workspace == o.workspace &&
          tsdf == o.tsdf && repair == o.repair && refine == o.refine && channels == o.channels &&
@@ -77,8 +67,7 @@ bool RigConfig::operator==(const RigConfig& o) const {
 }
 
 Eigen::Isometry3d RigConfig::Pose::ToIsometry() const {
-  const Eigen::Quaterniond q(rotation_wxyz[0], rotation_wxyz[1], rotation_wxyz[2],
-                             rotation_wxyz[3]);
+  const Eigen::Quaterniond q(rotation_wxyz[0], rotation_wxyz[1], rotation_wxyz[2], rotation_wxyz[3]);
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = q.normalized().toRotationMatrix();
   T.translation() = Eigen::Vector3d(translation_m[0], translation_m[1], translation_m[2]);
@@ -126,10 +115,10 @@ void ApplyToPipeline(const RigConfig& c, PipelineConfig* p) {
   p->tsdf.depth_sampling_stride = c.tsdf.depth_sampling_stride;
   p->max_fusion_pixels = c.tsdf.max_fusion_pixels;
   if (c.workspace) {
-    p->workspace.min_G = Eigen::Vector3d(c.workspace->min_G_m[0], c.workspace->min_G_m[1],
-                                         c.workspace->min_G_m[2]);
-    p->workspace.max_G = Eigen::Vector3d(c.workspace->max_G_m[0], c.workspace->max_G_m[1],
-                                         c.workspace->max_G_m[2]);
+    p->workspace.min_G =
+        Eigen::Vector3d(c.workspace->min_G_m[0], c.workspace->min_G_m[1], c.workspace->min_G_m[2]);
+    p->workspace.max_G =
+        Eigen::Vector3d(c.workspace->max_G_m[0], c.workspace->max_G_m[1], c.workspace->max_G_m[2]);
   }
   p->max_pose_gap_us = std::llround(c.robot.max_pose_gap_s * 1e6);
   p->refine.enabled = c.refine.enabled;

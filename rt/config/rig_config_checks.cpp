@@ -26,7 +26,6 @@ std::string FormatNumber(double v) {
   return std::string(buffer, ptr);
 }
 
-
 void CheckRange(const std::string& field, double v, const Range& r) {
   if (!std::isfinite(v) || v < r.min || v > r.max) {
     throw ConfigError(field, field + " '" + FormatNumber(v) + "': out of range, " + Expected(r));
@@ -50,15 +49,13 @@ ConfigError SameChannelError(const std::string& role, const std::string& name,
 
 // Every name as LCM takes it, and no two the same.
 void CheckChannels(const RigConfig::Channels& channels) {
-  const std::optional<io::ChannelNameProblem> problem =
-      io::FindChannelNameProblem(ToChannelNames(channels));
+  const std::optional<io::ChannelNameProblem> problem = io::FindChannelNameProblem(ToChannelNames(channels));
   if (!problem) return;
   CheckChannel("channels." + problem->role, problem->name);
   throw SameChannelError(problem->role, problem->name, problem->same_as);
 }
 
-void CheckOneOf(const std::string& field, const std::string& v,
-                const std::vector<std::string>& allowed) {
+void CheckOneOf(const std::string& field, const std::string& v, const std::vector<std::string>& allowed) {
   for (const std::string& a : allowed) {
     if (v == a) return;
   }
@@ -76,30 +73,27 @@ void CheckBox(const std::string& field, const RigConfig::Box& b) {
   for (int k = 0; k < 3; ++k) {
     if (!(b.min_G_m[k] < b.max_G_m[k])) {
       const std::string f = field + ".max_G_m[" + std::to_string(k) + "]";
-      throw ConfigError(f, f + ": must be greater than " + field + ".min_G_m[" +
-                               std::to_string(k) + "] (" + kAxes[k] + ": " +
-                               FormatNumber(b.min_G_m[k]) + " .. " + FormatNumber(b.max_G_m[k]) +
-                               " m is empty)");
+      throw ConfigError(f, f + ": must be greater than " + field + ".min_G_m[" + std::to_string(k) + "] (" +
+                               kAxes[k] + ": " + FormatNumber(b.min_G_m[k]) + " .. " +
+                               FormatNumber(b.max_G_m[k]) + " m is empty)");
     }
   }
 }
 
 void CheckPose(const std::string& field, const RigConfig::Pose& p) {
   for (int k = 0; k < 3; ++k) {
-    CheckRange(field + ".translation_m[" + std::to_string(k) + "]", p.translation_m[k],
-               kTranslationM);
+    CheckRange(field + ".translation_m[" + std::to_string(k) + "]", p.translation_m[k], kTranslationM);
   }
   double norm2 = 0.0;
   for (int k = 0; k < 4; ++k) {
-    CheckRange(field + ".rotation_wxyz[" + std::to_string(k) + "]", p.rotation_wxyz[k],
-               kQuaternion);
+    CheckRange(field + ".rotation_wxyz[" + std::to_string(k) + "]", p.rotation_wxyz[k], kQuaternion);
     norm2 += p.rotation_wxyz[k] * p.rotation_wxyz[k];
   }
   const double norm = std::sqrt(norm2);
   if (!(std::abs(norm - 1.0) <= kUnitTolerance)) {
     const std::string f = field + ".rotation_wxyz";
-    throw ConfigError(f, f + ": not a unit quaternion (norm " + FormatNumber(norm) +
-                             "; expected 1 within " + FormatNumber(kUnitTolerance) + ")");
+    throw ConfigError(f, f + ": not a unit quaternion (norm " + FormatNumber(norm) + "; expected 1 within " +
+                             FormatNumber(kUnitTolerance) + ")");
   }
 }
 

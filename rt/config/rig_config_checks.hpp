@@ -54,13 +54,11 @@ void CheckRange(const std::string& field, double v, const Range& r);
 /// One channel name, as LCM takes it (io/channel_names.hpp).
 void CheckChannel(const std::string& field, const std::string& v);
 /// Two channels of the same name: named at `role`.
-ConfigError SameChannelError(const std::string& role, const std::string& name,
-                             const std::string& other_role);
+ConfigError SameChannelError(const std::string& role, const std::string& name, const std::string& other_role);
 /// Every name as LCM takes it, and no two the same.
 void CheckChannels(const RigConfig::Channels& channels);
 /// v one of `allowed`.
-void CheckOneOf(const std::string& field, const std::string& v,
-                const std::vector<std::string>& allowed);
+void CheckOneOf(const std::string& field, const std::string& v, const std::vector<std::string>& allowed);
 /// Both corners within kBoxM, min below max on every axis.
 void CheckBox(const std::string& field, const RigConfig::Box& b);
 /// The translation within kTranslationM; the rotation a unit quaternion.

@@ -37,8 +37,7 @@ class Writer {
     out_ << std::string(2 * indent, ' ') << "# " << text << "\n";
   }
   void Key(int indent, const std::string& key, const std::string& value) {
-    out_ << std::string(2 * indent, ' ') << key << ":" << (value.empty() ? "" : " " + value)
-         << "\n";
+    out_ << std::string(2 * indent, ' ') << key << ":" << (value.empty() ? "" : " " + value) << "\n";
   }
   void Blank() { out_ << "\n"; }
   std::string str() const { return out_.str(); }
@@ -65,7 +64,6 @@ void WriteIntrinsics(Writer* w, int indent, const RigConfig::Intrinsics& K) {
   w->Key(indent, "cx_px", FormatNumber(K.cx_px));
   w->Key(indent, "cy_px", FormatNumber(K.cy_px));
 }
-
 
 // The camera: the device, its video mode, the intrinsics override, the depth size limit.
 void DumpCamera(Writer* w, const RigConfig& c, const RigConfig& d) {
@@ -97,9 +95,9 @@ void DumpCamera(Writer* w, const RigConfig& c, const RigConfig& d) {
   }
   w->Comment(1, "Depth images (bus, log) with more pixels are refused before they are decoded,");
   w->Comment(1, "counted as bad_size; 1.." + std::to_string(io::kMaxDepthPixels) + " (default " +
-                   std::to_string(d.camera.max_depth_pixels) + " = 8 MP: the largest common");
-  w->Comment(1, "depth sensors are ~5 MP; a 4096 x 4096 stream needs " +
-                   std::to_string(io::kMaxDepthPixels) + ").");
+                    std::to_string(d.camera.max_depth_pixels) + " = 8 MP: the largest common");
+  w->Comment(
+      1, "depth sensors are ~5 MP; a 4096 x 4096 stream needs " + std::to_string(io::kMaxDepthPixels) + ").");
   w->Key(1, "max_depth_pixels", std::to_string(c.camera.max_depth_pixels));
 }
 
@@ -110,7 +108,7 @@ void DumpRobot(Writer* w, const RigConfig& c, const RigConfig& d) {
   w->Comment(1, "(p_C = R * p_B + t), for gripper states sent in the base frame; both keys.");
   w->Comment(1, "null: the session description's, else identity:");
   w->Comment(1, "T_C_B: {translation_m: " + List(RigConfig::Pose{}.translation_m) +
-                   ", rotation_wxyz: " + List(RigConfig::Pose{}.rotation_wxyz) + "}");
+                    ", rotation_wxyz: " + List(RigConfig::Pose{}.rotation_wxyz) + "}");
   if (c.robot.T_C_B) {
     w->Key(1, "T_C_B", "");
     WritePose(w, 2, *c.robot.T_C_B);
@@ -155,20 +153,21 @@ void DumpWorkspace(Writer* w, const RigConfig& c) {
 void DumpTsdf(Writer* w, const RigConfig& c, const RigConfig& d) {
   w->Key(0, "tsdf", "");
   w->Comment(1, "Voxel edge [m], " + FormatNumber(kVoxelM.min) + ".." + FormatNumber(kVoxelM.max) +
-                   "; null: the session description's, else " +
-                   FormatNumber(fusion::TsdfConfig{}.voxel_m) + ".");
+                    "; null: the session description's, else " + FormatNumber(fusion::TsdfConfig{}.voxel_m) +
+                    ".");
   w->Key(1, "voxel_m", c.tsdf.voxel_m ? FormatNumber(*c.tsdf.voxel_m) : "null");
-  w->Comment(1, "Truncation distance in voxels (default " + FormatNumber(d.tsdf.sdf_trunc_voxels) +
-                   ").");
+  w->Comment(1, "Truncation distance in voxels (default " + FormatNumber(d.tsdf.sdf_trunc_voxels) + ").");
   w->Key(1, "sdf_trunc_voxels", FormatNumber(c.tsdf.sdf_trunc_voxels));
-  w->Comment(1, "Open3D's voxel block edge [voxels] (default " +
-                   std::to_string(d.tsdf.block_resolution) + ").");
+  w->Comment(1,
+             "Open3D's voxel block edge [voxels] (default " + std::to_string(d.tsdf.block_resolution) + ").");
   w->Key(1, "block_resolution", std::to_string(c.tsdf.block_resolution));
   w->Comment(1, "Every Nth pixel of each row and column is fused (default " +
-                   std::to_string(d.tsdf.depth_sampling_stride) + ").");
+                    std::to_string(d.tsdf.depth_sampling_stride) + ").");
   w->Key(1, "depth_sampling_stride", std::to_string(c.tsdf.depth_sampling_stride));
-  w->Comment(1, "Frames with more pixels are fused decimated, every f-th pixel and row "
-               "(default " + std::to_string(d.tsdf.max_fusion_pixels) + " = 1280 x 1024).");
+  w->Comment(1,
+             "Frames with more pixels are fused decimated, every f-th pixel and row "
+             "(default " +
+                 std::to_string(d.tsdf.max_fusion_pixels) + " = 1280 x 1024).");
   w->Key(1, "max_fusion_pixels", std::to_string(c.tsdf.max_fusion_pixels));
 }
 
@@ -182,10 +181,10 @@ void DumpRepair(Writer* w, const RigConfig& c, const RigConfig& d) {
   w->Comment(1, "Use what the camera saw (the visibility record) in the repair.");
   w->Key(1, "use_evidence", Bool(c.repair.use_evidence));
   w->Comment(1, "The planner's safe bound's voxel edge [m]; 0 = no bound (default " +
-                   FormatNumber(d.repair.safe_bound_voxel_m) + ").");
+                    FormatNumber(d.repair.safe_bound_voxel_m) + ").");
   w->Key(1, "safe_bound_voxel_m", FormatNumber(c.repair.safe_bound_voxel_m));
   w->Comment(1, "Best mode: boundary points this close to the top form its rim [m] (default " +
-                   FormatNumber(d.repair.top_rim_band_m) + ").");
+                    FormatNumber(d.repair.top_rim_band_m) + ").");
   w->Key(1, "top_rim_band_m", FormatNumber(c.repair.top_rim_band_m));
   w->Comment(1, "Live: update the last full repair between full repairs, which run behind");
   w->Comment(1, "(false: a full repair per published cloud).");
@@ -200,7 +199,7 @@ void DumpRefine(Writer* w, const RigConfig& c, const RigConfig& d) {
   w->Key(1, "enabled", Bool(c.refine.enabled));
   w->Comment(1, "Corrections beyond the prediction smaller than both are not fused (the");
   w->Comment(1, "registration's jitter) [m], [deg] (defaults " + FormatNumber(d.refine.min_correction_m) +
-                   ", " + FormatNumber(d.refine.min_correction_deg) + ").");
+                    ", " + FormatNumber(d.refine.min_correction_deg) + ").");
   w->Key(1, "min_correction_m", FormatNumber(c.refine.min_correction_m));
   w->Key(1, "min_correction_deg", FormatNumber(c.refine.min_correction_deg));
   w->Comment(1, "Follow the object slipping in the grasp (frame-to-model tracking).");
@@ -235,8 +234,8 @@ void DumpRates(Writer* w, const RigConfig& c, const RigConfig& d) {
   w->Comment(1, "live: publish the cloud every N fused frames; 0 = only at each grasp's end");
   w->Comment(1, "(default " + std::to_string(d.rates.publish_every_n_frames) + ").");
   w->Key(1, "publish_every_n_frames", std::to_string(c.rates.publish_every_n_frames));
-  w->Comment(1, "live: the module status's period [s] (default " +
-                   FormatNumber(d.rates.status_period_s) + ").");
+  w->Comment(1,
+             "live: the module status's period [s] (default " + FormatNumber(d.rates.status_period_s) + ").");
   w->Key(1, "status_period_s", FormatNumber(c.rates.status_period_s));
 }
 

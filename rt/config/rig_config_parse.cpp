@@ -29,8 +29,7 @@ class Reader {
  public:
   explicit Reader(std::string name) : name_(std::move(name)) {}
 
-  [[noreturn]] void Fail(const YAML::Node& at, const std::string& field,
-                         const std::string& message) const {
+  [[noreturn]] void Fail(const YAML::Node& at, const std::string& field, const std::string& message) const {
     throw ConfigError(field, Where(at) + message);
   }
 
@@ -52,8 +51,7 @@ class Reader {
   // an unknown or duplicate key, or a node that is not a map, fails.
   // `required`: every key in `keys` must be there.
   void Map(const YAML::Node& node, const std::string& path, const std::vector<std::string>& keys,
-           const std::function<void(const std::string&, const YAML::Node&, const std::string&)>&
-               on_key,
+           const std::function<void(const std::string&, const YAML::Node&, const std::string&)>& on_key,
            bool required = false) const {
     const std::string where = path.empty() ? "the file" : path;
     if (!node.IsMap()) Fail(node, path, where + ": expected a map of keys, got " + Kind(node));
@@ -125,11 +123,11 @@ class Reader {
   }
 
   template <size_t N>
-  std::array<double, N> Numbers(const YAML::Node& n, const std::string& field,
-                                const Range& r) const {
+  std::array<double, N> Numbers(const YAML::Node& n, const std::string& field, const Range& r) const {
     if (!n.IsSequence() || n.size() != N) {
-      Fail(n, field, field + ": expected a list of " + std::to_string(N) + " numbers, got " +
-                         (n.IsSequence() ? "a list of " + std::to_string(n.size()) : Kind(n)));
+      Fail(n, field,
+           field + ": expected a list of " + std::to_string(N) + " numbers, got " +
+               (n.IsSequence() ? "a list of " + std::to_string(n.size()) : Kind(n)));
     }
     std::array<double, N> out{};
     for (size_t k = 0; k < N; ++k) out[k] = Number(n[k], field + "[" + std::to_string(k) + "]", r);
@@ -146,8 +144,7 @@ class Reader {
   }
 
  private:
-  std::string PlainScalar(const YAML::Node& n, const std::string& field,
-                          const std::string& what) const {
+  std::string PlainScalar(const YAML::Node& n, const std::string& field, const std::string& what) const {
     if (!n.IsScalar() || n.Tag() != "?") {
       Fail(n, field, field + ": expected " + what + ", got " + Kind(n));
     }
@@ -173,8 +170,7 @@ YAML::Node LoadOneDocument(const std::string& text, const std::string& name) {
   } catch (const YAML::DeepRecursion& e) {
     // yaml-cpp words its depth limit "bad file".
     throw ConfigError("", name + ":" + std::to_string(e.mark.line + 1) +
-                              ": not a rig config: nested more than " +
-                              std::to_string(kMaxYamlDepth) +
+                              ": not a rig config: nested more than " + std::to_string(kMaxYamlDepth) +
                               " levels deep (a rig config nests 4: camera.intrinsics_override.fx_px, "
                               "robot.T_C_B.translation_m[0])");
   } catch (const YAML::Exception& e) {
@@ -185,113 +181,151 @@ YAML::Node LoadOneDocument(const std::string& text, const std::string& name) {
 
 RigConfig::Intrinsics ReadIntrinsics(const Reader& r, const YAML::Node& x, const std::string& f) {
   RigConfig::Intrinsics K;
-  r.Map(x, f, {"width_px", "height_px", "fx_px", "fy_px", "cx_px", "cy_px"},
-        [&](const std::string& kk, const YAML::Node& y, const std::string& ff) {
-    if (kk == "width_px") K.width_px = r.Integer(y, ff, kImagePx);
-    else if (kk == "height_px") K.height_px = r.Integer(y, ff, kImagePx);
-    else if (kk == "fx_px") K.fx_px = r.Number(y, ff, kFocalPx);
-    else if (kk == "fy_px") K.fy_px = r.Number(y, ff, kFocalPx);
-    else if (kk == "cx_px") K.cx_px = r.Number(y, ff, kCentrePx);
-    else K.cy_px = r.Number(y, ff, kCentrePx);
-  }, /*required=*/true);
+  r.Map(
+      x, f, {"width_px", "height_px", "fx_px", "fy_px", "cx_px", "cy_px"},
+      [&](const std::string& kk, const YAML::Node& y, const std::string& ff) {
+        if (kk == "width_px")
+          K.width_px = r.Integer(y, ff, kImagePx);
+        else if (kk == "height_px")
+          K.height_px = r.Integer(y, ff, kImagePx);
+        else if (kk == "fx_px")
+          K.fx_px = r.Number(y, ff, kFocalPx);
+        else if (kk == "fy_px")
+          K.fy_px = r.Number(y, ff, kFocalPx);
+        else if (kk == "cx_px")
+          K.cx_px = r.Number(y, ff, kCentrePx);
+        else
+          K.cy_px = r.Number(y, ff, kCentrePx);
+      },
+      /*required=*/true);
   return K;
 }
 
-void ReadCamera(const Reader& r, const YAML::Node& v, const std::string& path,
-                RigConfig::Camera* cam) {
-  r.Map(v, path, {"device", "width_px", "height_px", "fps", "depth_units", "intrinsics_override",
-                  "max_depth_pixels"},
+void ReadCamera(const Reader& r, const YAML::Node& v, const std::string& path, RigConfig::Camera* cam) {
+  r.Map(v, path,
+        {"device", "width_px", "height_px", "fps", "depth_units", "intrinsics_override", "max_depth_pixels"},
         [&](const std::string& k, const YAML::Node& x, const std::string& f) {
-    if (k == "device") cam->device = r.String(x, f);
-    else if (k == "max_depth_pixels") cam->max_depth_pixels = r.Integer(x, f, kDepthPixels);
-    else if (k == "width_px") cam->width_px = r.Integer(x, f, kVideoPx);
-    else if (k == "height_px") cam->height_px = r.Integer(x, f, kVideoPx);
-    else if (k == "fps") cam->fps = r.Integer(x, f, kFps);
-    else if (k == "depth_units") cam->depth_units = r.OneOf(x, f, {"mm", "100um"});
-    else if (x.IsNull()) cam->intrinsics_override.reset();
-    else cam->intrinsics_override = ReadIntrinsics(r, x, f);
-  });
+          if (k == "device")
+            cam->device = r.String(x, f);
+          else if (k == "max_depth_pixels")
+            cam->max_depth_pixels = r.Integer(x, f, kDepthPixels);
+          else if (k == "width_px")
+            cam->width_px = r.Integer(x, f, kVideoPx);
+          else if (k == "height_px")
+            cam->height_px = r.Integer(x, f, kVideoPx);
+          else if (k == "fps")
+            cam->fps = r.Integer(x, f, kFps);
+          else if (k == "depth_units")
+            cam->depth_units = r.OneOf(x, f, {"mm", "100um"});
+          else if (x.IsNull())
+            cam->intrinsics_override.reset();
+          else
+            cam->intrinsics_override = ReadIntrinsics(r, x, f);
+        });
 }
 
-void ReadRobot(const Reader& r, const YAML::Node& v, const std::string& path,
-               RigConfig::Robot* robot) {
+void ReadRobot(const Reader& r, const YAML::Node& v, const std::string& path, RigConfig::Robot* robot) {
   r.Map(v, path, {"T_C_B", "clock_offset_s", "max_pose_gap_s"},
         [&](const std::string& k, const YAML::Node& x, const std::string& f) {
-    if (k == "clock_offset_s") robot->clock_offset_s = r.Number(x, f, kClockOffsetS);
-    else if (k == "max_pose_gap_s") robot->max_pose_gap_s = r.Number(x, f, kPoseGapS);
-    else if (x.IsNull()) robot->T_C_B.reset();
-    else {
-      RigConfig::Pose pose;
-      r.Map(x, f, {"translation_m", "rotation_wxyz"},
-            [&](const std::string& kk, const YAML::Node& y, const std::string& ff) {
-        if (kk == "translation_m") pose.translation_m = r.Numbers<3>(y, ff, kTranslationM);
-        else pose.rotation_wxyz = r.Numbers<4>(y, ff, kQuaternion);
-      }, /*required=*/true);
-      r.Check(x["rotation_wxyz"], [&] { CheckPose(f, pose); });
-      robot->T_C_B = pose;
-    }
-  });
+          if (k == "clock_offset_s")
+            robot->clock_offset_s = r.Number(x, f, kClockOffsetS);
+          else if (k == "max_pose_gap_s")
+            robot->max_pose_gap_s = r.Number(x, f, kPoseGapS);
+          else if (x.IsNull())
+            robot->T_C_B.reset();
+          else {
+            RigConfig::Pose pose;
+            r.Map(
+                x, f, {"translation_m", "rotation_wxyz"},
+                [&](const std::string& kk, const YAML::Node& y, const std::string& ff) {
+                  if (kk == "translation_m")
+                    pose.translation_m = r.Numbers<3>(y, ff, kTranslationM);
+                  else
+                    pose.rotation_wxyz = r.Numbers<4>(y, ff, kQuaternion);
+                },
+                /*required=*/true);
+            r.Check(x["rotation_wxyz"], [&] { CheckPose(f, pose); });
+            robot->T_C_B = pose;
+          }
+        });
 }
 
 // null: none (the session description's).
-std::optional<RigConfig::Box> ReadWorkspace(const Reader& r, const YAML::Node& v,
-                                            const std::string& path) {
+std::optional<RigConfig::Box> ReadWorkspace(const Reader& r, const YAML::Node& v, const std::string& path) {
   if (v.IsNull()) return std::nullopt;
   RigConfig::Box box;
-  r.Map(v, path, {"min_G_m", "max_G_m"},
-        [&](const std::string& k, const YAML::Node& x, const std::string& f) {
-    (k == "min_G_m" ? box.min_G_m : box.max_G_m) = r.Numbers<3>(x, f, kBoxM);
-  }, /*required=*/true);
+  r.Map(
+      v, path, {"min_G_m", "max_G_m"},
+      [&](const std::string& k, const YAML::Node& x, const std::string& f) {
+        (k == "min_G_m" ? box.min_G_m : box.max_G_m) = r.Numbers<3>(x, f, kBoxM);
+      },
+      /*required=*/true);
   r.Check(v["max_G_m"], [&] { CheckBox(path, box); });
   return box;
 }
 
 void ReadTsdf(const Reader& r, const YAML::Node& v, const std::string& path, RigConfig::Tsdf* tsdf) {
-  r.Map(v, path, {"voxel_m", "sdf_trunc_voxels", "block_resolution", "depth_sampling_stride",
-                  "max_fusion_pixels"},
+  r.Map(v, path,
+        {"voxel_m", "sdf_trunc_voxels", "block_resolution", "depth_sampling_stride", "max_fusion_pixels"},
         [&](const std::string& k, const YAML::Node& x, const std::string& f) {
-    if (k == "voxel_m") {
-      if (x.IsNull()) tsdf->voxel_m.reset();
-      else tsdf->voxel_m = r.Number(x, f, kVoxelM);
-    }
-    else if (k == "sdf_trunc_voxels") tsdf->sdf_trunc_voxels = r.Number(x, f, kTruncVoxels);
-    else if (k == "block_resolution") tsdf->block_resolution = r.Integer(x, f, kBlockResolution);
-    else if (k == "depth_sampling_stride") tsdf->depth_sampling_stride = r.Integer(x, f, kStride);
-    else tsdf->max_fusion_pixels = r.Integer(x, f, kFusionPixels);
-  });
+          if (k == "voxel_m") {
+            if (x.IsNull())
+              tsdf->voxel_m.reset();
+            else
+              tsdf->voxel_m = r.Number(x, f, kVoxelM);
+          } else if (k == "sdf_trunc_voxels")
+            tsdf->sdf_trunc_voxels = r.Number(x, f, kTruncVoxels);
+          else if (k == "block_resolution")
+            tsdf->block_resolution = r.Integer(x, f, kBlockResolution);
+          else if (k == "depth_sampling_stride")
+            tsdf->depth_sampling_stride = r.Integer(x, f, kStride);
+          else
+            tsdf->max_fusion_pixels = r.Integer(x, f, kFusionPixels);
+        });
 }
 
-void ReadRepair(const Reader& r, const YAML::Node& v, const std::string& path,
-                RigConfig::Repair* repair) {
-  r.Map(v, path, {"enabled", "mode", "use_evidence", "safe_bound_voxel_m", "top_rim_band_m",
-                  "close_unknown_top", "incremental"},
+void ReadRepair(const Reader& r, const YAML::Node& v, const std::string& path, RigConfig::Repair* repair) {
+  r.Map(v, path,
+        {"enabled", "mode", "use_evidence", "safe_bound_voxel_m", "top_rim_band_m", "close_unknown_top",
+         "incremental"},
         [&](const std::string& k, const YAML::Node& x, const std::string& f) {
-    if (k == "enabled") repair->enabled = r.Bool(x, f);
-    else if (k == "mode") repair->mode = r.OneOf(x, f, {"best", "paper"});
-    else if (k == "use_evidence") repair->use_evidence = r.Bool(x, f);
-    else if (k == "safe_bound_voxel_m") {
-      repair->safe_bound_voxel_m = r.Number(x, f, kSafeBoundM);
-      r.Check(x, [&] { CheckSafeBound(f, repair->safe_bound_voxel_m); });
-    }
-    else if (k == "top_rim_band_m") repair->top_rim_band_m = r.Number(x, f, kRimBandM);
-    else if (k == "incremental") repair->incremental = r.Bool(x, f);
-    else r.Bool(x, f);  // close_unknown_top: read and ignored since the top search (2026-12)
-  });
+          if (k == "enabled")
+            repair->enabled = r.Bool(x, f);
+          else if (k == "mode")
+            repair->mode = r.OneOf(x, f, {"best", "paper"});
+          else if (k == "use_evidence")
+            repair->use_evidence = r.Bool(x, f);
+          else if (k == "safe_bound_voxel_m") {
+            repair->safe_bound_voxel_m = r.Number(x, f, kSafeBoundM);
+            r.Check(x, [&] { CheckSafeBound(f, repair->safe_bound_voxel_m); });
+          } else if (k == "top_rim_band_m")
+            repair->top_rim_band_m = r.Number(x, f, kRimBandM);
+          else if (k == "incremental")
+            repair->incremental = r.Bool(x, f);
+          else
+            r.Bool(x, f);  // close_unknown_top: read and ignored since the top search (2026-12)
+        });
 }
 
 void ReadChannels(const Reader& r, const YAML::Node& v, const std::string& path,
                   RigConfig::Channels* channels) {
   r.Map(v, path, {"depth", "gripper_state", "object_cloud", "status", "session", "collision_mesh"},
         [&](const std::string& k, const YAML::Node& x, const std::string& f) {
-    std::string value = r.String(x, f);
-    r.Check(x, [&] { CheckChannel(f, value); });
-    if (k == "depth") channels->depth = value;
-    else if (k == "gripper_state") channels->gripper_state = value;
-    else if (k == "object_cloud") channels->object_cloud = value;
-    else if (k == "status") channels->status = value;
-    else if (k == "session") channels->session = value;
-    else channels->collision_mesh = value;
-  });
+          std::string value = r.String(x, f);
+          r.Check(x, [&] { CheckChannel(f, value); });
+          if (k == "depth")
+            channels->depth = value;
+          else if (k == "gripper_state")
+            channels->gripper_state = value;
+          else if (k == "object_cloud")
+            channels->object_cloud = value;
+          else if (k == "status")
+            channels->status = value;
+          else if (k == "session")
+            channels->session = value;
+          else
+            channels->collision_mesh = value;
+        });
   // Two the same: named at the line of the later one the file sets
   // (the other may be a default).
   if (const auto problem = io::FindChannelNameProblem(ToChannelNames(*channels))) {
@@ -303,49 +337,51 @@ void ReadChannels(const Reader& r, const YAML::Node& v, const std::string& path,
 }
 
 void ReadClaw(const Reader& r, const YAML::Node& v, const std::string& path, RigConfig::Claw* claw) {
-  r.Map(v, path, {"spec", "mesh_root"},
-        [&](const std::string& k, const YAML::Node& x, const std::string& f) {
+  r.Map(v, path, {"spec", "mesh_root"}, [&](const std::string& k, const YAML::Node& x, const std::string& f) {
     (k == "spec" ? claw->spec : claw->mesh_root) = r.String(x, f);
   });
 }
 
-void ReadRefine(const Reader& r, const YAML::Node& v, const std::string& path,
-                RigConfig::Refine* refine) {
+void ReadRefine(const Reader& r, const YAML::Node& v, const std::string& path, RigConfig::Refine* refine) {
   r.Map(v, path, {"enabled", "min_correction_m", "min_correction_deg", "track_object"},
         [&](const std::string& k, const YAML::Node& x, const std::string& f) {
-    if (k == "enabled") refine->enabled = r.Bool(x, f);
-    else if (k == "min_correction_m") refine->min_correction_m = r.Number(x, f, kCorrectionM);
-    else if (k == "min_correction_deg") refine->min_correction_deg = r.Number(x, f, kCorrectionDeg);
-    else refine->track_object = r.Bool(x, f);
-  });
+          if (k == "enabled")
+            refine->enabled = r.Bool(x, f);
+          else if (k == "min_correction_m")
+            refine->min_correction_m = r.Number(x, f, kCorrectionM);
+          else if (k == "min_correction_deg")
+            refine->min_correction_deg = r.Number(x, f, kCorrectionDeg);
+          else
+            refine->track_object = r.Bool(x, f);
+        });
 }
 
 void ReadCollisionMesh(const Reader& r, const YAML::Node& v, const std::string& path,
                        RigConfig::CollisionMesh* mesh) {
   r.Map(v, path, {"max_triangles", "convex_hull"},
         [&](const std::string& k, const YAML::Node& x, const std::string& f) {
-    if (k == "max_triangles") mesh->max_triangles = r.Integer(x, f, kMeshTriangles);
-    else mesh->convex_hull = r.Bool(x, f);
-  });
+          if (k == "max_triangles")
+            mesh->max_triangles = r.Integer(x, f, kMeshTriangles);
+          else
+            mesh->convex_hull = r.Bool(x, f);
+        });
 }
 
-void ReadCompute(const Reader& r, const YAML::Node& v, const std::string& path,
-                 RigConfig::Compute* compute) {
+void ReadCompute(const Reader& r, const YAML::Node& v, const std::string& path, RigConfig::Compute* compute) {
   r.Map(v, path, {"num_threads"}, [&](const std::string&, const YAML::Node& x, const std::string& f) {
     compute->num_threads = r.Integer(x, f, kNumThreads);
   });
 }
 
-void ReadRates(const Reader& r, const YAML::Node& v, const std::string& path,
-               RigConfig::Rates* rates) {
+void ReadRates(const Reader& r, const YAML::Node& v, const std::string& path, RigConfig::Rates* rates) {
   r.Map(v, path, {"publish_every_n_frames", "status_period_s"},
         [&](const std::string& k, const YAML::Node& x, const std::string& f) {
-    if (k == "publish_every_n_frames") {
-      rates->publish_every_n_frames = r.Integer(x, f, kPublishEvery);
-    } else {
-      rates->status_period_s = r.Number(x, f, kStatusPeriodS);
-    }
-  });
+          if (k == "publish_every_n_frames") {
+            rates->publish_every_n_frames = r.Integer(x, f, kPublishEvery);
+          } else {
+            rates->status_period_s = r.Number(x, f, kStatusPeriodS);
+          }
+        });
 }
 
 }  // namespace
@@ -356,21 +392,32 @@ RigConfig ParseRigConfig(const std::string& text, const std::string& name) {
   if (root.IsNull()) return c;  // an empty file: the defaults
   const Reader r(name);
   r.Map(root, "",
-        {"camera", "robot", "claw", "workspace", "tsdf", "repair", "refine", "channels",
-         "collision_mesh", "rates", "compute"},
+        {"camera", "robot", "claw", "workspace", "tsdf", "repair", "refine", "channels", "collision_mesh",
+         "rates", "compute"},
         [&](const std::string& key, const YAML::Node& v, const std::string& path) {
-    if (key == "camera") ReadCamera(r, v, path, &c.camera);
-    else if (key == "robot") ReadRobot(r, v, path, &c.robot);
-    else if (key == "workspace") c.workspace = ReadWorkspace(r, v, path);
-    else if (key == "tsdf") ReadTsdf(r, v, path, &c.tsdf);
-    else if (key == "repair") ReadRepair(r, v, path, &c.repair);
-    else if (key == "channels") ReadChannels(r, v, path, &c.channels);
-    else if (key == "claw") ReadClaw(r, v, path, &c.claw);
-    else if (key == "refine") ReadRefine(r, v, path, &c.refine);
-    else if (key == "collision_mesh") ReadCollisionMesh(r, v, path, &c.collision_mesh);
-    else if (key == "compute") ReadCompute(r, v, path, &c.compute);
-    else ReadRates(r, v, path, &c.rates);
-  });
+          if (key == "camera")
+            ReadCamera(r, v, path, &c.camera);
+          else if (key == "robot")
+            ReadRobot(r, v, path, &c.robot);
+          else if (key == "workspace")
+            c.workspace = ReadWorkspace(r, v, path);
+          else if (key == "tsdf")
+            ReadTsdf(r, v, path, &c.tsdf);
+          else if (key == "repair")
+            ReadRepair(r, v, path, &c.repair);
+          else if (key == "channels")
+            ReadChannels(r, v, path, &c.channels);
+          else if (key == "claw")
+            ReadClaw(r, v, path, &c.claw);
+          else if (key == "refine")
+            ReadRefine(r, v, path, &c.refine);
+          else if (key == "collision_mesh")
+            ReadCollisionMesh(r, v, path, &c.collision_mesh);
+          else if (key == "compute")
+            ReadCompute(r, v, path, &c.compute);
+          else
+            ReadRates(r, v, path, &c.rates);
+        });
   try {
     c.Validate();  // every field was checked as read; this is the net under it
   } catch (const ConfigError& e) {

@@ -11,8 +11,7 @@ namespace {
 constexpr int64_t kStallTextAfterFrames = 3;
 }  // namespace
 
-GraspModule::GraspModule(const GraspModuleConfig& config, claw::ClawModel claw,
-                         CloudCallback on_cloud)
+GraspModule::GraspModule(const GraspModuleConfig& config, claw::ClawModel claw, CloudCallback on_cloud)
     : config_(config),
       on_cloud_(std::move(on_cloud)),
       sequencer_(config.pipeline, std::move(claw), config.grasps,
@@ -26,8 +25,9 @@ GraspModule::GraspModule(const GraspModuleConfig& config, claw::ClawModel claw,
                  }) {
   if (config.frame_queue_capacity < 1 || config.state_queue_capacity < 1 ||
       config.extract_every_n_frames < 0) {
-    throw std::invalid_argument("GraspModuleConfig: queue capacities must be >= 1, "
-                                "extract_every_n_frames >= 0");
+    throw std::invalid_argument(
+        "GraspModuleConfig: queue capacities must be >= 1, "
+        "extract_every_n_frames >= 0");
   }
   frames_.resize(static_cast<size_t>(config.frame_queue_capacity));
   frame_arrival_.resize(frames_.size());
@@ -94,11 +94,8 @@ bool GraspModule::PublishIfDue() {
   return true;
 }
 
-void GraspModule::StampLatency(ObjectCloud* cloud,
-                               std::optional<Clock::time_point> extract_start) const {
-  const auto ms = [](Clock::duration d) {
-    return std::chrono::duration<double, std::milli>(d).count();
-  };
+void GraspModule::StampLatency(ObjectCloud* cloud, std::optional<Clock::time_point> extract_start) const {
+  const auto ms = [](Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); };
   const Clock::time_point now = Clock::now();
   for (const TakenFrame& taken : taken_) {
     if (taken.utime != cloud->utime || taken.arrival == Clock::time_point{}) continue;
@@ -111,21 +108,19 @@ void GraspModule::StampLatency(ObjectCloud* cloud,
 }
 
 void GraspModule::WorkerLoop() {
-  DepthFrame frame;    // the worker's own copies, reused
+  DepthFrame frame;  // the worker's own copies, reused
   GripperState state;
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
-    wake_worker_.wait(lock, [&] {
-      return stop_ || frames_count_ > 0 || states_count_ > 0 || finish_requested_;
-    });
+    wake_worker_.wait(lock,
+                      [&] { return stop_ || frames_count_ > 0 || states_count_ > 0 || finish_requested_; });
     if (stop_) return;
     busy_ = true;
     // States first: a frame's bracketing state may have arrived with it.
     // But a state that ends the grasp waits for the frames taken before it.
     while (states_count_ > 0) {
       const GripperState& next = states_[states_head_];
-      if (frames_count_ > 0 && sequencer_.EndsGrasp(next) &&
-          frames_[frames_head_].utime < next.utime) {
+      if (frames_count_ > 0 && sequencer_.EndsGrasp(next) && frames_[frames_head_].utime < next.utime) {
         break;
       }
       state = next;
@@ -144,8 +139,7 @@ void GraspModule::WorkerLoop() {
       TakenFrame& taken = taken_[taken_next_++ % taken_.size()];
       taken.utime = frame.utime;
       taken.arrival = frame_arrival_[frames_head_];
-      taken.queue_wait_ms =
-          std::chrono::duration<double, std::milli>(Clock::now() - taken.arrival).count();
+      taken.queue_wait_ms = std::chrono::duration<double, std::milli>(Clock::now() - taken.arrival).count();
       frames_head_ = (frames_head_ + 1) % frames_.size();
       --frames_count_;
       lock.unlock();

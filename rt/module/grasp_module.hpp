@@ -49,11 +49,11 @@ struct GraspModuleConfig {
 
 struct GraspModuleStatus {
   int64_t frames_in{0};
-  int64_t frames_dropped{0};   ///< queue overflow (worker too slow)
+  int64_t frames_dropped{0};  ///< queue overflow (worker too slow)
   int64_t states_dropped{0};
-  PipelineStats pipeline;      ///< snapshot from the worker, summed over grasps
-  SessionCounters session;     ///< grasps, clock jumps, skips by reason
-  std::string stall_reason;    ///< why the last frames were not fused
+  PipelineStats pipeline;    ///< snapshot from the worker, summed over grasps
+  SessionCounters session;   ///< grasps, clock jumps, skips by reason
+  std::string stall_reason;  ///< why the last frames were not fused
   int64_t clouds_published{0};
 };
 
@@ -62,8 +62,7 @@ class GraspModule {
   /// The cloud and what the camera saw so far (a snapshot: the record is
   /// cheap to copy and stays valid after the module resets). A grasp's
   /// final model has is_final set.
-  using CloudCallback =
-      std::function<void(const ObjectCloud&, const evidence::VisibilityRecord&)>;
+  using CloudCallback = std::function<void(const ObjectCloud&, const evidence::VisibilityRecord&)>;
 
   /// Starts the worker. Throws std::invalid_argument on a bad config.
   GraspModule(const GraspModuleConfig& config, claw::ClawModel claw, CloudCallback on_cloud);
@@ -99,14 +98,14 @@ class GraspModule {
 
   const GraspModuleConfig config_;
   CloudCallback on_cloud_;
-  int64_t clouds_out_{0};  // worker only: callbacks since the last merge
+  int64_t clouds_out_{0};     // worker only: callbacks since the last merge
   GraspSequencer sequencer_;  // touched by the worker only
 
   mutable std::mutex mutex_;
   std::condition_variable wake_worker_;
   std::condition_variable idle_;
   using Clock = std::chrono::steady_clock;
-  std::vector<DepthFrame> frames_;  // ring of reusable slots
+  std::vector<DepthFrame> frames_;                // ring of reusable slots
   std::vector<Clock::time_point> frame_arrival_;  // beside frames_
   size_t frames_head_{0}, frames_count_{0};
   std::vector<GripperState> states_;  // ring

@@ -34,10 +34,8 @@ void AddCounters(const PipelineStats& s, PipelineStats* sum) {
 }  // namespace
 
 GraspSequencer::GraspSequencer(const PipelineConfig& pipeline, claw::ClawModel claw,
-                               const GraspSequencerConfig& config,
-                               GraspEndCallback on_grasp_end)
-    : config_(config), pipeline_(pipeline, std::move(claw)),
-      on_grasp_end_(std::move(on_grasp_end)) {
+                               const GraspSequencerConfig& config, GraspEndCallback on_grasp_end)
+    : config_(config), pipeline_(pipeline, std::move(claw)), on_grasp_end_(std::move(on_grasp_end)) {
   config.Validate();
 }
 
@@ -226,8 +224,7 @@ std::string GraspSequencer::StallReason() const {
                   since(now.rejected_jump, then.rejected_jump));
     return text;
   }
-  std::snprintf(text, sizeof(text),
-                "%lld frames not fused: no gripper pose within %.0f ms of them",
+  std::snprintf(text, sizeof(text), "%lld frames not fused: no gripper pose within %.0f ms of them",
                 static_cast<long long>(counters_.frames_since_fused),
                 pipeline_.config().max_pose_gap_us / 1000.0);
   return text;

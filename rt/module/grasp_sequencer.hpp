@@ -72,12 +72,11 @@ class GraspSequencer {
  public:
   /// A grasp's final model (is_final set, grasp_id the grasp's) and what
   /// the camera saw of it; called on the caller's thread at the grasp's end.
-  using GraspEndCallback =
-      std::function<void(const ObjectCloud&, const evidence::VisibilityRecord&)>;
+  using GraspEndCallback = std::function<void(const ObjectCloud&, const evidence::VisibilityRecord&)>;
 
   /// Throws std::invalid_argument on a bad config.
-  GraspSequencer(const PipelineConfig& pipeline, claw::ClawModel claw,
-                 const GraspSequencerConfig& config, GraspEndCallback on_grasp_end);
+  GraspSequencer(const PipelineConfig& pipeline, claw::ClawModel claw, const GraspSequencerConfig& config,
+                 GraspEndCallback on_grasp_end);
 
   /// As Pipeline::AddGripperState, after the grasp and clock rules above.
   bool AddGripperState(const GripperState& state);

@@ -15,23 +15,28 @@ namespace {
 
 const char* StateName(io::ModuleState state) {
   switch (state) {
-    case io::ModuleState::kWaiting: return "waiting";
-    case io::ModuleState::kFusing: return "fusing";
-    case io::ModuleState::kRepairing: return "repairing";
-    case io::ModuleState::kStalled: return "stalled";
-    case io::ModuleState::kError: return "error";
+    case io::ModuleState::kWaiting:
+      return "waiting";
+    case io::ModuleState::kFusing:
+      return "fusing";
+    case io::ModuleState::kRepairing:
+      return "repairing";
+    case io::ModuleState::kStalled:
+      return "stalled";
+    case io::ModuleState::kError:
+      return "error";
   }
   return "error";
 }
 
 }  // namespace
 
-LiveSession::LiveSession(const LiveSessionConfig& config)
-    : config_(config), publisher_(config.lcm_url) {
+LiveSession::LiveSession(const LiveSessionConfig& config) : config_(config), publisher_(config.lcm_url) {
   if (config.heap_reserve_mb < 0) throw std::invalid_argument("LiveSessionConfig: heap_reserve_mb < 0");
   if (config.heap_reserve_mb > 0 && !ReserveHeap(static_cast<size_t>(config.heap_reserve_mb))) {
-    std::fprintf(stderr, "graspfill: the heap could not be readied for the real-time loop "
-                         "(%d MB reserve); continuing with the allocator's defaults\n",
+    std::fprintf(stderr,
+                 "graspfill: the heap could not be readied for the real-time loop "
+                 "(%d MB reserve); continuing with the allocator's defaults\n",
                  config.heap_reserve_mb);
   }
   LcmBusSubscriber::Config bus;
@@ -47,25 +52,23 @@ LiveSession::LiveSession(const LiveSessionConfig& config)
   // A model too large for a default subscriber: said once, while it goes out.
   publisher_.set_on_warning([this](const std::string& text) { config_.on_notice("warning: " + text); });
   const std::string rejected = "session description on " + config.channels.session + " rejected (";
-  const std::string kept = "; the session keeps its claw and config (further ones of this kind "
-                           "are only counted in the status)";
+  const std::string kept =
+      "; the session keeps its claw and config (further ones of this kind "
+      "are only counted in the status)";
   if (config.build_session_claw) {
     SessionClawChecker::Callbacks callbacks;
-    callbacks.on_unloadable = [this, rejected, kept](const io::SessionDescription&,
-                                                     const std::string& why) {
+    callbacks.on_unloadable = [this, rejected, kept](const io::SessionDescription&, const std::string& why) {
       ++claws_unloadable_;
       NoticeOnce(io::MessageError::kClawUnloadable,
-                 rejected + io::MessageErrorName(io::MessageError::kClawUnloadable) + "): " + why +
-                     kept);
+                 rejected + io::MessageErrorName(io::MessageError::kClawUnloadable) + "): " + why + kept);
     };
     callbacks.on_other_claw = config.on_other_claw;
-    claw_checker_ = std::make_unique<SessionClawChecker>(config.build_session_claw,
-                                                         config.same_claw, std::move(callbacks));
+    claw_checker_ = std::make_unique<SessionClawChecker>(config.build_session_claw, config.same_claw,
+                                                         std::move(callbacks));
   }
   subscriber_ = std::make_unique<LcmBusSubscriber>(
       bus, [this](const GripperState& s) { OnGripperState(s); },
-      config.depth_from_bus ? LcmBusSubscriber::DepthCallback(
-                                  [this](const DepthFrame& f) { OnDepth(f); })
+      config.depth_from_bus ? LcmBusSubscriber::DepthCallback([this](const DepthFrame& f) { OnDepth(f); })
                             : LcmBusSubscriber::DepthCallback(),
       [this](const io::SessionDescription& session) {
         if (claw_checker_) claw_checker_->Submit(session);  // never waits for the build
@@ -107,8 +110,7 @@ std::optional<DescribedClaw> LiveSession::WaitForFirstEvent() {
     if (depth_came && (!claw_checker_ || claw_checker_->Idle())) return first_built();
     if (limits.interrupted != nullptr && limits.interrupted->load()) break;
     if (limits.duration_s > 0 &&
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
-            limits.duration_s) {
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > limits.duration_s) {
       break;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -124,9 +126,9 @@ void LiveSession::PublishCloud(const ObjectCloud& cloud) {
   }
   // The age of the cloud's newest frame when it went out (when known).
   const bool aged = cloud.newest_frame_arrival != std::chrono::steady_clock::time_point{};
-  const double age_ms = std::chrono::duration<double, std::milli>(
-                            std::chrono::steady_clock::now() - cloud.newest_frame_arrival)
-                            .count();
+  const double age_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cloud.newest_frame_arrival)
+          .count();
   std::lock_guard<std::mutex> lock(latency_mutex_);
   ++clouds_published_;
   if (aged) latency_ms_.Add(age_ms);
@@ -150,8 +152,8 @@ void LiveSession::Begin(claw::ClawModel claw, const io::SessionDescription& desc
       [this](const ObjectCloud& cloud, const evidence::VisibilityRecord& seen) {
         if (repair_stage_) {
           repair_stage_->Submit(cloud, config_.repair_evidence ? &seen : nullptr);  // never waits
-        }
-        else PublishCloud(cloud);
+        } else
+          PublishCloud(cloud);
       });
   SessionLoopLimits limits = config_.limits;
   limits.on_tick = [this] {
@@ -198,8 +200,10 @@ void LiveSession::OnDepth(const DepthFrame& frame) {
 
 bool LiveSession::OnEvent(const SourceEvent& event) {
   // Run's source gives depth (a camera); the bus gives the rest.
-  if (event.kind == SourceEvent::Kind::kDepth) OnDepth(event.depth);
-  else if (event.kind == SourceEvent::Kind::kGripperState) OnGripperState(event.gripper);
+  if (event.kind == SourceEvent::Kind::kDepth)
+    OnDepth(event.depth);
+  else if (event.kind == SourceEvent::Kind::kGripperState)
+    OnGripperState(event.gripper);
   return true;
 }
 
@@ -224,11 +228,9 @@ io::ModuleStatus LiveSession::Status() const {
   status.frames_dropped = s.frames_dropped + s.pipeline.frames_dropped;
   status.frames_skipped_by_reason = s.pipeline.skipped;
   status.frames_skipped_by_reason.Count(FrameSkipReason::kBadFrame, source_errors_);
-  status.last_frame_ms = s.pipeline.crop.last_ms + s.pipeline.mask.last_ms +
-                         s.pipeline.integrate.last_ms;
+  status.last_frame_ms = s.pipeline.crop.last_ms + s.pipeline.mask.last_ms + s.pipeline.integrate.last_ms;
   if (subscriber_) status.bad_messages = subscriber_->bad_messages();
-  status.bad_messages.by_reason[static_cast<size_t>(io::MessageError::kClawUnloadable)] +=
-      claws_unloadable_;
+  status.bad_messages.by_reason[static_cast<size_t>(io::MessageError::kClawUnloadable)] += claws_unloadable_;
   status.decode_errors = status.bad_messages.total();
   status.clock_jumps = c.clock_jumps;
   status.grasp_id = c.grasp_id;
@@ -271,8 +273,7 @@ io::ModuleStatus LiveSession::Status() const {
     // A recording that stopped (a full disk) is said while fusing goes on.
     const std::string failure = recorder_->failure();
     if (!failure.empty()) {
-      status.state_detail += (status.state_detail.empty() ? "" : "; ") +
-                             ("recording stopped: " + failure);
+      status.state_detail += (status.state_detail.empty() ? "" : "; ") + ("recording stopped: " + failure);
     }
   }
   status.state = StateName(status.state_code);

@@ -116,7 +116,7 @@ struct LiveSessionSummary {
   /// Why the recording stopped early (a full disk), "" if it did not; the
   /// log keeps the records written.
   std::string record_failure;
-  io::ModuleStatus status;   ///< the last status published
+  io::ModuleStatus status;  ///< the last status published
   /// Arrival of each published cloud's newest frame -> its publication [ms]
   /// (the last 4096 clouds).
   Percentiles latency_ms;

@@ -25,7 +25,7 @@ bool ReserveHeap(size_t reserve_mb) {
   // Threads would otherwise get arenas of their own, which the reserve
   // below does not reach.
   bool ok = mallopt(M_ARENA_MAX, 1) == 1;
-  ok = mallopt(M_MMAP_MAX, 0) == 1 && ok;        // big chunks from the arena too
+  ok = mallopt(M_MMAP_MAX, 0) == 1 && ok;         // big chunks from the arena too
   ok = mallopt(M_TRIM_THRESHOLD, -1) == 1 && ok;  // freed pages stay mapped
   if (reserve_mb == 0) return ok;
   const size_t bytes = reserve_mb << 20;

@@ -20,8 +20,7 @@ namespace {
 constexpr int kRebaseNice = 10;
 
 double MsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 // The repair's verdict, or the reason it threw (the cloud is then as it was).
@@ -46,7 +45,7 @@ RepairStage::RepairStage(const repair::RepairConfig& config, CloudCallback on_cl
       options_(options),
       on_cloud_(std::move(on_cloud)),
       base_(options.incremental_config) {  // validates it
-  config_.Validate();  // a bad config fails here, not once per cloud
+  config_.Validate();                      // a bad config fails here, not once per cloud
   worker_ = std::thread(&RepairStage::WorkerLoop, this);
   if (options_.incremental) rebaser_ = std::thread(&RepairStage::RebaseLoop, this);
 }
@@ -105,8 +104,8 @@ RepairStageStatus RepairStage::status() const {
 bool RepairStage::RepairInFull(std::string* verdict) {
   const evidence::VisibilityRecord* record = working_record_.empty() ? nullptr : &working_record_;
   const Clock::time_point start = Clock::now();
-  const bool failed = RunGuarded(
-      [&] { return RepairObjectCloud(config_, &working_, record).StatusText(); }, verdict);
+  const bool failed =
+      RunGuarded([&] { return RepairObjectCloud(config_, &working_, record).StatusText(); }, verdict);
   const double ms = MsSince(start);
   if (!failed && options_.incremental) {
     // The first cloud of a grasp, or a final: the base for what follows.
@@ -131,11 +130,12 @@ RepairStage::Update RepairStage::UpdateFromBase(std::string* verdict) {
     std::lock_guard<std::mutex> base_lock(base_mutex_);
     report = base_.Update(working_, record, &updated_);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "graspfill repair stage: update failed (%s); repairing in full\n", ErrorText(e).c_str());
+    std::fprintf(stderr, "graspfill repair stage: update failed (%s); repairing in full\n",
+                 ErrorText(e).c_str());
     return Update::kFailed;
   }
-  const bool no_base = report.rebase == repair::RebaseReason::kNoBase ||
-                       report.rebase == repair::RebaseReason::kOtherGrasp;
+  const bool no_base =
+      report.rebase == repair::RebaseReason::kNoBase || report.rebase == repair::RebaseReason::kOtherGrasp;
   const double ms = MsSince(start);
   std::lock_guard<std::mutex> lock(mutex_);
   if (report.full_due() && !has_rebase_job_ && !rebasing_) {
@@ -194,7 +194,8 @@ void RepairStage::WorkerLoop() {
     if (failed) {
       // RepairObjectCloud leaves the cloud as it was: the fused cloud still
       // beats no cloud for the planner.
-      std::fprintf(stderr, "graspfill repair stage: cloud seq %lld (%zu points) %s; "
+      std::fprintf(stderr,
+                   "graspfill repair stage: cloud seq %lld (%zu points) %s; "
                    "publishing it unrepaired\n",
                    static_cast<long long>(working_.seq), points_in, verdict.c_str());
     }
@@ -206,11 +207,16 @@ void RepairStage::WorkerLoop() {
     }
 
     lock.lock();
-    if (failed) ++status_.failed;
-    else if (unrepaired) ++status_.unrepaired;
-    else ++status_.repaired;
-    if (updated) ++status_.updates;
-    else if (!failed && !unrepaired) ++status_.full_published;
+    if (failed)
+      ++status_.failed;
+    else if (unrepaired)
+      ++status_.unrepaired;
+    else
+      ++status_.repaired;
+    if (updated)
+      ++status_.updates;
+    else if (!failed && !unrepaired)
+      ++status_.full_published;
     status_.last_repair_ms = ms;
     status_.last_points_in = points_in;
     status_.last_points_out = working_.size();
@@ -257,10 +263,7 @@ void RepairStage::RebaseLoop() {
     const Clock::time_point start = Clock::now();
     std::string verdict;
     const bool failed = RunGuarded(
-        [&] {
-          return RepairObjectCloud(config_, &cloud, record.empty() ? nullptr : &record)
-              .StatusText();
-        },
+        [&] { return RepairObjectCloud(config_, &cloud, record.empty() ? nullptr : &record).StatusText(); },
         &verdict);
     const double ms = MsSince(start);
     bool rebased = false;

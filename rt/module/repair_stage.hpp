@@ -135,7 +135,7 @@ class RepairStage {
   mutable std::mutex mutex_;
   std::condition_variable wake_worker_;
   std::condition_variable idle_;
-  ObjectCloud mailbox_;        // the latest cloud, valid while has_mail_
+  ObjectCloud mailbox_;                        // the latest cloud, valid while has_mail_
   evidence::VisibilityRecord mailbox_record_;  // empty when none was given
   Clock::time_point mailbox_submitted_;
   bool has_mail_{false};
@@ -144,16 +144,16 @@ class RepairStage {
     evidence::VisibilityRecord record;
     Clock::time_point submitted;
   };
-  std::deque<Final> finals_;   // once per grasp: allocation is fine here
+  std::deque<Final> finals_;  // once per grasp: allocation is fine here
   bool working_final_{false};
-  ObjectCloud working_;        // the worker's; swapped with mailbox_, never copied
+  ObjectCloud working_;  // the worker's; swapped with mailbox_, never copied
   evidence::VisibilityRecord working_record_;
   Clock::time_point working_submitted_;
-  ObjectCloud updated_;        // the worker's update output, reused
+  ObjectCloud updated_;  // the worker's update output, reused
   bool busy_{false};
   bool stop_{false};
   RepairStageStatus status_;
-  SampleWindow update_ms_;     // guarded by mutex_
+  SampleWindow update_ms_;  // guarded by mutex_
   SampleWindow full_ms_;
 
   // The base, shared by the worker (updates, a grasp's first cloud) and the

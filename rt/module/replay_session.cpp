@@ -83,8 +83,7 @@ std::unique_ptr<GraspSequencer> ReplaySession::MakeSequencer(
     pipeline.tsdf.voxel_m = session->voxel_m;
     pipeline.tsdf.sdf_trunc_m = config_.sdf_trunc_voxels * session->voxel_m;
   }
-  claw::ClawModel claw =
-      config_.choose_claw ? config_.choose_claw(session) : claw::ClawModel::ThreeFinger();
+  claw::ClawModel claw = config_.choose_claw ? config_.choose_claw(session) : claw::ClawModel::ThreeFinger();
   return std::make_unique<GraspSequencer>(
       pipeline, std::move(claw), GraspSequencerConfig{},
       [this](const ObjectCloud& cloud, const evidence::VisibilityRecord& seen) {
@@ -136,8 +135,8 @@ ReplayResult ReplaySession::Run() {
   result.stats = sequencer.stats();
   result.counters = sequencer.counters();
   if (result.stats.frames_integrated == 0) {
-    result.end = result.stats.frames_skipped_refine > 0 ? ReplayEnd::kRefineRejectedEvery
-                                                        : ReplayEnd::kNoPosedFrames;
+    result.end =
+        result.stats.frames_skipped_refine > 0 ? ReplayEnd::kRefineRejectedEvery : ReplayEnd::kNoPosedFrames;
     return result;
   }
 
@@ -146,9 +145,9 @@ ReplayResult ReplaySession::Run() {
     const bool last = g + 1 == ended_.size();
     ObjectCloud& model = ended_[g].cloud;
     if (last && config_.keep_output_fused && config_.repair) result.output_fused = model;
-    const std::string path = last ? config_.output_path
-                                  : GraspModelPath(config_.output_path, model.grasp_id,
-                                                   ++times_seen[model.grasp_id]);
+    const std::string path =
+        last ? config_.output_path
+             : GraspModelPath(config_.output_path, model.grasp_id, ++times_seen[model.grasp_id]);
     result.grasps.push_back(Deliver(&model, ended_[g].seen, path,
                                     last ? DeliveredModel::kOutput : DeliveredModel::kEarlierGrasp));
     if (result.grasps.back().step != DeliveryStep::kDelivered) {
@@ -184,8 +183,7 @@ void ReplaySession::MakeCollisionMesh(ReplayResult* result) {
   message.watertight = m.watertight;
   message.deviation_m = m.outside.max_m;
   if (!publisher_) publisher_ = std::make_unique<LcmPublisher>(config_.lcm_url);
-  result->mesh_published =
-      publisher_->PublishCollisionMesh(config_.log.channels.collision_mesh, message);
+  result->mesh_published = publisher_->PublishCollisionMesh(config_.log.channels.collision_mesh, message);
 }
 
 GraspDelivery ReplaySession::Deliver(ObjectCloud* model, const evidence::VisibilityRecord& seen,
@@ -198,8 +196,7 @@ GraspDelivery ReplaySession::Deliver(ObjectCloud* model, const evidence::Visibil
   const auto t_start = Clock::now();
   if (config_.repair) {
     try {
-      d.repair = RepairObjectCloud(config_.repair_config, model,
-                                   config_.repair_evidence ? &seen : nullptr);
+      d.repair = RepairObjectCloud(config_.repair_config, model, config_.repair_evidence ? &seen : nullptr);
     } catch (const std::exception& e) {  // *model is left as fused
       d.repair_error = ErrorText(e);
       if (which == DeliveredModel::kOutput) {

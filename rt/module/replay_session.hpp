@@ -110,13 +110,13 @@ struct ReplaySessionConfig {
 /// How a replay ended. Every end but kDone is an error; ReplayResult says
 /// more.
 enum class ReplayEnd {
-  kDone,                  ///< every grasp's model delivered
-  kBadEvent,              ///< a malformed event, skip_bad_events off (error)
-  kLogCorrupt,            ///< the log stops making sense before its end (error)
-  kNoDepthFrames,         ///< no depth frame on channels.depth
-  kRefineRejectedEvery,   ///< the pose refinement rejected every posed frame
-  kNoPosedFrames,         ///< no depth frame had a gripper pose in time
-  kDeliveryFailed,        ///< ReplayResult::grasps.back() says which step
+  kDone,                 ///< every grasp's model delivered
+  kBadEvent,             ///< a malformed event, skip_bad_events off (error)
+  kLogCorrupt,           ///< the log stops making sense before its end (error)
+  kNoDepthFrames,        ///< no depth frame on channels.depth
+  kRefineRejectedEvery,  ///< the pose refinement rejected every posed frame
+  kNoPosedFrames,        ///< no depth frame had a gripper pose in time
+  kDeliveryFailed,       ///< ReplayResult::grasps.back() says which step
 };
 
 /// Which model a delivery is, and so its error policy. The two differ on
@@ -200,7 +200,7 @@ struct ReplayResult {
   /// it could not be made (mesh_error; the replay's other outputs stand).
   std::optional<mesh::PlannerMesh> collision_mesh;
   std::string mesh_error;
-  double mesh_ms{0.0};  ///< the mesh made (not its publication)
+  double mesh_ms{0.0};         ///< the mesh made (not its publication)
   bool mesh_published{false};  ///< LCM took the mesh (config.publish)
 
   double fuse_ms{0.0};     ///< the log read and fused
@@ -234,11 +234,10 @@ class ReplaySession {
 
  private:
   /// The sequencer for the recording's head (SequencerFeed's factory).
-  std::unique_ptr<GraspSequencer> MakeSequencer(
-      const std::optional<io::SessionDescription>& session);
+  std::unique_ptr<GraspSequencer> MakeSequencer(const std::optional<io::SessionDescription>& session);
   /// The one delivery: see DeliveredModel for its error policy.
-  GraspDelivery Deliver(ObjectCloud* model, const evidence::VisibilityRecord& seen,
-                        const std::string& path, DeliveredModel which);
+  GraspDelivery Deliver(ObjectCloud* model, const evidence::VisibilityRecord& seen, const std::string& path,
+                        DeliveredModel which);
   /// The output's collision mesh into *result, published (config_.publish).
   void MakeCollisionMesh(ReplayResult* result);
 

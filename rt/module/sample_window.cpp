@@ -15,8 +15,10 @@ SampleWindow::SampleWindow(size_t capacity) {
 
 void SampleWindow::Add(double value) {
   ring_[(head_ + count_) % ring_.size()] = value;
-  if (count_ < ring_.size()) ++count_;
-  else head_ = (head_ + 1) % ring_.size();
+  if (count_ < ring_.size())
+    ++count_;
+  else
+    head_ = (head_ + 1) % ring_.size();
 }
 
 Percentiles SampleWindow::Summary() const {

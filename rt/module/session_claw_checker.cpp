@@ -28,8 +28,7 @@ std::string SessionClawChecker::KeyOf(const io::SessionDescription& session) {
   char hash[48];
   std::snprintf(hash, sizeof(hash), "%zx:%zu", std::hash<std::string>{}(session.claw_text),
                 session.claw_text.size());
-  return std::to_string(static_cast<int>(session.claw_kind)) + "\n" + session.claw_name + "\n" +
-         hash;
+  return std::to_string(static_cast<int>(session.claw_kind)) + "\n" + session.claw_name + "\n" + hash;
 }
 
 void SessionClawChecker::Submit(const io::SessionDescription& session) {
@@ -62,8 +61,7 @@ void SessionClawChecker::Submit(const io::SessionDescription& session) {
   if (callbacks_.on_unloadable) callbacks_.on_unloadable(session, unloadable_why);
 }
 
-void SessionClawChecker::SetClawInUse(const claw::ClawModel& claw,
-                                      const io::SessionDescription& described) {
+void SessionClawChecker::SetClawInUse(const claw::ClawModel& claw, const io::SessionDescription& described) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     in_use_ = std::make_shared<const claw::ClawModel>(claw);

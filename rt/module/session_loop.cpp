@@ -6,17 +6,13 @@
 
 namespace graspfill::rt {
 
-SessionLoop::SessionLoop(SessionLoopLimits limits)
-    : limits_(std::move(limits)), start_(Clock::now()) {}
+SessionLoop::SessionLoop(SessionLoopLimits limits) : limits_(std::move(limits)), start_(Clock::now()) {}
 
-void SessionLoop::NoteDepthFrame() {
-  last_depth_ns_ = Clock::now().time_since_epoch().count();
-}
+void SessionLoop::NoteDepthFrame() { last_depth_ns_ = Clock::now().time_since_epoch().count(); }
 
 LoopEnd SessionLoop::Limit(Clock::time_point now) const {
   if (limits_.interrupted != nullptr && limits_.interrupted->load()) return LoopEnd::kInterrupted;
-  if (limits_.duration_s > 0 &&
-      std::chrono::duration<double>(now - start_).count() > limits_.duration_s) {
+  if (limits_.duration_s > 0 && std::chrono::duration<double>(now - start_).count() > limits_.duration_s) {
     return LoopEnd::kDuration;
   }
   const int64_t last_ns = last_depth_ns_;

@@ -23,23 +23,22 @@ std::string ShapeText(const py::array& array) {
   return text + (array.ndim() == 1 ? ",)" : ")");
 }
 
-std::string DtypeText(const py::array& array) {
-  return py::str(array.dtype()).cast<std::string>();
-}
+std::string DtypeText(const py::array& array) { return py::str(array.dtype()).cast<std::string>(); }
 
 // Any array-like (a list of lists too) as an array; ValueError otherwise.
 py::array AsArray(const py::handle& object, const std::string& name) {
   py::array array = py::array::ensure(object);
-  if (!array) throw py::value_error(name + ": expected a numpy array, got " +
-                                    py::str(py::type::of(object)).cast<std::string>());
+  if (!array)
+    throw py::value_error(name + ": expected a numpy array, got " +
+                          py::str(py::type::of(object)).cast<std::string>());
   return array;
 }
 
 py::array AsVector(const py::handle& object, const std::string& name, size_t size) {
   py::array array = AsArray(object, name);
   if (array.ndim() != 1 || static_cast<size_t>(array.shape(0)) != size) {
-    throw py::value_error(name + ": expected shape (" + std::to_string(size) + ",) (one per point), got shape " +
-                          ShapeText(array));
+    throw py::value_error(name + ": expected shape (" + std::to_string(size) +
+                          ",) (one per point), got shape " + ShapeText(array));
   }
   return array;
 }
@@ -128,7 +127,8 @@ Eigen::Vector3d DirectionFromSequence(const py::handle& object, const char* name
 
 py::array_t<float> VectorsToArray(const std::vector<Eigen::Vector3f>& vectors) {
   py::array_t<float> array({static_cast<py::ssize_t>(vectors.size()), py::ssize_t{3}});
-  if (!vectors.empty()) std::memcpy(array.mutable_data(), vectors.data(), vectors.size() * sizeof(vectors[0]));
+  if (!vectors.empty())
+    std::memcpy(array.mutable_data(), vectors.data(), vectors.size() * sizeof(vectors[0]));
   return array;
 }
 

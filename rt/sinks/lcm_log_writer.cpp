@@ -123,12 +123,10 @@ LcmLogWriter::LcmLogWriter(const std::string& path, const Options& options)
   }
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) CannotCreate(path, "is a directory");
-  if (!options.overwrite && (std::filesystem::exists(path, ec) ||
-                             std::filesystem::is_symlink(path, ec))) {
+  if (!options.overwrite && (std::filesystem::exists(path, ec) || std::filesystem::is_symlink(path, ec))) {
     CannotCreate(path, "file exists (pass overwrite to replace it)");
   }
-  atomic_ = std::make_unique<io::AtomicFile>(path, "cannot create log",
-                                              io::ReplaceIf(options.overwrite));
+  atomic_ = std::make_unique<io::AtomicFile>(path, "cannot create log", io::ReplaceIf(options.overwrite));
   fd_ = atomic_->fd();
 }
 
@@ -151,8 +149,8 @@ LcmLogWriter::~LcmLogWriter() {
 
 void LcmLogWriter::CheckOpen() const {
   if (fd_ < 0) {
-    throw std::runtime_error("cannot write log '" + path_ + "': " +
-                             (failed_ ? "an earlier write failed" : "closed"));
+    throw std::runtime_error("cannot write log '" + path_ +
+                             "': " + (failed_ ? "an earlier write failed" : "closed"));
   }
 }
 
@@ -171,16 +169,14 @@ void LcmLogWriter::Fail(int error) {
   throw std::runtime_error("cannot write log '" + path_ + "': " + std::strerror(error));
 }
 
-void LcmLogWriter::Write(const std::string& channel, int64_t utime,
-                         const std::vector<uint8_t>& bytes) {
+void LcmLogWriter::Write(const std::string& channel, int64_t utime, const std::vector<uint8_t>& bytes) {
   if (channel.empty() || channel.size() > kMaxChannelBytes) {
-    throw std::runtime_error("cannot write log '" + path_ +
-                             "': bad channel name '" + channel + "'");
+    throw std::runtime_error("cannot write log '" + path_ + "': bad channel name '" + channel + "'");
   }
   if (static_cast<int64_t>(bytes.size()) > io::kMaxLogEventDataBytes) {
-    throw std::runtime_error("cannot write log '" + path_ + "': an event of " +
-                             std::to_string(bytes.size()) + " bytes (readers take at most " +
-                             std::to_string(io::kMaxLogEventDataBytes) + ")");
+    throw std::runtime_error("cannot write log '" + path_ + "': an event of " + std::to_string(bytes.size()) +
+                             " bytes (readers take at most " + std::to_string(io::kMaxLogEventDataBytes) +
+                             ")");
   }
   CheckOpen();
   // lcm-logger's event: sync word, event number (from 0), timestamp,

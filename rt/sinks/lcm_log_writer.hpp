@@ -69,8 +69,7 @@ class LcmLogWriter {
   ///   (kAtomic) or cut back to its last whole event and closed (kInPlace),
   ///   and later calls throw), or a bad channel name or size (the log goes
   ///   on).
-  void Write(const std::string& channel, int64_t utime,
-             const std::vector<uint8_t>& bytes);
+  void Write(const std::string& channel, int64_t utime, const std::vector<uint8_t>& bytes);
 
   /// Makes every event written so far durable (fdatasync): a power cut
   /// after it loses none of them.

@@ -31,9 +31,8 @@ class LcmPublisher::Impl {
  public:
   Impl(const std::string& url, const CloudPacing& pacing) : url_(url), lcm_(url) {
     if (!lcm_.good()) {
-      throw std::runtime_error(
-          "cannot set up LCM on '" +
-          (url.empty() ? std::string("default URL") : url) + "'");
+      throw std::runtime_error("cannot set up LCM on '" + (url.empty() ? std::string("default URL") : url) +
+                               "'");
     }
     if (IsUdpMulticast(url)) {
       slice_message_bytes_ = pacing.slice_bytes + kSliceHeaderBytes;
@@ -48,8 +47,7 @@ class LcmPublisher::Impl {
   ~Impl() { pacer_.reset(); }
 
   bool Publish(const std::string& channel, const std::vector<uint8_t>& bytes) {
-    return lcm_.publish(channel, bytes.data(),
-                        static_cast<unsigned int>(bytes.size())) == 0;
+    return lcm_.publish(channel, bytes.data(), static_cast<unsigned int>(bytes.size())) == 0;
   }
 
   const std::string& url() const { return url_; }
@@ -84,8 +82,7 @@ LcmPublisher::LcmPublisher(const std::string& url, const CloudPacing& pacing)
 
 LcmPublisher::~LcmPublisher() = default;
 
-bool LcmPublisher::PublishCloud(const std::string& channel,
-                                const ObjectCloud& cloud) {
+bool LcmPublisher::PublishCloud(const std::string& channel, const ObjectCloud& cloud) {
   std::vector<uint8_t> bytes;
   if (!TryEncode([&] { return io::EncodeObjectCloud(cloud); }, &bytes)) return false;
   if (!impl_->pacer_) {
@@ -97,24 +94,19 @@ bool LcmPublisher::PublishCloud(const std::string& channel,
   return true;
 }
 
-bool LcmPublisher::FlushClouds(int timeout_ms) {
-  return !impl_->pacer_ || impl_->pacer_->Flush(timeout_ms);
-}
+bool LcmPublisher::FlushClouds(int timeout_ms) { return !impl_->pacer_ || impl_->pacer_->Flush(timeout_ms); }
 
 int64_t LcmPublisher::paced_send_failures() const {
   return impl_->pacer_ ? impl_->pacer_->send_failures() : 0;
 }
 
-int64_t LcmPublisher::paced_clouds_dropped() const {
-  return impl_->pacer_ ? impl_->pacer_->dropped() : 0;
-}
+int64_t LcmPublisher::paced_clouds_dropped() const { return impl_->pacer_ ? impl_->pacer_->dropped() : 0; }
 
 void LcmPublisher::set_on_warning(std::function<void(const std::string&)> on_warning) {
   impl_->on_warning_ = std::move(on_warning);
 }
 
-bool LcmPublisher::PublishCollisionMesh(const std::string& channel,
-                                        const io::CollisionMeshMessage& mesh) {
+bool LcmPublisher::PublishCollisionMesh(const std::string& channel, const io::CollisionMeshMessage& mesh) {
   std::vector<uint8_t> bytes;
   if (!TryEncode([&] { return io::EncodeCollisionMesh(mesh); }, &bytes)) return false;
   // Whole on every provider, UDP multicast too (not through the pacer: its
@@ -124,13 +116,11 @@ bool LcmPublisher::PublishCollisionMesh(const std::string& channel,
   return impl_->Publish(channel, bytes);
 }
 
-bool LcmPublisher::PublishStatus(const std::string& channel,
-                                 const io::ModuleStatus& status) {
+bool LcmPublisher::PublishStatus(const std::string& channel, const io::ModuleStatus& status) {
   return impl_->Publish(channel, io::EncodeModuleStatus(status));
 }
 
-bool LcmPublisher::PublishRaw(const std::string& channel,
-                              const std::vector<uint8_t>& bytes) {
+bool LcmPublisher::PublishRaw(const std::string& channel, const std::vector<uint8_t>& bytes) {
   return impl_->Publish(channel, bytes);
 }
 

@@ -37,7 +37,8 @@ std::string ReceiveBufferWarning(size_t message_bytes, const std::string& url,
   const size_t wanted = static_cast<size_t>(static_cast<double>(message_bytes) / kReceiveBufferShare) + 1;
   std::string text = "a published model of " + std::to_string(message_bytes / 1000) +
                      " kB may not reach subscribers that keep LCM's default receive buffer "
-                     "(net.core.rmem_default = " + std::to_string(buffer) +
+                     "(net.core.rmem_default = " +
+                     std::to_string(buffer) +
                      " bytes): subscribers add ?recv_buf_size=" + std::to_string(wanted) +
                      " to their LCM URL";
   if (settings.rmem_max && *settings.rmem_max < wanted) {

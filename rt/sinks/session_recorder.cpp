@@ -148,8 +148,10 @@ void SessionRecorder::RecordGripperState(const GripperState& state) {
 }
 
 void SessionRecorder::Record(const SourceEvent& event) {
-  if (event.kind == SourceEvent::Kind::kDepth) RecordDepth(event.depth);
-  else if (event.kind == SourceEvent::Kind::kGripperState) RecordGripperState(event.gripper);
+  if (event.kind == SourceEvent::Kind::kDepth)
+    RecordDepth(event.depth);
+  else if (event.kind == SourceEvent::Kind::kGripperState)
+    RecordGripperState(event.gripper);
 }
 
 void SessionRecorder::StopAfterFailure(const std::string& why) {
@@ -186,8 +188,7 @@ void SessionRecorder::WriterLoop() {
         writer_->Write(config_.channels.depth, utime,
                        io::EncodeDepthImage(event.depth, io::DepthEncoding::kZlib16, 0.001));
       } else {
-        writer_->Write(config_.channels.gripper_state, utime,
-                       io::EncodeGripperState(event.gripper));
+        writer_->Write(config_.channels.gripper_state, utime, io::EncodeGripperState(event.gripper));
       }
       unsynced = true;
       if (Clock::now() - last_sync >= sync_period) {
@@ -266,8 +267,7 @@ void SessionRecorder::Close() {
   if (!failure_.empty()) return;  // stopped: the failed write closed the log
   if (written_ == 0) {
     // Nothing received: still a valid log that says what the session was.
-    writer_->Write(config_.channels.session, session_.utime,
-                   io::EncodeSessionDescription(session_));
+    writer_->Write(config_.channels.session, session_.utime, io::EncodeSessionDescription(session_));
   }
   writer_->Close();
 }

@@ -44,8 +44,7 @@ CameraSource::CameraSource(const Config& config) : config_(config) {
     log_ = std::make_unique<LcmLogSource>(log_config);  // throws on a bad file
     log_first_depth_utime_ = FirstDepthUtime(config_.log, config_.channels.depth);
     FillLog();
-    if (log_pending_ && log_result_ == FrameResult::kOk &&
-        log_event_.kind == SourceEvent::Kind::kSession) {
+    if (log_pending_ && log_result_ == FrameResult::kOk && log_event_.kind == SourceEvent::Kind::kSession) {
       head_session_ = log_event_.session;
     }
   }
@@ -72,8 +71,7 @@ bool CameraSource::FillCamera() {
     }
     camera_event_.depth.utime += *camera_offset_us_;
     if (!config_.device.intrinsics.any() &&
-        !ApplyIntrinsicsOverride(intrinsics_override_, &camera_event_.depth,
-                                 &camera_event_.error)) {
+        !ApplyIntrinsicsOverride(intrinsics_override_, &camera_event_.depth, &camera_event_.error)) {
       camera_result_ = FrameResult::kBadFrame;
     }
   }
@@ -108,14 +106,17 @@ FrameResult CameraSource::Next(SourceEvent* event) {
     if (!have_log && !have_camera) return FrameResult::kEndOfStream;
     auto utime = [](const SourceEvent& e) {
       switch (e.kind) {
-        case SourceEvent::Kind::kDepth: return e.depth.utime;
-        case SourceEvent::Kind::kGripperState: return e.gripper.utime;
-        case SourceEvent::Kind::kSession: return e.session.utime;
+        case SourceEvent::Kind::kDepth:
+          return e.depth.utime;
+        case SourceEvent::Kind::kGripperState:
+          return e.gripper.utime;
+        case SourceEvent::Kind::kSession:
+          return e.session.utime;
       }
       return int64_t{0};
     };
-    take_log = have_log && (!have_camera || log_result_ != FrameResult::kOk ||
-                            utime(log_event_) <= utime(camera_event_));
+    take_log = have_log &&
+               (!have_camera || log_result_ != FrameResult::kOk || utime(log_event_) <= utime(camera_event_));
   }
   if (take_log) {
     log_pending_ = false;

@@ -77,7 +77,7 @@ class CameraSource : public FrameSource {
   std::optional<io::SessionDescription> head_session_;
   bool head_session_sent_{false};
   std::optional<int64_t> log_first_depth_utime_;
-  std::optional<int64_t> camera_offset_us_;  // added to the device's stamps
+  std::optional<int64_t> camera_offset_us_;              // added to the device's stamps
   std::optional<CameraIntrinsics> intrinsics_override_;  // the latest session's
   // One event read ahead from each side.
   SourceEvent camera_event_, log_event_;

@@ -28,10 +28,10 @@ struct SourceEvent {
   /// gripper states only never see it.
   enum class Kind { kDepth, kGripperState, kSession };
   Kind kind{Kind::kDepth};
-  DepthFrame depth;      ///< valid when kind == kDepth and the result is kOk
-  GripperState gripper;  ///< valid when kind == kGripperState and kOk
+  DepthFrame depth;                ///< valid when kind == kDepth and the result is kOk
+  GripperState gripper;            ///< valid when kind == kGripperState and kOk
   io::SessionDescription session;  ///< valid when kind == kSession and kOk
-  std::string error;     ///< why, when the result is kBadFrame
+  std::string error;               ///< why, when the result is kBadFrame
 };
 
 /// A source of events (OpenNI2 device or .oni file, LCM log, ...).

@@ -80,8 +80,7 @@ void LcmBusSubscriber::HandleGripperState(const void* data, size_t size) {
 void LcmBusSubscriber::HandleDepth(const void* data, size_t size) {
   Impl& s = *impl_;
   if (!s.on_depth) return;  // not subscribed
-  if (!io::DecodeDepthImage(data, size, &s.depth, &s.error, &s.reason,
-                             s.config.max_depth_pixels)) {
+  if (!io::DecodeDepthImage(data, size, &s.depth, &s.error, &s.reason, s.config.max_depth_pixels)) {
     CountBad(s.reason);
     return;
   }
@@ -117,9 +116,8 @@ void LcmBusSubscriber::HandleSession(const void* data, size_t size) {
   if (s.on_session) s.on_session(s.session);
 }
 
-LcmBusSubscriber::LcmBusSubscriber(const Config& config, StateCallback on_state,
-                                   DepthCallback on_depth, SessionCallback on_session,
-                                   RejectCallback on_session_rejected)
+LcmBusSubscriber::LcmBusSubscriber(const Config& config, StateCallback on_state, DepthCallback on_depth,
+                                   SessionCallback on_session, RejectCallback on_session_rejected)
     : impl_(std::make_unique<Impl>(config.url)) {
   if (!impl_->lcm.good()) {
     throw std::runtime_error("cannot start LCM on '" +

@@ -28,8 +28,7 @@ FrameResult LcmLogSource::Next(SourceEvent* event) {
     ++events_read_;
     const io::LogEvent* log_event = &log_event_;
     const std::string& channel = log_event->channel;
-    if (std::find(channels_seen_.begin(), channels_seen_.end(), channel) ==
-        channels_seen_.end()) {
+    if (std::find(channels_seen_.begin(), channels_seen_.end(), channel) == channels_seen_.end()) {
       channels_seen_.push_back(channel);
     }
     const size_t size = log_event->data.size();
@@ -45,8 +44,7 @@ FrameResult LcmLogSource::Next(SourceEvent* event) {
     }
     if (channel == config_.channels.gripper_state) {
       event->kind = SourceEvent::Kind::kGripperState;
-      if (!io::DecodeGripperState(data, size, T_C_B_,
-                                  &event->gripper, &event->error)) {
+      if (!io::DecodeGripperState(data, size, T_C_B_, &event->gripper, &event->error)) {
         return FrameResult::kBadFrame;
       }
       event->gripper.utime += config_.overrides.gripper_clock_offset_us;
@@ -54,8 +52,7 @@ FrameResult LcmLogSource::Next(SourceEvent* event) {
     }
     if (channel == config_.channels.session) {
       event->kind = SourceEvent::Kind::kSession;
-      if (!io::DecodeSessionDescription(data, size, &event->session,
-                                        &event->error)) {
+      if (!io::DecodeSessionDescription(data, size, &event->session, &event->error)) {
         return FrameResult::kBadFrame;
       }
       ++sessions_read_;

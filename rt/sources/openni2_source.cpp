@@ -29,8 +29,7 @@ std::string OpenNIError() {
 }
 
 bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 // Meters per unit of an OpenNI2 depth pixel format, 0 if not a depth format
@@ -65,8 +64,7 @@ int64_t WallClockMicros() {
 class OpenNI2Source::Impl {
  public:
   explicit Impl(const Config& config) : config_(config) {
-    const std::string name =
-        config_.uri.empty() ? std::string("any device") : "'" + config_.uri + "'";
+    const std::string name = config_.uri.empty() ? std::string("any device") : "'" + config_.uri + "'";
     if (openni::OpenNI::initialize() != openni::STATUS_OK) {
       throw std::runtime_error("OpenNI2: initialize failed: " + OpenNIError());
     }
@@ -91,8 +89,7 @@ class OpenNI2Source::Impl {
     }
     if (replay_device_) {  // every frame served was read by an earlier call
       int frames_left = 1;
-      if (device_.getProperty(openni2_replay::kDevicePropertyFramesLeft, &frames_left) ==
-              openni::STATUS_OK &&
+      if (device_.getProperty(openni2_replay::kDevicePropertyFramesLeft, &frames_left) == openni::STATUS_OK &&
           frames_left == 0) {
         ended_ = true;
         return FrameResult::kEndOfStream;
@@ -100,15 +97,13 @@ class OpenNI2Source::Impl {
     }
     openni::VideoStream* streams[] = {&stream_};
     int ready = -1;
-    const openni::Status wait = openni::OpenNI::waitForAnyStream(
-        streams, 1, &ready, config_.timeout_ms);
+    const openni::Status wait = openni::OpenNI::waitForAnyStream(streams, 1, &ready, config_.timeout_ms);
     if (wait == openni::STATUS_TIME_OUT) {
       if (recording_) {  // nothing more will come
         ended_ = true;
         return FrameResult::kEndOfStream;
       }
-      return Bad("no depth frame within " +
-                 std::to_string(config_.timeout_ms) + " ms");
+      return Bad("no depth frame within " + std::to_string(config_.timeout_ms) + " ms");
     }
     if (wait != openni::STATUS_OK) return Bad("wait failed: " + OpenNIError());
     if (stream_.readFrame(&frame_) != openni::STATUS_OK || !frame_.isValid()) {
@@ -117,8 +112,7 @@ class OpenNI2Source::Impl {
     ++frames_read_;
     const int64_t received_utime = WallClockMicros();
 
-    const double meters_per_unit =
-        MetersPerUnit(frame_.getVideoMode().getPixelFormat());
+    const double meters_per_unit = MetersPerUnit(frame_.getVideoMode().getPixelFormat());
     if (meters_per_unit == 0.0) return Bad("frame is not in a depth format");
     const int width = frame_.getWidth();
     const int height = frame_.getHeight();
@@ -128,12 +122,11 @@ class OpenNI2Source::Impl {
       return Bad("frame has inconsistent size");
     }
 
-    frame->utime = recording_ || replay_device_ ? static_cast<int64_t>(frame_.getTimestamp())
-                                                : received_utime;
+    frame->utime =
+        recording_ || replay_device_ ? static_cast<int64_t>(frame_.getTimestamp()) : received_utime;
     if (width != intrinsics_.width || height != intrinsics_.height) {
-      return Bad("frame of " + std::to_string(width) + "x" + std::to_string(height) +
-                 " pixels in a " + std::to_string(intrinsics_.width) + "x" +
-                 std::to_string(intrinsics_.height) + " mode");
+      return Bad("frame of " + std::to_string(width) + "x" + std::to_string(height) + " pixels in a " +
+                 std::to_string(intrinsics_.width) + "x" + std::to_string(intrinsics_.height) + " mode");
     }
     frame->intrinsics = intrinsics_;
     frame->depth_m.resize(static_cast<size_t>(width) * height);
@@ -156,15 +149,13 @@ class OpenNI2Source::Impl {
   const std::string& last_error() const { return last_error_; }
   bool recording() const { return recording_; }
   bool paced_by_reader() const {
-    return (recording_ && !config_.realtime_playback) ||
-           (replay_device_ && config_.replay_speed == 0.0f);
+    return (recording_ && !config_.realtime_playback) || (replay_device_ && config_.replay_speed == 0.0f);
   }
   std::string mode_text() const { return ModeText(stream_.getVideoMode()); }
 
   void StartRecording(const std::string& path) {
     if (recorder_.create(path.c_str()) != openni::STATUS_OK ||
-        recorder_.attach(stream_) != openni::STATUS_OK ||
-        recorder_.start() != openni::STATUS_OK) {
+        recorder_.attach(stream_) != openni::STATUS_OK || recorder_.start() != openni::STATUS_OK) {
       recorder_.destroy();
       throw std::runtime_error("OpenNI2: cannot record into '" + path + "': " + OpenNIError());
     }
@@ -176,16 +167,13 @@ class OpenNI2Source::Impl {
  private:
   void Open(const std::string& name) {
     recording_ = EndsWith(config_.uri, ".oni");
-    const char* uri =
-        config_.uri.empty() ? openni::ANY_DEVICE : config_.uri.c_str();
+    const char* uri = config_.uri.empty() ? openni::ANY_DEVICE : config_.uri.c_str();
     if (device_.open(uri) != openni::STATUS_OK) {
-      throw std::runtime_error("OpenNI2: cannot open " + name + ": " +
-                               OpenNIError());
+      throw std::runtime_error("OpenNI2: cannot open " + name + ": " + OpenNIError());
     }
     replay_device_ = device_.isPropertySupported(openni2_replay::kDevicePropertyFramesLeft);
-    if (replay_device_ &&
-        device_.setProperty(openni2_replay::kDevicePropertySpeed, config_.replay_speed) !=
-            openni::STATUS_OK) {
+    if (replay_device_ && device_.setProperty(openni2_replay::kDevicePropertySpeed, config_.replay_speed) !=
+                              openni::STATUS_OK) {
       throw std::runtime_error("OpenNI2: " + name + " refuses the replay speed " +
                                std::to_string(config_.replay_speed));
     }
@@ -193,8 +181,7 @@ class OpenNI2Source::Impl {
       throw std::runtime_error("OpenNI2: " + name + " has no depth sensor");
     }
     if (stream_.create(device_, openni::SENSOR_DEPTH) != openni::STATUS_OK) {
-      throw std::runtime_error("OpenNI2: cannot create the depth stream of " +
-                               name + ": " + OpenNIError());
+      throw std::runtime_error("OpenNI2: cannot create the depth stream of " + name + ": " + OpenNIError());
     }
     if (recording_) {
       openni::PlaybackControl* playback = device_.getPlaybackControl();
@@ -211,8 +198,7 @@ class OpenNI2Source::Impl {
       stream_.setMirroringEnabled(false);
     }
     if (stream_.start() != openni::STATUS_OK) {
-      throw std::runtime_error("OpenNI2: cannot start the depth stream of " +
-                               name + ": " + OpenNIError());
+      throw std::runtime_error("OpenNI2: cannot start the depth stream of " + name + ": " + OpenNIError());
     }
     started_ = true;
     SetIntrinsics(name);
@@ -235,8 +221,7 @@ class OpenNI2Source::Impl {
     double exact[4];
     int size = sizeof(exact);
     if (stream_.isPropertySupported(openni2_replay::kStreamPropertyIntrinsics) &&
-        stream_.getProperty(openni2_replay::kStreamPropertyIntrinsics, exact, &size) ==
-            openni::STATUS_OK &&
+        stream_.getProperty(openni2_replay::kStreamPropertyIntrinsics, exact, &size) == openni::STATUS_OK &&
         size == sizeof(exact)) {
       K.fx = exact[0];
       K.fy = exact[1];
@@ -247,8 +232,7 @@ class OpenNI2Source::Impl {
       const float vfov = stream_.getVerticalFieldOfView();
       const bool fov_given = config_.intrinsics.hfov_deg && config_.intrinsics.vfov_deg;
       if (!fov_given && !(hfov > 0.0f && hfov < 3.1f && vfov > 0.0f && vfov < 3.1f)) {
-        throw std::runtime_error("OpenNI2: " + name +
-                                 " reports no usable field of view (give --fov-deg)");
+        throw std::runtime_error("OpenNI2: " + name + " reports no usable field of view (give --fov-deg)");
       }
       // Pinhole focal lengths from the field of view: tan(fov/2) = (w/2)/f.
       K.fx = 0.5 * K.width / std::tan(0.5 * hfov);
@@ -266,39 +250,34 @@ class OpenNI2Source::Impl {
   }
 
   bool Fits(const openni::VideoMode& m, openni::PixelFormat format) const {
-    return m.getPixelFormat() == format &&
-           (config_.width == 0 || m.getResolutionX() == config_.width) &&
+    return m.getPixelFormat() == format && (config_.width == 0 || m.getResolutionX() == config_.width) &&
            (config_.height == 0 || m.getResolutionY() == config_.height) &&
            (config_.fps == 0 || m.getFps() == config_.fps);
   }
 
   void SetVideoMode(const std::string& name) {
-    const openni::PixelFormat wanted =
-        config_.depth_mode == DepthMode::k100um
-            ? openni::PIXEL_FORMAT_DEPTH_100_UM
-            : openni::PIXEL_FORMAT_DEPTH_1_MM;
+    const openni::PixelFormat wanted = config_.depth_mode == DepthMode::k100um
+                                           ? openni::PIXEL_FORMAT_DEPTH_100_UM
+                                           : openni::PIXEL_FORMAT_DEPTH_1_MM;
     if (Fits(stream_.getVideoMode(), wanted)) return;  // the device's own
     const openni::SensorInfo& info = stream_.getSensorInfo();
-    const openni::Array<openni::VideoMode>& modes =
-        info.getSupportedVideoModes();
+    const openni::Array<openni::VideoMode>& modes = info.getSupportedVideoModes();
     std::string available;
     for (int i = 0; i < modes.getSize(); ++i) {
       const openni::VideoMode& m = modes[i];
       if (Fits(m, wanted)) {
         if (stream_.setVideoMode(m) != openni::STATUS_OK) {
-          throw std::runtime_error("OpenNI2: cannot set the video mode of " +
-                                   name + ": " + OpenNIError());
+          throw std::runtime_error("OpenNI2: cannot set the video mode of " + name + ": " + OpenNIError());
         }
         return;
       }
       if (MetersPerUnit(m.getPixelFormat()) != 0.0) available += " " + ModeText(m);
     }
     auto field = [](int v) { return v == 0 ? std::string("*") : std::to_string(v); };
-    throw std::runtime_error(
-        "OpenNI2: " + name + " has no depth mode " + field(config_.width) + "x" +
-        field(config_.height) + "@" + field(config_.fps) +
-        (wanted == openni::PIXEL_FORMAT_DEPTH_1_MM ? "/1mm" : "/100um") +
-        "; available:" + (available.empty() ? " none" : available));
+    throw std::runtime_error("OpenNI2: " + name + " has no depth mode " + field(config_.width) + "x" +
+                             field(config_.height) + "@" + field(config_.fps) +
+                             (wanted == openni::PIXEL_FORMAT_DEPTH_1_MM ? "/1mm" : "/100um") +
+                             "; available:" + (available.empty() ? " none" : available));
   }
 
   void Close() {
@@ -343,8 +322,7 @@ class OpenNI2Source::Impl {
   std::string last_error_;
 };
 
-OpenNI2Source::OpenNI2Source(const Config& config)
-    : impl_(std::make_unique<Impl>(config)) {}
+OpenNI2Source::OpenNI2Source(const Config& config) : impl_(std::make_unique<Impl>(config)) {}
 
 OpenNI2Source::~OpenNI2Source() = default;
 
@@ -357,9 +335,7 @@ FrameResult OpenNI2Source::Next(SourceEvent* event) {
   return result;
 }
 
-const std::string& OpenNI2Source::last_error() const {
-  return impl_->last_error();
-}
+const std::string& OpenNI2Source::last_error() const { return impl_->last_error(); }
 
 bool OpenNI2Source::is_recording() const { return impl_->recording(); }
 
@@ -367,8 +343,6 @@ bool OpenNI2Source::paced_by_reader() const { return impl_->paced_by_reader(); }
 
 std::string OpenNI2Source::mode_text() const { return impl_->mode_text(); }
 
-void OpenNI2Source::StartRecording(const std::string& oni_path) {
-  impl_->StartRecording(oni_path);
-}
+void OpenNI2Source::StartRecording(const std::string& oni_path) { impl_->StartRecording(oni_path); }
 
 }  // namespace graspfill::rt

@@ -35,7 +35,7 @@ class OpenNI2Source : public FrameSource {
   /// given replaces its own; the field of view, when given, sets fx and fy
   /// as tan(fov/2) = (size/2)/f, and an explicit fx or fy wins over it).
   struct IntrinsicsOverride {
-    std::optional<double> fx, fy, cx, cy;     ///< [pixels]
+    std::optional<double> fx, fy, cx, cy;      ///< [pixels]
     std::optional<double> hfov_deg, vfov_deg;  ///< [degrees], in (0, 180)
     bool any() const { return fx || fy || cx || cy || hfov_deg || vfov_deg; }
   };

@@ -41,8 +41,8 @@ struct SourceOverrides {
 /// cx, cy replaced when the frame is K's size. Returns false (and says why
 /// in *error) when it is not: such a frame is not from the camera the
 /// session describes.
-inline bool ApplyIntrinsicsOverride(const std::optional<CameraIntrinsics>& K,
-                                    DepthFrame* frame, std::string* error) {
+inline bool ApplyIntrinsicsOverride(const std::optional<CameraIntrinsics>& K, DepthFrame* frame,
+                                    std::string* error) {
   if (!K) return true;
   if (frame->intrinsics.width != K->width || frame->intrinsics.height != K->height) {
     if (error != nullptr) {

@@ -18,8 +18,7 @@ std::string Number(double v) {
 }
 
 std::string Beyond(double value, const char* unit, double limit, const char* limit_note = "") {
-  return Number(value) + " " + unit + " is beyond the " + Number(limit) + " " + unit + limit_note +
-         " limit";
+  return Number(value) + " " + unit + " is beyond the " + Number(limit) + " " + unit + limit_note + " limit";
 }
 
 }  // namespace
@@ -75,8 +74,7 @@ std::string MeshExtentDefect(const TriangleMesh& mesh) {
 
 std::string LinkCountDefect(int64_t count) {
   if (count <= kMaxClawLinks) return "";
-  return std::to_string(count) + " links, over the limit of " + std::to_string(kMaxClawLinks) +
-         " per claw";
+  return std::to_string(count) + " links, over the limit of " + std::to_string(kMaxClawLinks) + " per claw";
 }
 
 double ClawReachBoundM(const ClawModel& model, std::string* farthest_link) {
@@ -113,7 +111,8 @@ std::string ClawReachDefect(const ClawModel& model) {
   if (bound <= kMaxClawReachM) return "";
   return "the claw reaches up to " + Number(bound) + " m from G's origin (link '" + link +
          "': its chain's origins and travels, its mesh's origin and farthest vertex added up), "
-         "beyond the " + Number(kMaxClawReachM) + " m limit";
+         "beyond the " +
+         Number(kMaxClawReachM) + " m limit";
 }
 
 }  // namespace graspfill::claw

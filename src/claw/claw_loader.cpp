@@ -32,10 +32,8 @@ class Context {
   mutable int64_t triangles_read{0};
 
   explicit Context(std::string file) : file_(std::move(file)) {}
-  [[noreturn]] void Fail(const std::string& field,
-                         const std::string& what) const {
-    throw std::runtime_error(file_ + ": " +
-                             (field.empty() ? "" : field + ": ") + what);
+  [[noreturn]] void Fail(const std::string& field, const std::string& what) const {
+    throw std::runtime_error(file_ + ": " + (field.empty() ? "" : field + ": ") + what);
   }
   const std::string& file() const { return file_; }
 
@@ -87,8 +85,7 @@ double ReadNumber(const Context& ctx, const json& j, const std::string& field) {
   return j.get<double>();
 }
 
-Eigen::Vector3d ReadVector3(const Context& ctx, const json& j,
-                            const std::string& field) {
+Eigen::Vector3d ReadVector3(const Context& ctx, const json& j, const std::string& field) {
   if (!j.is_array() || j.size() != 3) {
     ctx.Fail(field, "expected an array of 3 numbers");
   }
@@ -100,8 +97,7 @@ Eigen::Vector3d ReadVector3(const Context& ctx, const json& j,
 }
 
 // {"xyz": [..], "rpy": [..]}, both optional (zero), like a URDF <origin>.
-Eigen::Isometry3d ReadPose(const Context& ctx, const json& j,
-                           const std::string& field) {
+Eigen::Isometry3d ReadPose(const Context& ctx, const json& j, const std::string& field) {
   if (!j.is_object()) ctx.Fail(field, "expected an object {xyz, rpy}");
   for (const auto& [key, value] : j.items()) {
     if (key != "xyz" && key != "rpy") {
@@ -129,12 +125,10 @@ void CheckKeys(const Context& ctx, const json& j, const std::string& field,
     // Not a structured binding: clang (the fuzz build) cannot capture one.
     const std::string key = item.key();
     if (key == "doc") continue;  // free text anywhere
-    if (std::find_if(allowed.begin(), allowed.end(), [&](const char* a) {
-          return key == a;
-        }) == allowed.end()) {
+    if (std::find_if(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }) ==
+        allowed.end()) {
       std::string list;
-      for (const char* a : allowed)
-        list += (list.empty() ? "" : ", ") + std::string(a);
+      for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
       ctx.Fail(field, "unknown key '" + key + "' (expected " + list + ")");
     }
   }
@@ -145,8 +139,7 @@ const json* Find(const json& j, const char* key) {
   return it == j.end() ? nullptr : &*it;
 }
 
-std::string ReadString(const Context& ctx, const json& j,
-                       const std::string& field) {
+std::string ReadString(const Context& ctx, const json& j, const std::string& field) {
   if (!j.is_string()) ctx.Fail(field, "expected a string");
   return j.get<std::string>();
 }
@@ -165,8 +158,8 @@ Joint ReadJoint(const Context& ctx, const json& j, const std::string& field) {
   } else if (type_name == "prismatic") {
     joint.type = JointType::kPrismatic;
   } else {
-    ctx.Fail(field + ".type", "unknown joint type '" + type_name +
-                                  "' (expected fixed, revolute or prismatic)");
+    ctx.Fail(field + ".type",
+             "unknown joint type '" + type_name + "' (expected fixed, revolute or prismatic)");
   }
   if (const json* origin = Find(j, "origin")) {
     joint.T_parent_joint = ReadPose(ctx, *origin, field + ".origin");
@@ -196,11 +189,9 @@ Joint ReadJoint(const Context& ctx, const json& j, const std::string& field) {
 
   const json* drive = Find(j, "drive");
   if (drive == nullptr || !drive->is_object()) {
-    ctx.Fail(field + ".drive",
-             "missing {opening_gain, opening_offset} and/or {joint_index}");
+    ctx.Fail(field + ".drive", "missing {opening_gain, opening_offset} and/or {joint_index}");
   }
-  CheckKeys(ctx, *drive, field + ".drive",
-            {"opening_gain", "opening_offset", "joint_index"});
+  CheckKeys(ctx, *drive, field + ".drive", {"opening_gain", "opening_offset", "joint_index"});
   const json* gain = Find(*drive, "opening_gain");
   const json* offset = Find(*drive, "opening_offset");
   const json* index = Find(*drive, "joint_index");
@@ -209,16 +200,12 @@ Joint ReadJoint(const Context& ctx, const json& j, const std::string& field) {
   }
   // Without an opening drive the joint rests at opening_offset (default 0,
   // clamped to the limits) when no joint values are given.
-  joint.gain =
-      gain ? ReadNumber(ctx, *gain, field + ".drive.opening_gain") : 0.0;
-  joint.offset =
-      offset ? ReadNumber(ctx, *offset, field + ".drive.opening_offset") : 0.0;
+  joint.gain = gain ? ReadNumber(ctx, *gain, field + ".drive.opening_gain") : 0.0;
+  joint.offset = offset ? ReadNumber(ctx, *offset, field + ".drive.opening_offset") : 0.0;
   if (index != nullptr) {
-    if (!index->is_number_integer() || index->get<int64_t>() < 0 ||
-        index->get<int64_t>() >= kMaxClawLinks) {
-      ctx.Fail(field + ".drive.joint_index",
-               "expected an integer 0.." + std::to_string(kMaxClawLinks - 1) +
-                   " (one per joint; claw_limits.hpp)");
+    if (!index->is_number_integer() || index->get<int64_t>() < 0 || index->get<int64_t>() >= kMaxClawLinks) {
+      ctx.Fail(field + ".drive.joint_index", "expected an integer 0.." + std::to_string(kMaxClawLinks - 1) +
+                                                 " (one per joint; claw_limits.hpp)");
     }
     joint.joint_index = index->get<int>();
   }
@@ -226,8 +213,8 @@ Joint ReadJoint(const Context& ctx, const json& j, const std::string& field) {
 }
 
 // Meshes are checked here, where the file and link can still be named.
-TriangleMesh ReadMesh(const Context& ctx, const fs::path& path, double scale,
-                      const std::string& field, int* degenerate_dropped) {
+TriangleMesh ReadMesh(const Context& ctx, const fs::path& path, double scale, const std::string& field,
+                      int* degenerate_dropped) {
   TriangleMesh mesh;
   try {
     mesh = ReadMeshFile(path.string(), kMaxClawTriangles - ctx.triangles_read);
@@ -277,8 +264,7 @@ Link ReadLink(const Context& ctx, const json& j, size_t i, const MeshPlace& mesh
   Link link;
   link.name = ReadString(ctx, *name_json, field + ".name");
   field += " (" + link.name + ")";
-  CheckKeys(ctx, j, field,
-            {"name", "parent", "joint", "mesh", "mesh_origin", "mesh_scale"});
+  CheckKeys(ctx, j, field, {"name", "parent", "joint", "mesh", "mesh_origin", "mesh_scale"});
   if (!index_of->emplace(link.name, static_cast<int>(i)).second) {
     ctx.Fail(field + ".name", "duplicate link name");
   }
@@ -299,8 +285,8 @@ Link ReadLink(const Context& ctx, const json& j, size_t i, const MeshPlace& mesh
   }
   if (const json* mesh = Find(j, "mesh")) {
     const std::string ref = ReadString(ctx, *mesh, field + ".mesh");
-    link.mesh = ReadMesh(ctx, meshes.Resolve(ctx, field + ".mesh", ref), scale,
-                         field + ".mesh", &link.degenerate_triangles_dropped);
+    link.mesh = ReadMesh(ctx, meshes.Resolve(ctx, field + ".mesh", ref), scale, field + ".mesh",
+                         &link.degenerate_triangles_dropped);
   }
   return link;
 }
@@ -315,9 +301,8 @@ std::vector<int> ParentIndices(const Context& ctx, const std::vector<Link>& pars
     if (parent_names[i].empty()) continue;
     const auto it = index_of.find(parent_names[i]);
     if (it == index_of.end()) {
-      ctx.Fail(
-          "links[" + std::to_string(i) + "] (" + parsed[i].name + ").parent",
-          "unknown parent link '" + parent_names[i] + "'");
+      ctx.Fail("links[" + std::to_string(i) + "] (" + parsed[i].name + ").parent",
+               "unknown parent link '" + parent_names[i] + "'");
     }
     parent_index[i] = it->second;
   }
@@ -352,8 +337,7 @@ std::vector<int> ParentsFirst(const Context& ctx, const std::vector<Link>& parse
 }
 
 // The claw of a parsed description; `name` unless it names itself.
-ClawModel FromDescription(const Context& ctx, const json& doc, std::string name,
-                          const MeshPlace& meshes) {
+ClawModel FromDescription(const Context& ctx, const json& doc, std::string name, const MeshPlace& meshes) {
   if (!doc.is_object()) ctx.Fail("", "bad JSON: top level must be an object");
   if (const json* j = Find(doc, "name")) name = ReadString(ctx, *j, "name");
   std::string opening_doc;
@@ -398,8 +382,7 @@ ClawModel FromDescription(const Context& ctx, const json& doc, std::string name,
 
 }  // namespace
 
-ClawModel ClawModel::Load(const std::string& description_path,
-                          const std::string& mesh_root) {
+ClawModel ClawModel::Load(const std::string& description_path, const std::string& mesh_root) {
   if (IsUrdfClaw(description_path)) return LoadUrdfClaw(description_path, mesh_root);
   const Context ctx(description_path);
   // "cannot open claw description file 'F': <why>" (a FIFO refused unopened).
@@ -412,18 +395,16 @@ ClawModel ClawModel::Load(const std::string& description_path,
     ctx.Fail("", std::string("bad JSON: ") + e.what());
   }
   MeshPlace meshes;
-  meshes.mesh_dir = mesh_root.empty() ? fs::path(description_path).parent_path()
-                                      : fs::path(mesh_root);
+  meshes.mesh_dir = mesh_root.empty() ? fs::path(description_path).parent_path() : fs::path(mesh_root);
   return FromDescription(ctx, doc, fs::path(description_path).stem().string(), meshes);
 }
 
 ClawModel ClawModel::LoadDescriptionText(const std::string& text, const std::string& name,
-                                         const std::string& label,
-                                         const std::string& mesh_root) {
+                                         const std::string& label, const std::string& mesh_root) {
   const Context ctx(label);
   if (text.size() > static_cast<size_t>(kMaxClawFileBytes)) {
-    ctx.Fail("", std::to_string(text.size()) + " bytes, beyond the " +
-                     std::to_string(kMaxClawFileBytes) + "-byte limit of a claw file");
+    ctx.Fail("", std::to_string(text.size()) + " bytes, beyond the " + std::to_string(kMaxClawFileBytes) +
+                     "-byte limit of a claw file");
   }
   json doc;
   try {

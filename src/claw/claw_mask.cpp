@@ -33,8 +33,8 @@ struct Rect {
 
 Rect Grow(const Rect& r, int px, int width, int height) {
   if (r.empty()) return r;
-  return {std::max(0, r.u0 - px), std::max(0, r.v0 - px),
-          std::min(width - 1, r.u1 + px), std::min(height - 1, r.v1 + px)};
+  return {std::max(0, r.u0 - px), std::max(0, r.v0 - px), std::min(width - 1, r.u1 + px),
+          std::min(height - 1, r.v1 + px)};
 }
 
 // Side of the square pixel tiles cast as one 16-ray packet: square tiles
@@ -58,7 +58,6 @@ inline int CeilToInt(double x) {
   const int i = static_cast<int>(x);
   return i < x ? i + 1 : i;
 }
-
 
 // Where a triangle's pixel centres lie on each row: each barycentric weight
 // w = k_u du + k_v dv + k_0 >= -slack bounds du = u - a.u from below
@@ -91,9 +90,8 @@ RowSpans RowSpansOf(const double (&k)[3][3]) {
 // Draws the triangle a, b, c (pixels u, v and 1/z) into the 1/z buffer
 // `inverse_depth` (rows of `width`), the nearest (largest 1/z) winning,
 // within box_roi; *drawn grows by the pixel box it may have covered.
-void DrawInverseDepth(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                      const Eigen::Vector3d& c, const Rect& box_roi, int width,
-                      float* inverse_depth, Rect* drawn) {
+void DrawInverseDepth(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                      const Rect& box_roi, int width, float* inverse_depth, Rect* drawn) {
   const double area2 = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
   if (area2 == 0.0) return;  // seen edge-on: no ray hits its inside
   // Pixel centres inside the triangle's box, within the box rectangle
@@ -118,9 +116,7 @@ void DrawInverseDepth(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
   const double wc_v = (b.x() - a.x()) * inv_area2;
   const double iz_b = b.z() - a.z();
   const double iz_c = c.z() - a.z();
-  const double k[3][3] = {{wb_u, wb_v, 0.0},
-                          {wc_u, wc_v, 0.0},
-                          {-(wb_u + wc_u), -(wb_v + wc_v), 1.0}};
+  const double k[3][3] = {{wb_u, wb_v, 0.0}, {wc_u, wc_v, 0.0}, {-(wb_u + wc_u), -(wb_v + wc_v), 1.0}};
   const RowSpans spans = RowSpansOf(k);
   for (int v = v0; v <= v1; ++v) {
     const double dv = v - a.y();
@@ -186,23 +182,19 @@ struct ClawMask::Impl {
     last_drawn = Rect{};
   }
 
-  Rect ProjectClawBox(const Eigen::Isometry3d& T_C_G, const CameraIntrinsics& K,
-                      bool* any_visible) const;
-  bool ProjectVertices(const Eigen::Isometry3d& T_C_G,
-                       const CameraIntrinsics& K);
+  Rect ProjectClawBox(const Eigen::Isometry3d& T_C_G, const CameraIntrinsics& K, bool* any_visible) const;
+  bool ProjectVertices(const Eigen::Isometry3d& T_C_G, const CameraIntrinsics& K);
   Rect Rasterize(const Rect& box_roi);
   Rect MarkTiles(const Rect& box_roi, bool vertices_projected);
-  void CastSingle(const Rect& roi, const Eigen::Vector3f& origin_G,
-                  const Eigen::Matrix3f& R_G_C, const CameraIntrinsics& K);
-  void CastPackets(const Rect& roi, const Eigen::Vector3f& origin_G,
-                   const Eigen::Matrix3f& R_G_C, const CameraIntrinsics& K);
+  void CastSingle(const Rect& roi, const Eigen::Vector3f& origin_G, const Eigen::Matrix3f& R_G_C,
+                  const CameraIntrinsics& K);
+  void CastPackets(const Rect& roi, const Eigen::Vector3f& origin_G, const Eigen::Matrix3f& R_G_C,
+                   const CameraIntrinsics& K);
   int RemoveAndDilate(const Rect& drawn, float* depth);
 };
 
-ClawMask::ClawMask(const ClawMaskConfig& config)
-    : impl_(std::make_unique<Impl>()) {
-  if (!(config.front_margin_m >= 0.0) || config.dilation_px < 0 ||
-      config.roi_margin_px < 0) {
+ClawMask::ClawMask(const ClawMaskConfig& config) : impl_(std::make_unique<Impl>()) {
+  if (!(config.front_margin_m >= 0.0) || config.dilation_px < 0 || config.roi_margin_px < 0) {
     throw std::invalid_argument(
         "ClawMaskConfig: front_margin_m, dilation_px and roi_margin_px must "
         "be >= 0");
@@ -235,8 +227,7 @@ void ClawMask::SetClaw(const TriangleMesh& claw_G) {
   m.raycaster.Commit();
 }
 
-Rect ClawMask::Impl::ProjectClawBox(const Eigen::Isometry3d& T_C_G,
-                                    const CameraIntrinsics& K,
+Rect ClawMask::Impl::ProjectClawBox(const Eigen::Isometry3d& T_C_G, const CameraIntrinsics& K,
                                     bool* any_visible) const {
   double u_min = std::numeric_limits<double>::infinity();
   double v_min = u_min;
@@ -246,8 +237,7 @@ Rect ClawMask::Impl::ProjectClawBox(const Eigen::Isometry3d& T_C_G,
   bool in_front = false;
   for (int i = 0; i < 8; ++i) {
     const Eigen::Vector3d corner_G =
-        box_G.corner(static_cast<Eigen::AlignedBox3f::CornerType>(i))
-            .cast<double>();
+        box_G.corner(static_cast<Eigen::AlignedBox3f::CornerType>(i)).cast<double>();
     const Eigen::Vector3d p_C = T_C_G * corner_G;
     if (p_C.z() < kMinDepthM) {
       behind = true;
@@ -271,10 +261,8 @@ Rect ClawMask::Impl::ProjectClawBox(const Eigen::Isometry3d& T_C_G,
   const auto clamp_to = [](double x, int size) {
     return static_cast<int>(std::clamp(x, -1.0, static_cast<double>(size)));
   };
-  Rect r{clamp_to(std::floor(u_min - m), K.width),
-         clamp_to(std::floor(v_min - m), K.height),
-         clamp_to(std::ceil(u_max + m), K.width),
-         clamp_to(std::ceil(v_max + m), K.height)};
+  Rect r{clamp_to(std::floor(u_min - m), K.width), clamp_to(std::floor(v_min - m), K.height),
+         clamp_to(std::ceil(u_max + m), K.width), clamp_to(std::ceil(v_max + m), K.height)};
   r.u0 = std::max(r.u0, 0);
   r.v0 = std::max(r.v0, 0);
   r.u1 = std::min(r.u1, K.width - 1);
@@ -282,8 +270,7 @@ Rect ClawMask::Impl::ProjectClawBox(const Eigen::Isometry3d& T_C_G,
   return r;
 }
 
-bool ClawMask::Impl::ProjectVertices(const Eigen::Isometry3d& T_C_G,
-                                     const CameraIntrinsics& K) {
+bool ClawMask::Impl::ProjectVertices(const Eigen::Isometry3d& T_C_G, const CameraIntrinsics& K) {
   const Eigen::Isometry3f T = T_C_G.cast<float>();
   const float fx = static_cast<float>(K.fx);
   const float fy = static_cast<float>(K.fy);
@@ -293,8 +280,7 @@ bool ClawMask::Impl::ProjectVertices(const Eigen::Isometry3d& T_C_G,
     const Eigen::Vector3f p_C = T * vertices_G[i];
     if (p_C.z() < kMinDepthM) return false;
     const float inv_z = 1.0f / p_C.z();
-    vertices_px[i] = Eigen::Vector3f(fx * p_C.x() * inv_z + cx,
-                                     fy * p_C.y() * inv_z + cy, inv_z);
+    vertices_px[i] = Eigen::Vector3f(fx * p_C.x() * inv_z + cx, fy * p_C.y() * inv_z + cy, inv_z);
   }
   return true;
 }
@@ -307,8 +293,7 @@ Rect ClawMask::Impl::Rasterize(const Rect& box_roi) {
   Rect drawn;
   for (const Eigen::Vector3i& t : triangles) {
     DrawInverseDepth(vertices_px[t[0]].cast<double>(), vertices_px[t[1]].cast<double>(),
-                     vertices_px[t[2]].cast<double>(), box_roi, width, claw_depth_m.data(),
-                     &drawn);
+                     vertices_px[t[2]].cast<double>(), box_roi, width, claw_depth_m.data(), &drawn);
   }
   // The buffer held 1/z while drawing (no division per covered pixel).
   for (int v = drawn.v0; v <= drawn.v1; ++v) {
@@ -326,8 +311,7 @@ Rect ClawMask::Impl::MarkTiles(const Rect& box_roi, bool vertices_projected) {
   const int ty0 = box_roi.v0 / kTile;
   const int ty1 = box_roi.v1 / kTile;
   for (int ty = ty0; ty <= ty1; ++ty) {
-    std::fill_n(&tiles[static_cast<size_t>(ty) * tiles_w + tx0], tx1 - tx0 + 1,
-                uint8_t{!vertices_projected});
+    std::fill_n(&tiles[static_cast<size_t>(ty) * tiles_w + tx0], tx1 - tx0 + 1, uint8_t{!vertices_projected});
   }
   if (!vertices_projected) return box_roi;
   // A ray can only hit a triangle inside the triangle's projection (grown by
@@ -344,18 +328,20 @@ Rect ClawMask::Impl::MarkTiles(const Rect& box_roi, bool vertices_projected) {
     const float v_hi = std::ceil(std::max({a.y(), b.y(), c.y()}) + m);
     // Clipped to the box rectangle (which holds every projection), so that
     // only tiles cleared above are marked.
-    if (u_hi < static_cast<float>(box_roi.u0) ||
-        u_lo > static_cast<float>(box_roi.u1) ||
-        v_hi < static_cast<float>(box_roi.v0) ||
-        v_lo > static_cast<float>(box_roi.v1)) {
+    if (u_hi < static_cast<float>(box_roi.u0) || u_lo > static_cast<float>(box_roi.u1) ||
+        v_hi < static_cast<float>(box_roi.v0) || v_lo > static_cast<float>(box_roi.v1)) {
       continue;
     }
     // Clamped in float before the conversion (huge or NaN projections must
     // not overflow int; fmax/fmin drop a NaN).
-    const int u0 = static_cast<int>(std::fmin(std::fmax(u_lo, static_cast<float>(box_roi.u0)), static_cast<float>(box_roi.u1)));
-    const int u1 = static_cast<int>(std::fmax(std::fmin(u_hi, static_cast<float>(box_roi.u1)), static_cast<float>(box_roi.u0)));
-    const int v0 = static_cast<int>(std::fmin(std::fmax(v_lo, static_cast<float>(box_roi.v0)), static_cast<float>(box_roi.v1)));
-    const int v1 = static_cast<int>(std::fmax(std::fmin(v_hi, static_cast<float>(box_roi.v1)), static_cast<float>(box_roi.v0)));
+    const int u0 = static_cast<int>(
+        std::fmin(std::fmax(u_lo, static_cast<float>(box_roi.u0)), static_cast<float>(box_roi.u1)));
+    const int u1 = static_cast<int>(
+        std::fmax(std::fmin(u_hi, static_cast<float>(box_roi.u1)), static_cast<float>(box_roi.u0)));
+    const int v0 = static_cast<int>(
+        std::fmin(std::fmax(v_lo, static_cast<float>(box_roi.v0)), static_cast<float>(box_roi.v1)));
+    const int v1 = static_cast<int>(
+        std::fmax(std::fmin(v_hi, static_cast<float>(box_roi.v1)), static_cast<float>(box_roi.v0)));
     // Tiles wholly outside one of the triangle's edges (grown by the margin)
     // are skipped: the box alone is loose for long oblique triangles.
     Eigen::Vector3f edge[3];  // (nx, ny, c): n.x + c >= 0 inside
@@ -365,8 +351,7 @@ Rect ClawMask::Impl::MarkTiles(const Rect& box_roi, bool vertices_projected) {
     for (int k = 0; k < 3 && use_edges; ++k) {
       const Eigen::Vector2f d = *p[(k + 1) % 3] - *p[k];
       const float sign = area2 > 0.0f ? 1.0f : -1.0f;
-      const Eigen::Vector2f n =
-          sign * Eigen::Vector2f(-d.y(), d.x()) / d.norm();
+      const Eigen::Vector2f n = sign * Eigen::Vector2f(-d.y(), d.x()) / d.norm();
       edge[k] = Eigen::Vector3f(n.x(), n.y(), -n.dot(*p[k]) + m + 0.5f);
     }
     for (int ty = v0 / kTile; ty <= v1 / kTile; ++ty) {
@@ -387,17 +372,14 @@ Rect ClawMask::Impl::MarkTiles(const Rect& box_roi, bool vertices_projected) {
         tile_row[tx] = !outside;
       }
     }
-    used.Extend(u0 / kTile * kTile, v0 / kTile * kTile,
-                std::min(width - 1, u1 / kTile * kTile + kTile - 1),
+    used.Extend(u0 / kTile * kTile, v0 / kTile * kTile, std::min(width - 1, u1 / kTile * kTile + kTile - 1),
                 std::min(height - 1, v1 / kTile * kTile + kTile - 1));
   }
   return used;
 }
 
-void ClawMask::Impl::CastSingle(const Rect& roi,
-                                const Eigen::Vector3f& origin_G,
-                                const Eigen::Matrix3f& R_G_C,
-                                const CameraIntrinsics& K) {
+void ClawMask::Impl::CastSingle(const Rect& roi, const Eigen::Vector3f& origin_G,
+                                const Eigen::Matrix3f& R_G_C, const CameraIntrinsics& K) {
   const float inv_fx = static_cast<float>(1.0 / K.fx);
   const float inv_fy = static_cast<float>(1.0 / K.fy);
   for (int ty = roi.v0 / kTile; ty <= roi.v1 / kTile; ++ty) {
@@ -406,29 +388,23 @@ void ClawMask::Impl::CastSingle(const Rect& roi,
       const int v_end = std::min(ty * kTile + kTile, height);
       const int u_end = std::min(tx * kTile + kTile, width);
       for (int v = ty * kTile; v < v_end; ++v) {
-        const float y =
-            (static_cast<float>(v) - static_cast<float>(K.cy)) * inv_fy;
+        const float y = (static_cast<float>(v) - static_cast<float>(K.cy)) * inv_fy;
         for (int u = tx * kTile; u < u_end; ++u) {
-          const float x =
-              (static_cast<float>(u) - static_cast<float>(K.cx)) * inv_fx;
+          const float x = (static_cast<float>(u) - static_cast<float>(K.cx)) * inv_fx;
           const Eigen::Vector3f dir_C(x, y, 1.0f);
           const float inv_norm = 1.0f / dir_C.norm();
-          const RayHit hit =
-              raycaster.Cast(origin_G, R_G_C * (dir_C * inv_norm));
+          const RayHit hit = raycaster.Cast(origin_G, R_G_C * (dir_C * inv_norm));
           ++ray_count;
           // z-depth = t * (unit direction).z = t / |dir_C| (dir_C.z = 1).
-          claw_depth_m[static_cast<size_t>(v) * width + u] =
-              hit.hit() ? hit.t * inv_norm : 0.0f;
+          claw_depth_m[static_cast<size_t>(v) * width + u] = hit.hit() ? hit.t * inv_norm : 0.0f;
         }
       }
     }
   }
 }
 
-void ClawMask::Impl::CastPackets(const Rect& roi,
-                                 const Eigen::Vector3f& origin_G,
-                                 const Eigen::Matrix3f& R_G_C,
-                                 const CameraIntrinsics& K) {
+void ClawMask::Impl::CastPackets(const Rect& roi, const Eigen::Vector3f& origin_G,
+                                 const Eigen::Matrix3f& R_G_C, const CameraIntrinsics& K) {
   static_assert(kTile * kTile == 16, "one tile is one 16-ray packet");
   const float inv_fx = static_cast<float>(1.0 / K.fx);
   const float inv_fy = static_cast<float>(1.0 / K.fy);
@@ -443,11 +419,9 @@ void ClawMask::Impl::CastPackets(const Rect& roi,
       const int u_end = std::min(tx * kTile + kTile, width);
       int count = 0;
       for (int v = ty * kTile; v < v_end; ++v) {
-        const float y =
-            (static_cast<float>(v) - static_cast<float>(K.cy)) * inv_fy;
+        const float y = (static_cast<float>(v) - static_cast<float>(K.cy)) * inv_fy;
         for (int u = tx * kTile; u < u_end; ++u) {
-          const float x =
-              (static_cast<float>(u) - static_cast<float>(K.cx)) * inv_fx;
+          const float x = (static_cast<float>(u) - static_cast<float>(K.cx)) * inv_fx;
           const Eigen::Vector3f dir_C(x, y, 1.0f);
           inv_norm[count] = 1.0f / dir_C.norm();
           const Eigen::Vector3f dir_G = R_G_C * (dir_C * inv_norm[count]);
@@ -461,9 +435,7 @@ void ClawMask::Impl::CastPackets(const Rect& roi,
       raycaster.Cast16(origin_G, dirs_G, count, t);
       ray_count += count;
       for (int i = 0; i < count; ++i) {
-        claw_depth_m[index[i]] = t[i] < std::numeric_limits<float>::infinity()
-                                     ? t[i] * inv_norm[i]
-                                     : 0.0f;
+        claw_depth_m[index[i]] = t[i] < std::numeric_limits<float>::infinity() ? t[i] * inv_norm[i] : 0.0f;
       }
     }
   }
@@ -481,8 +453,7 @@ int ClawMask::Impl::RemoveAndDilate(const Rect& drawn, float* depth) {
       const float claw_z = claw_depth_m[row + u];
       const float z = depth[row + u];
       // Bitwise on bools: branch-free, so the loop vectorizes.
-      removed[row + u] = static_cast<uint8_t>(
-          (claw_z > 0.0f) & (!(z > 0.0f) | (z > claw_z - margin)));
+      removed[row + u] = static_cast<uint8_t>((claw_z > 0.0f) & (!(z > 0.0f) | (z > claw_z - margin)));
     }
   }
   int count = 0;
@@ -543,8 +514,7 @@ int ClawMask::Apply(const Eigen::Isometry3d& T_C_G, DepthFrame* frame) {
   if (frame == nullptr) return -1;
   const CameraIntrinsics& K = frame->intrinsics;
   if (K.width <= 0 || K.height <= 0 ||
-      frame->depth_m.size() !=
-          static_cast<size_t>(K.width) * static_cast<size_t>(K.height)) {
+      frame->depth_m.size() != static_cast<size_t>(K.width) * static_cast<size_t>(K.height)) {
     return -1;
   }
   if (K.width != m.width || K.height != m.height) m.Resize(K.width, K.height);
@@ -552,8 +522,7 @@ int ClawMask::Apply(const Eigen::Isometry3d& T_C_G, DepthFrame* frame) {
   // Only the last drawn rectangle can hold claw depths: clear just that.
   const Rect& last = m.last_drawn;
   for (int v = last.v0; v <= last.v1; ++v) {
-    std::fill_n(&m.claw_depth_m[static_cast<size_t>(v) * m.width + last.u0],
-                last.u1 - last.u0 + 1, 0.0f);
+    std::fill_n(&m.claw_depth_m[static_cast<size_t>(v) * m.width + last.u0], last.u1 - last.u0 + 1, 0.0f);
   }
   m.last_drawn = Rect{};
   m.ray_count = 0;
@@ -583,9 +552,7 @@ int ClawMask::Apply(const Eigen::Isometry3d& T_C_G, DepthFrame* frame) {
   return m.RemoveAndDilate(drawn, frame->depth_m.data());
 }
 
-const std::vector<float>& ClawMask::claw_depth_m() const {
-  return impl_->claw_depth_m;
-}
+const std::vector<float>& ClawMask::claw_depth_m() const { return impl_->claw_depth_m; }
 
 int ClawMask::last_ray_count() const { return impl_->ray_count; }
 

@@ -24,8 +24,7 @@ TriangleMesh MakeBox(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi) {
   TriangleMesh box;
   // Vertex i has x = hi if bit 0 set, y = hi if bit 1, z = hi if bit 2.
   for (int i = 0; i < 8; ++i) {
-    box.vertices.emplace_back((i & 1) ? hi.x() : lo.x(),
-                              (i & 2) ? hi.y() : lo.y(),
+    box.vertices.emplace_back((i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(),
                               (i & 4) ? hi.z() : lo.z());
   }
   // Each face as a quad listed counter-clockwise seen from outside.
@@ -78,25 +77,21 @@ TriangleMesh MakePrism(double radius_m, double z_lo, double z_hi, int sides) {
 }
 
 // The palm plus radial fingers at the given angles about z (radians).
-ClawModel MakeRadialClaw(const std::string& name,
-                         const ProceduralClawConfig& config,
+ClawModel MakeRadialClaw(const std::string& name, const ProceduralClawConfig& config,
                          const std::vector<double>& finger_angles_rad) {
   if (!(config.min_opening_m <= config.max_opening_m)) {
-    throw std::invalid_argument(
-        "ProceduralClawConfig: min_opening_m > max_opening_m");
+    throw std::invalid_argument("ProceduralClawConfig: min_opening_m > max_opening_m");
   }
   std::vector<Link> links;
   Link palm;
   palm.name = "palm";
-  palm.mesh = MakePrism(config.palm_radius_m, -config.palm_thickness_m, 0.0,
-                        kPalmSides);
+  palm.mesh = MakePrism(config.palm_radius_m, -config.palm_thickness_m, 0.0, kPalmSides);
   links.push_back(std::move(palm));
 
   // Finger link frame: x radial (outwards), z along the approach. The inner
   // face lies at x = 0 of the link, so the joint value is its radius.
   const TriangleMesh finger_mesh =
-      MakeBox(Eigen::Vector3f(
-                  0.0f, static_cast<float>(-0.5 * config.finger_width_m), 0.0f),
+      MakeBox(Eigen::Vector3f(0.0f, static_cast<float>(-0.5 * config.finger_width_m), 0.0f),
               Eigen::Vector3f(static_cast<float>(config.finger_thickness_m),
                               static_cast<float>(0.5 * config.finger_width_m),
                               static_cast<float>(config.finger_length_m)));
@@ -106,8 +101,7 @@ ClawModel MakeRadialClaw(const std::string& name,
     finger.parent = 0;
     finger.joint.type = JointType::kPrismatic;
     finger.joint.T_parent_joint.linear() =
-        Eigen::AngleAxisd(finger_angles_rad[i], Eigen::Vector3d::UnitZ())
-            .toRotationMatrix();
+        Eigen::AngleAxisd(finger_angles_rad[i], Eigen::Vector3d::UnitZ()).toRotationMatrix();
     finger.joint.axis = Eigen::Vector3d::UnitX();
     finger.joint.lower = config.min_opening_m;
     finger.joint.upper = config.max_opening_m;
@@ -118,36 +112,30 @@ ClawModel MakeRadialClaw(const std::string& name,
   }
   return ClawModel(name, std::move(links),
                    "radius of each finger's inner face from G's z axis [m], " +
-                       std::to_string(config.min_opening_m) + " .. " +
-                       std::to_string(config.max_opening_m));
+                       std::to_string(config.min_opening_m) + " .. " + std::to_string(config.max_opening_m));
 }
 
 }  // namespace
 
-ClawModel::ClawModel(std::string name, std::vector<Link> links,
-                     std::string opening_doc)
-    : name_(std::move(name)),
-      links_(std::move(links)),
-      opening_doc_(std::move(opening_doc)) {
+ClawModel::ClawModel(std::string name, std::vector<Link> links, std::string opening_doc)
+    : name_(std::move(name)), links_(std::move(links)), opening_doc_(std::move(opening_doc)) {
   for (size_t i = 0; i < links_.size(); ++i) {
     const Link& link = links_[i];
     // Parents before children keeps forward kinematics a single pass.
     if (link.parent < -1 || link.parent >= static_cast<int>(i)) {
-      throw std::invalid_argument("ClawModel '" + name_ + "': link '" +
-                                  link.name +
+      throw std::invalid_argument("ClawModel '" + name_ + "': link '" + link.name +
                                   "' must have a parent listed before it");
     }
     // A bad index would only fail in the ray caster, at the first gripper
     // state and far from the file it came from.
     if (const std::string defect = MeshDefect(link.mesh); !defect.empty()) {
-      throw std::invalid_argument("ClawModel '" + name_ + "': link '" + link.name +
-                                  "': mesh: " + defect);
+      throw std::invalid_argument("ClawModel '" + name_ + "': link '" + link.name + "': mesh: " + defect);
     }
     if (link.joint.type != JointType::kFixed) {
       const double n = link.joint.axis.norm();
       if (!(n > 1e-9)) {
-        throw std::invalid_argument("ClawModel '" + name_ + "': link '" +
-                                    link.name + "' has a zero joint axis");
+        throw std::invalid_argument("ClawModel '" + name_ + "': link '" + link.name +
+                                    "' has a zero joint axis");
       }
       links_[i].joint.axis /= n;
     }
@@ -155,49 +143,40 @@ ClawModel::ClawModel(std::string name, std::vector<Link> links,
 }
 
 ClawModel ClawModel::ThreeFinger(const ProceduralClawConfig& config) {
-  return MakeRadialClaw("three_finger", config,
-                        {0.0, 2.0 * kPi / 3.0, 4.0 * kPi / 3.0});
+  return MakeRadialClaw("three_finger", config, {0.0, 2.0 * kPi / 3.0, 4.0 * kPi / 3.0});
 }
 
 ClawModel ClawModel::Parallel(const ProceduralClawConfig& config) {
   return MakeRadialClaw("parallel", config, {0.0, kPi});
 }
 
-std::vector<Eigen::Isometry3d> ClawModel::LinkPoses(
-    double opening_m, const std::vector<double>& joint_values) const {
-  std::vector<Eigen::Isometry3d> T_G_link(links_.size(),
-                                          Eigen::Isometry3d::Identity());
+std::vector<Eigen::Isometry3d> ClawModel::LinkPoses(double opening_m,
+                                                    const std::vector<double>& joint_values) const {
+  std::vector<Eigen::Isometry3d> T_G_link(links_.size(), Eigen::Isometry3d::Identity());
   for (size_t i = 0; i < links_.size(); ++i) {
     const Link& link = links_[i];
     const Joint& joint = link.joint;
     Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
     if (joint.type != JointType::kFixed) {
       const bool from_index =
-          joint.joint_index >= 0 &&
-          joint.joint_index < static_cast<int>(joint_values.size());
-      double value =
-          from_index ? joint.joint_bias + joint.joint_scale * joint_values[joint.joint_index]
-                     : joint.offset + joint.gain * opening_m;
-      value = std::clamp(value, std::min(joint.lower, joint.upper),
-                         std::max(joint.lower, joint.upper));
+          joint.joint_index >= 0 && joint.joint_index < static_cast<int>(joint_values.size());
+      double value = from_index ? joint.joint_bias + joint.joint_scale * joint_values[joint.joint_index]
+                                : joint.offset + joint.gain * opening_m;
+      value = std::clamp(value, std::min(joint.lower, joint.upper), std::max(joint.lower, joint.upper));
       if (joint.type == JointType::kPrismatic) {
         motion.translation() = value * joint.axis;
       } else {
-        motion.linear() =
-            Eigen::AngleAxisd(value, joint.axis).toRotationMatrix();
+        motion.linear() = Eigen::AngleAxisd(value, joint.axis).toRotationMatrix();
       }
     }
     const Eigen::Isometry3d T_parent_link = joint.T_parent_joint * motion;
-    T_G_link[i] =
-        link.parent < 0 ? T_parent_link : T_G_link[link.parent] * T_parent_link;
+    T_G_link[i] = link.parent < 0 ? T_parent_link : T_G_link[link.parent] * T_parent_link;
   }
   return T_G_link;
 }
 
-TriangleMesh ClawModel::Posed(double opening_m,
-                              const std::vector<double>& joint_values) const {
-  const std::vector<Eigen::Isometry3d> T_G_link =
-      LinkPoses(opening_m, joint_values);
+TriangleMesh ClawModel::Posed(double opening_m, const std::vector<double>& joint_values) const {
+  const std::vector<Eigen::Isometry3d> T_G_link = LinkPoses(opening_m, joint_values);
   TriangleMesh claw_G;
   size_t num_vertices = 0;
   size_t num_triangles = 0;
@@ -209,8 +188,7 @@ TriangleMesh ClawModel::Posed(double opening_m,
   claw_G.triangles.reserve(num_triangles);
   for (size_t i = 0; i < links_.size(); ++i) {
     if (links_[i].mesh.empty()) continue;
-    claw_G.Append(
-        links_[i].mesh.Transformed(T_G_link[i] * links_[i].T_link_mesh));
+    claw_G.Append(links_[i].mesh.Transformed(T_G_link[i] * links_[i].T_link_mesh));
   }
   return claw_G;
 }

@@ -11,12 +11,11 @@ std::string MeshDefect(const TriangleMesh& mesh) {
     for (int k = 0; k < 3; ++k) {
       const long long index = mesh.triangles[t][k];
       if (index < 0 || index >= num_vertices) {
-        return "triangle " + std::to_string(t) + " index " + std::to_string(index) +
-               " out of range (" + std::to_string(num_vertices) + " vertices)";
+        return "triangle " + std::to_string(t) + " index " + std::to_string(index) + " out of range (" +
+               std::to_string(num_vertices) + " vertices)";
       }
       if (!mesh.vertices[index].allFinite()) {
-        return "vertex " + std::to_string(index) + " (of triangle " + std::to_string(t) +
-               ") is not finite";
+        return "vertex " + std::to_string(index) + " (of triangle " + std::to_string(t) + ") is not finite";
       }
     }
   }
@@ -32,9 +31,8 @@ int DropDegenerateTriangles(TriangleMesh* mesh, double min_area_m2) {
     return !(0.5 * (b - a).cross(c - a).norm() >= min_area_m2);
   };
   const size_t before = mesh->triangles.size();
-  mesh->triangles.erase(
-      std::remove_if(mesh->triangles.begin(), mesh->triangles.end(), degenerate),
-      mesh->triangles.end());
+  mesh->triangles.erase(std::remove_if(mesh->triangles.begin(), mesh->triangles.end(), degenerate),
+                        mesh->triangles.end());
   return static_cast<int>(before - mesh->triangles.size());
 }
 

@@ -47,8 +47,7 @@ UpAxis ColladaUpAxis(const std::string& path) {
   const size_t begin = open + std::strlen("<up_axis>");
   const size_t end = head.find("</up_axis>", begin);
   std::string value = head.substr(begin, end == std::string::npos ? 0 : end - begin);
-  value.erase(std::remove_if(value.begin(), value.end(),
-                             [](unsigned char c) { return std::isspace(c); }),
+  value.erase(std::remove_if(value.begin(), value.end(), [](unsigned char c) { return std::isspace(c); }),
               value.end());
   if (value == "X_UP") return UpAxis::kX;
   if (value == "Z_UP") return UpAxis::kZ;
@@ -58,21 +57,19 @@ UpAxis ColladaUpAxis(const std::string& path) {
 // Rotation taking the file's up axis to +z.
 Eigen::Matrix3f UpToZ(UpAxis up) {
   switch (up) {
-    case UpAxis::kZ: return Eigen::Matrix3f::Identity();
+    case UpAxis::kZ:
+      return Eigen::Matrix3f::Identity();
     case UpAxis::kY:
-      return Eigen::AngleAxisf(kHalfPi, Eigen::Vector3f::UnitX())
-          .toRotationMatrix();
+      return Eigen::AngleAxisf(kHalfPi, Eigen::Vector3f::UnitX()).toRotationMatrix();
     case UpAxis::kX:
-      return Eigen::AngleAxisf(-kHalfPi, Eigen::Vector3f::UnitY())
-          .toRotationMatrix();
+      return Eigen::AngleAxisf(-kHalfPi, Eigen::Vector3f::UnitY()).toRotationMatrix();
   }
   return Eigen::Matrix3f::Identity();
 }
 
 std::runtime_error TooManyTriangles(const std::string& path, int64_t triangles) {
   return std::runtime_error("mesh file " + path + ": " + std::to_string(triangles) +
-                            " triangles, over the claw's limit of " +
-                            std::to_string(kMaxClawTriangles) +
+                            " triangles, over the claw's limit of " + std::to_string(kMaxClawTriangles) +
                             " (claw_limits.hpp; simplify the mesh)");
 }
 
@@ -83,8 +80,8 @@ int64_t BinaryStlTriangles(const std::string& path, int64_t bytes) {
   std::ifstream in(path, std::ios::binary);
   unsigned char header[84];
   if (!in.read(reinterpret_cast<char*>(header), sizeof(header))) return -1;
-  const int64_t count = int64_t{header[80]} | int64_t{header[81]} << 8 | int64_t{header[82]} << 16 |
-                        int64_t{header[83]} << 24;
+  const int64_t count =
+      int64_t{header[80]} | int64_t{header[81]} << 8 | int64_t{header[82]} << 16 | int64_t{header[83]} << 24;
   return bytes == 84 + 50 * count ? count : -1;
 }
 
@@ -126,8 +123,7 @@ TriangleMesh ReadMeshFile(const std::string& path, int64_t max_triangles) {
   // JoinIdenticalVertices: it compares normals too, and crashed on such
   // files; vertices are merged by position below.
   const aiScene* scene = importer.ReadFile(
-      path, aiProcess_ValidateDataStructure | aiProcess_Triangulate |
-                aiProcess_PreTransformVertices);
+      path, aiProcess_ValidateDataStructure | aiProcess_Triangulate | aiProcess_PreTransformVertices);
   if (scene == nullptr) {
     throw std::runtime_error("cannot read mesh file: " + path + ": " + importer.GetErrorString());
   }
@@ -153,8 +149,7 @@ TriangleMesh ReadMeshFile(const std::string& path, int64_t max_triangles) {
     for (unsigned f = 0; f < in->mNumFaces; ++f) {
       const aiFace& face = in->mFaces[f];
       if (face.mNumIndices != 3) continue;  // points and lines
-      mesh.triangles.emplace_back(remap[face.mIndices[0]], remap[face.mIndices[1]],
-                                  remap[face.mIndices[2]]);
+      mesh.triangles.emplace_back(remap[face.mIndices[0]], remap[face.mIndices[1]], remap[face.mIndices[2]]);
     }
   }
   if (mesh.triangles.empty()) throw std::runtime_error("mesh has no triangles: " + path);

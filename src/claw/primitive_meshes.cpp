@@ -15,8 +15,8 @@ int AddRing(TriangleMesh* mesh, double r, double z, int segments) {
   const int first = static_cast<int>(mesh->vertices.size());
   for (int i = 0; i < segments; ++i) {
     const double a = 2.0 * kPi * i / segments;
-    mesh->vertices.emplace_back(static_cast<float>(r * std::cos(a)),
-                                static_cast<float>(r * std::sin(a)), static_cast<float>(z));
+    mesh->vertices.emplace_back(static_cast<float>(r * std::cos(a)), static_cast<float>(r * std::sin(a)),
+                                static_cast<float>(z));
   }
   return first;
 }
@@ -81,8 +81,7 @@ TriangleMesh SphereMesh(double radius_m, int segments) {
   std::vector<int> rings;
   for (int k = 1; k < bands; ++k) {
     const double polar = kPi * k / bands;  // from the south pole up
-    rings.push_back(AddRing(&mesh, radius_m * std::sin(polar), -radius_m * std::cos(polar),
-                            segments));
+    rings.push_back(AddRing(&mesh, radius_m * std::sin(polar), -radius_m * std::cos(polar), segments));
   }
   for (size_t k = 0; k + 1 < rings.size(); ++k) Band(&mesh, rings[k], rings[k + 1], segments);
   const int south = static_cast<int>(mesh.vertices.size());

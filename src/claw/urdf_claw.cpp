@@ -39,9 +39,7 @@ std::string Lower(std::string s) {
   return s;
 }
 
-bool IsUrdfFileName(const std::string& path) {
-  return Lower(fs::path(path).extension().string()) == ".urdf";
-}
+bool IsUrdfFileName(const std::string& path) { return Lower(fs::path(path).extension().string()) == ".urdf"; }
 
 // urdfdom reports why it rejects a file through console_bridge: keep its
 // errors for our message instead of printing them. Loading is setup-time
@@ -125,16 +123,15 @@ std::string XacroHint(const std::string& urdf_text) {
 
 // No geometry of the chosen kind in any link: a claw that hides nothing.
 // Xacro saved as .urdf is the usual cause (urdfdom skips its elements).
-void CheckHasGeometry(const std::string& label, const std::vector<Link>& links,
-                      const UrdfClawConfig& c, const urdf::ModelInterface& model) {
+void CheckHasGeometry(const std::string& label, const std::vector<Link>& links, const UrdfClawConfig& c,
+                      const urdf::ModelInterface& model) {
   for (const Link& link : links) {
     if (!link.mesh.empty()) return;
   }
   const bool collision = c.geometry == GeometryKind::kCollision;
   const char* kind = collision ? "collision" : "visual";
-  std::string why = std::string("no link has <") + kind + "> geometry (" +
-                    std::to_string(links.size()) + " link" + (links.size() == 1 ? "" : "s") +
-                    ", 0 triangles)";
+  std::string why = std::string("no link has <") + kind + "> geometry (" + std::to_string(links.size()) +
+                    " link" + (links.size() == 1 ? "" : "s") + ", 0 triangles)";
   if (const std::string hint = XacroHint(c.urdf_text); !hint.empty()) {
     why += hint;
   } else {
@@ -144,8 +141,8 @@ void CheckHasGeometry(const std::string& label, const std::vector<Link>& links,
     }
     if (other) {
       why += std::string(": it has <") + (collision ? "visual" : "collision") +
-             "> geometry: a URDF claw config with \"geometry\": \"" +
-             (collision ? "visual" : "collision") + "\" takes that";
+             "> geometry: a URDF claw config with \"geometry\": \"" + (collision ? "visual" : "collision") +
+             "\" takes that";
     }
   }
   Fail(label, why);
@@ -178,8 +175,8 @@ urdf::ModelInterfaceSharedPtr ParseUrdfModel(const std::string& label, const Urd
 // Links parents-first (depth first from the root, children in urdfdom's
 // order, which is by joint name), with each one's parent's position (-1:
 // the root).
-void LinksParentsFirst(const urdf::LinkConstSharedPtr& root,
-                       std::vector<urdf::LinkConstSharedPtr>* order, std::vector<int>* parent_of) {
+void LinksParentsFirst(const urdf::LinkConstSharedPtr& root, std::vector<urdf::LinkConstSharedPtr>* order,
+                       std::vector<int>* parent_of) {
   std::vector<std::pair<urdf::LinkConstSharedPtr, int>> stack = {{root, -1}};
   while (!stack.empty()) {
     auto [link, parent] = stack.back();
@@ -199,16 +196,15 @@ std::vector<std::string> ActuatedJoints(const std::string& label, const UrdfClaw
                                         const urdf::ModelInterface& model) {
   std::vector<std::string> actuated;
   for (const auto& [name, joint] : model.joints_) {
-    const bool movable = joint->type == urdf::Joint::REVOLUTE ||
-                         joint->type == urdf::Joint::CONTINUOUS ||
+    const bool movable = joint->type == urdf::Joint::REVOLUTE || joint->type == urdf::Joint::CONTINUOUS ||
                          joint->type == urdf::Joint::PRISMATIC;
     if (joint->type == urdf::Joint::FLOATING || joint->type == urdf::Joint::PLANAR) {
       Fail(label, "joint '" + name + "': floating and planar joints are not supported in a claw");
     }
     if (movable && !joint->mimic) actuated.push_back(name);
     if (joint->mimic && c.joints.count(name)) {
-      Fail(label, "joints." + name + ": a mimic joint follows '" + joint->mimic->joint_name +
-                      "'; map that one");
+      Fail(label,
+           "joints." + name + ": a mimic joint follows '" + joint->mimic->joint_name + "'; map that one");
     }
   }
   return actuated;
@@ -216,8 +212,7 @@ std::vector<std::string> ActuatedJoints(const std::string& label, const UrdfClaw
 
 // The joint from a link's parent: its origin, type, axis and limits (the
 // config's limits over the URDF's).
-void ReadJoint(const std::string& label, const UrdfClawConfig& c, const urdf::Joint& j,
-               Joint* out) {
+void ReadJoint(const std::string& label, const UrdfClawConfig& c, const urdf::Joint& j, Joint* out) {
   CheckOriginLimits(label, "joint '" + j.name + "': ", j.parent_to_joint_origin_transform);
   out->T_parent_joint = ToIsometry(j.parent_to_joint_origin_transform);
   if (j.type == urdf::Joint::FIXED) return;
@@ -277,8 +272,7 @@ ClawModel Build(const std::string& label, const UrdfClawConfig& c, const fs::pat
   std::vector<Link> links = ReadLinks(label, c, *model, mesh_root, &link_of_joint);
   CheckHasGeometry(label, links, c, *model);
 
-  const std::string default_opening_doc =
-      DriveJoints(label, c, *model, actuated, link_of_joint, &links);
+  const std::string default_opening_doc = DriveJoints(label, c, *model, actuated, link_of_joint, &links);
   std::string name = c.name.empty() ? model->getName() : c.name;
   const std::string opening_doc = c.opening_doc.empty() ? default_opening_doc : c.opening_doc;
   try {
@@ -329,8 +323,7 @@ json ConfigWithUrdf(const std::string& path, const std::string& mesh_root) {
   return doc;
 }
 
-ClawModel FromConfig(const std::string& label, const json& doc, const std::string& mesh_root,
-                     bool confined) {
+ClawModel FromConfig(const std::string& label, const json& doc, const std::string& mesh_root, bool confined) {
   UrdfClawConfig c = ParseConfig(label, doc);
   c.confined = confined;
   if (!doc.contains("urdf_text") || !doc["urdf_text"].is_string()) {

@@ -56,8 +56,7 @@ void CheckKeys(const std::string& label, const json& j, const std::string& field
     if (doc || allowed.count(key)) continue;
     std::string list;
     for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
-    Fail(label, field + (field.empty() ? "" : ": ") + "unknown key '" + key + "' (expected " +
-                    list + ")");
+    Fail(label, field + (field.empty() ? "" : ": ") + "unknown key '" + key + "' (expected " + list + ")");
   }
 }
 
@@ -80,8 +79,8 @@ Eigen::Isometry3d ReadPose(const std::string& label, const json& j, const std::s
 
 UrdfClawConfig ParseConfig(const std::string& label, const json& doc) {
   CheckKeys(label, doc, "",
-            {"name", "opening_doc", "urdf", "urdf_text", "urdf_dir", "geometry", "T_G_root",
-             "joints", "links", "source", "mesh_root_hint"});
+            {"name", "opening_doc", "urdf", "urdf_text", "urdf_dir", "geometry", "T_G_root", "joints",
+             "links", "source", "mesh_root_hint"});
   UrdfClawConfig c;
   if (doc.contains("name")) {
     if (!doc["name"].is_string()) Fail(label, "name: expected a string");
@@ -131,8 +130,8 @@ UrdfClawConfig ParseConfig(const std::string& label, const json& doc) {
       if (j.contains("joint_index")) {
         if (!j["joint_index"].is_number_integer() || j["joint_index"].get<int64_t>() < 0 ||
             j["joint_index"].get<int64_t>() >= kMaxClawLinks) {
-          Fail(label, field + ".joint_index: expected an integer 0.." +
-                          std::to_string(kMaxClawLinks - 1) + " (one per joint; claw_limits.hpp)");
+          Fail(label, field + ".joint_index: expected an integer 0.." + std::to_string(kMaxClawLinks - 1) +
+                          " (one per joint; claw_limits.hpp)");
         }
         m.joint_index = j["joint_index"].get<int>();
       }

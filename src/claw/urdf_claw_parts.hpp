@@ -74,8 +74,7 @@ void ReadLinkGeometry(const std::string& label, const urdf::Link& in, const Urdf
 /// `actuated`: the movable joints that are no mimic, by name;
 /// `link_of_joint`: each joint's child link. Returns the default opening
 /// doc (the rule and the joint_values order).
-std::string DriveJoints(const std::string& label, const UrdfClawConfig& c,
-                        const urdf::ModelInterface& model,
+std::string DriveJoints(const std::string& label, const UrdfClawConfig& c, const urdf::ModelInterface& model,
                         const std::vector<std::string>& actuated,
                         const std::map<std::string, int>& link_of_joint, std::vector<Link>* links);
 

@@ -60,8 +60,8 @@ std::map<std::string, Drive> InitialDrives(const std::string& label, const UrdfC
         for (const double q : {d.open, d.closed}) {
           if (q < joint.lower || q > joint.upper) {
             std::ostringstream msg;
-            msg << "joints." << name << ": " << q << " outside the joint's limits [" << joint.lower
-                << ", " << joint.upper << "] (give limits to override the URDF's)";
+            msg << "joints." << name << ": " << q << " outside the joint's limits [" << joint.lower << ", "
+                << joint.upper << "] (give limits to override the URDF's)";
             Fail(label, msg.str());
           }
         }
@@ -77,8 +77,8 @@ std::map<std::string, Drive> InitialDrives(const std::string& label, const UrdfC
   for (const auto& [name, d] : drives) {
     const auto [it, added] = joint_at_index.emplace(d.index, name);
     if (!added) {
-      Fail(label, "joints: joint_index " + std::to_string(d.index) + " is both '" + it->second +
-                      "' and '" + name + "' (give every actuated joint its own)");
+      Fail(label, "joints: joint_index " + std::to_string(d.index) + " is both '" + it->second + "' and '" +
+                      name + "' (give every actuated joint its own)");
     }
   }
   return drives;
@@ -92,8 +92,7 @@ struct MimicChain {
   double bias{0.0};
 };
 
-MimicChain MasterOf(const std::string& label, const urdf::ModelInterface& model,
-                    const std::string& name) {
+MimicChain MasterOf(const std::string& label, const urdf::ModelInterface& model, const std::string& name) {
   std::string current = name;
   std::set<std::string> seen;
   double scale = 1.0;
@@ -123,10 +122,12 @@ std::vector<std::vector<int>> ChildrenOf(const std::vector<Link>& links) {
 }
 
 // The links each actuated joint moves (its own subtree and every mimic's).
-std::map<std::string, std::vector<int>> MovedLinks(
-    const std::string& label, const urdf::ModelInterface& model, const std::vector<Link>& links,
-    const std::vector<std::vector<int>>& children, const std::map<std::string, int>& link_of_joint,
-    const std::map<std::string, Drive>& drives) {
+std::map<std::string, std::vector<int>> MovedLinks(const std::string& label,
+                                                   const urdf::ModelInterface& model,
+                                                   const std::vector<Link>& links,
+                                                   const std::vector<std::vector<int>>& children,
+                                                   const std::map<std::string, int>& link_of_joint,
+                                                   const std::map<std::string, Drive>& drives) {
   std::map<std::string, std::vector<int>> moved;
   for (const auto& [name, link_index] : link_of_joint) {
     if (links[link_index].joint.type == JointType::kFixed) continue;
@@ -147,8 +148,8 @@ std::map<std::string, std::vector<int>> MovedLinks(
 
 // Writes the drives into the movable joints (mimics through their chain).
 void ApplyDrives(const std::string& label, const urdf::ModelInterface& model,
-                 const std::map<std::string, int>& link_of_joint,
-                 const std::map<std::string, Drive>& drives, std::vector<Link>* links) {
+                 const std::map<std::string, int>& link_of_joint, const std::map<std::string, Drive>& drives,
+                 std::vector<Link>* links) {
   for (const auto& [name, link_index] : link_of_joint) {
     Joint& joint = (*links)[link_index].joint;
     if (joint.type == JointType::kFixed) continue;
@@ -168,8 +169,8 @@ void ApplyDrives(const std::string& label, const urdf::ModelInterface& model,
 // under-actuated hand's distal joint, which counter-rotates as the finger
 // curls, would be judged backwards) and those after at their lower limits.
 // `links` carry the provisional drives.
-void OrientDrives(const std::string& label, const urdf::ModelInterface& model,
-                  const std::vector<Link>& links, const std::vector<std::vector<int>>& children,
+void OrientDrives(const std::string& label, const urdf::ModelInterface& model, const std::vector<Link>& links,
+                  const std::vector<std::vector<int>>& children,
                   const std::map<std::string, std::vector<int>>& moved, int max_index,
                   std::map<std::string, Drive>* drives) {
   std::vector<double> at_open(max_index + 1, 0.0);  // the posture judged in
@@ -206,13 +207,13 @@ std::string DefaultOpeningDoc(const std::map<std::string, Drive>& drives, int ma
   for (const std::string& s : by_index) order_text += (order_text.empty() ? "" : ", ") + s;
   return "Normalized closure in [0, 1]: 0 = every actuated joint at its open limit, 1 = at its "
          "closed one (the limit that moves the fingertips towards the gripper axis), linear in "
-         "between; mimic joints follow. joint_values order: [" + order_text + "]";
+         "between; mimic joints follow. joint_values order: [" +
+         order_text + "]";
 }
 
 }  // namespace
 
-std::string DriveJoints(const std::string& label, const UrdfClawConfig& c,
-                        const urdf::ModelInterface& model,
+std::string DriveJoints(const std::string& label, const UrdfClawConfig& c, const urdf::ModelInterface& model,
                         const std::vector<std::string>& actuated,
                         const std::map<std::string, int>& link_of_joint, std::vector<Link>* links) {
   std::map<std::string, Drive> drives = InitialDrives(label, c, actuated, *links, link_of_joint);

@@ -35,8 +35,7 @@ Eigen::Isometry3d ToIsometry(const urdf::Pose& p) {
 namespace {
 
 // A <box>, <cylinder>, <sphere> or <mesh scale>, before it is meshed or read.
-void CheckGeometryLimits(const std::string& label, const std::string& what,
-                         const urdf::Geometry& geometry) {
+void CheckGeometryLimits(const std::string& label, const std::string& what, const urdf::Geometry& geometry) {
   switch (geometry.type) {
     case urdf::Geometry::BOX: {
       const urdf::Vector3& d = static_cast<const urdf::Box&>(geometry).dim;
@@ -102,9 +101,8 @@ fs::path ResolveMesh(const std::string& label, const std::string& link, const st
 
 // A mesh file's triangles, scaled, checked and without zero-area ones
 // (counted in *dropped).
-TriangleMesh ReadUrdfMesh(const std::string& label, const std::string& what,
-                          const std::string& link, const urdf::Mesh& m, const fs::path& root,
-                          bool confined, int* dropped) {
+TriangleMesh ReadUrdfMesh(const std::string& label, const std::string& what, const std::string& link,
+                          const urdf::Mesh& m, const fs::path& root, bool confined, int* dropped) {
   const fs::path file = ResolveMesh(label, link, m.filename, root, confined);
   TriangleMesh mesh;
   try {
@@ -128,15 +126,14 @@ TriangleMesh ReadUrdfMesh(const std::string& label, const std::string& what,
 
 // One <collision> or <visual> element's geometry as triangles, in its own
 // frame, checked.
-TriangleMesh ElementMesh(const std::string& label, const std::string& what,
-                         const std::string& link, const urdf::Geometry& geometry,
-                         const fs::path& root, bool confined, int* dropped) {
+TriangleMesh ElementMesh(const std::string& label, const std::string& what, const std::string& link,
+                         const urdf::Geometry& geometry, const fs::path& root, bool confined, int* dropped) {
   CheckGeometryLimits(label, what, geometry);
   TriangleMesh mesh;
   switch (geometry.type) {
     case urdf::Geometry::MESH:
-      mesh = ReadUrdfMesh(label, what, link, static_cast<const urdf::Mesh&>(geometry), root,
-                          confined, dropped);
+      mesh =
+          ReadUrdfMesh(label, what, link, static_cast<const urdf::Mesh&>(geometry), root, confined, dropped);
       break;
     case urdf::Geometry::BOX: {
       const urdf::Vector3& dim = static_cast<const urdf::Box&>(geometry).dim;
@@ -180,14 +177,13 @@ void ReadLinkGeometry(const std::string& label, const urdf::Link& in, const Urdf
   }
   const auto override_it = c.mesh_origins.find(in.name);
   if (override_it != c.mesh_origins.end() && elements.size() != 1) {
-    Fail(label, "links." + in.name + ".mesh_origin: the link has " +
-                    std::to_string(elements.size()) + " " + kind +
-                    " elements (an override needs exactly one)");
+    Fail(label, "links." + in.name + ".mesh_origin: the link has " + std::to_string(elements.size()) + " " +
+                    kind + " elements (an override needs exactly one)");
   }
   for (const auto& [origin, geometry] : elements) {
     const std::string what = std::string("link '") + in.name + "': " + kind + " ";
-    TriangleMesh mesh = ElementMesh(label, what, in.name, *geometry, root, c.confined,
-                                    &out->degenerate_triangles_dropped);
+    TriangleMesh mesh =
+        ElementMesh(label, what, in.name, *geometry, root, c.confined, &out->degenerate_triangles_dropped);
     CheckOriginLimits(label, what, origin);
     const Eigen::Isometry3d T =
         override_it != c.mesh_origins.end() ? override_it->second : ToIsometry(origin);

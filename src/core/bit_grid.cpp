@@ -2,8 +2,8 @@
 #include "graspfill/core/bit_grid.hpp"
 
 #include <cmath>
-#include <string>
 #include <stdexcept>
+#include <string>
 
 namespace graspfill {
 

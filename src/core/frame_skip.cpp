@@ -5,21 +5,36 @@ namespace graspfill {
 
 const char* FrameSkipReasonName(FrameSkipReason reason) {
   switch (reason) {
-    case FrameSkipReason::kNone: return "none";
-    case FrameSkipReason::kBadFrame: return "bad_frame";
-    case FrameSkipReason::kNoPoseBefore: return "no_pose_before";
-    case FrameSkipReason::kPoseGap: return "pose_gap";
-    case FrameSkipReason::kNoPoseAfter: return "no_pose_after";
-    case FrameSkipReason::kPendingFull: return "pending_full";
-    case FrameSkipReason::kClawNotSeen: return "claw_not_seen";
-    case FrameSkipReason::kRefineNotConverged: return "refine_not_converged";
-    case FrameSkipReason::kRefineJump: return "refine_jump";
-    case FrameSkipReason::kTrackTooFewPoints: return "track_too_few_points";
-    case FrameSkipReason::kTrackNotConverged: return "track_not_converged";
-    case FrameSkipReason::kTrackJump: return "track_jump";
-    case FrameSkipReason::kClawEmpty: return "claw_empty";
-    case FrameSkipReason::kClockJump: return "clock_jump";
-    case FrameSkipReason::kCount: break;
+    case FrameSkipReason::kNone:
+      return "none";
+    case FrameSkipReason::kBadFrame:
+      return "bad_frame";
+    case FrameSkipReason::kNoPoseBefore:
+      return "no_pose_before";
+    case FrameSkipReason::kPoseGap:
+      return "pose_gap";
+    case FrameSkipReason::kNoPoseAfter:
+      return "no_pose_after";
+    case FrameSkipReason::kPendingFull:
+      return "pending_full";
+    case FrameSkipReason::kClawNotSeen:
+      return "claw_not_seen";
+    case FrameSkipReason::kRefineNotConverged:
+      return "refine_not_converged";
+    case FrameSkipReason::kRefineJump:
+      return "refine_jump";
+    case FrameSkipReason::kTrackTooFewPoints:
+      return "track_too_few_points";
+    case FrameSkipReason::kTrackNotConverged:
+      return "track_not_converged";
+    case FrameSkipReason::kTrackJump:
+      return "track_jump";
+    case FrameSkipReason::kClawEmpty:
+      return "claw_empty";
+    case FrameSkipReason::kClockJump:
+      return "clock_jump";
+    case FrameSkipReason::kCount:
+      break;
   }
   return "unknown";
 }

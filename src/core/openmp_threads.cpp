@@ -28,9 +28,8 @@ const OpenMpDefaults& ProcessDefaults() {
 
 void CheckOpenMpThreads(const char* field, int num_threads) {
   if (num_threads < 0 || num_threads > kMaxOpenMpThreads) {
-    throw std::invalid_argument(std::string(field) + " " + std::to_string(num_threads) +
-                                ": expected 0..." + std::to_string(kMaxOpenMpThreads) +
-                                " (0: OpenMP's own count)");
+    throw std::invalid_argument(std::string(field) + " " + std::to_string(num_threads) + ": expected 0..." +
+                                std::to_string(kMaxOpenMpThreads) + " (0: OpenMP's own count)");
   }
 }
 

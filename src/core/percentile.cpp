@@ -13,8 +13,7 @@ double Percentile(std::vector<double> values, double q) {
     throw std::invalid_argument("graspfill: percentile of no values");
   }
   if (!(q >= 0.0 && q <= 100.0)) {
-    throw std::invalid_argument("graspfill: percentile must be in [0, 100], got " +
-                                std::to_string(q));
+    throw std::invalid_argument("graspfill: percentile must be in [0, 100], got " + std::to_string(q));
   }
   std::sort(values.begin(), values.end());
   const double rank = q / 100.0 * static_cast<double>(values.size() - 1);

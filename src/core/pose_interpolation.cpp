@@ -14,8 +14,7 @@ __extension__ typedef __int128 Int128;
 
 }  // namespace
 
-Eigen::Isometry3d InterpolatePose(const Eigen::Isometry3d& a,
-                                  const Eigen::Isometry3d& b, double alpha) {
+Eigen::Isometry3d InterpolatePose(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double alpha) {
   const Eigen::Quaterniond qa(a.rotation());
   const Eigen::Quaterniond qb(b.rotation());
   Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
@@ -27,8 +26,7 @@ Eigen::Isometry3d InterpolatePose(const Eigen::Isometry3d& a,
 bool IsValidPose(const Eigen::Isometry3d& pose) {
   if (!pose.matrix().allFinite()) return false;
   const Eigen::Matrix3d R = pose.linear();
-  return (R * R.transpose() - Eigen::Matrix3d::Identity()).norm() < 1e-3 &&
-         R.determinant() > 0.0;
+  return (R * R.transpose() - Eigen::Matrix3d::Identity()).norm() < 1e-3 && R.determinant() > 0.0;
 }
 
 GripperStateBuffer::GripperStateBuffer(size_t capacity, int64_t max_gap_us)
@@ -57,12 +55,8 @@ bool GripperStateBuffer::Push(const GripperState& state) {
   return true;
 }
 
-int64_t GripperStateBuffer::newest_utime() const {
-  return size_ ? at(size_ - 1).utime : INT64_MIN;
-}
-int64_t GripperStateBuffer::oldest_utime() const {
-  return size_ ? at(0).utime : INT64_MAX;
-}
+int64_t GripperStateBuffer::newest_utime() const { return size_ ? at(size_ - 1).utime : INT64_MIN; }
+int64_t GripperStateBuffer::oldest_utime() const { return size_ ? at(0).utime : INT64_MAX; }
 
 PoseLookup GripperStateBuffer::Lookup(int64_t utime, GripperState* out) const {
   if (size_ == 0 || utime > newest_utime()) return PoseLookup::kNotYet;
@@ -71,7 +65,10 @@ PoseLookup GripperStateBuffer::Lookup(int64_t utime, GripperState* out) const {
   size_t lo = 0, hi = size_ - 1;
   while (lo < hi) {
     const size_t mid = (lo + hi) / 2;
-    if (at(mid).utime < utime) lo = mid + 1; else hi = mid;
+    if (at(mid).utime < utime)
+      lo = mid + 1;
+    else
+      hi = mid;
   }
   const GripperState& after = at(lo);
   if (after.utime == utime) {
@@ -86,15 +83,14 @@ PoseLookup GripperStateBuffer::Lookup(int64_t utime, GripperState* out) const {
   // wrap into a small "gap" and interpolate a bogus pose.
   const Int128 gap = static_cast<Int128>(after.utime) - before.utime;
   if (gap > max_gap_us_) return PoseLookup::kGap;
-  const double alpha = static_cast<double>(static_cast<Int128>(utime) - before.utime) /
-                       static_cast<double>(gap);
+  const double alpha =
+      static_cast<double>(static_cast<Int128>(utime) - before.utime) / static_cast<double>(gap);
   out->utime = utime;
   out->T_C_G = InterpolatePose(before.T_C_G, after.T_C_G, alpha);
   out->opening_m = (1.0 - alpha) * before.opening_m + alpha * after.opening_m;
   out->joint_values.resize(before.joint_values.size());
   for (size_t i = 0; i < before.joint_values.size(); ++i) {
-    const double b = i < after.joint_values.size() ? after.joint_values[i]
-                                                   : before.joint_values[i];
+    const double b = i < after.joint_values.size() ? after.joint_values[i] : before.joint_values[i];
     out->joint_values[i] = (1.0 - alpha) * before.joint_values[i] + alpha * b;
   }
   return PoseLookup::kOk;

@@ -17,9 +17,7 @@ uint64_t DeriveSeed(uint64_t seed, uint64_t index) {
   return SplitMix64(SplitMix64(seed) ^ SplitMix64(index + 0x5851f42d4c957f2dULL));
 }
 
-double Rng::Uniform() {
-  return static_cast<double>(engine_() >> 11) * 0x1.0p-53;
-}
+double Rng::Uniform() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }
 
 double Rng::Normal() {
   constexpr double kTwoPi = 6.283185307179586476925;

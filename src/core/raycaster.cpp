@@ -12,8 +12,7 @@ namespace {
 void ThrowOnEmbreeError(void* /*user*/, RTCError code, const char* message) {
   // Embree calls this from inside its API; throwing carries the error to the
   // caller of the failed rtc* call instead of continuing with a bad handle.
-  throw std::runtime_error("embree error " + std::to_string(code) + ": " +
-                           (message ? message : ""));
+  throw std::runtime_error("embree error " + std::to_string(code) + ": " + (message ? message : ""));
 }
 
 }  // namespace
@@ -49,19 +48,16 @@ unsigned Raycaster::AddMesh(const TriangleMesh& mesh) {
   }
   RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
   // Embree reads vertex buffers with 16-byte loads: one float of padding.
-  float* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-      geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-      mesh.vertices.size() + 1));
+  float* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                         3 * sizeof(float), mesh.vertices.size() + 1));
   for (size_t i = 0; i < mesh.vertices.size(); ++i) {
     v[3 * i + 0] = mesh.vertices[i].x();
     v[3 * i + 1] = mesh.vertices[i].y();
     v[3 * i + 2] = mesh.vertices[i].z();
   }
-  v[3 * mesh.vertices.size() + 0] = v[3 * mesh.vertices.size() + 1] =
-      v[3 * mesh.vertices.size() + 2] = 0.0f;
+  v[3 * mesh.vertices.size() + 0] = v[3 * mesh.vertices.size() + 1] = v[3 * mesh.vertices.size() + 2] = 0.0f;
   unsigned* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-      mesh.triangles.size()));
+      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.triangles.size()));
   for (size_t i = 0; i < mesh.triangles.size(); ++i) {
     for (int k = 0; k < 3; ++k) idx[3 * i + k] = static_cast<unsigned>(mesh.triangles[i][k]);
   }
@@ -86,8 +82,8 @@ void Raycaster::Clear() {
 
 bool Raycaster::committed() const { return impl_->committed; }
 
-RayHit Raycaster::Cast(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir,
-                       float t_near, float t_far) const {
+RayHit Raycaster::Cast(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_near,
+                       float t_far) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh;
@@ -115,8 +111,8 @@ RayHit Raycaster::Cast(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir
   return out;
 }
 
-bool Raycaster::Occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir,
-                         float t_near, float t_far) const {
+bool Raycaster::Occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_near,
+                         float t_far) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay ray;
@@ -136,8 +132,7 @@ bool Raycaster::Occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& d
   return ray.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
 }
 
-void Raycaster::Cast16(const Eigen::Vector3f& origin, const float (*dirs)[3],
-                       int count, float* t_out) const {
+void Raycaster::Cast16(const Eigen::Vector3f& origin, const float (*dirs)[3], int count, float* t_out) const {
   alignas(64) RTCRayHit16 rh;
   alignas(64) int valid[16];
   for (int i = 0; i < 16; ++i) {
@@ -164,9 +159,8 @@ void Raycaster::Cast16(const Eigen::Vector3f& origin, const float (*dirs)[3],
   context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   rtcIntersect16(valid, impl_->scene, &context, &rh);
   for (int i = 0; i < count; ++i) {
-    t_out[i] = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID
-                   ? rh.ray.tfar[i]
-                   : std::numeric_limits<float>::infinity();
+    t_out[i] =
+        rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID ? rh.ray.tfar[i] : std::numeric_limits<float>::infinity();
   }
 }
 

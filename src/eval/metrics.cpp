@@ -28,8 +28,8 @@ double Mean(const std::vector<double>& v) {
   return sum / static_cast<double>(v.size());
 }
 
-double FScore(const std::vector<double>& pred_to_gt_m,
-              const std::vector<double>& gt_to_pred_m, double tau_m) {
+double FScore(const std::vector<double>& pred_to_gt_m, const std::vector<double>& gt_to_pred_m,
+              double tau_m) {
   const double precision = FractionWithin(pred_to_gt_m, tau_m);
   const double recall = FractionWithin(gt_to_pred_m, tau_m);
   if (precision + recall <= 0.0) return 0.0;
@@ -41,13 +41,11 @@ double FScore(const std::vector<double>& pred_to_gt_m,
 double FractionWithin(const std::vector<double>& distances_m, double tau_m) {
   if (distances_m.empty()) return 0.0;
   const auto within =
-      std::count_if(distances_m.begin(), distances_m.end(),
-                    [tau_m](double d) { return d <= tau_m; });
+      std::count_if(distances_m.begin(), distances_m.end(), [tau_m](double d) { return d <= tau_m; });
   return static_cast<double>(within) / static_cast<double>(distances_m.size());
 }
 
-CloudMetrics Compare(const std::vector<Eigen::Vector3f>& pred,
-                     const std::vector<Eigen::Vector3f>& gt) {
+CloudMetrics Compare(const std::vector<Eigen::Vector3f>& pred, const std::vector<Eigen::Vector3f>& gt) {
   mesh::CheckCloud(pred, "predicted");
   mesh::CheckCloud(gt, "ground-truth");
   // Squared distances feed Eq. 6 directly: no sqrt and square round trip
@@ -69,8 +67,7 @@ CloudMetrics Compare(const std::vector<Eigen::Vector3f>& pred,
   m.precision_2mm = FractionWithin(pred_to_gt, 2.0 / kMetersToMm);
   m.p95_pred_to_gt_mm = Percentile(pred_to_gt, 95.0) * kMetersToMm;
   m.p95_gt_to_pred_mm = Percentile(gt_to_pred, 95.0) * kMetersToMm;
-  m.max_pred_to_gt_mm =
-      *std::max_element(pred_to_gt.begin(), pred_to_gt.end()) * kMetersToMm;
+  m.max_pred_to_gt_mm = *std::max_element(pred_to_gt.begin(), pred_to_gt.end()) * kMetersToMm;
   return m;
 }
 

@@ -55,7 +55,6 @@ double FractionWithin(const std::vector<double>& distances_m, double tau_m);
 /// the same frame. Deterministic: same inputs, same bits out.
 /// @throws std::invalid_argument if either cloud is empty or holds a
 ///         non-finite coordinate (the message names the cloud and the index).
-CloudMetrics Compare(const std::vector<Eigen::Vector3f>& pred,
-                     const std::vector<Eigen::Vector3f>& gt);
+CloudMetrics Compare(const std::vector<Eigen::Vector3f>& pred, const std::vector<Eigen::Vector3f>& gt);
 
 }  // namespace graspfill::eval

@@ -69,7 +69,9 @@ void WindowMin(const std::vector<float>& in, int w, int h, int r, std::vector<fl
   const size_t W = static_cast<size_t>(w);
   std::vector<float> G(static_cast<size_t>(m) * W), H(static_cast<size_t>(m) * W);
   std::vector<float> pad(W, std::numeric_limits<float>::infinity());
-  const auto at = [&](int j) { return j < r || j >= h + r ? pad.data() : &rows[static_cast<size_t>(j - r) * W]; };
+  const auto at = [&](int j) {
+    return j < r || j >= h + r ? pad.data() : &rows[static_cast<size_t>(j - r) * W];
+  };
   for (int j = 0; j < m; ++j) {
     const float* x = at(j);
     float* gj = &G[static_cast<size_t>(j) * W];
@@ -132,8 +134,7 @@ void VisibilityConfig::Validate() const {
   }
 }
 
-VisibilityRecord::VisibilityRecord(const VisibilityConfig& config,
-                                   const fusion::WorkspaceBox& workspace)
+VisibilityRecord::VisibilityRecord(const VisibilityConfig& config, const fusion::WorkspaceBox& workspace)
     : config_(config), workspace_(workspace) {
   config_.Validate();
   workspace_.Validate();
@@ -275,8 +276,8 @@ std::optional<Eigen::Vector3f> VisibilityRecord::ExitClaw(const Eigen::Vector3f&
 size_t VisibilityRecord::memory_bytes() const {
   size_t bytes = 0;
   for (const auto& k : key_frames_) {
-    bytes += sizeof(float) * (k->depth_m.size() + k->free_depth_m.size() +
-                              k->coarse_free_depth_m.size() + k->claw_depth_m.size());
+    bytes += sizeof(float) * (k->depth_m.size() + k->free_depth_m.size() + k->coarse_free_depth_m.size() +
+                              k->claw_depth_m.size());
   }
   return bytes;
 }

@@ -14,16 +14,15 @@
 #include <algorithm>
 #include <cstring>
 #include <numeric>
-#include <vector>
 #include <stdexcept>
+#include <vector>
 
 namespace graspfill::fusion {
 
 namespace integration = open3d::pipelines::integration;
 
 void TsdfConfig::Validate() const {
-  if (!(voxel_m > 0.0) || !(sdf_trunc_m > voxel_m) || block_resolution < 2 ||
-      depth_sampling_stride < 1) {
+  if (!(voxel_m > 0.0) || !(sdf_trunc_m > voxel_m) || block_resolution < 2 || depth_sampling_stride < 1) {
     throw std::invalid_argument(
         "TsdfConfig: need voxel_m > 0, sdf_trunc_m > voxel_m, "
         "block_resolution >= 2, depth_sampling_stride >= 1");
@@ -33,8 +32,8 @@ void TsdfConfig::Validate() const {
 struct TsdfFusion::Impl {
   explicit Impl(const TsdfConfig& c)
       : config(c),
-        volume(c.voxel_m, c.sdf_trunc_m, integration::TSDFVolumeColorType::NoColor,
-               c.block_resolution, c.depth_sampling_stride) {}
+        volume(c.voxel_m, c.sdf_trunc_m, integration::TSDFVolumeColorType::NoColor, c.block_resolution,
+               c.depth_sampling_stride) {}
   TsdfConfig config;
   integration::ScalableTSDFVolume volume;
   open3d::geometry::RGBDImage rgbd;  // depth_ reused across frames
@@ -93,16 +92,15 @@ void TsdfFusion::Integrate(const DepthFrame& frame, const Eigen::Isometry3d& T_C
     throw std::invalid_argument("TsdfFusion::Integrate: depth size != width*height");
   }
   if (impl_->intrinsics_set != K) {
-    if (impl_->frames > 0 && (impl_->intrinsics_set.width != K.width ||
-                              impl_->intrinsics_set.height != K.height)) {
+    if (impl_->frames > 0 &&
+        (impl_->intrinsics_set.width != K.width || impl_->intrinsics_set.height != K.height)) {
       throw std::invalid_argument("TsdfFusion::Integrate: frame size changed");
     }
     impl_->intrinsic.SetIntrinsics(K.width, K.height, K.fx, K.fy, K.cx, K.cy);
     impl_->rgbd.depth_.Prepare(K.width, K.height, 1, 4);
     impl_->intrinsics_set = K;
   }
-  std::memcpy(impl_->rgbd.depth_.data_.data(), frame.depth_m.data(),
-              frame.depth_m.size() * sizeof(float));
+  std::memcpy(impl_->rgbd.depth_.data_.data(), frame.depth_m.data(), frame.depth_m.size() * sizeof(float));
   // Open3D's integration names its own team (a thread per physical core):
   // one thread when the caller allows fewer (core/openmp_threads.hpp).
   const ScopedOpenMpFixedTeam team(impl_->open3d_team);

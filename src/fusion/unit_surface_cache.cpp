@@ -84,10 +84,9 @@ double TsdfAt(const Volume& volume, const Neighbourhood& near, const Eigen::Vect
     }
     f[c] = u == nullptr ? 0.0f : u->voxels_[u->IndexOf(idx1)].tsdf_;
   }
-  return (1 - r(0)) * ((1 - r(1)) * ((1 - r(2)) * f[0] + r(2) * f[4]) +
-                       r(1) * ((1 - r(2)) * f[3] + r(2) * f[7])) +
-         r(0) * ((1 - r(1)) * ((1 - r(2)) * f[1] + r(2) * f[5]) +
-                 r(1) * ((1 - r(2)) * f[2] + r(2) * f[6]));
+  return (1 - r(0)) *
+             ((1 - r(1)) * ((1 - r(2)) * f[0] + r(2) * f[4]) + r(1) * ((1 - r(2)) * f[3] + r(2) * f[7])) +
+         r(0) * ((1 - r(1)) * ((1 - r(2)) * f[1] + r(2) * f[5]) + r(1) * ((1 - r(2)) * f[2] + r(2) * f[6]));
 }
 
 // Central differences 0.99 voxel either side (Open3D's GetNormalAt).
@@ -192,7 +191,8 @@ void UnitSurfaceCache::Extract(const Volume& volume, std::vector<Eigen::Vector3d
     if (unit.dirty) {
       unit.points.clear();
       unit.normals.clear();
-      if (const UnitVolume* v = FindUnit(volume, key)) ExtractUnit(volume, key, *v, &unit.points, &unit.normals);
+      if (const UnitVolume* v = FindUnit(volume, key))
+        ExtractUnit(volume, key, *v, &unit.points, &unit.normals);
       unit.dirty = false;
       ++units_extracted_;
     }

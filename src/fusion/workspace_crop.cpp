@@ -9,14 +9,13 @@
 namespace graspfill::fusion {
 
 void WorkspaceBox::Validate() const {
-  if (!min_G.allFinite() || !max_G.allFinite() ||
-      !(min_G.array() < max_G.array()).all()) {
+  if (!min_G.allFinite() || !max_G.allFinite() || !(min_G.array() < max_G.array()).all()) {
     throw std::invalid_argument("workspace box: need finite min < max on every axis");
   }
 }
 
-PixelRect ProjectBox(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G,
-                     const CameraIntrinsics& K, int margin_px) {
+PixelRect ProjectBox(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G, const CameraIntrinsics& K,
+                     int margin_px) {
   const PixelRect full{0, 0, K.width, K.height};
   double u_min = 1e30, u_max = -1e30, v_min = 1e30, v_max = -1e30;
   for (int corner = 0; corner < 8; ++corner) {
@@ -36,8 +35,7 @@ PixelRect ProjectBox(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G,
   // corners, so this rectangle is conservative.
   // Clamped in double before the conversion: huge or non-finite
   // projections (extreme intrinsics, a pose far away) must not overflow int.
-  if (!std::isfinite(u_min) || !std::isfinite(u_max) || !std::isfinite(v_min) ||
-      !std::isfinite(v_max)) {
+  if (!std::isfinite(u_min) || !std::isfinite(u_max) || !std::isfinite(v_min) || !std::isfinite(v_max)) {
     return full;
   }
   auto to_pixel = [](double x, double offset, int size) {
@@ -51,8 +49,8 @@ PixelRect ProjectBox(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G,
   return r;
 }
 
-int CropToWorkspace(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G,
-                    DepthFrame* frame, PixelRect* roi) {
+int CropToWorkspace(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G, DepthFrame* frame,
+                    PixelRect* roi) {
   const CameraIntrinsics& K = frame->intrinsics;
   const PixelRect r = ProjectBox(box, T_C_G, K);
   float* depth = frame->depth_m.data();

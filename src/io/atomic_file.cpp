@@ -55,12 +55,13 @@ int CreateTempFile(const std::string& path, std::string* temp_path) {
   fs::path dir = target.parent_path();
   const std::string name = target.filename().string();
   for (int attempt = 0; attempt < kMaxNameAttempts; ++attempt) {
-    const auto ticks = static_cast<unsigned long long>(
-        std::chrono::steady_clock::now().time_since_epoch().count());
+    const auto ticks =
+        static_cast<unsigned long long>(std::chrono::steady_clock::now().time_since_epoch().count());
     char suffix[32];
     std::snprintf(suffix, sizeof(suffix), "%06llx",
                   (ticks ^ (static_cast<unsigned long long>(::getpid()) << 20) ^
-                   (static_cast<unsigned long long>(counter++) << 8)) & 0xffffffULL);
+                   (static_cast<unsigned long long>(counter++) << 8)) &
+                      0xffffffULL);
     const fs::path temp = dir / ("." + name + ".tmp-" + suffix);
     const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
     if (fd >= 0) {
@@ -160,15 +161,14 @@ void AtomicFile::Commit() {
     temp_path_.clear();
     throw;
   }
-  const int placed = if_exists_ == IfExists::kReplace
-                         ? std::rename(temp_path_.c_str(), path_.c_str())
-                         : PlaceNew(temp_path_, path_);
+  const int placed = if_exists_ == IfExists::kReplace ? std::rename(temp_path_.c_str(), path_.c_str())
+                                                      : PlaceNew(temp_path_, path_);
   if (placed != 0) {
     const int error = errno;
     ::unlink(temp_path_.c_str());
     temp_path_.clear();
-    throw std::runtime_error(what_ + " '" + path_ + "': " +
-                             (error == EEXIST ? FileExistsText(true) : std::strerror(error)));
+    throw std::runtime_error(what_ + " '" + path_ +
+                             "': " + (error == EEXIST ? FileExistsText(true) : std::strerror(error)));
   }
   temp_path_.clear();
   // The rename itself reaches the disk with the folder's next flush; best
@@ -193,8 +193,8 @@ void AtomicFile::Abandon() noexcept {
   }
 }
 
-void WriteFileAtomically(const std::string& path, const std::string& bytes,
-                         const std::string& what, IfExists if_exists) {
+void WriteFileAtomically(const std::string& path, const std::string& bytes, const std::string& what,
+                         IfExists if_exists) {
   AtomicFile file(path, what, if_exists);
   const char* data = bytes.data();
   size_t left = bytes.size();

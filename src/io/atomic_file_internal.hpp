@@ -24,7 +24,8 @@ const char* SpecialFileKind(const std::string& path);
 
 /// The message's end for such a file: graspfill writes regular files only.
 inline std::string NotWrittenBecause(const char* kind) {
-  return "is " + std::string(kind) + ", not a regular file (only regular files are written, "
+  return "is " + std::string(kind) +
+         ", not a regular file (only regular files are written, "
          "even with --force)";
 }
 

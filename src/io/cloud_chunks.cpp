@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "graspfill/io/cloud_chunks.hpp"
 
+#include <zlib.h>
 #include <graspfill/object_cloud_chunk_t.hpp>
 #include <graspfill/object_cloud_t.hpp>
-#include <zlib.h>
 
 #include <algorithm>
 #include <cstring>
@@ -135,9 +135,9 @@ CloudChunkAssembler::Result CloudChunkAssembler::Add(const void* data, size_t si
       static_cast<size_t>(num_bytes) != std::min(slice, key.num_bytes - expected_offset) ||
       size != kChunkHeaderBytes + static_cast<size_t>(num_bytes)) {
     SetWhy(why, "slice " + std::to_string(index) + " of " + std::to_string(num_chunks) + " at " +
-                    std::to_string(offset) + " with " + std::to_string(num_bytes) + " bytes in a message of " +
-                    std::to_string(size) + " does not fit a cloud of " + std::to_string(cloud_bytes) +
-                    " bytes (malformed)");
+                    std::to_string(offset) + " with " + std::to_string(num_bytes) +
+                    " bytes in a message of " + std::to_string(size) + " does not fit a cloud of " +
+                    std::to_string(cloud_bytes) + " bytes (malformed)");
     return Result::kMalformed;
   }
   if (completed_ && key == completed_key_) return Result::kRepeat;

@@ -45,8 +45,7 @@ inline const char* FieldNotOnePerPoint(const ObjectCloud& cloud) {
 
 /// Throws std::runtime_error "<what> '<path>': <field>: not one value per
 /// point" where FieldNotOnePerPoint finds one (the file writers).
-inline void CheckOnePerPoint(const ObjectCloud& cloud, const std::string& what,
-                             const std::string& path) {
+inline void CheckOnePerPoint(const ObjectCloud& cloud, const std::string& what, const std::string& path) {
   if (const char* field = FieldNotOnePerPoint(cloud)) {
     throw std::runtime_error(what + " '" + path + "': " + field + ": not one value per point");
   }

@@ -27,20 +27,22 @@ CloudFileFormat CloudFileFormatOf(const std::string& path) {
   if (ext == ".ply") return CloudFileFormat::kPly;
   if (ext == ".pcd") return CloudFileFormat::kPcd;
   throw std::invalid_argument("'" + path + "': a cloud is written as .ply or .pcd, " +
-                              (ext.empty() ? std::string("and this name has no extension")
-                                           : "not " + ext));
+                              (ext.empty() ? std::string("and this name has no extension") : "not " + ext));
 }
 
 void WriteCloudFile(const std::string& path, const ObjectCloud& cloud, IfExists if_exists) {
   switch (CloudFileFormatOf(path)) {
-    case CloudFileFormat::kPly: return WriteCloudPly(path, cloud, if_exists);
-    case CloudFileFormat::kPcd: return WriteCloudPcd(path, cloud, if_exists);
+    case CloudFileFormat::kPly:
+      return WriteCloudPly(path, cloud, if_exists);
+    case CloudFileFormat::kPcd:
+      return WriteCloudPcd(path, cloud, if_exists);
   }
 }
 
 ObjectCloud ReadCloudFile(const std::string& path) {
   if (LowerExtension(path) == ".pcd") {
-    throw std::invalid_argument("'" + path + "': PCD is written, not read; give the cloud as .ply "
+    throw std::invalid_argument("'" + path +
+                                "': PCD is written, not read; give the cloud as .ply "
                                 "(PCL's pcl_pcd2ply converts it)");
   }
   return ReadCloudPly(path);

@@ -23,9 +23,7 @@ bool WithinElementLimit(int32_t count) { return count <= kMaxCollisionMeshElemen
 }  // namespace
 
 std::vector<uint8_t> EncodeCollisionMesh(const CollisionMeshMessage& m) {
-  auto refuse = [](const std::string& why) {
-    throw std::invalid_argument("EncodeCollisionMesh: " + why);
-  };
+  auto refuse = [](const std::string& why) { throw std::invalid_argument("EncodeCollisionMesh: " + why); };
   const size_t num_vertices = m.mesh.vertices.size();
   if (num_vertices > static_cast<size_t>(kMaxCollisionMeshElements) ||
       m.mesh.triangles.size() > static_cast<size_t>(kMaxCollisionMeshElements)) {
@@ -41,7 +39,7 @@ std::vector<uint8_t> EncodeCollisionMesh(const CollisionMeshMessage& m) {
   msg.frame_name = m.frame_name;
   PoseToWire(m.T_C_G, msg.position, msg.orientation);
   msg.kind = m.kind == CollisionMeshKind::kConvexHull ? graspfill::collision_mesh_t::CONVEX_HULL
-                                                       : graspfill::collision_mesh_t::DECIMATED;
+                                                      : graspfill::collision_mesh_t::DECIMATED;
   msg.watertight = m.watertight ? 1 : 0;
   msg.deviation_m = static_cast<float>(m.deviation_m);
   msg.num_vertices = static_cast<int32_t>(num_vertices);
@@ -69,14 +67,13 @@ static bool DecodeCollisionMeshImpl(const void* data, size_t size, CollisionMesh
   {
     WireReader r(data, size);
     int32_t num_vertices = 0, num_triangles = 0;
-    const bool ok = r.Hash(graspfill::collision_mesh_t::getHash()) &&
-                    r.Skip(3 * 8) && r.SkipString() &&      // utime, seq, grasp_id, frame_name
-                    r.Skip(3 * 8 + 4 * 8 + 1 + 1 + 4) &&    // pose, kind, watertight, deviation_m
+    const bool ok = r.Hash(graspfill::collision_mesh_t::getHash()) && r.Skip(3 * 8) &&
+                    r.SkipString() &&                     // utime, seq, grasp_id, frame_name
+                    r.Skip(3 * 8 + 4 * 8 + 1 + 1 + 4) &&  // pose, kind, watertight, deviation_m
                     r.Count(&num_vertices, kElementBytes) && WithinElementLimit(num_vertices) &&
                     r.Skip(kElementBytes * static_cast<size_t>(num_vertices)) &&
                     r.Count(&num_triangles, kElementBytes) && WithinElementLimit(num_triangles) &&
-                    r.Skip(kElementBytes * static_cast<size_t>(num_triangles)) &&
-                    r.remaining() == 0;
+                    r.Skip(kElementBytes * static_cast<size_t>(num_triangles)) && r.remaining() == 0;
     if (!ok) {
       SetError(error, "collision_mesh_t: malformed message");
       return false;
@@ -97,14 +94,15 @@ static bool DecodeCollisionMeshImpl(const void* data, size_t size, CollisionMesh
     return false;
   }
   if (msg.watertight != 0 && msg.watertight != 1) {
-    SetError(error, "collision_mesh_t: watertight must be 0 or 1, not " +
-                        std::to_string(static_cast<int>(msg.watertight)),
+    SetError(error,
+             "collision_mesh_t: watertight must be 0 or 1, not " +
+                 std::to_string(static_cast<int>(msg.watertight)),
              MessageError::kBadValue);
     return false;
   }
   if (!std::isfinite(msg.deviation_m) || msg.deviation_m < 0.0f) {
-    SetError(error, "collision_mesh_t: deviation_m " + std::to_string(msg.deviation_m) +
-                        " is not finite and >= 0",
+    SetError(error,
+             "collision_mesh_t: deviation_m " + std::to_string(msg.deviation_m) + " is not finite and >= 0",
              MessageError::kBadValue);
     return false;
   }
@@ -123,8 +121,9 @@ static bool DecodeCollisionMeshImpl(const void* data, size_t size, CollisionMesh
   for (const std::vector<int32_t>& t : msg.triangles) {
     const Eigen::Vector3i ijk(t[0], t[1], t[2]);
     if (ijk.minCoeff() < 0 || ijk.maxCoeff() >= msg.num_vertices) {
-      SetError(error, "collision_mesh_t: a triangle's index is outside the " +
-                          std::to_string(msg.num_vertices) + " vertices",
+      SetError(error,
+               "collision_mesh_t: a triangle's index is outside the " + std::to_string(msg.num_vertices) +
+                   " vertices",
                MessageError::kBadValue);
       return false;
     }
@@ -138,14 +137,14 @@ static bool DecodeCollisionMeshImpl(const void* data, size_t size, CollisionMesh
   out->mesh.vertices.swap(mesh.vertices);
   out->mesh.triangles.swap(mesh.triangles);
   out->kind = msg.kind == graspfill::collision_mesh_t::CONVEX_HULL ? CollisionMeshKind::kConvexHull
-                                                                     : CollisionMeshKind::kDecimated;
+                                                                   : CollisionMeshKind::kDecimated;
   out->watertight = msg.watertight == 1;
   out->deviation_m = msg.deviation_m;
   return true;
 }
 
-bool DecodeCollisionMesh(const void* data, size_t size, CollisionMeshMessage* out,
-                         std::string* error, MessageError* reason) {
+bool DecodeCollisionMesh(const void* data, size_t size, CollisionMeshMessage* out, std::string* error,
+                         MessageError* reason) {
   return WithReason(reason, [&] { return DecodeCollisionMeshImpl(data, size, out, error); });
 }
 

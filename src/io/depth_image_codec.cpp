@@ -40,8 +40,7 @@ ZlibScratch& Scratch() {
 // Inflates exactly `out_size` bytes from a complete zlib stream; never
 // writes past `out_size` (a stream that would inflate to more, a zlib bomb,
 // stops there and is refused).
-bool Inflate(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_size,
-             std::string* error) {
+bool Inflate(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_size, std::string* error) {
   ZlibScratch& s = Scratch();
   if (!s.inflater_ready) {
     if (inflateInit(&s.inflater) != Z_OK) {
@@ -59,8 +58,8 @@ bool Inflate(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_size,
   zs.avail_out = static_cast<uInt>(out_size);
   const int rc = inflate(&zs, Z_FINISH);
   if (rc != Z_STREAM_END) {
-    SetError(error, std::string("depth_image_t: corrupt zlib data (") +
-                        (zs.msg ? zs.msg : "size mismatch") + ")");
+    SetError(error,
+             std::string("depth_image_t: corrupt zlib data (") + (zs.msg ? zs.msg : "size mismatch") + ")");
     return false;
   }
   if (zs.avail_out != 0 || zs.avail_in != 0) {
@@ -97,22 +96,17 @@ std::vector<uint8_t> Deflate(const std::vector<uint8_t>& raw) {
 
 }  // namespace
 
-std::vector<uint8_t> EncodeDepthImage(const DepthFrame& frame,
-                                      DepthEncoding encoding,
-                                      double depth_scale_m) {
+std::vector<uint8_t> EncodeDepthImage(const DepthFrame& frame, DepthEncoding encoding, double depth_scale_m) {
   const CameraIntrinsics& K = frame.intrinsics;
-  if (K.width <= 0 || K.height <= 0 ||
-      int64_t{K.width} * K.height > kMaxDepthPixels) {
-    throw std::invalid_argument("EncodeDepthImage: bad image size " +
-                                std::to_string(K.width) + "x" +
+  if (K.width <= 0 || K.height <= 0 || int64_t{K.width} * K.height > kMaxDepthPixels) {
+    throw std::invalid_argument("EncodeDepthImage: bad image size " + std::to_string(K.width) + "x" +
                                 std::to_string(K.height));
   }
   const size_t num_pixels = static_cast<size_t>(K.width) * K.height;
   if (frame.depth_m.size() != num_pixels) {
-    throw std::invalid_argument(
-        "EncodeDepthImage: depth_m has " + std::to_string(frame.depth_m.size()) +
-        " values for a " + std::to_string(K.width) + "x" +
-        std::to_string(K.height) + " image");
+    throw std::invalid_argument("EncodeDepthImage: depth_m has " + std::to_string(frame.depth_m.size()) +
+                                " values for a " + std::to_string(K.width) + "x" + std::to_string(K.height) +
+                                " image");
   }
   if (!std::isfinite(depth_scale_m) || depth_scale_m <= 0.0) {
     throw std::invalid_argument("EncodeDepthImage: depth scale must be > 0");
@@ -135,8 +129,7 @@ std::vector<uint8_t> EncodeDepthImage(const DepthFrame& frame,
         const double q = d / depth_scale_m + 0.5;
         if (q < 65536.0) units = static_cast<uint16_t>(q);
       }
-      const uint16_t sample =
-          delta ? static_cast<uint16_t>(units - left) : units;
+      const uint16_t sample = delta ? static_cast<uint16_t>(units - left) : units;
       left = units;
       raw[2 * i] = static_cast<uint8_t>(sample & 0xff);
       raw[2 * i + 1] = static_cast<uint8_t>(sample >> 8);
@@ -163,14 +156,15 @@ std::vector<uint8_t> EncodeDepthImage(const DepthFrame& frame,
   return EncodeMessage(msg);
 }
 
-static bool DecodeDepthImageImpl(const void* data, size_t size, DepthFrame* out,
-                                 std::string* error, int64_t max_depth_pixels) {
+static bool DecodeDepthImageImpl(const void* data, size_t size, DepthFrame* out, std::string* error,
+                                 int64_t max_depth_pixels) {
   if (!CheckBuffer(data, size, out, "depth_image_t", error)) return false;
   // Parsed in place (see the file comment); the layout is depth_image_t's.
   WireReader r(data, size);
   if (!r.Hash(graspfill::depth_image_t::getHash())) {
-    SetError(error, "depth_image_t: not a depth_image_t (type hash mismatch "
-                    "or truncated)");
+    SetError(error,
+             "depth_image_t: not a depth_image_t (type hash mismatch "
+             "or truncated)");
     return false;
   }
   int64_t utime;
@@ -178,30 +172,27 @@ static bool DecodeDepthImageImpl(const void* data, size_t size, DepthFrame* out,
   double fx, fy, cx, cy, depth_scale;
   int8_t encoding;
   const uint8_t* payload = nullptr;
-  if (!r.I64(&utime) || !r.I32(&width) || !r.I32(&height) || !r.F64(&fx) ||
-      !r.F64(&fy) || !r.F64(&cx) || !r.F64(&cy) || !r.F64(&depth_scale) ||
-      !r.I8(&encoding) || !r.Count(&num_bytes, 1) ||
+  if (!r.I64(&utime) || !r.I32(&width) || !r.I32(&height) || !r.F64(&fx) || !r.F64(&fy) || !r.F64(&cx) ||
+      !r.F64(&cy) || !r.F64(&depth_scale) || !r.I8(&encoding) || !r.Count(&num_bytes, 1) ||
       !r.Bytes(static_cast<size_t>(num_bytes), &payload)) {
     SetError(error, "depth_image_t: truncated message");
     return false;
   }
   if (r.remaining() != 0) {
-    SetError(error, "depth_image_t: " + std::to_string(r.remaining()) +
-                        " trailing bytes");
+    SetError(error, "depth_image_t: " + std::to_string(r.remaining()) + " trailing bytes");
     return false;
   }
   if (width <= 0 || height <= 0) {
-    SetError(error, "depth_image_t: bad image size " + std::to_string(width) +
-                        "x" + std::to_string(height),
+    SetError(error, "depth_image_t: bad image size " + std::to_string(width) + "x" + std::to_string(height),
              MessageError::kBadSize);
     return false;
   }
   // Before anything of the decoded size is allocated.
   const int64_t limit = std::clamp<int64_t>(max_depth_pixels, 1, kMaxDepthPixels);
   if (int64_t{width} * height > limit) {
-    SetError(error, "depth_image_t: bad image size " + std::to_string(width) + "x" +
-                        std::to_string(height) + ": over the limit of " + std::to_string(limit) +
-                        " pixels (max_depth_pixels)",
+    SetError(error,
+             "depth_image_t: bad image size " + std::to_string(width) + "x" + std::to_string(height) +
+                 ": over the limit of " + std::to_string(limit) + " pixels (max_depth_pixels)",
              MessageError::kBadSize);
     return false;
   }
@@ -213,8 +204,9 @@ static bool DecodeDepthImageImpl(const void* data, size_t size, DepthFrame* out,
     }
   }
   if (!(depth_scale >= kMinDepthScaleM && depth_scale <= kMaxDepthScaleM)) {
-    SetError(error, "depth_image_t: bad depth_scale (expected " + FormatLimit(kMinDepthScaleM) +
-                        ".." + FormatLimit(kMaxDepthScaleM) + " m per unit)",
+    SetError(error,
+             "depth_image_t: bad depth_scale (expected " + FormatLimit(kMinDepthScaleM) + ".." +
+                 FormatLimit(kMaxDepthScaleM) + " m per unit)",
              MessageError::kBadDepthScale);
     return false;
   }
@@ -225,9 +217,9 @@ static bool DecodeDepthImageImpl(const void* data, size_t size, DepthFrame* out,
   bool delta = false;
   if (encoding == graspfill::depth_image_t::RAW16) {
     if (static_cast<size_t>(num_bytes) != 2 * num_pixels) {
-      SetError(error, "depth_image_t: RAW16 data has " +
-                          std::to_string(num_bytes) + " bytes, expected " +
-                          std::to_string(2 * num_pixels),
+      SetError(error,
+               "depth_image_t: RAW16 data has " + std::to_string(num_bytes) + " bytes, expected " +
+                   std::to_string(2 * num_pixels),
                MessageError::kBadEncoding);
       return false;
     }
@@ -236,25 +228,23 @@ static bool DecodeDepthImageImpl(const void* data, size_t size, DepthFrame* out,
     // A payload that cannot inflate to the declared image is refused
     // before the scratch grows to it (a few bytes declaring 8 MP).
     if (2 * static_cast<int64_t>(num_pixels) > kMaxDeflateRatio * num_bytes) {
-      SetError(error, "depth_image_t: ZLIB16 data of " + std::to_string(num_bytes) +
-                          " bytes cannot inflate to the image's " +
-                          std::to_string(2 * num_pixels) + " bytes (deflate expands at most " +
-                          std::to_string(kMaxDeflateRatio) + " times)",
+      SetError(error,
+               "depth_image_t: ZLIB16 data of " + std::to_string(num_bytes) +
+                   " bytes cannot inflate to the image's " + std::to_string(2 * num_pixels) +
+                   " bytes (deflate expands at most " + std::to_string(kMaxDeflateRatio) + " times)",
                MessageError::kBadEncoding);
       return false;
     }
     std::vector<uint8_t>& raw = Scratch().raw;
     raw.resize(2 * num_pixels);  // grows once, then reused
-    if (!Inflate(payload, static_cast<size_t>(num_bytes), raw.data(),
-                 raw.size(), error)) {
+    if (!Inflate(payload, static_cast<size_t>(num_bytes), raw.data(), raw.size(), error)) {
       FailureReason() = MessageError::kBadEncoding;
       return false;
     }
     samples = raw.data();
     delta = true;
   } else {
-    SetError(error, "depth_image_t: unknown encoding " +
-                        std::to_string(static_cast<int>(encoding)),
+    SetError(error, "depth_image_t: unknown encoding " + std::to_string(static_cast<int>(encoding)),
              MessageError::kBadEncoding);
     return false;
   }
@@ -272,8 +262,7 @@ static bool DecodeDepthImageImpl(const void* data, size_t size, DepthFrame* out,
     const size_t row = static_cast<size_t>(v) * width;
     for (int u = 0; u < width; ++u) {
       const size_t i = row + u;
-      uint16_t units = static_cast<uint16_t>(samples[2 * i] |
-                                             (samples[2 * i + 1] << 8));
+      uint16_t units = static_cast<uint16_t>(samples[2 * i] | (samples[2 * i + 1] << 8));
       if (delta) units = static_cast<uint16_t>(units + left);
       left = units;
       // In double, then rounded once: 1500 units of 1 mm is exactly 1.5f.
@@ -285,8 +274,7 @@ static bool DecodeDepthImageImpl(const void* data, size_t size, DepthFrame* out,
 
 bool DecodeDepthImage(const void* data, size_t size, DepthFrame* out, std::string* error,
                       MessageError* reason, int64_t max_depth_pixels) {
-  return WithReason(reason,
-                    [&] { return DecodeDepthImageImpl(data, size, out, error, max_depth_pixels); });
+  return WithReason(reason, [&] { return DecodeDepthImageImpl(data, size, out, error, max_depth_pixels); });
 }
 
 bool IntrinsicsInRange(const CameraIntrinsics& K, std::string* why) {
@@ -295,10 +283,9 @@ bool IntrinsicsInRange(const CameraIntrinsics& K, std::string* why) {
     return false;
   };
   // Written as "in range" tests so that NaN fails them.
-  if (!(K.fx >= kMinFocalPx && K.fx <= kMaxFocalPx && K.fy >= kMinFocalPx &&
-        K.fy <= kMaxFocalPx)) {
-    return fail("focal lengths must be " + FormatLimit(kMinFocalPx) + ".." +
-                FormatLimit(kMaxFocalPx) + " px");
+  if (!(K.fx >= kMinFocalPx && K.fx <= kMaxFocalPx && K.fy >= kMinFocalPx && K.fy <= kMaxFocalPx)) {
+    return fail("focal lengths must be " + FormatLimit(kMinFocalPx) + ".." + FormatLimit(kMaxFocalPx) +
+                " px");
   }
   const double w = K.width, h = K.height;
   if (!(K.cx >= -w && K.cx <= 2.0 * w && K.cy >= -h && K.cy <= 2.0 * h)) {

@@ -22,20 +22,17 @@ std::vector<uint8_t> EncodeGripperState(const GripperState& state) {
   return EncodeMessage(msg);
 }
 
-static bool DecodeGripperStateImpl(const void* data, size_t size,
-                        const Eigen::Isometry3d& T_C_B, GripperState* out,
-                        std::string* error) {
+static bool DecodeGripperStateImpl(const void* data, size_t size, const Eigen::Isometry3d& T_C_B,
+                                   GripperState* out, std::string* error) {
   if (!CheckBuffer(data, size, out, "gripper_state_t", error)) return false;
   // Recordings made before grasp_id carry gripper_state_v1_t's layout (and
   // fingerprint): read as grasp_id 0.
   const bool v1 = WireReader(data, size).Hash(graspfill::gripper_state_v1_t::getHash());
   WireReader r(data, size);
   int32_t num_joints;
-  if (!r.Hash(v1 ? graspfill::gripper_state_v1_t::getHash()
-                 : graspfill::gripper_state_t::getHash()) ||
+  if (!r.Hash(v1 ? graspfill::gripper_state_v1_t::getHash() : graspfill::gripper_state_t::getHash()) ||
       !r.Skip(8 + 1 + 3 * 8 + 4 * 8 + 8) || !r.Count(&num_joints, 8) ||
-      !r.Skip(8 * static_cast<size_t>(num_joints)) || (!v1 && !r.Skip(8)) ||
-      r.remaining() != 0) {
+      !r.Skip(8 * static_cast<size_t>(num_joints)) || (!v1 && !r.Skip(8)) || r.remaining() != 0) {
     SetError(error, "gripper_state_t: malformed message");
     return false;
   }
@@ -60,12 +57,10 @@ static bool DecodeGripperStateImpl(const void* data, size_t size,
   }
 
   Eigen::Isometry3d T_F_G;
-  if (!PoseFromWire("gripper_state_t", msg.position, msg.orientation, &T_F_G,
-                    error)) {
+  if (!PoseFromWire("gripper_state_t", msg.position, msg.orientation, &T_F_G, error)) {
     return false;
   }
-  if (!std::isfinite(msg.opening_m) ||
-      !AllFinite(msg.joint_values.data(), msg.num_joints)) {
+  if (!std::isfinite(msg.opening_m) || !AllFinite(msg.joint_values.data(), msg.num_joints)) {
     SetError(error, "gripper_state_t: opening or joint values not finite", MessageError::kBadValue);
     return false;
   }
@@ -75,8 +70,7 @@ static bool DecodeGripperStateImpl(const void* data, size_t size,
   } else if (msg.frame == graspfill::gripper_state_t::FRAME_BASE) {
     out->T_C_G = T_C_B * T_F_G;
   } else {
-    SetError(error, "gripper_state_t: unknown frame " +
-                        std::to_string(static_cast<int>(msg.frame)),
+    SetError(error, "gripper_state_t: unknown frame " + std::to_string(static_cast<int>(msg.frame)),
              MessageError::kBadValue);
     return false;
   }
@@ -87,8 +81,8 @@ static bool DecodeGripperStateImpl(const void* data, size_t size,
   return true;
 }
 
-bool DecodeGripperState(const void* data, size_t size, const Eigen::Isometry3d& T_C_B,
-                        GripperState* out, std::string* error, MessageError* reason) {
+bool DecodeGripperState(const void* data, size_t size, const Eigen::Isometry3d& T_C_B, GripperState* out,
+                        std::string* error, MessageError* reason) {
   return WithReason(reason, [&] { return DecodeGripperStateImpl(data, size, T_C_B, out, error); });
 }
 

@@ -70,9 +70,8 @@ LogReadResult LcmLogReader::Next(LogEvent* event) {
   const int64_t left = size_ - offset_;
   if (left == 0) return Stop(LogReadResult::kEnd, "");
   if (left < kLogEventHeaderBytes) {
-    return Stop(LogReadResult::kTruncated,
-                "header cut short (" + std::to_string(left) + " of " +
-                    std::to_string(kLogEventHeaderBytes) + " bytes)");
+    return Stop(LogReadResult::kTruncated, "header cut short (" + std::to_string(left) + " of " +
+                                               std::to_string(kLogEventHeaderBytes) + " bytes)");
   }
   uint8_t header[kLogEventHeaderBytes];
   if (std::fread(header, 1, sizeof(header), file_) != sizeof(header)) {
@@ -86,14 +85,12 @@ LogReadResult LcmLogReader::Next(LogEvent* event) {
   const auto channel_bytes = static_cast<int32_t>(static_cast<uint32_t>(BigEndian(header + 20, 4)));
   const auto data_bytes = static_cast<int32_t>(static_cast<uint32_t>(BigEndian(header + 24, 4)));
   if (channel_bytes <= 0 || channel_bytes > kMaxLogChannelBytes) {
-    return Stop(LogReadResult::kCorrupt,
-                "channel length " + std::to_string(channel_bytes) + " outside 1.." +
-                    std::to_string(kMaxLogChannelBytes));
+    return Stop(LogReadResult::kCorrupt, "channel length " + std::to_string(channel_bytes) + " outside 1.." +
+                                             std::to_string(kMaxLogChannelBytes));
   }
   if (data_bytes < 0 || data_bytes > kMaxLogEventDataBytes) {
-    return Stop(LogReadResult::kCorrupt,
-                "data length " + std::to_string(data_bytes) + " outside 0.." +
-                    std::to_string(kMaxLogEventDataBytes));
+    return Stop(LogReadResult::kCorrupt, "data length " + std::to_string(data_bytes) + " outside 0.." +
+                                             std::to_string(kMaxLogEventDataBytes));
   }
   // Checked against the file before anything is allocated or read.
   const int64_t body = int64_t{channel_bytes} + data_bytes;

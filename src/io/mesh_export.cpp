@@ -85,8 +85,7 @@ std::optional<MeshFormat> MeshFormatOf(const std::string& path) {
 void WriteMesh(const std::string& path, const TriangleMesh& mesh, IfExists if_exists) {
   const std::optional<MeshFormat> format = MeshFormatOf(path);
   if (!format) {
-    throw std::runtime_error("cannot write mesh '" + path +
-                             "': unknown extension (use .ply, .stl or .obj)");
+    throw std::runtime_error("cannot write mesh '" + path + "': unknown extension (use .ply, .stl or .obj)");
   }
   if (*format == MeshFormat::kPly) {
     WriteMeshPly(path, mesh, if_exists);

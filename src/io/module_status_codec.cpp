@@ -59,12 +59,11 @@ std::vector<uint8_t> EncodeModuleStatus(const ModuleStatus& status) {
   return EncodeMessage(msg);
 }
 
-static bool DecodeModuleStatusImpl(const void* data, size_t size, ModuleStatus* out,
-                        std::string* error) {
+static bool DecodeModuleStatusImpl(const void* data, size_t size, ModuleStatus* out, std::string* error) {
   if (!CheckBuffer(data, size, out, "module_status_t", error)) return false;
   WireReader r(data, size);
-  if (!r.Hash(graspfill::module_status_t::getHash()) || !r.Skip(5 * 8 + 8) ||
-      !r.SkipString() || !r.Skip(1) || !r.SkipString() || !r.Skip(11 * 8 + 5 * 8 + 7 * 8)) {
+  if (!r.Hash(graspfill::module_status_t::getHash()) || !r.Skip(5 * 8 + 8) || !r.SkipString() || !r.Skip(1) ||
+      !r.SkipString() || !r.Skip(11 * 8 + 5 * 8 + 7 * 8)) {
     SetError(error, "module_status_t: malformed message");
     return false;
   }
@@ -120,8 +119,9 @@ static bool DecodeModuleStatusImpl(const void* data, size_t size, ModuleStatus* 
     const MessageError reason = MessageErrorFromName(msg.bad_message_reasons[i]);
     const auto index = static_cast<size_t>(reason);
     if (reason == MessageError::kNone || seen[index] || msg.bad_messages[i] < 0) {
-      SetError(error, "module_status_t: bad message reason '" + msg.bad_message_reasons[i] +
-                          "' unknown, repeated or with a negative count",
+      SetError(error,
+               "module_status_t: bad message reason '" + msg.bad_message_reasons[i] +
+                   "' unknown, repeated or with a negative count",
                MessageError::kBadValue);
       return false;
     }
@@ -135,8 +135,9 @@ static bool DecodeModuleStatusImpl(const void* data, size_t size, ModuleStatus* 
     const auto index = static_cast<size_t>(reason.value_or(FrameSkipReason::kNone));
     if (!reason || *reason == FrameSkipReason::kNone || skip_seen[index] ||
         msg.frames_skipped_by_reason[i] < 0) {
-      SetError(error, "module_status_t: skip reason '" + msg.skip_reasons[i] +
-                          "' unknown, repeated or with a negative count",
+      SetError(error,
+               "module_status_t: skip reason '" + msg.skip_reasons[i] +
+                   "' unknown, repeated or with a negative count",
                MessageError::kBadValue);
       return false;
     }

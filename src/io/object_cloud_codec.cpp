@@ -67,8 +67,7 @@ std::vector<uint8_t> EncodeObjectCloud(const ObjectCloud& cloud) {
   return EncodeMessage(msg);
 }
 
-static bool DecodeObjectCloudImpl(const void* data, size_t size, ObjectCloud* out,
-                       std::string* error) {
+static bool DecodeObjectCloudImpl(const void* data, size_t size, ObjectCloud* out, std::string* error) {
   if (!CheckBuffer(data, size, out, "object_cloud_t", error)) return false;
   // Walk the whole message so that every count is known to fit before the
   // generated decoder resizes anything. Layout: object_cloud_t.lcm.
@@ -77,18 +76,14 @@ static bool DecodeObjectCloudImpl(const void* data, size_t size, ObjectCloud* ou
     int32_t num_points, num_packed_bytes, num_holes, num_timings, bound_num_bytes;
     int8_t has_normals;
     constexpr size_t kHoleBytes = 1 + 4 + 3 * 4 + 3 * 4 + 4 + 1 + 4;
-    bool ok = r.Hash(graspfill::object_cloud_t::getHash()) && r.Skip(16) &&
-              r.SkipString() && r.Skip(7 * 8) && r.I32(&num_points) &&
-              r.Skip(4 * 8) && r.I8(&has_normals) &&  // origin, step_m
+    bool ok = r.Hash(graspfill::object_cloud_t::getHash()) && r.Skip(16) && r.SkipString() && r.Skip(7 * 8) &&
+              r.I32(&num_points) && r.Skip(4 * 8) && r.I8(&has_normals) &&  // origin, step_m
               r.Count(&num_packed_bytes, 1) && r.Skip(static_cast<size_t>(num_packed_bytes)) &&
-              r.Count(&num_holes, kHoleBytes) &&
-              r.Skip(kHoleBytes * static_cast<size_t>(num_holes)) &&
+              r.Count(&num_holes, kHoleBytes) && r.Skip(kHoleBytes * static_cast<size_t>(num_holes)) &&
               r.Skip(4 * 4 + 3 * 4) && r.Count(&bound_num_bytes, 1) &&  // the safe bound
-              r.Skip(static_cast<size_t>(bound_num_bytes)) &&
-              r.Count(&num_timings, 4 + 1 + 8);
+              r.Skip(static_cast<size_t>(bound_num_bytes)) && r.Count(&num_timings, 4 + 1 + 8);
     for (int32_t i = 0; ok && i < num_timings; ++i) ok = r.SkipString();
-    ok = ok && r.Skip(8 * static_cast<size_t>(num_timings)) &&
-         r.Skip(8 + 1) &&  // grasp_id, is_final
+    ok = ok && r.Skip(8 * static_cast<size_t>(num_timings)) && r.Skip(8 + 1) &&  // grasp_id, is_final
          r.remaining() == 0;
     if (!ok) {
       SetError(error, "object_cloud_t: malformed message");
@@ -108,8 +103,7 @@ static bool DecodeObjectCloudImpl(const void* data, size_t size, ObjectCloud* ou
   if (!DecodeMessage(data, size, &msg, error)) return false;
 
   Eigen::Isometry3d T_C_G;
-  if (!PoseFromWire("object_cloud_t", msg.position, msg.orientation, &T_C_G,
-                    error)) {
+  if (!PoseFromWire("object_cloud_t", msg.position, msg.orientation, &T_C_G, error)) {
     return false;
   }
   // Into scratch first: `out` is left as it was on a failure.
@@ -123,22 +117,19 @@ static bool DecodeObjectCloudImpl(const void* data, size_t size, ObjectCloud* ou
   if (msg.bound_num_bytes > 0) {
     // In 128 bits: three int32 counts overflow int64 (found by fuzz_object_cloud).
     const __int128 voxels = static_cast<__int128>(msg.bound_nx) * msg.bound_ny * msg.bound_nz;
-    if (msg.bound_nx <= 0 || msg.bound_ny <= 0 || msg.bound_nz <= 0 ||
-        !(msg.bound_voxel_m > 0.0f) || !std::isfinite(msg.bound_voxel_m) ||
-        !std::isfinite(msg.bound_origin[0]) ||
+    if (msg.bound_nx <= 0 || msg.bound_ny <= 0 || msg.bound_nz <= 0 || !(msg.bound_voxel_m > 0.0f) ||
+        !std::isfinite(msg.bound_voxel_m) || !std::isfinite(msg.bound_origin[0]) ||
         !std::isfinite(msg.bound_origin[1]) || !std::isfinite(msg.bound_origin[2]) ||
         (voxels + 7) / 8 != msg.bound_num_bytes) {
-      SetError(error, "object_cloud_t: inconsistent safe bound (" + std::to_string(msg.bound_nx) +
-                          " x " + std::to_string(msg.bound_ny) + " x " + std::to_string(msg.bound_nz) +
-                          " voxels, " + std::to_string(msg.bound_num_bytes) + " bytes)");
+      SetError(error, "object_cloud_t: inconsistent safe bound (" + std::to_string(msg.bound_nx) + " x " +
+                          std::to_string(msg.bound_ny) + " x " + std::to_string(msg.bound_nz) + " voxels, " +
+                          std::to_string(msg.bound_num_bytes) + " bytes)");
       return false;
     }
   }
   for (const graspfill::hole_t& h : msg.holes) {
-    if (h.kind != graspfill::hole_t::CLAW &&
-        h.kind != graspfill::hole_t::MISSING_SURFACE) {
-      SetError(error, "object_cloud_t: unknown hole kind " +
-                          std::to_string(static_cast<int>(h.kind)));
+    if (h.kind != graspfill::hole_t::CLAW && h.kind != graspfill::hole_t::MISSING_SURFACE) {
+      SetError(error, "object_cloud_t: unknown hole kind " + std::to_string(static_cast<int>(h.kind)));
       return false;
     }
     if ((h.unobserved != 0 && h.unobserved != 1) || !(h.confidence >= 0.0f && h.confidence <= 1.0f)) {

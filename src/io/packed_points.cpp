@@ -50,7 +50,8 @@ PackedPoints PackPoints(const ObjectCloud& cloud) {
   Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
   for (size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d p = cloud.points_G[i].cast<double>();
-    if (!p.allFinite()) throw std::invalid_argument("object_cloud_t: point " + std::to_string(i) + " is not finite");
+    if (!p.allFinite())
+      throw std::invalid_argument("object_cloud_t: point " + std::to_string(i) + " is not finite");
     lo = i == 0 ? p : lo.cwiseMin(p);
     hi = i == 0 ? p : hi.cwiseMax(p);
   }
@@ -77,7 +78,8 @@ PackedPoints PackPoints(const ObjectCloud& cloud) {
     for (int k = 0; k < 3; ++k) {
       for (size_t i = 0; i < n; ++i) {
         const float v = cloud.normals_G[i][k];
-        if (!std::isfinite(v)) throw std::invalid_argument("object_cloud_t: normal " + std::to_string(i) + " is not finite");
+        if (!std::isfinite(v))
+          throw std::invalid_argument("object_cloud_t: normal " + std::to_string(i) + " is not finite");
         *at++ = static_cast<uint8_t>(static_cast<int8_t>(std::lround(std::clamp(v, -1.0f, 1.0f) * 127.0f)));
       }
     }
@@ -113,7 +115,8 @@ bool UnpackPoints(const double origin[3], double step_m, bool has_normals, size_
   }
   const size_t size = PackedSize(num_points, has_normals);
   if (size / kMaxInflateRatio > deflated_size) {
-    *why = std::to_string(num_points) + " points cannot be in " + std::to_string(deflated_size) + " packed bytes";
+    *why = std::to_string(num_points) + " points cannot be in " + std::to_string(deflated_size) +
+           " packed bytes";
     return false;
   }
   std::vector<uint8_t>& raw = Scratch();

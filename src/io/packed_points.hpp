@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The per-point arrays of object_cloud_t, packed so that a model fits LCM's
 // default UDP receive buffers: positions as int16 steps of 50 um (times a
-// power of two for clouds over 3.3 m) about an origin, normals and confidence in 8 bits, the whole deflated by
-// zlib. The layout is object_cloud_t.lcm's; this is its one writer and
-// reader in C++.
+// power of two for clouds over 3.3 m) about an origin, normals and confidence in 8 bits, the whole deflated
+// by zlib. The layout is object_cloud_t.lcm's; this is its one writer and reader in C++.
 #pragma once
 
 #include <cstddef>

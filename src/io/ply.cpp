@@ -5,10 +5,10 @@
 // allocated); other mesh formats (STL, OBJ) through Open3D.
 #include "graspfill/io/ply.hpp"
 
+#include "cloud_encoding.hpp"
 #include "graspfill/core/provenance_colors.hpp"
 #include "graspfill/io/atomic_file.hpp"
 #include "graspfill/io/messages.hpp"
-#include "cloud_encoding.hpp"
 #include "ply_parser.hpp"
 
 #include <open3d/geometry/TriangleMesh.h>
@@ -16,12 +16,12 @@
 
 #include <cctype>
 #include <cerrno>
-#include <limits>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -32,14 +32,13 @@ namespace {
 // whole looking for "end_header".
 constexpr int kMaxHeaderLines = 256;
 
-[[noreturn]] void Fail(const std::string& what, const std::string& path,
-                       const std::string& why) {
+[[noreturn]] void Fail(const std::string& what, const std::string& path, const std::string& why) {
   throw std::runtime_error(what + " '" + path + "': " + why);
 }
 
 // Atomically: a failed write (full disk) never replaces a good file.
-void WriteFile(const std::string& what, const std::string& path,
-               const std::string& bytes, IfExists if_exists) {
+void WriteFile(const std::string& what, const std::string& path, const std::string& bytes,
+               IfExists if_exists) {
   WriteFileAtomically(path, bytes, what, if_exists);
 }
 
@@ -75,12 +74,10 @@ void ReadHeaderComments(const std::string& path, ObjectCloud* cloud) {
       ok = static_cast<bool>(fields >> cloud->seq);
     } else if (key == "T_C_G") {
       double t[3], q[4];
-      ok = static_cast<bool>(fields >> t[0] >> t[1] >> t[2] >> q[0] >> q[1] >>
-                             q[2] >> q[3]);
+      ok = static_cast<bool>(fields >> t[0] >> t[1] >> t[2] >> q[0] >> q[1] >> q[2] >> q[3]);
       Eigen::Quaterniond rotation(q[0], q[1], q[2], q[3]);
-      ok = ok && std::isfinite(rotation.norm()) &&
-           std::abs(rotation.norm() - 1.0) < 1e-3 && std::isfinite(t[0]) &&
-           std::isfinite(t[1]) && std::isfinite(t[2]);
+      ok = ok && std::isfinite(rotation.norm()) && std::abs(rotation.norm() - 1.0) < 1e-3 &&
+           std::isfinite(t[0]) && std::isfinite(t[1]) && std::isfinite(t[2]);
       if (ok) {
         cloud->T_C_G.setIdentity();
         cloud->T_C_G.linear() = rotation.normalized().toRotationMatrix();
@@ -114,9 +111,8 @@ void WriteCloudPly(const std::string& path, const ObjectCloud& cloud, IfExists i
   bytes += "comment graspfill frame_name " + frame_name + "\n";
   bytes += "comment graspfill utime " + std::to_string(cloud.utime) + "\n";
   bytes += "comment graspfill seq " + std::to_string(cloud.seq) + "\n";
-  bytes += "comment graspfill T_C_G " + FormatDouble(t.x()) + " " +
-           FormatDouble(t.y()) + " " + FormatDouble(t.z()) + " " +
-           FormatDouble(q.w()) + " " + FormatDouble(q.x()) + " " +
+  bytes += "comment graspfill T_C_G " + FormatDouble(t.x()) + " " + FormatDouble(t.y()) + " " +
+           FormatDouble(t.z()) + " " + FormatDouble(q.w()) + " " + FormatDouble(q.x()) + " " +
            FormatDouble(q.y()) + " " + FormatDouble(q.z()) + "\n";
   bytes += "comment provenance: 0 observed, 1 surface repair, 2 symmetry\n";
   bytes += "comment red green blue: the provenance's colour, for viewers\n";
@@ -134,8 +130,7 @@ void WriteCloudPly(const std::string& path, const ObjectCloud& cloud, IfExists i
     if (has_normals) {
       for (int k = 0; k < 3; ++k) AppendFloat(&bytes, cloud.normals_G[i][k]);
     }
-    const Provenance p =
-        cloud.provenance.empty() ? Provenance::kObserved : cloud.provenance[i];
+    const Provenance p = cloud.provenance.empty() ? Provenance::kObserved : cloud.provenance[i];
     bytes.push_back(static_cast<char>(p));
     if (has_confidence) AppendFloat(&bytes, cloud.confidence[i]);
     for (const uint8_t c : ProvenanceColor(p)) bytes.push_back(static_cast<char>(c));
@@ -159,8 +154,9 @@ ObjectCloud ReadCloudPly(const std::string& path) {
   auto to_float = [&](const char* name, size_t i, double v) {
     const float f = static_cast<float>(v);
     if (!std::isfinite(f)) {
-      Fail(what, path, "vertex " + std::to_string(i) + ", property '" + name +
-                           "': " + FormatDouble(v) + " is not a finite float");
+      Fail(what, path,
+           "vertex " + std::to_string(i) + ", property '" + name + "': " + FormatDouble(v) +
+               " is not a finite float");
     }
     return f;
   };
@@ -192,8 +188,7 @@ ObjectCloud ReadCloudPly(const std::string& path) {
       const double v = (*p)[i];
       if (v != 0.0 && v != 1.0 && v != 2.0) {
         Fail(what, path,
-             "provenance value " + FormatDouble(v) + " at vertex " +
-                 std::to_string(i) + " is not 0, 1 or 2");
+             "provenance value " + FormatDouble(v) + " at vertex " + std::to_string(i) + " is not 0, 1 or 2");
       }
       cloud.provenance[i] = static_cast<Provenance>(static_cast<int>(v));
     }
@@ -204,8 +199,7 @@ ObjectCloud ReadCloudPly(const std::string& path) {
       const float v = static_cast<float>((*c)[i]);
       if (!(v >= 0.0f && v <= 1.0f)) {
         Fail(what, path,
-             "confidence value " + FormatDouble(v) + " at vertex " + std::to_string(i) +
-                 " is not in [0, 1]");
+             "confidence value " + FormatDouble(v) + " at vertex " + std::to_string(i) + " is not in [0, 1]");
       }
       cloud.confidence[i] = v;
     }
@@ -218,8 +212,7 @@ void WriteMeshPly(const std::string& path, const TriangleMesh& mesh, IfExists if
   for (const Eigen::Vector3i& tri : mesh.triangles) {
     for (int k = 0; k < 3; ++k) {
       if (tri[k] < 0 || tri[k] >= num_vertices) {
-        Fail("cannot write PLY", path,
-             "triangle index " + std::to_string(tri[k]) + " out of range");
+        Fail("cannot write PLY", path, "triangle index " + std::to_string(tri[k]) + " out of range");
       }
     }
   }

@@ -12,11 +12,11 @@ namespace {
 
 bool ParseType(const std::string& s, Type* t) {
   static const std::pair<const char*, Type> kNames[] = {
-      {"char", Type::kInt8},     {"int8", Type::kInt8},       {"uchar", Type::kUint8},
-      {"uint8", Type::kUint8},   {"short", Type::kInt16},     {"int16", Type::kInt16},
-      {"ushort", Type::kUint16}, {"uint16", Type::kUint16},   {"int", Type::kInt32},
-      {"int32", Type::kInt32},   {"uint", Type::kUint32},     {"uint32", Type::kUint32},
-      {"float", Type::kFloat32}, {"float32", Type::kFloat32}, {"double", Type::kFloat64},
+      {"char", Type::kInt8},      {"int8", Type::kInt8},       {"uchar", Type::kUint8},
+      {"uint8", Type::kUint8},    {"short", Type::kInt16},     {"int16", Type::kInt16},
+      {"ushort", Type::kUint16},  {"uint16", Type::kUint16},   {"int", Type::kInt32},
+      {"int32", Type::kInt32},    {"uint", Type::kUint32},     {"uint32", Type::kUint32},
+      {"float", Type::kFloat32},  {"float32", Type::kFloat32}, {"double", Type::kFloat64},
       {"float64", Type::kFloat64}};
   for (const auto& [name, type] : kNames) {
     if (s == name) {
@@ -56,16 +56,19 @@ bool ParseCount(const std::string& s, int64_t* count) {
 }
 
 // A 'format', 'element' or 'property' line (its words `w`) into the header.
-void ReadHeaderLine(const std::vector<std::string>& w, const std::string& where,
-                    const std::string& path, const std::string& what, Header* header,
-                    bool* have_format) {
+void ReadHeaderLine(const std::vector<std::string>& w, const std::string& where, const std::string& path,
+                    const std::string& what, Header* header, bool* have_format) {
   std::vector<Element>& elements = header->elements;
   if (w[0] == "format") {
     if (w.size() != 3 || w[2] != "1.0") Fail(what, path, where + ": expected 'format <type> 1.0'");
-    if (w[1] == "ascii") header->format = Format::kAscii;
-    else if (w[1] == "binary_little_endian") header->format = Format::kBinaryLittle;
-    else if (w[1] == "binary_big_endian") header->format = Format::kBinaryBig;
-    else Fail(what, path, where + ": unknown format '" + w[1] + "'");
+    if (w[1] == "ascii")
+      header->format = Format::kAscii;
+    else if (w[1] == "binary_little_endian")
+      header->format = Format::kBinaryLittle;
+    else if (w[1] == "binary_big_endian")
+      header->format = Format::kBinaryBig;
+    else
+      Fail(what, path, where + ": unknown format '" + w[1] + "'");
     *have_format = true;
   } else if (w[0] == "element") {
     Element e;
@@ -82,12 +85,13 @@ void ReadHeaderLine(const std::vector<std::string>& w, const std::string& where,
     Property p;
     if (w.size() == 3 && ParseType(w[1], &p.type)) {
       p.name = w[2];
-    } else if (w.size() == 5 && w[1] == "list" && ParseType(w[2], &p.count_type) &&
-               IsInteger(p.count_type) && ParseType(w[3], &p.type)) {
+    } else if (w.size() == 5 && w[1] == "list" && ParseType(w[2], &p.count_type) && IsInteger(p.count_type) &&
+               ParseType(w[3], &p.type)) {
       p.is_list = true;
       p.name = w[4];
     } else {
-      Fail(what, path, where + ": expected 'property <type> <name>' or 'property list <int type> <type> <name>'");
+      Fail(what, path,
+           where + ": expected 'property <type> <name>' or 'property list <int type> <type> <name>'");
     }
     for (const Property& other : elements.back().properties) {
       if (other.name == p.name) {
@@ -108,10 +112,18 @@ void ReadHeaderLine(const std::vector<std::string>& w, const std::string& where,
 
 int TypeBytes(Type t) {
   switch (t) {
-    case Type::kInt8: case Type::kUint8: return 1;
-    case Type::kInt16: case Type::kUint16: return 2;
-    case Type::kInt32: case Type::kUint32: case Type::kFloat32: return 4;
-    case Type::kFloat64: return 8;
+    case Type::kInt8:
+    case Type::kUint8:
+      return 1;
+    case Type::kInt16:
+    case Type::kUint16:
+      return 2;
+    case Type::kInt32:
+    case Type::kUint32:
+    case Type::kFloat32:
+      return 4;
+    case Type::kFloat64:
+      return 8;
   }
   return 1;
 }
@@ -142,7 +154,10 @@ Header ReadHeader(const std::string& bytes, const std::string& path, const std::
     }
     ReadHeaderLine(w, "header line " + std::to_string(n + 1), path, what, &header, &have_format);
   }
-  if (!ended) Fail(what, path, "no 'end_header' within the first " + std::to_string(kMaxHeaderLines) + " lines / " + std::to_string(kMaxHeaderBytes) + " bytes");
+  if (!ended)
+    Fail(what, path,
+         "no 'end_header' within the first " + std::to_string(kMaxHeaderLines) + " lines / " +
+             std::to_string(kMaxHeaderBytes) + " bytes");
   if (!have_format) Fail(what, path, "no 'format' line in the header");
   header.body_start = pos;
   return header;

@@ -35,8 +35,9 @@ class Body {
     if (format_ == Format::kAscii) {
       while (pos_ < bytes_.size() && std::isspace(static_cast<unsigned char>(bytes_[pos_]))) ++pos_;
       if (pos_ < bytes_.size()) {
-        Fail(what_, path_, "unexpected data after the last element (at byte " + std::to_string(pos_) +
-                               "): more values than the header declares");
+        Fail(what_, path_,
+             "unexpected data after the last element (at byte " + std::to_string(pos_) +
+                 "): more values than the header declares");
       }
     } else if (pos_ < bytes_.size()) {
       Fail(what_, path_,
@@ -60,14 +61,40 @@ class Body {
       for (int i = 0; i < n / 2; ++i) std::swap(b[i], b[n - 1 - i]);
     }
     switch (t) {
-      case Type::kInt8: return static_cast<int8_t>(b[0]);
-      case Type::kUint8: return b[0];
-      case Type::kInt16: { int16_t v; std::memcpy(&v, b, 2); return v; }
-      case Type::kUint16: { uint16_t v; std::memcpy(&v, b, 2); return v; }
-      case Type::kInt32: { int32_t v; std::memcpy(&v, b, 4); return v; }
-      case Type::kUint32: { uint32_t v; std::memcpy(&v, b, 4); return v; }
-      case Type::kFloat32: { float v; std::memcpy(&v, b, 4); return v; }
-      case Type::kFloat64: { double v; std::memcpy(&v, b, 8); return v; }
+      case Type::kInt8:
+        return static_cast<int8_t>(b[0]);
+      case Type::kUint8:
+        return b[0];
+      case Type::kInt16: {
+        int16_t v;
+        std::memcpy(&v, b, 2);
+        return v;
+      }
+      case Type::kUint16: {
+        uint16_t v;
+        std::memcpy(&v, b, 2);
+        return v;
+      }
+      case Type::kInt32: {
+        int32_t v;
+        std::memcpy(&v, b, 4);
+        return v;
+      }
+      case Type::kUint32: {
+        uint32_t v;
+        std::memcpy(&v, b, 4);
+        return v;
+      }
+      case Type::kFloat32: {
+        float v;
+        std::memcpy(&v, b, 4);
+        return v;
+      }
+      case Type::kFloat64: {
+        double v;
+        std::memcpy(&v, b, 8);
+        return v;
+      }
     }
     return 0.0;
   }
@@ -105,8 +132,7 @@ class Body {
 };
 
 // The 'vertex' element, which must have scalar x, y and z.
-const Element& VertexElement(const Header& header, const std::string& path,
-                             const std::string& what) {
+const Element& VertexElement(const Header& header, const std::string& path, const std::string& what) {
   const Element* vertex_element = nullptr;
   for (const Element& e : header.elements) {
     if (e.name == "vertex") vertex_element = &e;
@@ -140,15 +166,16 @@ void CheckDeclaredCounts(const std::string& bytes, const Header& header, const s
     }
     per = std::max<int64_t>(per, 0);
     if (per > 0 && e.count > static_cast<int64_t>(body_bytes) / per + 1) {
-      Fail(what, path, "element '" + e.name + "' declares " + std::to_string(e.count) +
-                           " entries, more than the " + std::to_string(body_bytes) +
-                           " bytes of the body can hold");
+      Fail(what, path,
+           "element '" + e.name + "' declares " + std::to_string(e.count) + " entries, more than the " +
+               std::to_string(body_bytes) + " bytes of the body can hold");
     }
     min_total += per * e.count;
   }
   if (!ascii && min_total > static_cast<int64_t>(body_bytes)) {
-    Fail(what, path, "the body has " + std::to_string(body_bytes) + " bytes, the header declares at least " +
-                         std::to_string(min_total));
+    Fail(what, path,
+         "the body has " + std::to_string(body_bytes) + " bytes, the header declares at least " +
+             std::to_string(min_total));
   }
 }
 
@@ -156,20 +183,21 @@ void CheckDeclaredCounts(const std::string& bytes, const Header& header, const s
 // "0.1 0.2 0.3\n" is 12 bytes, one float vertex) would be read as floats.
 // Binary data that is all number characters with line breaks is
 // practically impossible; text is.
-void CheckBinaryBodyIsNotText(const std::string& bytes, const Header& header,
-                              const std::string& path, const std::string& what) {
+void CheckBinaryBodyIsNotText(const std::string& bytes, const Header& header, const std::string& path,
+                              const std::string& what) {
   if (header.format == Format::kAscii || bytes.size() == header.body_start) return;
   bool text = false;
   bool only_number_chars = true;
   for (size_t i = header.body_start; i < bytes.size() && only_number_chars; ++i) {
     const char c = bytes[i];
     if (c == '\n') text = true;
-    only_number_chars = (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+' || c == 'e' ||
-                        c == 'E' || c == ' ' || c == '\t' || c == '\r' || c == '\n';
+    only_number_chars = (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+' || c == 'e' || c == 'E' ||
+                        c == ' ' || c == '\t' || c == '\r' || c == '\n';
   }
   if (text && only_number_chars) {
-    Fail(what, path, "the body is ASCII text but the header says binary: the body does not match "
-                     "the binary header");
+    Fail(what, path,
+         "the body is ASCII text but the header says binary: the body does not match "
+         "the binary header");
   }
 }
 
@@ -193,23 +221,26 @@ int FaceListOf(const Element& e, const std::string& path, const std::string& wha
 // One list property's values; kept (into out's faces) when `keep`: the
 // face's index list, each index checked against the vertex count.
 template <typename Where>
-void ReadList(Body* body, const Property& p, bool keep, const Where& where,
-              const std::string& path, const std::string& what, Parsed* out) {
+void ReadList(Body* body, const Property& p, bool keep, const Where& where, const std::string& path,
+              const std::string& what, Parsed* out) {
   const double count = body->Read(p.count_type, where);
   if (count < 0 || count > static_cast<double>(body->remaining())) {
-    Fail(what, path, where() + ": list of " + std::to_string(static_cast<int64_t>(count)) +
-                         " values, more than the file holds");
+    Fail(what, path,
+         where() + ": list of " + std::to_string(static_cast<int64_t>(count)) +
+             " values, more than the file holds");
   }
   if (keep && (count < 3 || count > kMaxFaceVertices)) {
-    Fail(what, path, where() + ": a face of " + std::to_string(static_cast<int64_t>(count)) +
-                         " vertices (expected 3.." + std::to_string(kMaxFaceVertices) + ")");
+    Fail(what, path,
+         where() + ": a face of " + std::to_string(static_cast<int64_t>(count)) + " vertices (expected 3.." +
+             std::to_string(kMaxFaceVertices) + ")");
   }
   for (int64_t j = 0; j < static_cast<int64_t>(count); ++j) {
     const double v = body->Read(p.type, where);
     if (keep) {
       if (!(v >= 0 && v < static_cast<double>(out->num_vertices))) {
-        Fail(what, path, where() + ": vertex index " + std::to_string(static_cast<int64_t>(v)) +
-                             " out of range (" + std::to_string(out->num_vertices) + " vertices)");
+        Fail(what, path,
+             where() + ": vertex index " + std::to_string(static_cast<int64_t>(v)) + " out of range (" +
+                 std::to_string(out->num_vertices) + " vertices)");
       }
       out->face_indices.push_back(static_cast<int64_t>(v));
     }
@@ -225,9 +256,7 @@ void ReadElement(Body* body, const Element& e, const std::vector<std::vector<dou
   for (int64_t i = 0; i < e.count; ++i) {
     for (size_t k = 0; k < e.properties.size(); ++k) {
       const Property& p = e.properties[k];
-      auto where = [&] {
-        return e.name + " " + std::to_string(i) + ", property '" + p.name + "'";
-      };
+      auto where = [&] { return e.name + " " + std::to_string(i) + ", property '" + p.name + "'"; };
       if (p.is_list) {
         ReadList(body, p, static_cast<int>(k) == face_list, where, path, what, out);
       } else {
@@ -244,8 +273,7 @@ std::string ReadWholeFile(const std::string& path, const std::string& what) {
   return ReadRegularFile(path, kMaxFileBytes, what);
 }
 
-Parsed Parse(const std::string& bytes, const std::string& path, const std::string& what,
-             bool want_faces) {
+Parsed Parse(const std::string& bytes, const std::string& path, const std::string& what, bool want_faces) {
   const Header header = ReadHeader(bytes, path, what);
   const Element& vertex_element = VertexElement(header, path, what);
   CheckDeclaredCounts(bytes, header, path, what);

@@ -38,8 +38,7 @@ struct Parsed {
 
 /// Parses `bytes`, the whole file at `path` (named in errors).
 /// @throws std::runtime_error "<what> '<path>': <reason>".
-Parsed Parse(const std::string& bytes, const std::string& path, const std::string& what,
-             bool want_faces);
+Parsed Parse(const std::string& bytes, const std::string& path, const std::string& what, bool want_faces);
 
 /// Reads the file whole (a regular file, at most kMaxFileBytes).
 /// @throws std::runtime_error "<what> '<path>': <reason>".

@@ -16,9 +16,7 @@ namespace graspfill::io {
 
 void WritePng(const std::string& path, const RgbImage& image, IfExists if_exists) {
   const std::string what = "cannot write PNG";
-  auto fail = [&](const std::string& why) {
-    throw std::runtime_error(what + " '" + path + "': " + why);
-  };
+  auto fail = [&](const std::string& why) { throw std::runtime_error(what + " '" + path + "': " + why); };
   if (image.width <= 0 || image.height <= 0) fail("the image is empty");
   if (image.rgb.size() != static_cast<size_t>(image.width) * image.height * 3) {
     fail("the pixel buffer is not width x height x 3 bytes");

@@ -22,9 +22,10 @@ bool CheckSession(const SessionDescription& s, std::string* error) {
     return false;
   }
   if (!IsPlainClawName(s.claw_name)) {
-    SetError(error, std::string(type) + ": claw_name '" + Printable(s.claw_name, 80) +
-                        "' is not a plain name (1..256 bytes, no '/', '\\' or control "
-                        "characters, not '.' or '..')",
+    SetError(error,
+             std::string(type) + ": claw_name '" + Printable(s.claw_name, 80) +
+                 "' is not a plain name (1..256 bytes, no '/', '\\' or control "
+                 "characters, not '.' or '..')",
              MessageError::kBadClawName);
     return false;
   }
@@ -35,8 +36,9 @@ bool CheckSession(const SessionDescription& s, std::string* error) {
   if (s.intrinsics) {
     const CameraIntrinsics& K = *s.intrinsics;
     if (K.width <= 0 || K.height <= 0 || int64_t{K.width} * K.height > kMaxDepthPixels) {
-      SetError(error, std::string(type) + ": bad intrinsics override size " +
-                          std::to_string(K.width) + "x" + std::to_string(K.height),
+      SetError(error,
+               std::string(type) + ": bad intrinsics override size " + std::to_string(K.width) + "x" +
+                   std::to_string(K.height),
                MessageError::kBadSize);
       return false;
     }
@@ -49,8 +51,7 @@ bool CheckSession(const SessionDescription& s, std::string* error) {
   }
   if (s.workspace_G) {
     const Eigen::AlignedBox3d& box = *s.workspace_G;
-    if (!box.min().allFinite() || !box.max().allFinite() ||
-        !(box.min().array() < box.max().array()).all()) {
+    if (!box.min().allFinite() || !box.max().allFinite() || !(box.min().array() < box.max().array()).all()) {
       SetError(error, std::string(type) + ": workspace box must be finite with min < max");
       return false;
     }
@@ -85,21 +86,20 @@ bool SessionWithinLimits(const SessionDescription& s, std::string* why) {
       for (const double v : {s.workspace_G->min()[k], s.workspace_G->max()[k]}) {
         // Written as an "in range" test so that NaN fails it.
         if (!(v >= -kMaxWorkspaceM && v <= kMaxWorkspaceM)) {
-          return fail("asks for a workspace box with " + std::string(1, kAxes[k]) + " " +
-                      number(v) + " m, outside -" + number(kMaxWorkspaceM) + ".." +
-                      number(kMaxWorkspaceM) + " m");
+          return fail("asks for a workspace box with " + std::string(1, kAxes[k]) + " " + number(v) +
+                      " m, outside -" + number(kMaxWorkspaceM) + ".." + number(kMaxWorkspaceM) + " m");
         }
       }
     }
   }
   if (s.voxel_m != 0.0 && !(s.voxel_m >= kMinVoxelM && s.voxel_m <= kMaxVoxelM)) {
-    return fail("asks for a voxel of " + number(s.voxel_m) + " m, outside " + number(kMinVoxelM) +
-                ".." + number(kMaxVoxelM) + " m");
+    return fail("asks for a voxel of " + number(s.voxel_m) + " m, outside " + number(kMinVoxelM) + ".." +
+                number(kMaxVoxelM) + " m");
   }
   const Eigen::Vector3d t = s.T_C_B.translation();
   if (!(t.cwiseAbs().maxCoeff() <= kMaxHandEyeTranslationM)) {
-    return fail("asks for a hand-eye T_C_B translated by " + number(t.cwiseAbs().maxCoeff()) +
-                " m, beyond " + number(kMaxHandEyeTranslationM) + " m");
+    return fail("asks for a hand-eye T_C_B translated by " + number(t.cwiseAbs().maxCoeff()) + " m, beyond " +
+                number(kMaxHandEyeTranslationM) + " m");
   }
   return true;
 }
@@ -116,9 +116,15 @@ std::vector<uint8_t> EncodeSessionDescription(const SessionDescription& session)
   msg.utime = session.utime;
   msg.software_version = session.software_version;
   switch (session.claw_kind) {
-    case SessionClawKind::kBuiltin: msg.claw_kind = Msg::CLAW_BUILTIN; break;
-    case SessionClawKind::kDescription: msg.claw_kind = Msg::CLAW_DESCRIPTION; break;
-    case SessionClawKind::kUrdf: msg.claw_kind = Msg::CLAW_URDF; break;
+    case SessionClawKind::kBuiltin:
+      msg.claw_kind = Msg::CLAW_BUILTIN;
+      break;
+    case SessionClawKind::kDescription:
+      msg.claw_kind = Msg::CLAW_DESCRIPTION;
+      break;
+    case SessionClawKind::kUrdf:
+      msg.claw_kind = Msg::CLAW_URDF;
+      break;
   }
   msg.claw_name = session.claw_name;
   msg.claw_text = session.claw_text;
@@ -147,7 +153,7 @@ std::vector<uint8_t> EncodeSessionDescription(const SessionDescription& session)
 }
 
 static bool DecodeSessionDescriptionImpl(const void* data, size_t size, SessionDescription* out,
-                              std::string* error) {
+                                         std::string* error) {
   using Msg = graspfill::session_description_t;
   if (!CheckBuffer(data, size, out, "session_description_t", error)) return false;
   // Layout: session_description_t.lcm. Every string length is checked
@@ -155,10 +161,10 @@ static bool DecodeSessionDescriptionImpl(const void* data, size_t size, SessionD
   {
     WireReader r(data, size);
     const bool ok = r.Hash(Msg::getHash()) && r.Skip(8) && r.SkipString() &&  // version
-                    r.Skip(1) && r.SkipString() && r.SkipString() &&            // name, text
-                    r.SkipString() && r.SkipString() &&                         // source, root
-                    r.Skip(7 * 8) && r.Skip(1 + 2 * 4 + 4 * 8) &&               // T_C_B, K
-                    r.Skip(1 + 6 * 8) && r.Skip(8) && r.remaining() == 0;       // box, voxel
+                    r.Skip(1) && r.SkipString() && r.SkipString() &&          // name, text
+                    r.SkipString() && r.SkipString() &&                       // source, root
+                    r.Skip(7 * 8) && r.Skip(1 + 2 * 4 + 4 * 8) &&             // T_C_B, K
+                    r.Skip(1 + 6 * 8) && r.Skip(8) && r.remaining() == 0;     // box, voxel
     if (!ok) {
       SetError(error, "session_description_t: malformed message");
       return false;
@@ -177,16 +183,16 @@ static bool DecodeSessionDescriptionImpl(const void* data, size_t size, SessionD
   } else if (msg.claw_kind == Msg::CLAW_URDF) {
     s.claw_kind = SessionClawKind::kUrdf;
   } else {
-    SetError(error, "session_description_t: unknown claw_kind " +
-                        std::to_string(static_cast<int>(msg.claw_kind)));
+    SetError(error,
+             "session_description_t: unknown claw_kind " + std::to_string(static_cast<int>(msg.claw_kind)));
     return false;
   }
   s.claw_name = msg.claw_name;
   s.claw_text = msg.claw_text;
   s.claw_source = msg.claw_source;
   s.claw_mesh_root = msg.claw_mesh_root;
-  if (!PoseFromWire("session_description_t: T_C_B", msg.T_C_B_position, msg.T_C_B_orientation,
-                    &s.T_C_B, error)) {
+  if (!PoseFromWire("session_description_t: T_C_B", msg.T_C_B_position, msg.T_C_B_orientation, &s.T_C_B,
+                    error)) {
     return false;
   }
   if ((msg.has_intrinsics != 0 && msg.has_intrinsics != 1) ||
@@ -208,10 +214,9 @@ static bool DecodeSessionDescriptionImpl(const void* data, size_t size, SessionD
   return true;
 }
 
-bool DecodeSessionDescription(const void* data, size_t size, SessionDescription* out,
-                              std::string* error, MessageError* reason) {
-  return WithReason(reason,
-                    [&] { return DecodeSessionDescriptionImpl(data, size, out, error); });
+bool DecodeSessionDescription(const void* data, size_t size, SessionDescription* out, std::string* error,
+                              MessageError* reason) {
+  return WithReason(reason, [&] { return DecodeSessionDescriptionImpl(data, size, out, error); });
 }
 
 }  // namespace graspfill::io

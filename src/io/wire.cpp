@@ -49,8 +49,9 @@ std::string Printable(const std::string& text, size_t max_chars) {
 
 bool UtimeInRange(const char* type, int64_t utime, std::string* error) {
   if (utime < 0 || utime > kMaxUtime) {
-    SetError(error, std::string(type) + ": utime " + std::to_string(utime) + " outside 0.." +
-                        std::to_string(kMaxUtime) + " us",
+    SetError(error,
+             std::string(type) + ": utime " + std::to_string(utime) + " outside 0.." +
+                 std::to_string(kMaxUtime) + " us",
              MessageError::kBadTimestamp);
     return false;
   }
@@ -64,21 +65,19 @@ bool AllFinite(const double* v, int n) {
   return true;
 }
 
-bool PoseFromWire(const char* type, const double position[3],
-                  const double orientation[4], Eigen::Isometry3d* T,
-                  std::string* error) {
+bool PoseFromWire(const char* type, const double position[3], const double orientation[4],
+                  Eigen::Isometry3d* T, std::string* error) {
   if (!AllFinite(position, 3) || !AllFinite(orientation, 4)) {
     SetError(error, std::string(type) + ": pose is not finite", MessageError::kBadPose);
     return false;
   }
-  Eigen::Quaterniond q(orientation[0], orientation[1], orientation[2],
-                       orientation[3]);
+  Eigen::Quaterniond q(orientation[0], orientation[1], orientation[2], orientation[3]);
   const double norm = q.norm();
   if (std::abs(norm - 1.0) > kUnitQuaternionTolerance) {
-    SetError(error, std::string(type) +
-                        ": orientation is not a unit quaternion (|q| = " +
-                        std::to_string(norm) + ")",
-             MessageError::kBadPose);
+    SetError(
+        error,
+        std::string(type) + ": orientation is not a unit quaternion (|q| = " + std::to_string(norm) + ")",
+        MessageError::kBadPose);
     return false;
   }
   q.normalize();
@@ -88,8 +87,7 @@ bool PoseFromWire(const char* type, const double position[3],
   return true;
 }
 
-void PoseToWire(const Eigen::Isometry3d& T, double position[3],
-                double orientation[4]) {
+void PoseToWire(const Eigen::Isometry3d& T, double position[3], double orientation[4]) {
   Eigen::Quaterniond q(T.rotation());
   q.normalize();
   for (int i = 0; i < 3; ++i) position[i] = T.translation()[i];
@@ -99,8 +97,7 @@ void PoseToWire(const Eigen::Isometry3d& T, double position[3],
   orientation[3] = q.z();
 }
 
-bool CheckBuffer(const void* data, size_t size, const void* out,
-                 const char* type, std::string* error) {
+bool CheckBuffer(const void* data, size_t size, const void* out, const char* type, std::string* error) {
   if (out == nullptr) {
     SetError(error, std::string(type) + ": null output");
     return false;

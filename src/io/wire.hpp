@@ -27,8 +27,7 @@ namespace graspfill::io::wire {
 // Why the decode in progress on this thread failed; WithReason reads it.
 MessageError& FailureReason();
 
-void SetError(std::string* error, const std::string& message,
-              MessageError reason = MessageError::kMalformed);
+void SetError(std::string* error, const std::string& message, MessageError reason = MessageError::kMalformed);
 
 std::string FormatLimit(double v);
 
@@ -42,8 +41,7 @@ bool UtimeInRange(const char* type, int64_t utime, std::string* error);
 // checks. Every accessor returns false instead of reading past the end.
 class WireReader {
  public:
-  WireReader(const void* data, size_t size)
-      : data_(static_cast<const uint8_t*>(data)), size_(size) {}
+  WireReader(const void* data, size_t size) : data_(static_cast<const uint8_t*>(data)), size_(size) {}
 
   size_t remaining() const { return size_ - pos_; }
 
@@ -84,12 +82,9 @@ class WireReader {
   }
   // An array count followed by `count` elements of `element_bytes` each:
   // the count must be >= 0 and the elements must fit in what is left.
-  bool Count(int32_t* count, size_t element_bytes) {
-    return I32(count) && CountFits(*count, element_bytes);
-  }
+  bool Count(int32_t* count, size_t element_bytes) { return I32(count) && CountFits(*count, element_bytes); }
   bool CountFits(int32_t count, size_t element_bytes) const {
-    return count >= 0 && static_cast<size_t>(count) <=
-                             remaining() / (element_bytes ? element_bytes : 1);
+    return count >= 0 && static_cast<size_t>(count) <= remaining() / (element_bytes ? element_bytes : 1);
   }
   // An LCM string: int32 length including the NUL, then the bytes. The
   // NUL must end it and be its only one: lcm-gen decodes embedded NULs
@@ -124,20 +119,17 @@ class WireReader {
 bool AllFinite(const double* v, int n);
 
 // Builds an isometry from position + (w, x, y, z) after checking both.
-bool PoseFromWire(const char* type, const double position[3],
-                  const double orientation[4], Eigen::Isometry3d* T,
-                  std::string* error);
+bool PoseFromWire(const char* type, const double position[3], const double orientation[4],
+                  Eigen::Isometry3d* T, std::string* error);
 
-void PoseToWire(const Eigen::Isometry3d& T, double position[3],
-                double orientation[4]);
+void PoseToWire(const Eigen::Isometry3d& T, double position[3], double orientation[4]);
 
 template <typename Message>
 std::vector<uint8_t> EncodeMessage(const Message& msg) {
   std::vector<uint8_t> bytes(static_cast<size_t>(msg.getEncodedSize()));
   const int n = msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
   if (n != static_cast<int>(bytes.size())) {
-    throw std::logic_error(std::string("lcm encode failed for ") +
-                           Message::getTypeName());
+    throw std::logic_error(std::string("lcm encode failed for ") + Message::getTypeName());
   }
   return bytes;
 }
@@ -146,18 +138,15 @@ std::vector<uint8_t> EncodeMessage(const Message& msg) {
 // The try/catch is a second line of defence (bad_alloc) since handlers on
 // the bus must not throw.
 template <typename Message>
-bool DecodeMessage(const void* data, size_t size, Message* msg,
-                   std::string* error) {
+bool DecodeMessage(const void* data, size_t size, Message* msg, std::string* error) {
   try {
     const int n = msg->decode(data, 0, static_cast<int>(size));
     if (n != static_cast<int>(size)) {
-      SetError(error, std::string(Message::getTypeName()) +
-                          ": lcm decode failed");
+      SetError(error, std::string(Message::getTypeName()) + ": lcm decode failed");
       return false;
     }
   } catch (const std::exception& e) {
-    SetError(error, std::string(Message::getTypeName()) +
-                        ": lcm decode failed: " + e.what());
+    SetError(error, std::string(Message::getTypeName()) + ": lcm decode failed: " + e.what());
     return false;
   }
   return true;
@@ -165,8 +154,7 @@ bool DecodeMessage(const void* data, size_t size, Message* msg,
 
 // Common checks before any walk: a null pointer or a message bigger than
 // lcm's int-sized decoders can address.
-bool CheckBuffer(const void* data, size_t size, const void* out,
-                 const char* type, std::string* error);
+bool CheckBuffer(const void* data, size_t size, const void* out, const char* type, std::string* error);
 
 // Runs `decode` and reports why it failed in `reason` (when not null).
 template <typename F>
@@ -175,8 +163,7 @@ bool WithReason(MessageError* reason, F decode) {
   const bool ok = decode();
   if (reason != nullptr) {
     *reason = ok ? MessageError::kNone
-                 : (FailureReason() == MessageError::kNone ? MessageError::kMalformed
-                                                           : FailureReason());
+                 : (FailureReason() == MessageError::kNone ? MessageError::kMalformed : FailureReason());
   }
   return ok;
 }

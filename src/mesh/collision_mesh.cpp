@@ -43,15 +43,13 @@ struct Grid {
   Eigen::Vector3i dims;
 
   int64_t size() const { return int64_t{dims.x()} * dims.y() * dims.z(); }
-  int64_t Index(int i, int j, int k) const {
-    return i + int64_t{dims.x()} * (j + int64_t{dims.y()} * k);
-  }
+  int64_t Index(int i, int j, int k) const { return i + int64_t{dims.x()} * (j + int64_t{dims.y()} * k); }
   Eigen::Vector3d Position(int64_t index) const {
     const int64_t i = index % dims.x();
     const int64_t j = (index / dims.x()) % dims.y();
     const int64_t k = index / (int64_t{dims.x()} * dims.y());
-    return origin + h * Eigen::Vector3d(static_cast<double>(i), static_cast<double>(j),
-                                        static_cast<double>(k));
+    return origin +
+           h * Eigen::Vector3d(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k));
   }
   // The node nearest to `p`, or -1 outside the grid.
   int64_t Nearest(const Eigen::Vector3d& p) const {
@@ -232,8 +230,8 @@ class Triangulator {
   TriangleMesh Run() {
     // The six tetrahedra of a cube along its main diagonal 0-7 (corner bits:
     // x = 1, y = 2, z = 4); neighbouring cubes split their shared faces alike.
-    static constexpr std::array<std::array<int, 4>, 6> kTets{{
-        {0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}}};
+    static constexpr std::array<std::array<int, 4>, 6> kTets{
+        {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}}};
     const Eigen::Vector3i& d = grid_.dims;
     for (int k = 0; k + 1 < d.z(); ++k) {
       for (int j = 0; j + 1 < d.y(); ++j) {
@@ -259,8 +257,10 @@ class Triangulator {
     std::array<int64_t, 4> in, out;
     int num_in = 0, num_out = 0;
     for (int64_t n : v) {
-      if (f_[n] < 0.0f) in[num_in++] = n;
-      else out[num_out++] = n;
+      if (f_[n] < 0.0f)
+        in[num_in++] = n;
+      else
+        out[num_out++] = n;
     }
     if (num_in == 0 || num_out == 0) return;
     // From the inside corners' centre to the outside ones': where the
@@ -365,8 +365,8 @@ Grid GridAround(const std::vector<Eigen::Vector3d>& points, double h, int reach)
   }
   if (nodes > static_cast<double>(kMaxNodes)) {
     throw std::runtime_error("collision mesh: a " + std::to_string(h) + " m grid over the cloud's " +
-                             "box needs " + std::to_string(static_cast<int64_t>(nodes)) +
-                             " nodes (at most " + std::to_string(kMaxNodes) + "); use larger cells");
+                             "box needs " + std::to_string(static_cast<int64_t>(nodes)) + " nodes (at most " +
+                             std::to_string(kMaxNodes) + "); use larger cells");
   }
   return grid;
 }
@@ -418,8 +418,7 @@ std::vector<uint8_t> LabelBands(const Grid& grid, const std::vector<Eigen::Vecto
 // outside for an outward normal and inside for an inward one; where that
 // walk leaves the grid or finds nothing, the walk the other way decides.
 void OrientNormals(const Grid& grid, const std::vector<uint8_t>& label, double band_cells,
-                   const std::vector<Eigen::Vector3d>& points,
-                   std::vector<Eigen::Vector3d>* normals) {
+                   const std::vector<Eigen::Vector3d>& points, std::vector<Eigen::Vector3d>* normals) {
   const int max_steps = static_cast<int>(std::ceil(band_cells)) + 3;
   auto first_beyond_band = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& step) {
     for (int k = 1; k <= max_steps; ++k) {
@@ -441,8 +440,7 @@ void OrientNormals(const Grid& grid, const std::vector<uint8_t>& label, double b
 std::vector<float> SignedField(const Grid& grid, const std::vector<uint8_t>& label,
                                const std::unordered_map<int64_t, std::vector<int>>& nearest,
                                const std::vector<Eigen::Vector3d>& points,
-                               const std::vector<Eigen::Vector3d>& normals, double band_m,
-                               float min_abs) {
+                               const std::vector<Eigen::Vector3d>& normals, double band_m, float min_abs) {
   std::vector<float> f(static_cast<size_t>(grid.size()));
   for (int64_t n = 0; n < grid.size(); ++n) {
     double value = label[n] == kOutside ? band_m : -band_m;
@@ -468,8 +466,7 @@ void CollisionMeshConfig::Validate() const {
   };
   check(std::isfinite(cell_m) && cell_m >= 0.0002 && cell_m <= 0.02,
         "cell_m must be in 0.0002..0.02 m, not " + std::to_string(cell_m));
-  check(neighbors >= 1 && neighbors <= 64,
-        "neighbors must be in 1..64, not " + std::to_string(neighbors));
+  check(neighbors >= 1 && neighbors <= 64, "neighbors must be in 1..64, not " + std::to_string(neighbors));
   check(std::isfinite(band_cells) && band_cells >= 1.5 && band_cells <= 8.0,
         "band_cells must be in 1.5..8, not " + std::to_string(band_cells));
   check(std::isfinite(fill_band_cells) && fill_band_cells >= band_cells && fill_band_cells <= 12.0,
@@ -500,8 +497,7 @@ TriangleMesh BuildCollisionMesh(const ObjectCloud& cloud, const CollisionMeshCon
   OrientNormals(grid, label, config.band_cells, points, &normals);
 
   const float min_abs = static_cast<float>(kMinAbsDistanceCells * h);
-  std::vector<float> f =
-      SignedField(grid, label, nearest, points, normals, config.band_cells * h, min_abs);
+  std::vector<float> f = SignedField(grid, label, nearest, points, normals, config.band_cells * h, min_abs);
   if (config.hold_points) HoldPoints(grid, points, min_abs, &f);
   return DropSmallPieces(Triangulator(grid, f).Run(), config.min_piece_fraction);
 }

@@ -43,14 +43,14 @@ void AddMesh(const TriangleMesh& mesh, open3d::t::geometry::RaycastingScene* sce
     triangles.insert(triangles.end(), {static_cast<uint32_t>(t.x()), static_cast<uint32_t>(t.y()),
                                        static_cast<uint32_t>(t.z())});
   }
-  scene->AddTriangles(PointsTensor(mesh.vertices),
-                      core::Tensor(triangles, {static_cast<int64_t>(mesh.triangles.size()), 3},
-                                   core::UInt32));
+  scene->AddTriangles(
+      PointsTensor(mesh.vertices),
+      core::Tensor(triangles, {static_cast<int64_t>(mesh.triangles.size()), 3}, core::UInt32));
 }
 
 // Distance of each point to the closest point of the mesh's surface [m].
-std::vector<double> SurfaceDistances(const TriangleMesh& mesh,
-                                     const std::vector<Eigen::Vector3f>& points, int threads) {
+std::vector<double> SurfaceDistances(const TriangleMesh& mesh, const std::vector<Eigen::Vector3f>& points,
+                                     int threads) {
   open3d::t::geometry::RaycastingScene scene;
   AddMesh(mesh, &scene);
   const core::Tensor d = scene.ComputeDistance(PointsTensor(points), threads).Contiguous();
@@ -60,8 +60,7 @@ std::vector<double> SurfaceDistances(const TriangleMesh& mesh,
 
 }  // namespace
 
-MeshDeviation MeasureDeviation(const TriangleMesh& mesh, const ObjectCloud& cloud,
-                               int surface_samples) {
+MeshDeviation MeasureDeviation(const TriangleMesh& mesh, const ObjectCloud& cloud, int surface_samples) {
   if (mesh.empty()) throw std::invalid_argument("mesh deviation: the mesh has no triangles");
   if (cloud.size() == 0) throw std::invalid_argument("mesh deviation: the cloud has no points");
   if (surface_samples < 1) throw std::invalid_argument("mesh deviation: surface_samples < 1");

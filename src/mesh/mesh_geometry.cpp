@@ -11,9 +11,7 @@
 namespace graspfill::mesh {
 namespace {
 
-Eigen::Vector3d Vertex(const TriangleMesh& mesh, int i) {
-  return mesh.vertices[i].cast<double>();
-}
+Eigen::Vector3d Vertex(const TriangleMesh& mesh, int i) { return mesh.vertices[i].cast<double>(); }
 
 }  // namespace
 
@@ -36,9 +34,9 @@ SurfaceSamples SampleSurface(const TriangleMesh& mesh, int count, uint64_t seed)
   out.normals.reserve(count);
   for (int k = 0; k < count; ++k) {
     const double r = rng.Uniform() * total;
-    const size_t i = std::min<size_t>(
-        std::upper_bound(cumulative.begin(), cumulative.end(), r) - cumulative.begin(),
-        cumulative.size() - 1);
+    const size_t i =
+        std::min<size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), r) - cumulative.begin(),
+                         cumulative.size() - 1);
     const Eigen::Vector3i& t = mesh.triangles[i];
     const Eigen::Vector3d a = Vertex(mesh, t[0]);
     const Eigen::Vector3d b = Vertex(mesh, t[1]);
@@ -101,14 +99,13 @@ double WindingNumber(const TriangleMesh& mesh, const Eigen::Vector3d& p) {
     const Eigen::Vector3d b = mesh.vertices[t[1]].cast<double>() - p;
     const Eigen::Vector3d c = mesh.vertices[t[2]].cast<double>() - p;
     const double la = a.norm(), lb = b.norm(), lc = c.norm();
-    sum += 2.0 * std::atan2(a.dot(b.cross(c)),
-                            la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb);
+    sum += 2.0 * std::atan2(a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb);
   }
   return sum / (4.0 * 3.14159265358979323846);
 }
 
-double PointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                             const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+double PointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                             const Eigen::Vector3d& c) {
   // Closest point by Voronoi regions (Ericson, Real-Time Collision
   // Detection, 5.1.5).
   const Eigen::Vector3d ab = b - a;

@@ -16,8 +16,8 @@ void CheckCloud(const std::vector<Eigen::Vector3f>& cloud, const std::string& na
   for (size_t i = 0; i < cloud.size(); ++i) {
     if (!cloud[i].allFinite()) {
       std::ostringstream msg;
-      msg << "graspfill: the " << name << " cloud has a non-finite coordinate at point " << i
-          << " (" << cloud[i].x() << ", " << cloud[i].y() << ", " << cloud[i].z() << ")";
+      msg << "graspfill: the " << name << " cloud has a non-finite coordinate at point " << i << " ("
+          << cloud[i].x() << ", " << cloud[i].y() << ", " << cloud[i].z() << ")";
       throw std::invalid_argument(msg.str());
     }
   }

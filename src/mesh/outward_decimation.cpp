@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "outward_decimation.hpp"
 
-#include <Eigen/Dense>
 #include <open3d/geometry/IntersectionTest.h>
+#include <Eigen/Dense>
 
 #include <algorithm>
 #include <array>
@@ -66,9 +66,12 @@ bool ProjectOntoPlanes(const std::array<const Plane*, 3>& active, Vec3* v) {
 
 bool ProjectOntoPlanes(const std::array<const Plane*, 3>& active, int num_active, Vec3* v) {
   switch (num_active) {
-    case 1: return ProjectOntoPlanes<1>(active, v);
-    case 2: return ProjectOntoPlanes<2>(active, v);
-    default: return ProjectOntoPlanes<3>(active, v);
+    case 1:
+      return ProjectOntoPlanes<1>(active, v);
+    case 2:
+      return ProjectOntoPlanes<2>(active, v);
+    default:
+      return ProjectOntoPlanes<3>(active, v);
   }
 }
 
@@ -148,8 +151,8 @@ void RequireClosedManifold(const TriangleMesh& mesh) {
   for (const Eigen::Vector3i& t : mesh.triangles) {
     for (int k = 0; k < 3; ++k) {
       if (t[k] < 0 || t[k] >= n) {
-        throw std::invalid_argument("DecimateOutward: a triangle indexes vertex " +
-                                    std::to_string(t[k]) + " of " + std::to_string(n));
+        throw std::invalid_argument("DecimateOutward: a triangle indexes vertex " + std::to_string(t[k]) +
+                                    " of " + std::to_string(n));
       }
     }
     if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {

@@ -113,8 +113,8 @@ PlannerMesh BuildDecimated(const ObjectCloud& cloud, const PlannerMeshConfig& co
     }
     OutwardDecimation d = DecimateOutward(dense, config.max_triangles);
     if (d.reached_budget) {
-      PlannerMesh p = Measured(std::move(d.mesh), cloud, CollisionMeshKind::kDecimated,
-                               PlannerMeshMethod::kDecimated);
+      PlannerMesh p =
+          Measured(std::move(d.mesh), cloud, CollisionMeshKind::kDecimated, PlannerMeshMethod::kDecimated);
       p.cell_m = grid.cell_m;
       p.dense_triangles = dense_triangles;
       p.fallback_reason = reason;
@@ -140,19 +140,21 @@ PlannerMesh BuildDecimated(const ObjectCloud& cloud, const PlannerMeshConfig& co
 
 const char* PlannerMeshMethodName(PlannerMeshMethod method) {
   switch (method) {
-    case PlannerMeshMethod::kDense: return "dense";
-    case PlannerMeshMethod::kDecimated: return "decimated";
-    case PlannerMeshMethod::kConvexHull: return "convex_hull";
+    case PlannerMeshMethod::kDense:
+      return "dense";
+    case PlannerMeshMethod::kDecimated:
+      return "decimated";
+    case PlannerMeshMethod::kConvexHull:
+      return "convex_hull";
   }
   return "unknown";
 }
 
 void PlannerMeshConfig::Validate() const {
   if (max_triangles < kMinPlannerTriangles || max_triangles > kMaxPlannerTriangles) {
-    throw std::invalid_argument("PlannerMeshConfig: max_triangles must be in " +
-                                std::to_string(kMinPlannerTriangles) + ".." +
-                                std::to_string(kMaxPlannerTriangles) + ", not " +
-                                std::to_string(max_triangles));
+    throw std::invalid_argument(
+        "PlannerMeshConfig: max_triangles must be in " + std::to_string(kMinPlannerTriangles) + ".." +
+        std::to_string(kMaxPlannerTriangles) + ", not " + std::to_string(max_triangles));
   }
   dense.Validate();
 }

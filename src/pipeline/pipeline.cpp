@@ -16,19 +16,27 @@ namespace {
 
 FrameSkipReason SkipReasonOf(refine::RefineOutcome outcome) {
   switch (outcome) {
-    case refine::RefineOutcome::kClawNotSeen: return FrameSkipReason::kClawNotSeen;
-    case refine::RefineOutcome::kNotConverged: return FrameSkipReason::kRefineNotConverged;
-    case refine::RefineOutcome::kJump: return FrameSkipReason::kRefineJump;
-    default: return FrameSkipReason::kNone;
+    case refine::RefineOutcome::kClawNotSeen:
+      return FrameSkipReason::kClawNotSeen;
+    case refine::RefineOutcome::kNotConverged:
+      return FrameSkipReason::kRefineNotConverged;
+    case refine::RefineOutcome::kJump:
+      return FrameSkipReason::kRefineJump;
+    default:
+      return FrameSkipReason::kNone;
   }
 }
 
 FrameSkipReason SkipReasonOf(refine::TrackOutcome outcome) {
   switch (outcome) {
-    case refine::TrackOutcome::kTooFewPoints: return FrameSkipReason::kTrackTooFewPoints;
-    case refine::TrackOutcome::kNotConverged: return FrameSkipReason::kTrackNotConverged;
-    case refine::TrackOutcome::kJump: return FrameSkipReason::kTrackJump;
-    default: return FrameSkipReason::kNone;
+    case refine::TrackOutcome::kTooFewPoints:
+      return FrameSkipReason::kTrackTooFewPoints;
+    case refine::TrackOutcome::kNotConverged:
+      return FrameSkipReason::kTrackNotConverged;
+    case refine::TrackOutcome::kJump:
+      return FrameSkipReason::kTrackJump;
+    default:
+      return FrameSkipReason::kNone;
   }
 }
 
@@ -44,7 +52,8 @@ void PipelineConfig::Validate() const {
   if (state_buffer_capacity < 2) throw std::invalid_argument("PipelineConfig: state_buffer_capacity < 2");
   if (max_pending_frames < 1) throw std::invalid_argument("PipelineConfig: max_pending_frames < 1");
   CheckOpenMpThreads("PipelineConfig: num_threads", num_threads);
-  if (!(claw_rebuild_tolerance >= 0.0)) throw std::invalid_argument("PipelineConfig: claw_rebuild_tolerance < 0");
+  if (!(claw_rebuild_tolerance >= 0.0))
+    throw std::invalid_argument("PipelineConfig: claw_rebuild_tolerance < 0");
   if (max_fusion_pixels < 1) throw std::invalid_argument("PipelineConfig: max_fusion_pixels < 1");
   if (mask.dilation_px < 0 || mask.roi_margin_px < 0 || !(mask.front_margin_m >= 0.0)) {
     throw std::invalid_argument("PipelineConfig: mask margins must be >= 0");
@@ -74,8 +83,7 @@ struct Pipeline::Impl {
 
   // Rebuilds the claw scene when the fingers moved (setup-time work).
   void UpdateClaw(const GripperState& state) {
-    bool changed = !claw_set ||
-                   std::abs(state.opening_m - claw_opening_m) > config.claw_rebuild_tolerance ||
+    bool changed = !claw_set || std::abs(state.opening_m - claw_opening_m) > config.claw_rebuild_tolerance ||
                    state.joint_values.size() != claw_joints.size();
     for (size_t i = 0; !changed && i < claw_joints.size(); ++i) {
       changed = std::abs(state.joint_values[i] - claw_joints[i]) > config.claw_rebuild_tolerance;
@@ -116,8 +124,7 @@ struct Pipeline::Impl {
   // Refine the pose, crop, mask, track the object and fuse one frame; a
   // frame refinement or tracking rejects is counted, nothing fused, and
   // *skip says why.
-  FrameOutcome Integrate(const DepthFrame& frame, const GripperState& state,
-                         FrameSkipReason* skip) {
+  FrameOutcome Integrate(const DepthFrame& frame, const GripperState& state, FrameSkipReason* skip) {
     UpdateClaw(state);
     Eigen::Isometry3d T_C_G = state.T_C_G;
     refine::RefineOutcome refined = refine::RefineOutcome::kOff;
@@ -234,8 +241,8 @@ struct Pipeline::Impl {
   evidence::VisibilityRecord visibility;
   refine::PoseRefiner refiner;
   refine::ObjectTracker tracker;
-  ObjectCloud model;     // the tracker's model, reused
-  int model_frames{0};   // frames fused when it was extracted
+  ObjectCloud model;    // the tracker's model, reused
+  int model_frames{0};  // frames fused when it was extracted
   GripperStateBuffer states;
   std::vector<DepthFrame> pending;  // ring, slots reused
   size_t pending_head{0};
@@ -281,13 +288,12 @@ FrameOutcome Pipeline::AddDepthFrame(const DepthFrame& full_frame, std::string* 
   ++s.stats.frames_in;
   const CameraIntrinsics& K = full_frame.intrinsics;
   const char* problem = nullptr;
-  if (K.width <= 0 || K.height <= 0 ||
-      full_frame.depth_m.size() != static_cast<size_t>(K.width) * K.height) {
+  if (K.width <= 0 || K.height <= 0 || full_frame.depth_m.size() != static_cast<size_t>(K.width) * K.height) {
     problem = "depth size does not match width x height";
   } else if (!(K.fx > 0 && K.fy > 0 && std::isfinite(K.cx) && std::isfinite(K.cy))) {
     problem = "bad intrinsics";
-  } else if (s.have_intrinsics && (K.width != s.first_intrinsics.width ||
-                                   K.height != s.first_intrinsics.height)) {
+  } else if (s.have_intrinsics &&
+             (K.width != s.first_intrinsics.width || K.height != s.first_intrinsics.height)) {
     problem = "frame size differs from the first frame's";
   }
   if (problem) {
@@ -348,12 +354,9 @@ ObjectCloud Pipeline::ExtractCloud() {
   cloud.utime = s.last_utime;
   cloud.seq = s.seq++;
   cloud.T_C_G = s.last_T_C_G;
-  cloud.timings = {{"crop", s.stats.crop.mean_ms()},
-                   {"mask", s.stats.mask.mean_ms()},
-                   {"integrate", s.stats.integrate.mean_ms()},
-                   {"visibility", s.stats.visibility.mean_ms()},
-                   {"extract", s.stats.extract.last_ms},
-                   {"carve", s.stats.carve.last_ms}};
+  cloud.timings = {{"crop", s.stats.crop.mean_ms()},           {"mask", s.stats.mask.mean_ms()},
+                   {"integrate", s.stats.integrate.mean_ms()}, {"visibility", s.stats.visibility.mean_ms()},
+                   {"extract", s.stats.extract.last_ms},       {"carve", s.stats.carve.last_ms}};
   return cloud;
 }
 
@@ -365,8 +368,8 @@ void Pipeline::Reset() {
   s.tracker.Reset();
   s.model_frames = 0;
   s.claw_set = false;  // the next state gives the record its claw again
-  s.states = GripperStateBuffer(static_cast<size_t>(s.config.state_buffer_capacity),
-                                s.config.max_pose_gap_us);
+  s.states =
+      GripperStateBuffer(static_cast<size_t>(s.config.state_buffer_capacity), s.config.max_pose_gap_us);
   s.num_pending = 0;
   s.decided.clear();
   s.have_intrinsics = false;

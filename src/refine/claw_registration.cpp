@@ -38,10 +38,14 @@ class ClawProblem {
   ClawProblem(const ClosestPointGrid& fine, const ClosestPointGrid& coarse, double fine_band_m,
               const std::vector<Eigen::Vector3f>& model_points_G,
               const std::vector<Eigen::Vector3f>& model_normals_G,
-              const std::vector<Eigen::Vector3f>& points_C,
-              const std::vector<Eigen::Vector3f>& normals_C)
-      : fine_(fine), coarse_(coarse), fine_band_m_(fine_band_m), model_points_G_(model_points_G),
-        model_normals_G_(model_normals_G), points_C_(points_C), normals_C_(normals_C) {}
+              const std::vector<Eigen::Vector3f>& points_C, const std::vector<Eigen::Vector3f>& normals_C)
+      : fine_(fine),
+        coarse_(coarse),
+        fine_band_m_(fine_band_m),
+        model_points_G_(model_points_G),
+        model_normals_G_(model_normals_G),
+        points_C_(points_C),
+        normals_C_(normals_C) {}
 
   void SetPose(const Eigen::Isometry3d& T_C_G, double gate_m) {
     CloseCentroid();
@@ -69,10 +73,9 @@ class ClawProblem {
     sum_p_C_ += points_C_[i].cast<double>();
     ++matched_;
   }
-  bool Step(Eigen::Matrix<double, 6, 6>& H, const Eigen::Matrix<double, 6, 1>& g,
-            Eigen::Vector3d* w, Eigen::Vector3d* v) const {
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(H,
-                                                                        Eigen::EigenvaluesOnly);
+  bool Step(Eigen::Matrix<double, 6, 6>& H, const Eigen::Matrix<double, 6, 1>& g, Eigen::Vector3d* w,
+            Eigen::Vector3d* v) const {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(H, Eigen::EigenvaluesOnly);
     if (!(eig.eigenvalues()(0) > kMinConditioning * eig.eigenvalues()(5))) return false;
     SolveFullStep(H, g, w, v);
     return true;
@@ -120,8 +123,7 @@ void ClawRegistrationConfig::Validate() const {
   Require(fine_band_m > 0.0 && coarse_band_m >= fine_band_m,
           "bands must be > 0 and coarse_band_m >= fine_band_m");
   RequireSampledIcpFields(*this, Require);
-  Require(final_gate_m > 0.0 && final_gate_m <= fine_band_m,
-          "final_gate_m must be in (0, fine_band_m]");
+  Require(final_gate_m > 0.0 && final_gate_m <= fine_band_m, "final_gate_m must be in (0, fine_band_m]");
   Require(max_iterations >= 1, "max_iterations must be >= 1");
   Require(huber_m > 0.0, "huber_m must be > 0");
   Require(converged_m > 0.0 && converged_deg > 0.0, "convergence thresholds must be > 0");
@@ -131,11 +133,16 @@ void ClawRegistrationConfig::Validate() const {
 
 const char* RegistrationStatusName(RegistrationStatus status) {
   switch (status) {
-    case RegistrationStatus::kConverged: return "converged";
-    case RegistrationStatus::kTooFewPoints: return "too_few_points";
-    case RegistrationStatus::kNotConverged: return "not_converged";
-    case RegistrationStatus::kDegenerate: return "degenerate";
-    case RegistrationStatus::kNoClaw: return "no_claw";
+    case RegistrationStatus::kConverged:
+      return "converged";
+    case RegistrationStatus::kTooFewPoints:
+      return "too_few_points";
+    case RegistrationStatus::kNotConverged:
+      return "not_converged";
+    case RegistrationStatus::kDegenerate:
+      return "degenerate";
+    case RegistrationStatus::kNoClaw:
+      return "no_claw";
   }
   return "unknown";
 }
@@ -179,8 +186,8 @@ void ClawRegistration::SetClaw(const TriangleMesh& claw_G) {
   if (model_points_G_.empty()) return;
   fine_.Build(model_points_G_, 1, config_.fine_cell_m, config_.fine_band_m);
   // The coarse table needs no finer samples than its cells.
-  const int coarse_stride = std::max(
-      1, static_cast<int>(std::pow(config_.coarse_cell_m / config_.model_spacing_m, 2.0) / 2.0));
+  const int coarse_stride =
+      std::max(1, static_cast<int>(std::pow(config_.coarse_cell_m / config_.model_spacing_m, 2.0) / 2.0));
   coarse_.Build(model_points_G_, coarse_stride, config_.coarse_cell_m, config_.coarse_band_m);
   // CollectCandidates visits ~10 x max_points pixels; room for all.
   const size_t reserve = static_cast<size_t>(12 * config_.max_points);
@@ -254,14 +261,12 @@ int ClawRegistration::CollectCandidates(const DepthFrame& frame, const Eigen::Is
   return static_cast<int>(points_C_.size());
 }
 
-RegistrationResult ClawRegistration::Register(const DepthFrame& frame,
-                                              const Eigen::Isometry3d& T_C_G_initial,
+RegistrationResult ClawRegistration::Register(const DepthFrame& frame, const Eigen::Isometry3d& T_C_G_initial,
                                               double initial_gate_m) {
   RegistrationResult result;
   result.T_C_G = T_C_G_initial;
   if (!has_claw()) return result;
-  const double gate =
-      std::min(std::max(initial_gate_m, config_.final_gate_m), config_.coarse_band_m);
+  const double gate = std::min(std::max(initial_gate_m, config_.final_gate_m), config_.coarse_band_m);
   result.candidates = CollectCandidates(frame, T_C_G_initial, gate);
   if (result.candidates < config_.min_matches) {
     result.status = RegistrationStatus::kTooFewPoints;
@@ -271,8 +276,8 @@ RegistrationResult ClawRegistration::Register(const DepthFrame& frame,
   for (const Eigen::Vector3f& p : points_C_) centre += p.cast<double>();
   centre /= static_cast<double>(points_C_.size());
 
-  ClawProblem problem(fine_, coarse_, config_.fine_band_m, model_points_G_, model_normals_G_,
-                      points_C_, normals_C_);
+  ClawProblem problem(fine_, coarse_, config_.fine_band_m, model_points_G_, model_normals_G_, points_C_,
+                      normals_C_);
   Eigen::Isometry3d T = T_C_G_initial;
   const GatedIcpOutcome icp = RunGatedIcp(GatedIcpScheduleOf(config_, gate), centre, problem, &T);
   result.iterations = icp.iterations;
@@ -280,14 +285,17 @@ RegistrationResult ClawRegistration::Register(const DepthFrame& frame,
   result.rms_m = icp.rms_m;
   if (problem.has_centroid()) result.centroid_C = problem.centroid_C();
   switch (icp.end) {
-    case GatedIcpEnd::kTooFewMatches: result.status = RegistrationStatus::kTooFewPoints; break;
-    case GatedIcpEnd::kNoStep: result.status = RegistrationStatus::kDegenerate; break;
+    case GatedIcpEnd::kTooFewMatches:
+      result.status = RegistrationStatus::kTooFewPoints;
+      break;
+    case GatedIcpEnd::kNoStep:
+      result.status = RegistrationStatus::kDegenerate;
+      break;
     // Correspondences switching back and forth at the gate's edge can leave
     // a limit cycle a few times the threshold: converged too.
     case GatedIcpEnd::kConverged:
     case GatedIcpEnd::kIterationsSpent:
-      result.status = (icp.end == GatedIcpEnd::kConverged || icp.settled) &&
-                              result.rms_m <= config_.max_rms_m
+      result.status = (icp.end == GatedIcpEnd::kConverged || icp.settled) && result.rms_m <= config_.max_rms_m
                           ? RegistrationStatus::kConverged
                           : RegistrationStatus::kNotConverged;
       break;

@@ -7,8 +7,8 @@
 
 namespace graspfill::refine {
 
-void ClosestPointGrid::Build(const std::vector<Eigen::Vector3f>& points, int stride,
-                             double cell_m, double band_m) {
+void ClosestPointGrid::Build(const std::vector<Eigen::Vector3f>& points, int stride, double cell_m,
+                             double band_m) {
   stride = std::max(1, stride);
   Eigen::AlignedBox3f box;
   for (const Eigen::Vector3f& p : points) box.extend(p);
@@ -50,8 +50,7 @@ void ClosestPointGrid::Build(const std::vector<Eigen::Vector3f>& points, int str
   for (size_t k = 0; k < points.size(); k += static_cast<size_t>(stride)) {
     const Eigen::Vector3f& p = points[k];
     const Eigen::Vector3f rel = (p - origin_) / cell;
-    const int ci = static_cast<int>(rel.x()), cj = static_cast<int>(rel.y()),
-              ck = static_cast<int>(rel.z());
+    const int ci = static_cast<int>(rel.x()), cj = static_cast<int>(rel.y()), ck = static_cast<int>(rel.z());
     const int32_t index = static_cast<int32_t>(k);
     for (int l = std::max(0, ck - reach); l <= std::min(nz_ - 1, ck + reach); ++l) {
       const float dz = origin_.z() + cell * (static_cast<float>(l) + 0.5f) - p.z();

@@ -20,15 +20,19 @@ class DepthPixelNormals {
   // farther in depth than `max_jump_m` from the pixel (a silhouette) makes
   // no normal. The caller keeps `step` pixels off the image's border.
   DepthPixelNormals(const CameraIntrinsics& K, const float* depth, int step, double max_jump_m)
-      : fx_(static_cast<float>(K.fx)), fy_(static_cast<float>(K.fy)),
-        cx_(static_cast<float>(K.cx)), cy_(static_cast<float>(K.cy)),
-        depth_(depth), width_(K.width), step_(step), jump_(static_cast<float>(max_jump_m)) {}
+      : fx_(static_cast<float>(K.fx)),
+        fy_(static_cast<float>(K.fy)),
+        cx_(static_cast<float>(K.cx)),
+        cy_(static_cast<float>(K.cy)),
+        depth_(depth),
+        width_(K.width),
+        step_(step),
+        jump_(static_cast<float>(max_jump_m)) {}
 
   // The frame has a size and one depth per pixel.
   static bool Fits(const DepthFrame& frame) {
     const CameraIntrinsics& K = frame.intrinsics;
-    return K.width > 0 && K.height > 0 &&
-           frame.depth_m.size() == static_cast<size_t>(K.width) * K.height;
+    return K.width > 0 && K.height > 0 && frame.depth_m.size() == static_cast<size_t>(K.width) * K.height;
   }
 
   // Pixel (u, v) at depth z, in C.

@@ -50,11 +50,11 @@ struct GatedIcpSchedule {
   double final_gate_m{0.0};
   double gate_shrink{1.0};
   int max_iterations{0};
-  double huber_m{0.0};            // Huber threshold of the residuals [m]
+  double huber_m{0.0};  // Huber threshold of the residuals [m]
   double max_normal_angle_deg{0.0};
-  double converged_m{0.0};        // a step at the final gate below these converges
+  double converged_m{0.0};  // a step at the final gate below these converges
   double converged_deg{0.0};
-  int min_matches{0};             // fewer: the loop ends
+  int min_matches{0};  // fewer: the loop ends
 };
 
 // The schedule of a config that names these fields as GatedIcpSchedule does.
@@ -90,7 +90,7 @@ enum class GatedIcpEnd {
   kIterationsSpent,  // max_iterations without converging
   kConverged,
   kTooFewMatches,
-  kNoStep,           // Problem::Step refused
+  kNoStep,  // Problem::Step refused
 };
 
 struct GatedIcpOutcome {
@@ -104,9 +104,8 @@ struct GatedIcpOutcome {
 };
 
 // The full six-motion solution of H x = -g.
-inline void SolveFullStep(const Eigen::Matrix<double, 6, 6>& H,
-                          const Eigen::Matrix<double, 6, 1>& g, Eigen::Vector3d* w,
-                          Eigen::Vector3d* v) {
+inline void SolveFullStep(const Eigen::Matrix<double, 6, 6>& H, const Eigen::Matrix<double, 6, 1>& g,
+                          Eigen::Vector3d* w, Eigen::Vector3d* v) {
   const Eigen::Matrix<double, 6, 1> xi = -H.ldlt().solve(g);
   *w = xi.head<3>() / kIcpLeverM;
   *v = xi.tail<3>();
@@ -115,10 +114,9 @@ inline void SolveFullStep(const Eigen::Matrix<double, 6, 6>& H,
 // Runs the loop from *pose (updated in place), stepping about `centre` (in
 // the step frame).
 template <class Problem>
-GatedIcpOutcome RunGatedIcp(const GatedIcpSchedule& schedule, const Eigen::Vector3d& centre,
-                            Problem& problem, Eigen::Isometry3d* pose) {
-  const float cos_min =
-      static_cast<float>(std::cos(schedule.max_normal_angle_deg * kIcpDegToRad));
+GatedIcpOutcome RunGatedIcp(const GatedIcpSchedule& schedule, const Eigen::Vector3d& centre, Problem& problem,
+                            Eigen::Isometry3d* pose) {
+  const float cos_min = static_cast<float>(std::cos(schedule.max_normal_angle_deg * kIcpDegToRad));
   const double huber = schedule.huber_m;
   Eigen::Isometry3d& T = *pose;
   double gate = schedule.initial_gate_m;
@@ -168,8 +166,7 @@ GatedIcpOutcome RunGatedIcp(const GatedIcpSchedule& schedule, const Eigen::Vecto
     if (angle > 0.0) D.linear() = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
     D.translation() = centre + v - D.linear() * centre;  // about the centre
     T = D * T;
-    if (at_final && v.norm() < schedule.converged_m &&
-        angle < schedule.converged_deg * kIcpDegToRad) {
+    if (at_final && v.norm() < schedule.converged_m && angle < schedule.converged_deg * kIcpDegToRad) {
       out.end = GatedIcpEnd::kConverged;
       return out;
     }

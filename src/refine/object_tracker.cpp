@@ -31,11 +31,16 @@ class TrackerProblem {
   TrackerProblem(const ObjectTrackingConfig& config, const ClosestPointGrid& grid,
                  const std::vector<Eigen::Vector3f>& model_points_O,
                  const std::vector<Eigen::Vector3f>& model_normals_O,
-                 const std::vector<Eigen::Vector3f>& points_C,
-                 const std::vector<Eigen::Vector3f>& normals_C, const Eigen::Isometry3d& T_C_G)
-      : config_(config), grid_(grid), model_points_O_(model_points_O),
-        model_normals_O_(model_normals_O), points_C_(points_C), normals_C_(normals_C),
-        T_G_C_(T_C_G.inverse().cast<float>()), R_G_C_(T_G_C_.linear()) {}
+                 const std::vector<Eigen::Vector3f>& points_C, const std::vector<Eigen::Vector3f>& normals_C,
+                 const Eigen::Isometry3d& T_C_G)
+      : config_(config),
+        grid_(grid),
+        model_points_O_(model_points_O),
+        model_normals_O_(model_normals_O),
+        points_C_(points_C),
+        normals_C_(normals_C),
+        T_G_C_(T_C_G.inverse().cast<float>()),
+        R_G_C_(T_G_C_.linear()) {}
 
   void SetPose(const Eigen::Isometry3d& S, double /*gate_m*/) {
     S_f_ = S.cast<float>();
@@ -59,8 +64,8 @@ class TrackerProblem {
     *m = m_G.cast<double>();
   }
   void Matched(size_t /*i*/) {}
-  bool Step(Eigen::Matrix<double, 6, 6>& H, const Eigen::Matrix<double, 6, 1>& g,
-            Eigen::Vector3d* w, Eigen::Vector3d* v) {
+  bool Step(Eigen::Matrix<double, 6, 6>& H, const Eigen::Matrix<double, 6, 1>& g, Eigen::Vector3d* w,
+            Eigen::Vector3d* v) {
     // Damped: a motion the matches leave free stays where it was.
     H.diagonal().array() += config_.damping * H.trace() / 6.0;
     if (config_.estimate_rotation) {
@@ -207,10 +212,8 @@ TrackOutcome ObjectTracker::Track(const DepthFrame& object_frame, const Eigen::I
   }
   Eigen::Isometry3d S = S_G_;
   const Eigen::Vector3d centre_G = S * model_centre_.cast<double>();
-  TrackerProblem problem(config_, grid_, model_points_, model_normals_, points_C_, normals_C_,
-                         T_C_G);
-  const GatedIcpOutcome icp =
-      RunGatedIcp(GatedIcpScheduleOf(config_, config_.band_m), centre_G, problem, &S);
+  TrackerProblem problem(config_, grid_, model_points_, model_normals_, points_C_, normals_C_, T_C_G);
+  const GatedIcpOutcome icp = RunGatedIcp(GatedIcpScheduleOf(config_, config_.band_m), centre_G, problem, &S);
   const int matches = icp.matches;
   const double rms = icp.rms_m;
   last_matches_ = matches;

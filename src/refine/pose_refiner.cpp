@@ -50,12 +50,18 @@ void RefineConfig::Validate() const {
 
 const char* RefineOutcomeName(RefineOutcome outcome) {
   switch (outcome) {
-    case RefineOutcome::kRefined: return "refined";
-    case RefineOutcome::kAtPrediction: return "at_prediction";
-    case RefineOutcome::kOff: return "off";
-    case RefineOutcome::kClawNotSeen: return "claw_not_seen";
-    case RefineOutcome::kNotConverged: return "not_converged";
-    case RefineOutcome::kJump: return "jump";
+    case RefineOutcome::kRefined:
+      return "refined";
+    case RefineOutcome::kAtPrediction:
+      return "at_prediction";
+    case RefineOutcome::kOff:
+      return "off";
+    case RefineOutcome::kClawNotSeen:
+      return "claw_not_seen";
+    case RefineOutcome::kNotConverged:
+      return "not_converged";
+    case RefineOutcome::kJump:
+      return "jump";
   }
   return "unknown";
 }
@@ -83,7 +89,7 @@ void PoseRefiner::Reset() {
 
 Eigen::Isometry3d PoseRefiner::HandEyeCorrection() const {
   return static_cast<int>(samples_) >= config_.hand_eye_min_frames ? hand_eye_
-                                                                    : Eigen::Isometry3d::Identity();
+                                                                   : Eigen::Isometry3d::Identity();
 }
 
 Eigen::Vector3d PoseRefiner::Rate::Angular() const {
@@ -95,7 +101,7 @@ Eigen::Vector3d PoseRefiner::Rate::VelocityAt(const Eigen::Vector3d& p_C) const 
 }
 
 bool PoseRefiner::ClockExplains(const Eigen::Isometry3d& residual_C, double residual_m,
-                                 const Rate& rate) const {
+                                const Rate& rate) const {
   if (!rate.valid || residual_m > config_.max_jump_m) return false;
   const Eigen::Vector3d omega = rate.Angular();
   const double omega_norm = omega.norm();
@@ -103,8 +109,7 @@ bool PoseRefiner::ClockExplains(const Eigen::Isometry3d& residual_C, double resi
   const Eigen::Vector3d r = RotationVector(residual_C.linear());
   const double along = r.dot(omega) / omega_norm;
   const double across_deg = (r - along * omega / omega_norm).norm() * kRadToDeg;
-  return across_deg <= config_.max_jump_deg &&
-         std::abs(along) <= omega_norm * config_.max_clock_offset_s;
+  return across_deg <= config_.max_jump_deg && std::abs(along) <= omega_norm * config_.max_clock_offset_s;
 }
 
 Eigen::Isometry3d PoseRefiner::ClockShift(const Rate& rate) const {
@@ -197,8 +202,8 @@ void PoseRefiner::UpdateClockOffset() {
   double residual = 0.0;
   for (size_t i = 0; i < samples_; ++i) {
     if (!window_[i].has_rate) continue;
-    residual += (window_[i].rotation - mean_rotation -
-                 slope * (window_[i].angular_rate - mean_rate)).squaredNorm();
+    residual +=
+        (window_[i].rotation - mean_rotation - slope * (window_[i].angular_rate - mean_rate)).squaredNorm();
   }
   clock_.offset_s = -slope;  // the stamps run behind by what the pose leads
   clock_.stderr_s = std::sqrt(residual / (3.0 * n - 4.0) / spread);
@@ -230,12 +235,12 @@ RefineOutcome PoseRefiner::Refine(const DepthFrame& frame, const Eigen::Isometry
   const Rate fit_rate = previous_rate_;
   previous_rate_ = rate;
   const bool tracking = static_cast<int>(samples_) >= config_.hand_eye_min_frames;
-  const Eigen::Isometry3d prediction =
-      tracking ? hand_eye_ * ClockShift(rate) * T_C_G_logged : T_C_G_logged;
-  last_ = registration_.Register(frame, prediction,
-                                 tracking ? config_.tracking_gate_m : config_.search_gate_m);
+  const Eigen::Isometry3d prediction = tracking ? hand_eye_ * ClockShift(rate) * T_C_G_logged : T_C_G_logged;
+  last_ =
+      registration_.Register(frame, prediction, tracking ? config_.tracking_gate_m : config_.search_gate_m);
   switch (last_.status) {
-    case RegistrationStatus::kConverged: break;
+    case RegistrationStatus::kConverged:
+      break;
     case RegistrationStatus::kTooFewPoints:
     case RegistrationStatus::kNoClaw:
       ++stats_.rejected_claw_not_seen;
@@ -249,9 +254,9 @@ RefineOutcome PoseRefiner::Refine(const DepthFrame& frame, const Eigen::Isometry
   double corr_m, corr_deg, res_m, res_deg;
   MotionAt(correction, last_.centroid_C, &corr_m, &corr_deg);
   MotionAt(last_.correction_C, last_.centroid_C, &res_m, &res_deg);
-  const bool too_far = tracking ? (res_m > config_.max_jump_m || res_deg > config_.max_jump_deg)
-                                : (corr_m > config_.max_correction_m ||
-                                   corr_deg > config_.max_correction_deg);
+  const bool too_far = tracking
+                           ? (res_m > config_.max_jump_m || res_deg > config_.max_jump_deg)
+                           : (corr_m > config_.max_correction_m || corr_deg > config_.max_correction_deg);
   if (too_far) {
     // Beyond the bound along the motion's turn only, and the clock offset
     // not applied yet: what an unknown clock offset does at this rate. Not
@@ -281,8 +286,7 @@ RefineOutcome PoseRefiner::Refine(const DepthFrame& frame, const Eigen::Isometry
   // Before the hand-eye correction is known the prediction is the logged
   // pose, so a correction below the registration's precision leaves that.
   const double beyond_m = tracking ? res_m : corr_m, beyond_deg = tracking ? res_deg : corr_deg;
-  const bool below_precision =
-      beyond_m < config_.min_correction_m && beyond_deg < config_.min_correction_deg;
+  const bool below_precision = beyond_m < config_.min_correction_m && beyond_deg < config_.min_correction_deg;
   if (below_precision) ++stats_.frames_at_prediction;
   *T_C_G = below_precision ? prediction : last_.T_C_G;
   return below_precision ? RefineOutcome::kAtPrediction : RefineOutcome::kRefined;

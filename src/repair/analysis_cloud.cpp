@@ -2,8 +2,8 @@
 #include "analysis_cloud.hpp"
 
 #include <algorithm>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 
 namespace graspfill::repair {
@@ -24,9 +24,9 @@ size_t GroupByVoxel(const PointList& points, const Eigen::Vector3f& origin, doub
   };
   for (size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector3f& p = points[i];
-    (*members)[i] = {(cell(p.z(), origin.z()) << 42) | (cell(p.y(), origin.y()) << 21) |
-                         cell(p.x(), origin.x()),
-                     static_cast<int>(i)};
+    (*members)[i] = {
+        (cell(p.z(), origin.z()) << 42) | (cell(p.y(), origin.y()) << 21) | cell(p.x(), origin.x()),
+        static_cast<int>(i)};
   }
   std::sort(members->begin(), members->end(), [](const VoxelMember& a, const VoxelMember& b) {
     return a.key < b.key || (a.key == b.key && a.index < b.index);

@@ -23,8 +23,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "neighbor_index.hpp"
 #include "graspfill/repair/repair_types.hpp"
+#include "neighbor_index.hpp"
 
 namespace graspfill::repair {
 

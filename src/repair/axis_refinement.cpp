@@ -27,8 +27,8 @@ void AxisRefineConfig::Validate() const {
   require(iterations >= 1 && iterations <= 100, "AxisRefineConfig.iterations must be in [1, 100]");
 }
 
-AxisRefinement RefineAxis(const std::vector<Eigen::Vector3f>& normals,
-                          const Eigen::Vector3d& initial_axis, const AxisRefineConfig& config) {
+AxisRefinement RefineAxis(const std::vector<Eigen::Vector3f>& normals, const Eigen::Vector3d& initial_axis,
+                          const AxisRefineConfig& config) {
   config.Validate();
   if (!initial_axis.allFinite() || std::abs(initial_axis.norm() - 1.0) > 1e-6) {
     throw std::invalid_argument("RefineAxis: the initial axis must be a unit vector");
@@ -65,8 +65,8 @@ AxisRefinement RefineAxis(const std::vector<Eigen::Vector3f>& normals,
   result.smallest_share = eigenvalues.sum() > 0.0 ? eigenvalues(0) / eigenvalues.sum() : 1.0;
   const bool straight = result.smallest_share <= config.straight_wall_share;
   if (change > (straight ? config.straight_max_change_rad : config.max_change_rad)) {
-    result.note = "refined axis moved " + std::to_string(change * 180.0 / M_PI) +
-                  " degrees: kept the initial one";
+    result.note =
+        "refined axis moved " + std::to_string(change * 180.0 / M_PI) + " degrees: kept the initial one";
     return result;
   }
   result.axis = axis;
@@ -75,8 +75,7 @@ AxisRefinement RefineAxis(const std::vector<Eigen::Vector3f>& normals,
   return result;
 }
 
-VirtualFrame WithAxis(const VirtualFrame& frame, const Eigen::Vector3d& axis,
-                      const PointList& cloud) {
+VirtualFrame WithAxis(const VirtualFrame& frame, const Eigen::Vector3d& axis, const PointList& cloud) {
   const Eigen::Vector3d z = axis.normalized();
   const Eigen::Vector3d old_x = frame.T_in_V.linear().col(0);
   Eigen::Vector3d x = old_x - z * z.dot(old_x);

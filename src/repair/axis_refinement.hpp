@@ -67,20 +67,19 @@ struct AxisRefinement {
   /// The side normals' smallest scatter eigenvalue over its trace (0 for
   /// walls exactly parallel to the axis).
   double smallest_share{0.0};
-  std::string note;               ///< why not, when !refined
+  std::string note;  ///< why not, when !refined
 };
 
 /// Refines `initial_axis` (unit, input frame) from the cloud's unoriented
 /// unit `normals` (one per point; zero vectors are ignored).
 /// @throws std::invalid_argument on a bad config, mismatched sizes or a
 ///         non-unit initial axis.
-AxisRefinement RefineAxis(const std::vector<Eigen::Vector3f>& normals,
-                          const Eigen::Vector3d& initial_axis, const AxisRefineConfig& config);
+AxisRefinement RefineAxis(const std::vector<Eigen::Vector3f>& normals, const Eigen::Vector3d& initial_axis,
+                          const AxisRefineConfig& config);
 
 /// `frame` turned so that its z is `axis` (unit, input frame): x is the old
 /// x made orthogonal to it, the origin moves along z to the cloud's lowest
 /// point, and the box is recomputed over `cloud` (input frame).
-VirtualFrame WithAxis(const VirtualFrame& frame, const Eigen::Vector3d& axis,
-                      const PointList& cloud);
+VirtualFrame WithAxis(const VirtualFrame& frame, const Eigen::Vector3d& axis, const PointList& cloud);
 
 }  // namespace graspfill::repair

@@ -178,8 +178,8 @@ std::vector<Leg> SignificantLegs(const PointList& points_V, const std::vector<in
 // Two holes whose line climbs from one's side to the other's within
 // 2 x min_side_points positions, peaking at `bridge_level` or higher (the
 // rim's band), are two, split on that peak.
-std::vector<Range> ClawRanges(const std::vector<Leg>& legs, const std::vector<double>& z,
-                              double tol, int min_side_points, double bridge_level) {
+std::vector<Range> ClawRanges(const std::vector<Leg>& legs, const std::vector<double>& z, double tol,
+                              int min_side_points, double bridge_level) {
   const int n = static_cast<int>(z.size());
   std::vector<Range> ranges;
   size_t i = 0;
@@ -247,8 +247,10 @@ std::vector<Range> ClawRanges(const std::vector<Leg>& legs, const std::vector<do
       const int last = std::min(ceiling, r.end + kInterleave);  // fixed: no creeping
       int rim_run = 0;
       for (int k = r.end + 1; k <= last && rim_run < kRimRun; ++k) {
-        if (z[static_cast<size_t>(k)] < level) r.end = k, rim_run = 0;
-        else ++rim_run;
+        if (z[static_cast<size_t>(k)] < level)
+          r.end = k, rim_run = 0;
+        else
+          ++rim_run;
       }
     }
     if (!r.low_start) {
@@ -257,8 +259,10 @@ std::vector<Range> ClawRanges(const std::vector<Leg>& legs, const std::vector<do
       const int first = std::max(floor, r.start - kInterleave);
       int rim_run = 0;
       for (int k = r.start - 1; k >= first && rim_run < kRimRun; --k) {
-        if (z[static_cast<size_t>(k)] < level) r.start = k, rim_run = 0;
-        else ++rim_run;
+        if (z[static_cast<size_t>(k)] < level)
+          r.start = k, rim_run = 0;
+        else
+          ++rim_run;
       }
     }
     // Ranges come in order; one reaching back into the previous merges,
@@ -337,9 +341,7 @@ HoleBoundary MakeBoundary(HoleKind kind, const PointList& points_V, const std::v
 }  // namespace
 
 void ClassifyConfig::Validate() const {
-  auto fail = [](const std::string& what) {
-    throw std::invalid_argument("ClassifyConfig: " + what);
-  };
+  auto fail = [](const std::string& what) { throw std::invalid_argument("ClassifyConfig: " + what); };
   auto positive = [&](double v, const char* name) {
     if (!std::isfinite(v) || v <= 0.0) fail(std::string(name) + " must be finite and > 0");
   };
@@ -368,20 +370,18 @@ std::vector<HoleBoundary> ClassifyBoundaries(const PointList& points_V,
     line.closed = lines[l].closed;
     for (int i : lines[l].indices) {
       if (i < 0 || static_cast<size_t>(i) >= points_V.size()) {
-        throw std::invalid_argument("ClassifyBoundaries: line " + std::to_string(l) +
-                                    " has index " + std::to_string(i) + ", the cloud has " +
-                                    std::to_string(points_V.size()) + " points");
+        throw std::invalid_argument("ClassifyBoundaries: line " + std::to_string(l) + " has index " +
+                                    std::to_string(i) + ", the cloud has " + std::to_string(points_V.size()) +
+                                    " points");
       }
       if (points_V[static_cast<size_t>(i)].allFinite()) line.indices.push_back(i);
     }
-    if (static_cast<int>(line.indices.size()) >= config.min_line_points)
-      valid.push_back(std::move(line));
+    if (static_cast<int>(line.indices.size()) >= config.min_line_points) valid.push_back(std::move(line));
   }
   if (valid.empty()) return {};
   double z_top = -std::numeric_limits<double>::infinity();
   for (const BoundaryLine& line : valid) {
-    for (int i : line.indices)
-      z_top = std::max<double>(z_top, points_V[static_cast<size_t>(i)].z());
+    for (int i : line.indices) z_top = std::max<double>(z_top, points_V[static_cast<size_t>(i)].z());
   }
 
   std::vector<std::vector<int>> rim_pieces;
@@ -417,8 +417,8 @@ std::vector<HoleBoundary> ClassifyBoundaries(const PointList& points_V,
     std::vector<std::vector<int>> pieces;
     for (const Range& r : ranges) {
       if (r.start > next) pieces.emplace_back(seq.begin() + next, seq.begin() + r.start);
-      claws.push_back({std::vector<int>(seq.begin() + r.start, seq.begin() + r.end + 1), false,
-                       r.low_start, r.low_end});
+      claws.push_back(
+          {std::vector<int>(seq.begin() + r.start, seq.begin() + r.end + 1), false, r.low_start, r.low_end});
       next = r.end + 1;
     }
     if (next < static_cast<int>(seq.size())) pieces.emplace_back(seq.begin() + next, seq.end());
@@ -446,8 +446,7 @@ std::vector<HoleBoundary> ClassifyBoundaries(const PointList& points_V,
         if (d <= best_d) best_d = d, best = b;
       }
       if (best == claws.size()) continue;
-      claws[a].indices.insert(claws[a].indices.end(), claws[best].indices.begin(),
-                              claws[best].indices.end());
+      claws[a].indices.insert(claws[a].indices.end(), claws[best].indices.begin(), claws[best].indices.end());
       claws[a].low_end = claws[best].low_end;
       claws.erase(claws.begin() + static_cast<long>(best));
       merged = true;
@@ -457,8 +456,7 @@ std::vector<HoleBoundary> ClassifyBoundaries(const PointList& points_V,
   std::vector<HoleBoundary> out;
   // The missing surface: pieces counter-clockwise, ordered by angle.
   std::vector<int> all_rim;
-  for (const std::vector<int>& piece : rim_pieces)
-    all_rim.insert(all_rim.end(), piece.begin(), piece.end());
+  for (const std::vector<int>& piece : rim_pieces) all_rim.insert(all_rim.end(), piece.begin(), piece.end());
   if (!all_rim.empty()) {
     const Eigen::Vector2d centre = AngleCentre(points_V, all_rim);
     std::vector<std::pair<double, size_t>> order;
@@ -478,8 +476,8 @@ std::vector<HoleBoundary> ClassifyBoundaries(const PointList& points_V,
       const std::vector<int>& piece = rim_pieces[entry.second];
       merged.insert(merged.end(), piece.begin(), piece.end());
     }
-    out.push_back(MakeBoundary(HoleKind::kMissingSurface, points_V, merged,
-                               rim_closed && rim_pieces.size() == 1));
+    out.push_back(
+        MakeBoundary(HoleKind::kMissingSurface, points_V, merged, rim_closed && rim_pieces.size() == 1));
   }
   // The claw holes, by the angle of their centroid.
   std::vector<std::pair<double, size_t>> claw_order;

@@ -78,8 +78,7 @@ double MedianStep(const PointList& points) {
 PointList Segment(const Eigen::Vector3f& a, const Eigen::Vector3f& b, double spacing) {
   PointList out;
   const int n = RoundToInt((b - a).norm() / spacing, 0, std::numeric_limits<int>::max());
-  for (int i = 1; i < n; ++i)
-    out.push_back(a + (b - a) * (static_cast<float>(i) / static_cast<float>(n)));
+  for (int i = 1; i < n; ++i) out.push_back(a + (b - a) * (static_cast<float>(i) / static_cast<float>(n)));
   return out;
 }
 
@@ -135,8 +134,7 @@ Eigen::Vector2d Tangent(const PointList& sorted, size_t end, int step, double wi
   std::vector<Eigen::Vector2d> near;
   for (size_t k = 0; k < n; ++k) {
     const long count = static_cast<long>(n);
-    const long index =
-        ((static_cast<long>(end) + step * static_cast<long>(k)) % count + count) % count;
+    const long index = ((static_cast<long>(end) + step * static_cast<long>(k)) % count + count) % count;
     const Eigen::Vector3f& p = sorted[static_cast<size_t>(index)];
     if ((p - sorted[end]).norm() > window) break;
     near.emplace_back(p.x(), p.y());
@@ -153,8 +151,7 @@ Eigen::Vector2d Tangent(const PointList& sorted, size_t end, int step, double wi
   return eig.eigenvectors().col(1);
 }
 
-std::vector<Gap> FindGaps(const PointList& sorted, const RimCurve& curve, double spacing,
-                          double gap_factor) {
+std::vector<Gap> FindGaps(const PointList& sorted, const RimCurve& curve, double spacing, double gap_factor) {
   const size_t n = sorted.size();
   std::vector<size_t> raw;  // gap after sorted[k]
   for (size_t k = 0; k < n; ++k) {
@@ -217,15 +214,15 @@ double RayToLine(const Eigen::Vector2d& o, const Eigen::Vector2d& u, const Eigen
 // turn only: across a longer one it lies behind the axis, and a ray near
 // the gap's ends meets its line far out (a ball's rim seen over 158
 // degrees got samples 0.3 m away).
-PointList ClampToConvexity(PointList samples, const std::vector<double>& angles,
-                           const std::vector<Gap>& gaps, const RimCurve& curve) {
+PointList ClampToConvexity(PointList samples, const std::vector<double>& angles, const std::vector<Gap>& gaps,
+                           const RimCurve& curve) {
   const Eigen::Vector2d o = curve.axis_xy();
   for (const Gap& gap : gaps) {
     for (size_t s : SamplesInArc(angles, gap.from, gap.length, 0.0, 0.0)) {
       const Eigen::Vector2d u(std::cos(angles[s]), std::sin(angles[s]));
       double r = RadiusAround(samples[s], o);
-      const double r_chord = gap.length < M_PI ? RayToLine(o, u, gap.a, gap.b - gap.a)
-                                                : std::numeric_limits<double>::infinity();
+      const double r_chord =
+          gap.length < M_PI ? RayToLine(o, u, gap.a, gap.b - gap.a) : std::numeric_limits<double>::infinity();
       double r_max = std::numeric_limits<double>::infinity();
       if (gap.dir_a.squaredNorm() > 0) r_max = std::min(r_max, RayToLine(o, u, gap.a, gap.dir_a));
       if (gap.dir_b.squaredNorm() > 0) r_max = std::min(r_max, RayToLine(o, u, gap.b, gap.dir_b));
@@ -251,29 +248,25 @@ bool WithinReach(const PointList& samples, const PointList& points) {
   for (const Eigen::Vector3f& p : points) box.extend(p);
   const Eigen::Vector3f reach = Eigen::Vector3f::Constant(box.sizes().maxCoeff());
   const Eigen::AlignedBox3f near(box.min() - reach, box.max() + reach);
-  return std::all_of(samples.begin(), samples.end(), [&near](const Eigen::Vector3f& p) { return near.contains(p); });
+  return std::all_of(samples.begin(), samples.end(),
+                     [&near](const Eigen::Vector3f& p) { return near.contains(p); });
 }
 
 }  // namespace
 
 void CompletionConfig::Validate() const {
-  auto fail = [](const std::string& what) {
-    throw std::invalid_argument("CompletionConfig: " + what);
-  };
+  auto fail = [](const std::string& what) { throw std::invalid_argument("CompletionConfig: " + what); };
   if (!std::isfinite(spacing_m) || spacing_m < 0.0) fail("spacing_m must be finite and >= 0");
-  if (!std::isfinite(min_spacing_m) || min_spacing_m <= 0.0)
-    fail("min_spacing_m must be finite and > 0");
+  if (!std::isfinite(min_spacing_m) || min_spacing_m <= 0.0) fail("min_spacing_m must be finite and > 0");
   if (!std::isfinite(points_per_control_point) || points_per_control_point <= 0.0) {
     fail("points_per_control_point must be finite and > 0");
   }
   if (min_control_points < 4) fail("min_control_points must be >= 4");
-  if (max_control_points < min_control_points)
-    fail("max_control_points must be >= min_control_points");
+  if (max_control_points < min_control_points) fail("max_control_points must be >= min_control_points");
   if (!std::isfinite(smoothing) || smoothing <= 0.0) fail("smoothing must be finite and > 0");
   if (!std::isfinite(gap_factor) || gap_factor < 1.0) fail("gap_factor must be finite and >= 1");
   if (min_fit_points < 4) fail("min_fit_points must be >= 4");
-  if (!(min_coverage_rad >= 0.0 && min_coverage_rad <= kTwoPi))
-    fail("min_coverage_rad must be in [0, 2 pi]");
+  if (!(min_coverage_rad >= 0.0 && min_coverage_rad <= kTwoPi)) fail("min_coverage_rad must be in [0, 2 pi]");
   if (!std::isfinite(max_below_rim_m) || max_below_rim_m <= 0.0)
     fail("max_below_rim_m must be finite and > 0");
   if (!std::isfinite(max_rim_distance_m) || max_rim_distance_m <= 0.0) {
@@ -340,8 +333,7 @@ std::optional<RimCurve> RimCurve::Fit(const PointList& points_in, const Completi
   if (!fit_plane()) return fail("rim curve: no plane through the points");
   {
     std::vector<double> residual;
-    for (const Eigen::Vector3f& p : points)
-      residual.push_back(p.z() - curve.HeightAt(p.x(), p.y()));
+    for (const Eigen::Vector3f& p : points) residual.push_back(p.z() - curve.HeightAt(p.x(), p.y()));
     std::vector<double> absolute(residual.size());
     for (size_t k = 0; k < residual.size(); ++k) absolute[k] = std::abs(residual[k]);
     std::nth_element(absolute.begin(), absolute.begin() + static_cast<long>(absolute.size() / 2),
@@ -409,8 +401,7 @@ std::optional<RimCurve> RimCurve::Fit(const PointList& points_in, const Completi
   }
   if (zz > 0.0 && std::abs(zr / zz) > kMinWallSlope) {
     const double slope = zr / zz;
-    for (int i = 0; i < n; ++i)
-      radius[static_cast<size_t>(i)] -= slope * dz[static_cast<size_t>(i)];
+    for (int i = 0; i < n; ++i) radius[static_cast<size_t>(i)] -= slope * dz[static_cast<size_t>(i)];
     solve();
   }
   if (!curve.r_.allFinite()) return fail("rim curve: non-finite fit");
@@ -429,8 +420,7 @@ double RimCurve::HeightAt(double x, double y) const {
 Eigen::Vector3f RimCurve::At(double theta) const {
   const double r = Radius(theta);
   const double x = axis_xy_.x() + r * std::cos(theta), y = axis_xy_.y() + r * std::sin(theta);
-  return Eigen::Vector3f(static_cast<float>(x), static_cast<float>(y),
-                         static_cast<float>(HeightAt(x, y)));
+  return Eigen::Vector3f(static_cast<float>(x), static_cast<float>(y), static_cast<float>(HeightAt(x, y)));
 }
 
 double RimCurve::AngleOf(const Eigen::Vector3f& p_V) const {
@@ -442,16 +432,13 @@ PointList RimCurve::Resample(double spacing_m, std::vector<double>* angles) cons
   // Arc length from a dense polyline.
   double r_max = 0.0;
   for (int i = 0; i < r_.size(); ++i) r_max = std::max(r_max, std::abs(r_[i]));
-  const int dense =
-      CeilToInt(kTwoPi * r_max / spacing_m * kDensePerSpacing, kMinDense, kMaxDense);
-  std::vector<double> theta(static_cast<size_t>(dense) + 1),
-      length(static_cast<size_t>(dense) + 1, 0.0);
+  const int dense = CeilToInt(kTwoPi * r_max / spacing_m * kDensePerSpacing, kMinDense, kMaxDense);
+  std::vector<double> theta(static_cast<size_t>(dense) + 1), length(static_cast<size_t>(dense) + 1, 0.0);
   Eigen::Vector3f previous = At(-M_PI);
   for (int i = 0; i <= dense; ++i) {
     theta[static_cast<size_t>(i)] = -M_PI + kTwoPi * i / dense;
     const Eigen::Vector3f p = At(theta[static_cast<size_t>(i)]);
-    if (i > 0)
-      length[static_cast<size_t>(i)] = length[static_cast<size_t>(i) - 1] + (p - previous).norm();
+    if (i > 0) length[static_cast<size_t>(i)] = length[static_cast<size_t>(i) - 1] + (p - previous).norm();
     previous = p;
   }
   const double total = length.back();
@@ -476,9 +463,9 @@ void CompleteBoundaries(std::vector<HoleBoundary>* boundaries, const CompletionC
   config.Validate();
   for (const HoleBoundary& b : *boundaries) {
     if (b.source_indices.size() != b.points_V.size()) {
-      throw std::invalid_argument("CompleteBoundaries: a boundary has " +
-                                  std::to_string(b.points_V.size()) + " points but " +
-                                  std::to_string(b.source_indices.size()) + " source indices");
+      throw std::invalid_argument("CompleteBoundaries: a boundary has " + std::to_string(b.points_V.size()) +
+                                  " points but " + std::to_string(b.source_indices.size()) +
+                                  " source indices");
     }
   }
   HoleBoundary* missing = nullptr;
@@ -493,8 +480,7 @@ void CompleteBoundaries(std::vector<HoleBoundary>* boundaries, const CompletionC
   if (spacing <= 0.0 && missing) spacing = MedianStep(missing->points_V);
   if (spacing <= 0.0) {
     PointList all;
-    for (const HoleBoundary& b : *boundaries)
-      all.insert(all.end(), b.points_V.begin(), b.points_V.end());
+    for (const HoleBoundary& b : *boundaries) all.insert(all.end(), b.points_V.begin(), b.points_V.end());
     spacing = MedianStep(all);
   }
   spacing = std::max(spacing, config.min_spacing_m);
@@ -592,8 +578,7 @@ void CompleteBoundaries(std::vector<HoleBoundary>* boundaries, const CompletionC
     if (counter_clockwise && ccw > M_PI) counter_clockwise = false;
     if (!counter_clockwise && kTwoPi - ccw > M_PI) counter_clockwise = true;
     const double m_last = 0.5 * spacing / std::max(RadiusAround(rim_last, curve->axis_xy()), 1e-6);
-    const double m_first =
-        0.5 * spacing / std::max(RadiusAround(rim_first, curve->axis_xy()), 1e-6);
+    const double m_first = 0.5 * spacing / std::max(RadiusAround(rim_first, curve->axis_xy()), 1e-6);
     std::vector<size_t> arc;
     if (counter_clockwise) {
       arc = SamplesInArc(angles, a_last, ccw, m_last, m_first);

@@ -32,8 +32,7 @@ Eigen::Vector3f PlaneNormal(const PointList& points, const std::vector<int>& nn)
   const auto neighbour = [&](size_t i) -> Eigen::Vector3d {
     return points[static_cast<size_t>(nn[i])].cast<double>();
   };
-  const geometry::PlaneFit fit =
-      geometry::FitPlane(nn.size(), neighbour, geometry::EigenSolve::kClosedForm);
+  const geometry::PlaneFit fit = geometry::FitPlane(nn.size(), neighbour, geometry::EigenSolve::kClosedForm);
   if (!(fit.eigenvalues.sum() > 0.0)) return Eigen::Vector3f::Zero();
   return fit.normal.cast<float>();
 }
@@ -170,8 +169,7 @@ bool HasWideGap(const PointList& points, const std::vector<int>& nn, const Eigen
 
 std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const BoundaryConfig& config,
                                       std::vector<Eigen::Vector3f>* normals,
-                                      std::vector<BoundaryPointInfo>* info,
-                                      const KnnTable* table,
+                                      std::vector<BoundaryPointInfo>* info, const KnnTable* table,
                                       const std::vector<int>* candidates) {
   config.Validate();
   const PointList& points = index.points();
@@ -201,7 +199,8 @@ std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const Boundary
   KnnTable candidate_table;
   if (candidates != nullptr) {
     for (int i : *candidates) {
-      if (i < 0 || static_cast<size_t>(i) >= n) throw std::invalid_argument("DetectBoundaryPoints: candidate out of range");
+      if (i < 0 || static_cast<size_t>(i) >= n)
+        throw std::invalid_argument("DetectBoundaryPoints: candidate out of range");
     }
     if (table == nullptr) candidate_table = index.KnnOf(*candidates, config.k + 1);
   }

@@ -41,8 +41,8 @@
 #include <cmath>
 #include <vector>
 
-#include "neighbor_index.hpp"
 #include "graspfill/repair/repair_types.hpp"
+#include "neighbor_index.hpp"
 
 namespace graspfill::repair {
 

@@ -15,17 +15,14 @@ namespace graspfill::repair {
 
 void LinkConfig::Validate() const {
   if (candidates < 1) {
-    throw std::invalid_argument("LinkConfig: candidates must be >= 1, got " +
-                                std::to_string(candidates));
+    throw std::invalid_argument("LinkConfig: candidates must be >= 1, got " + std::to_string(candidates));
   }
   if (min_points < 3) {
-    throw std::invalid_argument("LinkConfig: min_points must be >= 3, got " +
-                                std::to_string(min_points));
+    throw std::invalid_argument("LinkConfig: min_points must be >= 3, got " + std::to_string(min_points));
   }
   if (!(absorb_factor > 0.0 && absorb_factor < max_link_factor && std::isfinite(max_link_factor))) {
     throw std::invalid_argument("LinkConfig: need 0 < absorb_factor < max_link_factor, got " +
-                                std::to_string(absorb_factor) + " and " +
-                                std::to_string(max_link_factor));
+                                std::to_string(absorb_factor) + " and " + std::to_string(max_link_factor));
   }
   if (!(max_deflection_rad > 0.0 && max_deflection_rad <= M_PI)) {
     throw std::invalid_argument("LinkConfig: max_deflection_rad must be in (0, pi], got " +
@@ -75,8 +72,7 @@ std::vector<float> LocalSpacing(const NeighborIndex& tree, const std::vector<flo
 // Cosine of the deflection angle (Eq. 3) between the direction `dir` the
 // chain arrives with and the link from `from` to `to`; 1 (straight on) for
 // a zero-length link.
-float DeflectionCos(const Eigen::Vector3f& dir, const Eigen::Vector3f& from,
-                    const Eigen::Vector3f& to) {
+float DeflectionCos(const Eigen::Vector3f& dir, const Eigen::Vector3f& from, const Eigen::Vector3f& to) {
   const Eigen::Vector3f next = to - from;
   const float norms = dir.norm() * next.norm();
   return norms > 0.0f ? dir.dot(next) / norms : 1.0f;
@@ -112,8 +108,8 @@ constexpr long kReleaseBudget = 20;
 // The chaining state over the boundary points (indices into `bp`).
 class Linker {
  public:
-  Linker(const NeighborIndex& tree, std::vector<float> spacing,
-         std::vector<Eigen::Vector3f> gap_dirs, const LinkConfig& config)
+  Linker(const NeighborIndex& tree, std::vector<float> spacing, std::vector<Eigen::Vector3f> gap_dirs,
+         const LinkConfig& config)
       : bp_(tree.points()),
         gap_dirs_(std::move(gap_dirs)),
         tree_(tree),
@@ -217,22 +213,18 @@ class Linker {
     tree_.Radius(p2, config_.max_link_factor * local, &nn_, &d2_);
     const bool has_dir = n >= 2;
     const Eigen::Vector3f dir = has_dir ? Direction() : Eigen::Vector3f::Zero();
-    auto cos_to = [&](int q) {
-      return has_dir ? DeflectionCos(dir, p2, bp_[static_cast<size_t>(q)]) : 1.0f;
-    };
+    auto cos_to = [&](int q) { return has_dir ? DeflectionCos(dir, p2, bp_[static_cast<size_t>(q)]) : 1.0f; };
 
     // Closing targets: own points far enough back along the chain. The
     // loop closes onto the earliest one (the longest loop) among those
     // reached within the deflection limit.
     int close_any = -1, close_ok = -1;
     double close_ok_d2 = std::numeric_limits<double>::infinity();
-    const float min_side_loop =
-        kSideLoopReaches * static_cast<float>(config_.max_link_factor) * local;
+    const float min_side_loop = kSideLoopReaches * static_cast<float>(config_.max_link_factor) * local;
     ClosingTargets(cos_to, min_side_loop, &close_any, &close_ok, &close_ok_d2);
 
     double next_d2 = 0.0;
-    const Eigen::Vector3f hand =
-        has_dir ? Eigen::Vector3f(dir.cross(HoleSide())) : Eigen::Vector3f::Zero();
+    const Eigen::Vector3f hand = has_dir ? Eigen::Vector3f(dir.cross(HoleSide())) : Eigen::Vector3f::Zero();
     int next = PickNext(cos_to, cos_max_, p2, hand, &next_d2);
     // Close when the way back is at least as near as the way on: free
     // points left around the start must not lead the chain past it.
@@ -295,8 +287,7 @@ class Linker {
   // than `min_side_loop_m`: coming back near itself after a squiggle in the
   // band at a corner is no loop, a tail joining a rim is.
   template <typename CosTo>
-  void ClosingTargets(const CosTo& cos_to, float min_side_loop_m, int* any, int* ok,
-                      double* ok_d2) const {
+  void ClosingTargets(const CosTo& cos_to, float min_side_loop_m, int* any, int* ok, double* ok_d2) const {
     const int last_pos = static_cast<int>(chain_.size()) - 1;
     *any = -1;
     *ok = -1;
@@ -342,8 +333,8 @@ class Linker {
   // link x gap must agree with it. This stops a chain from turning back on
   // its own band (the hole would switch hands) and closing a bogus loop.
   template <typename CosTo>
-  int PickNext(const CosTo& cos_to, float cos_min, const Eigen::Vector3f& p2,
-               const Eigen::Vector3f& hand, double* next_d2) {
+  int PickNext(const CosTo& cos_to, float cos_min, const Eigen::Vector3f& p2, const Eigen::Vector3f& hand,
+               double* next_d2) {
     free_near_.clear();
     for (size_t q = 0; q < nn_.size(); ++q) {
       if (!consumed_[static_cast<size_t>(nn_[q])]) free_near_.emplace_back(d2_[q], nn_[q]);
@@ -431,8 +422,8 @@ std::vector<BoundaryLine> LinkBoundaryPoints(const PointList& points,
   config.Validate();
   if (info != nullptr && info->size() != boundary_indices.size()) {
     throw std::invalid_argument("LinkBoundaryPoints: " + std::to_string(info->size()) +
-                                " boundary point infos for " +
-                                std::to_string(boundary_indices.size()) + " boundary points");
+                                " boundary point infos for " + std::to_string(boundary_indices.size()) +
+                                " boundary points");
   }
   // Sorted, unique indices (with their gap directions, when given).
   std::vector<std::pair<int, int>> order;  // (point index, position in the input)

@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "clamped_int.hpp"
-#include "geometry/circle_fit.hpp"
 #include "gap_test.hpp"
+#include "geometry/circle_fit.hpp"
 #include "hole_fill.hpp"
 #include "local_surfaces.hpp"
 #include "poisson_surface.hpp"
@@ -63,8 +63,8 @@ void Require(bool ok, const std::string& message) {
 // The support points in front of the cloud's centroid along n: on a convex
 // object they form one sheet over the plane (the far side of a narrow top,
 // or of a small object, would fold the height field).
-std::vector<int> FrontOf(const PointList& points, const std::vector<int>& support,
-                         const Eigen::Vector3d& n, const Eigen::Vector3f& centroid) {
+std::vector<int> FrontOf(const PointList& points, const std::vector<int>& support, const Eigen::Vector3d& n,
+                         const Eigen::Vector3f& centroid) {
   std::vector<int> front;
   for (int i : support) {
     if ((points[i] - centroid).cast<double>().dot(n) > 0.0) front.push_back(i);
@@ -88,8 +88,8 @@ struct Sheets {
 };
 
 bool FitSheets(const NeighborIndex& index, const std::vector<int>& support, const PointList& rim,
-               const HoleFrame& frame, const Eigen::Vector3f& centroid,
-               const ClawRepairConfig& config, double d, Sheets* out) {
+               const HoleFrame& frame, const Eigen::Vector3f& centroid, const ClawRepairConfig& config,
+               double d, Sheets* out) {
   const PointList& points = index.points();
   const double floor = 0.05 * d;
   const int max_outliers = static_cast<int>(0.1 * static_cast<double>(rim.size()));
@@ -113,9 +113,9 @@ bool FitSheets(const NeighborIndex& index, const std::vector<int>& support, cons
   // 1. One sheet over the rim's plane: a tenth of the spacing off the
   // points is as good as the data (flat faces, cylinders): done.
   HeightField sheet;
-  const bool sheet_fits = FitHeightField(points, front, frame, config.polynomial_degree,
-                                         config.irls_iterations, floor, &sheet) &&
-                          sheet.sigma_m <= config.max_fit_sigma_m;
+  const bool sheet_fits =
+      FitHeightField(points, front, frame, config.polynomial_degree, config.irls_iterations, floor, &sheet) &&
+      sheet.sigma_m <= config.max_fit_sigma_m;
   const auto sheet_distance = [&](const Eigen::Vector3d& p) { return sheet.Above(p); };
   const bool sheet_ok = sheet_fits && rim_ok(sheet_distance, tol(sheet.sigma_m));
   if (sheet_ok && sheet.sigma_m <= 0.1 * d) {
@@ -135,8 +135,7 @@ bool FitSheets(const NeighborIndex& index, const std::vector<int>& support, cons
       w[k] = std::abs(sheet.Above(points[probe[k]].cast<double>())) <= tol_sheet ? 1.0 : 0.0;
     }
     Quadric quadric;
-    if (FitQuadric(points, probe, w, config.irls_iterations, floor, &quadric) &&
-        !quadric.IsPlanePair()) {
+    if (FitQuadric(points, probe, w, config.irls_iterations, floor, &quadric) && !quadric.IsPlanePair()) {
       const auto distance = [&](const Eigen::Vector3d& p) { return quadric.Distance(p); };
       const double sigma = sigma_of(distance);
       if (sigma < 0.5 * best && rim_ok(distance, tol(quadric.sigma_m))) {
@@ -197,14 +196,13 @@ bool FitSheets(const NeighborIndex& index, const std::vector<int>& support, cons
   HeightField a, b;
   const int min_points = 3 * HeightField::NumTerms(config.polynomial_degree);
   const Eigen::Vector3d c = centroid.cast<double>();
-  if (static_cast<int>(group_a.size()) >= min_points &&
-      static_cast<int>(group_b.size()) >= min_points &&
+  if (static_cast<int>(group_a.size()) >= min_points && static_cast<int>(group_b.size()) >= min_points &&
       FitHeightField(points, group_a, FrameFromPlane(pts_a, centroid), config.polynomial_degree,
                      config.irls_iterations, floor, &a) &&
       FitHeightField(points, group_b, FrameFromPlane(pts_b, centroid), config.polynomial_degree,
                      config.irls_iterations, floor, &b) &&
-      a.sigma_m <= config.max_fit_sigma_m && b.sigma_m <= config.max_fit_sigma_m &&
-      a.Above(c) < 0.0 && b.Above(c) < 0.0) {  // convex edge only
+      a.sigma_m <= config.max_fit_sigma_m && b.sigma_m <= config.max_fit_sigma_m && a.Above(c) < 0.0 &&
+      b.Above(c) < 0.0) {  // convex edge only
     const double ta = tol(a.sigma_m), tb = tol(b.sigma_m);
     const auto distance = [&](const Eigen::Vector3d& p) {
       return std::min(std::abs(a.Above(p)), std::abs(b.Above(p)));
@@ -277,7 +275,8 @@ class ObservedOutlines {
         sum_r2 += static_cast<double>(r) * r;
       }
       const double mean = sum_r / static_cast<double>(slab.size());
-      roundness_rms_[s] = static_cast<float>(std::sqrt(std::max(0.0, sum_r2 / static_cast<double>(slab.size()) - mean * mean)));
+      roundness_rms_[s] = static_cast<float>(
+          std::sqrt(std::max(0.0, sum_r2 / static_cast<double>(slab.size()) - mean * mean)));
     }
   }
   // Deeper than `depth_m` inside the outline at p's height; false where
@@ -302,7 +301,8 @@ class ObservedOutlines {
     const int k = profile_.SlabOf(p.z());
     if (k < 0 || static_cast<int>(profile_.Indices(k).size()) < kMinPoints) return false;
     const size_t s = static_cast<size_t>(k);
-    return roundness_rms_[s] <= margin_m / (2.0 * M_SQRT2) && (p.head<2>() - centres_[s]).norm() > widest_[s] + margin_m;
+    return roundness_rms_[s] <= margin_m / (2.0 * M_SQRT2) &&
+           (p.head<2>() - centres_[s]).norm() > widest_[s] + margin_m;
   }
 
  private:
@@ -341,8 +341,7 @@ void ClawRepairConfig::Validate() const {
   Require(max_inside_top_rim_m >= 0.0 && std::isfinite(max_inside_top_rim_m),
           p + "max_inside_top_rim_m must be >= 0");
   Require(max_support_share > 0.0 && max_support_share <= 1.0, p + "max_support_share must be in (0, 1]");
-  Require(polynomial_degree >= 1 && polynomial_degree <= 5,
-          p + "polynomial_degree must be in [1, 5]");
+  Require(polynomial_degree >= 1 && polynomial_degree <= 5, p + "polynomial_degree must be in [1, 5]");
   Require(max_fit_sigma_m > 0.0, p + "max_fit_sigma_m must be > 0");
   Require(irls_iterations >= 3 && irls_iterations <= 100, p + "irls_iterations must be in [3, 100]");
   Require(poisson_depth >= 2 && poisson_depth <= 12, p + "poisson_depth must be in [2, 12]");
@@ -383,8 +382,7 @@ size_t DropFillsOnTheTop(const PointList& rim_V, double max_inside_m, PointList*
 }
 
 PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBoundary>& claw_holes,
-                          const ClawRepairConfig& config,
-                          const std::vector<Eigen::Vector3f>* normals_V,
+                          const ClawRepairConfig& config, const std::vector<Eigen::Vector3f>* normals_V,
                           const NeighborIndex* index_V, std::vector<size_t>* holes_left_open) {
   config.Validate();
   CheckInputs(points_V, normals_V, index_V, "RepairClawHoles");
@@ -448,7 +446,8 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
       if (support_box.contains(points_V[i])) support.push_back(static_cast<int>(i));
     }
     if (static_cast<int>(support.size()) < config.min_support_points) continue;
-    if (static_cast<double>(support.size()) > config.max_support_share * static_cast<double>(points_V.size())) {
+    if (static_cast<double>(support.size()) >
+        config.max_support_share * static_cast<double>(points_V.size())) {
       if (holes_left_open != nullptr) holes_left_open->push_back(hole_index[h]);
       continue;
     }
@@ -498,13 +497,12 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
       const auto region_of = [&](const HoleFrame& f) {
         return RimRegion(rim, f, pad, region.z_lo, region.z_hi);
       };
-      SampleHeightField(sheets.a, region_of(sheets.a.frame), density,
-                        sheets.two ? &sheets.b : nullptr, clip_tol,
-                        sheets.use_quadric ? &sheets.quadric : nullptr, max_snap, &rng, &gap,
+      SampleHeightField(sheets.a, region_of(sheets.a.frame), density, sheets.two ? &sheets.b : nullptr,
+                        clip_tol, sheets.use_quadric ? &sheets.quadric : nullptr, max_snap, &rng, &gap,
                         &fill);
       if (sheets.two) {
-        SampleHeightField(sheets.b, region_of(sheets.b.frame), density, &sheets.a, clip_tol,
-                          nullptr, 0.0, &rng, &gap, &fill);
+        SampleHeightField(sheets.b, region_of(sheets.b.frame), density, &sheets.a, clip_tol, nullptr, 0.0,
+                          &rng, &gap, &fill);
       }
       filled = true;
     }
@@ -512,8 +510,8 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
     if (!filled && config.surface == ClawSurface::kLocalFit &&
         FitThinPlate(index, support, frame, centroid, d, kThinPlateCentres, &smooth)) {
       smooth.w_pad = 2.0 * d + bulge_m;  // past the support's heights: the bulge
-      SampleHeightField(smooth, region, density, nullptr, 0.0,
-                        smooth.use_quadric ? &smooth.quadric : nullptr, max_snap, &rng, &gap, &fill);
+      SampleHeightField(smooth, region, density, nullptr, 0.0, smooth.use_quadric ? &smooth.quadric : nullptr,
+                        max_snap, &rng, &gap, &fill);
       filled = true;
     }
     if (!filled && config.surface == ClawSurface::kLocalFit && !config.poisson_fallback) {
@@ -564,8 +562,10 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
     }
     for (const Eigen::Vector3f& p : fill) {
       if (!by_object.contains(p)) continue;
-      if (tested && config.max_inside_outline_m > 0.0 && outlines->Inside(p, config.max_inside_outline_m)) continue;
-      if (tested && config.max_outside_widest_m > 0.0 && outlines->BeyondWidest(p, config.max_outside_widest_m)) {
+      if (tested && config.max_inside_outline_m > 0.0 && outlines->Inside(p, config.max_inside_outline_m))
+        continue;
+      if (tested && config.max_outside_widest_m > 0.0 &&
+          outlines->BeyondWidest(p, config.max_outside_widest_m)) {
         continue;
       }
       earlier->Add(p);

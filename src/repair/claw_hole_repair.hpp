@@ -25,8 +25,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "neighbor_index.hpp"
 #include "graspfill/repair/repair_types.hpp"
+#include "neighbor_index.hpp"
 
 namespace graspfill::repair {
 
@@ -200,8 +200,7 @@ struct ClawRepairConfig {
 /// @return the new points in V, hole after hole (empty if no holes).
 /// @throws std::invalid_argument on a bad config, non-finite coordinates,
 ///         normals of the wrong size or an index over another cloud.
-PointList RepairClawHoles(const PointList& points_V,
-                          const std::vector<HoleBoundary>& claw_holes,
+PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBoundary>& claw_holes,
                           const ClawRepairConfig& config,
                           const std::vector<Eigen::Vector3f>* normals_V = nullptr,
                           const NeighborIndex* index_V = nullptr,

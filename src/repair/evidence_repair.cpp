@@ -9,8 +9,8 @@
 
 #include "clamped_int.hpp"
 #include "geometry/polygon_2d.hpp"
-#include "neighbor_index.hpp"
 #include "local_surfaces.hpp"
+#include "neighbor_index.hpp"
 
 namespace graspfill::repair {
 namespace {
@@ -164,7 +164,8 @@ void FindTopHeight(const Ring& ring, float z_wall, const evidence::VisibilityRec
   const auto free_share = [&](double z) {
     int n = 0;
     size_t first_key_frame = 0;  // neighbours along the ring are mostly carved by the same key frame
-    for (const Eigen::Vector2d& r : ring) n += record.SeenFree(T_in_V * At(r, z), 0.0f, false, &first_key_frame);
+    for (const Eigen::Vector2d& r : ring)
+      n += record.SeenFree(T_in_V * At(r, z), 0.0f, false, &first_key_frame);
     return static_cast<double>(n) / static_cast<double>(ring.size());
   };
   // The baseline comes from well below the highest point and the search
@@ -204,7 +205,8 @@ void FindTopHeight(const Ring& ring, float z_wall, const evidence::VisibilityRec
 
 void EvidenceConfig::Validate() const {
   auto share = [](double v, const char* name) {
-    if (!(v >= 0.0 && v <= 1.0)) throw std::invalid_argument(std::string("EvidenceConfig: ") + name + " must be in [0, 1]");
+    if (!(v >= 0.0 && v <= 1.0))
+      throw std::invalid_argument(std::string("EvidenceConfig: ") + name + " must be in [0, 1]");
   };
   share(max_observed_free_share, "max_observed_free_share");
   share(max_mirror_free_share, "max_mirror_free_share");
@@ -212,8 +214,10 @@ void EvidenceConfig::Validate() const {
     throw std::invalid_argument("EvidenceConfig: max_outline_mismatch must be in [0, 10]");
   }
   share(top_free_jump, "top_free_jump");
-  if (!(phantom_m >= 0.0 && phantom_m < 0.05)) throw std::invalid_argument("EvidenceConfig: phantom_m must be in [0, 0.05) m");
-  if (!(top_band_m > 0.0 && top_band_m < 0.1)) throw std::invalid_argument("EvidenceConfig: top_band_m must be in (0, 0.1) m");
+  if (!(phantom_m >= 0.0 && phantom_m < 0.05))
+    throw std::invalid_argument("EvidenceConfig: phantom_m must be in [0, 0.05) m");
+  if (!(top_band_m > 0.0 && top_band_m < 0.1))
+    throw std::invalid_argument("EvidenceConfig: top_band_m must be in (0, 0.1) m");
   if (!(top_step_m > 0.0 && top_step_m <= top_band_m)) {
     throw std::invalid_argument("EvidenceConfig: top_step_m must be in (0, top_band_m]");
   }
@@ -224,15 +228,20 @@ void EvidenceConfig::Validate() const {
     throw std::invalid_argument("EvidenceConfig: top_search_m must be in [top_step_m, 0.5) m");
   }
   share(min_flat_area_ratio, "min_flat_area_ratio");
-  if (!(taper_drop_m > 0.0 && taper_drop_m < 0.2)) throw std::invalid_argument("EvidenceConfig: taper_drop_m must be in (0, 0.2) m");
-  if (!(dome_support_m >= 0.0 && dome_support_m < 0.2)) throw std::invalid_argument("EvidenceConfig: dome_support_m must be in [0, 0.2) m");
-  if (!(mirror_low_m >= 0.0 && mirror_low_m < 0.1)) throw std::invalid_argument("EvidenceConfig: mirror_low_m must be in [0, 0.1) m");
+  if (!(taper_drop_m > 0.0 && taper_drop_m < 0.2))
+    throw std::invalid_argument("EvidenceConfig: taper_drop_m must be in (0, 0.2) m");
+  if (!(dome_support_m >= 0.0 && dome_support_m < 0.2))
+    throw std::invalid_argument("EvidenceConfig: dome_support_m must be in [0, 0.2) m");
+  if (!(mirror_low_m >= 0.0 && mirror_low_m < 0.1))
+    throw std::invalid_argument("EvidenceConfig: mirror_low_m must be in [0, 0.1) m");
   share(max_cap_free_share, "max_cap_free_share");
-  if (!(carve_onset_m >= 0.0 && carve_onset_m < 0.01)) throw std::invalid_argument("EvidenceConfig: carve_onset_m must be in [0, 0.01) m");
+  if (!(carve_onset_m >= 0.0 && carve_onset_m < 0.01))
+    throw std::invalid_argument("EvidenceConfig: carve_onset_m must be in [0, 0.01) m");
   if (!(max_mirror_lift_m >= 0.0 && max_mirror_lift_m < 0.05)) {
     throw std::invalid_argument("EvidenceConfig: max_mirror_lift_m must be in [0, 0.05) m");
   }
-  if (!(ring_trust_m >= 0.0 && ring_trust_m < 0.05)) throw std::invalid_argument("EvidenceConfig: ring_trust_m must be in [0, 0.05) m");
+  if (!(ring_trust_m >= 0.0 && ring_trust_m < 0.05))
+    throw std::invalid_argument("EvidenceConfig: ring_trust_m must be in [0, 0.05) m");
   if (min_cap_points < 1) throw std::invalid_argument("EvidenceConfig: min_cap_points must be >= 1");
   if (!(near_observed_m >= 0.0 && near_observed_m < 0.05)) {
     throw std::invalid_argument("EvidenceConfig: near_observed_m must be in [0, 0.05) m");
@@ -244,11 +253,16 @@ void EvidenceConfig::Validate() const {
 
 std::string TopEvidenceName(TopEvidence outcome) {
   switch (outcome) {
-    case TopEvidence::kHeightFound: return "height found";
-    case TopEvidence::kNotObservable: return "not observable";
-    case TopEvidence::kNoOutline: return "no outline";
-    case TopEvidence::kTapered: return "tapered top";
-    case TopEvidence::kDome: return "dome";
+    case TopEvidence::kHeightFound:
+      return "height found";
+    case TopEvidence::kNotObservable:
+      return "not observable";
+    case TopEvidence::kNoOutline:
+      return "no outline";
+    case TopEvidence::kTapered:
+      return "tapered top";
+    case TopEvidence::kDome:
+      return "dome";
   }
   return "no outline";
 }
@@ -330,8 +344,7 @@ float StretchImageTop(const ImageTop& top, float cap_z_V, const EvidenceConfig& 
 }
 
 double MirrorLiftFromCarving(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
-                             const Eigen::Isometry3f& T_in_V, const ImageTop& top,
-                             const PointList& image_V) {
+                             const Eigen::Isometry3f& T_in_V, const ImageTop& top, const PointList& image_V) {
   constexpr double kNoAnswer = std::numeric_limits<double>::quiet_NaN();
   if (top.layer_points < config.min_cap_points) return kNoAnswer;
   // The top layer, evenly thinned: a few hundred points tell a share of 1%.
@@ -407,9 +420,8 @@ int DropInsideClaw(const evidence::VisibilityRecord& record, const Eigen::Isomet
 }
 
 EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointList& fills_V,
-                                 const evidence::VisibilityRecord& record,
-                                 const Eigen::Isometry3f& T_in_V, double spacing_m,
-                                 const EvidenceConfig& config) {
+                                 const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
+                                 double spacing_m, const EvidenceConfig& config) {
   config.Validate();
   const PointList& points_V = observed_V.points();
   EvidenceTop top;
@@ -440,7 +452,8 @@ EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointLis
       const PointList dome = DomeCandidates(points_V, z_wall, spacing_m, config);
       if (!dome.empty()) {
         top.outcome = TopEvidence::kDome;
-        top.added_V = KeepNewAndUnseen(dome, observed_V, fills_index, spacing_m, record, T_in_V, &top.rejected_free);
+        top.added_V =
+            KeepNewAndUnseen(dome, observed_V, fills_index, spacing_m, record, T_in_V, &top.rejected_free);
       }
     }
     return top;
@@ -463,7 +476,8 @@ EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointLis
       if (geometry::InsideConvex(hull, {x, y})) candidates.push_back(At({x, y}, top.top_z_V));
     }
   }
-  top.added_V = KeepNewAndUnseen(candidates, observed_V, fills_index, spacing_m, record, T_in_V, &top.rejected_free);
+  top.added_V =
+      KeepNewAndUnseen(candidates, observed_V, fills_index, spacing_m, record, T_in_V, &top.rejected_free);
   return top;
 }
 

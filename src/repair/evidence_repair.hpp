@@ -22,8 +22,8 @@
 #include <vector>
 
 #include "graspfill/evidence/visibility_record.hpp"
-#include "neighbor_index.hpp"
 #include "graspfill/repair/repair_types.hpp"
+#include "neighbor_index.hpp"
 
 namespace graspfill::repair {
 
@@ -129,11 +129,11 @@ struct EvidenceConfig {
 
 /// How the evidence top came out.
 enum class TopEvidence {
-  kHeightFound,     ///< a carved ring above the wall fixed the height
-  kNotObservable,   ///< no ring was carved: closed at the highest wall
-  kNoOutline,       ///< too few points near the top for an outline
-  kTapered,         ///< the walls close in towards the top: no flat cap
-  kDome,            ///< tapered, closed by a dome fitted to the top band
+  kHeightFound,    ///< a carved ring above the wall fixed the height
+  kNotObservable,  ///< no ring was carved: closed at the highest wall
+  kNoOutline,      ///< too few points near the top for an outline
+  kTapered,        ///< the walls close in towards the top: no flat cap
+  kDome,           ///< tapered, closed by a dome fitted to the top band
 };
 
 struct EvidenceTop {
@@ -149,7 +149,7 @@ struct EvidenceTop {
   /// The vertices that describe the top band's hull (a flat top's
   /// outline) to within a spacing.
   int outline_vertices{0};
-  int rejected_free{0};      ///< candidates dropped as seen free
+  int rejected_free{0};  ///< candidates dropped as seen free
 };
 
 /// Lowers a mirror image (`added_V`, made about the plane z = plane_z_V)
@@ -187,8 +187,7 @@ float StretchImageTop(const ImageTop& top, float cap_z_V, const EvidenceConfig& 
 /// test cannot tell: fewer than min_cap_points in the layer, or no lift up
 /// to max_mirror_lift_m carved.
 double MirrorLiftFromCarving(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
-                             const Eigen::Isometry3f& T_in_V, const ImageTop& top,
-                             const PointList& image_V);
+                             const Eigen::Isometry3f& T_in_V, const ImageTop& top, const PointList& image_V);
 
 /// Share of `points_V` the record sees free (0 for an empty list), of
 /// those not flagged in `uncounted` (one flag per point) if given.
@@ -198,8 +197,7 @@ double SeenFreeShare(const evidence::VisibilityRecord& record, const PointList& 
 /// Removes the points the record sees free; returns how many. Only
 /// those above `above_z_V` are tested (the others passed before).
 int DropSeenFree(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                 PointList* points_V,
-                 float above_z_V = -std::numeric_limits<float>::infinity());
+                 PointList* points_V, float above_z_V = -std::numeric_limits<float>::infinity());
 
 /// Moves each point inside the record's claw to where the ray from it
 /// towards V's axis leaves the claw: a fill that bulged into a finger lands
@@ -210,8 +208,7 @@ int PushOutOfClaw(const evidence::VisibilityRecord& record, const Eigen::Isometr
 /// Removes the points inside the record's claw; returns how many. Only
 /// those above `above_z_V` are tested (the others passed before).
 int DropInsideClaw(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                   PointList* points_V,
-                   float above_z_V = -std::numeric_limits<float>::infinity());
+                   PointList* points_V, float above_z_V = -std::numeric_limits<float>::infinity());
 
 /// Closes the top of the cloud (`observed_V`'s points: observed, +z up in
 /// V) at the height the evidence gives: a wall band on the top outline from
@@ -219,9 +216,8 @@ int DropInsideClaw(const evidence::VisibilityRecord& record, const Eigen::Isomet
 /// at `spacing_m`, skipping places within 0.75 spacing of the cloud or of
 /// `fills_V` (earlier fills) and any point the record sees free.
 EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointList& fills_V,
-                                 const evidence::VisibilityRecord& record,
-                                 const Eigen::Isometry3f& T_in_V, double spacing_m,
-                                 const EvidenceConfig& config);
+                                 const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
+                                 double spacing_m, const EvidenceConfig& config);
 
 /// "height found", "not observable", "no outline", "tapered top", "dome".
 std::string TopEvidenceName(TopEvidence outcome);

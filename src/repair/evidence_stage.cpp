@@ -84,7 +84,8 @@ EvidenceTopPoints ApplyEvidence(const evidence::VisibilityRecord& record, const 
     report->mirror_free_share = SeenFreeShare(record, m, T_in_V, &beside);
     const bool any_counted = std::find(beside.begin(), beside.end(), 0) != beside.end();
     const double drop =
-        any_counted ? LowerMirrorOutOfFree(record, config, T_in_V, symmetry->box_min_V.z(), &m, &beside) : 0.0;
+        any_counted ? LowerMirrorOutOfFree(record, config, T_in_V, symmetry->box_min_V.z(), &m, &beside)
+                    : 0.0;
     if (drop > 0.0) {
       report->mirror_plane_drop_m = drop;
       report->mirror_free_share = SeenFreeShare(record, m, T_in_V, &beside);

@@ -9,8 +9,8 @@
 #include <Eigen/Geometry>
 #include <limits>
 
-#include "graspfill/evidence/visibility_record.hpp"
 #include "evidence_repair.hpp"
+#include "graspfill/evidence/visibility_record.hpp"
 #include "neighbor_index.hpp"
 #include "repair_steps.hpp"
 #include "symmetry_repair.hpp"
@@ -31,8 +31,8 @@ struct EvidenceTopPoints {
   PointList points_V;
   TopEvidence outcome{TopEvidence::kNoOutline};
   int rejected{0};
-  PointList extrusion_V;     ///< not yet tested against the claw
-  int extrusion_rejected{0};  ///< seen free
+  PointList extrusion_V;                                            ///< not yet tested against the claw
+  int extrusion_rejected{0};                                        ///< seen free
   double extrusion_rms_m{std::numeric_limits<double>::infinity()};  ///< EvidenceTop's
   int outline_vertices{0};                                          ///< EvidenceTop's
 };

@@ -6,9 +6,8 @@
 
 namespace graspfill::repair::fill {
 
-void GapTest::BuildGrid(const HoleFrame& frame, const Eigen::Vector2d& lo,
-                        const Eigen::Vector2d& hi, const std::vector<int>& near,
-                        const Box& covered, const PointList& earlier_fill) {
+void GapTest::BuildGrid(const HoleFrame& frame, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi,
+                        const std::vector<int>& near, const Box& covered, const PointList& earlier_fill) {
   frame_ = nullptr;
   const Eigen::Vector2d pad = Eigen::Vector2d::Constant(gap_m_);
   grid_ = geometry::GapGrid(lo - pad, hi + pad, gap_m_);

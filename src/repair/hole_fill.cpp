@@ -46,8 +46,7 @@ uint64_t MixSeed(uint64_t seed, uint64_t stream) {
   return x ^ (x >> 31);
 }
 
-Spacing EstimateSpacing(const NeighborIndex& index, const std::vector<int>& subset,
-                        size_t max_queries) {
+Spacing EstimateSpacing(const NeighborIndex& index, const std::vector<int>& subset, size_t max_queries) {
   constexpr int kK = 8;
   Spacing out;
   if (subset.empty()) return out;
@@ -69,9 +68,8 @@ Spacing EstimateSpacing(const NeighborIndex& index, const std::vector<int>& subs
   return out;
 }
 
-std::vector<Eigen::Vector3f> EstimateNormals(const NeighborIndex& index,
-                                             const std::vector<int>& subset, int k,
-                                             const Eigen::Vector3f& centre) {
+std::vector<Eigen::Vector3f> EstimateNormals(const NeighborIndex& index, const std::vector<int>& subset,
+                                             int k, const Eigen::Vector3f& centre) {
   const PointList& points = index.points();
   std::vector<Eigen::Vector3f> normals(subset.size());
   // One batch: the same neighbours as a query each, for less.
@@ -109,8 +107,8 @@ Eigen::Vector3f Centroid(const PointList& points) {
   return (sum / static_cast<double>(std::max<size_t>(1, points.size()))).cast<float>();
 }
 
-HoleFrame MakeHoleFrame(const PointList& rim, const PointList& points,
-                        const std::vector<int>& support, const Eigen::Vector3d& outward_hint) {
+HoleFrame MakeHoleFrame(const PointList& rim, const PointList& points, const std::vector<int>& support,
+                        const Eigen::Vector3d& outward_hint) {
   constexpr geometry::EigenSolve kSolve = geometry::EigenSolve::kClosedForm;
   const auto rim_point = [&](size_t i) -> Eigen::Vector3d { return rim[i].cast<double>(); };
   geometry::PlaneFit plane = geometry::FitPlane(rim.size(), rim_point, kSolve);
@@ -131,9 +129,9 @@ HoleFrame MakeHoleFrame(const PointList& rim, const PointList& points,
 }
 
 HoleFrame FrameFromPlane(const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3f& centroid) {
-  const geometry::PlaneFit plane =
-      geometry::FitPlane(pts.size(), [&](size_t i) -> const Eigen::Vector3d& { return pts[i]; },
-                         geometry::EigenSolve::kClosedForm);
+  const geometry::PlaneFit plane = geometry::FitPlane(
+      pts.size(), [&](size_t i) -> const Eigen::Vector3d& { return pts[i]; },
+      geometry::EigenSolve::kClosedForm);
   HoleFrame f;
   f.n = plane.normal;
   f.origin = plane.mean;
@@ -145,8 +143,7 @@ HoleFrame FrameFromPlane(const std::vector<Eigen::Vector3d>& pts, const Eigen::V
   return f;
 }
 
-FillRegion RimRegion(const PointList& rim, const HoleFrame& f, double pad, double z_lo,
-                     double z_hi) {
+FillRegion RimRegion(const PointList& rim, const HoleFrame& f, double pad, double z_lo, double z_hi) {
   FillRegion r;
   r.lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   r.hi = -r.lo;

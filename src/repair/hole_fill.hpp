@@ -11,8 +11,8 @@
 #include <random>
 #include <vector>
 
-#include "neighbor_index.hpp"
 #include "graspfill/repair/repair_types.hpp"
+#include "neighbor_index.hpp"
 
 namespace graspfill::repair::fill {
 
@@ -49,16 +49,14 @@ struct Spacing {
   double density_per_m2{0.0};
 };
 
-Spacing EstimateSpacing(const NeighborIndex& index, const std::vector<int>& subset,
-                        size_t max_queries);
+Spacing EstimateSpacing(const NeighborIndex& index, const std::vector<int>& subset, size_t max_queries);
 
 // PCA normals of `subset` (distinct indices; knn over the whole cloud),
 // oriented away from `centre`: right for the convex-ish objects a claw
 // holds, and cheap, where Open3D's consistent tangent-plane orientation
 // takes seconds.
-std::vector<Eigen::Vector3f> EstimateNormals(const NeighborIndex& index,
-                                             const std::vector<int>& subset, int k,
-                                             const Eigen::Vector3f& centre);
+std::vector<Eigen::Vector3f> EstimateNormals(const NeighborIndex& index, const std::vector<int>& subset,
+                                             int k, const Eigen::Vector3f& centre);
 
 /// Median of `values` (the upper one of an even count); 0 when empty.
 double Median(std::vector<double> values);
@@ -77,20 +75,17 @@ Eigen::Vector3f Centroid(const PointList& points);
 // its own face.
 struct HoleFrame {
   Eigen::Vector3d origin{Eigen::Vector3d::Zero()};
-  Eigen::Vector3d e1{Eigen::Vector3d::UnitX()}, e2{Eigen::Vector3d::UnitY()},
-      n{Eigen::Vector3d::UnitZ()};
+  Eigen::Vector3d e1{Eigen::Vector3d::UnitX()}, e2{Eigen::Vector3d::UnitY()}, n{Eigen::Vector3d::UnitZ()};
 
   Eigen::Vector3d Local(const Eigen::Vector3d& p) const {
     const Eigen::Vector3d d = p - origin;
     return {d.dot(e1), d.dot(e2), d.dot(n)};
   }
-  Eigen::Vector3d World(double u, double v, double w) const {
-    return origin + u * e1 + v * e2 + w * n;
-  }
+  Eigen::Vector3d World(double u, double v, double w) const { return origin + u * e1 + v * e2 + w * n; }
 };
 
-HoleFrame MakeHoleFrame(const PointList& rim, const PointList& points,
-                        const std::vector<int>& support, const Eigen::Vector3d& outward_hint);
+HoleFrame MakeHoleFrame(const PointList& rim, const PointList& points, const std::vector<int>& support,
+                        const Eigen::Vector3d& outward_hint);
 
 // The plane of `pts` as a hole frame: n away from `centroid`, v along
 // z projected on the plane.
@@ -116,7 +111,6 @@ struct FillRegion {
 
 // The rim's box in f's local coordinates, padded by `pad` in u and v, with
 // V's z range [z_lo, z_hi].
-FillRegion RimRegion(const PointList& rim, const HoleFrame& f, double pad, double z_lo,
-                     double z_hi);
+FillRegion RimRegion(const PointList& rim, const HoleFrame& f, double pad, double z_lo, double z_hi);
 
 }  // namespace graspfill::repair::fill

@@ -31,12 +31,18 @@ void IncrementalConfig::Validate() const {
 
 const char* RebaseReasonName(RebaseReason reason) {
   switch (reason) {
-    case RebaseReason::kNone: return "none";
-    case RebaseReason::kNoBase: return "no base";
-    case RebaseReason::kOtherGrasp: return "other grasp";
-    case RebaseReason::kNewSurface: return "new surface";
-    case RebaseReason::kAddedDropped: return "added points dropped";
-    case RebaseReason::kNewEvidence: return "new key frames";
+    case RebaseReason::kNone:
+      return "none";
+    case RebaseReason::kNoBase:
+      return "no base";
+    case RebaseReason::kOtherGrasp:
+      return "other grasp";
+    case RebaseReason::kNewSurface:
+      return "new surface";
+    case RebaseReason::kAddedDropped:
+      return "added points dropped";
+    case RebaseReason::kNewEvidence:
+      return "new key frames";
   }
   return "none";
 }
@@ -45,8 +51,7 @@ IncrementalRepair::IncrementalRepair(const IncrementalConfig& config) : config_(
   config_.Validate();
 }
 
-void IncrementalRepair::Rebase(const ObjectCloud& repaired,
-                               const evidence::VisibilityRecord* record) {
+void IncrementalRepair::Rebase(const ObjectCloud& repaired, const evidence::VisibilityRecord* record) {
   has_base_ = false;
   const bool has_normals = repaired.normals_G.size() == repaired.size();
   const bool has_confidence = repaired.confidence.size() == repaired.size();
@@ -85,8 +90,8 @@ void IncrementalRepair::Rebase(const ObjectCloud& repaired,
   has_base_ = true;
 }
 
-UpdateReport IncrementalRepair::Update(const ObjectCloud& fused,
-                                       const evidence::VisibilityRecord* record, ObjectCloud* out) {
+UpdateReport IncrementalRepair::Update(const ObjectCloud& fused, const evidence::VisibilityRecord* record,
+                                       ObjectCloud* out) {
   UpdateReport report;
   if (!has_base_ || fused.grasp_id != base_grasp_id_) {
     report.rebase = has_base_ ? RebaseReason::kOtherGrasp : RebaseReason::kNoBase;
@@ -132,10 +137,11 @@ UpdateReport IncrementalRepair::Update(const ObjectCloud& fused,
   out->holes = holes_;
   out->safe_bound = safe_bound_;
   out->points_G.assign(fused.points_G.begin(), fused.points_G.end());
-  const bool normals = fused.normals_G.size() == fused.size() &&
-                       added_.normals_G.size() == added_.size();
-  if (normals) out->normals_G.assign(fused.normals_G.begin(), fused.normals_G.end());
-  else out->normals_G.clear();
+  const bool normals = fused.normals_G.size() == fused.size() && added_.normals_G.size() == added_.size();
+  if (normals)
+    out->normals_G.assign(fused.normals_G.begin(), fused.normals_G.end());
+  else
+    out->normals_G.clear();
   out->provenance.assign(fused.size(), Provenance::kObserved);
   out->confidence.assign(fused.size(), 1.0f);
   for (size_t i = 0; i < added_.size(); ++i) {
@@ -150,8 +156,7 @@ UpdateReport IncrementalRepair::Update(const ObjectCloud& fused,
   if (report.new_surface_share > config_.max_new_surface_share) {
     report.rebase = RebaseReason::kNewSurface;
   } else if (!added_.points_G.empty() &&
-             static_cast<double>(dropped) / static_cast<double>(added_.size()) >
-                 config_.max_dropped_share) {
+             static_cast<double>(dropped) / static_cast<double>(added_.size()) > config_.max_dropped_share) {
     report.rebase = RebaseReason::kAddedDropped;
   } else if (config_.max_new_key_frames > 0 && use_record &&
              record->size() >= base_key_frames_ + static_cast<size_t>(config_.max_new_key_frames)) {

@@ -9,9 +9,8 @@
 
 namespace graspfill::repair::fill {
 
-bool FitHeightField(const PointList& points, const std::vector<int>& support,
-                    const HoleFrame& frame, int degree, int iterations, double sigma_floor_m,
-                    HeightField* hf) {
+bool FitHeightField(const PointList& points, const std::vector<int>& support, const HoleFrame& frame,
+                    int degree, int iterations, double sigma_floor_m, HeightField* hf) {
   const int terms = HeightField::NumTerms(degree);
   const std::vector<int> used = Thin(support, 2000);
   const int m = static_cast<int>(used.size());
@@ -62,8 +61,8 @@ bool FitHeightField(const PointList& points, const std::vector<int>& support,
   return hf->coeffs.allFinite();
 }
 
-bool FitQuadric(const PointList& points, const std::vector<int>& support,
-                std::vector<double> weights, int iterations, double sigma_floor_m, Quadric* out) {
+bool FitQuadric(const PointList& points, const std::vector<int>& support, std::vector<double> weights,
+                int iterations, double sigma_floor_m, Quadric* out) {
   const size_t m = support.size();
   if (m < 30) return false;
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
@@ -125,9 +124,8 @@ constexpr double kMaxHeightSpread = 1.0;
 constexpr double kQuadricNoiseM = 0.0005;
 }  // namespace
 
-bool FitThinPlate(const NeighborIndex& index, const std::vector<int>& support,
-                  const HoleFrame& frame, const Eigen::Vector3f& centroid, double d,
-                  int max_centres, ThinPlateSheet* out) {
+bool FitThinPlate(const NeighborIndex& index, const std::vector<int>& support, const HoleFrame& frame,
+                  const Eigen::Vector3f& centroid, double d, int max_centres, ThinPlateSheet* out) {
   // Only the points that face the way the hole does (their normals within
   // 60 degrees of n): the support box also catches the faces beside the
   // hole's, which are no graph over its plane.
@@ -137,8 +135,7 @@ bool FitThinPlate(const NeighborIndex& index, const std::vector<int>& support,
   const Eigen::Vector3f n = frame.n.cast<float>();
   std::vector<Eigen::Vector3d> local;
   std::vector<int> facing;
-  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()),
-                  hi = -lo;
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (size_t k = 0; k < sample.size(); ++k) {
     if (normals[k].dot(n) < 0.5f) continue;
     facing.push_back(sample[k]);

@@ -82,9 +82,8 @@ struct HeightField {
 // squares fit, which at a corner would split the difference between the
 // two faces; the first two iterations fit a plane, the others the full
 // degree. Returns false when there are too few points for the degree.
-bool FitHeightField(const PointList& points, const std::vector<int>& support,
-                    const HoleFrame& frame, int degree, int iterations, double sigma_floor_m,
-                    HeightField* hf);
+bool FitHeightField(const PointList& points, const std::vector<int>& support, const HoleFrame& frame,
+                    int degree, int iterations, double sigma_floor_m, HeightField* hf);
 
 // An implicit quadric q . v(y) = 0, v = (y1^2, y2^2, y3^2, y1 y2, y1 y3,
 // y2 y3, y1, y2, y3, 1), in coordinates y = (x - mean) / scale. Spheres,
@@ -99,8 +98,8 @@ struct Quadric {
 
   static Eigen::Matrix<double, 10, 1> V(const Eigen::Vector3d& y) {
     Eigen::Matrix<double, 10, 1> v;
-    v << y.x() * y.x(), y.y() * y.y(), y.z() * y.z(), y.x() * y.y(), y.x() * y.z(),
-        y.y() * y.z(), y.x(), y.y(), y.z(), 1.0;
+    v << y.x() * y.x(), y.y() * y.y(), y.z() * y.z(), y.x() * y.y(), y.x() * y.z(), y.y() * y.z(), y.x(),
+        y.y(), y.z(), 1.0;
     return v;
   }
   // d v / d y (3 x 10).
@@ -151,8 +150,8 @@ struct Quadric {
 // Taubin's fit (least algebraic error over gradient norm: a generalized
 // eigenproblem, the constant term eliminated) with Tukey reweighting of the
 // geometric residuals, starting from `weights`.
-bool FitQuadric(const PointList& points, const std::vector<int>& support,
-                std::vector<double> weights, int iterations, double sigma_floor_m, Quadric* out);
+bool FitQuadric(const PointList& points, const std::vector<int>& support, std::vector<double> weights,
+                int iterations, double sigma_floor_m, Quadric* out);
 
 // The smoothest height field over the rim's plane through the points
 // around the hole: a thin-plate spline w(u, v) = a0 + a1 u + a2 v +
@@ -165,7 +164,7 @@ bool FitQuadric(const PointList& points, const std::vector<int>& support,
 // plane; the samples are kept within the support's range of heights.
 struct ThinPlateSheet {
   HoleFrame frame;
-  double scale{1.0};  // (u, v, w) divided by it in the solve
+  double scale{1.0};                     // (u, v, w) divided by it in the solve
   std::vector<Eigen::Vector2d> centres;  // scaled
   Eigen::VectorXd c;                     // per centre
   Eigen::Vector3d affine{Eigen::Vector3d::Zero()};
@@ -234,9 +233,8 @@ struct ThinPlateSheet {
 // Centres of the thin-plate fallback: a dense (n + 3)^2 solve, ~5 ms at 256.
 constexpr int kThinPlateCentres = 256;
 
-bool FitThinPlate(const NeighborIndex& index, const std::vector<int>& support,
-                  const HoleFrame& frame, const Eigen::Vector3f& centroid, double d,
-                  int max_centres, ThinPlateSheet* out);
+bool FitThinPlate(const NeighborIndex& index, const std::vector<int>& support, const HoleFrame& frame,
+                  const Eigen::Vector3f& centroid, double d, int max_centres, ThinPlateSheet* out);
 
 // Largest area element the sampler draws candidates for (a slope of ~76
 // degrees); steeper parts are sampled at kMaxAreaElement / J of the density.
@@ -251,9 +249,9 @@ constexpr double kMaxAreaElement = 4.0;
 // faces of a convex edge: each is the surface where it lies inside the
 // other).
 template <typename Sheet>
-void SampleHeightField(const Sheet& hf, const FillRegion& region, double density,
-                       const HeightField* clip, double clip_tol_m, const Quadric* snap,
-                       double max_snap_m, Uniform01* rng, GapTest* gap, PointList* out) {
+void SampleHeightField(const Sheet& hf, const FillRegion& region, double density, const HeightField* clip,
+                       double clip_tol_m, const Quadric* snap, double max_snap_m, Uniform01* rng,
+                       GapTest* gap, PointList* out) {
   const double u0 = region.lo.x(), u1 = region.hi.x(), v0 = region.lo.y(), v1 = region.hi.y();
   double j_max = 1.0;
   for (int i = 0; i <= 8; ++i) {

@@ -58,13 +58,11 @@ struct NeighborIndex::Impl {
     if (far.empty()) return std::numeric_limits<double>::infinity();
     double d = std::numeric_limits<double>::infinity();
     for (int a = 0; a < 3; ++a) {
-      d = std::min({d, q[a] - static_cast<double>(box.min()[a]),
-                    static_cast<double>(box.max()[a]) - q[a]});
+      d = std::min({d, q[a] - static_cast<double>(box.min()[a]), static_cast<double>(box.max()[a]) - q[a]});
     }
     return std::max(d, 0.0);
   }
-  void CollectFar(const PointList& points, const Eigen::Vector3d& q,
-                  std::vector<Candidate>* out) const {
+  void CollectFar(const PointList& points, const Eigen::Vector3d& q, std::vector<Candidate>* out) const {
     for (int i : far) out->emplace_back((points[static_cast<size_t>(i)].cast<double>() - q).squaredNorm(), i);
   }
 
@@ -108,8 +106,7 @@ struct NeighborIndex::Impl {
   }
 
   // Adds the points of the cells at Chebyshev distance exactly `r`.
-  void CollectShell(const int centre[3], int r, const Eigen::Vector3d& q,
-                    std::vector<Candidate>* out) const {
+  void CollectShell(const int centre[3], int r, const Eigen::Vector3d& q, std::vector<Candidate>* out) const {
     VisitShell(centre, r, [&](int c) {
       for (int j = cell_start[c]; j < cell_start[c + 1]; ++j) {
         out->emplace_back((sorted[j].cast<double>() - q).squaredNorm(), order[j]);
@@ -137,8 +134,7 @@ struct NeighborIndex::Impl {
   }
 };
 
-NeighborIndex::NeighborIndex(const PointList& points)
-    : points_(points), impl_(std::make_unique<Impl>()) {
+NeighborIndex::NeighborIndex(const PointList& points) : points_(points), impl_(std::make_unique<Impl>()) {
   if (points.empty()) throw std::invalid_argument("NeighborIndex: empty cloud");
   // First about one cell per point over the bounding box; then cells of
   // ~1.25x the typical distance to the 20th neighbour (the median of 64
@@ -160,8 +156,7 @@ NeighborIndex::NeighborIndex(const PointList& points)
       Knn(points[i], kTypicalK, &nn, &d2);
       radius.push_back(std::sqrt(d2.back()));
     }
-    std::nth_element(radius.begin(), radius.begin() + static_cast<long>(radius.size() / 2),
-                     radius.end());
+    std::nth_element(radius.begin(), radius.begin() + static_cast<long>(radius.size() / 2), radius.end());
     const double cell = 1.25 * radius[radius.size() / 2];
     impl_->typical_k_radius = radius[radius.size() / 2];
     if (cell > 0.0 && cell < impl_->cell) impl_->Build(points, cell);
@@ -277,7 +272,8 @@ KnnTable NeighborIndex::Table(int k, const std::vector<int>* row_of) const {
   // Point -> its row (-1: not asked); every point, in order, without `row_of`.
   const auto row_at = [&](int point) { return row_of ? (*row_of)[static_cast<size_t>(point)] : point; };
   size_t rows = points_.size();
-  if (row_of) rows = static_cast<size_t>(std::count_if(row_of->begin(), row_of->end(), [](int r) { return r >= 0; }));
+  if (row_of)
+    rows = static_cast<size_t>(std::count_if(row_of->begin(), row_of->end(), [](int r) { return r >= 0; }));
   table.indices.resize(rows * want);
   table.squared_distances.resize(rows * want);
   // The candidates of one cell (its 3 x 3 x 3 block) as float columns, so
@@ -393,8 +389,7 @@ KnnTable NeighborIndex::Table(int k, const std::vector<int>* row_of) const {
   return table;
 }
 
-void NeighborIndex::Radius(const Eigen::Vector3f& query, double radius_m,
-                           std::vector<int>* indices,
+void NeighborIndex::Radius(const Eigen::Vector3f& query, double radius_m, std::vector<int>* indices,
                            std::vector<double>* squared_distances) const {
   const Impl& g = *impl_;
   indices->clear();
@@ -412,8 +407,7 @@ void NeighborIndex::Radius(const Eigen::Vector3f& query, double radius_m,
   }
   if (g.FarBound(q) <= radius_m) g.CollectFar(points_, q, &found);
   const double r2 = radius_m * radius_m;
-  found.erase(std::remove_if(found.begin(), found.end(),
-                             [r2](const Candidate& c) { return c.first > r2; }),
+  found.erase(std::remove_if(found.begin(), found.end(), [r2](const Candidate& c) { return c.first > r2; }),
               found.end());
   std::sort(found.begin(), found.end());
   for (const Candidate& c : found) {
@@ -472,8 +466,8 @@ Eigen::AlignedBox3f RobustBox(const PointList& points) {
     std::nth_element(values.begin(), values.begin() + static_cast<long>(lo_rank), values.end());
     const float lo = values[lo_rank];
     // The high rank lies among those after the low one (partitioned above).
-    std::nth_element(values.begin() + static_cast<long>(lo_rank) + 1, values.begin() + static_cast<long>(hi_rank),
-                     values.end());
+    std::nth_element(values.begin() + static_cast<long>(lo_rank) + 1,
+                     values.begin() + static_cast<long>(hi_rank), values.end());
     const float hi = values[hi_rank];
     const double margin = 0.5 * (static_cast<double>(hi) - lo);
     box.min()[a] = std::max(box.min()[a], static_cast<float>(lo - margin));
@@ -482,9 +476,7 @@ Eigen::AlignedBox3f RobustBox(const PointList& points) {
   return box;
 }
 
-
-KnnTable RestrictTable(const KnnTable& table, const std::vector<int>& kept,
-                       const NeighborIndex& kept_index) {
+KnnTable RestrictTable(const KnnTable& table, const std::vector<int>& kept, const NeighborIndex& kept_index) {
   if (kept.size() != kept_index.size()) {
     throw std::invalid_argument("RestrictTable: the index is not over the kept points");
   }

@@ -24,13 +24,11 @@ namespace graspfill::repair {
 /// The k nearest neighbours of every point of a cloud, row by row.
 struct KnnTable {
   int k{0};
-  std::vector<int> indices;             ///< size() * k; row i: point i's,
+  std::vector<int> indices;               ///< size() * k; row i: point i's,
   std::vector<double> squared_distances;  ///< nearest first (itself first)
   size_t size() const { return k > 0 ? indices.size() / static_cast<size_t>(k) : 0; }
   const int* Row(size_t i) const { return indices.data() + i * static_cast<size_t>(k); }
-  const double* RowDistances(size_t i) const {
-    return squared_distances.data() + i * static_cast<size_t>(k);
-  }
+  const double* RowDistances(size_t i) const { return squared_distances.data() + i * static_cast<size_t>(k); }
 };
 
 class NeighborIndex {
@@ -47,8 +45,7 @@ class NeighborIndex {
   void Knn(const Eigen::Vector3f& query, int k, std::vector<int>* indices,
            std::vector<double>* squared_distances = nullptr) const;
   /// All points within `radius_m` of `query`.
-  void Radius(const Eigen::Vector3f& query, double radius_m,
-              std::vector<int>* indices,
+  void Radius(const Eigen::Vector3f& query, double radius_m, std::vector<int>* indices,
               std::vector<double>* squared_distances = nullptr) const;
 
   /// Whether some point lies within `radius_m` of `query` (the search stops
@@ -80,8 +77,7 @@ class NeighborIndex {
 /// indices into that cloud), over `kept_index` built on exactly those
 /// points: rows renumbered, removed neighbours skipped, and a row that
 /// lost any queried afresh. Cheap when few points were removed.
-KnnTable RestrictTable(const KnnTable& table, const std::vector<int>& kept,
-                       const NeighborIndex& kept_index);
+KnnTable RestrictTable(const KnnTable& table, const std::vector<int>& kept, const NeighborIndex& kept_index);
 
 /// Mean distance of about `samples` points (evenly strided) to their
 /// nearest other point: the cloud's spacing [m]; 0 when none has one.

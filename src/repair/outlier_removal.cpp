@@ -39,9 +39,9 @@ std::vector<int> RemoveOutliers(const KnnTable& table, const OutlierConfig& conf
     return kept;
   }
   if (table.k < config.nb_neighbors + 1) {
-    throw std::invalid_argument("RemoveOutliers: the kNN table has " + std::to_string(table.k) +
-                                " columns, the filter needs nb_neighbors + 1 = " +
-                                std::to_string(config.nb_neighbors + 1));
+    throw std::invalid_argument(
+        "RemoveOutliers: the kNN table has " + std::to_string(table.k) +
+        " columns, the filter needs nb_neighbors + 1 = " + std::to_string(config.nb_neighbors + 1));
   }
 
   // Mean distance to the k nearest other points (PCL: k + 1 nearest and

@@ -33,16 +33,14 @@ void PoissonFillConfig::Validate() const {
   Require(normal_knn >= 3 && normal_knn <= 200, p + "normal_knn must be in [3, 200]");
   Require(density_trim_quantile >= 0.0 && density_trim_quantile < 1.0,
           p + "density_trim_quantile must be in [0, 1)");
-  Require(crop_pad_fraction >= 0.0 && crop_pad_fraction <= 10.0,
-          p + "crop_pad_fraction must be in [0, 10]");
+  Require(crop_pad_fraction >= 0.0 && crop_pad_fraction <= 10.0, p + "crop_pad_fraction must be in [0, 10]");
   Require(min_gap_d >= 0.0 && min_gap_d <= 100.0, p + "min_gap_d must be in [0, 100]");
   Require(fill_density_factor > 0.0 && fill_density_factor <= 100.0,
           p + "fill_density_factor must be in (0, 100]");
 }
 
 PointList PoissonFillAll(const PointList& points, const PoissonFillConfig& config,
-                         const std::vector<Eigen::Vector3f>* normals,
-                         const NeighborIndex* index) {
+                         const std::vector<Eigen::Vector3f>* normals, const NeighborIndex* index) {
   config.Validate();
   CheckInputs(points, normals, index, "PoissonFillAll");
   PointList out;
@@ -60,8 +58,7 @@ PointList PoissonFillAll(const PointList& points, const PoissonFillConfig& confi
   const double d = spacing.mean_nn_m;
 
   const std::vector<Eigen::Vector3f> n =
-      normals != nullptr ? *normals
-                         : EstimateNormals(*index, all, config.normal_knn, Centroid(points));
+      normals != nullptr ? *normals : EstimateNormals(*index, all, config.normal_knn, Centroid(points));
   const PoissonSurface surface =
       ReconstructPoisson(points, all, n, config.poisson_depth, config.poisson_scale);
   const open3d::geometry::TriangleMesh& mesh = *surface.mesh;
@@ -70,8 +67,7 @@ PointList PoissonFillAll(const PointList& points, const PoissonFillConfig& confi
   double threshold = -std::numeric_limits<double>::infinity();
   if (config.density_trim_quantile > 0.0 && !surface.densities.empty()) {
     std::vector<double> sorted = surface.densities;
-    const auto k = static_cast<size_t>(config.density_trim_quantile *
-                                       static_cast<double>(sorted.size() - 1));
+    const auto k = static_cast<size_t>(config.density_trim_quantile * static_cast<double>(sorted.size() - 1));
     std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(k), sorted.end());
     threshold = sorted[k];
   }
@@ -89,8 +85,8 @@ PointList PoissonFillAll(const PointList& points, const PoissonFillConfig& confi
   }
   GapTest gap(*index, nullptr, config.min_gap_d * d);
   Uniform01 rng(MixSeed(config.seed, 0));
-  SampleMesh(mesh, HoleFrame{}, crop, false, -1.0, &keep,
-             spacing.density_per_m2 * config.fill_density_factor, &rng, &gap, &out);
+  SampleMesh(mesh, HoleFrame{}, crop, false, -1.0, &keep, spacing.density_per_m2 * config.fill_density_factor,
+             &rng, &gap, &out);
   return out;
 }
 

@@ -11,8 +11,7 @@
 namespace graspfill::repair::fill {
 
 PoissonSurface ReconstructPoisson(const PointList& points, const std::vector<int>& subset,
-                                  const std::vector<Eigen::Vector3f>& normals, int depth,
-                                  double scale) {
+                                  const std::vector<Eigen::Vector3f>& normals, int depth, double scale) {
   open3d::geometry::PointCloud pcd;
   pcd.points_.reserve(subset.size());
   pcd.normals_.reserve(subset.size());
@@ -31,10 +30,9 @@ PoissonSurface ReconstructPoisson(const PointList& points, const std::vector<int
   return out;
 }
 
-void SampleMesh(const open3d::geometry::TriangleMesh& mesh, const HoleFrame& frame,
-                const FillRegion& region, bool check_facing, double cos_max_angle,
-                const std::vector<bool>* keep_vertex, double density, Uniform01* rng,
-                GapTest* gap, PointList* out) {
+void SampleMesh(const open3d::geometry::TriangleMesh& mesh, const HoleFrame& frame, const FillRegion& region,
+                bool check_facing, double cos_max_angle, const std::vector<bool>* keep_vertex, double density,
+                Uniform01* rng, GapTest* gap, PointList* out) {
   std::vector<int> tris;
   std::vector<double> cumulative;
   double total = 0.0;
@@ -68,13 +66,11 @@ void SampleMesh(const open3d::geometry::TriangleMesh& mesh, const HoleFrame& fra
   for (long i = 0; i < count; ++i) {
     const double pick = (*rng)() * total;
     const size_t k = std::min<size_t>(
-        tris.size() - 1,
-        static_cast<size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), pick) -
-                            cumulative.begin()));
+        tris.size() - 1, static_cast<size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), pick) -
+                                             cumulative.begin()));
     const Eigen::Vector3i& tri = mesh.triangles_[tris[k]];
     const double r1 = std::sqrt((*rng)()), r2 = (*rng)();
-    const Eigen::Vector3d p = (1.0 - r1) * mesh.vertices_[tri(0)] +
-                              r1 * (1.0 - r2) * mesh.vertices_[tri(1)] +
+    const Eigen::Vector3d p = (1.0 - r1) * mesh.vertices_[tri(0)] + r1 * (1.0 - r2) * mesh.vertices_[tri(1)] +
                               r1 * r2 * mesh.vertices_[tri(2)];
     if (!region.Contains(frame.Local(p)) || !region.InZ(p.z())) continue;
     const Eigen::Vector3f pf = p.cast<float>();

@@ -23,8 +23,7 @@ struct PoissonSurface {
 };
 
 PoissonSurface ReconstructPoisson(const PointList& points, const std::vector<int>& subset,
-                                  const std::vector<Eigen::Vector3f>& normals, int depth,
-                                  double scale);
+                                  const std::vector<Eigen::Vector3f>& normals, int depth, double scale);
 
 // Samples, at `density` per m^2, the triangles that reach into `region`
 // (in `frame`), whose vertices are all kept (`keep_vertex`, may be null),
@@ -32,9 +31,8 @@ PoissonSurface ReconstructPoisson(const PointList& points, const std::vector<int
 // (the mesh winds outwards, as its input normals point; this drops the far
 // side of a closed Poisson surface); keeps the samples inside the region
 // that pass the gap test.
-void SampleMesh(const open3d::geometry::TriangleMesh& mesh, const HoleFrame& frame,
-                const FillRegion& region, bool check_facing, double cos_max_angle,
-                const std::vector<bool>* keep_vertex, double density, Uniform01* rng,
-                GapTest* gap, PointList* out);
+void SampleMesh(const open3d::geometry::TriangleMesh& mesh, const HoleFrame& frame, const FillRegion& region,
+                bool check_facing, double cos_max_angle, const std::vector<bool>* keep_vertex, double density,
+                Uniform01* rng, GapTest* gap, PointList* out);
 
 }  // namespace graspfill::repair::fill

@@ -9,10 +9,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "evidence_stage.hpp"
 #include "graspfill/core/openmp_threads.hpp"
 #include "graspfill/core/stage_timer.hpp"
 #include "graspfill/evidence/safe_bound.hpp"
-#include "evidence_stage.hpp"
 #include "hole_fill.hpp"
 #include "neighbor_index.hpp"
 #include "repair_steps.hpp"
@@ -67,8 +67,7 @@ void BoxInInput(const PointList& points_V, const VirtualFrame& frame, HoleSummar
 // not known: the plane through each one's nearest neighbours among all
 // points (so a small patch borrows its rim's), turned away from the
 // centroid, since a held object is roughly convex about it.
-void AppendAddedNormals(size_t first_added, const std::vector<Eigen::Vector3f>& known_G,
-                        ObjectCloud* cloud) {
+void AppendAddedNormals(size_t first_added, const std::vector<Eigen::Vector3f>& known_G, ObjectCloud* cloud) {
   constexpr int kNeighbors = 16;  // a few spacings: stable, yet follows a curve
   const PointList& points = cloud->points_G;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
@@ -93,9 +92,11 @@ void AppendAddedNormals(size_t first_added, const std::vector<Eigen::Vector3f>& 
 // 20 (4 mm apart at most): holes the linking missed (finger pads that open
 // into the top, their sides never closed into a line). Their boxes (V),
 // for the mirror to fill as it fills the claw holes no fit explained.
-std::vector<Eigen::AlignedBox3f> LooseBoundaryBoxes(const PointList& points_V, const std::vector<int>& boundary,
+std::vector<Eigen::AlignedBox3f> LooseBoundaryBoxes(const PointList& points_V,
+                                                    const std::vector<int>& boundary,
                                                     const std::vector<BoundaryLine>& lines,
-                                                    const HoleBoundary* missing, const NeighborIndex& index_V) {
+                                                    const HoleBoundary* missing,
+                                                    const NeighborIndex& index_V) {
   constexpr double kClusterRadiusM = 0.004;
   constexpr size_t kMinClusterPoints = 20;
   std::vector<char> taken(points_V.size(), 0);
@@ -134,8 +135,8 @@ std::vector<Eigen::AlignedBox3f> LooseBoundaryBoxes(const PointList& points_V, c
 bool Repairable(const PointList& points_G, RepairReport* report) {
   if (points_G.size() < kMinPoints) {
     report->status = RepairStatus::kTooFewPoints;
-    report->status_detail = std::to_string(points_G.size()) + " of at least " +
-                            std::to_string(kMinPoints) + ", nothing repaired";
+    report->status_detail =
+        std::to_string(points_G.size()) + " of at least " + std::to_string(kMinPoints) + ", nothing repaired";
     return false;
   }
   // Bounded work (issue 12): past these limits the steps' grids and
@@ -255,8 +256,7 @@ Boundaries FindBoundaries(const PointList& input_G, const RepairSettings& config
     const NeighborIndex* full = &*all;
     if (report->outliers_ignored > 0) full = &full_index.emplace(points);
     boundary_info.clear();
-    boundary = DetectBoundaryPoints(*full, config.boundary, nullptr, &boundary_info, nullptr,
-                                    &candidates);
+    boundary = DetectBoundaryPoints(*full, config.boundary, nullptr, &boundary_info, nullptr, &candidates);
   }
   {
     ScopedStageTimer t(&report->timings, "boundary_lines");
@@ -346,8 +346,10 @@ Holes ClassifyHoles(const PointList& points_V, const Boundaries& found, const Vi
   }
   for (size_t k = 0; k < holes.classified.size(); ++k) {
     const HoleBoundary& h = holes.classified[k];
-    if (h.kind == HoleKind::kClaw) holes.claw.push_back(h);
-    else if (holes.top_index < 0) holes.top_index = static_cast<int>(k);
+    if (h.kind == HoleKind::kClaw)
+      holes.claw.push_back(h);
+    else if (holes.top_index < 0)
+      holes.top_index = static_cast<int>(k);
   }
   // Best mode: the rim is also every boundary point near the top of V.
   // On a fused cloud the linking can break the rim into pieces (a ragged
@@ -450,9 +452,8 @@ EvidenceTopPoints TopFromEvidence(const evidence::VisibilityRecord* record, cons
 // cloud: sampled wherever the cloud and the fills leave it open (the top,
 // and a claw hole no fit closed); the points the record sees free are
 // dropped (and counted), those in the claw moved onto its face.
-TopCandidate RevolutionCandidate(const PointList& points_V, const PointList& rim_V,
-                                 const PointList& fills_V, double spacing_m,
-                                 const evidence::VisibilityRecord* record,
+TopCandidate RevolutionCandidate(const PointList& points_V, const PointList& rim_V, const PointList& fills_V,
+                                 double spacing_m, const evidence::VisibilityRecord* record,
                                  const Eigen::Isometry3f& T_in_V, const RepairSettings& config) {
   TopCandidate c;
   c.family = TopFamily::kRevolution;
@@ -488,10 +489,9 @@ TopCandidate RevolutionCandidate(const PointList& points_V, const PointList& rim
 // Step 9: the missing top by one scored search (top_search.hpp) over the
 // mirror (with its top), a surface of revolution, the evidence's dome and
 // "open". The winner's points and confidence; the report says which won.
-TopCap SearchTop(const PointList& points_V, const ClawFills& fills,
-                 SymmetryResult* symmetry, EvidenceTopPoints evidence_top, double spacing_m,
-                 const evidence::VisibilityRecord* record, const Eigen::Isometry3f& T_in_V,
-                 const RepairSettings& config, RepairReport* report) {
+TopCap SearchTop(const PointList& points_V, const ClawFills& fills, SymmetryResult* symmetry,
+                 EvidenceTopPoints evidence_top, double spacing_m, const evidence::VisibilityRecord* record,
+                 const Eigen::Isometry3f& T_in_V, const RepairSettings& config, RepairReport* report) {
   ScopedStageTimer t(&report->timings, "top_search");
   // The rim: the observed points within two spacings of the highest (V's
   // z points at the missing top, so they border it). Not the classified
@@ -523,7 +523,8 @@ TopCap SearchTop(const PointList& points_V, const ClawFills& fills,
                       static_cast<double>(evidence_top.rejected + evidence_top.points_V.size());
     candidates.push_back(std::move(dome));
   }
-  if (record && !evidence_top.extrusion_V.empty() && evidence_top.extrusion_rms_m <= kOpenSigmas * spacing_m) {
+  if (record && !evidence_top.extrusion_V.empty() &&
+      evidence_top.extrusion_rms_m <= kOpenSigmas * spacing_m) {
     // A prism: the top's outline explains the walls all the way down, so
     // its lid is that outline at the rays' height, weighed beside the
     // mirror. A cup narrows to its bottom and is not proposed (its walls
@@ -536,12 +537,14 @@ TopCap SearchTop(const PointList& points_V, const ClawFills& fills,
     // from the rest of the cloud.
     extrusion.parameters = 1 + 2 * evidence_top.outline_vertices;
     extrusion.points_V = std::move(evidence_top.extrusion_V);
-    const int rejected = evidence_top.extrusion_rejected + DropInsideClaw(*record, T_in_V, &extrusion.points_V);
-    extrusion.free_share = static_cast<double>(rejected) /
-                           static_cast<double>(rejected + extrusion.points_V.size());
+    const int rejected =
+        evidence_top.extrusion_rejected + DropInsideClaw(*record, T_in_V, &extrusion.points_V);
+    extrusion.free_share =
+        static_cast<double>(rejected) / static_cast<double>(rejected + extrusion.points_V.size());
     candidates.push_back(std::move(extrusion));
   }
-  candidates.push_back(RevolutionCandidate(points_V, rim_V, fills.surface_V, spacing_m, record, T_in_V, config));
+  candidates.push_back(
+      RevolutionCandidate(points_V, rim_V, fills.surface_V, spacing_m, record, T_in_V, config));
   const TopChoice choice = ChooseTop(std::move(candidates), rim_V, fills.surface_V, spacing_m);
   const TopCandidate& best = choice.Best();
   report->top_completion = TopFamilyName(best.family);
@@ -580,8 +583,8 @@ TopCap SearchTop(const PointList& points_V, const ClawFills& fills,
 // fills, the mirror image, the top; each with its provenance, confidence
 // and (when the input has normals) a normal.
 void AppendAdded(const ObjectCloud& input, const ClawFills& fills, const SymmetryResult& symmetry,
-                 const TopCap& top, const Eigen::Isometry3f& T_in_V,
-                 const evidence::VisibilityRecord* record, ObjectCloud* out, RepairReport* report) {
+                 const TopCap& top, const Eigen::Isometry3f& T_in_V, const evidence::VisibilityRecord* record,
+                 ObjectCloud* out, RepairReport* report) {
   for (const Eigen::Vector3f& p : fills.surface_V) {
     out->points_G.push_back(T_in_V * p);
     out->provenance.push_back(Provenance::kSurface);
@@ -623,8 +626,8 @@ void AppendAdded(const ObjectCloud& input, const ClawFills& fills, const Symmetr
 
 // The report's holes (in the input's frame), with the points added to each.
 void ReportHoles(const Holes& holes, const VirtualFrame& frame, const ClawFills& fills,
-                 const float* fill_confidence,
-                 const SymmetryResult& symmetry, const TopCap& top, RepairReport* report) {
+                 const float* fill_confidence, const SymmetryResult& symmetry, const TopCap& top,
+                 RepairReport* report) {
   for (const HoleBoundary& h : holes.classified) {
     if (h.kind == HoleKind::kMissingSurface && holes.top_is_rim) continue;  // reported as the rim
     HoleSummary s;
@@ -678,18 +681,22 @@ void ReportHoles(const Holes& holes, const VirtualFrame& frame, const ClawFills&
 
 std::string RepairStatusName(RepairStatus status) {
   switch (status) {
-    case RepairStatus::kRepaired: return "repaired";
-    case RepairStatus::kNoHoles: return "no holes found";
-    case RepairStatus::kTooFewPoints: return "too few points";
-    case RepairStatus::kNoFrame: return "no virtual frame";
-    case RepairStatus::kOutOfRange: return "outside the repair's limits";
+    case RepairStatus::kRepaired:
+      return "repaired";
+    case RepairStatus::kNoHoles:
+      return "no holes found";
+    case RepairStatus::kTooFewPoints:
+      return "too few points";
+    case RepairStatus::kNoFrame:
+      return "no virtual frame";
+    case RepairStatus::kOutOfRange:
+      return "outside the repair's limits";
   }
   return "no holes found";
 }
 
 std::string RepairReport::StatusText() const {
-  return status_detail.empty() ? RepairStatusName(status)
-                               : RepairStatusName(status) + ": " + status_detail;
+  return status_detail.empty() ? RepairStatusName(status) : RepairStatusName(status) + ": " + status_detail;
 }
 
 void RepairConfig::Validate() const {
@@ -736,8 +743,8 @@ RepairResult Repair(const ObjectCloud& input, const RepairConfig& config,
   return RepairWithSteps(input, config, RepairSteps::For(config.mode), record);
 }
 
-RepairResult RepairWithSteps(const ObjectCloud& input, const RepairConfig& config_in, const RepairSteps& steps,
-                             const evidence::VisibilityRecord* record_in) {
+RepairResult RepairWithSteps(const ObjectCloud& input, const RepairConfig& config_in,
+                             const RepairSteps& steps, const evidence::VisibilityRecord* record_in) {
   RepairSettings config;
   static_cast<RepairConfig&>(config) = config_in;
   static_cast<RepairSteps&>(config) = steps;
@@ -797,8 +804,7 @@ RepairResult RepairWithSteps(const ObjectCloud& input, const RepairConfig& confi
   }
   // 8. The mirror image of the far end, and the evidence's top: the mirror
   // raised to the rays, or a dome.
-  SymmetryResult symmetry =
-      MirrorTop(points_V, holes, *index_V, record != nullptr, config, &fills, &report);
+  SymmetryResult symmetry = MirrorTop(points_V, holes, *index_V, record != nullptr, config, &fills, &report);
   const Eigen::Isometry3f T_in_V = frame->T_in_V.cast<float>();
   const double spacing_m = MeanNearestDistance(*index_V, config.symmetry.spacing_samples);
   EvidenceTopPoints evidence_top =
@@ -806,8 +812,8 @@ RepairResult RepairWithSteps(const ObjectCloud& input, const RepairConfig& confi
   // 9. The top: the search (best mode) or the mirror as it is (the paper).
   TopCap top;
   if (config.mode == RepairMode::kBest) {
-    top = SearchTop(points_V, fills, &symmetry, std::move(evidence_top), spacing_m, record, T_in_V,
-                    config, &report);
+    top = SearchTop(points_V, fills, &symmetry, std::move(evidence_top), spacing_m, record, T_in_V, config,
+                    &report);
   } else {
     top.confidence = kPaperMirrorConfidence;
   }

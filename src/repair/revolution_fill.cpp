@@ -110,8 +110,8 @@ RevolutionSamples SampleRevolution(const Revolution& s, double from_z, double sp
     const int n = std::max(1, static_cast<int>(std::ceil(2.0 * kPi * r / spacing_m)));
     for (int k = 0; k < n; ++k) {
       const double t = 2.0 * kPi * k / n;
-      keep(Eigen::Vector3f(static_cast<float>(s.x0 + r * std::cos(t)), static_cast<float>(s.y0 + r * std::sin(t)),
-                           static_cast<float>(z)));
+      keep(Eigen::Vector3f(static_cast<float>(s.x0 + r * std::cos(t)),
+                           static_cast<float>(s.y0 + r * std::sin(t)), static_cast<float>(z)));
     }
     const double slope = (s.b + 2.0 * s.c * z) / (2.0 * r);  // dr/dz
     z += std::max(spacing_m / std::sqrt(1.0 + slope * slope), 1e-6);

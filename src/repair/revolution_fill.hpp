@@ -16,16 +16,16 @@
 #include <optional>
 #include <vector>
 
-#include "neighbor_index.hpp"
 #include "graspfill/repair/repair_types.hpp"
+#include "neighbor_index.hpp"
 
 namespace graspfill::repair {
 
 struct Revolution {
-  double x0{0.0}, y0{0.0};     ///< the axis [m, V]
+  double x0{0.0}, y0{0.0};        ///< the axis [m, V]
   double a{0.0}, b{0.0}, c{0.0};  ///< r(z)^2 = a + b z + c z^2 [m^2]
-  double pole_z{0.0};          ///< where r^2 reaches 0 above the fit [m]
-  double rms_m{0.0};           ///< radial RMS of the inliers [m]
+  double pole_z{0.0};             ///< where r^2 reaches 0 above the fit [m]
+  double rms_m{0.0};              ///< radial RMS of the inliers [m]
 
   double RadiusSquared(double z) const { return a + (b + c * z) * z; }
 };

@@ -66,9 +66,7 @@ class SlabProfile {
     if (hull.size() < 3) hull.clear();
     return hull;
   }
-  std::vector<Eigen::Vector2d> Hull(int k, int min_points) const {
-    return HullAt(Centre(k), min_points);
-  }
+  std::vector<Eigen::Vector2d> Hull(int k, int min_points) const { return HullAt(Centre(k), min_points); }
 
  private:
   const PointList& points_;

@@ -31,8 +31,8 @@ void Require(bool ok, const std::string& message) {
 void CheckFinite(const PointList& points, const char* what) {
   for (size_t i = 0; i < points.size(); ++i) {
     if (!points[i].allFinite()) {
-      throw std::invalid_argument(std::string("RepairMissingSurface: non-finite coordinate in ") +
-                                  what + " at index " + std::to_string(i));
+      throw std::invalid_argument(std::string("RepairMissingSurface: non-finite coordinate in ") + what +
+                                  " at index " + std::to_string(i));
     }
   }
 }
@@ -125,16 +125,17 @@ double OutlineMismatch(const Polygon& a, const Polygon& b) {
 // outline at the median height, or the nearest slab with enough points;
 // false when no slab has enough. first/last (optional): the first and
 // last slabs with a size.
-bool SectionSizes(const SlabProfile& profile, int median_slab, int min_points,
-                  std::vector<double>* size, int* first_valid = nullptr,
-                  int* last_valid = nullptr) {
+bool SectionSizes(const SlabProfile& profile, int median_slab, int min_points, std::vector<double>* size,
+                  int* first_valid = nullptr, int* last_valid = nullptr) {
   const int slabs = profile.count();
   std::vector<Polygon> hulls(slabs);
   for (int k = 0; k < slabs; ++k) hulls[k] = profile.Hull(k, min_points);
   int ref = -1;
   for (int off = 0; off < slabs && ref < 0; ++off) {
-    if (median_slab + off < slabs && hulls[median_slab + off].size() >= 3) ref = median_slab + off;
-    else if (median_slab - off >= 0 && hulls[median_slab - off].size() >= 3) ref = median_slab - off;
+    if (median_slab + off < slabs && hulls[median_slab + off].size() >= 3)
+      ref = median_slab + off;
+    else if (median_slab - off >= 0 && hulls[median_slab - off].size() >= 3)
+      ref = median_slab - off;
   }
   if (ref < 0) return false;
   const Support reference = SupportFunction(hulls[ref], geometry::PolygonCentroid(hulls[ref]));
@@ -156,7 +157,8 @@ bool SectionSizes(const SlabProfile& profile, int median_slab, int min_points,
 // median size (near), of how many (valid).
 void CountNearMedian(const std::vector<double>& size, double tolerance, int* near, int* valid) {
   std::vector<double> sizes;
-  for (double v : size) if (v > 0.0) sizes.push_back(v);
+  for (double v : size)
+    if (v > 0.0) sizes.push_back(v);
   *near = 0;
   *valid = static_cast<int>(sizes.size());
   if (sizes.empty()) return;
@@ -181,12 +183,11 @@ double SizeAt(const std::vector<double>& size, double z0, double h, double z) {
 // z_s + t and z_s - t over every t (in slab steps) observed on both sides;
 // searched in quarter slabs, then refined by a parabola through the best
 // three.
-double RefinePlane(const std::vector<double>& size, double z0, double h, double z_guess,
-                   double half_width) {
+double RefinePlane(const std::vector<double>& size, double z0, double h, double z_guess, double half_width) {
   const auto cost = [&](double zs) {
     double sum = 0.0;
     int n = 0;
-    for (double t = h; ; t += h) {
+    for (double t = h;; t += h) {
       const double up = SizeAt(size, z0, h, zs + t), dn = SizeAt(size, z0, h, zs - t);
       if (std::isnan(up) || std::isnan(dn)) break;
       sum += (up - dn) * (up - dn);
@@ -260,7 +261,8 @@ void FitImageToObserved(const PointList& observed, const PointList& all, double 
     ++image_count[static_cast<size_t>(q.cell)];
   }
   constexpr int kMinImagePoints = 8;
-  std::vector<Eigen::Vector3d> surface(cells, Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
+  std::vector<Eigen::Vector3d> surface(cells,
+                                       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
   for (size_t c = 0; c < cells; ++c) {
     if (image_count[c] < kMinImagePoints) continue;
     const Eigen::LDLT<Eigen::Matrix3d> solve(ata[c]);
@@ -272,7 +274,8 @@ void FitImageToObserved(const PointList& observed, const PointList& all, double 
   for (const Eigen::Vector3f& p : observed) {
     const Polar q = polar(p.x(), p.y(), p.z());
     if (q.cell < 0 || std::isnan(surface[static_cast<size_t>(q.cell)].x())) continue;
-    above[static_cast<size_t>(q.cell)].push_back(q.r - surface[static_cast<size_t>(q.cell)].dot(Eigen::Vector3d(1.0, q.z, q.t)));
+    above[static_cast<size_t>(q.cell)].push_back(
+        q.r - surface[static_cast<size_t>(q.cell)].dot(Eigen::Vector3d(1.0, q.z, q.t)));
   }
   constexpr size_t kMinObservedPoints = 3;
   std::vector<double> offset(cells, std::numeric_limits<double>::quiet_NaN());
@@ -323,14 +326,12 @@ SymmetryConfig SymmetryConfig::Paper() {
 
 void SymmetryConfig::Validate() const {
   const std::string p = "SymmetryConfig.";
-  Require(slab_thickness_d > 0.0 && slab_thickness_d <= 1000.0,
-          p + "slab_thickness_d must be in (0, 1000]");
+  Require(slab_thickness_d > 0.0 && slab_thickness_d <= 1000.0, p + "slab_thickness_d must be in (0, 1000]");
   Require(min_slab_thickness_m > 0.0 && min_slab_thickness_m < 1.0,
           p + "min_slab_thickness_m must be in (0, 1) m");
   Require(min_slab_points >= 3, p + "min_slab_points must be >= 3");
   Require(end_slack_slabs >= 0 && end_slack_slabs <= 100, p + "end_slack_slabs must be in [0, 100]");
-  Require(plateau_tolerance >= 0.0 && plateau_tolerance < 1.0,
-          p + "plateau_tolerance must be in [0, 1)");
+  Require(plateau_tolerance >= 0.0 && plateau_tolerance < 1.0, p + "plateau_tolerance must be in [0, 1)");
   Require(max_outline_mismatch >= 0.0 && max_outline_mismatch <= 10.0,
           p + "max_outline_mismatch must be in [0, 10]");
   Require(outline_checks >= 1 && outline_checks <= 1000, p + "outline_checks must be in [1, 1000]");
@@ -394,8 +395,7 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
     boundary_box.extend(p);
   }
   const size_t q90 = (boundary_z.size() - 1) * 9 / 10;
-  std::nth_element(boundary_z.begin(), boundary_z.begin() + static_cast<long>(q90),
-                   boundary_z.end());
+  std::nth_element(boundary_z.begin(), boundary_z.begin() + static_cast<long>(q90), boundary_z.end());
   const double z_b = boundary_z[q90];
   double z_min = std::numeric_limits<double>::infinity();
   std::vector<double> zs(all.size());
@@ -415,17 +415,15 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
                         kNaN);
   }
   if (slabs < 3) {
-    return NotSymmetric("the boundary is only " + Mm(z_b - z_min) +
-                            " above the lowest point: no cross-sections to compare",
-                        kNaN);
+    return NotSymmetric(
+        "the boundary is only " + Mm(z_b - z_min) + " above the lowest point: no cross-sections to compare",
+        kNaN);
   }
   const SlabProfile profile(all, z_min, h, slabs);
-  const int median_slab =
-      FloorToInt((z_median - z_min) / h, 0, slabs - 1);
+  const int median_slab = FloorToInt((z_median - z_min) / h, 0, slabs - 1);
   std::vector<double> size;
   int first_valid = -1, last_valid = -1;
-  if (!SectionSizes(profile, median_slab, config.min_slab_points, &size, &first_valid,
-                    &last_valid)) {
+  if (!SectionSizes(profile, median_slab, config.min_slab_points, &size, &first_valid, &last_valid)) {
     return NotSymmetric("no cross-section has enough points", kNaN);
   }
 
@@ -445,13 +443,12 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
     CountNearMedian(size, config.plateau_tolerance, &near_median, &valid);
   } else {
     std::vector<double> observed;
-    if (SectionSizes(SlabProfile(points_V, z_min, h, slabs), median_slab,
-                     config.min_slab_points, &observed)) {
+    if (SectionSizes(SlabProfile(points_V, z_min, h, slabs), median_slab, config.min_slab_points,
+                     &observed)) {
       CountNearMedian(observed, config.plateau_tolerance, &near_median, &valid);
     }
   }
-  const bool prism_like =
-      config.plateau_search && valid > 0 && near_median >= config.prism_fraction * valid;
+  const bool prism_like = config.plateau_search && valid > 0 && near_median >= config.prism_fraction * valid;
   bool constant_section = prism_like;
   if (prism_like) {
     z_s = 0.5 * (z_min + z_b);
@@ -521,12 +518,12 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
     }
     const double added_height = (2.0 * z_s - z_min) - z_b;
     if (added_height > config.max_added_height_fraction * (z_b - z_min)) {
-      return NotSymmetric("a symmetry plane at z = " + Mm(z_s) + " would add " +
-                              Mm(added_height) + " above the boundary, more than " +
-                              std::to_string(static_cast<int>(
-                                  std::lround(100.0 * config.max_added_height_fraction))) +
-                              "% of the observed height " + Mm(z_b - z_min),
-                          z_s);
+      return NotSymmetric(
+          "a symmetry plane at z = " + Mm(z_s) + " would add " + Mm(added_height) +
+              " above the boundary, more than " +
+              std::to_string(static_cast<int>(std::lround(100.0 * config.max_added_height_fraction))) +
+              "% of the observed height " + Mm(z_b - z_min),
+          z_s);
     }
     // Outlines above the plane against their mirror images below; the
     // mirror slab may shift by one slab (the plane is known to about that).
@@ -561,9 +558,8 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
       char buf[32];
       std::snprintf(buf, sizeof(buf), "%.0f%%", 100.0 * worst);
       SymmetryResult r = NotSymmetric("the outline at z = " + Mm(worst_z) +
-                                          " differs from its mirror image at z = " +
-                                          Mm(2.0 * z_s - worst_z) + " by " + buf +
-                                          " (plane at z = " + Mm(z_s) + ")",
+                                          " differs from its mirror image at z = " + Mm(2.0 * z_s - worst_z) +
+                                          " by " + buf + " (plane at z = " + Mm(z_s) + ")",
                                       z_s);
       r.outline_mismatch = worst;
       return r;
@@ -577,8 +573,8 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
   // still adds nothing beside an original point.
   if (constant_section) {
     for (const Point2& v : profile.HullAt(z_b - 0.5 * h, config.min_slab_points)) {
-      boundary_box.extend(Eigen::Vector3f(static_cast<float>(v.x()), static_cast<float>(v.y()),
-                                          boundary_box.min().z()));
+      boundary_box.extend(
+          Eigen::Vector3f(static_cast<float>(v.x()), static_cast<float>(v.y()), boundary_box.min().z()));
     }
   }
   const float pad = static_cast<float>(kHoleBoxPadSpacings * d);
@@ -634,7 +630,8 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
   const auto filled = [](size_t n) { return n > 0; };
   const size_t holes_filled = static_cast<size_t>(std::count_if(in_open.begin(), in_open.end(), filled));
   if (holes_filled > 0) {
-    how += "; the image also fills " + std::to_string(holes_filled) + " claw hole(s) no fit or line closed (" +
+    how += "; the image also fills " + std::to_string(holes_filled) +
+           " claw hole(s) no fit or line closed (" +
            std::to_string(std::accumulate(in_open.begin(), in_open.end(), size_t{0})) + " points)";
   }
   result.symmetric = true;

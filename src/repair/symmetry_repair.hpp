@@ -22,10 +22,9 @@
 // `plateau_tolerance` of the median slab's size (a prism-like shape, even
 // with a few odd slabs by the claw holes; sizes of the observed points
 // alone), the middle of the observed height. Otherwise the slabs within
-// `plateau_tolerance` of the largest size form runs; the run nearest the median z (the paper starts there) is the
-// largest cross-section. z_s is then refined, within the run, to the
-// height about which the size profile is most symmetric (least squared
-// difference of the sizes at z_s + t and z_s - t): on a sphere or an
+// `plateau_tolerance` of the largest size form runs; the run nearest the median z (the paper starts there) is
+// the largest cross-section. z_s is then refined, within the run, to the height about which the size profile
+// is most symmetric (least squared difference of the sizes at z_s + t and z_s - t): on a sphere or an
 // ellipsoid that is the equator, pinned down by the steep flanks of the
 // profile rather than by where its flat top crosses a threshold. On a
 // prism-like shape (cuboid, cylinder, prism) every slab has the same size:
@@ -65,8 +64,8 @@
 #include <string>
 #include <vector>
 
-#include "neighbor_index.hpp"
 #include "graspfill/repair/repair_types.hpp"
+#include "neighbor_index.hpp"
 
 namespace graspfill::repair {
 
@@ -177,10 +176,8 @@ struct SymmetryResult {
 ///         nothing added and the reason.
 /// @throws std::invalid_argument on a bad config, non-finite coordinates or
 ///         an index over another cloud.
-SymmetryResult RepairMissingSurface(const PointList& points_V,
-                                    const HoleBoundary& missing_surface,
-                                    const SymmetryConfig& config,
-                                    const NeighborIndex* index_V = nullptr,
+SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundary& missing_surface,
+                                    const SymmetryConfig& config, const NeighborIndex* index_V = nullptr,
                                     const PointList* added_before_V = nullptr,
                                     const std::vector<Eigen::AlignedBox3f>* open_holes_V = nullptr);
 

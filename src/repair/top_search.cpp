@@ -22,17 +22,22 @@ constexpr double kFreeShareNoise = 0.02;
 
 std::string TopFamilyName(TopFamily family) {
   switch (family) {
-    case TopFamily::kOpen: return "open";
-    case TopFamily::kMirror: return "mirror";
-    case TopFamily::kRevolution: return "revolution";
-    case TopFamily::kDome: return "dome";
-    case TopFamily::kExtrusion: return "extrusion";
+    case TopFamily::kOpen:
+      return "open";
+    case TopFamily::kMirror:
+      return "mirror";
+    case TopFamily::kRevolution:
+      return "revolution";
+    case TopFamily::kDome:
+      return "dome";
+    case TopFamily::kExtrusion:
+      return "extrusion";
   }
   return "open";
 }
 
-TopChoice ChooseTop(std::vector<TopCandidate> candidates, const PointList& rim_V,
-                    const PointList& fills_V, double spacing_m) {
+TopChoice ChooseTop(std::vector<TopCandidate> candidates, const PointList& rim_V, const PointList& fills_V,
+                    double spacing_m) {
   TopChoice choice;
   const double sigma = std::max(spacing_m, 1e-6);
   const double n = static_cast<double>(std::max<size_t>(rim_V.size(), 1));

@@ -53,14 +53,14 @@ std::string TopFamilyName(TopFamily family);
 
 struct TopCandidate {
   TopFamily family{TopFamily::kOpen};
-  PointList points_V;     ///< what it adds, after the record's tests
+  PointList points_V;  ///< what it adds, after the record's tests
   /// The points its seal is measured on, when not points_V: a model
   /// sampled where the cloud leaves a spacing open, as the mirror's image.
   PointList seam_V;
-  int parameters{0};      ///< its free parameters (the complexity prior)
+  int parameters{0};       ///< its free parameters (the complexity prior)
   double free_share{0.0};  ///< of its proposed points, seen free or in the claw
-  double seal_m{0.0};     ///< set by ChooseTop
-  double cost{0.0};       ///< set by ChooseTop
+  double seal_m{0.0};      ///< set by ChooseTop
+  double cost{0.0};        ///< set by ChooseTop
 };
 
 struct TopChoice {
@@ -75,7 +75,7 @@ struct TopChoice {
 /// Scores `candidates` and "open" against the rim (`rim_V`, the missing
 /// top's boundary points) and the claw fills (`fills_V`), at the cloud's
 /// spacing `spacing_m`; the first of equal costs wins.
-TopChoice ChooseTop(std::vector<TopCandidate> candidates, const PointList& rim_V,
-                    const PointList& fills_V, double spacing_m);
+TopChoice ChooseTop(std::vector<TopCandidate> candidates, const PointList& rim_V, const PointList& fills_V,
+                    double spacing_m);
 
 }  // namespace graspfill::repair

@@ -99,8 +99,7 @@ void RefineCut(const std::vector<Vec3>& boundary, double plane_distance, const V
   Vec3 n;
   double d;
   if (!FitPlaneOf(boundary, rim, &n, &d)) return;
-  if (n.dot(empty) < std::cos(kMaxRefineAngleRad) && -n.dot(empty) < std::cos(kMaxRefineAngleRad))
-    return;
+  if (n.dot(empty) < std::cos(kMaxRefineAngleRad) && -n.dot(empty) < std::cos(kMaxRefineAngleRad)) return;
   if (n.dot(plane->normal) < 0) n = -n, d = -d;
   plane->normal = n;
   plane->offset = d;
@@ -151,9 +150,8 @@ struct PackedCloud {
   std::vector<float> x, y, z;
 };
 
-PlaneStats MeasurePlane(const PackedCloud& cloud, const NeighborIndex& boundary_index,
-                        double support_radius, const Vec3& normal, double offset, double threshold,
-                        double band) {
+PlaneStats MeasurePlane(const PackedCloud& cloud, const NeighborIndex& boundary_index, double support_radius,
+                        const Vec3& normal, double offset, double threshold, double band) {
   const float nx = static_cast<float>(normal.x()), ny = static_cast<float>(normal.y()),
               nz = static_cast<float>(normal.z()), d = static_cast<float>(offset),
               t = static_cast<float>(threshold), b = static_cast<float>(band);
@@ -215,8 +213,8 @@ struct SearchContext {
     return !hint || std::abs(n.dot(*hint)) >= std::cos(config.hint_max_angle_rad);
   }
   PlaneStats Measure(const RansacPlane& p) const {
-    return MeasurePlane(packed_cloud, boundary_index, config.open_support_radius_m, p.normal,
-                        p.offset, config.plane_distance_m, config.extreme_band_m);
+    return MeasurePlane(packed_cloud, boundary_index, config.open_support_radius_m, p.normal, p.offset,
+                        config.plane_distance_m, config.extreme_band_m);
   }
   bool IsCut(const PlaneStats& st) const { return std::min(st.above, st.below) <= stray_limit; }
 };
@@ -261,14 +259,13 @@ void ExtractOpenCuts(const SearchContext& ctx, RansacPlanes* extractor, PlaneSea
     for (size_t i = 0; i < k && !(*merged)[k]; ++i) {
       const RansacPlane& a = extractor->planes()[i];
       const double c = a.normal.dot(p.normal);
-      (*merged)[k] =
-          !(*merged)[i] && std::abs(c) >= std::cos(kMaxRefineAngleRad / 2) &&
-          std::abs(a.offset - (c > 0 ? p.offset : -p.offset)) <= 2.0 * config.plane_distance_m;
+      (*merged)[k] = !(*merged)[i] && std::abs(c) >= std::cos(kMaxRefineAngleRad / 2) &&
+                     std::abs(a.offset - (c > 0 ? p.offset : -p.offset)) <= 2.0 * config.plane_distance_m;
     }
     // A clean cut square to the axis is the top: no other plane could
     // beat it below, so the search stops (saving the rounds after it).
-    if (!(*merged)[k] && ctx.IsCut(stats[k]) &&
-        stats[k].open_fraction >= 1.0 - config.open_fraction_tie && ctx.InHintCone(p.normal)) {
+    if (!(*merged)[k] && ctx.IsCut(stats[k]) && stats[k].open_fraction >= 1.0 - config.open_fraction_tie &&
+        ctx.InHintCone(p.normal)) {
       search->axis_offset[k] = AxisOffset(ctx.boundary, p, config.plane_distance_m, ctx.centroid);
       if (search->axis_offset[k] <= config.axis_offset_tie) break;
     }
@@ -277,8 +274,8 @@ void ExtractOpenCuts(const SearchContext& ctx, RansacPlanes* extractor, PlaneSea
 
 // Keeps the candidates whose score is within `tie` of the best (highest
 // when `highest`, else lowest).
-std::vector<size_t> WithinTie(const std::vector<size_t>& candidates,
-                              const std::vector<double>& score, double tie, bool highest) {
+std::vector<size_t> WithinTie(const std::vector<size_t>& candidates, const std::vector<double>& score,
+                              double tie, bool highest) {
   double best = highest ? 0.0 : std::numeric_limits<double>::infinity();
   for (size_t k : candidates) best = highest ? std::max(best, score[k]) : std::min(best, score[k]);
   std::vector<size_t> kept;
@@ -340,8 +337,7 @@ void SearchPaperPlanes(const SearchContext& ctx, RansacPlanes* extractor, PlaneS
 }
 
 // The report of every extracted plane, Eq. 4's sum over all of them included.
-std::vector<BoundaryPlane> DescribePlanes(const SearchContext& ctx,
-                                          const std::vector<RansacPlane>& extracted,
+std::vector<BoundaryPlane> DescribePlanes(const SearchContext& ctx, const std::vector<RansacPlane>& extracted,
                                           const PlaneSearch& search) {
   std::vector<BoundaryPlane> planes(extracted.size());
   for (size_t k = 0; k < planes.size(); ++k) {
@@ -393,8 +389,7 @@ void RefitToBoundary(const std::vector<Vec3>& boundary, double plane_distance, V
   for (int round = 0; round < 2; ++round) {
     Vec3 n_ls;
     double d_ls;
-    if (!FitPlaneOf(boundary, PlaneInliers(boundary, all_boundary, *n, *d, plane_distance), &n_ls,
-                    &d_ls)) {
+    if (!FitPlaneOf(boundary, PlaneInliers(boundary, all_boundary, *n, *d, plane_distance), &n_ls, &d_ls)) {
       break;
     }
     if (n_ls.dot(*n) < 0) n_ls = -n_ls, d_ls = -d_ls;
@@ -480,9 +475,7 @@ VirtualFrame FrameAroundAxis(const std::vector<Vec3>& cloud, const Vec3& z, doub
 }  // namespace
 
 void VirtualFrameConfig::Validate() const {
-  auto fail = [](const std::string& what) {
-    throw std::invalid_argument("VirtualFrameConfig: " + what);
-  };
+  auto fail = [](const std::string& what) { throw std::invalid_argument("VirtualFrameConfig: " + what); };
   auto positive = [&](double v, const char* name) {
     if (!std::isfinite(v) || v <= 0.0) fail(std::string(name) + " must be finite and > 0");
   };
@@ -491,15 +484,11 @@ void VirtualFrameConfig::Validate() const {
   positive(extreme_band_m, "extreme_band_m");
   if (max_planes < 1) fail("max_planes must be >= 1");
   if (min_plane_inliers < 3) fail("min_plane_inliers must be >= 3");
-  if (!(min_plane_fraction >= 0.0 && min_plane_fraction < 1.0))
-    fail("min_plane_fraction must be in [0, 1)");
+  if (!(min_plane_fraction >= 0.0 && min_plane_fraction < 1.0)) fail("min_plane_fraction must be in [0, 1)");
   if (max_ransac_iterations < 1) fail("max_ransac_iterations must be >= 1");
-  if (!(ransac_confidence > 0.0 && ransac_confidence < 1.0))
-    fail("ransac_confidence must be in (0, 1)");
-  if (!(min_open_fraction >= 0.0 && min_open_fraction <= 1.0))
-    fail("min_open_fraction must be in [0, 1]");
-  if (!(open_fraction_tie >= 0.0 && open_fraction_tie <= 1.0))
-    fail("open_fraction_tie must be in [0, 1]");
+  if (!(ransac_confidence > 0.0 && ransac_confidence < 1.0)) fail("ransac_confidence must be in (0, 1)");
+  if (!(min_open_fraction >= 0.0 && min_open_fraction <= 1.0)) fail("min_open_fraction must be in [0, 1]");
+  if (!(open_fraction_tie >= 0.0 && open_fraction_tie <= 1.0)) fail("open_fraction_tie must be in [0, 1]");
   if (!(axis_offset_tie >= 0.0) || !std::isfinite(axis_offset_tie))
     fail("axis_offset_tie must be finite and >= 0");
   if (!(eq4_tie_tolerance >= 0.0) || !std::isfinite(eq4_tie_tolerance))
@@ -513,11 +502,9 @@ void VirtualFrameConfig::Validate() const {
   if (hull_columns < 2) fail("hull_columns must be >= 2");
 }
 
-std::optional<VirtualFrame> EstimateVirtualFrame(const PointList& cloud_in,
-                                                 const PointList& boundary_in,
+std::optional<VirtualFrame> EstimateVirtualFrame(const PointList& cloud_in, const PointList& boundary_in,
                                                  const VirtualFrameConfig& config,
-                                                 const Eigen::Vector3d* up_hint,
-                                                 std::string* failure_reason,
+                                                 const Eigen::Vector3d* up_hint, std::string* failure_reason,
                                                  std::vector<BoundaryPlane>* planes_out) {
   config.Validate();
   if (planes_out) planes_out->clear();
@@ -528,9 +515,9 @@ std::optional<VirtualFrame> EstimateVirtualFrame(const PointList& cloud_in,
   const std::vector<Vec3> cloud = FinitePoints(cloud_in);
   const std::vector<Vec3> boundary = FinitePoints(boundary_in);
   if (cloud.empty()) return fail("virtual frame: the cloud has no finite point");
-  const int min_inliers = std::max(
-      config.min_plane_inliers, static_cast<int>(std::ceil(config.min_plane_fraction *
-                                                           static_cast<double>(boundary.size()))));
+  const int min_inliers =
+      std::max(config.min_plane_inliers,
+               static_cast<int>(std::ceil(config.min_plane_fraction * static_cast<double>(boundary.size()))));
   if (static_cast<int>(boundary.size()) < min_inliers) {
     return fail("virtual frame: " + std::to_string(boundary.size()) +
                 " finite boundary points, a plane needs " + std::to_string(min_inliers));

@@ -153,8 +153,7 @@ struct BoundaryPlane {
 ///   bounding box in V; nullopt when no plane is found.
 /// Throws std::invalid_argument on an invalid config. Takes ~4-7 ms (one
 /// core) for 38k cloud points and 1.3k boundary points.
-std::optional<VirtualFrame> EstimateVirtualFrame(const PointList& cloud,
-                                                 const PointList& boundary_points,
+std::optional<VirtualFrame> EstimateVirtualFrame(const PointList& cloud, const PointList& boundary_points,
                                                  const VirtualFrameConfig& config,
                                                  const Eigen::Vector3d* up_hint = nullptr,
                                                  std::string* failure_reason = nullptr,

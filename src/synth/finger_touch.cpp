@@ -56,18 +56,16 @@ std::vector<Eigen::Vector3d> FingerDirections(const claw::ClawModel& model) {
   return dirs;
 }
 
-std::vector<double> FingerTouchRadii(const TriangleMesh& object_G,
-                                     const std::vector<Eigen::Vector3d>& dirs,
+std::vector<double> FingerTouchRadii(const TriangleMesh& object_G, const std::vector<Eigen::Vector3d>& dirs,
                                      double finger_width_m, double finger_length_m) {
   std::vector<double> radii;
   for (const Eigen::Vector3d& d : dirs) {
     const Eigen::Vector3d t = Eigen::Vector3d::UnitZ().cross(d);
     const double half_w = 0.5 * finger_width_m;
-    const std::vector<HalfSpace> region = {
-        {t, half_w},
-        {-t, half_w},
-        {-Eigen::Vector3d::UnitZ(), 0.0},
-        {Eigen::Vector3d::UnitZ(), finger_length_m}};
+    const std::vector<HalfSpace> region = {{t, half_w},
+                                           {-t, half_w},
+                                           {-Eigen::Vector3d::UnitZ(), 0.0},
+                                           {Eigen::Vector3d::UnitZ(), finger_length_m}};
     radii.push_back(MaxSupportInRegion(object_G, d, region));
   }
   return radii;

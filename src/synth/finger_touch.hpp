@@ -18,8 +18,7 @@ std::vector<Eigen::Vector3d> FingerDirections(const claw::ClawModel& model);
 /// Per direction d: the farthest the object (in G) reaches along d inside
 /// that finger's footprint, |p . t| <= width/2 (t = z x d) and z in
 /// [0, finger_length]; -inf where no triangle reaches into it.
-std::vector<double> FingerTouchRadii(const TriangleMesh& object_G,
-                                     const std::vector<Eigen::Vector3d>& dirs,
+std::vector<double> FingerTouchRadii(const TriangleMesh& object_G, const std::vector<Eigen::Vector3d>& dirs,
                                      double finger_width_m, double finger_length_m);
 
 }  // namespace graspfill::synth

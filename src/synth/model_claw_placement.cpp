@@ -15,7 +15,7 @@
 namespace graspfill::synth {
 namespace {
 
-constexpr double kSampleAreaM2 = 2e-6;   // one claw surface sample per 2 mm^2
+constexpr double kSampleAreaM2 = 2e-6;  // one claw surface sample per 2 mm^2
 constexpr int kMaxSamplesPerLink = 40000;
 constexpr double kGapStepM = 0.002;
 constexpr double kMaxGapM = 0.15;
@@ -33,8 +33,8 @@ ClawSamples SampleClaw(const claw::ClawModel& claw) {
     const claw::Link& link = claw.links()[i];
     std::vector<Eigen::Vector3d> points;
     if (!link.mesh.empty()) {
-      const int count = std::clamp(static_cast<int>(mesh::SurfaceArea(link.mesh) / kSampleAreaM2), 64,
-                                   kMaxSamplesPerLink);
+      const int count =
+          std::clamp(static_cast<int>(mesh::SurfaceArea(link.mesh) / kSampleAreaM2), 64, kMaxSamplesPerLink);
       const mesh::SurfaceSamples samples = mesh::SampleSurface(link.mesh, count, 1000 + i);
       for (const Eigen::Vector3f& p : samples.points) points.push_back(link.T_link_mesh * p.cast<double>());
     }

@@ -24,8 +24,8 @@ namespace graspfill::synth {
 
 struct ModelClawHold {
   Eigen::Isometry3d T_G_O{Eigen::Isometry3d::Identity()};  ///< object in G
-  double palm_gap_m{0.0};  ///< palm face to the object's top
-  double opening{0.0};     ///< in the claw's own units
+  double palm_gap_m{0.0};                                  ///< palm face to the object's top
+  double opening{0.0};                                     ///< in the claw's own units
 };
 
 /// `R_G_O` the object's orientation in G and `axis_offset_xy` its position

@@ -28,15 +28,13 @@ void SlipConfig::Validate() const {
           "distance_m must be in [0, 0.05)");
   Require(std::isfinite(max_tilt_deg) && max_tilt_deg >= 0.0 && max_tilt_deg <= 90.0,
           "max_tilt_deg must be in [0, 90]");
-  Require(start_min_fraction >= 0.0 && start_min_fraction <= start_max_fraction &&
-              start_max_fraction <= 1.0,
+  Require(start_min_fraction >= 0.0 && start_min_fraction <= start_max_fraction && start_max_fraction <= 1.0,
           "start fractions must satisfy 0 <= min <= max <= 1");
   Require(std::isfinite(duration_s) && duration_s > 0.0 && duration_s <= 10.0,
           "duration_s must be in (0, 10]");
 }
 
-ObjectSlip::ObjectSlip(const SlipConfig& config, uint64_t seed, int64_t first_utime,
-                       int64_t last_utime)
+ObjectSlip::ObjectSlip(const SlipConfig& config, uint64_t seed, int64_t first_utime, int64_t last_utime)
     : config_(config) {
   config_.Validate();
   start_utime_ = first_utime;
@@ -49,10 +47,10 @@ ObjectSlip::ObjectSlip(const SlipConfig& config, uint64_t seed, int64_t first_ut
   const double cos_tilt = 1.0 - rng.Uniform() * (1.0 - cos_max);
   const double sin_tilt = std::sqrt(std::max(0.0, 1.0 - cos_tilt * cos_tilt));
   const double azimuth = 2.0 * kPi * rng.Uniform();
-  direction_G_ = Eigen::Vector3d(sin_tilt * std::cos(azimuth), sin_tilt * std::sin(azimuth),
-                                 cos_tilt).normalized();
-  const double fraction = config_.start_min_fraction +
-                          rng.Uniform() * (config_.start_max_fraction - config_.start_min_fraction);
+  direction_G_ =
+      Eigen::Vector3d(sin_tilt * std::cos(azimuth), sin_tilt * std::sin(azimuth), cos_tilt).normalized();
+  const double fraction =
+      config_.start_min_fraction + rng.Uniform() * (config_.start_max_fraction - config_.start_min_fraction);
   start_utime_ = first_utime + std::llround(fraction * static_cast<double>(last_utime - first_utime));
 }
 

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/core/random.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 
 namespace graspfill::synth {
 namespace {
@@ -14,10 +14,9 @@ namespace {
 // 0.5 m: the repair may not rely on the cloud's pose.
 Eigen::Isometry3d RandomPose(Rng* rng) {
   const double u1 = rng->Uniform(), u2 = rng->Uniform(), u3 = rng->Uniform();
-  const Eigen::Quaterniond q(std::sqrt(u1) * std::cos(2 * M_PI * u3),
-                             std::sqrt(1 - u1) * std::sin(2 * M_PI * u2),
-                             std::sqrt(1 - u1) * std::cos(2 * M_PI * u2),
-                             std::sqrt(u1) * std::sin(2 * M_PI * u3));
+  const Eigen::Quaterniond q(
+      std::sqrt(u1) * std::cos(2 * M_PI * u3), std::sqrt(1 - u1) * std::sin(2 * M_PI * u2),
+      std::sqrt(1 - u1) * std::cos(2 * M_PI * u2), std::sqrt(u1) * std::sin(2 * M_PI * u3));
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = q.normalized().toRotationMatrix();
   T.translation() = Eigen::Vector3d(rng->Uniform() - 0.5, rng->Uniform() - 0.5, rng->Uniform() - 0.5);
@@ -33,7 +32,7 @@ struct ClawPatch {
   double z_centre, half_width, half_height, tilt;
   bool Contains(const Eigen::Vector3f& p) const {
     const Eigen::Vector2d xy(p.x(), p.y());
-    if (xy.dot(dir) <= 0.0) return false;  // the far side
+    if (xy.dot(dir) <= 0.0) return false;                  // the far side
     const double t = dir.x() * xy.y() - dir.y() * xy.x();  // tangential
     const double z = p.z() - z_centre;
     const double a = std::cos(tilt) * t - std::sin(tilt) * z;
@@ -49,8 +48,7 @@ bool HasFlatTop(Shape shape) { return shape != Shape::kSphere && shape != Shape:
 double TopCutZ(const PaperProtocolConfig& config, double height_m) {
   if (config.top_cut_fraction > 0.0) return height_m * (1.0 - config.top_cut_fraction);
   // 10 um below a flat top: the face's samples go, the walls' stay.
-  return HasFlatTop(config.shape) ? height_m - 1e-5
-                                  : height_m * (1.0 - config.round_top_cut_fraction);
+  return HasFlatTop(config.shape) ? height_m - 1e-5 : height_m * (1.0 - config.round_top_cut_fraction);
 }
 
 PaperProtocolCloud MakePaperProtocolCloud(const PaperProtocolConfig& config) {
@@ -63,7 +61,8 @@ PaperProtocolCloud MakePaperProtocolCloud(const PaperProtocolConfig& config) {
         "paper protocol: size and point count must be positive, the cut fraction in [0, 1)");
   }
   const TriangleMesh mesh = MakeShape(config.shape, size);
-  const mesh::SurfaceSamples sample = mesh::SampleSurface(mesh, config.num_points, DeriveSeed(config.seed, 1));
+  const mesh::SurfaceSamples sample =
+      mesh::SampleSurface(mesh, config.num_points, DeriveSeed(config.seed, 1));
   const mesh::SurfaceSamples truth = mesh::SampleSurface(mesh, config.num_points, DeriveSeed(config.seed, 2));
   const double height = size.z();
   const double top_z = TopCutZ(config, height);
@@ -72,8 +71,7 @@ PaperProtocolCloud MakePaperProtocolCloud(const PaperProtocolConfig& config) {
   // or hold the middle; evenly spread around the axis, the first on +x.
   std::vector<ClawPatch> patches;
   const bool top = config.grasp != GraspWay::kMiddleStraight;
-  const double z_centre = top ? top_z - 0.5 * config.claw_hole_height_m + 0.004
-                              : 0.5 * height;
+  const double z_centre = top ? top_z - 0.5 * config.claw_hole_height_m + 0.004 : 0.5 * height;
   const double tilt = config.grasp == GraspWay::kTopOblique ? config.oblique_tilt_rad : 0.0;
   for (int i = 0; i < config.num_claw_holes; ++i) {
     const double angle = 2.0 * M_PI * i / config.num_claw_holes;

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include "graspfill/mesh/mesh_geometry.hpp"
 #include "graspfill/core/random.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 
 namespace graspfill::synth {
 namespace {
@@ -31,8 +31,7 @@ void OverlayNearer(const IdealDepthImage& object, IdealDepthImage* image) {
 
 }  // namespace
 
-DepthRenderer::DepthRenderer(const CameraIntrinsics& intrinsics,
-                             double wall_distance_m)
+DepthRenderer::DepthRenderer(const CameraIntrinsics& intrinsics, double wall_distance_m)
     : intrinsics_(intrinsics), wall_distance_m_(wall_distance_m) {}
 
 void DepthRenderer::AddMesh(const TriangleMesh& mesh_G, SurfaceLabel label) {
@@ -79,8 +78,7 @@ void DepthRenderer::Render(const Eigen::Isometry3d& T_C_G, IdealDepthImage* out)
   double umin = std::numeric_limits<double>::infinity(), umax = -umin;
   double vmin = umin, vmax = -umin;
   for (int k = 0; k < 8; ++k) {
-    const Eigen::Vector3d p_C =
-        T_C_G * bounds_G_.corner(static_cast<Eigen::AlignedBox3d::CornerType>(k));
+    const Eigen::Vector3d p_C = T_C_G * bounds_G_.corner(static_cast<Eigen::AlignedBox3d::CornerType>(k));
     if (p_C.z() < kMinProjectionDepthM) {
       all_in_front = false;
       break;
@@ -105,8 +103,8 @@ void DepthRenderer::Render(const Eigen::Isometry3d& T_C_G, IdealDepthImage* out)
   const Eigen::Isometry3d T_G_C = T_C_G.inverse();
   const Eigen::Matrix3f R_G_C = T_G_C.linear().cast<float>();
   const Eigen::Vector3f origin_G = T_G_C.translation().cast<float>();
-  const float t_far = wall_distance_m_ > 0.0 ? static_cast<float>(wall_distance_m_)
-                                             : std::numeric_limits<float>::infinity();
+  const float t_far =
+      wall_distance_m_ > 0.0 ? static_cast<float>(wall_distance_m_) : std::numeric_limits<float>::infinity();
   for (int v = v0; v <= v1; ++v) {
     const float y = static_cast<float>((v - cy) / fy);
     for (int u = u0; u <= u1; ++u) {

@@ -53,8 +53,7 @@ void RigErrorConfig::Validate() const {
           "pose_noise_m must be in [0, 0.1)");
   Require(std::isfinite(pose_noise_deg) && pose_noise_deg >= 0.0 && pose_noise_deg < 45.0,
           "pose_noise_deg must be in [0, 45)");
-  Require(clock_offset_us > -1000000 && clock_offset_us < 1000000,
-          "clock_offset_us must be within +-1 s");
+  Require(clock_offset_us > -1000000 && clock_offset_us < 1000000, "clock_offset_us must be within +-1 s");
 }
 
 RigErrors::RigErrors(const RigErrorConfig& config, uint64_t seed) : config_(config), seed_(seed) {

@@ -35,8 +35,8 @@ struct RigErrorConfig {
   int64_t clock_offset_us{0};
 
   bool any() const {
-    return hand_eye_m != 0.0 || hand_eye_deg != 0.0 || pose_noise_m != 0.0 ||
-           pose_noise_deg != 0.0 || clock_offset_us != 0;
+    return hand_eye_m != 0.0 || hand_eye_deg != 0.0 || pose_noise_m != 0.0 || pose_noise_deg != 0.0 ||
+           clock_offset_us != 0;
   }
   /// Throws std::invalid_argument naming the bad field (negative sizes,
   /// angles >= 45 deg, translations >= 0.1 m, |offset| >= 1 s).

@@ -38,8 +38,7 @@ TriangleMesh RingStackMesh(const std::vector<Ring>& rings) {
     for (size_t i = 0; i < n; ++i) {
       const Eigen::Vector3f p = rings[k][i].cast<float>();
       const auto [it, inserted] =
-          index_of.emplace(std::array<float, 3>{p.x(), p.y(), p.z()},
-                           static_cast<int>(mesh.vertices.size()));
+          index_of.emplace(std::array<float, 3>{p.x(), p.y(), p.z()}, static_cast<int>(mesh.vertices.size()));
       if (inserted) mesh.vertices.push_back(p);
       index[k][i] = it->second;
     }

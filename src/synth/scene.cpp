@@ -48,9 +48,7 @@ CameraIntrinsics IntrinsicsAtResolution(int width, int height, const CameraIntri
   return K;
 }
 
-std::string ClawTypeName(ClawType claw) {
-  return claw == ClawType::kParallel ? "parallel" : "three-finger";
-}
+std::string ClawTypeName(ClawType claw) { return claw == ClawType::kParallel ? "parallel" : "three-finger"; }
 
 std::optional<ClawType> ParseClawType(const std::string& name) {
   if (name == "three-finger") return ClawType::kThreeFinger;
@@ -60,16 +58,18 @@ std::optional<ClawType> ParseClawType(const std::string& name) {
 
 std::string GraspWayName(GraspWay grasp) {
   switch (grasp) {
-    case GraspWay::kTopStraight: return "top-straight";
-    case GraspWay::kMiddleStraight: return "middle-straight";
-    case GraspWay::kTopOblique: return "top-oblique";
+    case GraspWay::kTopStraight:
+      return "top-straight";
+    case GraspWay::kMiddleStraight:
+      return "middle-straight";
+    case GraspWay::kTopOblique:
+      return "top-oblique";
   }
   return "unknown";
 }
 
 std::optional<GraspWay> ParseGraspWay(const std::string& name) {
-  for (GraspWay g : {GraspWay::kTopStraight, GraspWay::kMiddleStraight,
-                     GraspWay::kTopOblique}) {
+  for (GraspWay g : {GraspWay::kTopStraight, GraspWay::kMiddleStraight, GraspWay::kTopOblique}) {
     if (GraspWayName(g) == name) return g;
   }
   return std::nullopt;
@@ -89,22 +89,18 @@ void SceneConfig::Validate() const {
   Require(num_frames >= 1, "num_frames must be >= 1");
   Require(depth_rate_hz > 0.0 && gripper_rate_hz > 0.0, "rates must be > 0");
   Require(gripper_lead_s >= 0.0, "gripper_lead_s must be >= 0");
-  Require(intrinsics.width > 0 && intrinsics.height > 0 && intrinsics.fx > 0.0 &&
-              intrinsics.fy > 0.0,
+  Require(intrinsics.width > 0 && intrinsics.height > 0 && intrinsics.fx > 0.0 && intrinsics.fy > 0.0,
           "intrinsics need a positive size and focal length");
-  Require(placement.min_palm_gap_m >= 0.0 && placement.finger_pad_m >= 0.0 &&
-              placement.finger_clearance_m >= 0.0,
-          "placement distances must be >= 0");
+  Require(
+      placement.min_palm_gap_m >= 0.0 && placement.finger_pad_m >= 0.0 && placement.finger_clearance_m >= 0.0,
+      "placement distances must be >= 0");
   Require(placement.top_contact_fraction > 0.0 && placement.top_contact_fraction < 1.0 &&
-              placement.middle_contact_fraction > 0.0 &&
-              placement.middle_contact_fraction < 1.0,
+              placement.middle_contact_fraction > 0.0 && placement.middle_contact_fraction < 1.0,
           "contact fractions must be in (0, 1)");
   Require(std::abs(placement.oblique_tilt_deg) < 80.0, "oblique_tilt_deg must be < 80");
   Require(motion.camera_distance_m > 0.0, "camera_distance_m must be > 0");
-  Require(motion.speed_variation >= 0.0 && motion.speed_variation < 1.0,
-          "speed_variation must be in [0, 1)");
-  Require(std::abs(motion.camera_elevation_deg) < 80.0,
-          "camera_elevation_deg must be in (-80, 80)");
+  Require(motion.speed_variation >= 0.0 && motion.speed_variation < 1.0, "speed_variation must be in [0, 1)");
+  Require(std::abs(motion.camera_elevation_deg) < 80.0, "camera_elevation_deg must be in (-80, 80)");
   Require(environment.wall_distance_m >= 0.0 && environment.arm_radius_m >= 0.0 &&
               environment.arm_length_m >= 0.0,
           "environment distances must be >= 0");
@@ -117,23 +113,19 @@ void SceneConfig::Validate() const {
 
 Scene::Scene(const SceneConfig& config) : config_(config) {
   config_.Validate();
-  object_O_ = config_.mesh.empty()
-                  ? MakeShape(config_.shape, config_.EffectiveSize(), config_.shape_segments)
-                  : NormalizeToObjectFrame(config_.mesh);
+  object_O_ = config_.mesh.empty() ? MakeShape(config_.shape, config_.EffectiveSize(), config_.shape_segments)
+                                   : NormalizeToObjectFrame(config_.mesh);
   const double height = mesh::Bounds(object_O_).sizes().z();
   Require(height > 0.0, "the object mesh is flat or empty");
   const PlacementConfig& pc = config_.placement;
 
   // Orientation: up (z_O) to -z_G, then the oblique tilt about G's x.
-  const double tilt =
-      config_.grasp == GraspWay::kTopOblique ? pc.oblique_tilt_deg * kDegToRad : 0.0;
+  const double tilt = config_.grasp == GraspWay::kTopOblique ? pc.oblique_tilt_deg * kDegToRad : 0.0;
   const Eigen::Matrix3d R_G_O =
-      (Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitX()) *
-       Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX()))
+      (Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX()))
           .toRotationMatrix();
-  placement_.contact_fraction = config_.grasp == GraspWay::kMiddleStraight
-                                    ? pc.middle_contact_fraction
-                                    : pc.top_contact_fraction;
+  placement_.contact_fraction =
+      config_.grasp == GraspWay::kMiddleStraight ? pc.middle_contact_fraction : pc.top_contact_fraction;
   const Eigen::Vector3d contact_O(0.0, 0.0, (1.0 - placement_.contact_fraction) * height);
   const Eigen::Vector3d contact_rot = R_G_O * contact_O;
   if (config_.claw_model) {
@@ -150,15 +142,14 @@ Scene::Scene(const SceneConfig& config) : config_(config) {
   for (double& phase : wobble_phase_) phase = 2.0 * kPi * rng.Uniform();
 
   slip_ = ObjectSlip(config_.slip, config_.seed, DepthUtime(0), DepthUtime(config_.num_frames - 1));
-  object_G_after_slip_ =
-      config_.slip.any() ? object_G_.Transformed(slip_.S_G_final()) : object_G_;
+  object_G_after_slip_ = config_.slip.any() ? object_G_.Transformed(slip_.S_G_final()) : object_G_;
 }
 
 // A description or URDF claw keeps its geometry and closes on the object.
 void Scene::PlaceInModelClaw(const Eigen::Matrix3d& R_G_O, const Eigen::Vector3d& contact_rot) {
-  const ModelClawHold hold = HoldInModelClaw(
-      *config_.claw_model, object_O_, R_G_O, Eigen::Vector2d(-contact_rot.x(), -contact_rot.y()),
-      config_.placement.min_palm_gap_m);
+  const ModelClawHold hold =
+      HoldInModelClaw(*config_.claw_model, object_O_, R_G_O,
+                      Eigen::Vector2d(-contact_rot.x(), -contact_rot.y()), config_.placement.min_palm_gap_m);
   placement_.claw = config_.claw_config;
   placement_.T_G_O = hold.T_G_O;
   placement_.palm_gap_m = hold.palm_gap_m;
@@ -192,13 +183,12 @@ void Scene::PlaceInBuiltinClaw(const Eigen::Matrix3d& R_G_O, const Eigen::Vector
   const claw::ClawModel probe = MakeClaw(config_.claw, placement_.claw);
   const std::vector<Eigen::Vector3d> dirs = FingerDirections(probe);
   object_G_ = object_O_.Transformed(placement_.T_G_O);
-  placement_.finger_touch_radius_m = FingerTouchRadii(
-      object_G_, dirs, placement_.claw.finger_width_m, placement_.claw.finger_length_m);
+  placement_.finger_touch_radius_m =
+      FingerTouchRadii(object_G_, dirs, placement_.claw.finger_width_m, placement_.claw.finger_length_m);
   std::vector<double>& radii = placement_.finger_touch_radius_m;
   for (size_t i = 0; i < radii.size(); ++i) {
     if (!std::isfinite(radii[i])) {
-      throw std::invalid_argument("Scene: finger " + std::to_string(i) +
-                                  " does not reach the object");
+      throw std::invalid_argument("Scene: finger " + std::to_string(i) + " does not reach the object");
     }
   }
   if (dirs.size() == 2 && dirs[0].dot(dirs[1]) < -0.999) {
@@ -207,8 +197,8 @@ void Scene::PlaceInBuiltinClaw(const Eigen::Matrix3d& R_G_O, const Eigen::Vector
     const double shift = 0.5 * (radii[1] - radii[0]);
     placement_.T_G_O.pretranslate(shift * dirs[0]);
     object_G_ = object_O_.Transformed(placement_.T_G_O);
-    radii = FingerTouchRadii(object_G_, dirs, placement_.claw.finger_width_m,
-                             placement_.claw.finger_length_m);
+    radii =
+        FingerTouchRadii(object_G_, dirs, placement_.claw.finger_width_m, placement_.claw.finger_length_m);
   }
   placement_.opening_m = *std::max_element(radii.begin(), radii.end()) + pc.finger_clearance_m;
   Require(placement_.opening_m > 0.0, "the object is too thin for the claw");
@@ -224,11 +214,10 @@ void Scene::MakeArm() {
   const double len = config_.environment.arm_length_m;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   // Behind the palm: a model claw's back is its lowest point.
-  const double palm_back_m = config_.claw_model ? -mesh::Bounds(claw_G_).min().z()
-                                                : placement_.claw.palm_thickness_m;
+  const double palm_back_m =
+      config_.claw_model ? -mesh::Bounds(claw_G_).min().z() : placement_.claw.palm_thickness_m;
   T.translation().z() = -palm_back_m - len;
-  arm_G_ = MakeShape(Shape::kCylinder, Eigen::Vector3d(2 * r, 2 * r, len), kArmSegments)
-               .Transformed(T);
+  arm_G_ = MakeShape(Shape::kCylinder, Eigen::Vector3d(2 * r, 2 * r, len), kArmSegments).Transformed(T);
 }
 
 // Camera: at the object's centre's level minus the elevation, looking at
@@ -286,17 +275,14 @@ Eigen::Isometry3d Scene::T_W_G(double t_s) const {
   return T;
 }
 
-Eigen::Isometry3d Scene::T_C_G(double t_s) const {
-  return T_W_C_.inverse() * T_W_G(t_s);
-}
+Eigen::Isometry3d Scene::T_C_G(double t_s) const { return T_W_C_.inverse() * T_W_G(t_s); }
 
 Eigen::Isometry3d Scene::T_C_G_AtUtime(int64_t utime) const {
   return T_C_G(static_cast<double>(utime - config_.motion.start_utime) * 1e-6);
 }
 
 int64_t Scene::DepthUtime(int frame_index) const {
-  return config_.motion.start_utime +
-         std::llround(frame_index * 1e6 / config_.depth_rate_hz);
+  return config_.motion.start_utime + std::llround(frame_index * 1e6 / config_.depth_rate_hz);
 }
 
 std::vector<int64_t> Scene::DepthUtimes() const {
@@ -311,8 +297,7 @@ std::vector<int64_t> Scene::GripperUtimes() const {
   const int64_t last = DepthUtime(config_.num_frames - 1) + lead_us;
   std::vector<int64_t> utimes;
   for (int64_t k = 0;; ++k) {
-    const int64_t utime =
-        first + std::llround(static_cast<double>(k) * 1e6 / config_.gripper_rate_hz);
+    const int64_t utime = first + std::llround(static_cast<double>(k) * 1e6 / config_.gripper_rate_hz);
     if (utime > last) break;
     utimes.push_back(utime);
   }
@@ -338,9 +323,7 @@ std::vector<TimelineEvent> Scene::Timeline() const {
     events.push_back({gripper[i], TimelineEvent::Kind::kGripperState, static_cast<int>(i)});
   }
   std::stable_sort(events.begin(), events.end(),
-                   [](const TimelineEvent& a, const TimelineEvent& b) {
-                     return a.utime < b.utime;
-                   });
+                   [](const TimelineEvent& a, const TimelineEvent& b) { return a.utime < b.utime; });
   return events;
 }
 

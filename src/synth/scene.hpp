@@ -70,27 +70,27 @@ std::optional<GraspWay> ParseGraspWay(const std::string& name);
 
 /// How the object sits in the claw (see the file comment for the rule).
 struct PlacementConfig {
-  double min_palm_gap_m{0.005};        ///< palm face to the object's top
-  double top_contact_fraction{0.25};     ///< of H below the top, top grasps
-  double middle_contact_fraction{0.5};   ///< of H below the top, middle grasp
-  double finger_pad_m{0.02};           ///< contact length at the fingertip
-  double oblique_tilt_deg{20.0};       ///< about G's x, oblique grasp
-  double finger_clearance_m{0.0005};   ///< gap left by the closest finger
+  double min_palm_gap_m{0.005};         ///< palm face to the object's top
+  double top_contact_fraction{0.25};    ///< of H below the top, top grasps
+  double middle_contact_fraction{0.5};  ///< of H below the top, middle grasp
+  double finger_pad_m{0.02};            ///< contact length at the fingertip
+  double oblique_tilt_deg{20.0};        ///< about G's x, oblique grasp
+  double finger_clearance_m{0.0005};    ///< gap left by the closest finger
 };
 
 /// Camera placement and the gripper's trajectory.
 struct MotionConfig {
-  double camera_distance_m{0.55};   ///< camera to the object's centre
+  double camera_distance_m{0.55};     ///< camera to the object's centre
   double camera_elevation_deg{25.0};  ///< camera below the object, looking up
-  double turns{1.0};                ///< revolutions over the recording
+  double turns{1.0};                  ///< revolutions over the recording
   /// The turn's speed varies by this share of its mean, once over the
   /// recording: angle(s) = turns * 2 pi * (s - F sin(2 pi s) / (2 pi)),
   /// s in [0, 1], speed (1 - F cos(2 pi s)) x the mean; 0 (the default):
   /// a steady turn. A real arm accelerates and brakes; a clock offset is
   /// separable from a hand-eye rotation only then (docs/imperfect-robots.md).
   double speed_variation{0.0};
-  double wobble_deg{1.0};           ///< amplitude of the approach-axis tilt
-  double wobble_translation_m{0.002};  ///< amplitude of the position wobble
+  double wobble_deg{1.0};                 ///< amplitude of the approach-axis tilt
+  double wobble_translation_m{0.002};     ///< amplitude of the position wobble
   int64_t start_utime{1700000000000000};  ///< first depth frame [us]
 };
 
@@ -121,8 +121,8 @@ struct SceneConfig {
   std::shared_ptr<const claw::ClawModel> claw_model;
   GraspWay grasp{GraspWay::kTopStraight};
 
-  uint64_t seed{1};            ///< sensor noise, wobble phases
-  int num_frames{90};          ///< 90 = one turn in 3 s at 30 Hz
+  uint64_t seed{1};    ///< sensor noise, wobble phases
+  int num_frames{90};  ///< 90 = one turn in 3 s at 30 Hz
   double depth_rate_hz{30.0};
   double gripper_rate_hz{100.0};
   /// Gripper states are shifted by this from the depth frames' clock so
@@ -149,10 +149,10 @@ struct SceneConfig {
 /// Derived placement of the object and the claw.
 struct Placement {
   Eigen::Isometry3d T_G_O{Eigen::Isometry3d::Identity()};  ///< object in G
-  double palm_gap_m{0.0};     ///< palm face (z = 0) to the object's top
+  double palm_gap_m{0.0};                                  ///< palm face (z = 0) to the object's top
   double contact_fraction{0.0};
-  double opening_m{0.0};      ///< the claw's opening (finger inner radius;
-                              ///< a model claw's own units)
+  double opening_m{0.0};  ///< the claw's opening (finger inner radius;
+                          ///< a model claw's own units)
   /// Per finger: radius at which it would touch the object [m].
   std::vector<double> finger_touch_radius_m;
   claw::ProceduralClawConfig claw;  ///< the claw as used (finger length)

@@ -38,18 +38,15 @@ void SensorModelConfig::Validate() const {
           "noise coefficients must be >= 0");
   Require(baseline_m > 0.0 && disparity_steps_per_px > 0.0,
           "baseline_m and disparity_steps_per_px must be > 0");
-  Require(min_range_m >= 0.0 && min_range_m < max_range_m,
-          "need 0 <= min_range_m < max_range_m");
-  Require(grazing_start_deg >= 0.0 && grazing_start_deg <= grazing_full_deg &&
-              grazing_full_deg <= 90.0,
+  Require(min_range_m >= 0.0 && min_range_m < max_range_m, "need 0 <= min_range_m < max_range_m");
+  Require(grazing_start_deg >= 0.0 && grazing_start_deg <= grazing_full_deg && grazing_full_deg <= 90.0,
           "need 0 <= grazing_start_deg <= grazing_full_deg <= 90");
   Require(edge_jump_m > 0.0, "edge_jump_m must be > 0");
   Require(IsProbability(edge_dropout_prob) && IsProbability(random_dropout_prob),
           "dropout probabilities must be in [0, 1]");
 }
 
-double AxialNoiseSigma(const SensorModelConfig& config, double z_m,
-                       double incidence_rad) {
+double AxialNoiseSigma(const SensorModelConfig& config, double z_m, double incidence_rad) {
   const double dz = z_m - config.sigma_reference_depth_m;
   double sigma = config.sigma_base_m + config.sigma_quadratic_m * dz * dz;
   // The angular term diverges at 90 deg; those pixels are dropped anyway,
@@ -68,8 +65,7 @@ double QuantizeDepth(const SensorModelConfig& config, double fx_px, double z_m) 
   return bf / (steps / config.disparity_steps_per_px);
 }
 
-DepthFrame ApplySensorModel(const SensorModelConfig& config,
-                            const IdealDepthImage& ideal, uint64_t seed,
+DepthFrame ApplySensorModel(const SensorModelConfig& config, const IdealDepthImage& ideal, uint64_t seed,
                             int64_t utime) {
   const int width = ideal.intrinsics.width;
   const int height = ideal.intrinsics.height;
@@ -130,8 +126,8 @@ DepthFrame ApplySensorModel(const SensorModelConfig& config,
       const int b = std::min(static_cast<int>(x), kAngularBins - 1);
       // The table holds the term at z = 1 m; it scales with 1/sqrt(z).
       const double angular_1m = angular[b] + (x - b) * (angular[b + 1] - angular[b]);
-      const double sigma = config.sigma_base_m + config.sigma_quadratic_m * dz * dz +
-                           angular_1m / std::sqrt(z_true);
+      const double sigma =
+          config.sigma_base_m + config.sigma_quadratic_m * dz * dz + angular_1m / std::sqrt(z_true);
       z_meas += sigma * rng.Normal();
     }
     if (config.quantize) z_meas = QuantizeDepth(config, ideal.intrinsics.fx, z_meas);

@@ -42,16 +42,16 @@ struct IdealDepthImage {
 /// Sensor parameters; the defaults are a Kinect v1 (see file comment).
 /// Ideal() switches off every random effect and the quantization.
 struct SensorModelConfig {
-  bool noise{true};                   ///< add axial Gaussian noise
-  double sigma_base_m{0.0012};        ///< Nguyen 2012 constant term [m]
-  double sigma_quadratic_m{0.0019};   ///< coefficient of (z - z_ref)^2 [1/m]
+  bool noise{true};                  ///< add axial Gaussian noise
+  double sigma_base_m{0.0012};       ///< Nguyen 2012 constant term [m]
+  double sigma_quadratic_m{0.0019};  ///< coefficient of (z - z_ref)^2 [1/m]
   double sigma_reference_depth_m{0.4};
-  double sigma_angular_m{0.0001};     ///< coefficient of the angle term
-  bool quantize{true};                ///< quantize disparity
-  double baseline_m{0.075};           ///< projector-camera baseline
-  double disparity_steps_per_px{8.0}; ///< 1/8-pixel disparity resolution
-  double min_range_m{0.3};            ///< nearer returns are invalid
-  double max_range_m{3.0};            ///< farther returns are invalid
+  double sigma_angular_m{0.0001};      ///< coefficient of the angle term
+  bool quantize{true};                 ///< quantize disparity
+  double baseline_m{0.075};            ///< projector-camera baseline
+  double disparity_steps_per_px{8.0};  ///< 1/8-pixel disparity resolution
+  double min_range_m{0.3};             ///< nearer returns are invalid
+  double max_range_m{3.0};             ///< farther returns are invalid
   /// Grazing angles: no loss below start, certain loss above full, linear
   /// in between [deg between ray and surface normal].
   double grazing_start_deg{75.0};
@@ -73,16 +73,14 @@ struct SensorModelConfig {
 
 /// Axial noise standard deviation at depth z [m] and incidence angle
 /// theta [rad] (Nguyen 2012 eq. 2, with the config's coefficients).
-double AxialNoiseSigma(const SensorModelConfig& config, double z_m,
-                       double incidence_rad);
+double AxialNoiseSigma(const SensorModelConfig& config, double z_m, double incidence_rad);
 
 /// Depth after rounding the disparity to the sensor's resolution [m].
 double QuantizeDepth(const SensorModelConfig& config, double fx_px, double z_m);
 
 /// Turns an ideal rendering into a sensor frame. Deterministic: the same
 /// inputs and `seed` give a byte-identical frame.
-DepthFrame ApplySensorModel(const SensorModelConfig& config,
-                            const IdealDepthImage& ideal, uint64_t seed,
+DepthFrame ApplySensorModel(const SensorModelConfig& config, const IdealDepthImage& ideal, uint64_t seed,
                             int64_t utime);
 
 }  // namespace graspfill::synth

@@ -13,15 +13,13 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 Eigen::Vector3f V(double x, double y, double z) {
-  return Eigen::Vector3f(static_cast<float>(x), static_cast<float>(y),
-                         static_cast<float>(z));
+  return Eigen::Vector3f(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
 }
 
 // Extrudes a convex polygon (counter-clockwise seen from +z) from z = 0 to
 // z = height. Caps are fans around the polygon's vertex mean, which shares
 // no edge with the sides, so the result is closed and outward-facing.
-TriangleMesh ExtrudeConvexPolygon(const std::vector<Eigen::Vector2d>& polygon,
-                                  double height) {
+TriangleMesh ExtrudeConvexPolygon(const std::vector<Eigen::Vector2d>& polygon, double height) {
   TriangleMesh mesh;
   const int n = static_cast<int>(polygon.size());
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
@@ -35,7 +33,7 @@ TriangleMesh ExtrudeConvexPolygon(const std::vector<Eigen::Vector2d>& polygon,
   mesh.vertices.push_back(V(centre.x(), centre.y(), height));
   for (int i = 0; i < n; ++i) {
     const int j = (i + 1) % n;
-    mesh.triangles.emplace_back(c_bottom, j, i);      // normal -z
+    mesh.triangles.emplace_back(c_bottom, j, i);       // normal -z
     mesh.triangles.emplace_back(c_top, n + i, n + j);  // normal +z
     mesh.triangles.emplace_back(i, j, n + j);          // side, outward
     mesh.triangles.emplace_back(i, n + j, n + i);
@@ -88,31 +86,41 @@ TriangleMesh MakeEllipsoid(double a, double b, double c, int segments) {
 }  // namespace
 
 const std::vector<Shape>& AllShapes() {
-  static const std::vector<Shape> kAll = {
-      Shape::kCuboid,   Shape::kTriangularPrism,  Shape::kCylinder,
-      Shape::kSphere,   Shape::kEllipticCylinder, Shape::kEllipsoid};
+  static const std::vector<Shape> kAll = {Shape::kCuboid, Shape::kTriangularPrism,  Shape::kCylinder,
+                                          Shape::kSphere, Shape::kEllipticCylinder, Shape::kEllipsoid};
   return kAll;
 }
 
 const std::vector<Shape>& ZooShapes() {
-  static const std::vector<Shape> kZoo = {Shape::kRoundedBox, Shape::kBottle, Shape::kBlob,
-                                          Shape::kMug, Shape::kBowl};
+  static const std::vector<Shape> kZoo = {Shape::kRoundedBox, Shape::kBottle, Shape::kBlob, Shape::kMug,
+                                          Shape::kBowl};
   return kZoo;
 }
 
 std::string ShapeName(Shape shape) {
   switch (shape) {
-    case Shape::kCuboid: return "cuboid";
-    case Shape::kTriangularPrism: return "triangular-prism";
-    case Shape::kCylinder: return "cylinder";
-    case Shape::kSphere: return "sphere";
-    case Shape::kEllipticCylinder: return "elliptic-cylinder";
-    case Shape::kEllipsoid: return "ellipsoid";
-    case Shape::kRoundedBox: return "rounded-box";
-    case Shape::kBottle: return "bottle";
-    case Shape::kBlob: return "blob";
-    case Shape::kMug: return "mug";
-    case Shape::kBowl: return "bowl";
+    case Shape::kCuboid:
+      return "cuboid";
+    case Shape::kTriangularPrism:
+      return "triangular-prism";
+    case Shape::kCylinder:
+      return "cylinder";
+    case Shape::kSphere:
+      return "sphere";
+    case Shape::kEllipticCylinder:
+      return "elliptic-cylinder";
+    case Shape::kEllipsoid:
+      return "ellipsoid";
+    case Shape::kRoundedBox:
+      return "rounded-box";
+    case Shape::kBottle:
+      return "bottle";
+    case Shape::kBlob:
+      return "blob";
+    case Shape::kMug:
+      return "mug";
+    case Shape::kBowl:
+      return "bowl";
   }
   return "unknown";
 }
@@ -128,27 +136,36 @@ std::optional<Shape> ParseShape(const std::string& name) {
 
 Eigen::Vector3d DefaultSize(Shape shape) {
   switch (shape) {
-    case Shape::kCuboid: return {0.07, 0.07, 0.14};
-    case Shape::kTriangularPrism: return {0.0693, 0.08, 0.14};
-    case Shape::kCylinder: return {0.07, 0.07, 0.14};
-    case Shape::kSphere: return {0.08, 0.08, 0.08};
-    case Shape::kEllipticCylinder: return {0.09, 0.06, 0.14};
-    case Shape::kEllipsoid: return {0.08, 0.06, 0.12};
-    case Shape::kRoundedBox: return {0.09, 0.05, 0.16};
-    case Shape::kBottle: return {0.07, 0.07, 0.20};
-    case Shape::kBlob: return {0.075, 0.07, 0.08};
-    case Shape::kMug: return {0.11, 0.08, 0.095};
-    case Shape::kBowl: return {0.12, 0.12, 0.06};
+    case Shape::kCuboid:
+      return {0.07, 0.07, 0.14};
+    case Shape::kTriangularPrism:
+      return {0.0693, 0.08, 0.14};
+    case Shape::kCylinder:
+      return {0.07, 0.07, 0.14};
+    case Shape::kSphere:
+      return {0.08, 0.08, 0.08};
+    case Shape::kEllipticCylinder:
+      return {0.09, 0.06, 0.14};
+    case Shape::kEllipsoid:
+      return {0.08, 0.06, 0.12};
+    case Shape::kRoundedBox:
+      return {0.09, 0.05, 0.16};
+    case Shape::kBottle:
+      return {0.07, 0.07, 0.20};
+    case Shape::kBlob:
+      return {0.075, 0.07, 0.08};
+    case Shape::kMug:
+      return {0.11, 0.08, 0.095};
+    case Shape::kBowl:
+      return {0.12, 0.12, 0.06};
   }
   return {0.07, 0.07, 0.14};
 }
 
 TriangleMesh MakeShape(Shape shape, const Eigen::Vector3d& size_m, int segments) {
   if (!(size_m.array() > 0.0).all() || !size_m.allFinite()) {
-    throw std::invalid_argument("MakeShape: size must be positive, got " +
-                                std::to_string(size_m.x()) + " x " +
-                                std::to_string(size_m.y()) + " x " +
-                                std::to_string(size_m.z()));
+    throw std::invalid_argument("MakeShape: size must be positive, got " + std::to_string(size_m.x()) +
+                                " x " + std::to_string(size_m.y()) + " x " + std::to_string(size_m.z()));
   }
   if (segments < 8) throw std::invalid_argument("MakeShape: segments < 8");
   const double w = size_m.x();
@@ -156,24 +173,26 @@ TriangleMesh MakeShape(Shape shape, const Eigen::Vector3d& size_m, int segments)
   const double h = size_m.z();
   switch (shape) {
     case Shape::kCuboid:
-      return ExtrudeConvexPolygon({{-w / 2, -d / 2}, {w / 2, -d / 2},
-                                   {w / 2, d / 2}, {-w / 2, d / 2}},
-                                  h);
+      return ExtrudeConvexPolygon({{-w / 2, -d / 2}, {w / 2, -d / 2}, {w / 2, d / 2}, {-w / 2, d / 2}}, h);
     case Shape::kTriangularPrism:
       // Apex on -x, opposite face on +x; origin at the centroid.
-      return ExtrudeConvexPolygon(
-          {{-2.0 * w / 3.0, 0.0}, {w / 3.0, -d / 2}, {w / 3.0, d / 2}}, h);
+      return ExtrudeConvexPolygon({{-2.0 * w / 3.0, 0.0}, {w / 3.0, -d / 2}, {w / 3.0, d / 2}}, h);
     case Shape::kCylinder:
     case Shape::kEllipticCylinder:
       return ExtrudeConvexPolygon(Ellipse(w / 2, d / 2, segments), h);
     case Shape::kSphere:
     case Shape::kEllipsoid:
       return MakeEllipsoid(w / 2, d / 2, h / 2, segments);
-    case Shape::kRoundedBox: return internal::MakeRoundedBox(size_m, segments);
-    case Shape::kBottle: return internal::MakeBottle(size_m, segments);
-    case Shape::kBlob: return internal::MakeBlob(size_m, segments);
-    case Shape::kMug: return internal::MakeMug(size_m, segments);
-    case Shape::kBowl: return internal::MakeBowl(size_m, segments);
+    case Shape::kRoundedBox:
+      return internal::MakeRoundedBox(size_m, segments);
+    case Shape::kBottle:
+      return internal::MakeBottle(size_m, segments);
+    case Shape::kBlob:
+      return internal::MakeBlob(size_m, segments);
+    case Shape::kMug:
+      return internal::MakeMug(size_m, segments);
+    case Shape::kBowl:
+      return internal::MakeBowl(size_m, segments);
   }
   throw std::invalid_argument("MakeShape: unknown shape");
 }
@@ -183,17 +202,26 @@ double AnalyticVolume(Shape shape, const Eigen::Vector3d& size_m) {
   const double d = size_m.y();
   const double h = size_m.z();
   switch (shape) {
-    case Shape::kCuboid: return w * d * h;
-    case Shape::kTriangularPrism: return 0.5 * w * d * h;
+    case Shape::kCuboid:
+      return w * d * h;
+    case Shape::kTriangularPrism:
+      return 0.5 * w * d * h;
     case Shape::kCylinder:
-    case Shape::kEllipticCylinder: return kPi * (w / 2) * (d / 2) * h;
+    case Shape::kEllipticCylinder:
+      return kPi * (w / 2) * (d / 2) * h;
     case Shape::kSphere:
-    case Shape::kEllipsoid: return 4.0 / 3.0 * kPi * (w / 2) * (d / 2) * (h / 2);
-    case Shape::kRoundedBox: return internal::RoundedBoxVolume(size_m);
-    case Shape::kBottle: return internal::BottleVolume(size_m);
-    case Shape::kBlob: return internal::BlobVolume(size_m);
-    case Shape::kMug: return internal::MugVolume(size_m);
-    case Shape::kBowl: return internal::BowlVolume(size_m);
+    case Shape::kEllipsoid:
+      return 4.0 / 3.0 * kPi * (w / 2) * (d / 2) * (h / 2);
+    case Shape::kRoundedBox:
+      return internal::RoundedBoxVolume(size_m);
+    case Shape::kBottle:
+      return internal::BottleVolume(size_m);
+    case Shape::kBlob:
+      return internal::BlobVolume(size_m);
+    case Shape::kMug:
+      return internal::MugVolume(size_m);
+    case Shape::kBowl:
+      return internal::BowlVolume(size_m);
   }
   return 0.0;
 }

@@ -82,8 +82,7 @@ Eigen::Vector3d DefaultSize(Shape shape);
 /// Throws std::invalid_argument on a non-positive size or segments < 8,
 /// and for a mug whose handle does not fit (W <= D, or W - D outside
 /// roughly 0.1..0.75 H).
-TriangleMesh MakeShape(Shape shape, const Eigen::Vector3d& size_m,
-                       int segments = 128);
+TriangleMesh MakeShape(Shape shape, const Eigen::Vector3d& size_m, int segments = 128);
 
 /// Volume of the exact (not faceted) shape [m^3]. Closed forms except for
 /// the blob (numerical quadrature of its exact surface, ~1e-6 relative)

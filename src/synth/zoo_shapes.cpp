@@ -34,9 +34,7 @@ Ring Pole(const Eigen::Vector3d& p, int n) { return Ring(n, p); }
 
 // --- rounded box -----------------------------------------------------------
 
-double EdgeRadius(const Eigen::Vector3d& size_m) {
-  return kRoundedBoxEdgeFraction * size_m.minCoeff();
-}
+double EdgeRadius(const Eigen::Vector3d& size_m) { return kRoundedBoxEdgeFraction * size_m.minCoeff(); }
 
 // Horizontal section of the rounded box: the core rectangle (half sides
 // hx, hy) grown by rho, as four quarter arcs of m facets each. At rho = 0
@@ -59,9 +57,9 @@ Ring RoundedRectangle(double hx, double hy, double rho, double z, int m) {
 
 // Lobe amplitudes (fractions of the unit radius) and phases [rad]. They
 // add up to 7.5%; the odd and rotated terms leave no mirror plane.
-constexpr double kThreeLobes = 0.03;   // sin^3(theta) cos(3 phi - phase)
+constexpr double kThreeLobes = 0.03;  // sin^3(theta) cos(3 phi - phase)
 constexpr double kThreeLobesPhase = 0.5;
-constexpr double kLean = 0.02;         // sin(2 theta) cos(phi - azimuth)
+constexpr double kLean = 0.02;  // sin(2 theta) cos(phi - azimuth)
 constexpr double kLeanAzimuth = 1.1;
 constexpr double kFlattening = 0.015;  // Legendre P2(cos theta)
 constexpr double kTopBottom = 0.01;    // Legendre P3(cos theta)
@@ -69,9 +67,8 @@ constexpr double kTopBottom = 0.01;    // Legendre P3(cos theta)
 // Polynomials in u, so the surface is smooth at the poles too.
 Eigen::Vector3d UnitBlobPoint(const Eigen::Vector3d& u) {
   const double x = u.x(), y = u.y(), z = u.z();
-  const double three =
-      std::cos(kThreeLobesPhase) * (x * x * x - 3.0 * x * y * y) +
-      std::sin(kThreeLobesPhase) * (3.0 * x * x * y - y * y * y);
+  const double three = std::cos(kThreeLobesPhase) * (x * x * x - 3.0 * x * y * y) +
+                       std::sin(kThreeLobesPhase) * (3.0 * x * x * y - y * y * y);
   const double lean = 2.0 * z * (std::cos(kLeanAzimuth) * x + std::sin(kLeanAzimuth) * y);
   const double p2 = 0.5 * (3.0 * z * z - 1.0);
   const double p3 = 0.5 * z * (5.0 * z * z - 3.0);
@@ -88,9 +85,7 @@ Eigen::Vector3d Direction(double theta, double phi) {
 // max over the unit blob of d . p: a 2-degree grid, then three 10x zooms
 // of a 21 x 21 grid spanning one step either side of the best point.
 double UnitBlobSupport(const Eigen::Vector3d& d) {
-  auto value = [&d](double theta, double phi) {
-    return d.dot(UnitBlobPoint(Direction(theta, phi)));
-  };
+  auto value = [&d](double theta, double phi) { return d.dot(UnitBlobPoint(Direction(theta, phi))); };
   constexpr int kCoarse = 90;
   double step = kPi / kCoarse;
   double best = -std::numeric_limits<double>::infinity();
@@ -129,9 +124,7 @@ double UnitBlobSupport(const Eigen::Vector3d& d) {
 struct BlobFit {
   Eigen::Vector3d offset;  // unit-blob point that maps to the origin
   Eigen::Vector3d scale;
-  Eigen::Vector3d Apply(const Eigen::Vector3d& p) const {
-    return (p - offset).cwiseProduct(scale);
-  }
+  Eigen::Vector3d Apply(const Eigen::Vector3d& p) const { return (p - offset).cwiseProduct(scale); }
 };
 
 BlobFit FitBlob(const Eigen::Vector3d& size_m) {
@@ -201,13 +194,12 @@ MugGeometry Mug(const Eigen::Vector3d& size_m) {
   // apex) must exceed the tube's, or the tube folds onto itself.
   const double min_curvature_radius =
       std::min(g.path_rx * g.path_rx / g.path_rz, g.path_rz * g.path_rz / g.path_rx);
-  const bool fits = reach > 0.0 && g.tube_radius < g.body_radius &&
-                    g.path_rz + g.tube_radius <= 0.5 * h &&
+  const bool fits = reach > 0.0 && g.tube_radius < g.body_radius && g.path_rz + g.tube_radius <= 0.5 * h &&
                     min_curvature_radius > g.tube_radius;
   if (!fits) {
-    throw std::invalid_argument(
-        "mug: the handle does not fit a " + std::to_string(w) + " x " + std::to_string(d) +
-        " x " + std::to_string(h) + " m box (needs W > D, roughly 0.1 H < W - D < 0.75 H)");
+    throw std::invalid_argument("mug: the handle does not fit a " + std::to_string(w) + " x " +
+                                std::to_string(d) + " x " + std::to_string(h) +
+                                " m box (needs W > D, roughly 0.1 H < W - D < 0.75 H)");
   }
   return g;
 }
@@ -231,7 +223,7 @@ TriangleMesh MakeRoundedBox(const Eigen::Vector3d& size_m, int segments) {
   const double e = EdgeRadius(size_m);
   const double hx = 0.5 * size_m.x() - e;
   const double hy = 0.5 * size_m.y() - e;
-  const double z_low = e;                  // core box spans [e, H - e]
+  const double z_low = e;  // core box spans [e, H - e]
   const double z_high = size_m.z() - e;
   const int n = 4 * (m + 1);
   std::vector<Ring> rings = {Pole({0.0, 0.0, 0.0}, n)};
@@ -290,9 +282,9 @@ double BottleVolume(const Eigen::Vector3d& size_m) {
   const double a = 0.5 * (body_r + neck_r);
   const double b = 0.5 * (body_r - neck_r);
   const double neck_len = (1.0 - kBottleBodyFraction - kBottleShoulderFraction) * h;
-  const double circular = kPi * (body_r * body_r * kBottleBodyFraction * h +
-                                 (a * a + 0.5 * b * b) * kBottleShoulderFraction * h +
-                                 neck_r * neck_r * neck_len);
+  const double circular =
+      kPi * (body_r * body_r * kBottleBodyFraction * h + (a * a + 0.5 * b * b) * kBottleShoulderFraction * h +
+             neck_r * neck_r * neck_len);
   return circular * size_m.y() / w;
 }
 
@@ -323,8 +315,7 @@ TriangleMesh MakeMug(const Eigen::Vector3d& size_m, int segments) {
   const double h = size_m.z();
   // Body: a cylinder on the axis x = body_centre_x, lid and bottom flat.
   const Eigen::Vector3d shift(g.body_centre_x, 0.0, 0.0);
-  std::vector<Ring> body = {Pole(shift, segments),
-                            Ellipse(g.body_radius, g.body_radius, 0.0, segments),
+  std::vector<Ring> body = {Pole(shift, segments), Ellipse(g.body_radius, g.body_radius, 0.0, segments),
                             Ellipse(g.body_radius, g.body_radius, h, segments),
                             Pole(shift + Eigen::Vector3d(0.0, 0.0, h), segments)};
   for (size_t k = 1; k + 1 < body.size(); ++k) {
@@ -345,8 +336,7 @@ TriangleMesh MakeMug(const Eigen::Vector3d& size_m, int segments) {
     const Eigen::Vector3d c(g.path_x + g.path_rx * std::cos(alpha), 0.0,
                             g.path_z + g.path_rz * std::sin(alpha));
     const Eigen::Vector3d t =
-        Eigen::Vector3d(-g.path_rx * std::sin(alpha), 0.0, g.path_rz * std::cos(alpha))
-            .normalized();
+        Eigen::Vector3d(-g.path_rx * std::sin(alpha), 0.0, g.path_rz * std::cos(alpha)).normalized();
     const Eigen::Vector3d n1(t.z(), 0.0, -t.x());
     const Eigen::Vector3d n2 = Eigen::Vector3d::UnitY();
     Ring ring;

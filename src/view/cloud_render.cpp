@@ -50,8 +50,8 @@ Framing FrameClouds(const std::vector<const ObjectCloud*>& clouds) {
   return framing;
 }
 
-void RenderView(const ObjectCloud& cloud, const Framing& framing, const ViewAngle& angle,
-                int x0, int y0, int size_px, RgbImage* image) {
+void RenderView(const ObjectCloud& cloud, const Framing& framing, const ViewAngle& angle, int x0, int y0,
+                int size_px, RgbImage* image) {
   const ViewCamera camera(framing, angle, size_px);
   const int radius = DiscRadiusPx(cloud, camera.px_per_m);
   const bool shaded = cloud.normals_G.size() == cloud.size();

@@ -21,7 +21,7 @@ constexpr Rgb8 kViewBackground = {246, 246, 246};
 constexpr Rgb8 kText = {40, 40, 40};
 constexpr Rgb8 kFaintText = {150, 150, 150};
 constexpr std::array<Provenance, 3> kProvenances = {Provenance::kObserved, Provenance::kSurface,
-                                                     Provenance::kSymmetry};
+                                                    Provenance::kSymmetry};
 
 void FillRect(int x0, int y0, int w, int h, const Rgb8& color, RgbImage* image) {
   for (int y = y0; y < y0 + h; ++y) {
@@ -36,8 +36,8 @@ void FillRect(int x0, int y0, int w, int h, const Rgb8& color, RgbImage* image) 
 
 std::string CountsLine(const ObjectCloud& cloud, const TriangleMesh* mesh) {
   if (mesh != nullptr) {
-    return std::to_string(mesh->triangles.size()) + " triangles, " +
-           std::to_string(mesh->vertices.size()) + " vertices";
+    return std::to_string(mesh->triangles.size()) + " triangles, " + std::to_string(mesh->vertices.size()) +
+           " vertices";
   }
   size_t added = 0;
   for (const Provenance p : cloud.provenance) added += p != Provenance::kObserved;
@@ -96,10 +96,9 @@ RgbImage RenderSheet(const std::vector<SheetCloud>& clouds, const SheetConfig& c
   for (int c = 0; c < layout.columns; ++c) {
     const int x0 = layout.ViewX(c);
     const ObjectCloud& cloud = *clouds[c].cloud;
-    DrawText(FitText(clouds[c].title, config.view_px, kTextScale), x0, kMarginPx, kTextScale,
-             kText, &image);
-    DrawText(FitText(CountsLine(cloud, clouds[c].mesh), config.view_px, kTextScale), x0, kMarginPx + kLineHeightPx,
-             kTextScale, kFaintText, &image);
+    DrawText(FitText(clouds[c].title, config.view_px, kTextScale), x0, kMarginPx, kTextScale, kText, &image);
+    DrawText(FitText(CountsLine(cloud, clouds[c].mesh), config.view_px, kTextScale), x0,
+             kMarginPx + kLineHeightPx, kTextScale, kFaintText, &image);
     for (int v = 0; v < layout.views; ++v) {
       const int y0 = layout.ViewY(v);
       FillRect(x0, y0, config.view_px, config.view_px, kViewBackground, &image);
@@ -107,8 +106,7 @@ RgbImage RenderSheet(const std::vector<SheetCloud>& clouds, const SheetConfig& c
       angle.azimuth_deg = 360.0 * v / config.views;
       angle.elevation_deg = config.elevation_deg;
       if (clouds[c].mesh != nullptr) {
-        RenderMeshView(*clouds[c].mesh, cloud.provenance, framing, angle, x0, y0, config.view_px,
-                       &image);
+        RenderMeshView(*clouds[c].mesh, cloud.provenance, framing, angle, x0, y0, config.view_px, &image);
       } else {
         RenderView(cloud, framing, angle, x0, y0, config.view_px, &image);
       }

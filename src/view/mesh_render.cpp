@@ -26,14 +26,11 @@ void RenderMeshView(const TriangleMesh& mesh, const std::vector<Provenance>& ver
   ViewCanvas canvas(x0, y0, size_px, image);
   for (const Eigen::Vector3i& tri : mesh.triangles) {
     if ((tri.array() < 0).any() || (tri.cast<int64_t>().array() >= num_vertices).any()) continue;
-    const Eigen::Vector3f* v[3] = {&mesh.vertices[tri[0]], &mesh.vertices[tri[1]],
-                                   &mesh.vertices[tri[2]]};
+    const Eigen::Vector3f* v[3] = {&mesh.vertices[tri[0]], &mesh.vertices[tri[1]], &mesh.vertices[tri[2]]};
     if (!v[0]->allFinite() || !v[1]->allFinite() || !v[2]->allFinite()) continue;
-    const Eigen::Vector3d normal =
-        (*v[1] - *v[0]).cast<double>().cross((*v[2] - *v[0]).cast<double>());
+    const Eigen::Vector3d normal = (*v[1] - *v[0]).cast<double>().cross((*v[2] - *v[0]).cast<double>());
     if (!(normal.norm() > 0.0)) continue;  // degenerate: covers nothing
-    const Eigen::Vector3d p[3] = {camera.Project(v[0]->cast<double>()),
-                                  camera.Project(v[1]->cast<double>()),
+    const Eigen::Vector3d p[3] = {camera.Project(v[0]->cast<double>()), camera.Project(v[1]->cast<double>()),
                                   camera.Project(v[2]->cast<double>())};
     const double area = Edge(p[0], p[1], p[2].x(), p[2].y());
     if (area == 0.0) continue;  // edge-on to the view
@@ -58,8 +55,7 @@ void RenderMeshView(const TriangleMesh& mesh, const std::vector<Provenance>& ver
         const double w1 = Edge(p[2], p[0], cu, cv) / area;
         const double w2 = Edge(p[0], p[1], cu, cv) / area;
         if (w0 < 0.0 || w1 < 0.0 || w2 < 0.0) continue;
-        canvas.Plot(px, py, static_cast<float>(w0 * p[0].z() + w1 * p[1].z() + w2 * p[2].z()),
-                    color);
+        canvas.Plot(px, py, static_cast<float>(w0 * p[0].z() + w1 * p[1].z() + w2 * p[2].z()), color);
       }
     }
   }

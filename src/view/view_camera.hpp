@@ -27,8 +27,7 @@ struct ViewCamera {
     const double az = angle.azimuth_deg * kPi / 180.0;
     const double el = angle.elevation_deg * kPi / 180.0;
     // The palm side (-z in G) is up: the camera rises towards it.
-    const Eigen::Vector3d to_camera(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
-                                    -std::sin(el));
+    const Eigen::Vector3d to_camera(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), -std::sin(el));
     forward = -to_camera;
     const Eigen::Vector3d minus_z(0.0, 0.0, -1.0);
     up = (minus_z - minus_z.dot(forward) * forward).normalized();
@@ -61,7 +60,10 @@ struct ViewCamera {
 class ViewCanvas {
  public:
   ViewCanvas(int x0, int y0, int size_px, RgbImage* image)
-      : x0_(x0), y0_(y0), size_px_(size_px), image_(image),
+      : x0_(x0),
+        y0_(y0),
+        size_px_(size_px),
+        image_(image),
         depth_(static_cast<size_t>(size_px) * size_px, std::numeric_limits<float>::infinity()) {}
 
   /// Colours view pixel (px, py), 0 <= px, py < size_px, when depth z is

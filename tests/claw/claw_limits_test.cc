@@ -26,12 +26,12 @@ class ClawLimitsTest : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::path(::testing::TempDir()) /
-           ("claw_limits_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+           ("claw_limits_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::create_directories(dir_);
     // A 5 cm tetrahedron, outward-facing.
-    Write("tet.obj", "v 0 0 0\nv 0.05 0 0\nv 0 0.05 0\nv 0 0 0.05\n"
-                     "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+    Write("tet.obj",
+          "v 0 0 0\nv 0.05 0 0\nv 0 0.05 0\nv 0 0 0.05\n"
+          "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -45,25 +45,27 @@ class ClawLimitsTest : public ::testing::Test {
   std::string Description(const std::string& finger, const std::string& top = "") {
     return Write("claw.json", R"({"name": "test", )" + top + R"("links": [
         {"name": "palm", "mesh": "tet.obj"},
-        {"name": "finger", "parent": "palm", )" + finger + "}]}");
+        {"name": "finger", "parent": "palm", )" +
+                                  finger + "}]}");
   }
   std::string PrismaticFinger(const std::string& limits, const std::string& origin = "[0, 0, 0]") {
     return R"("mesh": "tet.obj", "joint": {"type": "prismatic", "origin": {"xyz": )" + origin +
-           R"(}, "axis": [1, 0, 0], "limits": )" + limits +
-           R"(, "drive": {"opening_gain": 1.0}})";
+           R"(}, "axis": [1, 0, 0], "limits": )" + limits + R"(, "drive": {"opening_gain": 1.0}})";
   }
   // A URDF: a base link with `base_geometry` (inside <collision>), a
   // finger on a prismatic joint; `extra` goes inside <robot>.
   std::string Urdf(const std::string& base_geometry, const std::string& joint_origin = "0 0 0",
-                   const std::string& limit = "lower=\"0\" upper=\"0.04\"",
-                   const std::string& extra = "") {
+                   const std::string& limit = "lower=\"0\" upper=\"0.04\"", const std::string& extra = "") {
     return Write("claw.urdf", R"(<?xml version="1.0"?>
 <robot name="test">
-  <link name="base"><collision>)" + base_geometry + R"(</collision></link>
+  <link name="base"><collision>)" +
+                                  base_geometry + R"(</collision></link>
   <link name="finger"><collision><geometry><box size="0.01 0.02 0.06"/></geometry></collision></link>
   <joint name="slide" type="prismatic">
-    <parent link="base"/><child link="finger"/><origin xyz=")" + joint_origin + R"("/>
-    <axis xyz="1 0 0"/><limit )" + limit + R"( effort="1" velocity="1"/>
+    <parent link="base"/><child link="finger"/><origin xyz=")" +
+                                  joint_origin + R"("/>
+    <axis xyz="1 0 0"/><limit )" + limit +
+                                  R"( effort="1" velocity="1"/>
   </joint>)" + extra + R"(
 </robot>)");
   }
@@ -87,8 +89,7 @@ class ClawLimitsTest : public ::testing::Test {
 TEST_F(ClawLimitsTest, TheSameClawWithinTheLimitsLoads) {
   EXPECT_EQ(ClawModel::Load(Description(PrismaticFinger(R"({"lower": 0, "upper": 0.04})"))).links().size(),
             2u);
-  EXPECT_EQ(ClawModel::Load(Urdf(R"(<geometry><box size="0.1 0.1 0.02"/></geometry>)")).links().size(),
-            2u);
+  EXPECT_EQ(ClawModel::Load(Urdf(R"(<geometry><box size="0.1 0.1 0.02"/></geometry>)")).links().size(), 2u);
 }
 
 TEST_F(ClawLimitsTest, DescriptionPosesScalesAndTravelsBeyondTheLimits) {
@@ -102,13 +103,13 @@ TEST_F(ClawLimitsTest, DescriptionPosesScalesAndTravelsBeyondTheLimits) {
                   {"links[1] (finger).mesh_scale: scale 1e+30 is beyond the limit of 1000"});
   // 0.05 m x 11 = 0.55 m: within the scale limit, beyond the reach.
   ExpectLoadError(Description(R"("mesh": "tet.obj", "mesh_scale": 11)"),
-                  {"links[1] (finger).mesh", "tet.obj", "lies 0.55 m from the mesh's origin, beyond "
+                  {"links[1] (finger).mesh", "tet.obj",
+                   "lies 0.55 m from the mesh's origin, beyond "
                    "the 0.5 m limit"});
   // Each value within the limit, the chain beyond it: 0.4 m out, 0.3 m of
   // travel, a mesh reaching 0.05 m.
   ExpectLoadError(Description(PrismaticFinger(R"({"lower": 0, "upper": 0.3})", "[0.4, 0, 0]")),
-                  {"the claw reaches up to 0.75 m from G's origin (link 'finger'",
-                   "beyond the 0.5 m limit"});
+                  {"the claw reaches up to 0.75 m from G's origin (link 'finger'", "beyond the 0.5 m limit"});
   ExpectLoadError(Description(PrismaticFinger(R"({"lower": 0, "upper": 1e12})")),
                   {"links[1] (finger).joint.limits.upper: 1e+12 m is beyond the 0.5 m limit"});
   ExpectLoadError(Description(R"("mesh": "tet.obj", "joint": {"type": "revolute", "axis": [0, 0, 1],
@@ -124,8 +125,7 @@ TEST_F(ClawLimitsTest, DescriptionWithoutGeometryOrWithTooManyLinks) {
                   {"links: no link has a mesh"});
   std::string links = R"({"name": "l0", "mesh": "tet.obj"})";
   for (int i = 1; i <= kMaxClawLinks; ++i) {
-    links += R"(, {"name": "l)" + std::to_string(i) + R"(", "parent": "l)" + std::to_string(i - 1) +
-             R"("})";
+    links += R"(, {"name": "l)" + std::to_string(i) + R"(", "parent": "l)" + std::to_string(i - 1) + R"("})";
   }
   ExpectLoadError(Write("many.json", R"({"links": [)" + links + "]}"),
                   {"links: 257 links, over the limit of 256 per claw"});
@@ -153,10 +153,10 @@ TEST_F(ClawLimitsTest, MeshFilesAreRegularFilesWithinTheSizeAndTriangleLimits) {
     obj << "v 0 0 0\nv 0.01 0 0\nv 0 0.01 0\n";
     for (int64_t i = 0; i <= kMaxClawTriangles; ++i) obj << "f 1 2 3\n";
   }
-  ExpectLoadError(Description(R"("mesh": "many.obj")"),
-                  {"many.obj", std::to_string(kMaxClawTriangles + 1) +
-                                   " triangles, over the claw's limit of " +
-                                   std::to_string(kMaxClawTriangles)});
+  ExpectLoadError(
+      Description(R"("mesh": "many.obj")"),
+      {"many.obj", std::to_string(kMaxClawTriangles + 1) + " triangles, over the claw's limit of " +
+                       std::to_string(kMaxClawTriangles)});
 }
 
 TEST_F(ClawLimitsTest, UrdfGeometryAndJointsBeyondTheLimits) {
@@ -170,16 +170,15 @@ TEST_F(ClawLimitsTest, UrdfGeometryAndJointsBeyondTheLimits) {
                   {"the claw reaches up to", "(link 'finger'", "beyond the 0.5 m limit"});
   ExpectLoadError(Urdf(R"(<geometry><cylinder radius="0.01" length="0"/></geometry>)"),
                   {"link 'base': collision cylinder length: 0 m: must be more than 0"});
+  ExpectLoadError(Urdf(R"(<geometry><mesh filename="tet.obj" scale="1e30 1e30 1e30"/></geometry>)"),
+                  {"link 'base': collision mesh: scale 1e+30 is beyond the limit of 1000"});
   ExpectLoadError(
-      Urdf(R"(<geometry><mesh filename="tet.obj" scale="1e30 1e30 1e30"/></geometry>)"),
-      {"link 'base': collision mesh: scale 1e+30 is beyond the limit of 1000"});
-  ExpectLoadError(Urdf(R"(<origin xyz="0 0 0" rpy="0 1e300 0"/><geometry><box size="0.1 0.1 0.1"/></geometry>)"),
-                  {"line 3: rpy[1]: 1e+300 rad is beyond the 12.5664 rad (4 pi) limit"});
+      Urdf(R"(<origin xyz="0 0 0" rpy="0 1e300 0"/><geometry><box size="0.1 0.1 0.1"/></geometry>)"),
+      {"line 3: rpy[1]: 1e+300 rad is beyond the 12.5664 rad (4 pi) limit"});
   ExpectLoadError(Urdf(R"(<origin xyz="0 0 -1e30"/><geometry><box size="0.1 0.1 0.1"/></geometry>)"),
                   {"link 'base': collision origin xyz[2]: -1e+30 m is beyond the 0.5 m limit"});
   const std::string box = R"(<geometry><box size="0.1 0.1 0.1"/></geometry>)";
-  ExpectLoadError(Urdf(box, "1e30 0 0"),
-                  {"joint 'slide': origin xyz[0]: 1e+30 m is beyond the 0.5 m limit"});
+  ExpectLoadError(Urdf(box, "1e30 0 0"), {"joint 'slide': origin xyz[0]: 1e+30 m is beyond the 0.5 m limit"});
   ExpectLoadError(Urdf(box, "0 0 0", R"(lower="-1e12" upper="1e12")"),
                   {"joint 'slide': lower limit: -1e+12 m is beyond the 0.5 m limit"});
 }
@@ -188,10 +187,12 @@ TEST_F(ClawLimitsTest, UrdfConfigPosesAndIndicesBeyondTheLimits) {
   Urdf(R"(<geometry><box size="0.1 0.1 0.02"/></geometry>)");
   ExpectLoadError(Write("c1.json", R"({"urdf": "claw.urdf", "T_G_root": {"rpy": [0, 0, 1e300]}})"),
                   {"T_G_root.rpy[2]: 1e+300 rad is beyond"});
-  ExpectLoadError(Write("c2.json", R"({"urdf": "claw.urdf", "joints": {"slide": {"joint_index": 4000000000}}})"),
-                  {"joints.slide.joint_index: expected an integer 0..255"});
   ExpectLoadError(
-      Write("c3.json", R"({"urdf": "claw.urdf", "joints": {"slide": {"limits": {"lower": 0, "upper": 1e9}}}})"),
+      Write("c2.json", R"({"urdf": "claw.urdf", "joints": {"slide": {"joint_index": 4000000000}}})"),
+      {"joints.slide.joint_index: expected an integer 0..255"});
+  ExpectLoadError(
+      Write("c3.json",
+            R"({"urdf": "claw.urdf", "joints": {"slide": {"limits": {"lower": 0, "upper": 1e9}}}})"),
       {"joint 'slide': upper limit: 1e+09 m is beyond the 0.5 m limit"});
 }
 
@@ -219,8 +220,9 @@ TEST_F(ClawLimitsTest, UrdfWithTooManyLinks) {
   std::string chain;
   for (int i = 1; i <= kMaxClawLinks; ++i) {
     chain += "\n  <link name=\"c" + std::to_string(i) + "\"/><joint name=\"cj" + std::to_string(i) +
-             "\" type=\"fixed\"><parent link=\"" + (i == 1 ? std::string("finger") : "c" + std::to_string(i - 1)) +
-             "\"/><child link=\"c" + std::to_string(i) + "\"/></joint>";
+             "\" type=\"fixed\"><parent link=\"" +
+             (i == 1 ? std::string("finger") : "c" + std::to_string(i - 1)) + "\"/><child link=\"c" +
+             std::to_string(i) + "\"/></joint>";
   }
   ExpectLoadError(Urdf(R"(<geometry><box size="0.1 0.1 0.02"/></geometry>)", "0 0 0",
                        "lower=\"0\" upper=\"0.04\"", chain),

@@ -32,13 +32,12 @@ Eigen::AlignedBox3f Bounds(const TriangleMesh& mesh) {
   return box;
 }
 
-TriangleMesh PosedLink(const ClawModel& model, const std::string& name,
-                       double opening, const std::vector<double>& joints = {}) {
+TriangleMesh PosedLink(const ClawModel& model, const std::string& name, double opening,
+                       const std::vector<double>& joints = {}) {
   const auto poses = model.LinkPoses(opening, joints);
   for (size_t i = 0; i < model.links().size(); ++i) {
     if (model.links()[i].name == name) {
-      return model.links()[i].mesh.Transformed(poses[i] *
-                                               model.links()[i].T_link_mesh);
+      return model.links()[i].mesh.Transformed(poses[i] * model.links()[i].T_link_mesh);
     }
   }
   ADD_FAILURE() << "no link " << name;
@@ -47,8 +46,7 @@ TriangleMesh PosedLink(const ClawModel& model, const std::string& name,
 
 // Camera at `eye_G` looking at `target_G` (optical frame: z forward, y down
 // roughly along -G z... any up vector not parallel to the view works).
-Eigen::Isometry3d LookAt(const Eigen::Vector3d& eye_G,
-                         const Eigen::Vector3d& target_G,
+Eigen::Isometry3d LookAt(const Eigen::Vector3d& eye_G, const Eigen::Vector3d& target_G,
                          const Eigen::Vector3d& up_G) {
   const Eigen::Vector3d z = (target_G - eye_G).normalized();
   const Eigen::Vector3d x = z.cross(up_G).normalized();
@@ -63,8 +61,7 @@ Eigen::Isometry3d LookAt(const Eigen::Vector3d& eye_G,
 
 // Pixels where a brute-force ray per pixel (mesh posed in C) hits the claw,
 // compared with the pixels ClawMask removes from a wall behind the claw.
-void ExpectMaskMatchesMesh(const TriangleMesh& claw_G,
-                           const Eigen::Isometry3d& T_C_G) {
+void ExpectMaskMatchesMesh(const TriangleMesh& claw_G, const Eigen::Isometry3d& T_C_G) {
   DepthFrame frame;
   const CameraIntrinsics& K = frame.intrinsics;
   frame.depth_m.assign(static_cast<size_t>(K.width) * K.height, 3.0f);
@@ -82,8 +79,7 @@ void ExpectMaskMatchesMesh(const TriangleMesh& claw_G,
   for (int v = 0; v < K.height; ++v) {
     for (int u = 0; u < K.width; ++u) {
       const Eigen::Vector3f dir((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
-      const bool hit =
-          reference.Cast(Eigen::Vector3f::Zero(), dir.normalized()).hit();
+      const bool hit = reference.Cast(Eigen::Vector3f::Zero(), dir.normalized()).hit();
       const bool cut = frame.at(u, v) == 0.0f;
       hits += hit;
       missed += hit && !cut;
@@ -99,8 +95,7 @@ void ExpectMaskMatchesMesh(const TriangleMesh& claw_G,
 
 TEST(ClawLoaderTest, RobotiqAssembledBoxMatchesRigidModel) {
   SKIP_WITHOUT(kRobotiqMeshes);
-  const ClawModel model =
-      ClawModel::Load(kConfigDir + "/robotiq_3f.json", kRobotiqMeshes);
+  const ClawModel model = ClawModel::Load(kConfigDir + "/robotiq_3f.json", kRobotiqMeshes);
   EXPECT_EQ(model.name(), "robotiq_3f");
   EXPECT_EQ(model.links().size(), 13u);
   EXPECT_FALSE(model.opening_doc().empty());
@@ -116,8 +111,7 @@ TEST(ClawLoaderTest, RobotiqAssembledBoxMatchesRigidModel) {
   EXPECT_NEAR(palm.max().z(), 0.0f, 1e-4f);
   EXPECT_GT(Bounds(model.Posed(0.0)).max().z(), 0.1f);
   // The middle finger lies along +x, the other two along -x.
-  EXPECT_GT(Bounds(PosedLink(model, "finger_middle_link_3", 0.0)).min().x(),
-            0.05f);
+  EXPECT_GT(Bounds(PosedLink(model, "finger_middle_link_3", 0.0)).min().x(), 0.05f);
   EXPECT_LT(Bounds(PosedLink(model, "finger_1_link_3", 0.0)).max().x(), -0.05f);
   // Closing pulls the fingertips in.
   EXPECT_LT(Bounds(model.Posed(1.0)).sizes().x(), size.x() - 0.03f);
@@ -125,11 +119,9 @@ TEST(ClawLoaderTest, RobotiqAssembledBoxMatchesRigidModel) {
 
 TEST(ClawLoaderTest, RobotiqJointValuesOverrideOpening) {
   SKIP_WITHOUT(kRobotiqMeshes);
-  const ClawModel model =
-      ClawModel::Load(kConfigDir + "/robotiq_3f.json", kRobotiqMeshes);
+  const ClawModel model = ClawModel::Load(kConfigDir + "/robotiq_3f.json", kRobotiqMeshes);
   // Explicit open-limit joint values reproduce opening 0.
-  const std::vector<double> open = {0, 0,       0.0495, 0, -0.0523, 0.0495,
-                                    0, -0.0523, 0.0495, 0, -0.0523};
+  const std::vector<double> open = {0, 0, 0.0495, 0, -0.0523, 0.0495, 0, -0.0523, 0.0495, 0, -0.0523};
   const auto a = model.LinkPoses(0.0);
   const auto b = model.LinkPoses(0.7, open);
   for (size_t i = 0; i < a.size(); ++i) {
@@ -145,16 +137,11 @@ TEST(ClawLoaderTest, RobotiqJointValuesOverrideOpening) {
 
 TEST(ClawLoaderTest, FrankaFingerGapEqualsOpening) {
   SKIP_WITHOUT(kFrankaMeshes);
-  const ClawModel model =
-      ClawModel::Load(kConfigDir + "/franka_hand.json", kFrankaMeshes);
+  const ClawModel model = ClawModel::Load(kConfigDir + "/franka_hand.json", kFrankaMeshes);
   EXPECT_EQ(model.links().size(), 3u);
   const auto gap = [&](double opening, const std::vector<double>& joints) {
-    return Bounds(PosedLink(model, "panda_leftfinger", opening, joints))
-               .min()
-               .x() -
-           Bounds(PosedLink(model, "panda_rightfinger", opening, joints))
-               .max()
-               .x();
+    return Bounds(PosedLink(model, "panda_leftfinger", opening, joints)).min().x() -
+           Bounds(PosedLink(model, "panda_rightfinger", opening, joints)).max().x();
   };
   for (double opening : {0.0, 0.01, 0.035, 0.08}) {
     EXPECT_NEAR(gap(opening, {}), opening, 1e-5) << opening;
@@ -162,44 +149,34 @@ TEST(ClawLoaderTest, FrankaFingerGapEqualsOpening) {
   EXPECT_NEAR(gap(0.2, {}), 0.08, 1e-5);       // clamped to the limits
   EXPECT_NEAR(gap(0.0, {0.015}), 0.03, 1e-5);  // joint value = half gap
   // Palm face (hand top) at z = 0; fingers centred on G's axis.
-  EXPECT_NEAR(Bounds(PosedLink(model, "panda_hand", 0.0)).max().z(), 0.0f,
-              1e-4f);
+  EXPECT_NEAR(Bounds(PosedLink(model, "panda_hand", 0.0)).max().z(), 0.0f, 1e-4f);
   const Eigen::AlignedBox3f fingers = Bounds(model.Posed(0.04));
   EXPECT_GT(fingers.max().z(), 0.04f);
 }
 
 TEST(ClawLoaderTest, RobotiqMaskMatchesMeshes) {
   SKIP_WITHOUT(kRobotiqMeshes);
-  const ClawModel model =
-      ClawModel::Load(kConfigDir + "/robotiq_3f.json", kRobotiqMeshes);
+  const ClawModel model = ClawModel::Load(kConfigDir + "/robotiq_3f.json", kRobotiqMeshes);
   const TriangleMesh claw_G = model.Posed(0.3);
+  ExpectMaskMatchesMesh(claw_G, LookAt(Eigen::Vector3d(0.35, -0.25, 0.25), Eigen::Vector3d(0, 0, 0.06),
+                                       Eigen::Vector3d(0, 0, 1)));
   ExpectMaskMatchesMesh(
-      claw_G, LookAt(Eigen::Vector3d(0.35, -0.25, 0.25),
-                     Eigen::Vector3d(0, 0, 0.06), Eigen::Vector3d(0, 0, 1)));
-  ExpectMaskMatchesMesh(
-      claw_G, LookAt(Eigen::Vector3d(0.05, 0.6, 0.1),
-                     Eigen::Vector3d(0, 0, 0.05), Eigen::Vector3d(1, 0, 0)));
+      claw_G, LookAt(Eigen::Vector3d(0.05, 0.6, 0.1), Eigen::Vector3d(0, 0, 0.05), Eigen::Vector3d(1, 0, 0)));
 }
 
 TEST(ClawLoaderTest, FrankaMaskMatchesMeshes) {
   SKIP_WITHOUT(kFrankaMeshes);
-  const ClawModel model =
-      ClawModel::Load(kConfigDir + "/franka_hand.json", kFrankaMeshes);
-  ExpectMaskMatchesMesh(
-      model.Posed(0.05),
-      LookAt(Eigen::Vector3d(0.1, -0.3, 0.2), Eigen::Vector3d(0, 0, 0.0),
-             Eigen::Vector3d(0, 0, 1)));
+  const ClawModel model = ClawModel::Load(kConfigDir + "/franka_hand.json", kFrankaMeshes);
+  ExpectMaskMatchesMesh(model.Posed(0.05), LookAt(Eigen::Vector3d(0.1, -0.3, 0.2), Eigen::Vector3d(0, 0, 0.0),
+                                                  Eigen::Vector3d(0, 0, 1)));
 }
 
 // Error paths and the format's conventions, on small files written here.
 class ClawLoaderFileTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ =
-        fs::path(::testing::TempDir()) /
-        ("claw_loader_" +
-         std::string(
-             ::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    dir_ = fs::path(::testing::TempDir()) /
+           ("claw_loader_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::create_directories(dir_);
     // A right tetrahedron of 0.1 m legs, outward-facing (within the claw
     // limits' reach).
@@ -238,8 +215,7 @@ class ClawLoaderFileTest : public ::testing::Test {
 };
 
 TEST_F(ClawLoaderFileTest, MissingFile) {
-  ExpectError((dir_ / "nope.json").string(),
-              "cannot open claw description file");
+  ExpectError((dir_ / "nope.json").string(), "cannot open claw description file");
 }
 
 TEST_F(ClawLoaderFileTest, BadJson) {
@@ -247,9 +223,8 @@ TEST_F(ClawLoaderFileTest, BadJson) {
 }
 
 TEST_F(ClawLoaderFileTest, UnknownParent) {
-  ExpectError(
-      Description(R"([{"name": "a"}, {"name": "b", "parent": "nope"}])"),
-      "links[1] (b).parent: unknown parent link 'nope'");
+  ExpectError(Description(R"([{"name": "a"}, {"name": "b", "parent": "nope"}])"),
+              "links[1] (b).parent: unknown parent link 'nope'");
 }
 
 TEST_F(ClawLoaderFileTest, MissingMesh) {
@@ -269,8 +244,7 @@ TEST_F(ClawLoaderFileTest, BadJointType) {
 }
 
 TEST_F(ClawLoaderFileTest, MisspeltKeyAndMissingDrive) {
-  ExpectError(Description(R"([{"name": "a", "mesh_orgin": {}}])"),
-              "links[0] (a): unknown key 'mesh_orgin'");
+  ExpectError(Description(R"([{"name": "a", "mesh_orgin": {}}])"), "links[0] (a): unknown key 'mesh_orgin'");
   ExpectError(Description(R"([{"name": "a", "joint": {"type": "revolute",
                       "axis": [0, 0, 1],
                       "limits": {"lower": 0, "upper": 1}}}])"),
@@ -306,11 +280,10 @@ TEST_F(ClawLoaderFileTest, KinematicsConventions) {
   const double q = 0.1 + 2.0 * opening;
   Eigen::Isometry3d expected = Eigen::Isometry3d::Identity();
   expected.translation() = Eigen::Vector3d(0, 0, 0.05);
-  expected.linear() = (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) *
-                       Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()) *
-                       Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()) *
-                       Eigen::AngleAxisd(q, Eigen::Vector3d::UnitZ()))
-                          .toRotationMatrix();
+  expected.linear() =
+      (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(q, Eigen::Vector3d::UnitZ()))
+          .toRotationMatrix();
   const auto poses = model.LinkPoses(opening);
   EXPECT_TRUE(poses[1].isApprox(expected, 1e-12));
   EXPECT_NEAR(poses[0].translation().z(), -0.1, 1e-12);
@@ -318,10 +291,8 @@ TEST_F(ClawLoaderFileTest, KinematicsConventions) {
   EXPECT_NEAR(Bounds(model.links()[1].mesh).max().x(), 0.05f, 1e-6f);
   // Clamped: opening 10 gives q = upper = 1.
   EXPECT_TRUE(model.LinkPoses(10.0)[1].linear().isApprox(
-      (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) *
-       Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()) *
-       Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()) *
-       Eigen::AngleAxisd(1.0, Eigen::Vector3d::UnitZ()))
+      (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(1.0, Eigen::Vector3d::UnitZ()))
           .toRotationMatrix(),
       1e-12));
   // mesh_root overrides the file's folder.
@@ -329,8 +300,7 @@ TEST_F(ClawLoaderFileTest, KinematicsConventions) {
   fs::copy_file(dir_ / "tet.obj", dir_ / "meshes" / "tet.obj");
   fs::remove(dir_ / "tet.obj");
   EXPECT_THROW(ClawModel::Load(path), std::runtime_error);
-  EXPECT_EQ(ClawModel::Load(path, (dir_ / "meshes").string()).links().size(),
-            2u);
+  EXPECT_EQ(ClawModel::Load(path, (dir_ / "meshes").string()).links().size(), 2u);
 }
 
 }  // namespace

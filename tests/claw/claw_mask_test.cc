@@ -44,27 +44,24 @@ constexpr int kMaxSilhouetteMismatchPx = 3;
 
 DepthFrame Wall(float depth_m) {
   DepthFrame frame;
-  frame.depth_m.assign(
-      static_cast<size_t>(frame.intrinsics.width) * frame.intrinsics.height,
-      depth_m);
+  frame.depth_m.assign(static_cast<size_t>(frame.intrinsics.width) * frame.intrinsics.height, depth_m);
   return frame;
 }
 
 // Gripper 0.42 m in front of the camera, seen obliquely from the side.
 Eigen::Isometry3d SidePose() {
   Eigen::Isometry3d T_C_G = Eigen::Isometry3d::Identity();
-  T_C_G.linear() = (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()) *
-                    Eigen::AngleAxisd(1.4, Eigen::Vector3d::UnitY()) *
-                    Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()))
-                       .toRotationMatrix();
+  T_C_G.linear() =
+      (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(1.4, Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()))
+          .toRotationMatrix();
   T_C_G.translation() = Eigen::Vector3d(-0.04, 0.01, 0.42);
   return T_C_G;
 }
 
 // Reference: the claw z-depth per pixel by one Embree ray per pixel over the
 // whole image, with the mesh posed in C (no ROI, no packets).
-std::vector<float> BruteForceClawDepth(const TriangleMesh& claw_G,
-                                       const Eigen::Isometry3d& T_C_G,
+std::vector<float> BruteForceClawDepth(const TriangleMesh& claw_G, const Eigen::Isometry3d& T_C_G,
                                        const CameraIntrinsics& K) {
   Raycaster raycaster;
   raycaster.AddMesh(claw_G.Transformed(T_C_G));
@@ -82,8 +79,7 @@ std::vector<float> BruteForceClawDepth(const TriangleMesh& claw_G,
 }
 
 // Square dilation by `d` pixels of a 0/1 image (reference, O(n d^2)).
-std::vector<uint8_t> Dilate(const std::vector<uint8_t>& in, int w, int h,
-                            int d) {
+std::vector<uint8_t> Dilate(const std::vector<uint8_t>& in, int w, int h, int d) {
   std::vector<uint8_t> out(in.size(), 0);
   for (int v = 0; v < h; ++v) {
     for (int u = 0; u < w; ++u) {
@@ -101,8 +97,7 @@ std::vector<uint8_t> Dilate(const std::vector<uint8_t>& in, int w, int h,
   return out;
 }
 
-int CountMismatches(const std::vector<uint8_t>& a,
-                    const std::vector<uint8_t>& b) {
+int CountMismatches(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
   int n = 0;
   for (size_t i = 0; i < a.size(); ++i) n += a[i] != b[i];
   return n;
@@ -141,8 +136,7 @@ TEST_P(ClawMaskTest, MatchesBruteForceOnWall) {
   ClawMask mask(Config(0));
   mask.SetClaw(claw_G_);
   const int removed = mask.Apply(T_C_G, &frame);
-  EXPECT_LE(CountMismatches(ZeroPixels(frame), ref_hit),
-            kMaxSilhouetteMismatchPx);
+  EXPECT_LE(CountMismatches(ZeroPixels(frame), ref_hit), kMaxSilhouetteMismatchPx);
   EXPECT_NEAR(removed, num_hits, kMaxSilhouetteMismatchPx);
   int compared = 0;
   for (size_t i = 0; i < ref_depth.size(); ++i) {
@@ -167,9 +161,8 @@ TEST_P(ClawMaskTest, DilationMatchesReference) {
     mask.SetClaw(claw_G_);
     mask.Apply(T_C_G, &f);
     // Dilating a mismatched silhouette pixel moves a few more pixels.
-    EXPECT_LE(
-        CountMismatches(ZeroPixels(f), Dilate(ref_hit, K.width, K.height, d)),
-        kMaxSilhouetteMismatchPx * (2 * d + 1))
+    EXPECT_LE(CountMismatches(ZeroPixels(f), Dilate(ref_hit, K.width, K.height, d)),
+              kMaxSilhouetteMismatchPx * (2 * d + 1))
         << "dilation " << d;
   }
 }
@@ -187,15 +180,10 @@ TEST_P(ClawMaskTest, CentroidPixelsAreRemoved) {
   int checked = 0;
   for (const Eigen::Vector3i& t : claw_G_.triangles) {
     const Eigen::Vector3d c_G =
-        ((claw_G_.vertices[t[0]] + claw_G_.vertices[t[1]] +
-          claw_G_.vertices[t[2]]) /
-         3.0f)
-            .cast<double>();
+        ((claw_G_.vertices[t[0]] + claw_G_.vertices[t[1]] + claw_G_.vertices[t[2]]) / 3.0f).cast<double>();
     const Eigen::Vector3d c_C = T_C_G * c_G;
-    const int u =
-        static_cast<int>(std::lround(K.fx * c_C.x() / c_C.z() + K.cx));
-    const int v =
-        static_cast<int>(std::lround(K.fy * c_C.y() / c_C.z() + K.cy));
+    const int u = static_cast<int>(std::lround(K.fx * c_C.x() / c_C.z() + K.cx));
+    const int v = static_cast<int>(std::lround(K.fy * c_C.y() / c_C.z() + K.cy));
     if (u < 0 || v < 0 || u >= K.width || v >= K.height) continue;
     EXPECT_EQ(frame.at(u, v), 0.0f) << "centroid pixel " << u << "," << v;
     ++checked;
@@ -277,8 +265,7 @@ TEST_P(ClawMaskTest, MovingClawClearsOldDepths) {
   const float* buffer = mask.claw_depth_m().data();
   mask.Apply(moved, &frame);
   EXPECT_EQ(mask.claw_depth_m().data(), buffer);  // reused, not reallocated
-  const std::vector<float> ref =
-      BruteForceClawDepth(claw_G_, moved, frame.intrinsics);
+  const std::vector<float> ref = BruteForceClawDepth(claw_G_, moved, frame.intrinsics);
   int mismatches = 0;
   for (size_t i = 0; i < ref.size(); ++i) {
     mismatches += (ref[i] > 0) != (mask.claw_depth_m()[i] > 0);
@@ -313,13 +300,11 @@ TEST_P(ClawMaskTest, ClawAroundAndBehindCamera) {
   Eigen::Isometry3d T_C_G = Eigen::Isometry3d::Identity();
   T_C_G.translation() = Eigen::Vector3d(0, 0, -0.03);
   DepthFrame frame = Wall(kWallM);
-  const std::vector<float> ref =
-      BruteForceClawDepth(claw_G_, T_C_G, frame.intrinsics);
+  const std::vector<float> ref = BruteForceClawDepth(claw_G_, T_C_G, frame.intrinsics);
   std::vector<uint8_t> ref_hit(ref.size());
   for (size_t i = 0; i < ref.size(); ++i) ref_hit[i] = ref[i] > 0;
   mask.Apply(T_C_G, &frame);
-  EXPECT_LE(CountMismatches(ZeroPixels(frame), ref_hit),
-            kMaxSilhouetteMismatchPx);
+  EXPECT_LE(CountMismatches(ZeroPixels(frame), ref_hit), kMaxSilhouetteMismatchPx);
   // Wholly behind the camera: nothing to cut.
   T_C_G.translation() = Eigen::Vector3d(0, 0, -0.5);
   frame = Wall(kWallM);
@@ -353,13 +338,12 @@ std::string MethodName(ClawMaskMethod method) {
   return "Unknown";
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Methods, ClawMaskTest,
-    ::testing::Values(ClawMaskMethod::kRaster, ClawMaskMethod::kRayPackets,
-                      ClawMaskMethod::kRays),
-    [](const ::testing::TestParamInfo<ClawMaskMethod>& info) {
-      return MethodName(info.param);
-    });
+INSTANTIATE_TEST_SUITE_P(Methods, ClawMaskTest,
+                         ::testing::Values(ClawMaskMethod::kRaster, ClawMaskMethod::kRayPackets,
+                                           ClawMaskMethod::kRays),
+                         [](const ::testing::TestParamInfo<ClawMaskMethod>& info) {
+                           return MethodName(info.param);
+                         });
 
 TEST(ClawMaskConfigTest, Defaults) {
   const ClawMaskConfig config;
@@ -379,8 +363,7 @@ TEST(ClawMaskTiming, PrintTimePerFrame) {
   T_C_G.translation().z() = 0.6;  // the paper's working distance
   const DepthFrame wall = Wall(0.8f);
   for (ClawMaskMethod method :
-       {ClawMaskMethod::kRays, ClawMaskMethod::kRayPackets,
-        ClawMaskMethod::kRaster}) {
+       {ClawMaskMethod::kRays, ClawMaskMethod::kRayPackets, ClawMaskMethod::kRaster}) {
     ClawMaskConfig config;
     config.method = method;
     ClawMask mask(config);
@@ -394,16 +377,12 @@ TEST(ClawMaskTiming, PrintTimePerFrame) {
       frame.depth_m = wall.depth_m;
       const auto t0 = std::chrono::steady_clock::now();
       removed = mask.Apply(T_C_G, &frame);
-      ms.push_back(std::chrono::duration<double, std::milli>(
-                       std::chrono::steady_clock::now() - t0)
-                       .count());
+      ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
     // The median resists other processes sharing the machine.
     std::nth_element(ms.begin(), ms.begin() + kFrames / 2, ms.end());
-    std::printf(
-        "claw mask %-10s: %.3f ms/frame median (%d px removed, %d rays)\n",
-        MethodName(method).c_str(), ms[kFrames / 2], removed,
-        mask.last_ray_count());
+    std::printf("claw mask %-10s: %.3f ms/frame median (%d px removed, %d rays)\n",
+                MethodName(method).c_str(), ms[kFrames / 2], removed, mask.last_ray_count());
   }
 }
 

@@ -45,8 +45,7 @@ bool IsClosedAndConsistent(const TriangleMesh& mesh) {
 // Posed mesh of one link only (in G).
 TriangleMesh PosedLink(const ClawModel& model, size_t link, double opening_m) {
   const auto poses = model.LinkPoses(opening_m);
-  return model.links()[link].mesh.Transformed(poses[link] *
-                                              model.links()[link].T_link_mesh);
+  return model.links()[link].mesh.Transformed(poses[link] * model.links()[link].T_link_mesh);
 }
 
 TEST(ClawModelTest, LinkCounts) {
@@ -57,8 +56,7 @@ TEST(ClawModelTest, LinkCounts) {
 }
 
 TEST(ClawModelTest, LinksAreClosedAndOutwardFacing) {
-  for (const ClawModel& model :
-       {ClawModel::ThreeFinger(), ClawModel::Parallel()}) {
+  for (const ClawModel& model : {ClawModel::ThreeFinger(), ClawModel::Parallel()}) {
     for (const Link& link : model.links()) {
       EXPECT_TRUE(IsClosedAndConsistent(link.mesh)) << link.name;
       EXPECT_GT(SignedVolume(link.mesh), 0.0) << link.name;
@@ -71,15 +69,13 @@ TEST(ClawModelTest, LinksAreClosedAndOutwardFacing) {
 TEST(ClawModelTest, FingerVolumeMatchesConfig) {
   ProceduralClawConfig config;
   const ClawModel model = ClawModel::ThreeFinger(config);
-  const double expected = config.finger_length_m * config.finger_width_m *
-                          config.finger_thickness_m;
+  const double expected = config.finger_length_m * config.finger_width_m * config.finger_thickness_m;
   EXPECT_NEAR(SignedVolume(model.links()[1].mesh), expected, 1e-9);
 }
 
 TEST(ClawModelTest, InnerFaceAtOpeningRadius) {
   ProceduralClawConfig config;
-  for (const ClawModel& model :
-       {ClawModel::ThreeFinger(config), ClawModel::Parallel(config)}) {
+  for (const ClawModel& model : {ClawModel::ThreeFinger(config), ClawModel::Parallel(config)}) {
     const int num_fingers = static_cast<int>(model.links().size()) - 1;
     for (double opening_m : {0.01, 0.035, 0.07}) {
       for (int f = 0; f < num_fingers; ++f) {
@@ -144,8 +140,7 @@ TEST(ClawModelTest, PalmSpansThickness) {
 TEST(ClawModelTest, PosedMergesAllLinks) {
   const ClawModel model = ClawModel::ThreeFinger();
   size_t triangles = 0;
-  for (const Link& link : model.links())
-    triangles += link.mesh.triangles.size();
+  for (const Link& link : model.links()) triangles += link.mesh.triangles.size();
   EXPECT_EQ(model.Posed(0.03).triangles.size(), triangles);
 }
 
@@ -161,10 +156,8 @@ TEST(ClawModelTest, JointValuesOverrideOpening) {
   links[1].joint.joint_index = 1;
   const ClawModel model("test", links);
   EXPECT_NEAR(model.LinkPoses(0.5)[1].translation().y(), 0.5, 1e-12);
-  EXPECT_NEAR(model.LinkPoses(0.5, {0.0, -0.25})[1].translation().y(), -0.25,
-              1e-12);
-  EXPECT_NEAR(model.LinkPoses(0.5, {0.0, 7.0})[1].translation().y(), 1.0,
-              1e-12);
+  EXPECT_NEAR(model.LinkPoses(0.5, {0.0, -0.25})[1].translation().y(), -0.25, 1e-12);
+  EXPECT_NEAR(model.LinkPoses(0.5, {0.0, 7.0})[1].translation().y(), 1.0, 1e-12);
 }
 
 TEST(ClawModelTest, RejectsParentAfterChild) {

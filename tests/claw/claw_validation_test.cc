@@ -20,9 +20,9 @@ namespace fs = std::filesystem;
 class ClawValidationTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::path(::testing::TempDir()) /
-           ("claw_validation_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    dir_ =
+        fs::path(::testing::TempDir()) /
+        ("claw_validation_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -37,16 +37,17 @@ class ClawValidationTest : public ::testing::Test {
                   const std::string& faces, int num_faces) {
     return Write(name, "ply\nformat ascii 1.0\nelement vertex " + std::to_string(num_vertices) +
                            "\nproperty float x\nproperty float y\nproperty float z\n"
-                           "element face " + std::to_string(num_faces) +
-                           "\nproperty list uchar int vertex_indices\nend_header\n" + vertices +
-                           faces);
+                           "element face " +
+                           std::to_string(num_faces) +
+                           "\nproperty list uchar int vertex_indices\nend_header\n" + vertices + faces);
   }
   // A two-link description whose finger link uses `mesh`.
   std::string Description(const std::string& mesh) {
     Write("tet.obj", "v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 0.1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
     return Write("claw.json", R"({"name": "test", "links": [
         {"name": "palm", "mesh": "tet.obj"},
-        {"name": "finger", "parent": "palm", "mesh": ")" + mesh + R"("}]})");
+        {"name": "finger", "parent": "palm", "mesh": ")" +
+                                  mesh + R"("}]})");
   }
   // Load must fail with every one of `parts` in the message.
   void ExpectLoadError(const std::string& description, std::initializer_list<std::string> parts) {

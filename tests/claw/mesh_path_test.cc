@@ -35,10 +35,8 @@ TEST(ConfinedMeshPath, StaysUnderTheRoot) {
   for (const char* bad : {"/etc/passwd", "../x.stl", "a/../../x.stl", "a/..", ""}) {
     EXPECT_NE(ErrorOf([&] { ConfinedMeshPath("/meshes", bad); }), "") << bad;
   }
-  EXPECT_NE(ErrorOf([] { ConfinedMeshPath("", "a.stl"); }).find("none was given"),
-            std::string::npos);
-  EXPECT_NE(ErrorOf([] { ConfinedMeshPath("/m", "/abs.stl"); }).find("absolute"),
-            std::string::npos);
+  EXPECT_NE(ErrorOf([] { ConfinedMeshPath("", "a.stl"); }).find("none was given"), std::string::npos);
+  EXPECT_NE(ErrorOf([] { ConfinedMeshPath("/m", "/abs.stl"); }).find("absolute"), std::string::npos);
   EXPECT_NE(ErrorOf([] { ConfinedMeshPath("/m", "../a.stl"); }).find("'..'"), std::string::npos);
 }
 
@@ -47,8 +45,7 @@ class SessionClawText : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::path(::testing::TempDir()) /
-           ("mesh_path_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+           ("mesh_path_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);
     fs::create_directories(dir_ / "root" / "pkg");
     for (const fs::path& p : {dir_ / "root" / "pkg" / "palm.obj", dir_ / "outside.obj"}) {
@@ -62,27 +59,25 @@ class SessionClawText : public ::testing::Test {
     return R"({"links": [{"name": "palm", "mesh": ")" + mesh + R"("}]})";
   }
   std::string Urdf(const std::string& filename) const {
-    return R"(<robot name="r"><link name="palm"><collision><geometry><mesh filename=")" +
-           filename + R"("/></geometry></collision></link></robot>)";
+    return R"(<robot name="r"><link name="palm"><collision><geometry><mesh filename=")" + filename +
+           R"("/></geometry></collision></link></robot>)";
   }
   fs::path dir_;
   std::string root_;
 };
 
 TEST_F(SessionClawText, DescriptionMeshesOnlyUnderTheLocalRoot) {
-  const ClawModel model = ClawModel::LoadDescriptionText(Description("pkg/palm.obj"), "given",
-                                                         "claw description 'given'", root_);
+  const ClawModel model =
+      ClawModel::LoadDescriptionText(Description("pkg/palm.obj"), "given", "claw description 'given'", root_);
   EXPECT_EQ(model.name(), "given");
   ASSERT_EQ(model.links().size(), 1u);
   EXPECT_EQ(model.links()[0].mesh.triangles.size(), 4u);
   const std::string outside = (dir_ / "outside.obj").string();
-  for (const std::string& ref : {outside, std::string("../outside.obj"),
-                                 std::string("pkg/../../outside.obj")}) {
-    const std::string error = ErrorOf([&] {
-      ClawModel::LoadDescriptionText(Description(ref), "x", "claw description 'x'", root_);
-    });
-    EXPECT_NE(error.find("claw description 'x': links[0] (palm).mesh: mesh '" + ref + "'"),
-              std::string::npos)
+  for (const std::string& ref :
+       {outside, std::string("../outside.obj"), std::string("pkg/../../outside.obj")}) {
+    const std::string error = ErrorOf(
+        [&] { ClawModel::LoadDescriptionText(Description(ref), "x", "claw description 'x'", root_); });
+    EXPECT_NE(error.find("claw description 'x': links[0] (palm).mesh: mesh '" + ref + "'"), std::string::npos)
         << error;
   }
   // No local root: no mesh at all, even one the text names absolutely.
@@ -99,17 +94,15 @@ TEST_F(SessionClawText, UrdfMeshesOnlyUnderTheLocalRoot) {
   EXPECT_EQ(LoadUrdfClawText(Urdf("package://pkg/palm.obj"), "u", root_).links().size(), 1u);
   EXPECT_EQ(LoadUrdfClawText(Urdf("pkg/palm.obj"), "u", root_).links().size(), 1u);
   const std::string outside = (dir_ / "outside.obj").string();
-  for (const std::string& uri : {"file://" + outside, outside, std::string("../outside.obj"),
-                                 std::string("package://pkg/../../outside.obj"),
-                                 std::string("package:///") + outside}) {
+  for (const std::string& uri :
+       {"file://" + outside, outside, std::string("../outside.obj"),
+        std::string("package://pkg/../../outside.obj"), std::string("package:///") + outside}) {
     const std::string error = ErrorOf([&] { LoadUrdfClawText(Urdf(uri), "u", root_); });
     EXPECT_NE(error.find("u: link 'palm': mesh '"), std::string::npos) << uri << ": " << error;
   }
   // The text's own folder (a bundle's urdf_dir) is not a root.
-  const std::string bundle =
-      nlohmann::json{{"urdf_text", Urdf("pkg/palm.obj")}, {"urdf_dir", root_}}.dump();
-  EXPECT_NE(ErrorOf([&] { LoadUrdfClawText(bundle, "u", ""); }).find("none was given"),
-            std::string::npos);
+  const std::string bundle = nlohmann::json{{"urdf_text", Urdf("pkg/palm.obj")}, {"urdf_dir", root_}}.dump();
+  EXPECT_NE(ErrorOf([&] { LoadUrdfClawText(bundle, "u", ""); }).find("none was given"), std::string::npos);
   EXPECT_EQ(LoadUrdfClawText(bundle, "u", root_).links().size(), 1u);
   // Primitives need no root.
   EXPECT_EQ(LoadUrdfClawText(R"(<robot name="r"><link name="palm"><collision><geometry>)"

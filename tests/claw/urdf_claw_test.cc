@@ -41,8 +41,7 @@ Eigen::Isometry3d LookAt(const Eigen::Vector3d& eye_G, const Eigen::Vector3d& ta
 }
 
 // The pixels ClawMask removes from a wall 3 m away (no dilation).
-std::vector<bool> MaskedPixels(const ClawModel& model, double opening,
-                               const Eigen::Isometry3d& T_C_G) {
+std::vector<bool> MaskedPixels(const ClawModel& model, double opening, const Eigen::Isometry3d& T_C_G) {
   DepthFrame frame;
   const CameraIntrinsics& K = frame.intrinsics;
   frame.depth_m.assign(static_cast<size_t>(K.width) * K.height, 3.0f);
@@ -62,9 +61,8 @@ TEST(UrdfClawTest, RobotiqUrdfMasksTheSamePixelsAsItsDescription) {
   const ClawModel urdf = ClawModel::Load(kConfigDir + "/robotiq_3f_urdf.json", kRobotiq);
   EXPECT_EQ(urdf.name(), "robotiq_3f_urdf");
   ASSERT_EQ(urdf.links().size(), json.links().size());
-  const std::vector<Eigen::Isometry3d> views = {
-      LookAt({0.45, 0.1, 0.15}, {0, 0, 0.09}, {0, 0, -1}),
-      LookAt({-0.1, 0.45, 0.25}, {0, 0, 0.09}, {0, 0, -1})};
+  const std::vector<Eigen::Isometry3d> views = {LookAt({0.45, 0.1, 0.15}, {0, 0, 0.09}, {0, 0, -1}),
+                                                LookAt({-0.1, 0.45, 0.25}, {0, 0, 0.09}, {0, 0, -1})};
   for (const double opening : {0.0, 0.3, 0.6, 1.0}) {
     for (size_t v = 0; v < views.size(); ++v) {
       const std::vector<bool> a = MaskedPixels(json, opening, views[v]);
@@ -76,10 +74,10 @@ TEST(UrdfClawTest, RobotiqUrdfMasksTheSamePixelsAsItsDescription) {
       }
       ASSERT_GT(either, 5000) << "the claw should fill part of the image";
       const double agreement = static_cast<double>(both) / static_cast<double>(either);
-      EXPECT_GE(agreement, 0.999) << "opening " << opening << " view " << v << ": " << both
-                                  << " of " << either << " pixels";
-      std::printf("opening %.1f view %zu: %ld of %ld pixels agree (%.5f)\n", opening, v, both,
-                  either, agreement);
+      EXPECT_GE(agreement, 0.999) << "opening " << opening << " view " << v << ": " << both << " of "
+                                  << either << " pixels";
+      std::printf("opening %.1f view %zu: %ld of %ld pixels agree (%.5f)\n", opening, v, both, either,
+                  agreement);
     }
   }
   // Joint values address the same joints in both.
@@ -100,8 +98,7 @@ class UrdfFileTest : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::path(::testing::TempDir()) /
-           ("urdf_claw_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+           ("urdf_claw_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::create_directories(dir_ / "pkg" / "meshes");
     Write("pkg/meshes/palm.obj",
           "v -0.05 -0.05 -0.02\nv 0.05 -0.05 -0.02\nv 0 0.05 -0.02\nv 0 0 0\n"
@@ -120,7 +117,8 @@ class UrdfFileTest : public ::testing::Test {
   std::string ParallelUrdf(const std::string& palm_mesh = "package://pkg/meshes/palm.obj") {
     return Write("parallel.urdf", R"(<?xml version="1.0"?>
 <robot name="test_parallel">
-  <link name="base"><collision><geometry><mesh filename=")" + palm_mesh + R"("/></geometry></collision></link>
+  <link name="base"><collision><geometry><mesh filename=")" +
+                                      palm_mesh + R"("/></geometry></collision></link>
   <link name="left"><collision><origin xyz="0 0 0.03"/><geometry><box size="0.01 0.02 0.06"/></geometry></collision></link>
   <link name="right"><collision><origin xyz="0 0 0.03"/><geometry><box size="0.01 0.02 0.06"/></geometry></collision></link>
   <joint name="left_joint" type="prismatic">

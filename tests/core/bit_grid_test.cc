@@ -61,8 +61,9 @@ TEST(BitGrid, ResetClearsAndBadBoxesThrow) {
   EXPECT_FALSE(grid.Test(Eigen::Vector3f(0, 0, 0.1f)));
   EXPECT_THROW(grid.Reset(kBox, 0.0f), std::invalid_argument);
   EXPECT_THROW(grid.Reset(Eigen::AlignedBox3f(), 0.01f), std::invalid_argument);
-  EXPECT_THROW(grid.Reset(Eigen::AlignedBox3f(Eigen::Vector3f::Zero(), Eigen::Vector3f::Constant(1e30f)), 1e-3f),
-               std::invalid_argument);
+  EXPECT_THROW(
+      grid.Reset(Eigen::AlignedBox3f(Eigen::Vector3f::Zero(), Eigen::Vector3f::Constant(1e30f)), 1e-3f),
+      std::invalid_argument);
 }
 
 }  // namespace

@@ -41,15 +41,19 @@ TEST(Raycaster, PacketMatchesSingleRays) {
   float dirs[16][3];
   for (int i = 0; i < 16; ++i) {
     const Eigen::Vector3f d = Eigen::Vector3f(-1.5f + 0.2f * i, 0.1f, 1.0f).normalized();
-    dirs[i][0] = d.x(); dirs[i][1] = d.y(); dirs[i][2] = d.z();
+    dirs[i][0] = d.x();
+    dirs[i][1] = d.y();
+    dirs[i][2] = d.z();
   }
   float t[16];
   rc.Cast16(Eigen::Vector3f::Zero(), dirs, 13, t);
   for (int i = 0; i < 13; ++i) {
     const Eigen::Vector3f d(dirs[i][0], dirs[i][1], dirs[i][2]);
     const RayHit single = rc.Cast(Eigen::Vector3f::Zero(), d);
-    if (single.hit()) EXPECT_NEAR(t[i], single.t, 1e-5f) << i;
-    else EXPECT_TRUE(std::isinf(t[i])) << i;
+    if (single.hit())
+      EXPECT_NEAR(t[i], single.t, 1e-5f) << i;
+    else
+      EXPECT_TRUE(std::isinf(t[i])) << i;
   }
 }
 

@@ -24,8 +24,7 @@ class RegularFileTest : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::path(::testing::TempDir()) /
-           ("regular_file_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+           ("regular_file_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -58,17 +57,19 @@ TEST_F(RegularFileTest, RefusesWhatIsNotARegularFileInOneWording) {
   EXPECT_EQ(ReadError(missing), "cannot read thing '" + missing + "': no such file");
   EXPECT_EQ(NotARegularFile(dir_.string()), "is a directory");
   for (const std::string device : {"/dev/zero", "/dev/null"}) {
-    EXPECT_EQ(ReadError(device).rfind("cannot read thing '" + device + "': not a regular file (a "
-                                      "FIFO, socket or device: it could block or never end)", 0),
-              0u) << ReadError(device);
+    EXPECT_EQ(ReadError(device).rfind("cannot read thing '" + device +
+                                          "': not a regular file (a "
+                                          "FIFO, socket or device: it could block or never end)",
+                                      0),
+              0u)
+        << ReadError(device);
   }
   // A FIFO with no writer: refused at once, not a read that waits for one
   // (the future's wait keeps a regression from hanging the test).
   const std::string fifo = (dir_ / "fifo").string();
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   auto error = std::async(std::launch::async, [&] { return ReadError(fifo); });
-  ASSERT_EQ(error.wait_for(std::chrono::seconds(10)), std::future_status::ready)
-      << "reading a FIFO blocked";
+  ASSERT_EQ(error.wait_for(std::chrono::seconds(10)), std::future_status::ready) << "reading a FIFO blocked";
   EXPECT_NE(error.get().find("'" + fifo + "': not a regular file"), std::string::npos);
   // Through a symbolic link: what it points at.
   const std::string link = (dir_ / "link").string();

@@ -32,15 +32,16 @@ using testing::ScratchDir;
 
 struct Step {
   std::map<std::string, std::string> files;  ///< written into the scratch folder first
-  std::string command;  ///< shell, in the scratch folder; {cli}, {subscriber}, {source}
+  std::string command;                       ///< shell, in the scratch folder; {cli}, {subscriber}, {source}
 };
 
 // The cases, by marker name.
 const std::map<std::string, std::vector<Step>>& Cases() {
   static const std::map<std::string, std::vector<Step>> cases = {
       {"rig-config-errors",
-       {{{{"rig.yaml", "camera:\n  device: \"\"\nrobot:\n  clock_offset_s: 0\ntsdf:\n"
-                       "  sdf_trunc_voxels: 4\n  voxel_m: 0.002mm\n"}},
+       {{{{"rig.yaml",
+           "camera:\n  device: \"\"\nrobot:\n  clock_offset_s: 0\ntsdf:\n"
+           "  sdf_trunc_voxels: 4\n  voxel_m: 0.002mm\n"}},
          "{cli} replay {source}/replay/default/recording.lcmlog -o out.ply --config rig.yaml"},
         {{{"rig.yaml", "robot:\n  max_pose_gap_s: 0.05\n  clock_ofset_s: 0.02\n"}},
          "{cli} replay {source}/replay/default/recording.lcmlog -o out.ply --config rig.yaml"}}},
@@ -80,8 +81,8 @@ std::string Replace(std::string text, const std::string& from, const std::string
 
 struct Quote {
   std::string file;
-  int line{0};        ///< of the marker
-  std::string name;   ///< the case; "" for an unmarked block
+  int line{0};       ///< of the marker
+  std::string name;  ///< the case; "" for an unmarked block
   std::vector<std::string> lines;
 };
 
@@ -170,7 +171,8 @@ TEST(QuotedOutputs, QuotedLinesAreWhatTheCommandsPrint) {
     for (const std::string& quoted : q.lines) {
       while (at < printed.size() && printed[at] != quoted) ++at;
       EXPECT_LT(at, printed.size()) << "quoted, not printed (or not in this order): " << quoted
-                                    << "\nprinted:\n" << output;
+                                    << "\nprinted:\n"
+                                    << output;
       if (at == printed.size()) break;
       ++at;
     }
@@ -185,8 +187,8 @@ TEST(QuotedOutputs, ReadmeModelSizeIsThePublishedMessagesSize) {
   ASSERT_TRUE(std::regex_search(flat, m, std::regex(R"(recording's model is ([0-9,]+) bytes)")));
   const std::string quoted = std::regex_replace(m[1].str(), std::regex(","), "");
   const std::string dir = ScratchDir("quoted_model_size");
-  const auto run = RunShell(std::string(GRASPFILL_CLI) + " replay " GRASPFILL_SOURCE_DIR
-                            "/replay/default/recording.lcmlog -o " + dir +
+  const auto run = RunShell(std::string(GRASPFILL_CLI) +
+                            " replay " GRASPFILL_SOURCE_DIR "/replay/default/recording.lcmlog -o " + dir +
                             "/cloud.ply --lcm-url 'file://" + dir + "/bus.lcmlog?mode=w' 2>&1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   io::LcmLogReader reader(dir + "/bus.lcmlog");

@@ -2,12 +2,12 @@
 // Runs the graspfill CLI as a child process for the end-to-end tests.
 #pragma once
 
+#include <sys/wait.h>
 #include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
-#include <sys/wait.h>
 
 namespace graspfill::testing {
 

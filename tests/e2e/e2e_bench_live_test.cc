@@ -111,10 +111,10 @@ TEST(BenchLive, FaultSoakCountsEveryRejectAndKeepsPublishing) {
 }
 
 TEST(BenchLive, BadOptionsAreUsageErrors) {
-  for (const char* args : {"--speeds 0", "--speeds x", "--transport tcp", "--repair some",
-                           "--publish-every 0", "--soak-s 5", "--soak-s 30",
-                           "--soak-faults 1", "--soak-s 60 --soak-faults 0", "--soak-s 60 --soak-faults 80",
-                           "--soak-s 60 --soak-faults 1 --soak-speed 0", "--bogus"}) {
+  for (const char* args :
+       {"--speeds 0", "--speeds x", "--transport tcp", "--repair some", "--publish-every 0", "--soak-s 5",
+        "--soak-s 30", "--soak-faults 1", "--soak-s 60 --soak-faults 0", "--soak-s 60 --soak-faults 80",
+        "--soak-s 60 --soak-faults 1 --soak-speed 0", "--bogus"}) {
     const auto r = RunCli(std::string("bench live ") + args);
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
     EXPECT_NE(r.output.find("usage: graspfill bench live"), std::string::npos) << args;

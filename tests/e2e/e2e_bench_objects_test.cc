@@ -63,8 +63,8 @@ std::string BoxObj(double w, double d, double h, double chamfer = 0.0) {
   rings.emplace_back(0.0, h);
   for (const auto& [inset, z] : rings) {
     const double x = w / 2 - inset, y = d / 2 - inset;
-    obj << "v " << -x << " " << -y << " " << z << "\nv " << x << " " << -y << " " << z << "\nv " << x << " " << y
-        << " " << z << "\nv " << -x << " " << y << " " << z << "\n";
+    obj << "v " << -x << " " << -y << " " << z << "\nv " << x << " " << -y << " " << z << "\nv " << x << " "
+        << y << " " << z << "\nv " << -x << " " << y << " " << z << "\n";
   }
   // Outward faces, 1-based: the bottom, the bands between rings, the top.
   obj << "f 1 3 2\nf 1 4 3\n";
@@ -75,7 +75,8 @@ std::string BoxObj(double w, double d, double h, double chamfer = 0.0) {
     }
   }
   const int t = 4 * static_cast<int>(rings.size() - 1);
-  obj << "f " << t + 1 << " " << t + 2 << " " << t + 3 << "\nf " << t + 1 << " " << t + 3 << " " << t + 4 << "\n";
+  obj << "f " << t + 1 << " " << t + 2 << " " << t + 3 << "\nf " << t + 1 << " " << t + 3 << " " << t + 4
+      << "\n";
   return obj.str();
 }
 
@@ -154,7 +155,8 @@ TEST(BenchObjectsE2E, TwoScansOneClawGraspSeedRowsMatchTheirDumpedClouds) {
         1000.0 * Percentile(mesh::NearestDistances(fused.points_G, truth.points_G), 99.0);
     const double fused_coverage =
         eval::FractionWithin(mesh::NearestDistances(truth.points_G, fused.points_G), 0.002);
-    const double coverage = eval::FractionWithin(mesh::NearestDistances(truth.points_G, repaired.points_G), 0.002);
+    const double coverage =
+        eval::FractionWithin(mesh::NearestDistances(truth.points_G, repaired.points_G), 0.002);
     EXPECT_NEAR(Get(row, "fused_p99_mm"), fused_p99_mm, 1e-6);
     EXPECT_NEAR(Get(row, "fused_coverage"), fused_coverage, 1e-9);
     EXPECT_NEAR(Get(row, "coverage_2mm"), coverage, 1e-9);
@@ -165,7 +167,8 @@ TEST(BenchObjectsE2E, TwoScansOneClawGraspSeedRowsMatchTheirDumpedClouds) {
     EXPECT_GE(coverage, fused_coverage);
     double added_p95_mm = 0.0, wrong = 0.0;
     if (repaired.size() > fused.size()) {
-      const std::vector<Eigen::Vector3f> added(repaired.points_G.begin() + fused.size(), repaired.points_G.end());
+      const std::vector<Eigen::Vector3f> added(repaired.points_G.begin() + fused.size(),
+                                               repaired.points_G.end());
       const std::vector<double> d = mesh::NearestDistances(added, truth.points_G);
       added_p95_mm = 1000.0 * Percentile(d, 95.0);
       wrong = 1.0 - eval::FractionWithin(d, 0.003);
@@ -175,8 +178,8 @@ TEST(BenchObjectsE2E, TwoScansOneClawGraspSeedRowsMatchTheirDumpedClouds) {
     EXPECT_GE(Get(row, "seen_free_points"), 0.0);
     EXPECT_GT(Get(row, "repair_ms"), 0.0);
     // The verdict: the issue's closed_symmetric targets.
-    const bool meets = coverage >= 0.97 && added_p95_mm <= 2.0 && wrong <= 0.02 &&
-                       row["seen_free_points"].get<int>() == 0;
+    const bool meets =
+        coverage >= 0.97 && added_p95_mm <= 2.0 && wrong <= 0.02 && row["seen_free_points"].get<int>() == 0;
     EXPECT_EQ(row["meets"].get<bool>(), meets);
     EXPECT_EQ(row["failed"].empty(), meets);
     met += meets;
@@ -196,9 +199,11 @@ TEST(BenchObjectsE2E, TwoScansOneClawGraspSeedRowsMatchTheirDumpedClouds) {
 
   // Deterministic for a seed: the tune split alone gives the same clouds.
   fs::create_directories(dir + "/again");
-  const auto again = RunCli("bench repair --objects " + set +
-                            " --split tune --claw three-finger --grasp top-straight --seeds 1 --repeat 1 --json"
-                            " --dump " + dir + "/again");
+  const auto again =
+      RunCli("bench repair --objects " + set +
+             " --split tune --claw three-finger --grasp top-straight --seeds 1 --repeat 1 --json"
+             " --dump " +
+             dir + "/again");
   ASSERT_EQ(again.exit_code, 0) << again.output;
   const nlohmann::json rows2 = JsonOf(again.output).at("rows");
   ASSERT_EQ(rows2.size(), 1u);
@@ -262,11 +267,13 @@ TEST(BenchObjectsE2E, AnObjectTooBigForTheClawIsARowNotMet) {
   WriteText(dir + "/crate.obj", BoxObj(0.24, 0.24, 0.10));  // 24 cm square: past the 8 cm opening
   WriteText(dir + "/objects.json",
             R"({"objects": {"crate": {"file": "crate.obj", "kind": "closed_symmetric", "split": "check"}}})");
-  const auto r = RunCli("bench repair --objects " + dir + " --claw three-finger,parallel --grasp top-straight --seeds 4");
+  const auto r = RunCli("bench repair --objects " + dir +
+                        " --claw three-finger,parallel --grasp top-straight --seeds 4");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("crate"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("no: too big for the claw"), std::string::npos) << r.output;
-  const auto j = RunCli("bench repair --objects " + dir + " --claw three-finger,parallel --grasp top-straight "
+  const auto j = RunCli("bench repair --objects " + dir +
+                        " --claw three-finger,parallel --grasp top-straight "
                         "--seeds 4 --json");
   ASSERT_EQ(j.exit_code, 0) << j.output;
   const nlohmann::json out = JsonOf(j.output);

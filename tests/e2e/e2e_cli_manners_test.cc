@@ -38,7 +38,8 @@ TEST(CliManners, AMistypedOptionOrCommandGetsTheNearestOne) {
 }
 
 TEST(CliManners, EveryProductCommandsHelpEndsWithAnExample) {
-  for (const char* command : {"repair", "replay", "synth", "live", "claw", "config", "view", "eval", "oni-record"}) {
+  for (const char* command :
+       {"repair", "replay", "synth", "live", "claw", "config", "view", "eval", "oni-record"}) {
     const auto run = RunCli(std::string(command) + " --help");
     EXPECT_EQ(run.exit_code, 0) << command;
     const size_t at = run.output.find("example: graspfill " + std::string(command) + " ");

@@ -10,6 +10,8 @@
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
 
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <Eigen/Geometry>
 #include <cstdio>
 #include <filesystem>
@@ -17,8 +19,6 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <sys/stat.h>
-#include <sys/wait.h>
 #include <vector>
 
 #include <graspfill/gripper_state_t.hpp>
@@ -90,8 +90,10 @@ class ConfigReplay : public ::testing::Test {
   void SetUp() override {
     dir_ = ScratchDir(std::string("config_replay_") +
                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    const auto synth = RunCli("synth --shape cuboid --size 0.05x0.05x0.08 --claw parallel "
-                              "--frames 30 --wall-m 0 --seed 3 -o " + dir_);
+    const auto synth = RunCli(
+        "synth --shape cuboid --size 0.05x0.05x0.08 --claw parallel "
+        "--frames 30 --wall-m 0 --seed 3 -o " +
+        dir_);
     ASSERT_EQ(synth.exit_code, 0) << synth.output;
     const auto dump = RunCli("config --dump-defaults -o " + dir_ + "/defaults.yaml");
     ASSERT_EQ(dump.exit_code, 0) << dump.output;
@@ -145,7 +147,8 @@ TEST_F(ConfigReplay, TheConfigGoesOverTheSessionAndTheFlagsOverTheConfig) {
   EXPECT_NE(claw.output.find("warning: the config's claw.spec three-finger (" + dir_ +
                              "/claw.yaml) differs from the claw this recording was made with "
                              "(parallel"),
-            std::string::npos) << claw.output;
+            std::string::npos)
+      << claw.output;
   EXPECT_EQ(ParseReport(claw.output)["claw"]["from"], "config file");
   const auto flag_claw = Replay("flag_claw.ply", "--config " + dir_ + "/claw.yaml --claw parallel");
   ASSERT_EQ(flag_claw.exit_code, 0) << flag_claw.output;
@@ -163,7 +166,8 @@ TEST_F(ConfigReplay, TheIntrinsicsOverrideAppliesToTheLogsImages) {
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("depth image of 640x480 pixels, but the intrinsics override (the "
                           "session description's or the rig config's) is for 320x240 images"),
-            std::string::npos) << r.output;
+            std::string::npos)
+      << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir_ + "/small.ply"));
 }
 
@@ -184,23 +188,23 @@ TEST_F(ConfigReplay, ABadConfigExitsTwoNamingTheFileAndField) {
   for (const Case& c : cases) {
     SCOPED_TRACE(c.yaml);
     WriteText(path, c.yaml);
-    const auto r = RunCli("replay " + dir_ + "/recording.lcmlog -o " + dir_ +
-                          "/bad.ply --no-publish --config " + path);
+    const auto r =
+        RunCli("replay " + dir_ + "/recording.lcmlog -o " + dir_ + "/bad.ply --no-publish --config " + path);
     EXPECT_EQ(r.exit_code, 2) << r.output;
-    EXPECT_NE(r.output.find("graspfill replay: --config: " + path + ":" + c.message),
-              std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("graspfill replay: --config: " + path + ":" + c.message), std::string::npos)
+        << r.output;
     // live reads it before it opens the bus or a camera.
     const auto live = RunCli("live --depth-from-lcm --duration-s 0.1 --config " + path);
     EXPECT_EQ(live.exit_code, 2) << live.output;
-    EXPECT_NE(live.output.find("graspfill live: --config: " + path + ":" + c.message),
-              std::string::npos) << live.output;
+    EXPECT_NE(live.output.find("graspfill live: --config: " + path + ":" + c.message), std::string::npos)
+        << live.output;
   }
   EXPECT_FALSE(std::filesystem::exists(dir_ + "/bad.ply"));
-  const auto missing = RunCli("replay " + dir_ + "/recording.lcmlog -o " + dir_ +
-                              "/bad.ply --config " + dir_ + "/nowhere.yaml");
+  const auto missing = RunCli("replay " + dir_ + "/recording.lcmlog -o " + dir_ + "/bad.ply --config " +
+                              dir_ + "/nowhere.yaml");
   EXPECT_EQ(missing.exit_code, 2) << missing.output;
-  EXPECT_NE(missing.output.find("cannot read config '" + dir_ + "/nowhere.yaml'"),
-            std::string::npos) << missing.output;
+  EXPECT_NE(missing.output.find("cannot read config '" + dir_ + "/nowhere.yaml'"), std::string::npos)
+      << missing.output;
   const auto no_value = RunCli("replay " + dir_ + "/recording.lcmlog -o " + dir_ + "/bad.ply --config");
   EXPECT_EQ(no_value.exit_code, 2) << no_value.output;
   EXPECT_NE(no_value.output.find("--config needs a value"), std::string::npos) << no_value.output;
@@ -208,8 +212,7 @@ TEST_F(ConfigReplay, ABadConfigExitsTwoNamingTheFileAndField) {
 
 // The recording with its gripper states re-expressed in the base frame B
 // (p_C = T_C_B * p_B): what a robot that reports base-frame poses sends.
-void RewriteStatesInBase(const std::string& from, const std::string& to,
-                         const Eigen::Isometry3d& T_C_B) {
+void RewriteStatesInBase(const std::string& from, const std::string& to, const Eigen::Isometry3d& T_C_B) {
   const io::ChannelNames channels;
   lcm::LogFile in(from, "r");
   ASSERT_TRUE(in.good());
@@ -223,8 +226,8 @@ void RewriteStatesInBase(const std::string& from, const std::string& to,
     }
     GripperState s;
     std::string error;
-    ASSERT_TRUE(io::DecodeGripperState(data, event->datalen, Eigen::Isometry3d::Identity(), &s,
-                                       &error)) << error;
+    ASSERT_TRUE(io::DecodeGripperState(data, event->datalen, Eigen::Isometry3d::Identity(), &s, &error))
+        << error;
     const Eigen::Isometry3d T_B_G = T_C_B.inverse() * s.T_C_G;
     const Eigen::Quaterniond q(T_B_G.linear());
     graspfill::gripper_state_t msg;
@@ -240,8 +243,7 @@ void RewriteStatesInBase(const std::string& from, const std::string& to,
     msg.joint_values = s.joint_values;
     msg.grasp_id = s.grasp_id;
     std::vector<uint8_t> bytes(msg.getEncodedSize());
-    ASSERT_EQ(msg.encode(bytes.data(), 0, static_cast<int>(bytes.size())),
-              static_cast<int>(bytes.size()));
+    ASSERT_EQ(msg.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
     out.Write(event->channel, event->timestamp, bytes);
     ++states;
   }
@@ -258,8 +260,8 @@ struct Fused {
 Fused ReplayAndMeasure(const std::string& dir, const std::string& log, const std::string& name,
                        const std::string& flags) {
   Fused f;
-  const auto r = RunCli("replay " + log + " -o " + dir + "/" + name +
-                        " --force --no-publish --no-repair " + flags);
+  const auto r =
+      RunCli("replay " + log + " -o " + dir + "/" + name + " --force --no-publish --no-repair " + flags);
   f.exit_code = r.exit_code;
   f.output = r.output;
   if (r.exit_code != 0) return f;
@@ -280,8 +282,7 @@ TEST(ConfigE2E, BaseFramePosesFuseWithTheConfigsHandEye) {
   // 2-3 cm away (a calibration the identity is clearly not).
   Eigen::Isometry3d T_C_B = Eigen::Isometry3d::Identity();
   T_C_B.linear() =
-      Eigen::AngleAxisd(6.0 * M_PI / 180.0, Eigen::Vector3d(1.0, 2.0, 3.0).normalized())
-          .toRotationMatrix();
+      Eigen::AngleAxisd(6.0 * M_PI / 180.0, Eigen::Vector3d(1.0, 2.0, 3.0).normalized()).toRotationMatrix();
   T_C_B.translation() = Eigen::Vector3d(0.02, -0.03, 0.025);
   const std::string base_log = dir + "/base.lcmlog";
   RewriteStatesInBase(dir + "/recording.lcmlog", base_log, T_C_B);
@@ -292,8 +293,8 @@ TEST(ConfigE2E, BaseFramePosesFuseWithTheConfigsHandEye) {
   std::snprintf(yaml, sizeof(yaml),
                 "robot:\n  T_C_B:\n    translation_m: [%.9g, %.9g, %.9g]\n"
                 "    rotation_wxyz: [%.9f, %.9f, %.9f, %.9f]\n",
-                T_C_B.translation().x(), T_C_B.translation().y(), T_C_B.translation().z(),
-                q.w(), q.x(), q.y(), q.z());
+                T_C_B.translation().x(), T_C_B.translation().y(), T_C_B.translation().z(), q.w(), q.x(),
+                q.y(), q.z());
   WriteText(dir + "/rig.yaml", yaml);
 
   const Fused camera_frame = ReplayAndMeasure(dir, dir + "/recording.lcmlog", "camera.ply", "");
@@ -309,12 +310,12 @@ TEST(ConfigE2E, BaseFramePosesFuseWithTheConfigsHandEye) {
   // the identity): no clean cloud.
   const auto dump = RunCli("config --dump-defaults -o " + dir + "/defaults.yaml");
   ASSERT_EQ(dump.exit_code, 0) << dump.output;
-  const Fused uncalibrated = ReplayAndMeasure(dir, base_log, "uncalibrated.ply",
-                                              "--config " + dir + "/defaults.yaml");
-  EXPECT_TRUE(uncalibrated.exit_code != 0 || uncalibrated.points < 100 ||
-              uncalibrated.p95_m > 0.004)
+  const Fused uncalibrated =
+      ReplayAndMeasure(dir, base_log, "uncalibrated.ply", "--config " + dir + "/defaults.yaml");
+  EXPECT_TRUE(uncalibrated.exit_code != 0 || uncalibrated.points < 100 || uncalibrated.p95_m > 0.004)
       << "exit " << uncalibrated.exit_code << ", " << uncalibrated.points << " points, p95 "
-      << 1000.0 * uncalibrated.p95_m << " mm\n" << uncalibrated.output;
+      << 1000.0 * uncalibrated.p95_m << " mm\n"
+      << uncalibrated.output;
 }
 
 // Runs `command` in sh; its exit code and output (stdout and stderr).
@@ -351,17 +352,22 @@ TEST(ConfigE2E, LiveAppliesTheConfigsHandEyeToTheBus) {
                 "robot:\n  T_C_B:\n    translation_m: [%.17g, %.17g, %.17g]\n"
                 "    rotation_wxyz: [%.17g, %.17g, %.17g, %.17g]\n"
                 "channels:\n  object_cloud: CONFIG_TEST_CLOUD\n",
-                T_C_B.translation().x(), T_C_B.translation().y(), T_C_B.translation().z(),
-                q.w(), q.x(), q.y(), q.z());
+                T_C_B.translation().x(), T_C_B.translation().y(), T_C_B.translation().z(), q.w(), q.x(),
+                q.y(), q.z());
   WriteText(dir + "/rig.yaml", yaml);
   const std::string url = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=8388608";
-  const auto live = RunShell(
-      "unshare -n sh -c '. " GRASPFILL_LCM_READY "; "
-      "ip link set lo up && ip route add 224.0.0.0/4 dev lo || exit 90; " GRASPFILL_CLI
-      " live --depth-from-lcm --lcm-url \"" + url + "\" --config " + dir + "/rig.yaml --no-repair "
-      "--publish-every 0 --idle-exit-s 1.5 --duration-s 25 --record " + dir + "/record.lcmlog > " +
-      dir + "/live.out 2>&1 & live=$!; wait_lcm_subscribed $live || exit 94; "
-      "lcm-logplayer --lcm-url=\"" + url + "\" " + dir + "/base.lcmlog > /dev/null 2>&1 || exit 92; wait $live || exit 93'");
+  const auto live =
+      RunShell("unshare -n sh -c '. " GRASPFILL_LCM_READY
+               "; "
+               "ip link set lo up && ip route add 224.0.0.0/4 dev lo || exit 90; " GRASPFILL_CLI
+               " live --depth-from-lcm --lcm-url \"" +
+               url + "\" --config " + dir +
+               "/rig.yaml --no-repair "
+               "--publish-every 0 --idle-exit-s 1.5 --duration-s 25 --record " +
+               dir + "/record.lcmlog > " + dir +
+               "/live.out 2>&1 & live=$!; wait_lcm_subscribed $live || exit 94; "
+               "lcm-logplayer --lcm-url=\"" +
+               url + "\" " + dir + "/base.lcmlog > /dev/null 2>&1 || exit 92; wait $live || exit 93'");
   const std::string live_out = ReadText(dir + "/live.out");
   ASSERT_EQ(live.exit_code, 0) << live.output << live_out;
   EXPECT_NE(live_out.find("published on CONFIG_TEST_CLOUD"), std::string::npos) << live_out;
@@ -375,8 +381,10 @@ TEST(ConfigE2E, LiveAppliesTheConfigsHandEyeToTheBus) {
 // robot.clock_offset_s = T moves the stamps back onto the camera's clock.
 TEST(ConfigE2E, TheClockOffsetMovesTheStatesOntoTheCamerasClock) {
   const std::string dir = ScratchDir("config_clock_offset");
-  const auto synth = RunCli("synth --shape cylinder --frames 30 --wall-m 0 --seed 5 "
-                            "--clock-offset-ms 60 -o " + dir);
+  const auto synth = RunCli(
+      "synth --shape cylinder --frames 30 --wall-m 0 --seed 5 "
+      "--clock-offset-ms 60 -o " +
+      dir);
   ASSERT_EQ(synth.exit_code, 0) << synth.output;
   WriteText(dir + "/rig.yaml", "robot:\n  clock_offset_s: 0.06\n");
   const std::string log = dir + "/recording.lcmlog";
@@ -400,18 +408,19 @@ TEST(ConfigE2E, FifosBadChannelsSecondDocumentsAndDeepNestingAreRefusedInWords) 
   const std::string fifo = dir + "/rig.yaml";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   const std::string timeout = "timeout 20 ";
-  const auto check = RunShell("LCM_DEFAULT_URL=memq:// " + timeout + GRASPFILL_CLI " config --check " +
-                              fifo + " 2>&1");
+  const auto check =
+      RunShell("LCM_DEFAULT_URL=memq:// " + timeout + GRASPFILL_CLI " config --check " + fifo + " 2>&1");
   EXPECT_EQ(check.exit_code, 2) << check.output;
-  EXPECT_NE(check.output.find("cannot read config '" + fifo + "': not a regular file"),
-            std::string::npos) << check.output;
+  EXPECT_NE(check.output.find("cannot read config '" + fifo + "': not a regular file"), std::string::npos)
+      << check.output;
   // replay reads --config before the log (which need not exist).
   const auto replay = RunShell("LCM_DEFAULT_URL=memq:// " + timeout + GRASPFILL_CLI " replay " + dir +
-                               "/none.lcmlog -o " + dir + "/out.ply --no-publish --config " + fifo +
-                               " 2>&1");
+                               "/none.lcmlog -o " + dir + "/out.ply --no-publish --config " + fifo + " 2>&1");
   EXPECT_EQ(replay.exit_code, 2) << replay.output;
-  EXPECT_NE(replay.output.find("graspfill replay: --config: cannot read config '" + fifo +
-                               "': not a regular file"), std::string::npos) << replay.output;
+  EXPECT_NE(
+      replay.output.find("graspfill replay: --config: cannot read config '" + fifo + "': not a regular file"),
+      std::string::npos)
+      << replay.output;
 
   struct Case {
     std::string yaml;
@@ -433,8 +442,7 @@ TEST(ConfigE2E, FifosBadChannelsSecondDocumentsAndDeepNestingAreRefusedInWords) 
     WriteText(path, c.yaml);
     const auto r = RunCli("config --check " + path);
     EXPECT_EQ(r.exit_code, 2) << r.output;
-    EXPECT_NE(r.output.find("graspfill config: " + path + ":" + c.message), std::string::npos)
-        << r.output;
+    EXPECT_NE(r.output.find("graspfill config: " + path + ":" + c.message), std::string::npos) << r.output;
     EXPECT_EQ(r.output.find("bad file"), std::string::npos) << r.output;
   }
 }
@@ -462,21 +470,23 @@ TEST(ConfigE2E, BadChannelFlagsAreUsageErrors) {
     EXPECT_NE(live.output.find("graspfill live: " + c.message), std::string::npos) << live.output;
     const auto replay = RunCli("replay " + dir + "/none.lcmlog -o " + dir + "/out.ply " + c.flags);
     EXPECT_EQ(replay.exit_code, 2) << replay.output;
-    EXPECT_NE(replay.output.find("graspfill replay: " + c.message), std::string::npos)
-        << replay.output;
+    EXPECT_NE(replay.output.find("graspfill replay: " + c.message), std::string::npos) << replay.output;
   }
   // live's own --status-channel, and a flag against the config's name.
-  const auto status = RunCli("live --depth-from-lcm --duration-s 0.1 --status-channel "
-                             "GRASPFILL_OBJECT_CLOUD");
+  const auto status = RunCli(
+      "live --depth-from-lcm --duration-s 0.1 --status-channel "
+      "GRASPFILL_OBJECT_CLOUD");
   EXPECT_EQ(status.exit_code, 2) << status.output;
   EXPECT_NE(status.output.find("the object_cloud and status channels are both "
-                               "'GRASPFILL_OBJECT_CLOUD'"), std::string::npos) << status.output;
+                               "'GRASPFILL_OBJECT_CLOUD'"),
+            std::string::npos)
+      << status.output;
   WriteText(dir + "/rig.yaml", "channels:\n  session: MY_SESSION\n");
   const auto mixed = RunCli("replay " + dir + "/none.lcmlog -o " + dir + "/out.ply --config " + dir +
                             "/rig.yaml --depth-channel MY_SESSION");
   EXPECT_EQ(mixed.exit_code, 2) << mixed.output;
-  EXPECT_NE(mixed.output.find("the depth and session channels are both 'MY_SESSION'"),
-            std::string::npos) << mixed.output;
+  EXPECT_NE(mixed.output.find("the depth and session channels are both 'MY_SESSION'"), std::string::npos)
+      << mixed.output;
   EXPECT_FALSE(std::filesystem::exists(dir + "/out.ply"));
 }
 

@@ -77,8 +77,8 @@ class SpecialOutputs : public ::testing::Test {
       args.replace(args.find("{}"), 2, special.path);
       const auto run = RunCli(args);
       EXPECT_EQ(run.exit_code, 1) << args << "\n" << run.output;
-      EXPECT_NE(run.output.find("'" + special.path + "' " + special.why), std::string::npos)
-          << args << "\n" << run.output;
+      EXPECT_NE(run.output.find("'" + special.path + "' " + special.why), std::string::npos) << args << "\n"
+                                                                                             << run.output;
       EXPECT_EQ(TypeAt(special.path), type) << args;
     }
   }
@@ -114,7 +114,8 @@ void RenumberGrasps(const std::string& from, const std::string& to, const std::v
       GripperState state;
       std::string error;
       ASSERT_TRUE(io::DecodeGripperState(event.data.data(), event.data.size(), Eigen::Isometry3d::Identity(),
-                                         &state, &error)) << error;
+                                         &state, &error))
+          << error;
       ASSERT_GE(state.grasp_id, 1);
       ASSERT_LE(state.grasp_id, static_cast<int64_t>(grasp_ids.size()));
       state.grasp_id = grasp_ids[static_cast<size_t>(state.grasp_id - 1)];
@@ -168,8 +169,8 @@ TEST(GraspIds, ReusedIdsKeepEveryGraspsModel) {
   }
   EXPECT_EQ(bytes.size(), 4u);  // four different files
   // Run again with --force: the same names, replaced, nothing else made.
-  const auto again =
-      RunCli("replay " + dir + "/reused.lcmlog -o " + dir + "/model.ply --json --no-publish --no-repair --force");
+  const auto again = RunCli("replay " + dir + "/reused.lcmlog -o " + dir +
+                            "/model.ply --json --no-publish --no-repair --force");
   ASSERT_EQ(again.exit_code, 0) << again.output;
   for (size_t k = 0; k < 4; ++k) {
     EXPECT_EQ(JsonOf(again.output)["grasps"][k]["output"].get<std::string>(), dir + "/" + names[k]);

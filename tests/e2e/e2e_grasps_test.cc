@@ -25,8 +25,8 @@ TEST(GraspsE2E, ThreeGraspsGiveThreeModelsEachOfItsOwnObject) {
   const std::string dir = ScratchDir("e2e_grasps");
   const auto synth = RunCli("synth --grasps cuboid,cylinder,sphere --frames 16 --seed 5 -o " + dir);
   ASSERT_EQ(synth.exit_code, 0) << synth.output;
-  const auto replay = RunCli("replay " + dir + "/recording.lcmlog -o " + dir +
-                             "/model.ply --json --lcm-url memq://");
+  const auto replay =
+      RunCli("replay " + dir + "/recording.lcmlog -o " + dir + "/model.ply --json --lcm-url memq://");
   ASSERT_EQ(replay.exit_code, 0) << replay.output;
   const nlohmann::json report = nlohmann::json::parse(replay.output.substr(replay.output.find('{')));
   ASSERT_EQ(report["grasps"].size(), 3u) << report.dump(2);

@@ -60,12 +60,14 @@ int PointsOutsideBeyond(const TriangleMesh& m, const ObjectCloud& cloud, double 
   std::vector<uint32_t> t;
   for (const Eigen::Vector3f& x : m.vertices) v.insert(v.end(), {x.x(), x.y(), x.z()});
   for (const Eigen::Vector3i& x : m.triangles) {
-    t.insert(t.end(), {static_cast<uint32_t>(x[0]), static_cast<uint32_t>(x[1]), static_cast<uint32_t>(x[2])});
+    t.insert(t.end(),
+             {static_cast<uint32_t>(x[0]), static_cast<uint32_t>(x[1]), static_cast<uint32_t>(x[2])});
   }
   for (const Eigen::Vector3f& x : cloud.points_G) q.insert(q.end(), {x.x(), x.y(), x.z()});
   const auto rows = [](const auto& a) { return static_cast<int64_t>(a.size() / 3); };
   open3d::t::geometry::RaycastingScene scene;
-  scene.AddTriangles(core::Tensor(v, {rows(v), 3}, core::Float32), core::Tensor(t, {rows(t), 3}, core::UInt32));
+  scene.AddTriangles(core::Tensor(v, {rows(v), 3}, core::Float32),
+                     core::Tensor(t, {rows(t), 3}, core::UInt32));
   const core::Tensor query(q, {rows(q), 3}, core::Float32);
   const core::Tensor distance = scene.ComputeDistance(query).Contiguous();
   int beyond = 0;
@@ -98,12 +100,12 @@ class MeshE2E : public ::testing::TestWithParam<Case> {};
 TEST_P(MeshE2E, WatertightUnderTheCapAndHoldingTheRepairedCloud) {
   const Case& c = GetParam();
   const std::string dir = ScratchDir("e2e_mesh_" + c.shape + "_" + c.claw + "_" + c.grasp);
-  const auto synth = RunCli("synth --shape " + c.shape + " --claw " + c.claw + " --grasp " +
-                            c.grasp + " --seed 7 -o " + dir);
+  const auto synth = RunCli("synth --shape " + c.shape + " --claw " + c.claw + " --grasp " + c.grasp +
+                            " --seed 7 -o " + dir);
   ASSERT_EQ(synth.exit_code, 0) << synth.output;
   const std::string mesh_path = dir + "/mesh." + c.format;
-  const auto replay = RunCli("replay " + dir + "/recording.lcmlog -o " + dir + "/cloud.ply --claw " +
-                             c.claw + " --no-publish --json --mesh-out " + mesh_path);
+  const auto replay = RunCli("replay " + dir + "/recording.lcmlog -o " + dir + "/cloud.ply --claw " + c.claw +
+                             " --no-publish --json --mesh-out " + mesh_path);
   ASSERT_EQ(replay.exit_code, 0) << replay.output;
   const nlohmann::json report = JsonOf(replay.output)["mesh"];
 
@@ -127,9 +129,11 @@ TEST_P(MeshE2E, WatertightUnderTheCapAndHoldingTheRepairedCloud) {
   const mesh::SurfaceSamples samples = mesh::SampleSurface(mesh, 100000, 11);
   const std::vector<double> mesh_to_cloud = mesh::NearestDistances(samples.points, cloud.points_G);
   const double p95 = Percentile(mesh_to_cloud, 95.0);
-  std::printf("%s/%s/%s: %zu triangles, mesh to cloud p95 %.3f mm (reported %.3f), deviation "
-              "%.3f mm\n", c.shape.c_str(), c.claw.c_str(), c.grasp.c_str(), mesh.triangles.size(),
-              p95 * 1e3, report["surface_to_cloud_mm"]["p95"].get<double>(), stated_mm);
+  std::printf(
+      "%s/%s/%s: %zu triangles, mesh to cloud p95 %.3f mm (reported %.3f), deviation "
+      "%.3f mm\n",
+      c.shape.c_str(), c.claw.c_str(), c.grasp.c_str(), mesh.triangles.size(), p95 * 1e3,
+      report["surface_to_cloud_mm"]["p95"].get<double>(), stated_mm);
   RecordProperty("surface_to_cloud_p95_mm", std::to_string(p95 * 1e3));
   EXPECT_LT(p95, kSurfaceP95M);
   EXPECT_LT(report["surface_to_cloud_mm"]["max"].get<double>(), kSurfaceMaxM * 1e3);
@@ -146,30 +150,30 @@ TEST_P(MeshE2E, WatertightUnderTheCapAndHoldingTheRepairedCloud) {
       << band_lo_mm << " .. " << band_hi_mm << " mm";
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Shapes, MeshE2E,
-    ::testing::Values(Case{"cuboid", "three-finger", "top-straight", "stl"},
-                      Case{"triangular-prism", "three-finger", "top-straight", "obj"},
-                      Case{"cylinder", "three-finger", "top-straight", "ply"},
-                      Case{"sphere", "three-finger", "top-straight", "stl"},
-                      Case{"elliptic-cylinder", "parallel", "top-straight", "obj"},
-                      Case{"ellipsoid", "three-finger", "top-straight", "ply"}),
-    [](const ::testing::TestParamInfo<Case>& info) {
-      std::string name = info.param.shape + "_" + info.param.claw + "_" + info.param.grasp;
-      std::replace(name.begin(), name.end(), '-', '_');
-      return name;
-    });
+INSTANTIATE_TEST_SUITE_P(Shapes, MeshE2E,
+                         ::testing::Values(Case{"cuboid", "three-finger", "top-straight", "stl"},
+                                           Case{"triangular-prism", "three-finger", "top-straight", "obj"},
+                                           Case{"cylinder", "three-finger", "top-straight", "ply"},
+                                           Case{"sphere", "three-finger", "top-straight", "stl"},
+                                           Case{"elliptic-cylinder", "parallel", "top-straight", "obj"},
+                                           Case{"ellipsoid", "three-finger", "top-straight", "ply"}),
+                         [](const ::testing::TestParamInfo<Case>& info) {
+                           std::string name =
+                               info.param.shape + "_" + info.param.claw + "_" + info.param.grasp;
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
 
 // repair --mesh-out on the bundled recording's fused cloud: the same
 // checks, and the same bytes on a second run.
 TEST(MeshE2ERepair, RepairWritesTheSameWatertightMeshTwice) {
   const std::string dir = ScratchDir("e2e_mesh_repair");
-  const auto fused = RunCli("replay " GRASPFILL_SOURCE_DIR "/replay/default/recording.lcmlog -o " +
-                            dir + "/fused.ply --no-repair --no-publish");
+  const auto fused = RunCli("replay " GRASPFILL_SOURCE_DIR "/replay/default/recording.lcmlog -o " + dir +
+                            "/fused.ply --no-repair --no-publish");
   ASSERT_EQ(fused.exit_code, 0) << fused.output;
   for (const char* name : {"a.obj", "b.obj"}) {
-    const auto r = RunCli("repair " + dir + "/fused.ply -o " + dir + "/" + name + ".ply --mesh-out " +
-                          dir + "/" + name);
+    const auto r =
+        RunCli("repair " + dir + "/fused.ply -o " + dir + "/" + name + ".ply --mesh-out " + dir + "/" + name);
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("collision mesh: "), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("deviation: mesh to cloud"), std::string::npos) << r.output;
@@ -211,7 +215,8 @@ TEST(MeshE2EBadInput, UnknownExtensionSameAsCloudAndExistingFilesAreRefused) {
   auto r = RunCli("replay " + log + " -o " + dir + "/cloud.ply --mesh-out " + dir + "/mesh.vrml");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--mesh-out '" + dir + "/mesh.vrml': unknown extension (use .ply, .stl or .obj)"),
-            std::string::npos) << r.output;
+            std::string::npos)
+      << r.output;
   r = RunCli("replay " + log + " -o " + dir + "/cloud.ply --mesh-out " + dir + "/cloud.ply");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("is the cloud's output (-o) too"), std::string::npos) << r.output;

@@ -42,8 +42,7 @@ struct Fused {
 Fused ReplayAndMeasure(const std::string& dir, const std::string& extra, bool repair = false) {
   Fused f;
   const auto replay = RunCli("replay " + dir + "/recording.lcmlog -o " + dir + "/cloud" + extra +
-                             ".ply --force --json --no-publish " + (repair ? "" : "--no-repair ") +
-                             extra);
+                             ".ply --force --json --no-publish " + (repair ? "" : "--no-repair ") + extra);
   EXPECT_EQ(replay.exit_code, 0) << replay.output;
   if (replay.exit_code != 0) return f;
   f.report = nlohmann::json::parse(replay.output.substr(replay.output.find('{')));
@@ -75,9 +74,11 @@ Eigen::Isometry3d Matrix(const nlohmann::json& rows) {
 
 TEST(RefineE2E, UndoesHandEyeErrorPoseNoiseAndClockOffset) {
   const std::string dir = ScratchDir("e2e_refine_errors");
-  const auto synth = RunCli("synth --shape cylinder --claw three-finger --frames 30 --wall-m 0 "
-                            "--seed 3 --hand-eye-error 3,1 --pose-noise 0.5,0.2 "
-                            "--clock-offset-ms 15 -o " + dir);
+  const auto synth = RunCli(
+      "synth --shape cylinder --claw three-finger --frames 30 --wall-m 0 "
+      "--seed 3 --hand-eye-error 3,1 --pose-noise 0.5,0.2 "
+      "--clock-offset-ms 15 -o " +
+      dir);
   ASSERT_EQ(synth.exit_code, 0) << synth.output;
   const nlohmann::json errors = ReadJson(dir + "/scene.json")["rig_errors"];
   EXPECT_EQ(errors["clock_offset_us"].get<int64_t>(), 15000);
@@ -86,9 +87,11 @@ TEST(RefineE2E, UndoesHandEyeErrorPoseNoiseAndClockOffset) {
   const Fused refined = ReplayAndMeasure(dir, "--refine");
   const Fused logged = ReplayAndMeasure(dir, "--no-refine");
   ASSERT_GT(refined.points, 2000u);
-  std::printf("p95 to the truth: refined %.3f mm (%zu points, %d claw), logged poses %.3f mm "
-              "(%zu points, %d claw)\n", 1000 * refined.p95_m, refined.points, refined.claw_left,
-              1000 * logged.p95_m, logged.points, logged.claw_left);
+  std::printf(
+      "p95 to the truth: refined %.3f mm (%zu points, %d claw), logged poses %.3f mm "
+      "(%zu points, %d claw)\n",
+      1000 * refined.p95_m, refined.points, refined.claw_left, 1000 * logged.p95_m, logged.points,
+      logged.claw_left);
   EXPECT_LE(refined.p95_m, 0.0010);
   EXPECT_LT(refined.claw_left, 0.001 * refined.points);
   // The same frames at their logged poses: several mm off. (The claw they
@@ -113,7 +116,10 @@ TEST(RefineE2E, UndoesHandEyeErrorPoseNoiseAndClockOffset) {
 TEST(RefineE2E, APrismsFingerHoleIsFilledWithPoseErrors) {
   const std::string dir = ScratchDir("e2e_refine_prism_parallel");
   ASSERT_EQ(RunCli("synth --shape triangular-prism --claw parallel --seed 11 --hand-eye-error 3,1 "
-                   "--pose-noise 0.5,0.2 --clock-offset-ms 15 -o " + dir).exit_code, 0);
+                   "--pose-noise 0.5,0.2 --clock-offset-ms 15 -o " +
+                   dir)
+                .exit_code,
+            0);
   const Fused f = ReplayAndMeasure(dir, "--refine", true);
   std::printf("coverage %.4f, p95 %.3f mm\n", f.coverage, 1000 * f.p95_m);
   EXPECT_GE(f.coverage, 0.99);
@@ -127,8 +133,10 @@ TEST(RefineE2E, APrismsFingerHoleIsFilledWithPoseErrors) {
 
 TEST(RefineE2E, HandEyeCorrectionMatchesTheInjectedError) {
   const std::string dir = ScratchDir("e2e_refine_hand_eye");
-  const auto synth = RunCli("synth --shape cuboid --claw parallel --frames 30 --wall-m 0 "
-                            "--seed 5 --hand-eye-error 3,1 --pose-noise 0.5,0.2 -o " + dir);
+  const auto synth = RunCli(
+      "synth --shape cuboid --claw parallel --frames 30 --wall-m 0 "
+      "--seed 5 --hand-eye-error 3,1 --pose-noise 0.5,0.2 -o " +
+      dir);
   ASSERT_EQ(synth.exit_code, 0) << synth.output;
   const Eigen::Isometry3d E = Matrix(ReadJson(dir + "/scene.json")["rig_errors"]["E_C"]);
   const Fused refined = ReplayAndMeasure(dir, "--refine");
@@ -140,8 +148,10 @@ TEST(RefineE2E, HandEyeCorrectionMatchesTheInjectedError) {
   const Eigen::Isometry3d residual = H * E;
   const double at_claw_mm = 1000.0 * (residual * centre - centre).norm();
   const double deg = Eigen::AngleAxisd(residual.linear()).angle() * 180.0 / M_PI;
-  std::printf("hand-eye: injected %.3f deg; left after the correction %.3f mm at the claw, "
-              "%.3f deg\n", Eigen::AngleAxisd(E.linear()).angle() * 180.0 / M_PI, at_claw_mm, deg);
+  std::printf(
+      "hand-eye: injected %.3f deg; left after the correction %.3f mm at the claw, "
+      "%.3f deg\n",
+      Eigen::AngleAxisd(E.linear()).angle() * 180.0 / M_PI, at_claw_mm, deg);
   EXPECT_LT(at_claw_mm, 1.0);
   EXPECT_LT(deg, 0.3);
   EXPECT_LE(refined.p95_m, 0.0010);
@@ -155,14 +165,17 @@ TEST(RefineE2E, ClockOffsetIsFoundWhenTheSpeedVaries) {
   const std::string errors = "--hand-eye-error 3,1 --pose-noise 0.5,0.2 --clock-offset-ms 15 ";
   const std::string varying = ScratchDir("e2e_refine_clock_varying");
   ASSERT_EQ(RunCli("synth --shape cylinder --claw three-finger --frames 60 --wall-m 0 --seed 8 "
-                   "--speed-variation 0.6 " + errors + "-o " + varying).exit_code, 0);
+                   "--speed-variation 0.6 " +
+                   errors + "-o " + varying)
+                .exit_code,
+            0);
   const Fused found = ReplayAndMeasure(varying, "");
   const nlohmann::json& r = found.report["refine"];
   const nlohmann::json& clock = r["clock_offset"];
   ASSERT_FALSE(clock["offset_ms"].is_null()) << r.dump();
   std::printf("clock offset: injected 15 ms, found %.2f +- %.2f ms over %d frames (%s)\n",
-              clock["offset_ms"].get<double>(), clock["stderr_ms"].get<double>(),
-              clock["frames"].get<int>(), clock["applied"].get<bool>() ? "applied" : "not applied");
+              clock["offset_ms"].get<double>(), clock["stderr_ms"].get<double>(), clock["frames"].get<int>(),
+              clock["applied"].get<bool>() ? "applied" : "not applied");
   EXPECT_TRUE(clock["applied"].get<bool>());
   EXPECT_NEAR(clock["offset_ms"].get<double>(), 15.0, 3.0);
   const Eigen::Isometry3d E = Matrix(ReadJson(varying + "/scene.json")["rig_errors"]["E_C"]);
@@ -178,8 +191,10 @@ TEST(RefineE2E, ClockOffsetIsFoundWhenTheSpeedVaries) {
   EXPECT_LE(found.p95_m, 0.0010);
 
   const std::string steady = ScratchDir("e2e_refine_clock_steady");
-  ASSERT_EQ(RunCli("synth --shape cylinder --claw three-finger --frames 60 --wall-m 0 --seed 8 " +
-                   errors + "-o " + steady).exit_code, 0);
+  ASSERT_EQ(RunCli("synth --shape cylinder --claw three-finger --frames 60 --wall-m 0 --seed 8 " + errors +
+                   "-o " + steady)
+                .exit_code,
+            0);
   const Fused absorbed = ReplayAndMeasure(steady, "");
   const nlohmann::json& c2 = absorbed.report["refine"]["clock_offset"];
   EXPECT_FALSE(c2["applied"].get<bool>()) << c2.dump();
@@ -196,17 +211,20 @@ TEST(RefineE2E, ClockOffsetIsFoundWhenTheSpeedVaries) {
 TEST(RefineE2E, ALargeClockOffsetOnAFastTurnIsFound) {
   const std::string dir = ScratchDir("e2e_refine_clock_fast");
   ASSERT_EQ(RunCli("synth --shape sphere --claw parallel --wall-m 0 --seed 5 --speed-variation 0.8 "
-                   "--hand-eye-error 3,1 --pose-noise 0.5,0.2 --clock-offset-ms -30 -o " + dir)
-                .exit_code, 0);
+                   "--hand-eye-error 3,1 --pose-noise 0.5,0.2 --clock-offset-ms -30 -o " +
+                   dir)
+                .exit_code,
+            0);
   const Fused f = ReplayAndMeasure(dir, "");
   const nlohmann::json& r = f.report["refine"];
   const nlohmann::json& clock = r["clock_offset"];
   ASSERT_FALSE(clock["offset_ms"].is_null()) << r.dump();
-  std::printf("clock offset: injected -30 ms, found %.2f +- %.2f ms (%s), %d frames rejected, "
-              "%d of them in the fit; p95 %.3f mm\n", clock["offset_ms"].get<double>(),
-              clock["stderr_ms"].get<double>(), clock["applied"].get<bool>() ? "applied" : "not applied",
-              r["frames_rejected"]["total"].get<int>(), clock["jump_frames_in_fit"].get<int>(),
-              1000.0 * f.p95_m);
+  std::printf(
+      "clock offset: injected -30 ms, found %.2f +- %.2f ms (%s), %d frames rejected, "
+      "%d of them in the fit; p95 %.3f mm\n",
+      clock["offset_ms"].get<double>(), clock["stderr_ms"].get<double>(),
+      clock["applied"].get<bool>() ? "applied" : "not applied", r["frames_rejected"]["total"].get<int>(),
+      clock["jump_frames_in_fit"].get<int>(), 1000.0 * f.p95_m);
   EXPECT_TRUE(clock["applied"].get<bool>());
   EXPECT_NEAR(clock["offset_ms"].get<double>(), -30.0, 3.0);
   EXPECT_GT(clock["jump_frames_in_fit"].get<int>(), 0);
@@ -237,11 +255,13 @@ TEST(RefineE2E, DISABLED_Table) {
       {"ellipsoid", "--shape ellipsoid", "parallel", ""},
       {"bottle", "--shape bottle", "three-finger", ""},
       {"mug", "--shape mug", "parallel", ""},
-      {"mesh Wuson.stl (x 0.05, y up)", "--mesh " + pig + " --mesh-scale 0.05 --mesh-up y", "three-finger", pig},
+      {"mesh Wuson.stl (x 0.05, y up)", "--mesh " + pig + " --mesh-scale 0.05 --mesh-up y", "three-finger",
+       pig},
       {"mesh sphereWithHole.stl (x 0.02)", "--mesh " + ball + " --mesh-scale 0.02", "parallel", ball}};
-  std::printf("| shape, claw | p95 mm: no errors / refined / logged poses | claw pts: refined / "
-              "logged | coverage: no errors / refined / logged | frames refined / rejected | "
-              "hand-eye+clock correction found | refine ms/frame |\n|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| shape, claw | p95 mm: no errors / refined / logged poses | claw pts: refined / "
+      "logged | coverage: no errors / refined / logged | frames refined / rejected | "
+      "hand-eye+clock correction found | refine ms/frame |\n|---|---|---|---|---|---|---|\n");
   // REFINE_TABLE_FROM=N starts at the N-th case (resuming a long run).
   const char* from = std::getenv("REFINE_TABLE_FROM");
   for (size_t index = 0; index < cases.size(); ++index) {
@@ -257,20 +277,20 @@ TEST(RefineE2E, DISABLED_Table) {
     const std::string bad = ScratchDir("refine_table_errors_" + name);
     const std::string common = "synth " + c.object + " --claw " + c.claw + " --seed 11 ";
     ASSERT_EQ(RunCli(common + "-o " + clean).exit_code, 0);
-    ASSERT_EQ(RunCli(common + "--hand-eye-error 3,1 --pose-noise 0.5,0.2 --clock-offset-ms 15 -o " + bad)
-                  .exit_code, 0);
+    ASSERT_EQ(
+        RunCli(common + "--hand-eye-error 3,1 --pose-noise 0.5,0.2 --clock-offset-ms 15 -o " + bad).exit_code,
+        0);
     const Fused f0 = ReplayAndMeasure(clean, "--refine", true);
     const Fused f1 = ReplayAndMeasure(bad, "--refine", true);
     const Fused f2 = ReplayAndMeasure(bad, "--no-refine", true);
     const nlohmann::json& r = f1.report["refine"];
-    std::printf("| %s, %s | %.2f / **%.2f** / %.2f | %d / %d | %.3f / **%.3f** / %.3f | %d / %d | "
-                "%.1f mm at the claw, %.2f deg | %.2f |\n", c.label.c_str(), c.claw.c_str(),
-                1000 * f0.p95_m,
-                1000 * f1.p95_m, 1000 * f2.p95_m, f1.claw_left, f2.claw_left, f0.coverage,
-                f1.coverage, f2.coverage, r["frames_refined"].get<int>(),
-                r["frames_rejected"]["total"].get<int>(),
-                r["hand_eye_correction"]["shift_at_claw_mm"].get<double>(),
-                r["hand_eye_correction"]["rotation_deg"].get<double>(), r["ms_per_frame"].get<double>());
+    std::printf(
+        "| %s, %s | %.2f / **%.2f** / %.2f | %d / %d | %.3f / **%.3f** / %.3f | %d / %d | "
+        "%.1f mm at the claw, %.2f deg | %.2f |\n",
+        c.label.c_str(), c.claw.c_str(), 1000 * f0.p95_m, 1000 * f1.p95_m, 1000 * f2.p95_m, f1.claw_left,
+        f2.claw_left, f0.coverage, f1.coverage, f2.coverage, r["frames_refined"].get<int>(),
+        r["frames_rejected"]["total"].get<int>(), r["hand_eye_correction"]["shift_at_claw_mm"].get<double>(),
+        r["hand_eye_correction"]["rotation_deg"].get<double>(), r["ms_per_frame"].get<double>());
     std::fflush(stdout);
   }
 }

@@ -85,9 +85,12 @@ TEST(RepairCli, ProtocolCylinderIsRepairedToTheFloor) {
 TEST(RepairCli, ALargeCanInTheParallelClawGetsItsClawHolesFilled) {
   const std::string dir = ScratchDir("e2e_repair_large_can");
   ASSERT_EQ(RunCli("synth --shape cylinder --size 0.10x0.10x0.12 --claw parallel --grasp top-straight "
-                   "--frames 90 --seed 11 -o " + dir).exit_code, 0);
-  const auto run = RunCli("replay " + dir + "/recording.lcmlog -o " + dir +
-                          "/repaired.ply --no-publish --json");
+                   "--frames 90 --seed 11 -o " +
+                   dir)
+                .exit_code,
+            0);
+  const auto run =
+      RunCli("replay " + dir + "/recording.lcmlog -o " + dir + "/repaired.ply --no-publish --json");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const nlohmann::json report = JsonOf(run.output)["repair"];
   int claw = 0, missing = 0;

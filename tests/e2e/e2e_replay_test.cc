@@ -46,8 +46,7 @@ TEST(ReplayE2E, BundledRecordingMatchesItsRecordedOutput) {
   const ObjectCloud expected = io::ReadCloudPly(kReplayDir + "/default/expected_cloud.ply");
   // Same build: identical. Another compiler/Open3D build may round a voxel
   // crossing differently, so compare geometry with a 0.1 mm tolerance.
-  ASSERT_NEAR(static_cast<double>(now.size()), static_cast<double>(expected.size()),
-              0.01 * expected.size());
+  ASSERT_NEAR(static_cast<double>(now.size()), static_cast<double>(expected.size()), 0.01 * expected.size());
   const eval::CloudMetrics m = eval::Compare(now, expected.points_G);
   EXPECT_LT(m.p95_pred_to_gt_mm, 0.1);
   EXPECT_LT(m.p95_gt_to_pred_mm, 0.1);
@@ -79,7 +78,8 @@ TEST(ReplayE2E, RepairAppendsToTheFusedCloudUnchanged) {
   const std::string log = kReplayDir + "/default/recording.lcmlog";
   const auto repaired_run = RunCli("replay " + log + " -o " + dir + "/repaired.ply --no-publish --json");
   ASSERT_EQ(repaired_run.exit_code, 0) << repaired_run.output;
-  const auto fused_run = RunCli("replay " + log + " -o " + dir + "/fused.ply --no-publish --json --no-repair");
+  const auto fused_run =
+      RunCli("replay " + log + " -o " + dir + "/fused.ply --no-publish --json --no-repair");
   ASSERT_EQ(fused_run.exit_code, 0) << fused_run.output;
   const ObjectCloud repaired = io::ReadCloudPly(dir + "/repaired.ply");
   const ObjectCloud fused = io::ReadCloudPly(dir + "/fused.ply");
@@ -120,8 +120,8 @@ TEST(ReplayE2E, RepairAppendsToTheFusedCloudUnchanged) {
 TEST(ReplayE2E, RefusesToOverwriteWithoutForce) {
   const std::string dir = ScratchDir("overwrite");
   std::ofstream(dir + "/cloud.ply") << "precious";
-  const auto r = RunCli("replay " + kReplayDir + "/default/recording.lcmlog -o " + dir +
-                        "/cloud.ply --no-publish");
+  const auto r =
+      RunCli("replay " + kReplayDir + "/default/recording.lcmlog -o " + dir + "/cloud.ply --no-publish");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("--force"), std::string::npos) << r.output;
   EXPECT_EQ(ReadBytes(dir + "/cloud.ply"), "precious");
@@ -167,8 +167,7 @@ TEST(ReplayE2E, FullDiskKeepsThePreviousCloud) {
                             "/cloud.ply --force --no-repair --no-publish",
                         "trap '' XFSZ; ulimit -f 16; ");
   EXPECT_EQ(r.exit_code, 1) << r.output;
-  EXPECT_NE(r.output.find("'" + dir + "/cloud.ply': File too large"), std::string::npos)
-      << r.output;
+  EXPECT_NE(r.output.find("'" + dir + "/cloud.ply': File too large"), std::string::npos) << r.output;
   EXPECT_EQ(ReadBytes(dir + "/cloud.ply"), "the previous good cloud");
   EXPECT_FALSE(HasTemporaryFile(dir));
 }
@@ -204,8 +203,8 @@ TEST(ReplayE2E, CutLogReplaysItsWholeEventsAndACorruptOneIsAnError) {
       .write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 2));
   auto r = RunCli("replay " + dir + "/cut.lcmlog -o " + dir + "/c.ply --no-publish");
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("note: log '" + dir + "/cut.lcmlog' ends in a partial event"),
-            std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("note: log '" + dir + "/cut.lcmlog' ends in a partial event"), std::string::npos)
+      << r.output;
   EXPECT_TRUE(std::filesystem::exists(dir + "/c.ply"));
 
   // The sync word of the 20th event zeroed: corrupt, as before.
@@ -277,7 +276,8 @@ TEST_F(BadLogs, WrongSizedFrameFailsUnlessSkipped) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("size"), std::string::npos) << r.output;
   // --no-refine: these frames hold no claw, so pose refinement would skip them all.
-  r = RunCli("replay " + dir + "/log.lcmlog -o " + dir + "/c.ply --no-publish --skip-bad-frames --json --no-refine");
+  r = RunCli("replay " + dir + "/log.lcmlog -o " + dir +
+             "/c.ply --no-publish --skip-bad-frames --json --no-refine");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("\"frames_bad\": 1"), std::string::npos) << r.output;
 }

@@ -27,8 +27,8 @@ namespace graspfill {
 namespace {
 
 using testing::ObservedPoints;
-using testing::SampleSurface;
 using testing::RunCli;
+using testing::SampleSurface;
 using testing::ScratchDir;
 
 std::string ReadText(const std::string& path) {
@@ -70,8 +70,10 @@ class ParallelRecording : public ::testing::Test {
   void SetUp() override {
     dir_ = ScratchDir(std::string("session_parallel_") +
                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    const auto synth = RunCli("synth --shape cuboid --size 0.05x0.05x0.08 --claw parallel "
-                              "--frames 30 --wall-m 0 --seed 3 -o " + dir_);
+    const auto synth = RunCli(
+        "synth --shape cuboid --size 0.05x0.05x0.08 --claw parallel "
+        "--frames 30 --wall-m 0 --seed 3 -o " +
+        dir_);
     ASSERT_EQ(synth.exit_code, 0) << synth.output;
   }
   testing::CliResult Replay(const std::string& name, const std::string& flags) const {
@@ -124,8 +126,7 @@ TEST_F(ParallelRecording, TheSameClawGivenAnyWayIsNotWarnedAbout) {
 }
 
 // The log with its session description replaced (or dropped: nullptr).
-void RewriteSession(const std::string& from, const std::string& to,
-                    const io::SessionDescription* session) {
+void RewriteSession(const std::string& from, const std::string& to, const io::SessionDescription* session) {
   const io::ChannelNames channels;
   lcm::LogFile in(from, "r");
   ASSERT_TRUE(in.good());
@@ -155,7 +156,8 @@ TEST_F(ParallelRecording, ADescriptionClawInTheSessionIsUsedToo) {
   // not beside the claw_source the log names.
   const auto r = RunCli("replay " + dir_ + "/description.lcmlog -o " + dir_ +
                         "/description.ply --force --no-repair --no-publish --json "
-                        "--claw-mesh-root " + dir_ + "/claw");
+                        "--claw-mesh-root " +
+                        dir_ + "/claw");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const nlohmann::json report = ParseReport(r.output);
   EXPECT_EQ(report["claw"]["from"], "session description");
@@ -167,8 +169,8 @@ TEST_F(ParallelRecording, ADescriptionClawInTheSessionIsUsedToo) {
   // A session asking for a voxel out of range is refused, not obeyed.
   session.voxel_m = 1.5;
   RewriteSession(dir_ + "/recording.lcmlog", dir_ + "/voxel.lcmlog", &session);
-  const auto bad = RunCli("replay " + dir_ + "/voxel.lcmlog -o " + dir_ +
-                          "/voxel.ply --force --no-repair --no-publish");
+  const auto bad =
+      RunCli("replay " + dir_ + "/voxel.lcmlog -o " + dir_ + "/voxel.ply --force --no-repair --no-publish");
   EXPECT_EQ(bad.exit_code, 1) << bad.output;
   EXPECT_NE(bad.output.find("asks for a voxel of 1.5"), std::string::npos) << bad.output;
   EXPECT_FALSE(std::filesystem::exists(dir_ + "/voxel.ply"));
@@ -193,15 +195,16 @@ TEST_F(ParallelRecording, WithoutASessionDescriptionTheDefaultClawIsUsedAsBefore
 // built-in's: --claw parallel is then not the recording's claw either.
 TEST(SessionE2E, LengthenedFingersAreNotTheBuiltinClaw) {
   const std::string dir = ScratchDir("session_long_fingers");
-  const auto synth = RunCli("synth --shape cuboid --size 0.10x0.10x0.20 --claw parallel --grasp "
-                            "middle-straight --frames 8 --wall-m 0 -o " + dir);
+  const auto synth = RunCli(
+      "synth --shape cuboid --size 0.10x0.10x0.20 --claw parallel --grasp "
+      "middle-straight --frames 8 --wall-m 0 -o " +
+      dir);
   ASSERT_EQ(synth.exit_code, 0) << synth.output;
-  const auto own = RunCli("replay " + dir + "/recording.lcmlog -o " + dir +
-                          "/own.ply --no-repair --no-publish");
+  const auto own =
+      RunCli("replay " + dir + "/recording.lcmlog -o " + dir + "/own.ply --no-repair --no-publish");
   ASSERT_EQ(own.exit_code, 0) << own.output;
   EXPECT_EQ(own.output.find("warning"), std::string::npos) << own.output;
-  EXPECT_NE(own.output.find("claw: parallel (as recorded: finger_length_m"), std::string::npos)
-      << own.output;
+  EXPECT_NE(own.output.find("claw: parallel (as recorded: finger_length_m"), std::string::npos) << own.output;
   const auto given = RunCli("replay " + dir + "/recording.lcmlog -o " + dir +
                             "/given.ply --no-repair --no-publish --claw parallel");
   ASSERT_EQ(given.exit_code, 0) << given.output;
@@ -224,8 +227,7 @@ TEST(SessionE2E, NumbersAreParsedStrictlyEverywhere) {
       {"replay " + log + " -o " + dir + "/x.ply --voxel-m abc", "--voxel-m 'abc': not a number"},
       {"replay " + log + " -o " + dir + "/x.ply --voxel-m 1.5",
        "--voxel-m '1.5': out of range, expected 0.0005..0.01 m"},
-      {"replay " + log + " -o " + dir + "/x.ply --voxel-m 0.002mm",
-       "--voxel-m '0.002mm': not a number"},
+      {"replay " + log + " -o " + dir + "/x.ply --voxel-m 0.002mm", "--voxel-m '0.002mm': not a number"},
       {"synth --shape cuboid --frames 12x -o " + dir + "/s", "--frames '12x': not an integer"},
       {"synth --shape cuboid --wall-m nan -o " + dir + "/s",
        "--wall-m 'nan': out of range, expected 0..100 m"},

@@ -21,8 +21,8 @@ namespace graspfill {
 namespace {
 
 using testing::ObservedPoints;
-using testing::SampleSurface;
 using testing::RunCli;
+using testing::SampleSurface;
 using testing::ScratchDir;
 
 struct Case {
@@ -38,11 +38,11 @@ class ShapesE2E : public ::testing::TestWithParam<Case> {};
 TEST_P(ShapesE2E, CloudIsOnSurfaceClawFreeAndMissesOnlyClawAndTop) {
   const Case& c = GetParam();
   const std::string dir = ScratchDir("e2e_" + c.shape + "_" + c.claw + "_" + c.grasp);
-  const auto synth = RunCli("synth --shape " + c.shape + " --claw " + c.claw + " --grasp " +
-                            c.grasp + " --seed 7 -o " + dir);
+  const auto synth = RunCli("synth --shape " + c.shape + " --claw " + c.claw + " --grasp " + c.grasp +
+                            " --seed 7 -o " + dir);
   ASSERT_EQ(synth.exit_code, 0) << synth.output;
-  const auto replay = RunCli("replay " + dir + "/recording.lcmlog -o " + dir +
-                             "/cloud.ply --claw " + c.claw + " --lcm-url memq://");
+  const auto replay = RunCli("replay " + dir + "/recording.lcmlog -o " + dir + "/cloud.ply --claw " + c.claw +
+                             " --lcm-url memq://");
   ASSERT_EQ(replay.exit_code, 0) << replay.output;
 
   const ObjectCloud replayed = io::ReadCloudPly(dir + "/cloud.ply");
@@ -82,8 +82,8 @@ TEST_P(ShapesE2E, CloudIsOnSurfaceClawFreeAndMissesOnlyClawAndTop) {
     if (gt_to_claw[i] < 0.015 || gt.points_G[i].z() < top_band_z) continue;
     ++unexplained;
   }
-  EXPECT_LT(unexplained, 0.01 * gt.size()) << unexplained << " of " << gt.size()
-                                           << " ground-truth points missed elsewhere";
+  EXPECT_LT(unexplained, 0.01 * gt.size())
+      << unexplained << " of " << gt.size() << " ground-truth points missed elsewhere";
 
   // The repair: never worse than the fused cloud, and where the fused cloud
   // misses a lot (the top, the claw holes: chamfer above 3 mm^2) it closes
@@ -92,30 +92,30 @@ TEST_P(ShapesE2E, CloudIsOnSurfaceClawFreeAndMissesOnlyClawAndTop) {
   const eval::CloudMetrics after = eval::Compare(replayed.points_G, gt.points_G);
   RecordProperty("chamfer_fused_mm2", std::to_string(before.chamfer_mm2));
   RecordProperty("chamfer_repaired_mm2", std::to_string(after.chamfer_mm2));
-  std::printf("%s/%s/%s: chamfer fused %.2f -> repaired %.2f mm^2 (+%zu points)\n",
-              c.shape.c_str(), c.claw.c_str(), c.grasp.c_str(), before.chamfer_mm2,
-              after.chamfer_mm2, replayed.size() - fused.size());
+  std::printf("%s/%s/%s: chamfer fused %.2f -> repaired %.2f mm^2 (+%zu points)\n", c.shape.c_str(),
+              c.claw.c_str(), c.grasp.c_str(), before.chamfer_mm2, after.chamfer_mm2,
+              replayed.size() - fused.size());
   EXPECT_LE(after.chamfer_mm2, before.chamfer_mm2 + 1e-9);
   if (before.chamfer_mm2 > 3.0) {
     EXPECT_LT(after.chamfer_mm2, 0.25 * before.chamfer_mm2);
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    AllShapes, ShapesE2E,
-    ::testing::Values(Case{"cuboid", "three-finger", "top-straight"},
-                      Case{"triangular-prism", "three-finger", "top-straight"},
-                      Case{"cylinder", "three-finger", "top-straight"},
-                      Case{"sphere", "three-finger", "top-straight"},
-                      Case{"elliptic-cylinder", "parallel", "top-straight"},
-                      Case{"ellipsoid", "three-finger", "top-straight"},
-                      Case{"cuboid", "parallel", "middle-straight"},
-                      Case{"cylinder", "three-finger", "top-oblique"}),
-    [](const ::testing::TestParamInfo<Case>& info) {
-      std::string name = info.param.shape + "_" + info.param.claw + "_" + info.param.grasp;
-      std::replace(name.begin(), name.end(), '-', '_');
-      return name;
-    });
+INSTANTIATE_TEST_SUITE_P(AllShapes, ShapesE2E,
+                         ::testing::Values(Case{"cuboid", "three-finger", "top-straight"},
+                                           Case{"triangular-prism", "three-finger", "top-straight"},
+                                           Case{"cylinder", "three-finger", "top-straight"},
+                                           Case{"sphere", "three-finger", "top-straight"},
+                                           Case{"elliptic-cylinder", "parallel", "top-straight"},
+                                           Case{"ellipsoid", "three-finger", "top-straight"},
+                                           Case{"cuboid", "parallel", "middle-straight"},
+                                           Case{"cylinder", "three-finger", "top-oblique"}),
+                         [](const ::testing::TestParamInfo<Case>& info) {
+                           std::string name =
+                               info.param.shape + "_" + info.param.claw + "_" + info.param.grasp;
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
 
 }  // namespace
 }  // namespace graspfill

@@ -62,8 +62,7 @@ SlipFused ReplayAndMeasure(const std::string& dir, const std::string& extra = ""
                                       : dir + "/gt_cloud.ply";
   const std::vector<double> to_after =
       mesh::NearestDistances(fused, io::ReadCloudPly(dir + "/gt_cloud.ply").points_G);
-  const std::vector<double> to_before =
-      mesh::NearestDistances(fused, io::ReadCloudPly(before_path).points_G);
+  const std::vector<double> to_before = mesh::NearestDistances(fused, io::ReadCloudPly(before_path).points_G);
   f.points = fused.size();
   if (fused.empty()) return f;
   f.p95_after_m = Percentile(to_after, 95.0);
@@ -84,8 +83,8 @@ SlipFused ReplayAndMeasure(const std::string& dir, const std::string& extra = ""
     f.shift_found_m = S.translation();
     std::vector<Eigen::Vector3f> moved;
     for (const Eigen::Vector3f& p : fused) moved.push_back((S * p.cast<double>()).cast<float>());
-    f.p95_tracked_pose_m = Percentile(
-        mesh::NearestDistances(moved, io::ReadCloudPly(dir + "/gt_cloud.ply").points_G), 95.0);
+    f.p95_tracked_pose_m =
+        Percentile(mesh::NearestDistances(moved, io::ReadCloudPly(dir + "/gt_cloud.ply").points_G), 95.0);
   }
   return f;
 }
@@ -100,8 +99,10 @@ nlohmann::json ReadJson(const std::string& path) {
 // bottom is fused as a blend of both positions.
 TEST(SlipE2E, AnUncorrectedSlipMovesTheModelOffTheTruth) {
   const std::string dir = ScratchDir("e2e_slip_uncorrected");
-  const auto synth = RunCli("synth --shape cylinder --claw three-finger --frames 60 --wall-m 0 "
-                            "--seed 2 --slip-mm 3 -o " + dir);
+  const auto synth = RunCli(
+      "synth --shape cylinder --claw three-finger --frames 60 --wall-m 0 "
+      "--seed 2 --slip-mm 3 -o " +
+      dir);
   ASSERT_EQ(synth.exit_code, 0) << synth.output;
   const nlohmann::json slip = ReadJson(dir + "/scene.json")["slip"];
   const int moved = slip["first_frame_moved"].get<int>();
@@ -111,15 +112,17 @@ TEST(SlipE2E, AnUncorrectedSlipMovesTheModelOffTheTruth) {
   ASSERT_LE(settled, 50);
   const SlipFused f = ReplayAndMeasure(dir);
   ASSERT_GT(f.points, 2000u);
-  std::printf("uncorrected 3 mm slip: p95 %.2f mm to the truth after, %.2f mm before; "
-              "%.1f %% of the points on the old surface only, %.1f %% on the new only\n",
-              1000 * f.p95_after_m, 1000 * f.p95_before_m, 100 * f.old_share, 100 * f.new_share);
+  std::printf(
+      "uncorrected 3 mm slip: p95 %.2f mm to the truth after, %.2f mm before; "
+      "%.1f %% of the points on the old surface only, %.1f %% on the new only\n",
+      1000 * f.p95_after_m, 1000 * f.p95_before_m, 100 * f.old_share, 100 * f.new_share);
   EXPECT_GT(f.p95_after_m, 0.0015);
   EXPECT_GT(f.old_share, 0.05);
   // Without the slip, the same recording's frames meet the truth.
   const std::string still = ScratchDir("e2e_slip_still");
-  ASSERT_EQ(RunCli("synth --shape cylinder --claw three-finger --frames 60 --wall-m 0 --seed 2 -o " +
-                   still).exit_code, 0);
+  ASSERT_EQ(RunCli("synth --shape cylinder --claw three-finger --frames 60 --wall-m 0 --seed 2 -o " + still)
+                .exit_code,
+            0);
   const SlipFused f0 = ReplayAndMeasure(still);
   EXPECT_LT(f0.p95_after_m, 0.001);
   EXPECT_LT(f0.old_share + f0.new_share, 0.001);
@@ -143,12 +146,13 @@ TEST(SlipE2E, TrackingKeepsTheModelOnTheObject) {
   const SlipFused tracked = ReplayAndMeasure(dir, "--track-object");
   ASSERT_GT(tracked.points, 2000u);
   const Eigen::Vector3d d = Vec3(slip["displacement_G_m"]);
-  std::printf("3 mm slip, tracked: p95 %.2f mm to the truth as grasped (uncorrected %.2f), %.2f mm "
-              "at the pose found to the truth after (uncorrected %.2f); shift found %.2f %.2f %.2f "
-              "mm, true %.2f %.2f %.2f mm\n", 1000 * tracked.p95_before_m, 1000 * plain.p95_before_m,
-              1000 * tracked.p95_tracked_pose_m, 1000 * plain.p95_after_m,
-              1000 * tracked.shift_found_m.x(), 1000 * tracked.shift_found_m.y(),
-              1000 * tracked.shift_found_m.z(), 1000 * d.x(), 1000 * d.y(), 1000 * d.z());
+  std::printf(
+      "3 mm slip, tracked: p95 %.2f mm to the truth as grasped (uncorrected %.2f), %.2f mm "
+      "at the pose found to the truth after (uncorrected %.2f); shift found %.2f %.2f %.2f "
+      "mm, true %.2f %.2f %.2f mm\n",
+      1000 * tracked.p95_before_m, 1000 * plain.p95_before_m, 1000 * tracked.p95_tracked_pose_m,
+      1000 * plain.p95_after_m, 1000 * tracked.shift_found_m.x(), 1000 * tracked.shift_found_m.y(),
+      1000 * tracked.shift_found_m.z(), 1000 * d.x(), 1000 * d.y(), 1000 * d.z());
   EXPECT_LE(tracked.p95_before_m, 0.0015);
   // The target: the model after the slip, where the object is.
   EXPECT_LE(tracked.p95_tracked_pose_m, 0.0015);
@@ -177,14 +181,15 @@ TEST(SlipE2E, TrackingKeepsTheModelOnTheObject) {
 TEST(SlipE2E, DISABLED_Table) {
   const char* mm_env = std::getenv("SLIP_TABLE_MM");
   const std::string mm = mm_env ? mm_env : "3";
-  const char* cases[][2] = {{"cuboid", "three-finger"}, {"cuboid", "parallel"},
+  const char* cases[][2] = {{"cuboid", "three-finger"},   {"cuboid", "parallel"},
                             {"cylinder", "three-finger"}, {"cylinder", "parallel"},
-                            {"sphere", "three-finger"}, {"sphere", "parallel"}};
-  std::printf("| shape, claw | slip direction in G, frames moved..settled | p95 mm, no slip | "
-              "p95 mm to the truth after / before the slip | points on the old surface only / "
-              "the new only | tracked: p95 mm to the truth before / after at the pose found, "
-              "no slip | shift found - true, mm | tracking ms/frame |\n"
-              "|---|---|---|---|---|---|---|---|\n");
+                            {"sphere", "three-finger"},   {"sphere", "parallel"}};
+  std::printf(
+      "| shape, claw | slip direction in G, frames moved..settled | p95 mm, no slip | "
+      "p95 mm to the truth after / before the slip | points on the old surface only / "
+      "the new only | tracked: p95 mm to the truth before / after at the pose found, "
+      "no slip | shift found - true, mm | tracking ms/frame |\n"
+      "|---|---|---|---|---|---|---|---|\n");
   for (const auto& c : cases) {
     const std::string name = std::string(c[0]) + "_" + c[1];
     const std::string clean = ScratchDir("slip_table_clean_" + name);
@@ -198,15 +203,15 @@ TEST(SlipE2E, DISABLED_Table) {
     const SlipFused t0 = ReplayAndMeasure(clean, "--track-object");
     const SlipFused t1 = ReplayAndMeasure(slipped, "--track-object");
     const Eigen::Vector3d miss = t1.shift_found_m - Vec3(slip["displacement_G_m"]);
-    std::printf("| %s, %s | [%.2f %.2f %.2f], %d..%d | %.2f | %.2f / %.2f | %.1f %% / %.1f %% | "
-                "**%.2f** / %.2f, %.2f | %.2f %.2f %.2f | %.2f |\n",
-                c[0], c[1], slip["direction_G"][0].get<double>(),
-                slip["direction_G"][1].get<double>(), slip["direction_G"][2].get<double>(),
-                slip["first_frame_moved"].get<int>(), slip["first_frame_settled"].get<int>(),
-                1000 * f0.p95_after_m, 1000 * f1.p95_after_m, 1000 * f1.p95_before_m,
-                100 * f1.old_share, 100 * f1.new_share, 1000 * t1.p95_before_m,
-                1000 * t1.p95_tracked_pose_m, 1000 * t0.p95_after_m, 1000 * miss.x(),
-                1000 * miss.y(), 1000 * miss.z(), t1.report["track_object"]["ms_per_frame"].get<double>());
+    std::printf(
+        "| %s, %s | [%.2f %.2f %.2f], %d..%d | %.2f | %.2f / %.2f | %.1f %% / %.1f %% | "
+        "**%.2f** / %.2f, %.2f | %.2f %.2f %.2f | %.2f |\n",
+        c[0], c[1], slip["direction_G"][0].get<double>(), slip["direction_G"][1].get<double>(),
+        slip["direction_G"][2].get<double>(), slip["first_frame_moved"].get<int>(),
+        slip["first_frame_settled"].get<int>(), 1000 * f0.p95_after_m, 1000 * f1.p95_after_m,
+        1000 * f1.p95_before_m, 100 * f1.old_share, 100 * f1.new_share, 1000 * t1.p95_before_m,
+        1000 * t1.p95_tracked_pose_m, 1000 * t0.p95_after_m, 1000 * miss.x(), 1000 * miss.y(),
+        1000 * miss.z(), t1.report["track_object"]["ms_per_frame"].get<double>());
     std::fflush(stdout);
   }
 }

@@ -30,16 +30,16 @@ using testing::ScratchDir;
 const std::string kConfig = GRASPFILL_SOURCE_DIR "/config/claws/robotiq_3f_urdf.json";
 const std::string kRobotiq = GRASPFILL_SOURCE_DIR "/../shared/assets/grippers/robotiq_3f";
 
-#define SKIP_WITHOUT_ASSETS()                                    \
-  if (!fs::is_directory(kRobotiq)) {                             \
+#define SKIP_WITHOUT_ASSETS()                                   \
+  if (!fs::is_directory(kRobotiq)) {                            \
     GTEST_SKIP() << "gripper assets not found at " << kRobotiq; \
   }
 
 TEST(UrdfClawE2E, RecordingWithUrdfClawReplaysClean) {
   SKIP_WITHOUT_ASSETS();
   const std::string dir = ScratchDir("e2e_urdf_claw");
-  const auto synth = RunCli("synth --shape cylinder --claw " + kConfig + " --claw-mesh-root " +
-                            kRobotiq + " --frames 20 --seed 3 -o " + dir);
+  const auto synth = RunCli("synth --shape cylinder --claw " + kConfig + " --claw-mesh-root " + kRobotiq +
+                            " --frames 20 --seed 3 -o " + dir);
   ASSERT_EQ(synth.exit_code, 0) << synth.output;
   // No --claw: the claw comes from the recording's session description,
   // its meshes from the local --claw-mesh-root only (issue 36: a log's
@@ -51,8 +51,7 @@ TEST(UrdfClawE2E, RecordingWithUrdfClawReplaysClean) {
   EXPECT_NE(no_root.output.find("it was made with meshes in " + recorded_root), std::string::npos)
       << no_root.output;
   const auto replay = RunCli("replay " + dir + "/recording.lcmlog -o " + dir +
-                             "/cloud.ply --no-repair --json --lcm-url memq:// --claw-mesh-root " +
-                             kRobotiq);
+                             "/cloud.ply --no-repair --json --lcm-url memq:// --claw-mesh-root " + kRobotiq);
   ASSERT_EQ(replay.exit_code, 0) << replay.output;
   EXPECT_NE(replay.output.find("robotiq_3f_urdf"), std::string::npos) << replay.output;
   EXPECT_EQ(replay.output.find("warning"), std::string::npos) << replay.output;
@@ -70,8 +69,7 @@ TEST(UrdfClawE2E, RecordingWithUrdfClawReplaysClean) {
   for (size_t i = 0; i < fused.size(); ++i) claw_left += to_claw[i] < 0.002 && to_gt[i] > 0.002;
   EXPECT_LT(claw_left, 0.001 * fused.size()) << claw_left << " claw points of " << fused.size();
   // The claw holds the object: some of it within 2 mm of the object.
-  const std::vector<double> claw_to_gt =
-      mesh::NearestDistances(SampleSurface(claw, 0.002f), gt.points_G);
+  const std::vector<double> claw_to_gt = mesh::NearestDistances(SampleSurface(claw, 0.002f), gt.points_G);
   EXPECT_LT(*std::min_element(claw_to_gt.begin(), claw_to_gt.end()), 0.002);
   std::printf("URDF claw e2e: %zu points, p95 %.2f mm, %d claw points\n", fused.size(),
               1e3 * Percentile(to_gt, 95.0), claw_left);
@@ -81,8 +79,7 @@ TEST(UrdfClawE2E, ClawCommandWritesThePosedClaw) {
   SKIP_WITHOUT_ASSETS();
   const std::string dir = ScratchDir("e2e_claw_command");
   const std::string out = dir + "/claw.ply";
-  const auto run = RunCli("claw " + kConfig + " --claw-mesh-root " + kRobotiq +
-                          " --opening 0.5 -o " + out);
+  const auto run = RunCli("claw " + kConfig + " --claw-mesh-root " + kRobotiq + " --opening 0.5 -o " + out);
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const TriangleMesh written = io::ReadMesh(out);
   const TriangleMesh expected = claw::ClawModel::Load(kConfig, kRobotiq).Posed(0.5);
@@ -126,9 +123,9 @@ TEST(UrdfClawE2E, BrokenClawFileIsAnErrorNamingIt) {
                                      "property list uchar int vertex_indices\nend_header\n"
                                      "0 0 0\n1 0 0\n0 1 0\n3 0 1 1000000\n";
   std::ofstream(dir + "/claw.json") << R"({"links": [{"name": "palm", "mesh": "bad.ply"}]})";
-  for (const std::string& command : {"claw " + dir + "/claw.json -o " + dir + "/out.ply",
-                                    "synth --shape cylinder --frames 2 --claw " + dir +
-                                        "/claw.json -o " + dir + "/rec"}) {
+  for (const std::string& command :
+       {"claw " + dir + "/claw.json -o " + dir + "/out.ply",
+        "synth --shape cylinder --frames 2 --claw " + dir + "/claw.json -o " + dir + "/rec"}) {
     const auto run = RunCli(command);
     EXPECT_EQ(run.exit_code, 1) << command << "\n" << run.output;
     EXPECT_NE(run.output.find("claw.json"), std::string::npos) << run.output;
@@ -147,8 +144,8 @@ TEST(UrdfClawE2E, BrokenClawFileIsAnErrorNamingIt) {
 TEST(UrdfClawE2E, FifosXacroAndClawsBeyondTheLimitsAreErrorsInWords) {
   const std::string dir = ScratchDir("e2e_claw_limits");
   const auto claw = [&](const std::string& spec) {
-    return testing::RunShell("LCM_DEFAULT_URL=memq:// timeout 20 " GRASPFILL_CLI " claw " + spec +
-                             " -o " + dir + "/out.ply --force 2>&1");
+    return testing::RunShell("LCM_DEFAULT_URL=memq:// timeout 20 " GRASPFILL_CLI " claw " + spec + " -o " +
+                             dir + "/out.ply --force 2>&1");
   };
   for (const char* name : {"fifo.urdf", "fifo.json"}) {
     const std::string fifo = dir + "/" + name;
@@ -166,14 +163,14 @@ TEST(UrdfClawE2E, FifosXacroAndClawsBeyondTheLimitsAreErrorsInWords) {
 </robot>)";
   const auto xacro = claw(dir + "/xacro.urdf");
   EXPECT_EQ(xacro.exit_code, 1) << xacro.output;
-  EXPECT_NE(xacro.output.find("this is xacro, not URDF: run xacro first"), std::string::npos)
-      << xacro.output;
+  EXPECT_NE(xacro.output.find("this is xacro, not URDF: run xacro first"), std::string::npos) << xacro.output;
 
   const auto urdf = [&](const std::string& name, const std::string& base, const std::string& joint) {
     std::ofstream(dir + "/" + name) << R"(<robot name="t">
   <link name="base"><collision>)" + base + R"(</collision></link>
   <link name="finger"><collision><geometry><box size="0.01 0.02 0.06"/></geometry></collision></link>
-  <joint name="slide" type="prismatic"><parent link="base"/><child link="finger"/>)" + joint + R"(
+  <joint name="slide" type="prismatic"><parent link="base"/><child link="finger"/>)" +
+                                           joint + R"(
     <axis xyz="1 0 0"/></joint>
 </robot>)";
     return dir + "/" + name;
@@ -196,8 +193,7 @@ TEST(UrdfClawE2E, FifosXacroAndClawsBeyondTheLimitsAreErrorsInWords) {
       {dir + "/rpy.json", "T_G_root.rpy[0]: 1e+300 rad is beyond the 12.5664 rad (4 pi) limit"},
       {urdf("box.urdf", R"(<geometry><box size="1e6 0.1 0.1"/></geometry>)", limit),
        "link 'base': collision box size[0]: 1e+06 m is beyond the 0.5 m limit"},
-      {urdf("scale.urdf", R"(<geometry><mesh filename="tet.obj" scale="1e30 1e30 1e30"/></geometry>)",
-            limit),
+      {urdf("scale.urdf", R"(<geometry><mesh filename="tet.obj" scale="1e30 1e30 1e30"/></geometry>)", limit),
        "link 'base': collision mesh: scale 1e+30 is beyond the limit of 1000"},
       {dir + "/origin.json", "links[1] (finger).joint.origin.xyz[0]: 1e+30 m is beyond the 0.5 m limit"},
       {urdf("travel.urdf", box, R"(<limit lower="0" upper="1e12" effort="1" velocity="1"/>)"),
@@ -211,8 +207,8 @@ TEST(UrdfClawE2E, FifosXacroAndClawsBeyondTheLimitsAreErrorsInWords) {
       continue;
     }
     EXPECT_EQ(r.exit_code, 1) << r.output;
-    EXPECT_NE(r.output.find("graspfill claw: error: " + c.spec + ": " + c.message),
-              std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("graspfill claw: error: " + c.spec + ": " + c.message), std::string::npos)
+        << r.output;
     EXPECT_EQ(r.output.find("max_size"), std::string::npos) << r.output;
   }
 }

@@ -96,8 +96,8 @@ bool IsShadeOf(const uint8_t* pixel, const Rgb8& colour) {
 
 // Pixels of a shade of the provenance's colour in view `view` of column
 // `column` (view::LayoutSheet says where RenderSheet put it).
-Pixels InView(const open3d::geometry::Image& image, const view::SheetLayout& layout, int column,
-              int view, Provenance p) {
+Pixels InView(const open3d::geometry::Image& image, const view::SheetLayout& layout, int column, int view,
+              Provenance p) {
   const Rgb8 c = ProvenanceColor(p);
   Pixels s;
   for (int y = layout.ViewY(view); y < layout.ViewY(view) + layout.view_px; ++y) {
@@ -169,8 +169,7 @@ TEST(ViewCli, AMeshIsDrawnAsASurface) {
   const std::string dir = ScratchDir("e2e_view_mesh");
   TriangleMesh cube;
   for (int i = 0; i < 8; ++i) {
-    cube.vertices.emplace_back(i & 1 ? 0.025f : -0.025f, i & 2 ? 0.025f : -0.025f,
-                               i & 4 ? 0.05f : 0.0f);
+    cube.vertices.emplace_back(i & 1 ? 0.025f : -0.025f, i & 2 ? 0.025f : -0.025f, i & 4 ? 0.05f : 0.0f);
   }
   cube.triangles = {{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5}, {0, 4, 5}, {0, 5, 1},
                     {2, 3, 7}, {2, 7, 6}, {0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}};
@@ -261,8 +260,8 @@ TEST(ViewCli, SameCloudGivesTheSamePicture) {
 TEST(ViewCli, RepairPreviewShowsBeforeAndAfter) {
   const std::string dir = ScratchDir("e2e_view_repair_preview");
   ASSERT_EQ(RunCli("synth --protocol paper --shape cylinder --points 20000 -o " + dir).exit_code, 0);
-  const auto run = RunCli("repair " + dir + "/holey.ply -o " + dir + "/repaired.ply --preview " +
-                          dir + "/pictures");
+  const auto run =
+      RunCli("repair " + dir + "/holey.ply -o " + dir + "/repaired.ply --preview " + dir + "/pictures");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::string preview = dir + "/pictures/repaired.png";
   ASSERT_TRUE(fs::exists(preview)) << run.output;
@@ -279,12 +278,12 @@ TEST(ViewCli, RepairPreviewShowsBeforeAndAfter) {
   EXPECT_EQ(before_fill, 0);
   EXPECT_GT(after_fill, 500);
   // A second run does not replace the preview without --force.
-  const auto again = RunCli("repair " + dir + "/holey.ply -o " + dir + "/other.ply --preview " +
-                            dir + "/pictures");
+  const auto again =
+      RunCli("repair " + dir + "/holey.ply -o " + dir + "/other.ply --preview " + dir + "/pictures");
   EXPECT_EQ(again.exit_code, 0) << again.output;  // other.png: a new name
   fs::create_directories(dir + "/x");
-  const auto clash = RunCli("repair " + dir + "/holey.ply -o " + dir + "/x/repaired.ply --preview " +
-                            dir + "/pictures");
+  const auto clash =
+      RunCli("repair " + dir + "/holey.ply -o " + dir + "/x/repaired.ply --preview " + dir + "/pictures");
   EXPECT_NE(clash.exit_code, 0) << clash.output;
   EXPECT_NE(clash.output.find("--force"), std::string::npos) << clash.output;
   EXPECT_NE(clash.output.find(preview), std::string::npos) << clash.output;
@@ -307,8 +306,10 @@ TEST(MannersCli, PipedReplayHasNoProgressAndCarriesTheVersion) {
   const nlohmann::json scene = nlohmann::json::parse(ReadFile(dir + "/scene.json"));
   EXPECT_EQ(scene["software_version"], "graspfill " GRASPFILL_PROJECT_VERSION);
 
-  const auto replay = RunCli("replay " + dir + "/recording.lcmlog -o " + dir + "/cloud.ply --no-publish "
-                             "--preview " + dir + "/preview --json");
+  const auto replay = RunCli("replay " + dir + "/recording.lcmlog -o " + dir +
+                             "/cloud.ply --no-publish "
+                             "--preview " +
+                             dir + "/preview --json");
   ASSERT_EQ(replay.exit_code, 0) << replay.output;
   EXPECT_EQ(replay.output.find('\r'), std::string::npos) << replay.output;
   EXPECT_EQ(replay.output.find("frames/s"), std::string::npos) << replay.output;
@@ -317,8 +318,8 @@ TEST(MannersCli, PipedReplayHasNoProgressAndCarriesTheVersion) {
   EXPECT_EQ(report["preview"], dir + "/preview/cloud.png");
   EXPECT_TRUE(fs::exists(dir + "/preview/cloud.png"));
   const std::string ply = ReadFile(dir + "/cloud.ply");
-  EXPECT_NE(ply.substr(0, ply.find("end_header")).find(
-                "comment graspfill software graspfill " GRASPFILL_PROJECT_VERSION "\n"),
+  EXPECT_NE(ply.substr(0, ply.find("end_header"))
+                .find("comment graspfill software graspfill " GRASPFILL_PROJECT_VERSION "\n"),
             std::string::npos);
 }
 
@@ -356,8 +357,8 @@ TEST(MannersCli, ProgressOnATerminalOnly) {
 TEST(MannersCli, PipedStdoutIsLineBuffered) {
   using Clock = std::chrono::steady_clock;
   // Three cases ("cuboid 10x10x20", "7x7x14", "5x5x10"), 0.3-1 s each.
-  FILE* pipe = popen("LCM_DEFAULT_URL=memq:// " GRASPFILL_CLI
-                     " bench repair --case x --points 20000 2>/dev/null", "r");
+  FILE* pipe = popen(
+      "LCM_DEFAULT_URL=memq:// " GRASPFILL_CLI " bench repair --case x --points 20000 2>/dev/null", "r");
   ASSERT_NE(pipe, nullptr);
   std::vector<Clock::time_point> rows;
   char line[1024];

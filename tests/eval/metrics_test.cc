@@ -65,8 +65,8 @@ TEST(MetricsTest, GridShiftedAlongNormal) {
   EXPECT_NEAR(m.gt_to_pred_mean_sq_mm2, shift_mm * shift_mm, 1e-9);
   EXPECT_NEAR(m.chamfer_mm2, 2.0 * shift_mm * shift_mm, 1e-9);
   EXPECT_NEAR(m.chamfer_mm2, 2.0 * 1.5 * 1.5, 1e-6);  // the 4.5 mm^2 of 1.5 mm
-  EXPECT_EQ(m.fscore_1mm, 0.0);  // 1.5 mm > 1 mm: nothing within tau
-  EXPECT_EQ(m.fscore_2mm, 1.0);  // 1.5 mm <= 2 mm: everything within tau
+  EXPECT_EQ(m.fscore_1mm, 0.0);                       // 1.5 mm > 1 mm: nothing within tau
+  EXPECT_EQ(m.fscore_2mm, 1.0);                       // 1.5 mm <= 2 mm: everything within tau
   EXPECT_NEAR(m.p95_pred_to_gt_mm, 1.5, 1e-6);
   EXPECT_NEAR(m.p95_gt_to_pred_mm, 1.5, 1e-6);
   EXPECT_NEAR(m.max_pred_to_gt_mm, 1.5, 1e-6);
@@ -124,11 +124,9 @@ TEST(MetricsTest, OutlierRaisesMaxOnly) {
   EXPECT_NEAR(m.max_pred_to_gt_mm, height_mm, 1e-6);
   // One outlier among kN^2 + 1 points lies above the 95th percentile.
   EXPECT_EQ(m.p95_pred_to_gt_mm, 0.0);
-  EXPECT_NEAR(m.pred_to_gt_mean_sq_mm2, height_mm * height_mm / pred.size(),
-              1e-9);
+  EXPECT_NEAR(m.pred_to_gt_mean_sq_mm2, height_mm * height_mm / pred.size(), 1e-9);
   EXPECT_EQ(m.gt_to_pred_mean_sq_mm2, 0.0);
-  EXPECT_EQ(m.fscore_2mm, 2.0 * (1.0 - 1.0 / pred.size()) /
-                              (2.0 - 1.0 / pred.size()));
+  EXPECT_EQ(m.fscore_2mm, 2.0 * (1.0 - 1.0 / pred.size()) / (2.0 - 1.0 / pred.size()));
   EXPECT_EQ(m.coverage_2mm, 1.0);
   EXPECT_EQ(m.precision_2mm, 1.0 - 1.0 / pred.size());
 }
@@ -153,8 +151,7 @@ void ExpectInvalid(Fn fn, const std::string& needle) {
     fn();
     ADD_FAILURE() << "no exception; expected one mentioning '" << needle << "'";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos)
-        << "message: " << e.what();
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << "message: " << e.what();
   }
 }
 

@@ -50,8 +50,8 @@ inline TestFrame PlateFrame(int64_t utime = 1) {
 // The point at pixel (u, v) and z-depth z, in C (= G for T_C_G = I).
 inline Eigen::Vector3f PointAt(double u, double v, float z) {
   const CameraIntrinsics K;
-  return Eigen::Vector3f(static_cast<float>((u - K.cx) / K.fx) * z,
-                         static_cast<float>((v - K.cy) / K.fy) * z, z);
+  return Eigen::Vector3f(static_cast<float>((u - K.cx) / K.fx) * z, static_cast<float>((v - K.cy) / K.fy) * z,
+                         z);
 }
 
 // A record holding the plate frame as its one key frame (G = C).

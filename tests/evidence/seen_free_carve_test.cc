@@ -22,13 +22,13 @@ ObjectCloud PlateCloud() {
     cloud.normals_G.push_back(Eigen::Vector3f(0, 0, -1));
     cloud.provenance.push_back(provenance);
   };
-  add(PointAt(250, 300, 0.500f), Provenance::kObserved);  // surface: kept
-  add(PointAt(250, 301, 0.492f), Provenance::kObserved);  // 8 mm in front: carved
-  add(PointAt(251, 300, 0.5015f), Provenance::kObserved); // within the noise: kept
-  add(PointAt(260, 300, 0.480f), Provenance::kSymmetry);  // inferred: the repair's to judge
-  add(PointAt(252, 300, 0.470f), Provenance::kObserved);  // 3 cm in front: carved
-  add(PointAt(260, 310, 0.560f), Provenance::kObserved);  // behind the plate: kept
-  add(PointAt(199, 300, 0.700f), Provenance::kObserved);  // the silhouette's pixel: kept
+  add(PointAt(250, 300, 0.500f), Provenance::kObserved);   // surface: kept
+  add(PointAt(250, 301, 0.492f), Provenance::kObserved);   // 8 mm in front: carved
+  add(PointAt(251, 300, 0.5015f), Provenance::kObserved);  // within the noise: kept
+  add(PointAt(260, 300, 0.480f), Provenance::kSymmetry);   // inferred: the repair's to judge
+  add(PointAt(252, 300, 0.470f), Provenance::kObserved);   // 3 cm in front: carved
+  add(PointAt(260, 310, 0.560f), Provenance::kObserved);   // behind the plate: kept
+  add(PointAt(199, 300, 0.700f), Provenance::kObserved);   // the silhouette's pixel: kept
   return cloud;
 }
 

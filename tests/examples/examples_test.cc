@@ -7,13 +7,13 @@
 // are those of the PLY replay wrote.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 #include "cli_runner.hpp"
 #include "graspfill/io/collision_mesh_message.hpp"
@@ -40,8 +40,8 @@ std::string Summary(const ObjectCloud& c) {
                 "seq=%lld utime=%lld grasp=%lld final=%d points=%zu observed=%lld surface=%lld "
                 "symmetry=%lld holes=%zu unobserved=%d\n",
                 static_cast<long long>(c.seq), static_cast<long long>(c.utime),
-                static_cast<long long>(c.grasp_id), c.is_final ? 1 : 0, c.size(), by[0], by[1],
-                by[2], c.holes.size(),
+                static_cast<long long>(c.grasp_id), c.is_final ? 1 : 0, c.size(), by[0], by[1], by[2],
+                c.holes.size(),
                 static_cast<int>(std::count_if(c.holes.begin(), c.holes.end(),
                                                [](const HoleSummary& h) { return h.unobserved; })));
   return line;
@@ -54,9 +54,8 @@ class ExamplesTest : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = ScratchDir("examples_" + std::to_string(getpid()));
     bus_log_ = dir_ + "/bus.lcmlog";
-    const CliResult replay =
-        RunCli("replay " GRASPFILL_SOURCE_DIR "/replay/default/recording.lcmlog -o " + dir_ +
-               "/cloud.ply --lcm-url 'file://" + bus_log_ + "?mode=w'");
+    const CliResult replay = RunCli("replay " GRASPFILL_SOURCE_DIR "/replay/default/recording.lcmlog -o " +
+                                    dir_ + "/cloud.ply --lcm-url 'file://" + bus_log_ + "?mode=w'");
     ASSERT_EQ(replay.exit_code, 0) << replay.output;
 
     // graspfill's decoding of the one cloud on the bus.
@@ -66,8 +65,7 @@ class ExamplesTest : public ::testing::Test {
     while (reader.Next(&event) == io::LogReadResult::kEvent) {
       if (event.channel != "GRASPFILL_OBJECT_CLOUD") continue;
       std::string error;
-      ASSERT_TRUE(io::DecodeObjectCloud(event.data.data(), event.data.size(), &published_, &error))
-          << error;
+      ASSERT_TRUE(io::DecodeObjectCloud(event.data.data(), event.data.size(), &published_, &error)) << error;
       ++clouds;
     }
     ASSERT_EQ(clouds, 1);
@@ -98,15 +96,14 @@ TEST_F(ExamplesTest, BusCarriesTheWrittenModelWithRepairedPoints) {
 }
 
 TEST_F(ExamplesTest, CppSubscriberPrintsThePublishedCloud) {
-  const CliResult r =
-      RunLine(std::string(EXAMPLE_CPP_SUBSCRIBER) + " 'file://" + bus_log_ + "?speed=0'");
+  const CliResult r = RunLine(std::string(EXAMPLE_CPP_SUBSCRIBER) + " 'file://" + bus_log_ + "?speed=0'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output, expected_);
 }
 
 TEST_F(ExamplesTest, CppSubscriberFailsAtTheLogsEndWithoutEnoughClouds) {
   const CliResult r = RunLine(std::string(EXAMPLE_CPP_SUBSCRIBER) + " 'file://" + bus_log_ +
-                               "?speed=0' --count 2 --timeout-s 20");
+                              "?speed=0' --count 2 --timeout-s 20");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find(expected_), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("1 of 2 clouds"), std::string::npos) << r.output;
@@ -114,7 +111,8 @@ TEST_F(ExamplesTest, CppSubscriberFailsAtTheLogsEndWithoutEnoughClouds) {
 
 std::string PythonReader(const std::string& args) {
   return "PYTHONPATH=" EXAMPLE_PYTHONPATH " " EXAMPLE_PYTHON " " GRASPFILL_SOURCE_DIR
-         "/examples/python/read_object_clouds.py " + args;
+         "/examples/python/read_object_clouds.py " +
+         args;
 }
 
 TEST_F(ExamplesTest, PythonReaderPrintsThePublishedCloud) {
@@ -149,8 +147,8 @@ TEST_F(ExamplesTest, PythonSubscriberPrintsThePublishedCloud) {
   GTEST_SKIP() << "the Python module is not built (GRASPFILL_BUILD_PYTHON)";
 #else
   const CliResult r = RunLine("PYTHONPATH=" EXAMPLE_PYTHONPATH " " EXAMPLE_PYTHON " " GRASPFILL_SOURCE_DIR
-                               "/examples/python/subscribe_clouds.py 'file://" + bus_log_ +
-                               "?speed=0' --count 1 --timeout-s 30");
+                              "/examples/python/subscribe_clouds.py 'file://" +
+                              bus_log_ + "?speed=0' --count 1 --timeout-s 30");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output, expected_);
 #endif
@@ -160,9 +158,9 @@ TEST_F(ExamplesTest, JavaSubscriberPrintsThePublishedCloud) {
 #ifndef EXAMPLE_JAVA
   GTEST_SKIP() << "Java bindings not built (no JDK or liblcm-java)";
 #else
-  const CliResult r = RunLine(std::string(EXAMPLE_JAVA) + " -cp " EXAMPLE_JAVA_CLASSPATH
-                               " ObjectCloudSubscriber 'file://" + bus_log_ +
-                               "?speed=0' --timeout-s 30");
+  const CliResult r =
+      RunLine(std::string(EXAMPLE_JAVA) + " -cp " EXAMPLE_JAVA_CLASSPATH " ObjectCloudSubscriber 'file://" +
+              bus_log_ + "?speed=0' --timeout-s 30");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   // LCM's Java file provider may print an EOFException at the log's end.
   EXPECT_NE(r.output.find(expected_), std::string::npos) << r.output;
@@ -187,8 +185,7 @@ TEST(ExamplesMeshTest, CppSubscriberPrintsThePublishedCollisionMesh) {
   while (reader.Next(&event) == io::LogReadResult::kEvent) {
     if (event.channel != "GRASPFILL_COLLISION_MESH") continue;
     std::string error;
-    ASSERT_TRUE(io::DecodeCollisionMesh(event.data.data(), event.data.size(), &published, &error))
-        << error;
+    ASSERT_TRUE(io::DecodeCollisionMesh(event.data.data(), event.data.size(), &published, &error)) << error;
     ++meshes;
   }
   ASSERT_EQ(meshes, 1);
@@ -205,8 +202,8 @@ TEST(ExamplesMeshTest, CppSubscriberPrintsThePublishedCollisionMesh) {
                 static_cast<long long>(published.seq), static_cast<long long>(published.utime),
                 static_cast<long long>(published.grasp_id), published.mesh.vertices.size(),
                 published.mesh.triangles.size(), published.deviation_m * 1e3);
-  const CliResult r = RunLine(std::string(EXAMPLE_CPP_SUBSCRIBER) + " 'file://" + bus_log +
-                              "?speed=0' --meshes");
+  const CliResult r =
+      RunLine(std::string(EXAMPLE_CPP_SUBSCRIBER) + " 'file://" + bus_log + "?speed=0' --meshes");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output, line);
   std::filesystem::remove_all(dir);
@@ -223,11 +220,10 @@ TEST(LcmSpyTest, FindsEveryGraspfillTypeThroughClasspath) {
   for (const auto& entry : std::filesystem::directory_iterator(GRASPFILL_SOURCE_DIR "/lcmtypes")) {
     types += entry.path().extension() == ".lcm";
   }
-  const CliResult r = RunLine("CLASSPATH=" EXAMPLE_TYPES_JAR " " EXAMPLE_JAVA
-                               " -Djava.awt.headless=true -cp " EXAMPLE_LCM_JAR
-                               " lcm.spy.Spy --lcm-url=memq://");
-  EXPECT_NE(r.output.find("Found " + std::to_string(types) + " LCM types"), std::string::npos)
-      << r.output;
+  const CliResult r =
+      RunLine("CLASSPATH=" EXAMPLE_TYPES_JAR " " EXAMPLE_JAVA " -Djava.awt.headless=true -cp " EXAMPLE_LCM_JAR
+              " lcm.spy.Spy --lcm-url=memq://");
+  EXPECT_NE(r.output.find("Found " + std::to_string(types) + " LCM types"), std::string::npos) << r.output;
 #endif
 }
 

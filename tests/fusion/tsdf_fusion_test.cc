@@ -13,8 +13,7 @@ const Eigen::Vector3d kCentreG(0.0, 0.0, 0.08);
 
 // Camera 0.5 m from the sphere, turned about G's z by `angle`, looking at it.
 Eigen::Isometry3d CameraPose(double angle) {
-  const Eigen::Vector3d eye_G =
-      kCentreG + 0.5 * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.0);
+  const Eigen::Vector3d eye_G = kCentreG + 0.5 * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.0);
   const Eigen::Vector3d z = (kCentreG - eye_G).normalized();
   const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
   Eigen::Isometry3d T_G_C = Eigen::Isometry3d::Identity();

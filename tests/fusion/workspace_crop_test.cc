@@ -9,9 +9,9 @@ namespace {
 // Camera 0.5 m in front of G, looking along G's x axis (C's z = G's +x).
 Eigen::Isometry3d SideCamera() {
   Eigen::Isometry3d T_G_C = Eigen::Isometry3d::Identity();
-  T_G_C.linear().col(0) = Eigen::Vector3d(0, 1, 0);   // x_C
-  T_G_C.linear().col(1) = Eigen::Vector3d(0, 0, 1);   // y_C (down = +z_G)
-  T_G_C.linear().col(2) = Eigen::Vector3d(1, 0, 0);   // z_C
+  T_G_C.linear().col(0) = Eigen::Vector3d(0, 1, 0);  // x_C
+  T_G_C.linear().col(1) = Eigen::Vector3d(0, 0, 1);  // y_C (down = +z_G)
+  T_G_C.linear().col(2) = Eigen::Vector3d(1, 0, 0);  // z_C
   T_G_C.translation() = Eigen::Vector3d(-0.5, 0, 0.1);
   return T_G_C.inverse();
 }

@@ -27,8 +27,11 @@ const fs::path& Dir() {
     fs::path d = fs::temp_directory_path() / ("graspfill_fuzz_claw_" + std::to_string(::getpid()));
     fs::create_directories(d);
     TriangleMesh box;
-    box.vertices = {{-0.01f, -0.01f, 0.0f}, {0.01f, -0.01f, 0.0f}, {0.01f, 0.01f, 0.0f},
-                    {-0.01f, 0.01f, 0.0f},  {0.0f, 0.0f, 0.02f}};
+    box.vertices = {{-0.01f, -0.01f, 0.0f},
+                    {0.01f, -0.01f, 0.0f},
+                    {0.01f, 0.01f, 0.0f},
+                    {-0.01f, 0.01f, 0.0f},
+                    {0.0f, 0.0f, 0.02f}};
     box.triangles = {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}, {0, 2, 1}, {0, 3, 2}};
     io::WriteMeshPly((d / "box.ply").string(), box);
     return d;

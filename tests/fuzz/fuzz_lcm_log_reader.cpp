@@ -16,7 +16,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   int64_t consumed = 0;
   graspfill::io::LogReadResult result;
   while ((result = reader.Next(&event)) == graspfill::io::LogReadResult::kEvent) {
-    consumed += graspfill::io::kLogEventHeaderBytes + static_cast<int64_t>(event.channel.size() + event.data.size());
+    consumed +=
+        graspfill::io::kLogEventHeaderBytes + static_cast<int64_t>(event.channel.size() + event.data.size());
     FUZZ_CHECK(consumed == reader.offset());
     FUZZ_CHECK(consumed <= static_cast<int64_t>(size));
     FUZZ_CHECK(!event.channel.empty());

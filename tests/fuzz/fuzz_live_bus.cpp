@@ -32,9 +32,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   // targets and tests): no registration, no safe bound carved per frame.
   config.module.pipeline.refine.enabled = false;
   config.module.pipeline.visibility.safe_bound_voxel_m = 0.0;
-  config.build_session_claw = [](const io::SessionDescription& s) {
-    return cli::MakeSessionClaw(s, "");
-  };
+  config.build_session_claw = [](const io::SessionDescription& s) { return cli::MakeSessionClaw(s, ""); };
   config.same_claw = cli::SameClaw;
   config.on_notice = [](const std::string&) {};
   rt::LiveSession live(config);

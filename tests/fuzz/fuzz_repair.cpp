@@ -62,7 +62,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (size_t i = 0; i < cloud.size(); ++i) {
       FUZZ_CHECK(std::memcmp(result.cloud.points_G[i].data(), cloud.points_G[i].data(), 12) == 0);
     }
-    for (size_t i = cloud.size(); i < result.cloud.size(); ++i) FUZZ_CHECK(result.cloud.points_G[i].allFinite());
+    for (size_t i = cloud.size(); i < result.cloud.size(); ++i)
+      FUZZ_CHECK(result.cloud.points_G[i].allFinite());
   } catch (const std::invalid_argument&) {
     FUZZ_CHECK(!finite);
   }

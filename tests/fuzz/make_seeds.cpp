@@ -86,7 +86,8 @@ int main(int argc, char** argv) {
   session.claw_name = "three-finger";
   session.claw_text = "{\"finger_length_m\": 0.08}";
   session.intrinsics = CameraIntrinsics{640, 480, 525.0, 525.0, 319.5, 239.5};
-  session.workspace_G = Eigen::AlignedBox3d(Eigen::Vector3d(-0.1, -0.1, 0.0), Eigen::Vector3d(0.1, 0.1, 0.25));
+  session.workspace_G =
+      Eigen::AlignedBox3d(Eigen::Vector3d(-0.1, -0.1, 0.0), Eigen::Vector3d(0.1, 0.1, 0.25));
   session.voxel_m = 0.002;
   io::ModuleStatus status;
   status.frames_in = 10;
@@ -134,8 +135,7 @@ int main(int argc, char** argv) {
     traversal.T_C_B_orientation[0] = 1.0;
     std::vector<uint8_t> traversal_bytes(static_cast<size_t>(traversal.getEncodedSize()));
     traversal.encode(traversal_bytes.data(), 0, static_cast<int>(traversal_bytes.size()));
-    for (const auto& [name, description] :
-         std::vector<std::pair<std::string, std::vector<uint8_t>>>{
+    for (const auto& [name, description] : std::vector<std::pair<std::string, std::vector<uint8_t>>>{
              {"builtin", io::EncodeSessionDescription(parallel)},
              {"urdf", io::EncodeSessionDescription(urdf)},
              {"traversal", traversal_bytes}}) {
@@ -237,11 +237,12 @@ int main(int argc, char** argv) {
             " {\"name\": \"finger\", \"parent\": \"palm\", \"mesh\": \"box.ply\", \"joint\": {\"type\": "
             "\"prismatic\", \"origin\": {\"xyz\": [0, 0, 0.02]}, \"axis\": [1, 0, 0], \"limits\": "
             "{\"lower\": 0, \"upper\": 0.05}, \"drive\": {\"opening_gain\": 0.5, \"opening_offset\": 0}}}]}");
-  WriteText(claw, "joint_index",
-            "{\"name\": \"fuzz2\", \"links\": [{\"name\": \"palm\", \"mesh\": \"box.ply\", \"mesh_scale\": 1.0},"
-            " {\"name\": \"f\", \"parent\": \"palm\", \"mesh\": \"box.ply\", \"joint\": {\"type\": "
-            "\"revolute\", \"axis\": [0, 1, 0], \"limits\": {\"lower\": -1, \"upper\": 1}, \"drive\": "
-            "{\"joint_index\": 1}}}]}");
+  WriteText(
+      claw, "joint_index",
+      "{\"name\": \"fuzz2\", \"links\": [{\"name\": \"palm\", \"mesh\": \"box.ply\", \"mesh_scale\": 1.0},"
+      " {\"name\": \"f\", \"parent\": \"palm\", \"mesh\": \"box.ply\", \"joint\": {\"type\": "
+      "\"revolute\", \"axis\": [0, 1, 0], \"limits\": {\"lower\": -1, \"upper\": 1}, \"drive\": "
+      "{\"joint_index\": 1}}}]}");
 
   // Repair: flag byte, then float triples (a few points; the target adds
   // its base cylinder when bit 0 is set).

@@ -17,9 +17,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
-#include <functional>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <stdexcept>
 #include <string>
@@ -134,8 +134,7 @@ TEST_F(AtomicFileTest, UncommittedFileLeavesTheTargetAlone) {
   {
     AtomicFile file(Path("log"));
     EXPECT_EQ(fs::path(file.temp_path()).parent_path(), dir_);
-    EXPECT_EQ(fs::path(file.temp_path()).filename().string().rfind(".log.tmp-", 0), 0u)
-        << file.temp_path();
+    EXPECT_EQ(fs::path(file.temp_path()).filename().string().rfind(".log.tmp-", 0), 0u) << file.temp_path();
     std::ofstream(file.temp_path()) << "half written";
     EXPECT_EQ(ReadBytes(Path("log")), "old");
   }
@@ -161,13 +160,15 @@ TEST_F(AtomicFileTest, WithoutReplaceAnythingThereIsAnErrorAndKeptAsItWas) {
   const std::string error =
       ErrorOf([&] { WriteFileAtomically(Path("old.ply"), "new", "cannot write PLY", IfExists::kFail); });
   EXPECT_NE(error.find("cannot write PLY '" + Path("old.ply") + "': " + std::strerror(EEXIST)),
-            std::string::npos) << error;
+            std::string::npos)
+      << error;
   EXPECT_NE(error.find("--force"), std::string::npos) << error;
   EXPECT_EQ(ReadBytes(Path("old.ply")), "precious");
   // A link, even a dangling one, is something there: not written through.
   fs::create_symlink("nowhere.ply", Path("link.ply"));
-  EXPECT_NE(ErrorOf([&] { WriteFileAtomically(Path("link.ply"), "x", "cannot write", IfExists::kFail); })
-                .find(std::strerror(EEXIST)),
+  EXPECT_NE(ErrorOf([&] {
+              WriteFileAtomically(Path("link.ply"), "x", "cannot write", IfExists::kFail);
+            }).find(std::strerror(EEXIST)),
             std::string::npos);
   EXPECT_FALSE(fs::exists(Path("nowhere.ply")));
   // Where nothing is, the file is made.
@@ -187,7 +188,8 @@ TEST_F(AtomicFileTest, OfTwoWritersToOneNewPathTheSecondToFinishFails) {
   first.Commit();
   const std::string error = ErrorOf([&] { second.Commit(); });
   EXPECT_NE(error.find("cannot write PLY '" + Path("cloud.ply") + "': " + std::strerror(EEXIST)),
-            std::string::npos) << error;
+            std::string::npos)
+      << error;
   EXPECT_EQ(ReadBytes(Path("cloud.ply")), "first");
   EXPECT_EQ(Names(), std::vector<std::string>{"cloud.ply"});  // no temporary file left
 }
@@ -254,7 +256,8 @@ TEST_F(AtomicFileTest, DevicesFifosAndSocketsAreNeverReplaced) {
   for (const auto& [path, kind] : specials) {
     const mode_t type = TypeAt(path);
     for (const IfExists if_exists : {IfExists::kReplace, IfExists::kFail}) {
-      const std::string error = ErrorOf([&] { WriteFileAtomically(path, "x", "cannot write PLY", if_exists); });
+      const std::string error =
+          ErrorOf([&] { WriteFileAtomically(path, "x", "cannot write PLY", if_exists); });
       EXPECT_NE(error.find("cannot write PLY '" + path + "': " + kind), std::string::npos) << error;
       EXPECT_EQ(TypeAt(path), type) << path;
     }

@@ -29,8 +29,12 @@ TEST(ChannelNames, RegexCharactersLengthAndEmptinessAreRefused) {
   // one), and space, and a byte beyond ASCII.
   for (const char c : std::string(".()[]{}*+?|^$\\ :,;")) {
     const std::string defect = ChannelNameDefect(std::string("A") + c + "B");
-    EXPECT_EQ(defect.rfind(std::string("'") + c + "' is not allowed (channel names are A-Z a-z "
-                           "0-9 _ - / only", 0), 0u) << defect;
+    EXPECT_EQ(defect.rfind(std::string("'") + c +
+                               "' is not allowed (channel names are A-Z a-z "
+                               "0-9 _ - / only",
+                           0),
+              0u)
+        << defect;
   }
   EXPECT_EQ(ChannelNameDefect("A\tB").rfind("byte 0x09 is not allowed", 0), 0u);
   EXPECT_EQ(ChannelNameDefect("caf\xc3\xa9").rfind("byte 0xc3 is not allowed", 0), 0u);

@@ -49,10 +49,14 @@ inline bool StartsWithCloudFingerprint(const std::vector<uint8_t>& bytes) {
 
 inline const char* Name(CloudChunkAssembler::Result r) {
   switch (r) {
-    case CloudChunkAssembler::Result::kComplete: return "complete";
-    case CloudChunkAssembler::Result::kPending: return "pending";
-    case CloudChunkAssembler::Result::kRepeat: return "repeat";
-    case CloudChunkAssembler::Result::kMalformed: return "malformed";
+    case CloudChunkAssembler::Result::kComplete:
+      return "complete";
+    case CloudChunkAssembler::Result::kPending:
+      return "pending";
+    case CloudChunkAssembler::Result::kRepeat:
+      return "repeat";
+    case CloudChunkAssembler::Result::kMalformed:
+      return "malformed";
   }
   return nullptr;
 }
@@ -129,7 +133,8 @@ inline std::string CheckCloudChunkInput(const uint8_t* data, size_t size) {
     }
     if (r == Result::kMalformed && why.empty()) return where + "malformed without a reason";
     const int64_t dropped = assembler.dropped_unfinished() - dropped_before;
-    if (dropped != 0 && dropped != 1) return where + "dropped_unfinished went up by " + std::to_string(dropped);
+    if (dropped != 0 && dropped != 1)
+      return where + "dropped_unfinished went up by " + std::to_string(dropped);
     const std::string round_trip = CheckRoundTrip(message, length);
     if (!round_trip.empty()) return where + round_trip;
   }

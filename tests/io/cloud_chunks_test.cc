@@ -69,7 +69,7 @@ TEST(CloudChunks, CutsIntoEqualOneDatagramSlicesThatDecodeAsTheLcmType) {
     }
   }
   EXPECT_EQ(joined, cloud.size());
-  EXPECT_EQ(EncodeCloudChunks(cloud), slices);  // deterministic
+  EXPECT_EQ(EncodeCloudChunks(cloud), slices);                      // deterministic
   EXPECT_EQ(EncodeCloudChunks(EncodedCloud(1, 10, 2)).size(), 1u);  // small: one slice
 }
 
@@ -169,15 +169,15 @@ TEST(CloudChunks, MalformedMessagesAreRejectedWithAReason) {
     PokeField(&s, field, value);
     return s;
   };
-  EXPECT_TRUE(rejected(poked(0, 0)));                                  // an empty cloud
-  EXPECT_TRUE(rejected(poked(0, 0x80000000u)));                        // negative size
+  EXPECT_TRUE(rejected(poked(0, 0)));                                                 // an empty cloud
+  EXPECT_TRUE(rejected(poked(0, 0x80000000u)));                                       // negative size
   EXPECT_TRUE(rejected(poked(0, static_cast<uint32_t>(kMaxChunkedCloudBytes + 1))));  // too large to allocate
-  EXPECT_TRUE(rejected(poked(2, 0)));                                  // no slices
-  EXPECT_TRUE(rejected(poked(2, 0xffffffffu)));                        // -1 slices
-  EXPECT_TRUE(rejected(poked(3, static_cast<uint32_t>(slices.size()))));  // index past the last
-  EXPECT_TRUE(rejected(poked(3, 0xffffffffu)));                        // index -1
-  EXPECT_TRUE(rejected(poked(4, 0)));                                  // offset not index * slice
-  EXPECT_TRUE(rejected(poked(5, 0x7fffffffu)));                        // num_bytes past the message
+  EXPECT_TRUE(rejected(poked(2, 0)));                                                 // no slices
+  EXPECT_TRUE(rejected(poked(2, 0xffffffffu)));                                       // -1 slices
+  EXPECT_TRUE(rejected(poked(3, static_cast<uint32_t>(slices.size()))));              // index past the last
+  EXPECT_TRUE(rejected(poked(3, 0xffffffffu)));                                       // index -1
+  EXPECT_TRUE(rejected(poked(4, 0)));            // offset not index * slice
+  EXPECT_TRUE(rejected(poked(5, 0x7fffffffu)));  // num_bytes past the message
   // A slice whose bytes were changed: the joined cloud's CRC differs.
   CloudChunkAssembler a;
   auto corrupt = slices;

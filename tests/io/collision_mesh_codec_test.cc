@@ -22,8 +22,8 @@ CollisionMeshMessage Tetrahedron() {
   m.seq = 42;
   m.grasp_id = 7;
   m.frame_name = "gripper";
-  m.T_C_G = Eigen::Translation3d(0.1, -0.2, 0.6) *
-            Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized());
+  m.T_C_G =
+      Eigen::Translation3d(0.1, -0.2, 0.6) * Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized());
   m.mesh.vertices = {{0, 0, 0}, {0.05f, 0, 0}, {0, 0.05f, 0}, {0, 0, 0.05f}};
   m.mesh.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
   m.kind = CollisionMeshKind::kConvexHull;
@@ -33,8 +33,8 @@ CollisionMeshMessage Tetrahedron() {
 }
 
 // Offsets into Tetrahedron()'s encoding (collision_mesh_t.lcm's layout).
-constexpr size_t kNameAt = 32;                          // hash, utime, seq, grasp_id
-constexpr size_t kPoseAt = kNameAt + 4 + 8;             // "gripper" and its NUL
+constexpr size_t kNameAt = 32;               // hash, utime, seq, grasp_id
+constexpr size_t kPoseAt = kNameAt + 4 + 8;  // "gripper" and its NUL
 constexpr size_t kKindAt = kPoseAt + 7 * 8;
 constexpr size_t kWatertightAt = kKindAt + 1;
 constexpr size_t kDeviationAt = kWatertightAt + 1;

@@ -126,8 +126,8 @@ TEST(DepthLimits, HugeDeclaredImageIsRefusedWithoutAllocatingIt) {
   std::string error;
   MessageError reason = MessageError::kNone;
   bool ok = true;
-  const size_t largest = LargestAllocationOf(
-      [&] { ok = DecodeDepthImage(bytes.data(), bytes.size(), &out, &error, &reason); });
+  const size_t largest =
+      LargestAllocationOf([&] { ok = DecodeDepthImage(bytes.data(), bytes.size(), &out, &error, &reason); });
   EXPECT_FALSE(ok);
   EXPECT_EQ(reason, MessageError::kBadSize) << error;
   EXPECT_NE(error.find("bad image size 100000x100000: over the limit of 8388608"), std::string::npos)
@@ -146,18 +146,18 @@ TEST(DepthLimits, FrameOverTheConfiguredLimitIsRefusedBeforeItsDecodedSizeIsAllo
   std::string error;
   MessageError reason = MessageError::kNone;
   bool ok = true;
-  size_t largest = LargestAllocationOf(
-      [&] { ok = DecodeDepthImage(raw.data(), raw.size(), &out, &error, &reason); });
+  size_t largest =
+      LargestAllocationOf([&] { ok = DecodeDepthImage(raw.data(), raw.size(), &out, &error, &reason); });
   EXPECT_FALSE(ok);
   EXPECT_EQ(reason, MessageError::kBadSize);
   EXPECT_NE(error.find("bad image size 4096x4096: over the limit of 8388608 pixels (max_depth_pixels)"),
-            std::string::npos) << error;
+            std::string::npos)
+      << error;
   EXPECT_LT(largest, kMiB);
 
   // Raised to the ceiling: decoded, 4 bytes a pixel.
-  largest = LargestAllocationOf([&] {
-    ok = DecodeDepthImage(raw.data(), raw.size(), &out, &error, &reason, kMaxDepthPixels);
-  });
+  largest = LargestAllocationOf(
+      [&] { ok = DecodeDepthImage(raw.data(), raw.size(), &out, &error, &reason, kMaxDepthPixels); });
   EXPECT_TRUE(ok) << error;
   EXPECT_EQ(out.depth_m.size(), size_t{4096} * 4096);
   EXPECT_GE(largest, size_t{4096} * 4096 * sizeof(float));
@@ -181,11 +181,12 @@ TEST(DepthLimits, ZlibPayloadTooShortForItsImageIsRefusedBeforeAllocating) {
   std::string error;
   MessageError reason = MessageError::kNone;
   bool ok = true;
-  const size_t largest = LargestAllocationOf(
-      [&] { ok = DecodeDepthImage(bytes.data(), bytes.size(), &out, &error, &reason); });
+  const size_t largest =
+      LargestAllocationOf([&] { ok = DecodeDepthImage(bytes.data(), bytes.size(), &out, &error, &reason); });
   EXPECT_FALSE(ok);
   EXPECT_EQ(reason, MessageError::kBadEncoding);
-  EXPECT_NE(error.find("ZLIB16 data of 100 bytes cannot inflate to the image's 8388608 bytes"), std::string::npos)
+  EXPECT_NE(error.find("ZLIB16 data of 100 bytes cannot inflate to the image's 8388608 bytes"),
+            std::string::npos)
       << error;
   EXPECT_LT(largest, kMiB);
 }
@@ -201,8 +202,8 @@ TEST(DepthLimits, ZlibBombInflatesNoFurtherThanTheDeclaredImage) {
   std::string error;
   MessageError reason = MessageError::kNone;
   bool ok = true;
-  const size_t largest = LargestAllocationOf(
-      [&] { ok = DecodeDepthImage(bytes.data(), bytes.size(), &out, &error, &reason); });
+  const size_t largest =
+      LargestAllocationOf([&] { ok = DecodeDepthImage(bytes.data(), bytes.size(), &out, &error, &reason); });
   EXPECT_FALSE(ok);
   EXPECT_EQ(reason, MessageError::kBadEncoding);
   EXPECT_NE(error.find("corrupt zlib data"), std::string::npos) << error;

@@ -98,7 +98,8 @@ TEST(FuzzRegressions, DepthGripperStatusAndLogInputsKeepTheirContracts) {
   for (const auto& bytes : Inputs("gripper_state")) {
     GripperState state;
     std::string error;
-    if (!DecodeGripperState(bytes.data(), bytes.size(), Eigen::Isometry3d::Identity(), &state, &error)) continue;
+    if (!DecodeGripperState(bytes.data(), bytes.size(), Eigen::Isometry3d::Identity(), &state, &error))
+      continue;
     const auto again = EncodeGripperState(state);
     GripperState back;
     EXPECT_TRUE(DecodeGripperState(again.data(), again.size(), Eigen::Isometry3d::Identity(), &back, &error));
@@ -157,7 +158,8 @@ TEST(FuzzRegressions, PlyInputsParseOrNameTheFile) {
   int parsed = 0;
   for (const auto& bytes : inputs) {
     try {
-      const ply::Parsed p = ply::Parse(std::string(bytes.begin(), bytes.end()), "f.ply", "cannot read PLY", true);
+      const ply::Parsed p =
+          ply::Parse(std::string(bytes.begin(), bytes.end()), "f.ply", "cannot read PLY", true);
       ++parsed;
       for (int64_t i : p.face_indices) EXPECT_LT(i, p.num_vertices);
     } catch (const std::runtime_error& e) {

@@ -7,9 +7,9 @@
 #include <open3d/geometry/TriangleMesh.h>
 #include <open3d/io/TriangleMeshIO.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <cstring>
 #include <sstream>
 
 namespace graspfill::io {
@@ -24,7 +24,8 @@ TriangleMesh Tetrahedron() {
 }
 
 std::string Dir() {
-  const std::filesystem::path dir = std::filesystem::path(GRASPFILL_BINARY_DIR) / "test_scratch" / "mesh_export";
+  const std::filesystem::path dir =
+      std::filesystem::path(GRASPFILL_BINARY_DIR) / "test_scratch" / "mesh_export";
   std::filesystem::create_directories(dir);
   return dir.string();
 }

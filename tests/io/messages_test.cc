@@ -30,8 +30,7 @@ constexpr double kPoseTolerance = 1e-12;
 template <typename Message>
 std::vector<uint8_t> Encode(const Message& msg) {
   std::vector<uint8_t> bytes(static_cast<size_t>(msg.getEncodedSize()));
-  EXPECT_EQ(msg.encode(bytes.data(), 0, static_cast<int>(bytes.size())),
-            static_cast<int>(bytes.size()));
+  EXPECT_EQ(msg.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
   return bytes;
 }
 
@@ -44,8 +43,8 @@ DepthFrame SmallFrame() {
   DepthFrame frame;
   frame.utime = 1700000000123456;
   frame.intrinsics = {5, 3, 4.5, 4.25, 2.0, 1.0};
-  frame.depth_m = {0.0f,   0.5f,  0.5004f, 0.4996f, 1.2345f,   //
-                   kNaN,   -1.0f, 65.535f, 70.0f,   0.0004f,   //
+  frame.depth_m = {0.0f,   0.5f,  0.5004f, 0.4996f, 1.2345f,  //
+                   kNaN,   -1.0f, 65.535f, 70.0f,   0.0004f,  //
                    0.001f, 2.0f,  1.999f,  0.75f,   std::numeric_limits<float>::infinity()};
   return frame;
 }
@@ -58,8 +57,7 @@ float Quantized(float d, double scale) {
   return static_cast<float>(units * scale);
 }
 
-void ExpectQuantizedEqual(const DepthFrame& in, const DepthFrame& out,
-                          double scale) {
+void ExpectQuantizedEqual(const DepthFrame& in, const DepthFrame& out, double scale) {
   EXPECT_EQ(out.utime, in.utime);
   EXPECT_EQ(out.intrinsics, in.intrinsics);
   ASSERT_EQ(out.depth_m.size(), in.depth_m.size());
@@ -73,16 +71,15 @@ TEST(DepthImageMessage, Raw16RoundTripIsExactOnQuantizedDepth) {
   const auto bytes = EncodeDepthImage(frame, DepthEncoding::kRaw16, 0.001);
   DepthFrame out;
   std::string error;
-  ASSERT_TRUE(DecodeDepthImage(bytes.data(), bytes.size(), &out, &error))
-      << error;
+  ASSERT_TRUE(DecodeDepthImage(bytes.data(), bytes.size(), &out, &error)) << error;
   ExpectQuantizedEqual(frame, out, 0.001);
   // Spot checks of the quantization rules themselves.
-  EXPECT_EQ(out.depth_m[2], 0.5f);          // 0.5004 -> 500 mm
-  EXPECT_EQ(out.depth_m[7], 65.535f);       // the last representable
-  EXPECT_EQ(out.depth_m[8], 0.0f);          // beyond range -> invalid
-  EXPECT_EQ(out.depth_m[5], 0.0f);          // NaN -> invalid
-  EXPECT_EQ(out.depth_m[6], 0.0f);          // negative -> invalid
-  EXPECT_EQ(out.depth_m[9], 0.0f);          // rounds to 0 units -> invalid
+  EXPECT_EQ(out.depth_m[2], 0.5f);     // 0.5004 -> 500 mm
+  EXPECT_EQ(out.depth_m[7], 65.535f);  // the last representable
+  EXPECT_EQ(out.depth_m[8], 0.0f);     // beyond range -> invalid
+  EXPECT_EQ(out.depth_m[5], 0.0f);     // NaN -> invalid
+  EXPECT_EQ(out.depth_m[6], 0.0f);     // negative -> invalid
+  EXPECT_EQ(out.depth_m[9], 0.0f);     // rounds to 0 units -> invalid
 }
 
 TEST(DepthImageMessage, Zlib16RoundTripEqualsRaw16) {
@@ -93,8 +90,7 @@ TEST(DepthImageMessage, Zlib16RoundTripEqualsRaw16) {
     DepthFrame from_raw, from_zlib;
     std::string error;
     ASSERT_TRUE(DecodeDepthImage(raw.data(), raw.size(), &from_raw, &error));
-    ASSERT_TRUE(DecodeDepthImage(zlib.data(), zlib.size(), &from_zlib, &error))
-        << error;
+    ASSERT_TRUE(DecodeDepthImage(zlib.data(), zlib.size(), &from_zlib, &error)) << error;
     ExpectQuantizedEqual(frame, from_zlib, scale);
     EXPECT_EQ(from_zlib.depth_m, from_raw.depth_m);
   }
@@ -104,8 +100,7 @@ TEST(DepthImageMessage, WireFormatIsTheGeneratedType) {
   const DepthFrame frame = SmallFrame();
   const auto bytes = EncodeDepthImage(frame, DepthEncoding::kRaw16, 0.001);
   graspfill::depth_image_t msg{};
-  ASSERT_EQ(msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())),
-            static_cast<int>(bytes.size()));
+  ASSERT_EQ(msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
   EXPECT_EQ(msg.width, 5);
   EXPECT_EQ(msg.height, 3);
   EXPECT_EQ(msg.fx, 4.5);
@@ -129,8 +124,7 @@ DepthFrame NoisyPlane(double sigma_m, double dropout, uint32_t seed) {
   for (int v = 0; v < h; ++v) {
     for (int u = 0; u < w; ++u) {
       const double z = 0.8 + 0.0004 * u + 0.0002 * v + noise(rng);
-      frame.depth_m[v * w + u] =
-          uniform(rng) < dropout ? 0.0f : static_cast<float>(z);
+      frame.depth_m[v * w + u] = uniform(rng) < dropout ? 0.0f : static_cast<float>(z);
     }
   }
   return frame;
@@ -141,8 +135,7 @@ TEST(DepthImageMessage, Zlib16KeepsNoisyPlaneSmall) {
     double sigma_m, dropout;
     double max_ratio;  // of RAW16; measured ~0.30, 0.38, 0.36
   };
-  for (const Case& c : {Case{0.0015, 0.0, 0.33}, Case{0.0015, 0.05, 0.41},
-                        Case{0.003, 0.0, 0.39}}) {
+  for (const Case& c : {Case{0.0015, 0.0, 0.33}, Case{0.0015, 0.05, 0.41}, Case{0.003, 0.0, 0.39}}) {
     const DepthFrame frame = NoisyPlane(c.sigma_m, c.dropout, 7);
     const auto raw = EncodeDepthImage(frame, DepthEncoding::kRaw16);
     const auto t0 = std::chrono::steady_clock::now();
@@ -190,9 +183,7 @@ TEST(DepthImageMessage, RejectsWrongSizes) {
   std::string error;
   auto bytes = Encode(msg);
   EXPECT_FALSE(DecodeDepthImage(bytes.data(), bytes.size(), &out, &error));
-  EXPECT_NE(error.find("RAW16 data has 15 bytes, expected 16"),
-            std::string::npos)
-      << error;
+  EXPECT_NE(error.find("RAW16 data has 15 bytes, expected 16"), std::string::npos) << error;
 
   msg.num_bytes = 16;
   msg.data.assign(16, 0);
@@ -208,8 +199,7 @@ TEST(DepthImageMessage, RejectsWrongSizes) {
   DepthFrame frame = SmallFrame();
   frame.depth_m.pop_back();
   EXPECT_THROW(EncodeDepthImage(frame), std::invalid_argument);
-  EXPECT_THROW(EncodeDepthImage(SmallFrame(), DepthEncoding::kRaw16, 0.0),
-               std::invalid_argument);
+  EXPECT_THROW(EncodeDepthImage(SmallFrame(), DepthEncoding::kRaw16, 0.0), std::invalid_argument);
 }
 
 TEST(DepthImageMessage, RejectsBadIntrinsicsScaleAndEncoding) {
@@ -219,8 +209,7 @@ TEST(DepthImageMessage, RejectsBadIntrinsicsScaleAndEncoding) {
   DepthFrame out;
   std::string error;
 
-  auto expect_rejected = [&](graspfill::depth_image_t bad,
-                             const std::string& reason) {
+  auto expect_rejected = [&](graspfill::depth_image_t bad, const std::string& reason) {
     const auto bytes = Encode(bad);
     error.clear();
     EXPECT_FALSE(DecodeDepthImage(bytes.data(), bytes.size(), &out, &error));
@@ -243,7 +232,7 @@ TEST(DepthImageMessage, RejectsBadIntrinsicsScaleAndEncoding) {
   expect_rejected(bad, "unknown encoding 7");
   bad = msg;
   bad.data[bad.data.size() / 2] ^= 0x5a;  // corrupt the deflate stream
-  bad.data.back() ^= 0xff;               // and its checksum
+  bad.data.back() ^= 0xff;                // and its checksum
   expect_rejected(bad, "zlib");
   bad = msg;
   bad.width = 4;  // stream inflates to more bytes than 4x3 needs
@@ -284,17 +273,13 @@ TEST(DepthImageMessage, RejectsMalformedBytes) {
 
 Eigen::Isometry3d SomePose() {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() =
-      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized())
-          .toRotationMatrix();
+  T.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
   T.translation() = Eigen::Vector3d(0.12, -0.05, 0.83);
   return T;
 }
 
 void ExpectPoseNear(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
-  EXPECT_TRUE(a.matrix().isApprox(b.matrix(), kPoseTolerance))
-      << a.matrix() << "\nvs\n"
-      << b.matrix();
+  EXPECT_TRUE(a.matrix().isApprox(b.matrix(), kPoseTolerance)) << a.matrix() << "\nvs\n" << b.matrix();
 }
 
 TEST(GripperStateMessage, CameraFrameRoundTrip) {
@@ -308,9 +293,7 @@ TEST(GripperStateMessage, CameraFrameRoundTrip) {
   out.joint_values = {9, 9, 9, 9, 9};
   std::string error;
   // T_C_B must not matter for camera-frame messages.
-  ASSERT_TRUE(DecodeGripperState(bytes.data(), bytes.size(), SomePose(), &out,
-                                 &error))
-      << error;
+  ASSERT_TRUE(DecodeGripperState(bytes.data(), bytes.size(), SomePose(), &out, &error)) << error;
   EXPECT_EQ(out.utime, state.utime);
   ExpectPoseNear(out.T_C_G, state.T_C_G);
   EXPECT_EQ(out.opening_m, state.opening_m);
@@ -335,22 +318,18 @@ TEST(GripperStateMessage, BaseFrameIsConvertedWithHandEye) {
   // T_C_B: base rotated +90 deg about the camera's x axis, origin at
   // (0.1, -0.2, 1.0) in C.
   Eigen::Isometry3d T_C_B = Eigen::Isometry3d::Identity();
-  T_C_B.linear() =
-      Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  T_C_B.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
   T_C_B.translation() = Eigen::Vector3d(0.1, -0.2, 1.0);
   const auto bytes = Encode(BaseFrameMessage());
   GripperState out;
   std::string error;
-  ASSERT_TRUE(
-      DecodeGripperState(bytes.data(), bytes.size(), T_C_B, &out, &error))
-      << error;
+  ASSERT_TRUE(DecodeGripperState(bytes.data(), bytes.size(), T_C_B, &out, &error)) << error;
   // By hand: R_x(90) (0.5, 0, 0.3) = (0.5, -0.3, 0); plus the origin.
-  EXPECT_TRUE(out.T_C_G.translation().isApprox(Eigen::Vector3d(0.6, -0.5, 1.0),
-                                               kPoseTolerance))
+  EXPECT_TRUE(out.T_C_G.translation().isApprox(Eigen::Vector3d(0.6, -0.5, 1.0), kPoseTolerance))
       << out.T_C_G.translation().transpose();
   // G's z axis (base up) points along -y in the camera (image up).
-  EXPECT_TRUE((out.T_C_G.linear() * Eigen::Vector3d::UnitZ())
-                  .isApprox(Eigen::Vector3d(0, -1, 0), kPoseTolerance));
+  EXPECT_TRUE(
+      (out.T_C_G.linear() * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d(0, -1, 0), kPoseTolerance));
   EXPECT_EQ(out.utime, 99);
   EXPECT_EQ(out.opening_m, 0.02);
   EXPECT_TRUE(out.joint_values.empty());
@@ -426,8 +405,7 @@ TEST(GripperStateMessage, RejectsMalformedBytes) {
     EXPECT_NE(error.find("malformed"), std::string::npos) << error;
   }
   const auto depth = EncodeDepthImage(SmallFrame());
-  EXPECT_FALSE(
-      DecodeGripperState(depth.data(), depth.size(), I, &out, &error));
+  EXPECT_FALSE(DecodeGripperState(depth.data(), depth.size(), I, &out, &error));
 }
 
 // ---- Object cloud ----------------------------------------------------------------
@@ -480,7 +458,8 @@ void ExpectCloudEqual(const ObjectCloud& a, const ObjectCloud& b) {
     EXPECT_NEAR(b.normals_G[i].norm(), 1.0f, 1e-6f) << i;
   }
   const size_t n = a.points_G.size();
-  EXPECT_EQ(b.provenance, a.provenance.empty() ? std::vector<Provenance>(n, Provenance::kObserved) : a.provenance);
+  EXPECT_EQ(b.provenance,
+            a.provenance.empty() ? std::vector<Provenance>(n, Provenance::kObserved) : a.provenance);
   ASSERT_EQ(b.confidence.size(), n);
   for (size_t i = 0; i < n; ++i) {
     EXPECT_NEAR(b.confidence[i], a.confidence.empty() ? 1.0f : a.confidence[i], 0.5f / 255.0f + 1e-7f) << i;
@@ -509,8 +488,7 @@ TEST(ObjectCloudMessage, RoundTripWithHolesAndTimings) {
     ObjectCloud out = SomeCloud(true);  // stale content must be replaced
     out.timings.push_back({"stale", 1});
     std::string error;
-    ASSERT_TRUE(DecodeObjectCloud(bytes.data(), bytes.size(), &out, &error))
-        << error;
+    ASSERT_TRUE(DecodeObjectCloud(bytes.data(), bytes.size(), &out, &error)) << error;
     ExpectCloudEqual(cloud, out);
   }
 }
@@ -527,8 +505,7 @@ TEST(ObjectCloudMessage, EmptyCloudAndDefaultProvenance) {
   no_provenance.provenance.clear();
   bytes = EncodeObjectCloud(no_provenance);
   ASSERT_TRUE(DecodeObjectCloud(bytes.data(), bytes.size(), &out, &error));
-  EXPECT_EQ(out.provenance,
-            std::vector<Provenance>(100, Provenance::kObserved));
+  EXPECT_EQ(out.provenance, std::vector<Provenance>(100, Provenance::kObserved));
 }
 
 TEST(ObjectCloudMessage, EncodeRejectsInconsistentCloud) {
@@ -546,8 +523,7 @@ TEST(ObjectCloudMessage, RejectsBadContent) {
   ASSERT_GT(msg.decode(good.data(), 0, static_cast<int>(good.size())), 0);
   ObjectCloud out;
   std::string error;
-  auto expect_rejected = [&](const graspfill::object_cloud_t& bad,
-                             const std::string& reason) {
+  auto expect_rejected = [&](const graspfill::object_cloud_t& bad, const std::string& reason) {
     const auto bytes = Encode(bad);
     error.clear();
     EXPECT_FALSE(DecodeObjectCloud(bytes.data(), bytes.size(), &out, &error));
@@ -668,7 +644,8 @@ TEST(ObjectCloudMessage, ATypicalModelFitsTheDefaultReceiveBuffer) {
   cloud.provenance.assign(cloud.points_G.size(), Provenance::kObserved);
   const auto bytes = EncodeObjectCloud(cloud);
   const size_t as_floats = cloud.points_G.size() * (12 + 12 + 1 + 4);
-  std::printf("%zu points: %zu bytes packed, %zu as floats\n", cloud.points_G.size(), bytes.size(), as_floats);
+  std::printf("%zu points: %zu bytes packed, %zu as floats\n", cloud.points_G.size(), bytes.size(),
+              as_floats);
   EXPECT_LT(bytes.size(), 150'000u);
   EXPECT_LT(bytes.size() * 4, as_floats);
 }
@@ -778,8 +755,7 @@ TEST(ModuleStatusMessage, SkipReasonsByName) {
   status.frames_skipped_by_reason.Count(FrameSkipReason::kClawNotSeen, 4);
   graspfill::module_status_t msg;
   const auto bytes = EncodeModuleStatus(status);
-  ASSERT_EQ(msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())),
-            static_cast<int>(bytes.size()));
+  ASSERT_EQ(msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
   ASSERT_EQ(msg.num_skip_reasons, static_cast<int32_t>(kNumFrameSkipReasons) - 1);
   const auto it = std::find(msg.skip_reasons.begin(), msg.skip_reasons.end(), "claw_not_seen");
   ASSERT_NE(it, msg.skip_reasons.end());
@@ -811,11 +787,9 @@ TEST(ModuleStatusMessage, BadMessageReasonsByName) {
   status.bad_messages.by_reason[static_cast<size_t>(MessageError::kBadPose)] = 3;
   graspfill::module_status_t msg;
   const auto bytes = EncodeModuleStatus(status);
-  ASSERT_EQ(msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())),
-            static_cast<int>(bytes.size()));
+  ASSERT_EQ(msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
   ASSERT_EQ(msg.num_bad_message_reasons, static_cast<int32_t>(MessageError::kCount) - 1);
-  const auto it = std::find(msg.bad_message_reasons.begin(), msg.bad_message_reasons.end(),
-                            "bad_pose");
+  const auto it = std::find(msg.bad_message_reasons.begin(), msg.bad_message_reasons.end(), "bad_pose");
   ASSERT_NE(it, msg.bad_message_reasons.end());
   EXPECT_EQ(msg.bad_messages[static_cast<size_t>(it - msg.bad_message_reasons.begin())], 3);
 
@@ -909,8 +883,7 @@ SessionDescription SomeSession() {
   s.claw_mesh_root = "/opt/meshes";
   s.T_C_B = SomePose();
   s.intrinsics = CameraIntrinsics{320, 240, 290.5, 291.25, 160.5, 119.0};
-  s.workspace_G = Eigen::AlignedBox3d(Eigen::Vector3d(-0.05, -0.06, 0.004),
-                                      Eigen::Vector3d(0.05, 0.06, 0.2));
+  s.workspace_G = Eigen::AlignedBox3d(Eigen::Vector3d(-0.05, -0.06, 0.004), Eigen::Vector3d(0.05, 0.06, 0.2));
   s.voxel_m = 0.002;
   return s;
 }
@@ -966,8 +939,7 @@ TEST(SessionDescriptionMessage, WireFormatIsTheGeneratedType) {
   const SessionDescription in = SomeSession();
   const auto bytes = EncodeSessionDescription(in);
   graspfill::session_description_t msg;
-  ASSERT_EQ(msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())),
-            static_cast<int>(bytes.size()));
+  ASSERT_EQ(msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
   // int8_t{...}: lcm-gen's constants have no definition to bind to.
   EXPECT_EQ(msg.claw_kind, int8_t{graspfill::session_description_t::CLAW_DESCRIPTION});
   EXPECT_EQ(msg.claw_name, "franka_hand");
@@ -1085,9 +1057,8 @@ TEST(SessionDescriptionMessage, RejectsBadContent) {
 // written to. It is a name: the decoder refuses anything else, with its
 // own reason.
 TEST(SessionDescriptionMessage, ClawNamesAreNamesNotPaths) {
-  for (const std::string& bad : std::vector<std::string>{"../../victim", "/tmp/victim", "a/b", "..",
-                                                         ".", "a\\b", "tab\there",
-                                                         std::string(257, 'x')}) {
+  for (const std::string& bad : std::vector<std::string>{"../../victim", "/tmp/victim", "a/b", "..", ".",
+                                                         "a\\b", "tab\there", std::string(257, 'x')}) {
     SCOPED_TRACE(bad);
     EXPECT_FALSE(IsPlainClawName(bad));
     graspfill::session_description_t msg{};
@@ -1106,9 +1077,8 @@ TEST(SessionDescriptionMessage, ClawNamesAreNamesNotPaths) {
     session.claw_name = bad;
     EXPECT_THROW(EncodeSessionDescription(session), std::invalid_argument);
   }
-  for (const std::string& good : std::vector<std::string>{"franka_hand", "Robotiq 3F v2",
-                                                          "three-finger", "a..b", "x.json",
-                                                          std::string(256, 'x')}) {
+  for (const std::string& good : std::vector<std::string>{"franka_hand", "Robotiq 3F v2", "three-finger",
+                                                          "a..b", "x.json", std::string(256, 'x')}) {
     EXPECT_TRUE(IsPlainClawName(good)) << good;
   }
   EXPECT_STREQ(MessageErrorName(MessageError::kBadClawName), "bad_claw_name");
@@ -1133,8 +1103,7 @@ TEST(SessionDescriptionMessage, WithinLimitsIsTheConfigFilesRange) {
   s.voxel_m = kMaxVoxelM;
   EXPECT_TRUE(SessionWithinLimits(s, &why)) << why;
   s = SomeSession();
-  s.workspace_G =
-      Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-1e300), Eigen::Vector3d::Constant(1e300));
+  s.workspace_G = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-1e300), Eigen::Vector3d::Constant(1e300));
   EXPECT_FALSE(SessionWithinLimits(s, &why));
   EXPECT_NE(why.find("workspace box with x -1e+300 m, outside -2..2 m"), std::string::npos) << why;
   s.workspace_G = Eigen::AlignedBox3d(Eigen::Vector3d(-2, -2, -2), Eigen::Vector3d(2, 2, 2.0001));
@@ -1169,8 +1138,8 @@ TEST(SessionDescriptionMessage, RejectsMalformedBytes) {
     EXPECT_NE(error.find("malformed"), std::string::npos) << error;
   }
   // The claw text's length, after version, kind and name.
-  const size_t text_length_offset = kVersionLengthOffset + 4 + SomeSession().software_version.size() +
-                                    1 + 1 + 4 + SomeSession().claw_name.size() + 1;
+  const size_t text_length_offset = kVersionLengthOffset + 4 + SomeSession().software_version.size() + 1 + 1 +
+                                    4 + SomeSession().claw_name.size() + 1;
   auto bad = bytes;
   PokeInt32(&bad, text_length_offset, 0x7ffffff0u);
   EXPECT_FALSE(DecodeSessionDescription(bad.data(), bad.size(), &out, &error));
@@ -1194,8 +1163,7 @@ TEST(SessionDescriptionMessage, ChannelNameDefault) {
 namespace graspfill::io {
 namespace {
 
-std::vector<uint8_t> DepthWith(double fx, double fy, double cx, double cy, double scale,
-                               int64_t utime) {
+std::vector<uint8_t> DepthWith(double fx, double fy, double cx, double cy, double scale, int64_t utime) {
   graspfill::depth_image_t msg{};
   msg.utime = utime;
   msg.width = 4;
@@ -1229,8 +1197,7 @@ TEST(DepthImageMessage, IntrinsicsOutOfRangeAreRejectedWithAReason) {
                         Case{500, 500, 2, -1e308}, Case{0.5, 500, 2, 1}, Case{500, 2e5, 2, 1},
                         Case{500, 500, 9, 1}, Case{500, 500, 2, std::nan("")}}) {
     const auto bytes = DepthWith(c.fx, c.fy, c.cx, c.cy, 0.001, 10);
-    EXPECT_FALSE(DecodeDepthImage(bytes.data(), bytes.size(), &out, &error, &reason))
-        << c.fx << " " << c.cx;
+    EXPECT_FALSE(DecodeDepthImage(bytes.data(), bytes.size(), &out, &error, &reason)) << c.fx << " " << c.cx;
     EXPECT_EQ(reason, MessageError::kBadIntrinsics) << error;
     EXPECT_NE(error.find("bad intrinsics"), std::string::npos) << error;
   }
@@ -1259,22 +1226,22 @@ TEST(GripperStateMessage, UtimeOutOfRangeIsRejected) {
   for (int64_t utime : {INT64_MIN, int64_t{-5}, INT64_MAX}) {
     state.utime = utime;
     const auto bytes = EncodeGripperState(state);
-    EXPECT_FALSE(DecodeGripperState(bytes.data(), bytes.size(), Eigen::Isometry3d::Identity(), &out,
-                                    &error, &reason));
+    EXPECT_FALSE(
+        DecodeGripperState(bytes.data(), bytes.size(), Eigen::Isometry3d::Identity(), &out, &error, &reason));
     EXPECT_EQ(reason, MessageError::kBadTimestamp) << error;
   }
   state.utime = 1700000000000000;
   const auto bytes = EncodeGripperState(state);
-  EXPECT_TRUE(DecodeGripperState(bytes.data(), bytes.size(), Eigen::Isometry3d::Identity(), &out,
-                                 &error, &reason));
+  EXPECT_TRUE(
+      DecodeGripperState(bytes.data(), bytes.size(), Eigen::Isometry3d::Identity(), &out, &error, &reason));
   EXPECT_EQ(out.utime, state.utime);
   graspfill::gripper_state_t msg{};
   ASSERT_GT(msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())), 0);
   msg.orientation[0] = 2.0;
   std::vector<uint8_t> bad(static_cast<size_t>(msg.getEncodedSize()));
   msg.encode(bad.data(), 0, static_cast<int>(bad.size()));
-  EXPECT_FALSE(DecodeGripperState(bad.data(), bad.size(), Eigen::Isometry3d::Identity(), &out,
-                                  &error, &reason));
+  EXPECT_FALSE(
+      DecodeGripperState(bad.data(), bad.size(), Eigen::Isometry3d::Identity(), &out, &error, &reason));
   EXPECT_EQ(reason, MessageError::kBadPose);
 }
 

@@ -49,8 +49,7 @@ TEST_F(OutputPathTest, NewFileInAWritableFolderIsFineAndLeavesNothing) {
 TEST_F(OutputPathTest, ExistingFileNeedsForce) {
   std::ofstream(Path("old.ply")) << "precious";
   const std::string error = ErrorOf([&] { CheckOutputFile(Path("old.ply"), false); });
-  EXPECT_NE(error.find("'" + Path("old.ply") + "' exists; pass --force"), std::string::npos)
-      << error;
+  EXPECT_NE(error.find("'" + Path("old.ply") + "' exists; pass --force"), std::string::npos) << error;
   EXPECT_EQ(ErrorOf([&] { CheckOutputFile(Path("old.ply"), true); }), "");
 }
 
@@ -67,20 +66,19 @@ TEST_F(OutputPathTest, SymlinksNeedForceEvenDangling) {
 }
 
 TEST_F(OutputPathTest, UnwritablePlacesAreRefusedWithTheReason) {
-  EXPECT_NE(ErrorOf([&] { CheckOutputFile(Path("missing/x.ply"), true); })
-                .find("folder '" + Path("missing") + "' does not exist"),
+  EXPECT_NE(ErrorOf([&] {
+              CheckOutputFile(Path("missing/x.ply"), true);
+            }).find("folder '" + Path("missing") + "' does not exist"),
             std::string::npos);
   std::ofstream(Path("file")) << "x";
   EXPECT_NE(ErrorOf([&] { CheckOutputFile(Path("file/x.ply"), true); }).find("is not a folder"),
             std::string::npos);
   fs::create_directories(Path("folder"));
-  EXPECT_NE(ErrorOf([&] { CheckOutputFile(Path("folder"), true); }).find("is a folder"),
-            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { CheckOutputFile(Path("folder"), true); }).find("is a folder"), std::string::npos);
   // /proc takes no new files, not even from root (a read-only folder would
   // not stop root): the system's reason is in the message.
   const std::string proc = ErrorOf([&] { CheckOutputFile("/proc/graspfill.ply", false); });
-  EXPECT_NE(proc.find("'/proc/graspfill.ply' cannot be written: folder '/proc': "),
-            std::string::npos)
+  EXPECT_NE(proc.find("'/proc/graspfill.ply' cannot be written: folder '/proc': "), std::string::npos)
       << proc;
   EXPECT_EQ(ErrorOf([&] { CheckOutputFile("", true); }), "empty output path");
 }
@@ -92,7 +90,8 @@ TEST_F(OutputPathTest, FifosAndDevicesAreRefusedEvenWithForce) {
   for (const bool force : {false, true}) {
     const std::string error = ErrorOf([&] { CheckOutputFile(Path("fifo"), force); });
     EXPECT_NE(error.find("'" + Path("fifo") + "' is a FIFO (named pipe), not a regular file"),
-              std::string::npos) << error;
+              std::string::npos)
+        << error;
     // /dev/null itself is only looked at here, never written.
     EXPECT_NE(ErrorOf([&] { CheckOutputFile("/dev/null", force); }).find("is a character device"),
               std::string::npos);
@@ -102,8 +101,9 @@ TEST_F(OutputPathTest, FifosAndDevicesAreRefusedEvenWithForce) {
   fs::create_symlink("/dev/null", Path("to_null.ply"));
   EXPECT_NE(ErrorOf([&] { CheckOutputFile(Path("to_fifo.ply"), true); }).find("which is a FIFO"),
             std::string::npos);
-  EXPECT_NE(ErrorOf([&] { CheckOutputFile(Path("to_null.ply"), true); })
-                .find("points to '/dev/null', which is a character device"),
+  EXPECT_NE(ErrorOf([&] {
+              CheckOutputFile(Path("to_null.ply"), true);
+            }).find("points to '/dev/null', which is a character device"),
             std::string::npos);
 }
 

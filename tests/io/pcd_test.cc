@@ -7,13 +7,13 @@
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <open3d/geometry/PointCloud.h>
 #include <open3d/io/PointCloudIO.h>
 #include <open3d/t/geometry/PointCloud.h>
 #include <open3d/t/io/PointCloudIO.h>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <sstream>
 #include <stdexcept>
 
@@ -51,7 +51,8 @@ ObjectCloud ThreeKinds() {
   c.confidence = {1.0f, 0.6f, 0.75f};
   c.utime = 1234567;
   c.seq = 9;
-  c.T_C_G = Eigen::Translation3d(0.1, -0.2, 0.6) * Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized());
+  c.T_C_G =
+      Eigen::Translation3d(0.1, -0.2, 0.6) * Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized());
   return c;
 }
 
@@ -128,7 +129,8 @@ TEST_F(PcdTest, SameCloudSameBytesAndAnEmptyCloudIsAFile) {
   WriteCloudPcd(Path("empty.pcd"), ObjectCloud{});
   const std::string empty = Bytes(Path("empty.pcd"));
   EXPECT_NE(empty.find("\nWIDTH 0\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 0\nDATA binary\n"),
-            std::string::npos) << empty;
+            std::string::npos)
+      << empty;
   EXPECT_EQ(empty.back(), '\n');
 }
 
@@ -139,7 +141,8 @@ TEST_F(PcdTest, FieldsNotOnePerPointAreRefusedAndNothingIsWritten) {
     WriteCloudPcd(Path("bad.pcd"), c);
     ADD_FAILURE() << "accepted";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("confidence: not one value per point"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("confidence: not one value per point"), std::string::npos)
+        << e.what();
   }
   EXPECT_FALSE(fs::exists(Path("bad.pcd")));
 }

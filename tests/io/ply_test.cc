@@ -32,8 +32,7 @@ class PlyIoTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::path(GRASPFILL_BINARY_DIR) / "test_tmp" / "io_ply" /
-           info->name();
+    dir_ = fs::path(GRASPFILL_BINARY_DIR) / "test_tmp" / "io_ply" / info->name();
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -56,9 +55,7 @@ ObjectCloud SomeCloud(bool normals) {
   cloud.utime = 1700000000000001;
   cloud.seq = 42;
   cloud.frame_name = "gripper";
-  cloud.T_C_G.linear() =
-      Eigen::AngleAxisd(0.3, Eigen::Vector3d(0, 1, 1).normalized())
-          .toRotationMatrix();
+  cloud.T_C_G.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d(0, 1, 1).normalized()).toRotationMatrix();
   cloud.T_C_G.translation() = Eigen::Vector3d(0.01, 0.2, 0.9);
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> coord(-0.1f, 0.1f);
@@ -101,8 +98,7 @@ TEST_F(PlyIoTest, CloudWithoutNormalsOrProvenance) {
   const ObjectCloud back = ReadCloudPly(Path("bare.ply"));
   EXPECT_EQ(back.points_G, cloud.points_G);
   EXPECT_TRUE(back.normals_G.empty());
-  EXPECT_EQ(back.provenance,
-            std::vector<Provenance>(257, Provenance::kObserved));
+  EXPECT_EQ(back.provenance, std::vector<Provenance>(257, Provenance::kObserved));
 }
 
 TEST_F(PlyIoTest, ConfidenceRoundTripsAndIsChecked) {
@@ -145,7 +141,8 @@ TEST_F(PlyIoTest, ColoursByProvenanceAndVersionComment) {
   const std::string bytes = ReadBytes(Path("rgb.ply"));
   const std::string header = bytes.substr(0, bytes.find("end_header\n"));
   EXPECT_NE(header.find("\ncomment graspfill software graspfill " GRASPFILL_PROJECT_VERSION "\n"),
-            std::string::npos) << header;
+            std::string::npos)
+      << header;
 }
 
 TEST_F(PlyIoTest, SameCloudGivesSameBytes) {
@@ -171,8 +168,7 @@ TEST_F(PlyIoTest, ForeignPlyWithoutProvenanceIsObserved) {
   const ObjectCloud back = ReadCloudPly(Path("ascii.ply"));
   ASSERT_EQ(back.size(), 2u);
   EXPECT_EQ(back.points_G[1], Eigen::Vector3f(0.5f, -0.25f, 1.0f));
-  EXPECT_EQ(back.provenance,
-            std::vector<Provenance>(2, Provenance::kObserved));
+  EXPECT_EQ(back.provenance, std::vector<Provenance>(2, Provenance::kObserved));
   EXPECT_EQ(back.frame_name, "gripper");  // ObjectCloud's default
 }
 
@@ -182,8 +178,7 @@ TEST_F(PlyIoTest, ReadErrorsNameThePath) {
     ReadCloudPly(missing);
     FAIL() << "no throw";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find(missing), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find(missing), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("no such file"), std::string::npos);
   }
   WriteText(Path("garbage.ply"), "this is not a ply file\n");
@@ -191,9 +186,7 @@ TEST_F(PlyIoTest, ReadErrorsNameThePath) {
     ReadCloudPly(Path("garbage.ply"));
     FAIL() << "no throw";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find(Path("garbage.ply")),
-              std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find(Path("garbage.ply")), std::string::npos) << e.what();
   }
   WriteText(Path("badprov.ply"),
             "ply\nformat ascii 1.0\nelement vertex 1\n"
@@ -230,8 +223,7 @@ TEST_F(PlyIoTest, FullDiskKeepsThePreviousFileAndNamesTheReason) {
       error = e.what();
     }
   }
-  EXPECT_NE(error.find("cannot write PLY '" + Path("cloud.ply") + "'"), std::string::npos)
-      << error;
+  EXPECT_NE(error.find("cannot write PLY '" + Path("cloud.ply") + "'"), std::string::npos) << error;
   EXPECT_NE(error.find(std::strerror(EFBIG)), std::string::npos) << error;
   EXPECT_EQ(ReadBytes(Path("cloud.ply")), "the previous good cloud");
   EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1)
@@ -263,8 +255,7 @@ TEST_F(PlyIoTest, MeshRoundTrip) {
 }
 
 TEST_F(PlyIoTest, ReadsObjAndStl) {
-  WriteText(Path("quad.obj"),
-            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n");
+  WriteText(Path("quad.obj"), "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n");
   const TriangleMesh obj = ReadMesh(Path("quad.obj"));
   EXPECT_EQ(obj.triangles.size(), 2u);
   EXPECT_GE(obj.vertices.size(), 4u);
@@ -287,16 +278,14 @@ TEST_F(PlyIoTest, ReadMeshErrors) {
     ReadMesh(missing);
     FAIL() << "no throw";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find(missing), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find(missing), std::string::npos) << e.what();
   }
   WriteMeshPly(Path("empty.ply"), TriangleMesh{});
   try {
     ReadMesh(Path("empty.ply"));
     FAIL() << "no throw";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find(Path("empty.ply")), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find(Path("empty.ply")), std::string::npos) << e.what();
   }
   WriteText(Path("garbage.obj"), "\x01\x02 not a mesh");
   EXPECT_THROW(ReadMesh(Path("garbage.obj")), std::runtime_error);
@@ -408,8 +397,7 @@ TEST_F(PlyIoTest, MeshPolygonsAreFannedAndBadFacesNamed) {
             "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
             "0 0 0\n1 0 0\n1 1 0\n3 0 1 7\n");
   const std::string error = ErrorOf([&] { ReadMesh(Path("badindex.ply")); });
-  EXPECT_NE(error.find("face 0, property 'vertex_indices': vertex index 7 out of range"),
-            std::string::npos)
+  EXPECT_NE(error.find("face 0, property 'vertex_indices': vertex index 7 out of range"), std::string::npos)
       << error;
 }
 

@@ -33,8 +33,7 @@ ObjectCloud SampledCloud(synth::Shape shape, const Eigen::Vector3d& size_m, int 
 class SphereMesh : public ::testing::Test {
  protected:
   static constexpr double kRadius = 0.03;
-  ObjectCloud cloud_ = SampledCloud(synth::Shape::kSphere, Eigen::Vector3d::Constant(2 * kRadius),
-                                    11000);
+  ObjectCloud cloud_ = SampledCloud(synth::Shape::kSphere, Eigen::Vector3d::Constant(2 * kRadius), 11000);
   // The sphere's centre: MakeShape puts the object's base at z = 0.
   Eigen::Vector3f centre_{0.0f, 0.0f, static_cast<float>(kRadius)};
 

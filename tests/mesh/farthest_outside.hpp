@@ -23,9 +23,9 @@ inline double FarthestOutside(const TriangleMesh& m, const std::vector<Eigen::Ve
     if (mesh::WindingNumber(m, p) > 0.5) continue;
     double d = std::numeric_limits<double>::infinity();
     for (const Eigen::Vector3i& t : m.triangles) {
-      d = std::min(d, mesh::PointTriangleDistance(p, m.vertices[t[0]].cast<double>(),
-                                                   m.vertices[t[1]].cast<double>(),
-                                                   m.vertices[t[2]].cast<double>()));
+      d = std::min(
+          d, mesh::PointTriangleDistance(p, m.vertices[t[0]].cast<double>(), m.vertices[t[1]].cast<double>(),
+                                         m.vertices[t[2]].cast<double>()));
     }
     worst = std::max(worst, d);
   }

@@ -25,10 +25,11 @@ int main(int argc, char** argv) {
     const bool watertight = graspfill::testing::Open3dWatertight(mesh, true);
     const graspfill::mesh::OutsideDeviation d =
         graspfill::mesh::SummarizeOutside(graspfill::mesh::OutsideDistances(mesh, cloud.points_G));
-    std::printf("{\"triangles\": %zu, \"watertight\": %s, \"points\": %zu, \"points_outside\": %lld, "
-                "\"outside_p99_mm\": %.3f, \"outside_max_mm\": %.3f}\n",
-                mesh.triangles.size(), watertight ? "true" : "false", cloud.size(),
-                static_cast<long long>(d.points_outside), d.p99_m * 1e3, d.max_m * 1e3);
+    std::printf(
+        "{\"triangles\": %zu, \"watertight\": %s, \"points\": %zu, \"points_outside\": %lld, "
+        "\"outside_p99_mm\": %.3f, \"outside_max_mm\": %.3f}\n",
+        mesh.triangles.size(), watertight ? "true" : "false", cloud.size(),
+        static_cast<long long>(d.points_outside), d.p99_m * 1e3, d.max_m * 1e3);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "mesh_containment: %s\n", e.what());
     return 1;

@@ -12,8 +12,8 @@
 #include <utility>
 #include <vector>
 
-#include "graspfill/mesh/mesh_geometry.hpp"
 #include "farthest_outside.hpp"
+#include "graspfill/mesh/mesh_geometry.hpp"
 #include "open3d_watertight.hpp"
 
 namespace graspfill::mesh {
@@ -42,7 +42,8 @@ TriangleMesh GroovedTorus() {
 // Farthest distance of `mesh`'s vertices from the sphere of radius r.
 double FarthestFromSphere(const TriangleMesh& mesh, double r) {
   double farthest = 0.0;
-  for (const Eigen::Vector3f& v : mesh.vertices) farthest = std::max(farthest, std::abs(v.cast<double>().norm() - r));
+  for (const Eigen::Vector3f& v : mesh.vertices)
+    farthest = std::max(farthest, std::abs(v.cast<double>().norm() - r));
   return farthest;
 }
 

@@ -107,7 +107,8 @@ TEST(PlannerMesh, ConvexHullHoldsEveryPointAndIsConvex) {
   for (const Eigen::Vector3i& t : p.mesh.triangles) {
     const Eigen::Vector3d a = p.mesh.vertices[t[0]].cast<double>();
     const Eigen::Vector3d n = (p.mesh.vertices[t[1]].cast<double>() - a)
-                                  .cross(p.mesh.vertices[t[2]].cast<double>() - a).normalized();
+                                  .cross(p.mesh.vertices[t[2]].cast<double>() - a)
+                                  .normalized();
     for (const Eigen::Vector3f& v : p.mesh.vertices) ASSERT_LT(n.dot(v.cast<double>() - a), 1e-6);
   }
 }

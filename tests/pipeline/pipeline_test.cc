@@ -46,7 +46,7 @@ TEST_F(PipelineTest, FramesFusedOffThePredictionAreNoKeyFrames) {
     return pipeline.visibility().size();
   };
   const size_t all_at_prediction = key_frames(1.0, 180.0);
-  EXPECT_GE(all_at_prediction, 3u);  // 40 frames at 1.5 rad/s: 115 deg, a key frame every 12
+  EXPECT_GE(all_at_prediction, 3u);       // 40 frames at 1.5 rad/s: 115 deg, a key frame every 12
   EXPECT_EQ(key_frames(1e-9, 1e-9), 0u);  // every registration moves the pose a little
   EXPECT_GE(key_frames(0.0, 0.0) + 1, all_at_prediction);  // the same views, within a pose jitter
 }
@@ -169,9 +169,9 @@ TEST_F(PipelineTest, EverySkippedFrameComesBackWithItsReason) {
 
   const FrameSkipCounts& skipped = pipeline.stats().skipped;
   EXPECT_EQ(skipped.total(), 5);
-  for (FrameSkipReason r : {FrameSkipReason::kBadFrame, FrameSkipReason::kPendingFull,
-                            FrameSkipReason::kPoseGap, FrameSkipReason::kNoPoseBefore,
-                            FrameSkipReason::kNoPoseAfter}) {
+  for (FrameSkipReason r :
+       {FrameSkipReason::kBadFrame, FrameSkipReason::kPendingFull, FrameSkipReason::kPoseGap,
+        FrameSkipReason::kNoPoseBefore, FrameSkipReason::kNoPoseAfter}) {
     EXPECT_EQ(skipped[r], 1) << FrameSkipReasonName(r);
   }
   EXPECT_EQ(pipeline.stats().frames_skipped_no_pose, 3);

@@ -14,7 +14,7 @@ namespace graspfill {
 
 constexpr double kRadiusM = 0.035;
 inline const Eigen::Vector3d kCentreG(0.0, 0.0, 0.045);  // top 1 cm below the palm
-constexpr double kOpeningM = 0.0355;              // fingers touch the equator... roughly
+constexpr double kOpeningM = 0.0355;                     // fingers touch the equator... roughly
 
 inline claw::ClawModel Claw() { return claw::ClawModel::ThreeFinger(); }
 
@@ -23,7 +23,8 @@ inline Eigen::Isometry3d T_C_G_at(double t_s) {
   Eigen::Isometry3d T_W_G = Eigen::Isometry3d::Identity();
   // World: camera looks along +x_W, z_W up. The gripper's z points down.
   T_W_G.linear() = (Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()) *
-                    Eigen::AngleAxisd(1.5 * t_s, Eigen::Vector3d::UnitZ())).toRotationMatrix();
+                    Eigen::AngleAxisd(1.5 * t_s, Eigen::Vector3d::UnitZ()))
+                       .toRotationMatrix();
   T_W_G.translation() = Eigen::Vector3d(0.55, 0.0, 0.20);
   // Camera 15 cm below the object centre, looking at it (slightly upward).
   const Eigen::Vector3d eye(0.0, 0.0, 0.0);
@@ -55,8 +56,7 @@ inline DepthFrame Render(const Raycaster& claw_G, const Eigen::Isometry3d& T_C_G
       const Eigen::Vector3d ray((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
       double z = 1.5;  // background wall, outside the workspace
       const double a = ray.squaredNorm(), b = -2.0 * ray.dot(c_C);
-      const double disc =
-          b * b - 4 * a * (c_C.squaredNorm() - sphere_radius_m * sphere_radius_m);
+      const double disc = b * b - 4 * a * (c_C.squaredNorm() - sphere_radius_m * sphere_radius_m);
       if (sphere_radius_m > 0 && disc >= 0) z = std::min(z, (-b - std::sqrt(disc)) / (2 * a));
       const Eigen::Vector3d dir_G = (T_G_C.linear() * ray.normalized());
       const RayHit hit = claw_G.Cast(T_G_C.translation().cast<float>(), dir_G.cast<float>());

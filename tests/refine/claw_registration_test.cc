@@ -110,7 +110,8 @@ TEST_F(ClawRegistrationTest, MatchesOpen3DsICPOnTheSameFrames) {
     source = *source.UniformDownSample(source.points_.size() / 1500);
     start = std::chrono::steady_clock::now();
     Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
-    const auto estimation = reg::TransformationEstimationPointToPlane(std::make_shared<reg::HuberLoss>(0.0015));
+    const auto estimation =
+        reg::TransformationEstimationPointToPlane(std::make_shared<reg::HuberLoss>(0.0015));
     for (double gate = gate0; gate > 0.004; gate *= 0.6) {
       T = reg::RegistrationICP(source, model, gate, T, estimation, reg::ICPConvergenceCriteria(1e-9, 1e-9, 1))
               .transformation_;

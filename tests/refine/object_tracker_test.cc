@@ -83,9 +83,9 @@ TEST_F(ObjectTrackerTest, FindsTheSlip) {
             TrackOutcome::kTracked);
   const Eigen::Vector3d d = scene_.slip().Displacement_G();
   const Eigen::Vector3d found = tracker.S_G().translation();
-  std::printf("slip %.3f %.3f %.3f mm, found %.3f %.3f %.3f mm, %d matches, rms %.3f mm\n",
-              1000 * d.x(), 1000 * d.y(), 1000 * d.z(), 1000 * found.x(), 1000 * found.y(),
-              1000 * found.z(), tracker.last_matches(), 1000 * tracker.last_rms_m());
+  std::printf("slip %.3f %.3f %.3f mm, found %.3f %.3f %.3f mm, %d matches, rms %.3f mm\n", 1000 * d.x(),
+              1000 * d.y(), 1000 * d.z(), 1000 * found.x(), 1000 * found.y(), 1000 * found.z(),
+              tracker.last_matches(), 1000 * tracker.last_rms_m());
   EXPECT_LT((found - d).norm(), 0.0002);
   EXPECT_TRUE(tracker.S_G().linear().isIdentity(1e-12));  // a shift only, by default
   EXPECT_EQ(tracker.stats().frames_tracked, 1);
@@ -108,8 +108,7 @@ TEST_F(ObjectTrackerTest, RejectsAndCountsWhatItCannotTrust) {
   config.max_step_m = 0.002;  // below the 3 mm slip
   ObjectTracker tracker(config);
   tracker.SetModel(points_, normals_);
-  EXPECT_EQ(tracker.Track(ObjectPixels(scene_, renderer_, last()), TrueT_C_G(last())),
-            TrackOutcome::kJump);
+  EXPECT_EQ(tracker.Track(ObjectPixels(scene_, renderer_, last()), TrueT_C_G(last())), TrackOutcome::kJump);
   EXPECT_TRUE(tracker.S_G().isApprox(Eigen::Isometry3d::Identity()));
   DepthFrame empty = ObjectPixels(scene_, renderer_, 0);
   std::fill(empty.depth_m.begin(), empty.depth_m.end(), 0.0f);
@@ -183,10 +182,10 @@ TEST_F(ObjectTrackerTest, Open3DRegistrationFindsTheSameSlip) {
   }
   ours_ms /= runs;
   const double ours_miss = (tracker.S_G().translation() - d).norm();
-  std::printf("3 mm slip, %zu object points: Open3D point-to-plane ICP %.3f mm off in %.2f ms "
-              "(its KD-tree of %zu model points included), ours %.3f mm off in %.2f ms\n",
-              source.points_.size(), 1000 * open3d_miss, open3d_ms, target.points_.size(),
-              1000 * ours_miss, ours_ms);
+  std::printf(
+      "3 mm slip, %zu object points: Open3D point-to-plane ICP %.3f mm off in %.2f ms "
+      "(its KD-tree of %zu model points included), ours %.3f mm off in %.2f ms\n",
+      source.points_.size(), 1000 * open3d_miss, open3d_ms, target.points_.size(), 1000 * ours_miss, ours_ms);
   EXPECT_LT(open3d_miss, 0.0005);
   EXPECT_LT(ours_miss, 0.0002);
 }

@@ -62,7 +62,7 @@ TEST_F(PoseRefinerTest, FindsTheHandEyeErrorAndFusesAtTheTruePose) {
     worst_logged = std::max(worst_logged, ClawOffsetM(logged, truth));
     worst_refined = std::max(worst_refined, ClawOffsetM(refined, truth));
   }
-  EXPECT_GT(worst_logged, 0.006);   // the error is there...
+  EXPECT_GT(worst_logged, 0.006);    // the error is there...
   EXPECT_LT(worst_refined, 0.0005);  // ...and gone
   // The hand-eye correction undoes E at the claw.
   const Eigen::Isometry3d H = refiner_.HandEyeCorrection();
@@ -80,10 +80,9 @@ TEST_F(PoseRefinerTest, RejectsAndCountsFramesItCannotTrust) {
     Eigen::Isometry3d refined;
     ASSERT_EQ(refiner_.Refine(RenderFrame(raycaster_, truth, 0.001, k), Logged(truth, &rng), &refined),
               RefineOutcome::kRefined)
-        << "frame " << k << ": " << RegistrationStatusName(refiner_.last_registration().status)
-        << " after " << refiner_.last_registration().iterations << " iterations, rms "
-        << refiner_.last_registration().rms_m << " m, " << refiner_.last_registration().matches
-        << " matches";
+        << "frame " << k << ": " << RegistrationStatusName(refiner_.last_registration().status) << " after "
+        << refiner_.last_registration().iterations << " iterations, rms "
+        << refiner_.last_registration().rms_m << " m, " << refiner_.last_registration().matches << " matches";
   }
   const Eigen::Isometry3d truth = TrueT_C_G(3.2);
   const Eigen::Isometry3d logged = Logged(truth, &rng);
@@ -105,7 +104,8 @@ TEST_F(PoseRefinerTest, RejectsAndCountsFramesItCannotTrust) {
   EXPECT_TRUE(refined.isApprox(Eigen::Isometry3d::Identity()));  // untouched
   EXPECT_EQ(refiner_.stats().rejected(), 3);
   EXPECT_EQ(refiner_.stats().rejected_claw_not_seen + refiner_.stats().rejected_jump +
-                refiner_.stats().rejected_not_converged, 3);
+                refiner_.stats().rejected_not_converged,
+            3);
   // The estimate survived them: the next good frame refines.
   EXPECT_EQ(refiner_.Refine(RenderFrame(raycaster_, truth, 0.001, 53), logged, &refined),
             RefineOutcome::kRefined);

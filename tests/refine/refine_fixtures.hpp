@@ -36,8 +36,8 @@ inline Eigen::Isometry3d TrueT_C_G(double theta_rad) {
 
 /// Depth of claw + sphere + a wall at 1.2 m, noise `sigma_m` (seeded).
 /// `with_claw` false renders the sphere and wall only.
-inline DepthFrame RenderFrame(const Raycaster& claw_G, const Eigen::Isometry3d& T_C_G,
-                              double sigma_m, unsigned seed, bool with_claw = true) {
+inline DepthFrame RenderFrame(const Raycaster& claw_G, const Eigen::Isometry3d& T_C_G, double sigma_m,
+                              unsigned seed, bool with_claw = true) {
   DepthFrame f;
   const CameraIntrinsics& K = f.intrinsics;
   f.depth_m.assign(static_cast<size_t>(K.width) * K.height, 0.0f);

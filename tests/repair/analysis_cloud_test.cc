@@ -39,16 +39,16 @@ TEST(AnalysisCloud, SameVoxelsAsOpen3dAndTiming) {
   const Eigen::Vector3f origin = box.min() - Eigen::Vector3f::Constant(0.5f * voxel);
   std::vector<VoxelMember> members(points.size());
   size_t own_voxels = 0;
-  const double own_ms =
-      BestOf3CpuMs([&] { own_voxels = GroupByVoxel(points, origin, voxel, &members); });
+  const double own_ms = BestOf3CpuMs([&] { own_voxels = GroupByVoxel(points, origin, voxel, &members); });
 
   open3d::geometry::PointCloud cloud;
   for (const Eigen::Vector3f& p : points) cloud.points_.push_back(p.cast<double>());
   std::shared_ptr<open3d::geometry::PointCloud> reduced;
   const double o3d_ms = BestOf3CpuMs([&] { reduced = cloud.VoxelDownSample(voxel); });
-  std::printf("voxel grouping of %zu points at %.1f mm: own %.1f ms, Open3D %.1f ms; "
-              "%zu vs %zu voxels\n",
-              points.size(), 1e3 * voxel, own_ms, o3d_ms, own_voxels, reduced->points_.size());
+  std::printf(
+      "voxel grouping of %zu points at %.1f mm: own %.1f ms, Open3D %.1f ms; "
+      "%zu vs %zu voxels\n",
+      points.size(), 1e3 * voxel, own_ms, o3d_ms, own_voxels, reduced->points_.size());
   EXPECT_EQ(own_voxels, reduced->points_.size());
   // Own centroids, then each matched to Open3D's (exact up to rounding;
   // a point on a voxel face may fall either way in float vs double).
@@ -80,8 +80,7 @@ TEST(AnalysisCloud, ReducesToAboutTheTargetAndMapsEveryPoint) {
   const NeighborIndex index(points);
   const AnalysisCloud a = MakeAnalysisCloud(index, AnalysisConfig{});
   ASSERT_TRUE(a.reduced());
-  std::printf("%zu points -> %zu centroids at %.2f mm\n", points.size(), a.points.size(),
-              1e3 * a.voxel_m);
+  std::printf("%zu points -> %zu centroids at %.2f mm\n", points.size(), a.points.size(), 1e3 * a.voxel_m);
   EXPECT_GT(a.points.size(), 0.5 * AnalysisConfig{}.target_points);
   EXPECT_LT(a.points.size(), 1.5 * AnalysisConfig{}.target_points);
   ASSERT_EQ(a.voxel_of.size(), points.size());

@@ -44,8 +44,7 @@ Fixture Make(Shape shape, GraspWay grasp, bool random_pose = false, uint64_t see
   f.cloud = synth::MakePaperProtocolCloud(config);
   f.holes = testing::HolesOf(config, f.cloud.size_m);
   f.points_O = testing::Transformed(f.cloud.holey, f.cloud.T_cloud_object.inverse());
-  f.lines =
-      testing::OrderedLines(f.points_O, testing::OracleBoundary(f.points_O, f.holes), f.holes);
+  f.lines = testing::OrderedLines(f.points_O, testing::OracleBoundary(f.points_O, f.holes), f.holes);
   for (const Eigen::Vector3d& c : f.cloud.claw_hole_centres) {
     f.hole_centres_O.push_back(f.cloud.T_cloud_object.inverse() * c);
   }
@@ -60,9 +59,8 @@ Eigen::Vector3d Centroid(const HoleBoundary& b) {
 
 // One missing surface first, then one claw boundary per hole, each near a
 // different hole centre (centres given in V), with its sides' z span.
-void ExpectOnePerHole(const std::vector<HoleBoundary>& out,
-                      const std::vector<Eigen::Vector3d>& centres_V, double top_z,
-                      const std::string& what) {
+void ExpectOnePerHole(const std::vector<HoleBoundary>& out, const std::vector<Eigen::Vector3d>& centres_V,
+                      double top_z, const std::string& what) {
   ASSERT_EQ(out.size(), 1 + centres_V.size()) << what;
   EXPECT_EQ(out[0].kind, HoleKind::kMissingSurface) << what;
   for (const Eigen::Vector3f& p : out[0].points_V) {
@@ -120,8 +118,8 @@ TEST(ClassifyBoundaries, CylinderTopGraspOneMissingSurfaceThreeClaws) {
 TEST(ClassifyBoundaries, ToleratesAZigZaggingOrder) {
   Fixture f = Make(Shape::kCylinder, GraspWay::kTopStraight);
   testing::JitterOrder(&f.lines[0].indices, 0.4, 7);
-  ExpectOnePerHole(ClassifyBoundaries(f.points_O, f.lines, ClassifyConfig()), f.hole_centres_O,
-                   f.holes.top_z, "jittered");
+  ExpectOnePerHole(ClassifyBoundaries(f.points_O, f.lines, ClassifyConfig()), f.hole_centres_O, f.holes.top_z,
+                   "jittered");
 }
 
 // The paper's middle grasp: three closed claw holes that do not reach the
@@ -161,8 +159,8 @@ TEST(ClassifyBoundaries, JoinsAClawHoleSplitAcrossTwoLines) {
   std::vector<BoundaryLine> split(2);
   split[0].indices.assign(all.begin(), all.begin() + static_cast<long>(cut));
   split[1].indices.assign(all.begin() + static_cast<long>(cut), all.end());
-  ExpectOnePerHole(ClassifyBoundaries(f.points_O, split, ClassifyConfig()), f.hole_centres_O,
-                   f.holes.top_z, "split");
+  ExpectOnePerHole(ClassifyBoundaries(f.points_O, split, ClassifyConfig()), f.hole_centres_O, f.holes.top_z,
+                   "split");
 }
 
 // A closed boundary line drawn round a 40 mm circle, clockwise, one point
@@ -175,8 +173,7 @@ struct CircleLine {
   void Add(double theta_deg, double z, std::vector<int>* tag = nullptr) {
     if (tag) tag->push_back(static_cast<int>(points.size()));
     points.emplace_back(static_cast<float>(kRadius * std::cos(theta_deg * kDeg)),
-                        static_cast<float>(kRadius * std::sin(theta_deg * kDeg)),
-                        static_cast<float>(z));
+                        static_cast<float>(kRadius * std::sin(theta_deg * kDeg)), static_cast<float>(z));
   }
   BoundaryLine Closed() const {
     BoundaryLine line;
@@ -445,8 +442,8 @@ TEST(ClassifyBoundaries, DropsNoiseLines) {
   ASSERT_GT(flat.indices.size(), 50u);
   f.lines.push_back(tiny);
   f.lines.push_back(flat);
-  ExpectOnePerHole(ClassifyBoundaries(f.points_O, f.lines, ClassifyConfig()), f.hole_centres_O,
-                   f.holes.top_z, "noise");
+  ExpectOnePerHole(ClassifyBoundaries(f.points_O, f.lines, ClassifyConfig()), f.hole_centres_O, f.holes.top_z,
+                   "noise");
 }
 
 // With V estimated by step 4 from the cloud in a random pose.
@@ -457,16 +454,16 @@ TEST(ClassifyBoundaries, WithTheEstimatedVirtualFrame) {
       std::vector<int> boundary;
       for (const BoundaryLine& line : f.lines)
         boundary.insert(boundary.end(), line.indices.begin(), line.indices.end());
-      const auto frame = EstimateVirtualFrame(
-          f.cloud.holey, testing::Gather(f.cloud.holey, boundary), VirtualFrameConfig());
+      const auto frame =
+          EstimateVirtualFrame(f.cloud.holey, testing::Gather(f.cloud.holey, boundary), VirtualFrameConfig());
       ASSERT_TRUE(frame.has_value());
       const PointList points_V = ToVirtualFrame(f.cloud.holey, *frame);
       std::vector<Eigen::Vector3d> centres_V;
       for (const Eigen::Vector3d& c : f.cloud.claw_hole_centres)
         centres_V.push_back(frame->T_in_V.inverse() * c);
       const std::string what = synth::ShapeName(shape) + " seed " + std::to_string(seed);
-      ExpectOnePerHole(ClassifyBoundaries(points_V, f.lines, ClassifyConfig()), centres_V,
-                       frame->max_V.z(), what);
+      ExpectOnePerHole(ClassifyBoundaries(points_V, f.lines, ClassifyConfig()), centres_V, frame->max_V.z(),
+                       what);
     }
   }
 }
@@ -486,8 +483,7 @@ TEST(ClassifyBoundaries, Timing) {
   for (int i = 0; i < kRuns; ++i)
     ASSERT_EQ(ClassifyBoundaries(f.points_O, f.lines, ClassifyConfig()).size(), 4u);
   const double cpu_ms = 1000.0 * static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC / kRuns;
-  std::printf("ClassifyBoundaries: %.3f ms CPU (%zu boundary points)\n", cpu_ms,
-              f.lines[0].indices.size());
+  std::printf("ClassifyBoundaries: %.3f ms CPU (%zu boundary points)\n", cpu_ms, f.lines[0].indices.size());
 }
 
 }  // namespace

@@ -38,8 +38,7 @@ PointList EllipseWithGaps(double a, double b, double z, double noise_m,
     if (in_gap) continue;
     auto jitter = [&] { return static_cast<float>(noise_m * (2 * rng.Uniform() - 1)); };
     out.emplace_back(static_cast<float>(a * std::cos(t)) + jitter(),
-                     static_cast<float>(b * std::sin(t)) + jitter(),
-                     static_cast<float>(z) + jitter());
+                     static_cast<float>(b * std::sin(t)) + jitter(), static_cast<float>(z) + jitter());
   }
   return out;
 }
@@ -50,8 +49,7 @@ double DistanceToEllipse(const Eigen::Vector3f& p, double a, double b, double z)
   double best = 1e9;
   for (int i = 0; i < 20000; ++i) {
     const double t = 2 * M_PI * i / 20000;
-    best = std::min(
-        best, (Eigen::Vector3d(a * std::cos(t), b * std::sin(t), z) - p.cast<double>()).norm());
+    best = std::min(best, (Eigen::Vector3d(a * std::cos(t), b * std::sin(t), z) - p.cast<double>()).norm());
   }
   return best;
 }
@@ -78,8 +76,7 @@ TEST(CompletionConfig, DefaultsAreValidAndBadValuesThrow) {
 // A circle with three 40 degree gaps (the claw holes' mouths).
 TEST(RimCurve, CircleWithGapsWithinHalfAMillimetre) {
   const double r = 0.035, z = 0.1288;
-  const PointList points =
-      EllipseWithGaps(r, r, z, 0.0003, {{0.0, 0.35}, {2.09, 0.35}, {-2.09, 0.35}}, 1);
+  const PointList points = EllipseWithGaps(r, r, z, 0.0003, {{0.0, 0.35}, {2.09, 0.35}, {-2.09, 0.35}}, 1);
   std::string why;
   const auto curve = RimCurve::Fit(points, CompletionConfig(), &why);
   ASSERT_TRUE(curve.has_value()) << why;
@@ -90,8 +87,7 @@ TEST(RimCurve, CircleWithGapsWithinHalfAMillimetre) {
 // end of its major axis, where it bends most.
 TEST(RimCurve, EllipseWithGapsWithinHalfAMillimetre) {
   const double a = 0.045, b = 0.03, z = 0.1288;
-  const PointList points =
-      EllipseWithGaps(a, b, z, 0.0003, {{0.0, 0.3}, {2.09, 0.4}, {-2.09, 0.4}}, 2);
+  const PointList points = EllipseWithGaps(a, b, z, 0.0003, {{0.0, 0.3}, {2.09, 0.4}, {-2.09, 0.4}}, 2);
   std::string why;
   const auto curve = RimCurve::Fit(points, CompletionConfig(), &why);
   ASSERT_TRUE(curve.has_value()) << why;
@@ -129,8 +125,8 @@ TEST(RimCurve, ResampleIsUniform) {
 
 TEST(RimCurve, RefusesTooFewOrOneSidedPoints) {
   std::string why;
-  EXPECT_FALSE(RimCurve::Fit({Eigen::Vector3f(0.01f, 0, 0), Eigen::Vector3f(0, 0.01f, 0)},
-                             CompletionConfig(), &why));
+  EXPECT_FALSE(
+      RimCurve::Fit({Eigen::Vector3f(0.01f, 0, 0), Eigen::Vector3f(0, 0.01f, 0)}, CompletionConfig(), &why));
   EXPECT_NE(why.find("points"), std::string::npos);
   // A 60 degree arc around the axis: less than the 90 degrees needed.
   const PointList arc = EllipseWithGaps(0.03, 0.03, 0.1, 0.0, {{M_PI, M_PI - M_PI / 6}}, 5);
@@ -198,8 +194,7 @@ TEST(CompleteBoundaries, ClosesTheClawHolesAlongTheRim) {
   const HoleBoundary& top = c.after[0];
   double worst = 0;
   for (size_t i = 0; i < top.points_V.size(); ++i) {
-    worst = std::max<double>(
-        worst, (top.points_V[(i + 1) % top.points_V.size()] - top.points_V[i]).norm());
+    worst = std::max<double>(worst, (top.points_V[(i + 1) % top.points_V.size()] - top.points_V[i]).norm());
   }
   EXPECT_LT(worst, 0.004);
   // Its added points are the claw holes' mouths, and match the claws'.
@@ -219,8 +214,7 @@ TEST(CompleteBoundaries, EveryShapeTopGraspClosesOnTheTrueRim) {
     config.random_pose = false;
     const synth::PaperProtocolCloud cloud = synth::MakePaperProtocolCloud(config);
     const testing::ProtocolHoles holes = testing::HolesOf(config, cloud.size_m);
-    const auto lines =
-        testing::OrderedLines(cloud.holey, testing::OracleBoundary(cloud.holey, holes), holes);
+    const auto lines = testing::OrderedLines(cloud.holey, testing::OracleBoundary(cloud.holey, holes), holes);
     std::vector<HoleBoundary> boundaries = ClassifyBoundaries(cloud.holey, lines, ClassifyConfig());
     ASSERT_EQ(boundaries.size(), 4u) << synth::ShapeName(shape);
     CompleteBoundaries(&boundaries, CompletionConfig());
@@ -280,31 +274,12 @@ TEST(CompleteBoundaries, ARimSeenOverLessThanHalfATurnStaysNearIt) {
 // them. A curve that strays beyond its points' box grown by its size is
 // no rim: the boundary closes straight.
 TEST(CompleteBoundaries, ARimCurveNeverStraysFromItsPoints) {
-  const double u_mm[][3] = {
-      {25.1, 3.0, 39.9},
-      {25.1, 3.1, 39.7},
-      {26.1, 3.9, 36.6},
-      {26.0, 4.5, 35.6},
-      {26.9, 5.8, 31.4},
-      {26.7, 8.2, 28.9},
-      {26.4, 7.2, 27.8},
-      {26.7, 7.2, 25.8},
-      {27.3, 4.6, 25.7},
-      {27.7, 4.1, 25.7},
-      {28.2, 2.5, 25.6},
-      {28.0, 1.0, 25.6},
-      {27.8, -2.0, 24.2},
-      {27.0, -4.9, 25.9},
-      {26.3, -7.0, 26.0},
-      {25.9, -7.8, 26.1},
-      {25.9, -9.3, 26.1},
-      {25.1, -9.4, 29.3},
-      {25.4, -9.2, 31.1},
-      {25.7, -8.7, 32.3},
-      {26.0, -7.8, 33.7},
-      {26.1, -7.3, 33.7},
-      {25.1, -6.0, 36.2},
-      {25.3, -5.3, 36.9}};
+  const double u_mm[][3] = {{25.1, 3.0, 39.9},  {25.1, 3.1, 39.7},  {26.1, 3.9, 36.6},  {26.0, 4.5, 35.6},
+                            {26.9, 5.8, 31.4},  {26.7, 8.2, 28.9},  {26.4, 7.2, 27.8},  {26.7, 7.2, 25.8},
+                            {27.3, 4.6, 25.7},  {27.7, 4.1, 25.7},  {28.2, 2.5, 25.6},  {28.0, 1.0, 25.6},
+                            {27.8, -2.0, 24.2}, {27.0, -4.9, 25.9}, {26.3, -7.0, 26.0}, {25.9, -7.8, 26.1},
+                            {25.9, -9.3, 26.1}, {25.1, -9.4, 29.3}, {25.4, -9.2, 31.1}, {25.7, -8.7, 32.3},
+                            {26.0, -7.8, 33.7}, {26.1, -7.3, 33.7}, {25.1, -6.0, 36.2}, {25.3, -5.3, 36.9}};
   HoleBoundary rim;
   rim.kind = HoleKind::kMissingSurface;
   Eigen::AlignedBox3f box;

@@ -83,8 +83,8 @@ TEST(DetectBoundaryPoints, PlaneHoleRimAndOuterEdgeOnly) {
   for (int s = 0; s < 36; ++s) EXPECT_GT(sector_hits[static_cast<size_t>(s)], 0) << "sector " << s;
   // The rim (94 mm long) flags at least one point per spacing of it.
   EXPECT_GT(on_rim, 2 * M_PI * hole.radius_m / spacing);
-  std::printf("plane+hole: %zu points, %zu boundary (%d on the hole rim)\n", points.size(),
-              boundary.size(), on_rim);
+  std::printf("plane+hole: %zu points, %zu boundary (%d on the hole rim)\n", points.size(), boundary.size(),
+              on_rim);
 }
 
 TEST(DetectBoundaryPoints, InfoPointsIntoTheHoleAndMeasuresSpacing) {
@@ -112,9 +112,10 @@ TEST(DetectBoundaryPoints, InfoPointsIntoTheHoleAndMeasuresSpacing) {
   }
   std::sort(spacings.begin(), spacings.end());
   const float median = spacings[spacings.size() / 2];
-  std::printf("rim points: %d, gap direction within 45 deg of the centre: %d; spacing median "
-              "%.2f of sqrt(A/N)\n",
-              rim, inward, median / spacing);
+  std::printf(
+      "rim points: %d, gap direction within 45 deg of the centre: %d; spacing median "
+      "%.2f of sqrt(A/N)\n",
+      rim, inward, median / spacing);
   EXPECT_GT(inward, 0.95 * rim);
   // 1/sqrt(density) is sqrt(A/N) on a uniform sample.
   EXPECT_NEAR(median / spacing, 1.0f, 0.25f);
@@ -126,8 +127,8 @@ TEST(DetectBoundaryPoints, ClosedSurfacesHaveAlmostNone) {
     const PointList points = mesh::SampleSurface(mesh, 30000, 3).points;
     const NeighborIndex index(points);
     const std::vector<int> boundary = DetectBoundaryPoints(index, BoundaryConfig{});
-    std::printf("%s: %zu of %zu points flagged\n", synth::ShapeName(shape).c_str(),
-                boundary.size(), points.size());
+    std::printf("%s: %zu of %zu points flagged\n", synth::ShapeName(shape).c_str(), boundary.size(),
+                points.size());
     // A random sample has rare sparse spots; the cylinder's 90 deg cap
     // edges are not holes and are (almost) never flagged.
     EXPECT_LT(boundary.size(), points.size() / 500) << synth::ShapeName(shape);
@@ -142,14 +143,14 @@ TEST(DetectBoundaryPoints, ARegularGridsCollinearNeighboursAreNoGap) {
   // were such). A tilted
   // 1 mm grid: only its outer ring is boundary.
   const int side = 40;
-  const Eigen::Matrix3f R =
-      (Eigen::AngleAxisf(0.7f, Eigen::Vector3f(1, 2, 3).normalized()) *
-       Eigen::AngleAxisf(0.3f, Eigen::Vector3f::UnitZ()))
-          .toRotationMatrix();
+  const Eigen::Matrix3f R = (Eigen::AngleAxisf(0.7f, Eigen::Vector3f(1, 2, 3).normalized()) *
+                             Eigen::AngleAxisf(0.3f, Eigen::Vector3f::UnitZ()))
+                                .toRotationMatrix();
   PointList points;
   for (int i = 0; i < side; ++i) {
     for (int j = 0; j < side; ++j) {
-      points.push_back(R * Eigen::Vector3f(0.001f * i, 0.001f * j, 0.0f) + Eigen::Vector3f(0.1f, -0.2f, 0.5f));
+      points.push_back(R * Eigen::Vector3f(0.001f * i, 0.001f * j, 0.0f) +
+                       Eigen::Vector3f(0.1f, -0.2f, 0.5f));
     }
   }
   const NeighborIndex index(points);
@@ -185,9 +186,10 @@ TEST(DetectBoundaryPoints, PaperCylinderRimsOnly) {
     worst = std::max(worst, d);
     far += d > 3.5 * spacing;
   }
-  std::printf("paper cylinder: %zu points, %zu boundary, %d beyond 3.5 spacings of a rim "
-              "(worst %.2f spacings)\n",
-              cloud.holey.size(), boundary.size(), far, worst / spacing);
+  std::printf(
+      "paper cylinder: %zu points, %zu boundary, %d beyond 3.5 spacings of a rim "
+      "(worst %.2f spacings)\n",
+      cloud.holey.size(), boundary.size(), far, worst / spacing);
   // Rare isolated false positives remain (a micro-void that looks like a
   // hole at both scales, a point of the sharp base edge): linking drops
   // them. Measured: 2 of 616.
@@ -225,7 +227,8 @@ TEST(DetectBoundaryPoints, CandidatesAreAnsweredAsInTheFullPass) {
     std::vector<int> expected;
     std::vector<BoundaryPointInfo> expected_info;
     for (size_t b = 0; b < full.size(); ++b) {
-      if (asked[static_cast<size_t>(full[b])]) expected.push_back(full[b]), expected_info.push_back(full_info[b]);
+      if (asked[static_cast<size_t>(full[b])])
+        expected.push_back(full[b]), expected_info.push_back(full_info[b]);
     }
     ASSERT_EQ(some, expected) << "confirm_k " << confirm_k;
     ASSERT_EQ(info.size(), expected_info.size());
@@ -268,8 +271,7 @@ TEST(DetectBoundaryPoints, OwnVsOpen3dOn50k) {
   config.random_pose = true;
   const synth::PaperProtocolCloud cloud = synth::MakePaperProtocolCloud(config);
   const PointList& points = cloud.holey;
-  const double area = M_PI * cloud.size_m.x() * cloud.size_m.z() +
-                      0.5 * M_PI * std::pow(cloud.size_m.x(), 2);
+  const double area = M_PI * cloud.size_m.x() * cloud.size_m.z() + 0.5 * M_PI * std::pow(cloud.size_m.x(), 2);
   const double spacing = std::sqrt(area / config.num_points);
   const Eigen::Isometry3f T_object_cloud = cloud.T_cloud_object.inverse().cast<float>();
   const testing::ProtocolHoles holes = testing::HolesOf(config, cloud.size_m);
@@ -280,8 +282,7 @@ TEST(DetectBoundaryPoints, OwnVsOpen3dOn50k) {
     for (int64_t i = 0; i < n; ++i) {
       if (!flags[static_cast<size_t>(i)]) continue;
       ++flagged;
-      near += testing::RimDistance(T_object_cloud * points[static_cast<size_t>(i)], holes) <
-              3.5 * spacing;
+      near += testing::RimDistance(T_object_cloud * points[static_cast<size_t>(i)], holes) < 3.5 * spacing;
     }
     return std::make_pair(flagged, flagged > 0 ? static_cast<double>(near) / flagged : 1.0);
   };
@@ -308,8 +309,7 @@ TEST(DetectBoundaryPoints, OwnVsOpen3dOn50k) {
   });
   std::vector<Eigen::Vector3f> normals;
   std::vector<int> own;
-  const double own_ms =
-      BestOf3CpuMs([&] { own = DetectBoundaryPoints(*index, BoundaryConfig{}, &normals); });
+  const double own_ms = BestOf3CpuMs([&] { own = DetectBoundaryPoints(*index, BoundaryConfig{}, &normals); });
   BoundaryConfig paper;
   paper.confirm_k = 0;
   std::vector<int> own_paper;
@@ -353,19 +353,19 @@ TEST(DetectBoundaryPoints, OwnVsOpen3dOn50k) {
   const auto [c_paper, p_paper] = precision(f_paper);
   const auto [c_o3d, p_o3d] = precision(f_o3d);
   const auto [c_o3d2, p_o3d2] = precision(f_o3d2);
-  std::printf("boundary detection, %lld points (spacing %.2f mm):\n"
-              "  NeighborIndex build %.1f ms, %lld kNN(21) queries %.1f ms\n"
-              "  own default (k 20 + confirm 50): %.1f ms, %lld flagged, %.1f%% near a rim\n"
-              "  own paper (k 20 only):           %.1f ms, %lld flagged, %.1f%% near a rim\n"
-              "  Open3D, our normals:             %.1f ms, %lld flagged, %.1f%% near a rim, "
-              "IoU with own paper %.3f\n"
-              "  Open3D, its EstimateNormals:     %.1f ms, %lld flagged, %.1f%% near a rim, "
-              "IoU with own paper %.3f\n",
-              static_cast<long long>(n), spacing * 1e3, build_ms, static_cast<long long>(n),
-              knn_ms, own_ms, static_cast<long long>(c_own), 100 * p_own, own_paper_ms,
-              static_cast<long long>(c_paper), 100 * p_paper, o3d_ms,
-              static_cast<long long>(c_o3d), 100 * p_o3d, iou(f_paper, f_o3d), o3d_full_ms,
-              static_cast<long long>(c_o3d2), 100 * p_o3d2, iou(f_paper, f_o3d2));
+  std::printf(
+      "boundary detection, %lld points (spacing %.2f mm):\n"
+      "  NeighborIndex build %.1f ms, %lld kNN(21) queries %.1f ms\n"
+      "  own default (k 20 + confirm 50): %.1f ms, %lld flagged, %.1f%% near a rim\n"
+      "  own paper (k 20 only):           %.1f ms, %lld flagged, %.1f%% near a rim\n"
+      "  Open3D, our normals:             %.1f ms, %lld flagged, %.1f%% near a rim, "
+      "IoU with own paper %.3f\n"
+      "  Open3D, its EstimateNormals:     %.1f ms, %lld flagged, %.1f%% near a rim, "
+      "IoU with own paper %.3f\n",
+      static_cast<long long>(n), spacing * 1e3, build_ms, static_cast<long long>(n), knn_ms, own_ms,
+      static_cast<long long>(c_own), 100 * p_own, own_paper_ms, static_cast<long long>(c_paper),
+      100 * p_paper, o3d_ms, static_cast<long long>(c_o3d), 100 * p_o3d, iou(f_paper, f_o3d), o3d_full_ms,
+      static_cast<long long>(c_o3d2), 100 * p_o3d2, iou(f_paper, f_o3d2));
   // Same criterion, same neighbourhoods, same normals: same answer.
   EXPECT_GT(iou(f_paper, f_o3d), 0.95);
   // The confirmed default is what makes the set usable.
@@ -374,4 +374,3 @@ TEST(DetectBoundaryPoints, OwnVsOpen3dOn50k) {
 
 }  // namespace
 }  // namespace graspfill::repair
-

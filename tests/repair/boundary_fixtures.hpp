@@ -25,8 +25,7 @@ struct Disc {
 
 /// Uniform random sample of the square [-half, half]^2 at z = 0 with `n`
 /// points before the discs are cut out of it.
-inline PointList PlaneWithHoles(int n, float half_m, const std::vector<Disc>& holes,
-                                uint64_t seed) {
+inline PointList PlaneWithHoles(int n, float half_m, const std::vector<Disc>& holes, uint64_t seed) {
   Rng rng(seed);
   PointList points;
   for (int i = 0; i < n; ++i) {
@@ -51,8 +50,7 @@ struct ProtocolHoles {
   std::vector<Eigen::Vector2d> dirs;  ///< unit, radial, one per hole
 };
 
-inline ProtocolHoles HolesOf(const synth::PaperProtocolConfig& config,
-                             const Eigen::Vector3d& size) {
+inline ProtocolHoles HolesOf(const synth::PaperProtocolConfig& config, const Eigen::Vector3d& size) {
   ProtocolHoles h;
   h.top_z = synth::TopCutZ(config, size.z());
   h.top_grasp = config.grasp != synth::GraspWay::kMiddleStraight;
@@ -87,8 +85,7 @@ inline PatchCoords InPatch(const ProtocolHoles& h, size_t i, const Eigen::Vector
 }
 
 /// Whether p_O lies on hole i's finger patch grown by `grow` [m] all round.
-inline bool WithinPatch(const ProtocolHoles& h, size_t i, const Eigen::Vector3f& p,
-                        double grow) {
+inline bool WithinPatch(const ProtocolHoles& h, size_t i, const Eigen::Vector3f& p, double grow) {
   const PatchCoords c = InPatch(h, i, p);
   return c.front && std::abs(c.a) <= h.half_width + grow && std::abs(c.b) <= h.half_height + grow;
 }
@@ -103,16 +100,15 @@ inline double RectDistance(double t, double z, double hw, double z0, double z1) 
 /// Distance of p_O to the nearest rim of a straight grasp's holes (the tilt
 /// is not applied): the cut top's or a claw hole's; in *hole, when given,
 /// that claw hole or -1 for the top.
-inline double RimDistance(const Eigen::Vector3f& p, const ProtocolHoles& h,
-                          int* hole = nullptr) {
+inline double RimDistance(const Eigen::Vector3f& p, const ProtocolHoles& h, int* hole = nullptr) {
   double d = std::abs(h.top_z - p.z());
   if (hole != nullptr) *hole = -1;
   for (size_t i = 0; i < h.dirs.size(); ++i) {
     const Eigen::Vector2d& dir = h.dirs[i];
     if (dir.x() * p.x() + dir.y() * p.y() <= 0.0) continue;
     const double t = dir.x() * p.y() - dir.y() * p.x();
-    const double dh = RectDistance(t, p.z(), h.half_width, h.z_centre - h.half_height,
-                                   h.z_centre + h.half_height);
+    const double dh =
+        RectDistance(t, p.z(), h.half_width, h.z_centre - h.half_height, h.z_centre + h.half_height);
     if (dh < d) {
       d = dh;
       if (hole != nullptr) *hole = static_cast<int>(i);
@@ -155,8 +151,7 @@ inline double PolylineParam(const std::vector<Eigen::Vector2d>& poly, const Eige
 /// closed line (the rim, dipping into each claw hole's U in turn, counter-
 /// clockwise); a middle grasp gives the closed rim and one closed line per
 /// claw hole. Points within `rim_band_m` of the top count as rim.
-inline std::vector<BoundaryLine> OrderedLines(const PointList& points_O,
-                                              const std::vector<int>& boundary,
+inline std::vector<BoundaryLine> OrderedLines(const PointList& points_O, const std::vector<int>& boundary,
                                               const ProtocolHoles& h, double rim_band_m = 0.002) {
   const double hw = h.half_width, hh = h.half_height;
   const double top_b = h.top_z - h.z_centre;

@@ -52,15 +52,13 @@ CircleFit DistanceToCircle(const PointList& points, const BoundaryLine& line, co
 
 // True when the line goes once around `disc` (walking it, the angle seen
 // from the centre turns by 2*pi) with no link longer than `max_link_m`.
-bool GoesAround(const PointList& points, const BoundaryLine& line, const Disc& disc,
-                float max_link_m) {
+bool GoesAround(const PointList& points, const BoundaryLine& line, const Disc& disc, float max_link_m) {
   double winding = 0.0;
   float longest = 0.0f;
   for (size_t k = 0; k < line.indices.size(); ++k) {
     const Eigen::Vector2f a = points[static_cast<size_t>(line.indices[k])].head<2>() - disc.centre;
     const Eigen::Vector2f b =
-        points[static_cast<size_t>(line.indices[(k + 1) % line.indices.size()])].head<2>() -
-        disc.centre;
+        points[static_cast<size_t>(line.indices[(k + 1) % line.indices.size()])].head<2>() - disc.centre;
     winding += std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
     longest = std::max(longest, (a - b).norm());
   }
@@ -113,8 +111,8 @@ TEST(LinkBoundaryPoints, OrderedCircleBecomesOneRing) {
   const int n = 100;
   for (int i = 0; i < n; ++i) {
     const double a = 2 * M_PI * ((i * 37) % n) / n;
-    points.emplace_back(0.01f * static_cast<float>(std::cos(a)),
-                        0.01f * static_cast<float>(std::sin(a)), 0.0f);
+    points.emplace_back(0.01f * static_cast<float>(std::cos(a)), 0.01f * static_cast<float>(std::sin(a)),
+                        0.0f);
   }
   std::vector<int> ids;
   for (int i = 0; i < n; ++i) ids.push_back(i);
@@ -151,8 +149,8 @@ TEST_P(PlaneHole, GivesOneRingAndTheOuterEdge) {
       EXPECT_LT(fit.max_m, 3.5f * spacing);
       EXPECT_LT(fit.rms_m, 1.5f * spacing);
       EXPECT_TRUE(GoesAround(points, line, hole, kMaxLink * spacing));
-      std::printf("hole ring: %zu points, %.2f spacings rms (%.2f max) off the circle\n",
-                  line.indices.size(), fit.rms_m / spacing, fit.max_m / spacing);
+      std::printf("hole ring: %zu points, %.2f spacings rms (%.2f max) off the circle\n", line.indices.size(),
+                  fit.rms_m / spacing, fit.max_m / spacing);
     } else {
       // The square's outer edge is a boundary too; the criterion cannot
       // tell it from a hole. It is linked into one more closed ring (its
@@ -197,8 +195,7 @@ TEST(LinkBoundaryPoints, TwoNearbyHolesStayTwoLines) {
         // Not a mixture of the two holes: only the outer edge is left.
         for (const int i : line.indices) {
           const Eigen::Vector3f& p = points[static_cast<size_t>(i)];
-          EXPECT_LT(half - std::max(std::abs(p.x()), std::abs(p.y())), 3.5f * spacing)
-              << "seed " << seed;
+          EXPECT_LT(half - std::max(std::abs(p.x()), std::abs(p.y())), 3.5f * spacing) << "seed " << seed;
         }
       }
     }
@@ -221,8 +218,7 @@ TEST(LinkBoundaryPoints, PaperCylinderLinesFollowTheRims) {
   config.random_pose = false;
   const synth::PaperProtocolCloud cloud = synth::MakePaperProtocolCloud(config);
   const double height = cloud.size_m.z();
-  const double area =
-      M_PI * cloud.size_m.x() * height + 0.5 * M_PI * std::pow(cloud.size_m.x(), 2);
+  const double area = M_PI * cloud.size_m.x() * height + 0.5 * M_PI * std::pow(cloud.size_m.x(), 2);
   const double spacing = std::sqrt(area / config.num_points);
   const testing::ProtocolHoles holes = testing::HolesOf(config, cloud.size_m);
   const std::vector<BoundaryLine> lines = DetectAndLink(cloud.holey);
@@ -282,8 +278,8 @@ TEST(LinkBoundaryPoints, EveryPaperShapeGivesOneClosedLine) {
       z_max = std::max(z_max, z);
     }
     std::printf("%s: %zu points, z %.1f..%.1f mm (claw holes' bottom %.1f, cut %.1f)\n",
-                synth::ShapeName(shape).c_str(), lines[0].indices.size(), z_min * 1e3,
-                z_max * 1e3, hole_bottom_z * 1e3, top_z * 1e3);
+                synth::ShapeName(shape).c_str(), lines[0].indices.size(), z_min * 1e3, z_max * 1e3,
+                hole_bottom_z * 1e3, top_z * 1e3);
     // 3 mm: ~3 spacings of these 50k-point samples.
     EXPECT_GT(z_min, hole_bottom_z - 0.003) << synth::ShapeName(shape);
     EXPECT_LT(z_max, top_z + 0.001) << synth::ShapeName(shape);
@@ -301,13 +297,14 @@ TEST(LinkBoundaryPoints, TimingOn50k) {
   std::vector<BoundaryPointInfo> info;
   const std::vector<int> boundary = DetectBoundaryPoints(index, BoundaryConfig{}, nullptr, &info);
   std::vector<BoundaryLine> lines;
-  const double best = BestOf3CpuMs(
-      [&] { lines = LinkBoundaryPoints(cloud.holey, boundary, LinkConfig{}, &info); });
+  const double best =
+      BestOf3CpuMs([&] { lines = LinkBoundaryPoints(cloud.holey, boundary, LinkConfig{}, &info); });
   size_t linked = 0;
   for (const BoundaryLine& line : lines) linked += line.indices.size();
-  std::printf("linking, %zu points, %zu boundary points: %.2f ms (best of 3, CPU), %zu lines, "
-              "%zu points linked\n",
-              cloud.holey.size(), boundary.size(), best, lines.size(), linked);
+  std::printf(
+      "linking, %zu points, %zu boundary points: %.2f ms (best of 3, CPU), %zu lines, "
+      "%zu points linked\n",
+      cloud.holey.size(), boundary.size(), best, lines.size(), linked);
   EXPECT_FALSE(lines.empty());
 }
 

@@ -132,7 +132,8 @@ TEST(BoundedRepair, TheFuzzTargetsCommittedInputsKeepItsContract) {
         std::filesystem::path(GRASPFILL_SOURCE_DIR) / "tests" / "fuzz" / kind / "repair";
     for (const auto& entry : std::filesystem::directory_iterator(dir)) {
       std::ifstream in(entry.path(), std::ios::binary);
-      const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                       std::istreambuf_iterator<char>());
       SCOPED_TRACE(entry.path().string());
       EXPECT_EQ(LLVMFuzzerTestOneInput(bytes.data(), bytes.size()), 0);
       ++inputs;

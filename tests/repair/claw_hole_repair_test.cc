@@ -11,8 +11,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <limits>
 #include <string>
 
@@ -118,12 +118,12 @@ FillStats Evaluate(const Scene& s, const PointList& added, double cover_m = 0.0)
   return st;
 }
 
-void Print(const char* label, const Scene& s, const PointList& added, const FillStats& st,
-           double ms) {
-  std::printf("[claw] %-34s cloud %zu pts, D %.2f mm: +%zu pts in %.1f ms; on surface %.3f "
-              "(p95 %.2f mm), interior cover %.3f, union cover %.3f\n",
-              label, s.cloud.holey.size(), 1e3 * s.d, added.size(), ms, st.on_surface, st.p95_mm,
-              st.interior_cover, st.union_cover);
+void Print(const char* label, const Scene& s, const PointList& added, const FillStats& st, double ms) {
+  std::printf(
+      "[claw] %-34s cloud %zu pts, D %.2f mm: +%zu pts in %.1f ms; on surface %.3f "
+      "(p95 %.2f mm), interior cover %.3f, union cover %.3f\n",
+      label, s.cloud.holey.size(), 1e3 * s.d, added.size(), ms, st.on_surface, st.p95_mm, st.interior_cover,
+      st.union_cover);
 }
 
 struct Fill {
@@ -133,8 +133,8 @@ struct Fill {
 
 // Fills s's holes with `config` (and an index shared by the fill's
 // steps), then evaluates the fill and prints it under `label`.
-Fill FillHoles(const Scene& s, const std::string& label,
-               const ClawRepairConfig& config = ClawRepairConfig{}, double cover_m = 0.0) {
+Fill FillHoles(const Scene& s, const std::string& label, const ClawRepairConfig& config = ClawRepairConfig{},
+               double cover_m = 0.0) {
   const NeighborIndex index(s.cloud.holey);
   const auto t0 = std::chrono::steady_clock::now();
   Fill fill;
@@ -200,15 +200,16 @@ TEST(ClawHoleRepair, FillsOnTheTopAboveItsRimAreDropped) {
   const float rim_r = static_cast<float>(radius * std::sin(polar));
   PointList fills, kept;
   for (double a = -0.5; a <= 0.5; a += 0.1) {
-    for (double cap_deg = 15.0; cap_deg <= 31.0; cap_deg += 4.0) fills.push_back(on_sphere(cap_deg * M_PI / 180.0, a));
+    for (double cap_deg = 15.0; cap_deg <= 31.0; cap_deg += 4.0)
+      fills.push_back(on_sphere(cap_deg * M_PI / 180.0, a));
     // A wall rising 2 mm past the rim, just outside and on the outline.
     for (const float dz : {0.0005f, 0.001f, 0.002f}) {
       kept.emplace_back(rim_r * static_cast<float>(std::cos(a)), rim_r * static_cast<float>(std::sin(a)),
                         rim[45].z() + 0.0015f + dz);
     }
     // Under the rim, deep inside its outline.
-    kept.emplace_back(0.5f * rim_r * static_cast<float>(std::cos(a)), 0.5f * rim_r * static_cast<float>(std::sin(a)),
-                      rim[45].z() - 0.0015f);
+    kept.emplace_back(0.5f * rim_r * static_cast<float>(std::cos(a)),
+                      0.5f * rim_r * static_cast<float>(std::sin(a)), rim[45].z() - 0.0015f);
   }
   // Inside the outline, but no rim point within 15 degrees of it.
   kept.emplace_back(-0.003f, 0.0f, static_cast<float>(radius) - 0.001f);
@@ -224,8 +225,7 @@ TEST(ClawHoleRepair, FillsOnTheTopAboveItsRimAreDropped) {
 TEST(ClawHoleRepair, BadInputThrowsAndEmptyInputIsANoOp) {
   const ClawRepairConfig config;
   EXPECT_TRUE(RepairClawHoles({}, {}, config).empty());
-  PointList points = {Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(1, 0, 0),
-                      Eigen::Vector3f(0, 1, 0)};
+  PointList points = {Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(1, 0, 0), Eigen::Vector3f(0, 1, 0)};
   EXPECT_TRUE(RepairClawHoles(points, {}, config).empty());
   HoleBoundary hole;
   hole.points_V = points;
@@ -260,10 +260,11 @@ TEST(ClawHoleRepair, TimingOnTheProtocolCloud) {
     }
     std::sort(ms.begin(), ms.end());
     std::sort(cpu_ms.begin(), cpu_ms.end());
-    std::printf("[claw] timing %-10s %zu pts, 3 holes: %.1f ms wall median (%.1f-%.1f), %.1f ms "
-                "CPU; +%zu pts; index build %.1f ms\n",
-                synth::ShapeName(shape).c_str(), s.cloud.holey.size(), ms[4], ms[0], ms[8],
-                cpu_ms[4], added, index_ms);
+    std::printf(
+        "[claw] timing %-10s %zu pts, 3 holes: %.1f ms wall median (%.1f-%.1f), %.1f ms "
+        "CPU; +%zu pts; index build %.1f ms\n",
+        synth::ShapeName(shape).c_str(), s.cloud.holey.size(), ms[4], ms[0], ms[8], cpu_ms[4], added,
+        index_ms);
     EXPECT_GT(added, 0u);
   }
 }
@@ -274,10 +275,9 @@ TEST(ClawHoleRepair, CylinderMiddleGraspHolesFilledOnTheSurface) {
   ExpectGoodFill(st);
   // About the hole area times the input density: 3 holes of 25 x 45 mm,
   // less the empty band of D kept along the rims.
-  const double density = s.cloud.holey.size() /
-                         (mesh::SurfaceArea(synth::MakeShape(Shape::kCylinder, s.cloud.size_m)) -
-                          3 * 0.025 * 0.045 - M_PI * 0.035 * 0.035 -
-                          2 * M_PI * 0.035 * (0.14 - s.top_z));
+  const double density =
+      s.cloud.holey.size() / (mesh::SurfaceArea(synth::MakeShape(Shape::kCylinder, s.cloud.size_m)) -
+                              3 * 0.025 * 0.045 - M_PI * 0.035 * 0.035 - 2 * M_PI * 0.035 * (0.14 - s.top_z));
   const double expected = density * 3 * 0.025 * 0.045;
   EXPECT_GT(added.size(), 0.7 * expected);
   EXPECT_LT(added.size(), 1.2 * expected);
@@ -351,14 +351,12 @@ TEST(ClawHoleRepair, AHoleInTheBottomKeepsItsFill) {
 
 TEST(ClawHoleRepair, EveryProtocolShapeAndGraspIsFilled) {
   for (Shape shape : synth::AllShapes()) {
-    for (GraspWay grasp :
-         {GraspWay::kTopStraight, GraspWay::kMiddleStraight, GraspWay::kTopOblique}) {
+    for (GraspWay grasp : {GraspWay::kTopStraight, GraspWay::kMiddleStraight, GraspWay::kTopOblique}) {
       const Scene s = MakeScene(shape, grasp);
       const std::string label =
           synth::ShapeName(shape) +
-          (grasp == GraspWay::kTopStraight
-               ? " top"
-               : (grasp == GraspWay::kMiddleStraight ? " middle" : " oblique")) +
+          (grasp == GraspWay::kTopStraight ? " top"
+                                           : (grasp == GraspWay::kMiddleStraight ? " middle" : " oblique")) +
           " (local fit)";
       const FillStats st = FillHoles(s, label).st;
       SCOPED_TRACE(label);
@@ -394,14 +392,12 @@ TEST(ClawHoleRepair, ThinPlateFallbackFillsEveryHoleOnTheSurface) {
 // The paper's Table 2 sizes: on the 5 x 5 x 10 cm cuboid the 2.5 cm claw
 // holes at 120 and 240 degrees run over the cuboid's vertical edges.
 TEST(ClawHoleRepair, CuboidsOfThePapersSizesAreFilled) {
-  for (const Eigen::Vector3d& size : {Eigen::Vector3d(0.05, 0.05, 0.10),
-                                     Eigen::Vector3d(0.10, 0.10, 0.20)}) {
+  for (const Eigen::Vector3d& size : {Eigen::Vector3d(0.05, 0.05, 0.10), Eigen::Vector3d(0.10, 0.10, 0.20)}) {
     for (GraspWay grasp : {GraspWay::kTopStraight, GraspWay::kTopOblique}) {
       const Scene s = MakeScene(Shape::kCuboid, grasp, 50000, size);
       char label[64];
       std::snprintf(label, sizeof(label), "cuboid %.0fx%.0fx%.0f cm %s (local fit)", 100 * size.x(),
-                    100 * size.y(), 100 * size.z(),
-                    grasp == GraspWay::kTopStraight ? "top" : "oblique");
+                    100 * size.y(), 100 * size.z(), grasp == GraspWay::kTopStraight ? "top" : "oblique");
       const FillStats st = FillHoles(s, label).st;
       SCOPED_TRACE(label);
       ExpectGoodFill(st);
@@ -469,16 +465,15 @@ TEST(ClawHoleRepair, AHoleNoExplicitSurfaceExplainsIsLeftOpenUnlessPoissonIsAllo
   }
   ASSERT_GT(ring.points_V.size(), 50u);
   std::vector<size_t> left_open(3, 7);  // cleared by the call
-  const PointList open = RepairClawHoles(s.cloud.holey, {ring}, ClawRepairConfig{}, nullptr,
-                                         nullptr, &left_open);
+  const PointList open =
+      RepairClawHoles(s.cloud.holey, {ring}, ClawRepairConfig{}, nullptr, nullptr, &left_open);
   EXPECT_EQ(left_open, std::vector<size_t>{0});
   EXPECT_TRUE(open.empty());
   // Allowed, Poisson takes it (not counted open); it samples only where the
   // cloud has a gap, and this wall has none: anything it adds is on it.
   ClawRepairConfig with_poisson;
   with_poisson.poisson_fallback = true;
-  const PointList filled = RepairClawHoles(s.cloud.holey, {ring}, with_poisson, nullptr, nullptr,
-                                           &left_open);
+  const PointList filled = RepairClawHoles(s.cloud.holey, {ring}, with_poisson, nullptr, nullptr, &left_open);
   EXPECT_TRUE(left_open.empty());
   if (!filled.empty()) {
     for (const double d : mesh::NearestDistances(filled, s.dense_truth)) EXPECT_LT(d, kSurfaceTolM);
@@ -502,8 +497,8 @@ TEST(ClawHoleRepair, AHoleWhoseSupportIsMostOfTheCloudIsNoFingersAndLeftOpen) {
   // After a hole that is not a claw's: the index counts in the list given.
   HoleBoundary top = rim;
   top.kind = HoleKind::kMissingSurface;
-  EXPECT_TRUE(RepairClawHoles(s.cloud.holey, {top, rim}, ClawRepairConfig{}, nullptr, nullptr, &left_open)
-                  .empty());
+  EXPECT_TRUE(
+      RepairClawHoles(s.cloud.holey, {top, rim}, ClawRepairConfig{}, nullptr, nullptr, &left_open).empty());
   EXPECT_EQ(left_open, std::vector<size_t>{1});
   // Without the limit it is handed to the fits (and counted open only if
   // none explains it).
@@ -524,8 +519,7 @@ TEST(ClawHoleRepair, PaperSettingsFillTheHolesCoarsely) {
   // (the protocol's cut) the surface is open there and sags most near the
   // top: ~85% of the holes' interior within 5 mm, p95 ~5 mm.
   const Scene s = MakeScene(Shape::kCuboid, GraspWay::kMiddleStraight);
-  const FillStats st =
-      FillHoles(s, "cuboid middle (paper, cover@5mm)", ClawRepairConfig::Paper(), 0.005).st;
+  const FillStats st = FillHoles(s, "cuboid middle (paper, cover@5mm)", ClawRepairConfig::Paper(), 0.005).st;
   EXPECT_GE(st.interior_cover, 0.8);
   EXPECT_LT(st.p95_mm, 5.5);
 }

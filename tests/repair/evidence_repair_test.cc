@@ -70,7 +70,8 @@ TEST(EvidenceRepair, ClosesTheCansTopAndAddsNothingInSeenFreeSpace) {
   EXPECT_LT(e.observed_free_share, 0.01);
   ASSERT_GT(seen.cloud.size(), can.cloud.size());
   int in_free = 0;
-  for (size_t i = can.cloud.size(); i < seen.cloud.size(); ++i) in_free += can.record.SeenFree(seen.cloud.points_G[i]);
+  for (size_t i = can.cloud.size(); i < seen.cloud.size(); ++i)
+    in_free += can.record.SeenFree(seen.cloud.points_G[i]);
   EXPECT_EQ(in_free, 0);
   // The fused points come first, unchanged.
   for (size_t i = 0; i < can.cloud.size(); ++i) ASSERT_EQ(seen.cloud.points_G[i], can.cloud.points_G[i]);
@@ -217,7 +218,8 @@ TEST(EvidenceRepair, AMirrorCappingTooHighIsLoweredASidewaysOneIsNot) {
   EXPECT_EQ(uncounted.back(), 1);
   EXPECT_NEAR(high.back().z(), floor_V + 0.02f - 2.0f * static_cast<float>(drop), 1e-6f);
   uncounted.pop_back();
-  EXPECT_THROW(LowerMirrorOutOfFree(can.record, config, T_in_V, floor_V, &high, &uncounted), std::invalid_argument);
+  EXPECT_THROW(LowerMirrorOutOfFree(can.record, config, T_in_V, floor_V, &high, &uncounted),
+               std::invalid_argument);
 }
 
 // The can's true top and the 20 mm of wall under it, 3 mm low: a mirror
@@ -279,7 +281,8 @@ PointList Ball(const std::function<bool(const Eigen::Vector3f&)>& kept) {
   for (int i = 0; i < kCount; ++i) {
     const double z = 1.0 - (2.0 * i + 1.0) / kCount;
     const double r = std::sqrt(1.0 - z * z), phi = i * 2.399963229728653;
-    const Eigen::Vector3f p = (kRadiusM * Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z)).cast<float>();
+    const Eigen::Vector3f p =
+        (kRadiusM * Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z)).cast<float>();
     if (kept(p)) points.push_back(p);
   }
   return points;
@@ -419,8 +422,8 @@ HeldOut RepairHeldOut(synth::Shape shape, const Eigen::Vector3d& size_m, synth::
   h.truth = mesh::SampleSurface(scene.object_G(), 100000, 3).points;
   h.repaired = Repair(h.fused, InG(), &pipeline.visibility());
   h.coverage = Coverage(h.repaired.cloud, h.truth);
-  const std::vector<Eigen::Vector3f> added(h.repaired.cloud.points_G.begin() + static_cast<long>(h.fused.size()),
-                                           h.repaired.cloud.points_G.end());
+  const std::vector<Eigen::Vector3f> added(
+      h.repaired.cloud.points_G.begin() + static_cast<long>(h.fused.size()), h.repaired.cloud.points_G.end());
   if (!added.empty()) {
     const std::vector<double> d = mesh::NearestDistances(added, h.truth);
     h.added_p95_mm = 1000.0 * Percentile(d, 95.0);
@@ -447,8 +450,8 @@ void ExpectTargets(const HeldOut& h) {
 // over 3 mm off (coverage 0.916). Its own cap raised until the rays carve
 // it lands on the top.
 TEST(EvidenceRepair, ARoundedBoxsMirroredTopRisesToWhereTheRaysCarveIt) {
-  const HeldOut h = RepairHeldOut(synth::Shape::kRoundedBox, Eigen::Vector3d::Zero(), synth::ClawType::kThreeFinger,
-                                  60, 13);
+  const HeldOut h = RepairHeldOut(synth::Shape::kRoundedBox, Eigen::Vector3d::Zero(),
+                                  synth::ClawType::kThreeFinger, 60, 13);
   EXPECT_GT(h.repaired.report.evidence.mirror_lift_m, 0.002);
   EXPECT_NE(h.repaired.report.symmetry_reason.find("where the rays carve it"), std::string::npos);
   ExpectTargets(h);
@@ -533,8 +536,8 @@ TEST(EvidenceRepair, AFingerHolesFillStopsAtARoundTopsRim) {
 // (added p95 2.57 mm, coverage 0.971). Only the image not beside the
 // observed surface decides a lowering.
 TEST(EvidenceRepair, AnImageProudOfTheSeenSurfaceIsNotLowered) {
-  const HeldOut h = RepairHeldOut(synth::Shape::kBlob, Eigen::Vector3d::Zero(), synth::ClawType::kThreeFinger, 90,
-                                  18, synth::GraspWay::kTopStraight);
+  const HeldOut h = RepairHeldOut(synth::Shape::kBlob, Eigen::Vector3d::Zero(), synth::ClawType::kThreeFinger,
+                                  90, 18, synth::GraspWay::kTopStraight);
   EXPECT_TRUE(h.repaired.report.symmetric);
   EXPECT_EQ(h.repaired.report.evidence.mirror_plane_drop_m, 0.0);
   ExpectTargets(h);
@@ -548,8 +551,8 @@ TEST(EvidenceRepair, AnImageProudOfTheSeenSurfaceIsNotLowered) {
 // and the image together (over the seen band alone it sagged 1.6 mm,
 // median, under the apple's top: added p95 2.0008 mm).
 TEST(EvidenceRepair, AMirroredRoundTopsOpenMiddleGetsTheDome) {
-  const HeldOut h = RepairHeldOut(synth::Shape::kBlob, Eigen::Vector3d::Zero(), synth::ClawType::kThreeFinger, 90,
-                                  12, synth::GraspWay::kTopStraight);
+  const HeldOut h = RepairHeldOut(synth::Shape::kBlob, Eigen::Vector3d::Zero(), synth::ClawType::kThreeFinger,
+                                  90, 12, synth::GraspWay::kTopStraight);
   EXPECT_TRUE(h.repaired.report.symmetric) << h.repaired.report.symmetry_reason;
   EXPECT_EQ(h.repaired.report.evidence.top, "dome");
   EXPECT_GE(h.coverage, 0.99);
@@ -559,7 +562,8 @@ TEST(EvidenceRepair, AMirroredRoundTopsOpenMiddleGetsTheDome) {
   const ObjectCloud& cloud = h.repaired.cloud;
   std::vector<Eigen::Vector3f> dome;
   for (size_t i = h.fused.size(); i < cloud.size(); ++i) {
-    if (cloud.provenance[i] == Provenance::kSurface && cloud.confidence[i] == h.repaired.report.top_confidence) {
+    if (cloud.provenance[i] == Provenance::kSurface &&
+        cloud.confidence[i] == h.repaired.report.top_confidence) {
       dome.push_back(cloud.points_G[i]);
     }
   }
@@ -576,8 +580,8 @@ TEST(EvidenceRepair, AMirroredRoundTopsOpenMiddleGetsTheDome) {
 // sphere, capped the opening: 22% of the added points over 3 mm. An open
 // object gets nothing wrong.
 TEST(EvidenceRepair, ABowlsUprightRimGetsNoDome) {
-  const HeldOut h = RepairHeldOut(synth::Shape::kBowl, Eigen::Vector3d::Zero(), synth::ClawType::kParallel, 60,
-                                  11, synth::GraspWay::kTopStraight);
+  const HeldOut h = RepairHeldOut(synth::Shape::kBowl, Eigen::Vector3d::Zero(), synth::ClawType::kParallel,
+                                  60, 11, synth::GraspWay::kTopStraight);
   EXPECT_NE(h.repaired.report.evidence.top, "dome");
   EXPECT_LE(h.added_wrong, 0.02);
   EXPECT_GE(h.coverage, Coverage(h.fused, h.truth));
@@ -593,8 +597,8 @@ TEST(EvidenceRepair, ABowlsUprightRimGetsNoDome) {
 // workspace): the rays reach into it past the palm, so nothing the record
 // holds says "closed", and nothing may close it.
 TEST(EvidenceRepair, ABowlSeenFromAboveStaysOpen) {
-  const HeldOut h = RepairHeldOut(synth::Shape::kBowl, Eigen::Vector3d::Zero(), synth::ClawType::kParallel, 90,
-                                  11, synth::GraspWay::kTopStraight, -25.0);
+  const HeldOut h = RepairHeldOut(synth::Shape::kBowl, Eigen::Vector3d::Zero(), synth::ClawType::kParallel,
+                                  90, 11, synth::GraspWay::kTopStraight, -25.0);
   EXPECT_LE(h.added_wrong, 0.02);
   EXPECT_GE(h.coverage, Coverage(h.fused, h.truth));
   EXPECT_GT(Coverage(h.fused, h.truth), 0.7);  // the inside seen: 0.52 from below
@@ -606,8 +610,8 @@ TEST(EvidenceRepair, ABowlSeenFromAboveStaysOpen) {
 // its 2,240 points over 2 mm off, added p95 2.36 mm). Moved onto the walls
 // seen around them, the image fills them on the surface.
 TEST(EvidenceRepair, ALeaningFruitsImageIsMovedOntoItsSeenWalls) {
-  const HeldOut h = RepairHeldOut(synth::Shape::kBlob, Eigen::Vector3d::Zero(), synth::ClawType::kThreeFinger, 60,
-                                  15, synth::GraspWay::kTopStraight);
+  const HeldOut h = RepairHeldOut(synth::Shape::kBlob, Eigen::Vector3d::Zero(), synth::ClawType::kThreeFinger,
+                                  60, 15, synth::GraspWay::kTopStraight);
   EXPECT_TRUE(h.repaired.report.symmetric) << h.repaired.report.symmetry_reason;
   ExpectTargets(h);
   EXPECT_LT(h.added_p95_mm, 1.5);
@@ -641,8 +645,8 @@ TEST(EvidenceRepair, ARecordLetsThroughAMirrorTheOutlinesNarrowlyRefuse) {
 // right here and 40% of the added points, no longer dilutes the fill: the
 // fill alone is 6.1% wrong, p95 3.08 mm. Held at that, and the neck open.
 TEST(EvidenceRepair, AFillOverANarrowNeckStaysWithinItsWidestSeenPoint) {
-  const HeldOut h = RepairHeldOut(synth::Shape::kBottle, Eigen::Vector3d::Zero(), synth::ClawType::kThreeFinger, 90,
-                                  14, synth::GraspWay::kTopStraight);
+  const HeldOut h = RepairHeldOut(synth::Shape::kBottle, Eigen::Vector3d::Zero(),
+                                  synth::ClawType::kThreeFinger, 90, 14, synth::GraspWay::kTopStraight);
   EXPECT_EQ(h.repaired.report.top_completion, "open") << h.repaired.report.symmetry_reason;
   EXPECT_GE(h.coverage, 0.97);
   EXPECT_LE(h.added_p95_mm, 3.1);
@@ -703,7 +707,8 @@ TEST(EvidenceRepair, APrismsWallsFitTheExtrusionOfItsTopACupsDoNot) {
   const Fused& can = Can();
   const auto misfit = [&](double r_bottom) {
     const PointList walls = OpenWalls(r_bottom, 0.03, 0.08);
-    return CloseTopFromEvidence(NeighborIndex(walls), {}, can.record, Eigen::Isometry3f::Identity(), 0.001, {})
+    return CloseTopFromEvidence(NeighborIndex(walls), {}, can.record, Eigen::Isometry3f::Identity(), 0.001,
+                                {})
         .extrusion_rms_m;
   };
   EXPECT_LT(misfit(0.03), 0.0005);

@@ -105,8 +105,8 @@ TEST(IncrementalRepair, EveryUpdateMatchesAFullRepairOfTheSameModel) {
     EXPECT_GE(cov_update, Coverage(snap.fused, s.truth) - 1e-9);
     if (!report.full_due()) {
       std::printf("frames %lld: coverage update %.4f full %.4f, chamfer update %.3f full %.3f base %.3f\n",
-                  static_cast<long long>(snap.fused.seq), cov_update, cov_full, chamfer_update,
-                  chamfer_full, chamfer_base);
+                  static_cast<long long>(snap.fused.seq), cov_update, cov_full, chamfer_update, chamfer_full,
+                  chamfer_base);
       // Coverage: within 2.5 points of the full repair's (the 2%
       // not met), or, where the full repair has gained more since the base
       // (a decision the fused cloud tipped, as for the chamfer below), no
@@ -136,8 +136,7 @@ TEST(IncrementalRepair, EveryUpdateMatchesAFullRepairOfTheSameModel) {
       ++rebases;
     }
   }
-  std::printf("chamfer within 2%% of the full repair's on %d of %d updates\n", within_2_percent,
-              compared);
+  std::printf("chamfer within 2%% of the full repair's on %d of %d updates\n", within_2_percent, compared);
   EXPECT_GE(updates, 6);
   EXPECT_GE(rebases, 1);
 }

@@ -5,9 +5,9 @@
 #include <open3d/geometry/KDTreeFlann.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <ctime>
 #include <limits>
-#include <cstdio>
 #include <utility>
 
 #include "cpu_time.hpp"
@@ -33,8 +33,7 @@ PointList RandomCloud(int n, uint64_t seed) {
 std::vector<std::pair<double, int>> BruteForce(const PointList& points, const Eigen::Vector3f& q) {
   std::vector<std::pair<double, int>> all;
   for (size_t i = 0; i < points.size(); ++i) {
-    all.emplace_back((points[i].cast<double>() - q.cast<double>()).squaredNorm(),
-                     static_cast<int>(i));
+    all.emplace_back((points[i].cast<double>() - q.cast<double>()).squaredNorm(), static_cast<int>(i));
   }
   std::sort(all.begin(), all.end());
   return all;
@@ -69,10 +68,9 @@ TEST(NeighborIndex, KnnMatchesBruteForce) {
   Rng rng(2);
   for (int t = 0; t < 200; ++t) {
     // Half the queries are cloud points (themselves first), half are not.
-    const Eigen::Vector3f q =
-        t % 2 == 0 ? points[static_cast<size_t>(t * 13)]
-                   : Eigen::Vector3f(static_cast<float>(rng.Uniform()),
-                                     static_cast<float>(rng.Uniform()), 0.05f);
+    const Eigen::Vector3f q = t % 2 == 0 ? points[static_cast<size_t>(t * 13)]
+                                         : Eigen::Vector3f(static_cast<float>(rng.Uniform()),
+                                                           static_cast<float>(rng.Uniform()), 0.05f);
     for (const int k : {1, 7, 21}) {
       index.Knn(q, k, &nn, &d2);
       const auto truth = BruteForce(points, q);
@@ -81,9 +79,10 @@ TEST(NeighborIndex, KnnMatchesBruteForce) {
       for (int j = 0; j < k; ++j) {
         // Distances match exactly in order (indices may swap on ties).
         EXPECT_NEAR(d2[static_cast<size_t>(j)], truth[static_cast<size_t>(j)].first, 1e-12);
-        EXPECT_NEAR((points[static_cast<size_t>(nn[static_cast<size_t>(j)])].cast<double>() -
-                     q.cast<double>()).squaredNorm(),
-                    d2[static_cast<size_t>(j)], 1e-12);
+        EXPECT_NEAR(
+            (points[static_cast<size_t>(nn[static_cast<size_t>(j)])].cast<double>() - q.cast<double>())
+                .squaredNorm(),
+            d2[static_cast<size_t>(j)], 1e-12);
       }
       if (t % 2 == 0) {
         EXPECT_DOUBLE_EQ(d2[0], 0.0);
@@ -181,12 +180,14 @@ TEST(NeighborIndex, MatchesKdTreeFlannOn50kAndTiming) {
     for (const Eigen::Vector3f& p : points) index.Knn(p, 21, &nn, &d2);
     knn_ms = std::min(knn_ms, CpuMs() - t0);
     t0 = CpuMs();
-    for (const Eigen::Vector3f& p : points) kdtree.SearchKNN(Eigen::Vector3d(p.cast<double>()), 21, kd_nn, kd_d2);
+    for (const Eigen::Vector3f& p : points)
+      kdtree.SearchKNN(Eigen::Vector3d(p.cast<double>()), 21, kd_nn, kd_d2);
     kd_ms = std::min(kd_ms, CpuMs() - t0);
   }
-  std::printf("kNN(21) for each of %zu points (best of 3, CPU time): grid %.1f ms + build %.1f ms; "
-              "Open3D KDTreeFlann %.1f ms + build %.1f ms\n",
-              points.size(), knn_ms, build_ms, kd_ms, kd_build_ms);
+  std::printf(
+      "kNN(21) for each of %zu points (best of 3, CPU time): grid %.1f ms + build %.1f ms; "
+      "Open3D KDTreeFlann %.1f ms + build %.1f ms\n",
+      points.size(), knn_ms, build_ms, kd_ms, kd_build_ms);
   double table_ms = 1e30;
   KnnTable table;
   for (int r = 0; r < 3; ++r) {
@@ -268,8 +269,12 @@ TEST(NeighborIndex, FarStrayPointsKeepResultsExactAndTheGridFine) {
   const NeighborIndex index(points);
   std::vector<int> nn;
   std::vector<double> d2;
-  std::vector<Eigen::Vector3f> queries = {points[0], points[3000], points[3001], points[3002],
-                                          Eigen::Vector3f(0.5f, 0.5f, 20.0f), Eigen::Vector3f(2, 2, 0.05f)};
+  std::vector<Eigen::Vector3f> queries = {points[0],
+                                          points[3000],
+                                          points[3001],
+                                          points[3002],
+                                          Eigen::Vector3f(0.5f, 0.5f, 20.0f),
+                                          Eigen::Vector3f(2, 2, 0.05f)};
   for (const Eigen::Vector3f& q : queries) {
     index.Knn(q, 8, &nn, &d2);
     const auto truth = BruteForce(points, q);
@@ -293,14 +298,13 @@ TEST(NeighborIndex, FarStrayPointsKeepResultsExactAndTheGridFine) {
   const PointList clean(points.begin(), points.begin() + 3000);
   const double clean_ms = testing::BestOf3CpuMs([&] { NeighborIndex(clean).AllKnn(21); });
   const double stray_ms = testing::BestOf3CpuMs([&] { NeighborIndex(points).AllKnn(21); });
-  std::printf("AllKnn(21) of 3000 points: %.2f ms clean, %.2f ms with 3 stray points\n", clean_ms,
-              stray_ms);
+  std::printf("AllKnn(21) of 3000 points: %.2f ms clean, %.2f ms with 3 stray points\n", clean_ms, stray_ms);
   EXPECT_LT(stray_ms, 3.0 * clean_ms + 2.0);
 }
 
-// The analysis copy of a box: a 3 mm lattice on its faces. Its grid (one cell per point over the box) has cells smaller
-// than the distance to the 21st neighbour, so the table looks two cells
-// each way: it must still be exact, row for row the one Knn gives.
+// The analysis copy of a box: a 3 mm lattice on its faces. Its grid (one cell per point over the box) has
+// cells smaller than the distance to the 21st neighbour, so the table looks two cells each way: it must still
+// be exact, row for row the one Knn gives.
 TEST(NeighborIndex, TableOfASparseBoxSurfaceIsExact) {
   PointList points;
   const Eigen::Vector3f size(0.090f, 0.050f, 0.100f);

@@ -64,8 +64,7 @@ TEST(OutlierConfig, DefaultsAndValidate) {
   bad = OutlierConfig{};
   bad.min_median_ratio = -1.0;
   EXPECT_THROW(bad.Validate(), std::invalid_argument);
-  EXPECT_THROW(RemoveOutliers(PointList(30, Eigen::Vector3f::Zero()), bad),
-               std::invalid_argument);
+  EXPECT_THROW(RemoveOutliers(PointList(30, Eigen::Vector3f::Zero()), bad), std::invalid_argument);
 }
 
 TEST(RemoveOutliers, RemovesInjectedFarPointsKeepsTheSurface) {
@@ -80,8 +79,8 @@ TEST(RemoveOutliers, RemovesInjectedFarPointsKeepsTheSurface) {
       ++far_kept;
     }
   }
-  std::printf("kept %zu of %zu surface points, %zu of %zu far points\n", surface_kept,
-              cloud.num_surface, far_kept, cloud.points.size() - cloud.num_surface);
+  std::printf("kept %zu of %zu surface points, %zu of %zu far points\n", surface_kept, cloud.num_surface,
+              far_kept, cloud.points.size() - cloud.num_surface);
   EXPECT_EQ(far_kept, 0u);
   EXPECT_GT(surface_kept, 0.99 * static_cast<double>(cloud.num_surface));
 }
@@ -97,8 +96,8 @@ TEST(RemoveOutliers, CleanSampleKeepsItsSparseSpots) {
   pcl_only.min_median_ratio = 0.0;
   const size_t kept_pcl = RemoveOutliers(points, pcl_only).size();
   const size_t kept = RemoveOutliers(points, OutlierConfig{}).size();
-  std::printf("clean cylinder, %zu points: PCL's test keeps %zu, with the median floor %zu\n",
-              points.size(), kept_pcl, kept);
+  std::printf("clean cylinder, %zu points: PCL's test keeps %zu, with the median floor %zu\n", points.size(),
+              kept_pcl, kept);
   EXPECT_LT(kept_pcl, 0.99 * static_cast<double>(points.size()));
   EXPECT_GT(kept, 0.999 * static_cast<double>(points.size()));
 }
@@ -109,8 +108,8 @@ TEST(RemoveOutliers, ClusteredOutliersAndTheNonFinite) {
   Rng rng(3);
   PointList points;
   for (int i = 0; i < 5000; ++i) {
-    points.emplace_back(static_cast<float>(0.05 * rng.Uniform()),
-                        static_cast<float>(0.05 * rng.Uniform()), 0.0f);
+    points.emplace_back(static_cast<float>(0.05 * rng.Uniform()), static_cast<float>(0.05 * rng.Uniform()),
+                        0.0f);
   }
   const size_t num_plane = points.size();
   for (int i = 0; i < 5; ++i) {
@@ -135,8 +134,7 @@ TEST(RemoveOutliers, TinyAndDegenerateClouds) {
   const PointList few{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   EXPECT_EQ(RemoveOutliers(few, OutlierConfig{}), (std::vector<int>{0, 1, 2}));
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_EQ(RemoveOutliers(PointList{{nan, 0, 0}, {0, 0, 0}}, OutlierConfig{}),
-            (std::vector<int>{1}));
+  EXPECT_EQ(RemoveOutliers(PointList{{nan, 0, 0}, {0, 0, 0}}, OutlierConfig{}), (std::vector<int>{1}));
   EXPECT_TRUE(RemoveOutliers(PointList{{nan, nan, nan}}, OutlierConfig{}).empty());
   // All coincident: every mean distance is 0, all kept.
   EXPECT_EQ(RemoveOutliers(PointList(40, Eigen::Vector3f(1, 2, 3)), OutlierConfig{}).size(), 40u);
@@ -158,8 +156,7 @@ TEST(RemoveOutliers, MatchesOpen3dAndTiming) {
   // ~1.3 cm here. That is SOR's semantics, PCL's and Open3D's alike.)
   Rng rng(9);
   while (points.size() < num_surface + 200) {
-    const Eigen::Vector3f q(static_cast<float>(rng.Uniform() - 0.5),
-                            static_cast<float>(rng.Uniform() - 0.5),
+    const Eigen::Vector3f q(static_cast<float>(rng.Uniform() - 0.5), static_cast<float>(rng.Uniform() - 0.5),
                             static_cast<float>(rng.Uniform() - 0.5));
     float nearest_sq = std::numeric_limits<float>::infinity();
     for (size_t i = 0; i < num_surface; ++i) {
@@ -183,8 +180,7 @@ TEST(RemoveOutliers, MatchesOpen3dAndTiming) {
     open3d::geometry::PointCloud pcd;
     pcd.points_.reserve(points.size());
     for (const Eigen::Vector3f& p : points) pcd.points_.push_back(p.cast<double>());
-    o3d = std::get<1>(pcd.RemoveStatisticalOutliers(config_sor.nb_neighbors + 1,
-                                                    config_sor.std_ratio));
+    o3d = std::get<1>(pcd.RemoveStatisticalOutliers(config_sor.nb_neighbors + 1, config_sor.std_ratio));
   });
   std::vector<int> o3d_int(o3d.begin(), o3d.end());
   std::sort(o3d_int.begin(), o3d_int.end());
@@ -195,10 +191,10 @@ TEST(RemoveOutliers, MatchesOpen3dAndTiming) {
     for (const int i : o3d_int) b[static_cast<size_t>(i)] = 1;
     for (size_t i = 0; i < points.size(); ++i) disagree += a[i] != b[i];
   }
-  std::printf("outlier removal, %zu points: own %.1f ms (tree %.1f of it; with a shared "
-              "tree %.1f ms), Open3D %.1f ms; kept %zu vs %zu, %zu decisions differ\n",
-              points.size(), own_ms, build_ms, shared_ms, o3d_ms, own.size(), o3d_int.size(),
-              disagree);
+  std::printf(
+      "outlier removal, %zu points: own %.1f ms (tree %.1f of it; with a shared "
+      "tree %.1f ms), Open3D %.1f ms; kept %zu vs %zu, %zu decisions differ\n",
+      points.size(), own_ms, build_ms, shared_ms, o3d_ms, own.size(), o3d_int.size(), disagree);
   // Ties at the threshold aside (float vs double distances), the same set.
   EXPECT_LE(disagree, points.size() / 1000);
   size_t far_kept = 0;

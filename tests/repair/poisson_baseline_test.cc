@@ -29,8 +29,7 @@ TEST(PoissonBaseline, DefaultsValidateAndBadValuesThrow) {
 }
 
 TEST(PoissonBaseline, BadInputThrowsAndTinyInputIsANoOp) {
-  PointList points = {Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(1, 0, 0),
-                      Eigen::Vector3f(0, 1, 0)};
+  PointList points = {Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(1, 0, 0), Eigen::Vector3f(0, 1, 0)};
   EXPECT_TRUE(PoissonFillAll(points, PoissonFillConfig{}).empty());
   PointList bad = points;
   bad[1].x() = std::numeric_limits<float>::quiet_NaN();
@@ -52,10 +51,10 @@ TEST(PoissonBaseline, FillsEveryHoleOfTheProtocolCylinder) {
   repaired.insert(repaired.end(), added.begin(), added.end());
   const eval::CloudMetrics before = eval::Compare(cloud.holey, cloud.ground_truth);
   const eval::CloudMetrics after = eval::Compare(repaired, cloud.ground_truth);
-  std::printf("[baseline] Poisson-only, cylinder top: +%zu pts; chamfer %.3f -> %.3f mm^2, "
-              "gt->pred p95 %.2f -> %.2f mm\n",
-              added.size(), before.chamfer_mm2, after.chamfer_mm2, before.p95_gt_to_pred_mm,
-              after.p95_gt_to_pred_mm);
+  std::printf(
+      "[baseline] Poisson-only, cylinder top: +%zu pts; chamfer %.3f -> %.3f mm^2, "
+      "gt->pred p95 %.2f -> %.2f mm\n",
+      added.size(), before.chamfer_mm2, after.chamfer_mm2, before.p95_gt_to_pred_mm, after.p95_gt_to_pred_mm);
   ASSERT_FALSE(added.empty());
   // One smooth surface closes the flat top as a dome, so the whole-cloud
   // chamfer drops by only ~40% (26.2 -> 16.0 mm^2 when written).

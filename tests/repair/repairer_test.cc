@@ -253,8 +253,8 @@ TEST(Repairer, KeepsInputNormalsAndEstimatesTheAddedOnes) {
     const bool cap = p.z() < 0.003 || p.z() > height - 0.003;
     const bool side = r_xy > radius - 0.003;
     if (cap == side) continue;  // near an edge
-    const Eigen::Vector3f truth = cap ? Eigen::Vector3f(0, 0, p.z() < 0.003 ? -1 : 1)
-                                      : Eigen::Vector3f(p.x(), p.y(), 0).normalized();
+    const Eigen::Vector3f truth =
+        cap ? Eigen::Vector3f(0, 0, p.z() < 0.003 ? -1 : 1) : Eigen::Vector3f(p.x(), p.y(), 0).normalized();
     ++judged;
     good += n.dot(truth) > 0.9f;
   }
@@ -316,8 +316,8 @@ TEST(Repairer, AsymmetricFrustumGetsItsClawHoleFilledAndNoMirror) {
     surface += r.cloud.provenance[i] == Provenance::kSurface;
     symmetry += r.cloud.provenance[i] == Provenance::kSymmetry;
   }
-  std::printf("frustum: %d claw holes, %d surface points, %d mirrored; %s\n", claw_holes, surface,
-              symmetry, r.report.symmetry_reason.c_str());
+  std::printf("frustum: %d claw holes, %d surface points, %d mirrored; %s\n", claw_holes, surface, symmetry,
+              r.report.symmetry_reason.c_str());
   EXPECT_EQ(claw_holes, 1);
   EXPECT_GT(surface, 0);
   EXPECT_EQ(symmetry, 0);

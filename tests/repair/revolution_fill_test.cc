@@ -17,8 +17,8 @@ constexpr double kPi = 3.14159265358979323846;
 
 // Points on the surface r(z)^2 = a + b z + c z^2 about (x0, y0), for z in
 // [z0, z1], about `step_m` apart, with Gaussian radial noise.
-PointList OnProfile(double x0, double y0, double a, double b, double c, double z0, double z1,
-                    double step_m, double noise_m, unsigned seed) {
+PointList OnProfile(double x0, double y0, double a, double b, double c, double z0, double z1, double step_m,
+                    double noise_m, unsigned seed) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> noise(0.0, noise_m);
   PointList out;

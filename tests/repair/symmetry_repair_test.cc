@@ -11,8 +11,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <limits>
 
 #include "claw_hole_repair.hpp"
@@ -57,13 +57,13 @@ HoleBoundary TopBoundary(const PointList& cloud) {
 
 struct Case {
   PointList cloud;
-  PointList claw_fill;  // step 7's points, when filled
+  PointList claw_fill;    // step 7's points, when filled
   PointList dense_truth;  // ~300k points of the complete surface
   double height{0.0};
-  double top_z{0.0};      // the cut
+  double top_z{0.0};  // the cut
   double d{0.0};
   std::vector<HoleBoundary> claw_holes;  // protocol cases only
-  HoleBoundary top;  // of the cloud before any fill
+  HoleBoundary top;                      // of the cloud before any fill
 };
 
 // The protocol's cloud with the top band above (1 - band_fraction) H cut
@@ -157,21 +157,21 @@ MirrorStats Evaluate(const Case& c, const PointList& added) {
   return st;
 }
 
-void Print(const char* label, const Case& c, const SymmetryResult& r, const MirrorStats& st,
-           double ms) {
-  std::printf("[sym] %-30s %zu pts, H %.0f mm, cut at %.1f mm: plane %.2f mm (H/2 %.2f), "
-              "symmetric %d, mismatch %.3f, +%zu pts in %.1f ms; on surface %.3f (p95 %.2f mm), "
-              "cover %.3f\n      %s\n",
-              label, c.cloud.size(), 1e3 * c.height, 1e3 * c.top_z, 1e3 * r.symmetry_plane_z,
-              500 * c.height, r.symmetric, r.outline_mismatch, r.added_V.size(), ms,
-              st.on_surface, st.p95_mm, st.cover, r.reason.c_str());
+void Print(const char* label, const Case& c, const SymmetryResult& r, const MirrorStats& st, double ms) {
+  std::printf(
+      "[sym] %-30s %zu pts, H %.0f mm, cut at %.1f mm: plane %.2f mm (H/2 %.2f), "
+      "symmetric %d, mismatch %.3f, +%zu pts in %.1f ms; on surface %.3f (p95 %.2f mm), "
+      "cover %.3f\n      %s\n",
+      label, c.cloud.size(), 1e3 * c.height, 1e3 * c.top_z, 1e3 * r.symmetry_plane_z, 500 * c.height,
+      r.symmetric, r.outline_mismatch, r.added_V.size(), ms, st.on_surface, st.p95_mm, st.cover,
+      r.reason.c_str());
 }
 
 SymmetryResult RunRepair(const Case& c, const SymmetryConfig& config, double* ms) {
   const NeighborIndex index(c.cloud);
   const auto t0 = std::chrono::steady_clock::now();
-  SymmetryResult r = RepairMissingSurface(c.cloud, c.top, config, &index,
-                                          c.claw_fill.empty() ? nullptr : &c.claw_fill);
+  SymmetryResult r =
+      RepairMissingSurface(c.cloud, c.top, config, &index, c.claw_fill.empty() ? nullptr : &c.claw_fill);
   *ms = Ms(t0);
   return r;
 }
@@ -300,8 +300,7 @@ TEST(SymmetryRepair, SphereAndEllipsoidTopsAreMirroredOntoTheSurface) {
 // at mid-height.
 TEST(SymmetryRepair, ClawFillsProudOfANarrowFaceDoNotHideAConstantSection) {
   const Eigen::Vector3d size(0.09, 0.035, 0.11);
-  const mesh::SurfaceSamples truth =
-      mesh::SampleSurface(synth::MakeShape(Shape::kCuboid, size), 60000, 5);
+  const mesh::SurfaceSamples truth = mesh::SampleSurface(synth::MakeShape(Shape::kCuboid, size), 60000, 5);
   Case c;
   c.height = size.z();
   c.top_z = size.z() - 0.0005;
@@ -370,12 +369,14 @@ TEST(SymmetryRepair, OpenClawHolesAreFilledByTheImage) {
     return eval::FractionWithin(mesh::NearestDistances(in_holes, repaired), kCoverD * c.d);
   };
   const SymmetryResult closed_top = RepairMissingSurface(c.cloud, c.top, SymmetryConfig{}, &index);
-  const SymmetryResult filled = RepairMissingSurface(c.cloud, c.top, SymmetryConfig{}, &index, nullptr, &open_V);
+  const SymmetryResult filled =
+      RepairMissingSurface(c.cloud, c.top, SymmetryConfig{}, &index, nullptr, &open_V);
   ASSERT_TRUE(filled.symmetric) << filled.reason;
-  std::printf("[sym] cuboid, 3 claw holes open: covered %.3f by the top's image alone, %.3f with the "
-              "holes' boxes (+%zu pts)\n      %s\n",
-              hole_cover(closed_top), hole_cover(filled), filled.added_V.size() - closed_top.added_V.size(),
-              filled.reason.c_str());
+  std::printf(
+      "[sym] cuboid, 3 claw holes open: covered %.3f by the top's image alone, %.3f with the "
+      "holes' boxes (+%zu pts)\n      %s\n",
+      hole_cover(closed_top), hole_cover(filled), filled.added_V.size() - closed_top.added_V.size(),
+      filled.reason.c_str());
   EXPECT_LT(hole_cover(closed_top), 0.5);
   EXPECT_GE(hole_cover(filled), kCoverFraction);
   EXPECT_NE(filled.reason.find("claw hole"), std::string::npos);
@@ -407,8 +408,7 @@ TEST(SymmetryRepair, CylinderWithTheProtocolBandCutIsClosedAtTheCut) {
   int on_closure = 0;
   for (const Eigen::Vector3f& p : r.added_V) {
     const double radial = std::hypot(p.x(), p.y());
-    on_closure += std::abs(radial - 0.035) < 1e-3 ||
-                  (std::abs(p.z() - c.top_z) < 1e-3 && radial < 0.036);
+    on_closure += std::abs(radial - 0.035) < 1e-3 || (std::abs(p.z() - c.top_z) < 1e-3 && radial < 0.036);
   }
   EXPECT_GE(on_closure, kSurfaceFraction * r.added_V.size());
   // The top is closed: the disc covers the cut's whole cross-section.
@@ -422,10 +422,8 @@ TEST(SymmetryRepair, CylinderWithTheProtocolBandCutIsClosedAtTheCut) {
   EXPECT_LT(after.chamfer_mm2, before.chamfer_mm2);
 
   const SymmetryResult paper = RunRepair(c, SymmetryConfig::Paper(), &ms);
-  std::printf("[sym] paper's search from the median: plane %.2f mm\n",
-              1e3 * paper.symmetry_plane_z);
-  EXPECT_GT(std::abs(paper.symmetry_plane_z - 0.5 * c.height),
-            std::abs(r.symmetry_plane_z - 0.5 * c.height));
+  std::printf("[sym] paper's search from the median: plane %.2f mm\n", 1e3 * paper.symmetry_plane_z);
+  EXPECT_GT(std::abs(paper.symmetry_plane_z - 0.5 * c.height), std::abs(r.symmetry_plane_z - 0.5 * c.height));
 }
 
 TEST(SymmetryRepair, EveryProtocolShapeIsFoundSymmetric) {
@@ -445,8 +443,8 @@ TEST(SymmetryRepair, EveryProtocolShapeIsFoundSymmetric) {
 
 // --- Asymmetric objects: nothing added, and why. ---
 
-void AddQuad(TriangleMesh* m, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
-             const Eigen::Vector3f& c, const Eigen::Vector3f& d) {
+void AddQuad(TriangleMesh* m, const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector3f& c,
+             const Eigen::Vector3f& d) {
   const int i = static_cast<int>(m->vertices.size());
   m->vertices.insert(m->vertices.end(), {a, b, c, d});
   m->triangles.emplace_back(i, i + 1, i + 2);
@@ -459,8 +457,7 @@ TriangleMesh Box(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, float yaw
   const Eigen::Matrix3f r = Eigen::AngleAxisf(yaw, Eigen::Vector3f::UnitZ()).toRotationMatrix();
   Eigen::Vector3f v[8];
   for (int k = 0; k < 8; ++k) {
-    v[k] = r * Eigen::Vector3f(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(),
-                               k & 4 ? hi.z() : lo.z());
+    v[k] = r * Eigen::Vector3f(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z());
   }
   TriangleMesh m;
   AddQuad(&m, v[0], v[1], v[3], v[2]);  // bottom
@@ -478,8 +475,10 @@ TriangleMesh Frustum(float r0, float r1, float h, int segments = 128) {
   for (int i = 0; i < segments; ++i) {
     const float a0 = 2.0f * static_cast<float>(M_PI) * i / segments;
     const float a1 = 2.0f * static_cast<float>(M_PI) * (i + 1) / segments;
-    const Eigen::Vector3f b0(r0 * std::cos(a0), r0 * std::sin(a0), 0), b1(r0 * std::cos(a1), r0 * std::sin(a1), 0);
-    const Eigen::Vector3f t0(r1 * std::cos(a0), r1 * std::sin(a0), h), t1(r1 * std::cos(a1), r1 * std::sin(a1), h);
+    const Eigen::Vector3f b0(r0 * std::cos(a0), r0 * std::sin(a0), 0),
+        b1(r0 * std::cos(a1), r0 * std::sin(a1), 0);
+    const Eigen::Vector3f t0(r1 * std::cos(a0), r1 * std::sin(a0), h),
+        t1(r1 * std::cos(a1), r1 * std::sin(a1), h);
     AddQuad(&m, b0, b1, t1, t0);
     const int c = static_cast<int>(m.vertices.size());
     m.vertices.insert(m.vertices.end(), {Eigen::Vector3f(0, 0, 0), b1, b0, Eigen::Vector3f(0, 0, h), t0, t1});
@@ -498,8 +497,8 @@ void ExpectRejected(const char* label, const Case& c, const char* why) {
   EXPECT_NE(r.reason.find(why), std::string::npos) << label << ": " << r.reason;
   // The paper's method, without the checks, would have mirrored something.
   const SymmetryResult paper = RunRepair(c, SymmetryConfig::Paper(), &ms);
-  std::printf("[sym]   the paper's method would add %zu points (plane %.1f mm)\n",
-              paper.added_V.size(), 1e3 * paper.symmetry_plane_z);
+  std::printf("[sym]   the paper's method would add %zu points (plane %.1f mm)\n", paper.added_V.size(),
+              1e3 * paper.symmetry_plane_z);
 }
 
 TEST(SymmetryRepair, FrustumIsNotMirrored) {
@@ -558,7 +557,8 @@ TEST(SymmetryRepair, TheImageOfALeaningFruitIsMovedOntoTheWallsAroundIt) {
     SymmetryConfig as_is;
     as_is.fit_sectors = 0;
     const SymmetryResult mirrored = RepairMissingSurface(c.cloud, c.top, as_is, &index, nullptr, &open_V);
-    const SymmetryResult fitted = RepairMissingSurface(c.cloud, c.top, SymmetryConfig{}, &index, nullptr, &open_V);
+    const SymmetryResult fitted =
+        RepairMissingSurface(c.cloud, c.top, SymmetryConfig{}, &index, nullptr, &open_V);
     SCOPED_TRACE(lean ? "leaning" : "upright");
     ASSERT_TRUE(mirrored.symmetric) << mirrored.reason;
     ASSERT_TRUE(fitted.symmetric) << fitted.reason;
@@ -570,12 +570,14 @@ TEST(SymmetryRepair, TheImageOfALeaningFruitIsMovedOntoTheWallsAroundIt) {
     };
     double moved_mm = 0.0;
     for (size_t i = 0; i < fitted.added_V.size(); ++i) {
-      moved_mm = std::max(moved_mm, 1e3 * static_cast<double>((fitted.added_V[i] - mirrored.added_V[i]).norm()));
+      moved_mm =
+          std::max(moved_mm, 1e3 * static_cast<double>((fitted.added_V[i] - mirrored.added_V[i]).norm()));
     }
-    std::printf("[sym] ball of 60 mm, %s, claw hole on the side: the image as is p95 %.2f mm, hole "
-                "covered %.3f; fitted p95 %.2f mm, covered %.3f (points moved up to %.2f mm)\n",
-                lean ? "upper half leaning" : "upright", st_mirrored.p95_mm, hole_cover(mirrored),
-                st_fitted.p95_mm, hole_cover(fitted), moved_mm);
+    std::printf(
+        "[sym] ball of 60 mm, %s, claw hole on the side: the image as is p95 %.2f mm, hole "
+        "covered %.3f; fitted p95 %.2f mm, covered %.3f (points moved up to %.2f mm)\n",
+        lean ? "upper half leaning" : "upright", st_mirrored.p95_mm, hole_cover(mirrored), st_fitted.p95_mm,
+        hole_cover(fitted), moved_mm);
     if (lean) {
       // The hole; the top (cut at 92%) is steeper than 45 degrees, where
       // the image is not moved, so it keeps the lean's error there.
@@ -608,9 +610,10 @@ TEST(SymmetryRepair, TimingOnA50kCloud) {
   }
   std::sort(ms.begin(), ms.end());
   std::sort(cpu_ms.begin(), cpu_ms.end());
-  std::printf("[sym] timing cylinder %zu pts: %.1f ms wall median (%.1f-%.1f), %.1f ms CPU; "
-              "+%zu pts\n",
-              pc.holey.size(), ms[4], ms[0], ms[8], cpu_ms[4], r.added_V.size());
+  std::printf(
+      "[sym] timing cylinder %zu pts: %.1f ms wall median (%.1f-%.1f), %.1f ms CPU; "
+      "+%zu pts\n",
+      pc.holey.size(), ms[4], ms[0], ms[8], cpu_ms[4], r.added_V.size());
   EXPECT_TRUE(r.symmetric);
 }
 

@@ -23,7 +23,8 @@ PointList Ring(double r, double z) {
   const int n = static_cast<int>(std::ceil(2.0 * kPi * r / kSpacing));
   for (int k = 0; k < n; ++k) {
     const double t = 2.0 * kPi * k / n;
-    out.emplace_back(static_cast<float>(r * std::cos(t)), static_cast<float>(r * std::sin(t)), static_cast<float>(z));
+    out.emplace_back(static_cast<float>(r * std::cos(t)), static_cast<float>(r * std::sin(t)),
+                     static_cast<float>(z));
   }
   return out;
 }
@@ -50,7 +51,8 @@ TopCandidate Candidate(TopFamily family, PointList points, int parameters, doubl
 const PointList kRim = Ring(0.03, 0.0);  // the mouth's rim: 30 mm at z = 0
 
 TEST(TopSearch, ACompletionThatMeetsTheRimWinsConfidently) {
-  const TopChoice choice = ChooseTop({Candidate(TopFamily::kMirror, Disc(0.03, 0.001), 1)}, kRim, {}, kSpacing);
+  const TopChoice choice =
+      ChooseTop({Candidate(TopFamily::kMirror, Disc(0.03, 0.001), 1)}, kRim, {}, kSpacing);
   EXPECT_EQ(choice.Best().family, TopFamily::kMirror);
   EXPECT_LT(choice.Best().seal_m, 1.5 * kSpacing);
   EXPECT_GT(choice.confidence, 0.95f);
@@ -60,7 +62,8 @@ TEST(TopSearch, ACompletionThatMeetsTheRimWinsConfidently) {
 
 TEST(TopSearch, OpenWinsOverAnImageThatStopsShortOfTheRim) {
   // The mirror of a bottom 24 mm wide under a 30 mm mouth: 6 spacings short.
-  const TopChoice choice = ChooseTop({Candidate(TopFamily::kMirror, Disc(0.024, 0.001), 1)}, kRim, {}, kSpacing);
+  const TopChoice choice =
+      ChooseTop({Candidate(TopFamily::kMirror, Disc(0.024, 0.001), 1)}, kRim, {}, kSpacing);
   EXPECT_EQ(choice.Best().family, TopFamily::kOpen);
   EXPECT_GT(choice.candidates.front().seal_m, 3.0 * kSpacing);
   EXPECT_GT(choice.confidence, 0.5f);
@@ -102,7 +105,8 @@ TEST(TopSearch, NothingProposedOrNoRimLeavesItOpen) {
   EXPECT_EQ(alone.confidence, 0.5f);  // nothing weighed against it
   EXPECT_EQ(ChooseTop({Candidate(TopFamily::kMirror, Disc(0.03, 0.001), 1)}, {}, {}, kSpacing).Best().family,
             TopFamily::kOpen);
-  EXPECT_EQ(ChooseTop({Candidate(TopFamily::kMirror, {}, 1)}, kRim, {}, kSpacing).Best().family, TopFamily::kOpen);
+  EXPECT_EQ(ChooseTop({Candidate(TopFamily::kMirror, {}, 1)}, kRim, {}, kSpacing).Best().family,
+            TopFamily::kOpen);
 }
 
 }  // namespace

@@ -56,8 +56,8 @@ void PrintPlanes(const Case& c, const std::vector<BoundaryPlane>& planes) {
     std::printf(
         "  plane n_O (%+.3f %+.3f %+.3f) at z_O %.3f: %d inliers, Eq. 4 %.3f, open %.2f, cut %d, "
         "axis offset %.2f %s\n",
-        n_O.x(), n_O.y(), n_O.z(), o_O.z(), p.inliers, p.eq4_sum, p.open_fraction, p.cut,
-        p.axis_offset, p.chosen ? "<- chosen" : "");
+        n_O.x(), n_O.y(), n_O.z(), o_O.z(), p.inliers, p.eq4_sum, p.open_fraction, p.cut, p.axis_offset,
+        p.chosen ? "<- chosen" : "");
   }
 }
 
@@ -77,8 +77,7 @@ void ExpectFrameMatches(const Case& c, const VirtualFrame& frame, const std::str
 void ExpectFrameFound(const Case& c, const VirtualFrameConfig& config, const std::string& what) {
   std::string reason;
   std::vector<BoundaryPlane> planes;
-  const auto frame =
-      EstimateVirtualFrame(c.cloud.holey, c.boundary, config, nullptr, &reason, &planes);
+  const auto frame = EstimateVirtualFrame(c.cloud.holey, c.boundary, config, nullptr, &reason, &planes);
   if (!frame) PrintPlanes(c, planes);
   ASSERT_TRUE(frame.has_value()) << what << ": " << reason;
   ExpectFrameMatches(c, *frame, what);
@@ -129,8 +128,8 @@ TEST(VirtualFrame, EveryShapeMiddleAndObliqueGrasps) {
     for (GraspWay grasp : {GraspWay::kMiddleStraight, GraspWay::kTopOblique}) {
       for (uint64_t seed : {11, 12}) {
         const Case c = MakeCase(shape, grasp, seed);
-        const std::string what = synth::ShapeName(shape) + " " + synth::GraspWayName(grasp) +
-                                 " seed " + std::to_string(seed);
+        const std::string what =
+            synth::ShapeName(shape) + " " + synth::GraspWayName(grasp) + " seed " + std::to_string(seed);
         ExpectFrameFound(c, config, what);
         if (HasFailure()) return;
       }
@@ -148,9 +147,8 @@ TEST(VirtualFrame, RobustToSharpEdgeFalseBoundariesAndStrays) {
     Case c = MakeCase(Shape::kTriangularPrism, GraspWay::kTopStraight, seed);
     const Eigen::Isometry3d T_O_cloud = c.cloud.T_cloud_object.inverse();
     const Eigen::Vector3d size = c.cloud.size_m;
-    const std::vector<Eigen::Vector2d> corners = {{-2.0 * size.x() / 3.0, 0.0},
-                                                  {size.x() / 3.0, 0.5 * size.y()},
-                                                  {size.x() / 3.0, -0.5 * size.y()}};
+    const std::vector<Eigen::Vector2d> corners = {
+        {-2.0 * size.x() / 3.0, 0.0}, {size.x() / 3.0, 0.5 * size.y()}, {size.x() / 3.0, -0.5 * size.y()}};
     int added = 0;
     for (const Eigen::Vector3f& p : c.cloud.holey) {
       const Eigen::Vector2d xy = (T_O_cloud * p.cast<double>()).head<2>();
@@ -165,8 +163,7 @@ TEST(VirtualFrame, RobustToSharpEdgeFalseBoundariesAndStrays) {
     Rng rng(seed);
     const size_t strays = c.boundary.size() / 20;
     for (size_t k = 0; k < strays; ++k) {
-      c.boundary.push_back(
-          c.cloud.holey[static_cast<size_t>(rng.Uniform() * c.cloud.holey.size())]);
+      c.boundary.push_back(c.cloud.holey[static_cast<size_t>(rng.Uniform() * c.cloud.holey.size())]);
     }
     const std::string what = "seed " + std::to_string(seed) + " (+" + std::to_string(added) +
                              " edge points, " + std::to_string(strays) + " strays)";
@@ -183,10 +180,9 @@ TEST(VirtualFrame, CuboidAxesFollowTheFaces) {
   ASSERT_TRUE(frame.has_value());
   const Eigen::Matrix3d R_O = c.cloud.T_cloud_object.linear();
   const Eigen::Vector3d x = frame->T_in_V.linear().col(0);
-  const double to_face =
-      std::min(AngleDeg(x, R_O.col(0)),
-               std::min(AngleDeg(x, -R_O.col(0)),
-                        std::min(AngleDeg(x, R_O.col(1)), AngleDeg(x, -R_O.col(1)))));
+  const double to_face = std::min(
+      AngleDeg(x, R_O.col(0)),
+      std::min(AngleDeg(x, -R_O.col(0)), std::min(AngleDeg(x, R_O.col(1)), AngleDeg(x, -R_O.col(1)))));
   EXPECT_LT(to_face, 2.0);
   EXPECT_NEAR(frame->max_V.x() - frame->min_V.x(), c.cloud.size_m.x(), 0.002);
   EXPECT_NEAR(frame->max_V.y() - frame->min_V.y(), c.cloud.size_m.y(), 0.002);
@@ -207,8 +203,8 @@ TEST(VirtualFrame, XIsTheLongerSide) {
 TEST(VirtualFrame, UpHintIsOptionalAndAgrees) {
   const Case c = MakeCase(Shape::kSphere, GraspWay::kTopStraight, 9);
   const VirtualFrameConfig config;
-  const Eigen::Vector3d up = c.cloud.T_cloud_object.linear().col(2) +
-                             0.3 * c.cloud.T_cloud_object.linear().col(0);  // ~17 deg off
+  const Eigen::Vector3d up =
+      c.cloud.T_cloud_object.linear().col(2) + 0.3 * c.cloud.T_cloud_object.linear().col(0);  // ~17 deg off
   const auto with_hint = EstimateVirtualFrame(c.cloud.holey, c.boundary, config, &up);
   const auto without = EstimateVirtualFrame(c.cloud.holey, c.boundary, config);
   ASSERT_TRUE(with_hint && without);
@@ -221,8 +217,7 @@ TEST(VirtualFrame, PaperModeEq4AloneStillFindsTheAxisOnACylinder) {
   config.prefer_open_planes = false;
   const Case c = MakeCase(Shape::kCylinder, GraspWay::kTopStraight, 5);
   std::vector<BoundaryPlane> planes;
-  const auto frame =
-      EstimateVirtualFrame(c.cloud.holey, c.boundary, config, nullptr, nullptr, &planes);
+  const auto frame = EstimateVirtualFrame(c.cloud.holey, c.boundary, config, nullptr, nullptr, &planes);
   ASSERT_TRUE(frame.has_value());
   ExpectFrameMatches(c, *frame, "paper mode");
   EXPECT_GE(planes.size(), 2u);
@@ -255,8 +250,8 @@ TEST(VirtualFrame, TooFewOrNoBoundaryPointsGiveAReason) {
 
 TEST(VirtualFrame, ToVirtualFrameInvertsTheFrame) {
   VirtualFrame frame;
-  frame.T_in_V = Eigen::Translation3d(0.1, -0.2, 0.3) *
-                 Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized());
+  frame.T_in_V =
+      Eigen::Translation3d(0.1, -0.2, 0.3) * Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized());
   const PointList in = {Eigen::Vector3f(0.1f, -0.2f, 0.3f), Eigen::Vector3f(1, 2, 3)};
   const PointList v = ToVirtualFrame(in, frame);
   EXPECT_LT(v[0].norm(), 1e-6);
@@ -271,15 +266,12 @@ TEST(VirtualFrame, Timing) {
   constexpr int kRuns = 10;
   const std::clock_t c0 = std::clock();
   const auto t0 = std::chrono::steady_clock::now();
-  for (int i = 0; i < kRuns; ++i)
-    ASSERT_TRUE(EstimateVirtualFrame(c.cloud.holey, c.boundary, config));
+  for (int i = 0; i < kRuns; ++i) ASSERT_TRUE(EstimateVirtualFrame(c.cloud.holey, c.boundary, config));
   const double wall_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() /
-      kRuns;
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / kRuns;
   const double cpu_ms = 1000.0 * static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC / kRuns;
-  std::printf(
-      "EstimateVirtualFrame: %.2f ms CPU, %.2f ms wall (%zu cloud points, %zu boundary points)\n",
-      cpu_ms, wall_ms, c.cloud.holey.size(), c.boundary.size());
+  std::printf("EstimateVirtualFrame: %.2f ms CPU, %.2f ms wall (%zu cloud points, %zu boundary points)\n",
+              cpu_ms, wall_ms, c.cloud.holey.size(), c.boundary.size());
 }
 
 }  // namespace

@@ -23,8 +23,7 @@ namespace {
 
 template <typename Message>
 bool Decode(const std::vector<uint8_t>& data, Message* msg) {
-  return msg->decode(data.data(), 0, static_cast<int>(data.size())) ==
-         static_cast<int>(data.size());
+  return msg->decode(data.data(), 0, static_cast<int>(data.size())) == static_cast<int>(data.size());
 }
 
 template <typename Message>
@@ -92,8 +91,7 @@ int main(int argc, char** argv) {
     }
     if (!reader.error().empty()) throw std::runtime_error(reader.error());
     writer.Close();
-    std::printf("malformed %d bad_intrinsics %d bad_pose %d\n", malformed, bad_intrinsics,
-                bad_pose);
+    std::printf("malformed %d bad_intrinsics %d bad_pose %d\n", malformed, bad_intrinsics, bad_pose);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bad_bus_log: %s\n", e.what());
     return 1;

@@ -39,8 +39,7 @@ TEST(StrictNumbers, AcceptsWholeNumbersInRange) {
   EXPECT_EQ(ParseDouble("--x", "0.01", 0.0, 0.01), 0.01);  // bounds included
   EXPECT_EQ(ParseInteger<int>("--n", "-7", -10, 10), -7);
   EXPECT_EQ(ParseInteger<int>("--n", "100000", 0, 100000), 100000);
-  EXPECT_EQ(ParseInteger<uint64_t>("--seed", "18446744073709551615", 0,
-                                   std::numeric_limits<uint64_t>::max()),
+  EXPECT_EQ(ParseInteger<uint64_t>("--seed", "18446744073709551615", 0, std::numeric_limits<uint64_t>::max()),
             std::numeric_limits<uint64_t>::max());
 }
 
@@ -48,13 +47,11 @@ TEST(StrictNumbers, RejectsGarbageNamingTheOptionAndTheText) {
   auto d = [](const std::string& text) {
     return UsageMessage([&] { ParseDouble("--voxel-m", text, kMinVoxelM, kMaxVoxelM, "m"); });
   };
-  for (const char* text : {"abc", "", " 0.002", "0.002 ", "0.002x", "+0.002", "0x1p-9", "2mm",
-                           "0,002"}) {
+  for (const char* text : {"abc", "", " 0.002", "0.002 ", "0.002x", "+0.002", "0x1p-9", "2mm", "0,002"}) {
     EXPECT_EQ(d(text), std::string("--voxel-m '") + text + "': not a number") << text;
   }
   for (const char* text : {"1.5", "nan", "inf", "-inf", "1e999", "-0.001", "0", "0.0004"}) {
-    EXPECT_EQ(d(text), std::string("--voxel-m '") + text +
-                           "': out of range, expected 0.0005..0.01 m")
+    EXPECT_EQ(d(text), std::string("--voxel-m '") + text + "': out of range, expected 0.0005..0.01 m")
         << text;
   }
   auto i = [](const std::string& text) {
@@ -64,8 +61,7 @@ TEST(StrictNumbers, RejectsGarbageNamingTheOptionAndTheText) {
     EXPECT_EQ(i(text), std::string("--publish-every '") + text + "': not an integer") << text;
   }
   for (const char* text : {"-1", "100001", "99999999999999999999"}) {
-    EXPECT_EQ(i(text), std::string("--publish-every '") + text +
-                           "': out of range, expected 0..100000")
+    EXPECT_EQ(i(text), std::string("--publish-every '") + text + "': out of range, expected 0..100000")
         << text;
   }
   EXPECT_EQ(UsageMessage([] { ParseInteger<uint64_t>("--seed", "-3", 0, 10); }),
@@ -145,21 +141,20 @@ TEST(SessionClaw, ClawsThatCannotBeBuiltSaySo) {
   EXPECT_EQ(message(),
             "the session description's claw URDF 'robotiq' (robotiq.urdf): URDF claw 'robotiq': "
             "no URDF (empty text) (pass --claw SPEC, or --claw-mesh-root DIR for its meshes)");
-  session.claw_text = "<robot name='robotiq'><link name='palm'><collision><geometry>"
-                      "<mesh filename='package://robotiq/palm.stl'/></geometry></collision>"
-                      "</link></robot>";
+  session.claw_text =
+      "<robot name='robotiq'><link name='palm'><collision><geometry>"
+      "<mesh filename='package://robotiq/palm.stl'/></geometry></collision>"
+      "</link></robot>";
   session.claw_mesh_root = "/nonexistent/meshes";
   // The recorded root is a hint, not a place to read from (issue 36).
   EXPECT_NE(message().find("link 'palm'"), std::string::npos) << message();
   EXPECT_NE(message().find("none was given"), std::string::npos) << message();
-  EXPECT_NE(message().find("it was made with meshes in /nonexistent/meshes"), std::string::npos)
-      << message();
+  EXPECT_NE(message().find("it was made with meshes in /nonexistent/meshes"), std::string::npos) << message();
   try {
     MakeSessionClaw(session, "/nonexistent/meshes");  // the local root
     ADD_FAILURE() << "built";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("palm.stl' not found under /nonexistent/meshes"),
-              std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("palm.stl' not found under /nonexistent/meshes"), std::string::npos)
         << e.what();
   }
   DescribeBuiltinClaw("four-finger", {}, &session);
@@ -200,10 +195,9 @@ TEST(SessionClaw, ADescriptionClawIsReadInMemoryWithLocalMeshesOnly) {
   session.claw_mesh_root = (dir / "recorded").string();
   session.claw_source = (dir / "recorded" / "claw.json").string();
   EXPECT_THROW(MakeSessionClaw(session), std::runtime_error);  // no local root
-  EXPECT_EQ(MakeSessionClaw(session, (dir / "recorded").string()).links()[0].mesh.triangles.size(),
-            4u);
-  session.claw_text = R"({"links": [{"name": "palm", "mesh": ")" +
-                      (dir / "recorded" / "palm.obj").string() + R"("}]})";
+  EXPECT_EQ(MakeSessionClaw(session, (dir / "recorded").string()).links()[0].mesh.triangles.size(), 4u);
+  session.claw_text =
+      R"({"links": [{"name": "palm", "mesh": ")" + (dir / "recorded" / "palm.obj").string() + R"("}]})";
   EXPECT_THROW(MakeSessionClaw(session, (dir / "recorded").string()), std::runtime_error);
   EXPECT_TRUE(fs::is_empty(dir / "a" / "b"));
   if (old_tmpdir) {
@@ -220,7 +214,8 @@ TEST(UnknownOption, SuggestsTheNearestOptionOfTheUsageText) {
   const std::string usage =
       "usage: graspfill repair IN.ply -o OUT.ply [--mode paper|best] [--up X,Y,Z]\n"
       "  --force    overwrite\n  --mesh-out FILE\n  --json  print JSON\n";
-  EXPECT_EQ(OptionsIn(usage), (std::vector<std::string>{"--mode", "--up", "--force", "--mesh-out", "--json"}));
+  EXPECT_EQ(OptionsIn(usage),
+            (std::vector<std::string>{"--mode", "--up", "--force", "--mesh-out", "--json"}));
   EXPECT_EQ(BadOptionText("--forse", usage), "bad option '--forse' (did you mean --force?)");
   EXPECT_EQ(BadOptionText("--mesh_out", usage), "bad option '--mesh_out' (did you mean --mesh-out?)");
   EXPECT_EQ(BadOptionText("--jsno", usage), "bad option '--jsno' (did you mean --json?)");  // a swap

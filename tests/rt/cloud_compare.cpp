@@ -24,7 +24,8 @@
 namespace {
 
 std::optional<graspfill::ObjectCloud> LastCloud(const std::string& path, const std::string& channel) {
-  if (path.size() > 4 && path.compare(path.size() - 4, 4, ".ply") == 0) return graspfill::io::ReadCloudPly(path);
+  if (path.size() > 4 && path.compare(path.size() - 4, 4, ".ply") == 0)
+    return graspfill::io::ReadCloudPly(path);
   graspfill::io::LcmLogReader reader(path);
   graspfill::io::LogEvent event;
   std::optional<graspfill::ObjectCloud> last;
@@ -36,8 +37,8 @@ std::optional<graspfill::ObjectCloud> LastCloud(const std::string& path, const s
     std::string error;
     const Result r = assembler.Add(event.data.data(), event.data.size(), &error);
     if (r == Result::kPending || r == Result::kRepeat) continue;
-    if (r != Result::kComplete ||
-        !graspfill::io::DecodeObjectCloud(assembler.cloud().data(), assembler.cloud().size(), &cloud, &error)) {
+    if (r != Result::kComplete || !graspfill::io::DecodeObjectCloud(
+                                      assembler.cloud().data(), assembler.cloud().size(), &cloud, &error)) {
       std::fprintf(stderr, "%s: %s\n", path.c_str(), error.c_str());
       std::exit(2);
     }
@@ -50,7 +51,8 @@ std::optional<graspfill::ObjectCloud> LastCloud(const std::string& path, const s
 
 int main(int argc, char** argv) {
   if (argc != 6) {
-    std::fprintf(stderr, "usage: %s A.{lcmlog,ply} B.{lcmlog,ply} CHANNEL TOLERANCE_MM identical|within|differ\n",
+    std::fprintf(stderr,
+                 "usage: %s A.{lcmlog,ply} B.{lcmlog,ply} CHANNEL TOLERANCE_MM identical|within|differ\n",
                  argv[0]);
     return 2;
   }
@@ -73,8 +75,8 @@ int main(int argc, char** argv) {
   bool identical = na == nb;
   for (size_t i = 0; na == nb && i < na; ++i) {
     max_m = std::fmax(max_m, (a->points_G[i] - b->points_G[i]).cast<double>().norm());
-    identical = identical && std::memcmp(a->points_G[i].data(), b->points_G[i].data(),
-                                         3 * sizeof(float)) == 0;
+    identical =
+        identical && std::memcmp(a->points_G[i].data(), b->points_G[i].data(), 3 * sizeof(float)) == 0;
   }
   std::printf("points=%zu/%zu max_mm=%.6f identical=%d\n", na, nb, max_m * 1e3, identical ? 1 : 0);
   if (expect == "identical") return identical ? 0 : 1;

@@ -72,7 +72,8 @@ TEST(CloudPacer, SendsEachCloudsSlicesInRoundsAGapApartFromItsOwnThread) {
     CloudPacer pacer(pacing, recorder.Sink());
     const auto before = Clock::now();
     pacer.Submit("CLOUD", cloud);
-    EXPECT_LT(Clock::now() - before, std::chrono::milliseconds(static_cast<int>(pacing.gap_ms)));  // never waits
+    EXPECT_LT(Clock::now() - before,
+              std::chrono::milliseconds(static_cast<int>(pacing.gap_ms)));  // never waits
     EXPECT_TRUE(pacer.Flush(5000));
     EXPECT_EQ(pacer.send_failures(), 0);
   }
@@ -87,8 +88,10 @@ TEST(CloudPacer, SendsEachCloudsSlicesInRoundsAGapApartFromItsOwnThread) {
     if (i > 0) {
       EXPECT_GE(sent[i].at - sent[i - 1].at, std::chrono::milliseconds(4));
     }
-    completed += joined.Add(sent[i].bytes.data(), sent[i].bytes.size()) ==
-                         io::CloudChunkAssembler::Result::kComplete ? 1 : 0;
+    completed +=
+        joined.Add(sent[i].bytes.data(), sent[i].bytes.size()) == io::CloudChunkAssembler::Result::kComplete
+            ? 1
+            : 0;
   }
   EXPECT_EQ(completed, 1);
   EXPECT_EQ(joined.cloud(), cloud);

@@ -30,10 +30,10 @@ int main(int argc, char** argv) {
   if (!graspfill::rt::testing::UrlAllowed(url)) return 1;
   try {
     graspfill::rt::LcmPublisher publisher(url);
-    const graspfill::ObjectCloud cloud =
-        graspfill::rt::testing::MakeTestCloud(num_points, seed);
+    const graspfill::ObjectCloud cloud = graspfill::rt::testing::MakeTestCloud(num_points, seed);
     // What the subscriber must report: the cloud as the wire carries it.
-    std::printf("%s\n", graspfill::rt::testing::SummaryLine(graspfill::rt::testing::AsOnTheWire(cloud)).c_str());
+    std::printf("%s\n",
+                graspfill::rt::testing::SummaryLine(graspfill::rt::testing::AsOnTheWire(cloud)).c_str());
     std::fflush(stdout);
     for (int i = 0; i < repeats; ++i) {
       if (!publisher.PublishCloud(channel, cloud)) {

@@ -25,9 +25,9 @@ class Receiver {
     const Result r = assembler.Add(buffer->data, buffer->data_size, &error);
     if (r == Result::kPending || r == Result::kRepeat) return;
     done = true;
-    decoded = r == Result::kComplete &&
-              graspfill::io::DecodeObjectCloud(assembler.cloud().data(), assembler.cloud().size(),
-                                               &cloud, &error);
+    decoded =
+        r == Result::kComplete &&
+        graspfill::io::DecodeObjectCloud(assembler.cloud().data(), assembler.cloud().size(), &cloud, &error);
   }
   graspfill::io::CloudChunkAssembler assembler;
   bool done{false};
@@ -40,8 +40,7 @@ class Receiver {
 
 int main(int argc, char** argv) {
   if (argc != 4) {
-    std::fprintf(stderr, "usage: %s <lcm-url> <channel> <timeout-ms>\n",
-                 argv[0]);
+    std::fprintf(stderr, "usage: %s <lcm-url> <channel> <timeout-ms>\n", argv[0]);
     return 1;
   }
   const std::string url = argv[1];
@@ -51,21 +50,18 @@ int main(int argc, char** argv) {
 
   lcm::LCM lcm(url);
   if (!lcm.good()) {
-    std::fprintf(stderr, "cloud_subscriber: LCM setup failed for %s\n",
-                 url.c_str());
+    std::fprintf(stderr, "cloud_subscriber: LCM setup failed for %s\n", url.c_str());
     return 4;
   }
   Receiver receiver;
   lcm.subscribe(channel, &Receiver::OnMessage, &receiver);
-  const auto deadline = std::chrono::steady_clock::now() +
-                        std::chrono::milliseconds(timeout_ms);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
   while (!receiver.done) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-                          deadline - std::chrono::steady_clock::now())
-                          .count();
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now())
+            .count();
     if (left <= 0) {
-      std::fprintf(stderr, "cloud_subscriber: timeout after %d ms on %s\n",
-                   timeout_ms, channel.c_str());
+      std::fprintf(stderr, "cloud_subscriber: timeout after %d ms on %s\n", timeout_ms, channel.c_str());
       return 2;
     }
     if (lcm.handleTimeout(static_cast<int>(left)) < 0) {
@@ -77,7 +73,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "cloud_subscriber: %s\n", receiver.error.c_str());
     return 3;
   }
-  std::printf("%s\n",
-              graspfill::rt::testing::SummaryLine(receiver.cloud).c_str());
+  std::printf("%s\n", graspfill::rt::testing::SummaryLine(receiver.cloud).c_str());
   return 0;
 }

@@ -6,14 +6,14 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <stdexcept>
 #include <vector>
 
-#include <lcm/lcm-cpp.hpp>
 #include <sys/stat.h>
+#include <lcm/lcm-cpp.hpp>
 
 #include "../io/file_size_limit.hpp"
 
@@ -30,14 +30,11 @@ class LcmLogTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::path(GRASPFILL_BINARY_DIR) / "test_tmp" / "rt_lcm_log" /
-           info->name();
+    dir_ = fs::path(GRASPFILL_BINARY_DIR) / "test_tmp" / "rt_lcm_log" / info->name();
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
-  std::string Path(const std::string& name) const {
-    return (dir_ / name).string();
-  }
+  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
 
   fs::path dir_;
 };
@@ -64,13 +61,10 @@ GripperState SomeGripper(int64_t utime, double x) {
 uintmax_t WriteSampleLog(const std::string& path) {
   const io::ChannelNames channels;
   LcmLogWriter writer(path);
-  writer.Write(channels.depth, 100,
-               io::EncodeDepthImage(SmallDepth(100, 1.0f)));
-  writer.Write(channels.gripper_state, 110,
-               io::EncodeGripperState(SomeGripper(110, 0.2)));
+  writer.Write(channels.depth, 100, io::EncodeDepthImage(SmallDepth(100, 1.0f)));
+  writer.Write(channels.gripper_state, 110, io::EncodeGripperState(SomeGripper(110, 0.2)));
   writer.Write("SOMEONE_ELSES_CHANNEL", 115, {1, 2, 3, 4});
-  const auto last = io::EncodeDepthImage(SmallDepth(133, 1.5f),
-                                         io::DepthEncoding::kRaw16);
+  const auto last = io::EncodeDepthImage(SmallDepth(133, 1.5f), io::DepthEncoding::kRaw16);
   writer.Write(channels.depth, 133, last);
   EXPECT_EQ(writer.events_written(), 4);
   // Sync word, event number, timestamp, channel and data lengths, channel.
@@ -98,8 +92,7 @@ TEST_F(LcmLogTest, EventsComeBackInOrderAndOtherChannelsAreSkipped) {
   ASSERT_EQ(source.Next(&event), FrameResult::kOk) << event.error;
   EXPECT_EQ(event.kind, SourceEvent::Kind::kGripperState);
   EXPECT_EQ(event.gripper.utime, 110);
-  EXPECT_TRUE(event.gripper.T_C_G.translation().isApprox(
-      Eigen::Vector3d(0.2, 0.0, 0.5)));
+  EXPECT_TRUE(event.gripper.T_C_G.translation().isApprox(Eigen::Vector3d(0.2, 0.0, 0.5)));
   EXPECT_EQ(event.gripper.opening_m, 0.03);
 
   ASSERT_EQ(source.Next(&event), FrameResult::kOk) << event.error;
@@ -112,8 +105,8 @@ TEST_F(LcmLogTest, EventsComeBackInOrderAndOtherChannelsAreSkipped) {
   EXPECT_EQ(source.events_read(), 4);
   EXPECT_EQ(source.skipped_other_channels(), 1);
   EXPECT_FALSE(source.truncated());
-  const std::vector<std::string> expected = {
-      "GRASPFILL_DEPTH", "GRASPFILL_GRIPPER_STATE", "SOMEONE_ELSES_CHANNEL"};
+  const std::vector<std::string> expected = {"GRASPFILL_DEPTH", "GRASPFILL_GRIPPER_STATE",
+                                             "SOMEONE_ELSES_CHANNEL"};
   EXPECT_EQ(source.channels_seen(), expected);
 }
 
@@ -139,8 +132,7 @@ TEST_F(LcmLogTest, RenamedChannelsAndBaseFrameStates) {
   ASSERT_EQ(source.Next(&event), FrameResult::kOk);
   ASSERT_EQ(event.kind, SourceEvent::Kind::kGripperState);
   // T_C_G = T_C_B * T_B_G: shifted 1 m along the camera's z.
-  EXPECT_TRUE(event.gripper.T_C_G.translation().isApprox(
-      Eigen::Vector3d(0.1, 0.0, 1.5)));
+  EXPECT_TRUE(event.gripper.T_C_G.translation().isApprox(Eigen::Vector3d(0.1, 0.0, 1.5)));
   EXPECT_EQ(source.Next(&event), FrameResult::kEndOfStream);
   EXPECT_EQ(source.skipped_other_channels(), 1);
 }
@@ -158,12 +150,10 @@ TEST_F(LcmLogTest, UndecodableEventIsABadFrameAndReadingGoesOn) {
   SourceEvent event;
   EXPECT_EQ(source.Next(&event), FrameResult::kBadFrame);
   EXPECT_EQ(event.kind, SourceEvent::Kind::kDepth);
-  EXPECT_NE(event.error.find("depth_image_t"), std::string::npos)
-      << event.error;
+  EXPECT_NE(event.error.find("depth_image_t"), std::string::npos) << event.error;
   EXPECT_EQ(source.Next(&event), FrameResult::kBadFrame);
   EXPECT_EQ(event.kind, SourceEvent::Kind::kGripperState);
-  EXPECT_NE(event.error.find("gripper_state_t"), std::string::npos)
-      << event.error;
+  EXPECT_NE(event.error.find("gripper_state_t"), std::string::npos) << event.error;
   ASSERT_EQ(source.Next(&event), FrameResult::kOk);
   EXPECT_EQ(event.depth.utime, 3);
   EXPECT_EQ(source.Next(&event), FrameResult::kEndOfStream);
@@ -176,9 +166,8 @@ TEST_F(LcmLogTest, TruncatedLogIsDetected) {
   // Cut inside the last event's data, channel name, header fields and sync
   // word (1 to 3 of its 4 bytes left), from the end of the file.
   const uintmax_t data = last - 28 - 15;
-  for (uintmax_t cut : {uintmax_t{1}, uintmax_t{2}, uintmax_t{10}, data,
-                        data + 5, data + 15 + 2, data + 15 + 6, last - 20,
-                        last - 3, last - 2, last - 1}) {
+  for (uintmax_t cut : {uintmax_t{1}, uintmax_t{2}, uintmax_t{10}, data, data + 5, data + 15 + 2,
+                        data + 15 + 6, last - 20, last - 3, last - 2, last - 1}) {
     SCOPED_TRACE("cut " + std::to_string(cut));
     const std::string path = Path("cut" + std::to_string(cut) + ".lcmlog");
     fs::copy_file(Path("full.lcmlog"), path);
@@ -217,14 +206,12 @@ TEST_F(LcmLogTest, EmptyFileIsAnEmptyLog) {
   EXPECT_EQ(source.events_read(), 0);
 }
 
-void ExpectThrowsWith(const std::function<void()>& f,
-                      const std::string& expected) {
+void ExpectThrowsWith(const std::function<void()>& f, const std::string& expected) {
   try {
     f();
     ADD_FAILURE() << "no exception, expected '" << expected << "'";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
   }
 }
 
@@ -232,19 +219,16 @@ TEST_F(LcmLogTest, OpenErrorsNameTheFile) {
   const std::string missing = Path("missing.lcmlog");
   ExpectThrowsWith([&] { LcmLogSource source(SourceConfig(missing)); },
                    "cannot open log '" + missing + "': no such file");
-  ExpectThrowsWith([&] { LcmLogSource source(SourceConfig(Path(""))); },
-                   "is a directory");
+  ExpectThrowsWith([&] { LcmLogSource source(SourceConfig(Path(""))); }, "is a directory");
   std::ofstream(Path("text.lcmlog")) << "hello, not a log\n";
-  ExpectThrowsWith(
-      [&] { LcmLogSource source(SourceConfig(Path("text.lcmlog"))); },
-      "'" + Path("text.lcmlog") + "' is not an LCM log");
+  ExpectThrowsWith([&] { LcmLogSource source(SourceConfig(Path("text.lcmlog"))); },
+                   "'" + Path("text.lcmlog") + "' is not an LCM log");
 }
 
 TEST_F(LcmLogTest, WriterRefusesToClobber) {
   WriteSampleLog(Path("log.lcmlog"));
   ExpectThrowsWith([&] { LcmLogWriter writer(Path("log.lcmlog")); },
-                   "cannot create log '" + Path("log.lcmlog") +
-                       "': file exists");
+                   "cannot create log '" + Path("log.lcmlog") + "': file exists");
   {
     LcmLogWriter writer(Path("log.lcmlog"), /*overwrite=*/true);
     writer.Write("X", 1, {});
@@ -373,8 +357,8 @@ TEST_F(LcmLogTest, SessionDescriptionsAreEventsWhenAskedFor) {
     if (event.kind == SourceEvent::Kind::kSession) claws.push_back(event.session.claw_name);
   }
   using K = SourceEvent::Kind;
-  const std::vector<K> expected = {K::kGripperState, K::kSession, K::kGripperState, K::kDepth,
-                                   K::kSession, K::kGripperState, K::kDepth};
+  const std::vector<K> expected = {K::kGripperState, K::kSession,      K::kGripperState, K::kDepth,
+                                   K::kSession,      K::kGripperState, K::kDepth};
   EXPECT_EQ(kinds, expected);
   EXPECT_EQ(claws, (std::vector<std::string>{"parallel", "three-finger"}));
   EXPECT_EQ(source.sessions_read(), 2);
@@ -537,8 +521,7 @@ ReadBack ReadAll(const std::string& path) {
   SourceEvent event;
   while (source.Next(&event) != FrameResult::kEndOfStream) {
   }
-  return {source.events_read(), source.truncated(), source.partial_last_event(),
-          source.unread_bytes()};
+  return {source.events_read(), source.truncated(), source.partial_last_event(), source.unread_bytes()};
 }
 
 // A killed recorder leaves the log as it was after its last write: at its
@@ -650,8 +633,7 @@ TEST_F(LcmLogTest, InPlaceWriterNeverClobbersAndWritesOnlyRegularFiles) {
     SCOPED_TRACE(overwrite);
     ExpectThrowsWith([&] { LcmLogWriter writer(Path("fifo"), InPlace(overwrite)); },
                      "cannot create log '" + Path("fifo") + "': not a regular file");
-    ExpectThrowsWith([&] { LcmLogWriter writer(dir_.string(), InPlace(overwrite)); },
-                     "is a directory");
+    ExpectThrowsWith([&] { LcmLogWriter writer(dir_.string(), InPlace(overwrite)); }, "is a directory");
     ExpectThrowsWith([&] { LcmLogWriter writer("/dev/null", InPlace(overwrite)); },
                      "cannot create log '/dev/null': not a regular file");
   }

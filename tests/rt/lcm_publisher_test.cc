@@ -25,8 +25,7 @@ namespace {
 // so the ASan step (scripts/test_sanitizers.sh) could not run these tests.
 class Collector {
  public:
-  static void Receive(const lcm::ReceiveBuffer* buffer, const std::string& channel,
-                      Collector* self) {
+  static void Receive(const lcm::ReceiveBuffer* buffer, const std::string& channel, Collector* self) {
     self->OnMessage(buffer, channel);
   }
   void OnMessage(const lcm::ReceiveBuffer* buffer, const std::string& channel) {
@@ -48,8 +47,7 @@ void Pump(lcm::LCM* lcm, const Collector& collector, size_t count) {
 TEST(LcmPublisher, CloudArrivesOverMemq) {
   LcmPublisher dut("memq://");
   Collector collector;
-  dut.lcm_instance()->subscribeFunction("LcmPublisher.CloudArrivesOverMemq",
-                                        &Collector::Receive, &collector);
+  dut.lcm_instance()->subscribeFunction("LcmPublisher.CloudArrivesOverMemq", &Collector::Receive, &collector);
   const ObjectCloud cloud = testing::MakeTestCloud(5000, 21);
   ASSERT_TRUE(dut.PublishCloud("LcmPublisher.CloudArrivesOverMemq", cloud));
   Pump(dut.lcm_instance(), collector, 1);
@@ -57,9 +55,8 @@ TEST(LcmPublisher, CloudArrivesOverMemq) {
 
   ObjectCloud received;
   std::string error;
-  ASSERT_TRUE(io::DecodeObjectCloud(collector.messages[0].data(),
-                                    collector.messages[0].size(), &received,
-                                    &error))
+  ASSERT_TRUE(
+      io::DecodeObjectCloud(collector.messages[0].data(), collector.messages[0].size(), &received, &error))
       << error;
   EXPECT_EQ(received.size(), 5000u);
   EXPECT_EQ(received.seq, cloud.seq);
@@ -79,8 +76,7 @@ TEST(LcmPublisher, CloudArrivesOverMemq) {
 TEST(LcmPublisher, StatusAndRawOverMemq) {
   LcmPublisher dut("memq://");
   Collector collector;
-  dut.lcm_instance()->subscribeFunction("LcmPublisher.Status.*", &Collector::Receive,
-                                        &collector);
+  dut.lcm_instance()->subscribeFunction("LcmPublisher.Status.*", &Collector::Receive, &collector);
   io::ModuleStatus status;
   status.frames_in = 30;
   status.frames_dropped = 2;
@@ -92,9 +88,8 @@ TEST(LcmPublisher, StatusAndRawOverMemq) {
   EXPECT_EQ(collector.channels[0], "LcmPublisher.Status.A");
   io::ModuleStatus received;
   std::string error;
-  ASSERT_TRUE(io::DecodeModuleStatus(collector.messages[0].data(),
-                                     collector.messages[0].size(), &received,
-                                     &error))
+  ASSERT_TRUE(
+      io::DecodeModuleStatus(collector.messages[0].data(), collector.messages[0].size(), &received, &error))
       << error;
   EXPECT_EQ(received.frames_in, 30);
   EXPECT_EQ(received.frames_dropped, 2);
@@ -121,8 +116,8 @@ TEST(LcmPublisher, CollisionMeshArrivesOverMemqAndAnInconsistentOneIsNot) {
   ASSERT_EQ(collector.messages.size(), 1u);
   io::CollisionMeshMessage received;
   std::string error;
-  ASSERT_TRUE(io::DecodeCollisionMesh(collector.messages[0].data(), collector.messages[0].size(),
-                                      &received, &error))
+  ASSERT_TRUE(
+      io::DecodeCollisionMesh(collector.messages[0].data(), collector.messages[0].size(), &received, &error))
       << error;
   EXPECT_EQ(received.seq, 3);
   EXPECT_EQ(received.grasp_id, 2);
@@ -143,9 +138,7 @@ TEST(LcmPublisher, BadUrlThrowsNamingIt) {
     LcmPublisher dut("nosuchprovider://x");
     FAIL() << "no throw";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("nosuchprovider://x"),
-              std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("nosuchprovider://x"), std::string::npos) << e.what();
   }
 }
 

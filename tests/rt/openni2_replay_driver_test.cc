@@ -34,7 +34,9 @@ std::vector<DepthFrame> LogDepthFrames(const std::string& path) {
 
 class ReplayDriver : public ::testing::Test {
  protected:
-  void SetUp() override { ASSERT_EQ(openni::OpenNI::initialize(), openni::STATUS_OK) << openni::OpenNI::getExtendedError(); }
+  void SetUp() override {
+    ASSERT_EQ(openni::OpenNI::initialize(), openni::STATUS_OK) << openni::OpenNI::getExtendedError();
+  }
   void TearDown() override { openni::OpenNI::shutdown(); }
 };
 
@@ -122,8 +124,7 @@ TEST_F(ReplayDriver, MissingLogIsAnErrorNamingIt) {
   openni::Device device;
   EXPECT_NE(device.open("graspfill-replay:/nonexistent/x.lcmlog"), openni::STATUS_OK);
   const std::string error = openni::OpenNI::getExtendedError();
-  EXPECT_NE(error.find("cannot open log '/nonexistent/x.lcmlog': no such file"), std::string::npos)
-      << error;
+  EXPECT_NE(error.find("cannot open log '/nonexistent/x.lcmlog': no such file"), std::string::npos) << error;
 }
 
 }  // namespace

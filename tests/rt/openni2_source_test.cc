@@ -19,8 +19,7 @@ TEST(OpenNI2Source, NoDeviceThrowsWithOpenNIError) {
     GTEST_SKIP() << "a depth camera is attached; nothing to test here";
   } catch (const std::runtime_error& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("OpenNI2: cannot open any device"), std::string::npos)
-        << what;
+    EXPECT_NE(what.find("OpenNI2: cannot open any device"), std::string::npos) << what;
     // OpenNI2's extended error, e.g. "DeviceOpen using default: no devices
     // found".
     EXPECT_NE(what.find("no devices found"), std::string::npos) << what;
@@ -35,9 +34,7 @@ TEST(OpenNI2Source, MissingRecordingThrowsNamingIt) {
     FAIL() << "no throw";
   } catch (const std::runtime_error& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("'/nonexistent/graspfill_test.oni'"),
-              std::string::npos)
-        << what;
+    EXPECT_NE(what.find("'/nonexistent/graspfill_test.oni'"), std::string::npos) << what;
     EXPECT_NE(what.find("Couldn't open device"), std::string::npos) << what;
   }
 }

@@ -37,10 +37,9 @@ Msg Base() {
   msg.software_version = "session_fault_log";
   msg.claw_kind = Msg::CLAW_BUILTIN;
   msg.claw_name = "parallel";
-  msg.claw_text =
-      R"({"palm_radius_m":0.07,"palm_thickness_m":0.02,"finger_length_m":0.09,)"
-      R"("finger_width_m":0.022,"finger_thickness_m":0.012,"min_opening_m":0.005,)"
-      R"("max_opening_m":0.08})";
+  msg.claw_text = R"({"palm_radius_m":0.07,"palm_thickness_m":0.02,"finger_length_m":0.09,)"
+                  R"("finger_width_m":0.022,"finger_thickness_m":0.012,"min_opening_m":0.005,)"
+                  R"("max_opening_m":0.08})";
   msg.T_C_B_orientation[0] = 1.0;
   return msg;
 }
@@ -55,9 +54,11 @@ std::string UrdfText(int links, const std::string& geometry) {
             "</geometry></collision></link>\n";
   }
   for (int i = 1; i < links; ++i) {
-    text += "<joint name=\"j" + std::to_string(i) + "\" type=\"prismatic\"><parent link=\"l0\"/>"
-            "<child link=\"l" + std::to_string(i) + "\"/><origin xyz=\"0 0 " +
-            std::to_string(0.00001 * i) + "\"/><axis xyz=\"1 0 0\"/><limit lower=\"0\" "
+    text += "<joint name=\"j" + std::to_string(i) +
+            "\" type=\"prismatic\"><parent link=\"l0\"/>"
+            "<child link=\"l" +
+            std::to_string(i) + "\"/><origin xyz=\"0 0 " + std::to_string(0.00001 * i) +
+            "\"/><axis xyz=\"1 0 0\"/><limit lower=\"0\" "
             "upper=\"0.01\" effort=\"1\" velocity=\"1\"/></joint>\n";
   }
   return text + "</robot>\n";
@@ -80,8 +81,8 @@ int main(int argc, char** argv) {
   const std::string name = argc == 5 ? argv[4] : "";
   try {
     Msg crafted = Base();
-    Msg head = crafted;                  // what goes first
-    bool replace_head = true;            // else no description first
+    Msg head = crafted;                 // what goes first
+    bool replace_head = true;           // else no description first
     std::vector<double> mid_fractions;  // where mid-session ones go
     if (kase == "traversal" || kase == "absolute") {
       if (name.empty()) throw std::runtime_error(kase + " needs a NAME");

@@ -107,8 +107,8 @@ TEST(SessionRecorder, QueueStaysWithinItsByteBudgetUnderManyLargeFrames) {
       << "written " << recorder.events_written() << ", dropped " << recorder.events_dropped();
   std::printf("recorder: %lld written, %lld dropped, slots' peak %.1f MiB, RSS +%.1f MB\n",
               static_cast<long long>(recorder.events_written()),
-              static_cast<long long>(recorder.events_dropped()),
-              recorder.queue_bytes_peak() / double(kMiB), growth_mb);
+              static_cast<long long>(recorder.events_dropped()), recorder.queue_bytes_peak() / double(kMiB),
+              growth_mb);
 
   const ReadBack back = ReadAll(config.path);
   EXPECT_EQ(back.events, recorder.events_written() + 1);  // and the session description
@@ -162,8 +162,7 @@ TEST(SessionRecorder, AFullDiskStopsTheRecordingAndTheLogKeepsWhatWasWritten) {
       std::this_thread::sleep_for(std::chrono::milliseconds(5));  // the writer keeps up
     }
     EXPECT_NO_THROW(recorder.Close());
-    EXPECT_NE(recorder.failure().find("cannot write log '" + config.path + "': " +
-                                      std::strerror(EFBIG)),
+    EXPECT_NE(recorder.failure().find("cannot write log '" + config.path + "': " + std::strerror(EFBIG)),
               std::string::npos)
         << recorder.failure();
     EXPECT_GE(recorder.events_written(), 1);

@@ -38,8 +38,8 @@ class Receiver {
   void OnMessage(const lcm::ReceiveBuffer* buffer, const std::string&) {
     const Clock::time_point now = Clock::now();
     if (count > 0 || started) {
-      max_gap_ms = std::max(max_gap_ms,
-                            std::chrono::duration<double, std::milli>(now - last_arrival).count());
+      max_gap_ms =
+          std::max(max_gap_ms, std::chrono::duration<double, std::milli>(now - last_arrival).count());
     }
     last_arrival = now;
     ++count;
@@ -61,8 +61,7 @@ class Receiver {
 
 int main(int argc, char** argv) {
   if (argc != 5 && argc != 6) {
-    std::fprintf(stderr,
-                 "usage: %s <lcm-url> <channel> <quiet-ms> <timeout-ms> [<start-channel>]\n",
+    std::fprintf(stderr, "usage: %s <lcm-url> <channel> <quiet-ms> <timeout-ms> [<start-channel>]\n",
                  argv[0]);
     return 1;
   }
@@ -104,8 +103,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   const graspfill::io::ModuleStatus& s = receiver.last;
-  std::printf("statuses=%d max_gap_ms=%.0f frames_used=%lld decode_errors=%lld state=%s\n",
-              receiver.count, receiver.max_gap_ms, static_cast<long long>(s.frames_used),
+  std::printf("statuses=%d max_gap_ms=%.0f frames_used=%lld decode_errors=%lld state=%s\n", receiver.count,
+              receiver.max_gap_ms, static_cast<long long>(s.frames_used),
               static_cast<long long>(s.decode_errors), s.state.c_str());
   for (size_t i = 1; i < graspfill::io::BadMessageCounts::kNumReasons; ++i) {
     if (s.bad_messages.by_reason[i] == 0) continue;

@@ -71,16 +71,13 @@ inline uint64_t CloudChecksum(const ObjectCloud& cloud) {
   return h;
 }
 
-
 /// The line the udpm test compares: point count and checksum.
 inline std::string SummaryLine(const ObjectCloud& cloud) {
   size_t added = 0;  // points the repair added (provenance not observed)
   for (const Provenance p : cloud.provenance) added += p != Provenance::kObserved;
   char line[128];
-  std::snprintf(line, sizeof(line), "points=%zu checksum=%016llx added=%zu holes=%zu",
-                cloud.size(),
-                static_cast<unsigned long long>(CloudChecksum(cloud)), added,
-                cloud.holes.size());
+  std::snprintf(line, sizeof(line), "points=%zu checksum=%016llx added=%zu holes=%zu", cloud.size(),
+                static_cast<unsigned long long>(CloudChecksum(cloud)), added, cloud.holes.size());
   return line;
 }
 

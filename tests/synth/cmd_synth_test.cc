@@ -3,8 +3,8 @@
 // recording read back with LCM's own log reader and graspfill's decoders;
 // and `--protocol paper`, its clouds checked against the exact shape.
 #include <gtest/gtest.h>
-#include <lcm/lcm-cpp.hpp>
 #include <unistd.h>
+#include <lcm/lcm-cpp.hpp>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -35,9 +35,8 @@ namespace fs = std::filesystem;
 class SynthCliTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("graspfill_synth_cli_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("graspfill_synth_cli_test_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -68,11 +67,11 @@ TEST_F(SynthCliTest, UnreadableMeshExitsOne) {
 
 TEST_F(SynthCliTest, WritesARecordingAndItsGroundTruth) {
   const std::string out = dir_.string();
-  ASSERT_EQ(RunSynth({"--shape", "cylinder", "--grasp", "top-oblique", "--frames", "4",
-                      "--seed", "5", "-o", out}),
-            0);
-  for (const char* name : {"recording.lcmlog", "gt_mesh.ply", "gt_cloud.ply", "claw.ply",
-                           "scene.json", "claw/claw.json"}) {
+  ASSERT_EQ(
+      RunSynth({"--shape", "cylinder", "--grasp", "top-oblique", "--frames", "4", "--seed", "5", "-o", out}),
+      0);
+  for (const char* name :
+       {"recording.lcmlog", "gt_mesh.ply", "gt_cloud.ply", "claw.ply", "scene.json", "claw/claw.json"}) {
     EXPECT_TRUE(fs::is_regular_file(dir_ / name)) << name;
   }
 
@@ -93,8 +92,7 @@ TEST_F(SynthCliTest, WritesARecordingAndItsGroundTruth) {
     ++events;
     if (event->channel == channels.session) {
       EXPECT_EQ(events, 1) << "the session description is not at the head of the log";
-      ASSERT_TRUE(io::DecodeSessionDescription(event->data, event->datalen, &session, &error))
-          << error;
+      ASSERT_TRUE(io::DecodeSessionDescription(event->data, event->datalen, &session, &error)) << error;
       EXPECT_EQ(session.utime, event->timestamp);
       ++session_events;
     } else if (event->channel == channels.depth) {
@@ -106,8 +104,8 @@ TEST_F(SynthCliTest, WritesARecordingAndItsGroundTruth) {
       EXPECT_GT(valid, 0.9 * frame.depth_m.size());
       ++depth_events;
     } else if (event->channel == channels.gripper_state) {
-      ASSERT_TRUE(io::DecodeGripperState(event->data, event->datalen,
-                                         Eigen::Isometry3d::Identity(), &state, &error))
+      ASSERT_TRUE(
+          io::DecodeGripperState(event->data, event->datalen, Eigen::Isometry3d::Identity(), &state, &error))
           << error;
       EXPECT_EQ(state.utime, event->timestamp);
       EXPECT_GT(state.opening_m, 0.03);
@@ -172,8 +170,8 @@ TEST_F(SynthCliTest, WritesARecordingAndItsGroundTruth) {
 // built-in parallel claw's: the session description carries them.
 TEST_F(SynthCliTest, SessionDescriptionCarriesTheClawAsUsed) {
   const std::string out = dir_.string();
-  ASSERT_EQ(RunSynth({"--shape", "cuboid", "--size", "0.10x0.10x0.20", "--claw", "parallel",
-                      "--grasp", "middle-straight", "--frames", "1", "--wall-m", "0", "-o", out}),
+  ASSERT_EQ(RunSynth({"--shape", "cuboid", "--size", "0.10x0.10x0.20", "--claw", "parallel", "--grasp",
+                      "middle-straight", "--frames", "1", "--wall-m", "0", "-o", out}),
             0);
   std::ifstream in(dir_ / "scene.json");
   const nlohmann::json scene = nlohmann::json::parse(in);
@@ -191,10 +189,15 @@ TEST_F(SynthCliTest, SessionDescriptionCarriesTheClawAsUsed) {
 
 TEST_F(SynthCliTest, NumbersAreParsedStrictly) {
   const std::string out = dir_.string();
-  for (const std::vector<std::string>& bad :
-       {std::vector<std::string>{"--frames", "12x"}, {"--frames", "1e3"}, {"--frames", "0"},
-        {"--seed", "1.5"}, {"--seed", " 1"}, {"--wall-m", "nan"}, {"--wall-m", "abc"},
-        {"--wall-m", "-1"}, {"--size", "0.07x0.07x0.14cm"}}) {
+  for (const std::vector<std::string>& bad : {std::vector<std::string>{"--frames", "12x"},
+                                              {"--frames", "1e3"},
+                                              {"--frames", "0"},
+                                              {"--seed", "1.5"},
+                                              {"--seed", " 1"},
+                                              {"--wall-m", "nan"},
+                                              {"--wall-m", "abc"},
+                                              {"--wall-m", "-1"},
+                                              {"--size", "0.07x0.07x0.14cm"}}) {
     Args args = {"--shape", "cuboid", "-o", out};
     args.insert(args.end(), bad.begin(), bad.end());
     EXPECT_EQ(RunSynth(args), 2) << bad[0] << " " << bad[1];
@@ -251,7 +254,8 @@ TEST_F(SynthCliTest, ScalesAndTurnsAMeshFileUp) {
   io::WriteMeshPly(mm_path, mm);
   const std::string out = (dir_ / "out").string();
   ASSERT_EQ(RunSynth({"--mesh", mm_path, "--mesh-scale", "0.001", "--mesh-up", "y", "--claw", "parallel",
-                      "--frames", "2", "-o", out}), 0);
+                      "--frames", "2", "-o", out}),
+            0);
   const nlohmann::json scene = nlohmann::json::parse(std::ifstream(dir_ / "out" / "scene.json"));
   EXPECT_EQ(scene["object"]["mesh_scale"].get<double>(), 0.001);
   EXPECT_EQ(scene["object"]["mesh_up"], "y");
@@ -329,9 +333,9 @@ TEST_F(SynthCliTest, ProtocolUsageErrorsExitTwo) {
 
 TEST_F(SynthCliTest, ProtocolWritesAHoleyCloudOnTheShapeAndItsTruth) {
   const std::string out = dir_.string();
-  ASSERT_EQ(RunSynth({"--protocol", "paper", "--shape", "cuboid", "--seed", "3", "--points",
-                      "20000", "-o", out}),
-            0);
+  ASSERT_EQ(
+      RunSynth({"--protocol", "paper", "--shape", "cuboid", "--seed", "3", "--points", "20000", "-o", out}),
+      0);
   for (const char* name : {"holey.ply", "gt_cloud.ply", "protocol.json"}) {
     EXPECT_TRUE(fs::is_regular_file(dir_ / name)) << name;
   }
@@ -340,8 +344,7 @@ TEST_F(SynthCliTest, ProtocolWritesAHoleyCloudOnTheShapeAndItsTruth) {
   const ObjectCloud holey = io::ReadCloudPly((dir_ / "holey.ply").string());
   const ObjectCloud truth = io::ReadCloudPly((dir_ / "gt_cloud.ply").string());
   const nlohmann::json protocol = ReadJson(dir_ / "protocol.json");
-  EXPECT_NE(protocol["doc"].get<std::string>().find("Cui et al. 2021, section 3.1"),
-            std::string::npos);
+  EXPECT_NE(protocol["doc"].get<std::string>().find("Cui et al. 2021, section 3.1"), std::string::npos);
   EXPECT_EQ(protocol["shape"], "cuboid");
   EXPECT_EQ(protocol["grasp"], "top-straight");
   EXPECT_EQ(protocol["seed"], 3);
@@ -391,9 +394,7 @@ TEST_F(SynthCliTest, ProtocolWritesAHoleyCloudOnTheShapeAndItsTruth) {
     const nlohmann::json& c = protocol["claw_hole_centres"][i];
     const Eigen::Vector3d centre(c[0], c[1], c[2]);
     int holey_near = 0, truth_near = 0;
-    auto near = [&](const Eigen::Vector3f& p) {
-      return (p.cast<double>() - centre).norm() < 0.008;
-    };
+    auto near = [&](const Eigen::Vector3f& p) { return (p.cast<double>() - centre).norm() < 0.008; };
     for (const Eigen::Vector3f& p : holey.points_G) holey_near += near(p);
     for (const Eigen::Vector3f& p : truth.points_G) truth_near += near(p);
     EXPECT_EQ(holey_near, 0) << "hole " << i;
@@ -405,9 +406,8 @@ TEST_F(SynthCliTest, ProtocolWritesAHoleyCloudOnTheShapeAndItsTruth) {
 
 TEST_F(SynthCliTest, ProtocolIsDeterministic) {
   auto run_into = [](const fs::path& out, const std::string& seed) {
-    return RunSynth({"--protocol", "paper", "--shape", "cylinder", "--size", "0.06x0.06x0.1",
-                     "--grasp", "top-oblique", "--seed", seed, "--points", "5000", "-o",
-                     out.string()});
+    return RunSynth({"--protocol", "paper", "--shape", "cylinder", "--size", "0.06x0.06x0.1", "--grasp",
+                     "top-oblique", "--seed", seed, "--points", "5000", "-o", out.string()});
   };
   ASSERT_EQ(run_into(dir_ / "a", "7"), 0);
   ASSERT_EQ(run_into(dir_ / "b", "7"), 0);
@@ -448,15 +448,14 @@ TEST_F(SynthCliTest, RefusesASymlinkAsAnOutputWithoutForce) {
   EXPECT_EQ(RunSynth({"--shape", "sphere", "--frames", "1", "-o", dir_.string()}), 1);
   EXPECT_FALSE(fs::exists(dir_ / "elsewhere" / "scene.json"));
   EXPECT_FALSE(fs::exists(dir_ / "recording.lcmlog"));
-  const Args protocol = {"--protocol", "paper", "--shape", "sphere", "--points", "2000",
-                         "-o", (dir_ / "p").string()};
+  const Args protocol = {"--protocol", "paper", "--shape", "sphere",
+                         "--points",   "2000",  "-o",      (dir_ / "p").string()};
   fs::create_directories(dir_ / "p");
   fs::create_symlink(dir_ / "elsewhere" / "holey.ply", dir_ / "p" / "holey.ply");
   EXPECT_EQ(RunSynth(protocol), 1);
   EXPECT_FALSE(fs::exists(dir_ / "elsewhere" / "holey.ply"));
   for (const auto& entry : fs::recursive_directory_iterator(dir_)) {
-    EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos)
-        << entry.path();
+    EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << entry.path();
   }
 }
 
@@ -474,7 +473,6 @@ TEST_F(SynthCliTest, ProtocolRefusesToOverwriteWithoutForce) {
   EXPECT_GT(FileBytes(dir_ / "holey.ply").size(), holey.size());
 }
 
-
 // --slip-mm (object_slip.hpp) end to end.
 namespace slip {
 
@@ -484,8 +482,7 @@ std::vector<std::pair<std::string, std::string>> LogEvents(const fs::path& path)
   lcm::LogFile log(path.string(), "r");
   EXPECT_TRUE(log.good()) << path;
   while (const lcm::LogEvent* event = log.readNextEvent()) {
-    events.emplace_back(event->channel,
-                        std::string(static_cast<const char*>(event->data), event->datalen));
+    events.emplace_back(event->channel, std::string(static_cast<const char*>(event->data), event->datalen));
   }
   return events;
 }
@@ -495,8 +492,8 @@ Eigen::Vector3d Vec3(const nlohmann::json& j) {
 }
 
 // 40 frames (1.3 s): a slide starting at 70 % still ends before the last.
-const std::vector<std::string> kCommon = {"--shape", "cuboid", "--frames", "40", "--wall-m", "0",
-                                          "--seed", "6"};
+const std::vector<std::string> kCommon = {"--shape",  "cuboid", "--frames", "40",
+                                          "--wall-m", "0",      "--seed",   "6"};
 
 int RunWith(const fs::path& out, std::vector<std::string> extra) {
   Args args(kCommon.begin(), kCommon.end());
@@ -542,13 +539,12 @@ TEST_F(SynthCliTest, SlipIsSeededRecordedAndMovesOnlyTheObject) {
   // The truth: where the object ends, the same samples as grasped beside it.
   const ObjectCloud after = io::ReadCloudPly((dir_ / "a" / "gt_cloud.ply").string());
   const ObjectCloud before = io::ReadCloudPly((dir_ / "a" / "gt_cloud_before_slip.ply").string());
-  EXPECT_EQ(FileBytes(dir_ / "a" / "gt_cloud_before_slip.ply"),
-            FileBytes(dir_ / "still" / "gt_cloud.ply"));
+  EXPECT_EQ(FileBytes(dir_ / "a" / "gt_cloud_before_slip.ply"), FileBytes(dir_ / "still" / "gt_cloud.ply"));
   ASSERT_EQ(after.size(), before.size());
   double worst = 0.0;
   for (size_t i = 0; i < after.size(); ++i) {
-    worst = std::max(worst, (after.points_G[i].cast<double>() - before.points_G[i].cast<double>() - d)
-                                .norm());
+    worst =
+        std::max(worst, (after.points_G[i].cast<double>() - before.points_G[i].cast<double>() - d).norm());
   }
   EXPECT_LT(worst, 1e-6);
   EXPECT_EQ(after.normals_G, before.normals_G);
@@ -556,8 +552,7 @@ TEST_F(SynthCliTest, SlipIsSeededRecordedAndMovesOnlyTheObject) {
   const TriangleMesh mesh_before = io::ReadMesh((dir_ / "a" / "gt_mesh_before_slip.ply").string());
   ASSERT_EQ(mesh_after.vertices.size(), mesh_before.vertices.size());
   EXPECT_TRUE(mesh::Bounds(mesh_after).min().isApprox(mesh::Bounds(mesh_before).min() + d, 1e-6));
-  EXPECT_EQ(FileBytes(dir_ / "a" / "gt_mesh_before_slip.ply"),
-            FileBytes(dir_ / "still" / "gt_mesh.ply"));
+  EXPECT_EQ(FileBytes(dir_ / "a" / "gt_mesh_before_slip.ply"), FileBytes(dir_ / "still" / "gt_mesh.ply"));
 
   // The log: the claw's states untouched; the frames those of the still
   // object until the slide starts, different once it is over.
@@ -613,11 +608,8 @@ TEST_F(SynthCliTest, BadSlipIsRefused) {
   testing::internal::CaptureStderr();
   EXPECT_EQ(slip::RunWith(dir_, {"--slip-mm", "25"}), 2);
   const std::string message = testing::internal::GetCapturedStderr();
-  EXPECT_NE(message.find("--slip-mm '25': out of range, expected 0..20 mm"), std::string::npos)
-      << message;
-  EXPECT_EQ(RunSynth({"--protocol", "paper", "--shape", "cuboid", "--slip-mm", "3", "-o",
-                      dir_.string()}),
-            2);
+  EXPECT_NE(message.find("--slip-mm '25': out of range, expected 0..20 mm"), std::string::npos) << message;
+  EXPECT_EQ(RunSynth({"--protocol", "paper", "--shape", "cuboid", "--slip-mm", "3", "-o", dir_.string()}), 2);
   EXPECT_EQ(RunSynth({"--grasps", "cuboid,sphere", "--slip-mm", "3", "-o", dir_.string()}), 2);
   EXPECT_EQ(RunSynth({"--shape", "cuboid", "--slip-mm", "-o", dir_.string()}), 2);
   EXPECT_FALSE(fs::exists(dir_));

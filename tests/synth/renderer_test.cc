@@ -111,8 +111,7 @@ TEST(DepthRendererTest, SphereIsAnalyticThroughAPose) {
   Eigen::Isometry3d T_G_O = Eigen::Isometry3d::Identity();
   T_G_O.translation() = c_G - Eigen::Vector3d(0, 0, radius);
   Eigen::Isometry3d T_C_G = Eigen::Isometry3d::Identity();
-  T_C_G.linear() = (Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()))
-                       .toRotationMatrix();
+  T_C_G.linear() = (Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized())).toRotationMatrix();
   T_C_G.translation() = Eigen::Vector3d(0.03, 0.02, 0.7) - T_C_G.linear() * c_G;
   const Eigen::Vector3d c_C = T_C_G * c_G;
 
@@ -131,8 +130,7 @@ TEST(DepthRendererTest, SphereIsAnalyticThroughAPose) {
       const double miss = d.normalized().cross(c_C).norm();
       if (miss < 0.9 * radius) {
         const double b = d.dot(c_C);
-        const double t = (b - std::sqrt(b * b - d.squaredNorm() * (c_C.squaredNorm() -
-                                                                   radius * radius))) /
+        const double t = (b - std::sqrt(b * b - d.squaredNorm() * (c_C.squaredNorm() - radius * radius))) /
                          d.squaredNorm();
         ASSERT_NEAR(image.depth_m[i], t * d.z(), kSphereTolM) << u << "," << v;
         ++checked;
@@ -176,8 +174,7 @@ TopBottomCounts CountTopBottom(const Scene& scene, OnTop on_top, OnBottom on_bot
         // The object is ~0.55 m away; the wall (1.4 m) cannot project onto it.
         if (z <= 0.0f || z > 1.0f) continue;
         const Eigen::Vector3d p_O = T_O_C * (z * RayC(k, u, v));
-        if (std::abs(p_O.x()) < 0.2 && std::abs(p_O.y()) < 0.2 && p_O.z() > -0.01 &&
-            p_O.z() < 0.3) {
+        if (std::abs(p_O.x()) < 0.2 && std::abs(p_O.y()) < 0.2 && p_O.z() > -0.01 && p_O.z() < 0.3) {
           ++object_pixels;
         }
         counts.top += on_top(p_O);
@@ -194,8 +191,7 @@ constexpr double kFaceTolM = 0.001;
 constexpr double kRimM = 0.002;
 
 TEST(SceneRendererTest, CuboidTopIsNeverSeen) {
-  for (GraspWay grasp : {GraspWay::kTopStraight, GraspWay::kTopOblique,
-                         GraspWay::kMiddleStraight}) {
+  for (GraspWay grasp : {GraspWay::kTopStraight, GraspWay::kTopOblique, GraspWay::kMiddleStraight}) {
     const Scene scene(IdealScene(Shape::kCuboid, grasp));
     const Eigen::Vector3d s = DefaultSize(Shape::kCuboid);
     auto inside = [&](const Eigen::Vector3d& p) {
@@ -213,9 +209,7 @@ TEST(SceneRendererTest, CuboidTopIsNeverSeen) {
 TEST(SceneRendererTest, CylinderTopIsNeverSeen) {
   const Scene scene(IdealScene(Shape::kCylinder, GraspWay::kTopOblique));
   const Eigen::Vector3d s = DefaultSize(Shape::kCylinder);
-  auto inside = [&](const Eigen::Vector3d& p) {
-    return std::hypot(p.x(), p.y()) < 0.5 * s.x() - kRimM;
-  };
+  auto inside = [&](const Eigen::Vector3d& p) { return std::hypot(p.x(), p.y()) < 0.5 * s.x() - kRimM; };
   const TopBottomCounts counts = CountTopBottom(
       scene, [&](const Eigen::Vector3d& p) { return inside(p) && std::abs(p.z() - s.z()) < kFaceTolM; },
       [&](const Eigen::Vector3d& p) { return inside(p) && std::abs(p.z()) < kFaceTolM; });
@@ -252,10 +246,8 @@ TEST(SceneRendererTest, FramesAreDeterministic) {
     const DepthFrame fa2 = a.Render(f);
     ASSERT_EQ(fa.depth_m.size(), fb.depth_m.size());
     EXPECT_EQ(fa.utime, fb.utime);
-    EXPECT_EQ(0, std::memcmp(fa.depth_m.data(), fb.depth_m.data(),
-                             fa.depth_m.size() * sizeof(float)));
-    EXPECT_EQ(0, std::memcmp(fa.depth_m.data(), fa2.depth_m.data(),
-                             fa.depth_m.size() * sizeof(float)));
+    EXPECT_EQ(0, std::memcmp(fa.depth_m.data(), fb.depth_m.data(), fa.depth_m.size() * sizeof(float)));
+    EXPECT_EQ(0, std::memcmp(fa.depth_m.data(), fa2.depth_m.data(), fa.depth_m.size() * sizeof(float)));
   }
   SceneConfig other = config;
   other.seed = 2;
@@ -297,8 +289,7 @@ TEST(SceneRendererTest, RenderTimePerFrame) {
   const auto start = std::chrono::steady_clock::now();
   for (int f = 0; f < frames; ++f) renderer.Render(f * 9);
   const double ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-          .count() / frames;
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / frames;
   std::printf("render + sensor model, 640x480: %.1f ms/frame\n", ms);
   RecordProperty("render_ms_per_frame", std::to_string(ms));
 #ifdef NDEBUG
@@ -321,8 +312,7 @@ TEST(SceneRendererTest, SlipMovesTheObjectAndNothingElse) {
   ASSERT_TRUE(slip.config().any());
 
   int before = 0;  // the last frame before the slip starts
-  while (before + 1 < slipping.num_frames() &&
-         slipping.DepthUtime(before + 1) <= slip.start_utime()) {
+  while (before + 1 < slipping.num_frames() && slipping.DepthUtime(before + 1) <= slip.start_utime()) {
     ++before;
   }
   ASSERT_GT(before, 10);
@@ -407,8 +397,7 @@ TEST(SensorModelTest, AxialNoiseMatchesNguyen) {
 
   // Kinect defaults: noise plus 1/8-px disparity steps (uniform rounding
   // adds step^2 / 12 to the variance), 0.5 % random loss.
-  MeanStd(ApplySensorModel(SensorModelConfig{}, FlatImage(z, 1.0), 5, 0), z, &mean, &std,
-          &valid);
+  MeanStd(ApplySensorModel(SensorModelConfig{}, FlatImage(z, 1.0), 5, 0), z, &mean, &std, &valid);
   const double step = z * z / (0.075 * 525.0 * 8.0);
   EXPECT_NEAR(std, std::sqrt(sigma * sigma + step * step / 12.0), 0.1 * sigma);
   EXPECT_NEAR(valid, 0.995, 0.001);
@@ -430,11 +419,11 @@ TEST(SensorModelTest, QuantizationSteps) {
 TEST(SensorModelTest, DropoutsAtGrazingAnglesEdgesAndRange) {
   const SensorModelConfig config;
   double mean, std, valid;
-  MeanStd(ApplySensorModel(config, FlatImage(0.8, std::cos(85.0 * kPi / 180.0)), 1, 0), 0.8,
-          &mean, &std, &valid);
+  MeanStd(ApplySensorModel(config, FlatImage(0.8, std::cos(85.0 * kPi / 180.0)), 1, 0), 0.8, &mean, &std,
+          &valid);
   EXPECT_EQ(valid, 0.0);  // all lost past 82 deg
-  MeanStd(ApplySensorModel(config, FlatImage(0.8, std::cos(60.0 * kPi / 180.0)), 1, 0), 0.8,
-          &mean, &std, &valid);
+  MeanStd(ApplySensorModel(config, FlatImage(0.8, std::cos(60.0 * kPi / 180.0)), 1, 0), 0.8, &mean, &std,
+          &valid);
   EXPECT_NEAR(valid, 0.995, 0.001);  // only random loss at 60 deg
   MeanStd(ApplySensorModel(config, FlatImage(0.2, 1.0), 1, 0), 0.2, &mean, &std, &valid);
   EXPECT_EQ(std::isnan(mean) || valid == 0.0, true);  // nearer than 0.3 m

@@ -10,9 +10,7 @@
 namespace graspfill::synth {
 namespace {
 
-double AngleDeg(const Eigen::Isometry3d& T) {
-  return Eigen::AngleAxisd(T.linear()).angle() * 180.0 / M_PI;
-}
+double AngleDeg(const Eigen::Isometry3d& T) { return Eigen::AngleAxisd(T.linear()).angle() * 180.0 / M_PI; }
 
 TEST(RigErrors, OffByDefault) {
   const RigErrors rig(RigErrorConfig{}, 7);

@@ -41,8 +41,7 @@ std::vector<Eigen::Vector3d> ObjectPoints(const Scene& scene) {
   return points;
 }
 
-class GraspTest
-    : public ::testing::TestWithParam<std::tuple<Shape, ClawType, GraspWay>> {};
+class GraspTest : public ::testing::TestWithParam<std::tuple<Shape, ClawType, GraspWay>> {};
 
 TEST_P(GraspTest, FingersTouchButDoNotPenetrate) {
   const auto [shape, claw_type, grasp] = GetParam();
@@ -73,10 +72,9 @@ TEST_P(GraspTest, FingersTouchButDoNotPenetrate) {
     }
     closest_any = std::min(closest_any, closest);
     // Symmetric shapes under straight grasps: every finger touches.
-    const bool symmetric_three = claw_type == ClawType::kThreeFinger &&
-                                 grasp != GraspWay::kTopOblique &&
-                                 (shape == Shape::kCylinder || shape == Shape::kSphere ||
-                                  shape == Shape::kTriangularPrism);
+    const bool symmetric_three =
+        claw_type == ClawType::kThreeFinger && grasp != GraspWay::kTopOblique &&
+        (shape == Shape::kCylinder || shape == Shape::kSphere || shape == Shape::kTriangularPrism);
     // Opposed fingers self-centre the object, so both always touch.
     const bool symmetric_two = claw_type == ClawType::kParallel;
     if (symmetric_three || symmetric_two) {
@@ -103,8 +101,8 @@ TEST_P(GraspTest, ObjectHangsBelowThePalmTopFirst) {
   const double height = mesh::Bounds(scene.object_O()).sizes().z();
   const Eigen::Vector3d contact_G =
       placement.T_G_O * Eigen::Vector3d(0, 0, (1.0 - placement.contact_fraction) * height);
-  EXPECT_NEAR(placement.claw.finger_length_m,
-              contact_G.z() + 0.5 * scene.config().placement.finger_pad_m, 1e-9);
+  EXPECT_NEAR(placement.claw.finger_length_m, contact_G.z() + 0.5 * scene.config().placement.finger_pad_m,
+              1e-9);
   if (grasp != GraspWay::kTopOblique && claw_type == ClawType::kThreeFinger) {
     EXPECT_NEAR(contact_G.x(), 0.0, 1e-9);  // on G's axis
     EXPECT_NEAR(contact_G.y(), 0.0, 1e-9);
@@ -114,35 +112,32 @@ TEST_P(GraspTest, ObjectHangsBelowThePalmTopFirst) {
   EXPECT_GE(workspace.min().z(), 0.0);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    ShapesClawsGrasps, GraspTest,
-    ::testing::Combine(::testing::ValuesIn(AllShapes()),
-                       ::testing::Values(ClawType::kThreeFinger, ClawType::kParallel),
-                       ::testing::Values(GraspWay::kTopStraight, GraspWay::kMiddleStraight,
-                                         GraspWay::kTopOblique)),
-    [](const auto& info) {
-      std::string name = ShapeName(std::get<0>(info.param)) + "_" +
-                         ClawTypeName(std::get<1>(info.param)) + "_" +
-                         GraspWayName(std::get<2>(info.param));
-      for (char& c : name) {
-        if (c == '-') c = '_';
-      }
-      return name;
-    });
+INSTANTIATE_TEST_SUITE_P(ShapesClawsGrasps, GraspTest,
+                         ::testing::Combine(::testing::ValuesIn(AllShapes()),
+                                            ::testing::Values(ClawType::kThreeFinger, ClawType::kParallel),
+                                            ::testing::Values(GraspWay::kTopStraight,
+                                                              GraspWay::kMiddleStraight,
+                                                              GraspWay::kTopOblique)),
+                         [](const auto& info) {
+                           std::string name = ShapeName(std::get<0>(info.param)) + "_" +
+                                              ClawTypeName(std::get<1>(info.param)) + "_" +
+                                              GraspWayName(std::get<2>(info.param));
+                           for (char& c : name) {
+                             if (c == '-') c = '_';
+                           }
+                           return name;
+                         });
 
 TEST(SceneTest, LongFingersForTallMiddleGrasps) {
-  SceneConfig config = MakeConfig(Shape::kCuboid, ClawType::kThreeFinger,
-                                  GraspWay::kMiddleStraight);
+  SceneConfig config = MakeConfig(Shape::kCuboid, ClawType::kThreeFinger, GraspWay::kMiddleStraight);
   config.size_m = Eigen::Vector3d(0.10, 0.10, 0.20);
   const Scene scene(config);
   // 50 % of 20 cm plus half a pad is beyond the default 9 cm fingers.
   EXPECT_NEAR(scene.placement().palm_gap_m, config.placement.min_palm_gap_m, 1e-12);
   EXPECT_NEAR(scene.placement().claw.finger_length_m, 0.005 + 0.10 + 0.01, 1e-6);
   // The default cuboid keeps the default claw.
-  const Scene small(MakeConfig(Shape::kCuboid, ClawType::kThreeFinger,
-                               GraspWay::kTopStraight));
-  EXPECT_DOUBLE_EQ(small.placement().claw.finger_length_m,
-                   claw::ProceduralClawConfig{}.finger_length_m);
+  const Scene small(MakeConfig(Shape::kCuboid, ClawType::kThreeFinger, GraspWay::kTopStraight));
+  EXPECT_DOUBLE_EQ(small.placement().claw.finger_length_m, claw::ProceduralClawConfig{}.finger_length_m);
   EXPECT_NEAR(small.placement().palm_gap_m, 0.09 - 0.035 - 0.01, 1e-6);
 }
 
@@ -169,10 +164,9 @@ TEST(SceneTest, TimestampsAreOffsetAndCoverTheFrames) {
 
   const std::vector<TimelineEvent> timeline = scene.Timeline();
   EXPECT_EQ(timeline.size(), depth.size() + gripper.size());
-  EXPECT_TRUE(std::is_sorted(timeline.begin(), timeline.end(),
-                             [](const TimelineEvent& a, const TimelineEvent& b) {
-                               return a.utime < b.utime;
-                             }));
+  EXPECT_TRUE(
+      std::is_sorted(timeline.begin(), timeline.end(),
+                     [](const TimelineEvent& a, const TimelineEvent& b) { return a.utime < b.utime; }));
 }
 
 TEST(SceneTest, OneTurnAboutTheGripperAxis) {

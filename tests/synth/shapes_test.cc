@@ -27,13 +27,11 @@ class ShapeTest : public ::testing::TestWithParam<Shape> {};
 TEST_P(ShapeTest, ClosedOrientedWithAnalyticVolume) {
   const Shape shape = GetParam();
   for (const Eigen::Vector3d& size :
-       {DefaultSize(shape), Eigen::Vector3d(0.10, 0.10, 0.20),
-        Eigen::Vector3d(0.05, 0.05, 0.10)}) {
+       {DefaultSize(shape), Eigen::Vector3d(0.10, 0.10, 0.20), Eigen::Vector3d(0.05, 0.05, 0.10)}) {
     const TriangleMesh mesh = MakeShape(shape, size);
     EXPECT_TRUE(mesh::IsClosedOriented(mesh)) << ShapeName(shape);
     const double expected = AnalyticVolume(shape, size);
-    EXPECT_NEAR(mesh::SignedVolume(mesh), expected, kVolumeRelTol * expected)
-        << ShapeName(shape);
+    EXPECT_NEAR(mesh::SignedVolume(mesh), expected, kVolumeRelTol * expected) << ShapeName(shape);
   }
 }
 
@@ -64,8 +62,8 @@ TEST_P(ShapeTest, SamplesLieOnTheSurface) {
     double best = 1e9;
     for (const Eigen::Vector3i& t : mesh.triangles) {
       best = std::min(best, mesh::PointTriangleDistance(p, mesh.vertices[t[0]].cast<double>(),
-                                                  mesh.vertices[t[1]].cast<double>(),
-                                                  mesh.vertices[t[2]].cast<double>()));
+                                                        mesh.vertices[t[1]].cast<double>(),
+                                                        mesh.vertices[t[2]].cast<double>()));
     }
     ASSERT_LT(best, kOnSurfaceTolM) << ShapeName(shape) << " sample " << k;
     EXPECT_NEAR(samples.normals[k].norm(), 1.0f, 1e-5f);
@@ -153,10 +151,9 @@ int Crossings(const TriangleMesh& mesh, const Eigen::Vector3d& p, const Eigen::V
 // Inside by ray parity; three skew directions must agree (an odd count
 // from one and even from another would mean a hole in the surface).
 bool Inside(const TriangleMesh& mesh, const Eigen::Vector3d& p) {
-  const std::array<Eigen::Vector3d, 3> directions = {
-      Eigen::Vector3d(0.83, 0.47, 0.29).normalized(),
-      Eigen::Vector3d(-0.31, 0.71, -0.63).normalized(),
-      Eigen::Vector3d(0.13, -0.37, 0.92).normalized()};
+  const std::array<Eigen::Vector3d, 3> directions = {Eigen::Vector3d(0.83, 0.47, 0.29).normalized(),
+                                                     Eigen::Vector3d(-0.31, 0.71, -0.63).normalized(),
+                                                     Eigen::Vector3d(0.13, -0.37, 0.92).normalized()};
   std::set<int> parities;
   for (const Eigen::Vector3d& d : directions) parities.insert(Crossings(mesh, p, d) % 2);
   EXPECT_EQ(parities.size(), 1u) << "rays disagree at " << p.transpose();
@@ -219,15 +216,13 @@ TEST_P(ZooShapeTest, NameRoundTripAndDeterminism) {
 TEST_P(ZooShapeTest, DefaultSizeIsHeldByBothClaws) {
   const Shape shape = GetParam();
   for (ClawType claw : {ClawType::kThreeFinger, ClawType::kParallel}) {
-    for (GraspWay grasp :
-         {GraspWay::kTopStraight, GraspWay::kMiddleStraight, GraspWay::kTopOblique}) {
+    for (GraspWay grasp : {GraspWay::kTopStraight, GraspWay::kMiddleStraight, GraspWay::kTopOblique}) {
       SceneConfig config;
       config.shape = shape;
       config.claw = claw;
       config.grasp = grasp;
       config.shape_segments = 64;
-      const std::string what = ShapeName(shape) + " " + ClawTypeName(claw) + " " +
-                               GraspWayName(grasp);
+      const std::string what = ShapeName(shape) + " " + ClawTypeName(claw) + " " + GraspWayName(grasp);
       std::optional<Scene> scene;
       ASSERT_NO_THROW(scene.emplace(config)) << what;
       const Placement& placement = scene->placement();
@@ -283,8 +278,7 @@ TEST(ZooTest, MugIsAsymmetricAboutXButTheBottleIsNot) {
 TEST(ZooTest, MugHandleOutsideTheBoxIsRejected) {
   EXPECT_THROW(MakeShape(Shape::kMug, Eigen::Vector3d(0.08, 0.08, 0.1)), std::invalid_argument);
   EXPECT_THROW(MakeShape(Shape::kMug, Eigen::Vector3d(0.2, 0.08, 0.1)), std::invalid_argument);
-  EXPECT_THROW(AnalyticVolume(Shape::kMug, Eigen::Vector3d(0.07, 0.08, 0.1)),
-               std::invalid_argument);
+  EXPECT_THROW(AnalyticVolume(Shape::kMug, Eigen::Vector3d(0.07, 0.08, 0.1)), std::invalid_argument);
 }
 
 TEST(ZooTest, BowlHasAnInnerSurface) {
@@ -309,8 +303,8 @@ TEST(ZooTest, RoundedBoxRoundsEveryEdgeButKeepsFlatFaces) {
   const TriangleMesh mesh = MakeShape(Shape::kRoundedBox, size);
   const double inset = 0.0005;  // well inside the 6 mm edge radius
   const Eigen::Vector3d half = 0.5 * size;
-  EXPECT_TRUE(Inside(mesh, {half.x() - inset, 0.0, half.z()}));      // side face
-  EXPECT_TRUE(Inside(mesh, {0.0, 0.0, size.z() - inset}));           // top face
+  EXPECT_TRUE(Inside(mesh, {half.x() - inset, 0.0, half.z()}));                // side face
+  EXPECT_TRUE(Inside(mesh, {0.0, 0.0, size.z() - inset}));                     // top face
   EXPECT_FALSE(Inside(mesh, {half.x() - inset, half.y() - inset, half.z()}));  // vertical edge
   EXPECT_FALSE(Inside(mesh, {half.x() - inset, 0.0, size.z() - inset}));       // top edge
   EXPECT_FALSE(Inside(mesh, {0.0, half.y() - inset, inset}));                  // bottom edge
@@ -351,10 +345,8 @@ TEST(ShapesTest, DefaultSizesAreThePapers) {
 }
 
 TEST(ShapesTest, RejectsBadSizes) {
-  EXPECT_THROW(MakeShape(Shape::kCuboid, Eigen::Vector3d(0.0, 0.1, 0.1)),
-               std::invalid_argument);
-  EXPECT_THROW(MakeShape(Shape::kCylinder, Eigen::Vector3d(0.1, 0.1, 0.1), 3),
-               std::invalid_argument);
+  EXPECT_THROW(MakeShape(Shape::kCuboid, Eigen::Vector3d(0.0, 0.1, 0.1)), std::invalid_argument);
+  EXPECT_THROW(MakeShape(Shape::kCylinder, Eigen::Vector3d(0.1, 0.1, 0.1), 3), std::invalid_argument);
 }
 
 TEST(ShapesTest, NormalizeToObjectFrame) {

@@ -202,8 +202,8 @@ TEST(ContactSheetTest, WithoutNormalsNearerIsBrighter) {
   ObjectCloud cloud;
   for (int i = 0; i < 40; ++i) {
     for (int j = 0; j < 40; ++j) {
-      cloud.points_G.emplace_back(0.05f, 0.0005f * i + 0.01f, 0.0005f * j);   // near, one side
-      cloud.points_G.emplace_back(-0.05f, -0.0005f * i - 0.01f, 0.0005f * j); // far, the other
+      cloud.points_G.emplace_back(0.05f, 0.0005f * i + 0.01f, 0.0005f * j);    // near, one side
+      cloud.points_G.emplace_back(-0.05f, -0.0005f * i - 0.01f, 0.0005f * j);  // far, the other
     }
   }
   cloud.provenance.assign(cloud.size(), Provenance::kObserved);
@@ -213,8 +213,10 @@ TEST(ContactSheetTest, WithoutNormalsNearerIsBrighter) {
   const Region view = ViewRegion(LayoutSheet(1, config), 0, 0);
   const int mid = (view.x0 + view.x1) / 2;
   // +y is on the left seen from +x (the palm side up).
-  const ColourStats left = Find(image, ProvenanceColor(Provenance::kObserved), view.x0, mid, view.y0, view.y1);
-  const ColourStats right = Find(image, ProvenanceColor(Provenance::kObserved), mid, view.x1, view.y0, view.y1);
+  const ColourStats left =
+      Find(image, ProvenanceColor(Provenance::kObserved), view.x0, mid, view.y0, view.y1);
+  const ColourStats right =
+      Find(image, ProvenanceColor(Provenance::kObserved), mid, view.x1, view.y0, view.y1);
   ASSERT_GT(left.count, 500);
   ASSERT_GT(right.count, 500);
   EXPECT_GT(left.mean_shade, right.mean_shade + 0.2);

@@ -119,11 +119,11 @@ TEST(MeshRender, AFaceTurnedAwayIsDarker) {
 
 TEST(MeshRender, BadTrianglesAreSkipped) {
   TriangleMesh mesh = Square(0.1, 0.0);
-  mesh.triangles.push_back({0, 1, 7});    // index out of range
-  mesh.triangles.push_back({0, 0, 1});    // degenerate
-  mesh.triangles.push_back({-1, 1, 2});   // negative
+  mesh.triangles.push_back({0, 1, 7});   // index out of range
+  mesh.triangles.push_back({0, 0, 1});   // degenerate
+  mesh.triangles.push_back({-1, 1, 2});  // negative
   mesh.vertices.push_back({NAN, 0, 0});
-  mesh.triangles.push_back({0, 1, 4});    // non-finite vertex
+  mesh.triangles.push_back({0, 1, 4});  // non-finite vertex
   RgbImage image = Blank();
   RenderMeshView(mesh, {}, Around(0.1), FromPlusX(), 0, 0, kSize, &image);
   EXPECT_FALSE(IsBlank(image, kSize / 2, kSize / 2));

@@ -74,9 +74,8 @@ std::string LinkCountDefect(int64_t count);
 /// farther from a joint's origin), whatever the opening or joint values.
 /// `farthest_link`, if given, gets the link that reaches farthest.
 double ClawReachBoundM(const ClawModel& model, std::string* farthest_link = nullptr);
-/// "" when ClawReachBoundM is within kMaxClawReachM, else e.g. "the claw reaches up to 0.87 m from G's origin (link
-/// 'finger_3': its chain's origins and travels and its mesh added up),
-/// beyond the 0.5 m limit".
+/// "" when ClawReachBoundM is within kMaxClawReachM, else e.g. "the claw reaches up to 0.87 m from G's origin
+/// (link 'finger_3': its chain's origins and travels and its mesh added up), beyond the 0.5 m limit".
 std::string ClawReachDefect(const ClawModel& model);
 
 }  // namespace graspfill::claw

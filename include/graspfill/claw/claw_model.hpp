@@ -42,9 +42,9 @@ struct Joint {
   Eigen::Vector3d axis{0, 0, 1};  ///< unit, in the joint frame
   double lower{0.0};
   double upper{0.0};
-  double gain{1.0};     ///< d(value)/d(opening)
-  double offset{0.0};   ///< value at opening 0
-  int joint_index{-1};  ///< index into GripperState::joint_values, or -1
+  double gain{1.0};         ///< d(value)/d(opening)
+  double offset{0.0};       ///< value at opening 0
+  int joint_index{-1};      ///< index into GripperState::joint_values, or -1
   double joint_scale{1.0};  ///< d(value)/d(joint_values[joint_index])
   double joint_bias{0.0};   ///< value at joint_values[joint_index] = 0
 };
@@ -74,8 +74,7 @@ class ClawModel {
   /// LoadUrdfClaw (urdf_claw.hpp). Every mesh is checked (mesh_check.hpp).
   /// Throws std::runtime_error with the offending path/field/link on bad
   /// input.
-  static ClawModel Load(const std::string& description_path,
-                        const std::string& mesh_root = "");
+  static ClawModel Load(const std::string& description_path, const std::string& mesh_root = "");
   /// A description's JSON text from elsewhere (a session description on
   /// the bus or in a log), read from memory: its meshes only under the
   /// local `mesh_root` (mesh_path.hpp: relative, no '..'; none without a
@@ -85,11 +84,10 @@ class ClawModel {
 
   /// The claw's surface in G at this opening (and joint values, if given:
   /// they override the opening for the joints that name an index).
-  TriangleMesh Posed(double opening_m,
-                     const std::vector<double>& joint_values = {}) const;
+  TriangleMesh Posed(double opening_m, const std::vector<double>& joint_values = {}) const;
   /// Poses of every link in G (same order as links()).
-  std::vector<Eigen::Isometry3d> LinkPoses(
-      double opening_m, const std::vector<double>& joint_values = {}) const;
+  std::vector<Eigen::Isometry3d> LinkPoses(double opening_m,
+                                           const std::vector<double>& joint_values = {}) const;
 
   const std::string& name() const { return name_; }
   const std::vector<Link>& links() const { return links_; }
@@ -99,8 +97,7 @@ class ClawModel {
   /// Links must list parents before children, and every mesh must pass
   /// MeshDefect (throws std::invalid_argument naming the claw and link
   /// otherwise); movable joint axes are normalized.
-  ClawModel(std::string name, std::vector<Link> links,
-            std::string opening_doc = "");
+  ClawModel(std::string name, std::vector<Link> links, std::string opening_doc = "");
 
  private:
   std::string name_;

@@ -14,21 +14,21 @@
 namespace graspfill {
 
 enum class FrameSkipReason : uint8_t {
-  kNone = 0,           ///< fused
-  kBadFrame,           ///< wrong size, bad intrinsics, or not the first frame's size
-  kNoPoseBefore,       ///< older than every gripper state kept
-  kPoseGap,            ///< the gripper states around it too far apart (max_pose_gap_us)
-  kNoPoseAfter,        ///< the stream ended before a gripper state after it
-  kPendingFull,        ///< dropped: max_pending_frames were already waiting for a state
-  kClawNotSeen,        ///< pose refinement: too few depth points near the predicted claw
-  kRefineNotConverged, ///< pose refinement: the registration did not converge
-  kRefineJump,         ///< pose refinement: a correction beyond its limits
-  kTrackTooFewPoints,  ///< object tracking: too few object pixels or matches
-  kTrackNotConverged,  ///< object tracking: no convergence or too high a residual
-  kTrackJump,          ///< object tracking: a step beyond its limits
-  kClawEmpty,          ///< (sequencer) came while the claw held nothing (grasp_id 0)
-  kClockJump,          ///< (sequencer) waiting for a pose when the clock jumped back
-  kCount,              ///< number of values, not a reason
+  kNone = 0,            ///< fused
+  kBadFrame,            ///< wrong size, bad intrinsics, or not the first frame's size
+  kNoPoseBefore,        ///< older than every gripper state kept
+  kPoseGap,             ///< the gripper states around it too far apart (max_pose_gap_us)
+  kNoPoseAfter,         ///< the stream ended before a gripper state after it
+  kPendingFull,         ///< dropped: max_pending_frames were already waiting for a state
+  kClawNotSeen,         ///< pose refinement: too few depth points near the predicted claw
+  kRefineNotConverged,  ///< pose refinement: the registration did not converge
+  kRefineJump,          ///< pose refinement: a correction beyond its limits
+  kTrackTooFewPoints,   ///< object tracking: too few object pixels or matches
+  kTrackNotConverged,   ///< object tracking: no convergence or too high a residual
+  kTrackJump,           ///< object tracking: a step beyond its limits
+  kClawEmpty,           ///< (sequencer) came while the claw held nothing (grasp_id 0)
+  kClockJump,           ///< (sequencer) waiting for a pose when the clock jumped back
+  kCount,               ///< number of values, not a reason
 };
 
 constexpr size_t kNumFrameSkipReasons = static_cast<size_t>(FrameSkipReason::kCount);
@@ -46,12 +46,8 @@ std::optional<FrameSkipReason> FrameSkipReasonFromName(const std::string& name);
 struct FrameSkipCounts {
   /// Indexed by FrameSkipReason (kNone stays 0).
   std::array<int64_t, kNumFrameSkipReasons> by_reason{};
-  int64_t operator[](FrameSkipReason reason) const {
-    return by_reason[static_cast<size_t>(reason)];
-  }
-  void Count(FrameSkipReason reason, int64_t n = 1) {
-    by_reason[static_cast<size_t>(reason)] += n;
-  }
+  int64_t operator[](FrameSkipReason reason) const { return by_reason[static_cast<size_t>(reason)]; }
+  void Count(FrameSkipReason reason, int64_t n = 1) { by_reason[static_cast<size_t>(reason)] += n; }
   void Add(const FrameSkipCounts& other) {
     for (size_t i = 0; i < kNumFrameSkipReasons; ++i) by_reason[i] += other.by_reason[i];
   }

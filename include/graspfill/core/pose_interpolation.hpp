@@ -14,8 +14,7 @@
 namespace graspfill {
 
 /// Pose between a (alpha = 0) and b (alpha = 1): lerp + slerp.
-Eigen::Isometry3d InterpolatePose(const Eigen::Isometry3d& a,
-                                  const Eigen::Isometry3d& b, double alpha);
+Eigen::Isometry3d InterpolatePose(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double alpha);
 
 /// True if every entry of the pose is finite and its rotation is orthonormal.
 bool IsValidPose(const Eigen::Isometry3d& pose);

@@ -18,9 +18,12 @@ using Rgb8 = std::array<uint8_t, 3>;
 /// apart when shaded, and readable by most colour-blind people).
 constexpr Rgb8 ProvenanceColor(Provenance p) {
   switch (p) {
-    case Provenance::kSurface: return {230, 120, 20};
-    case Provenance::kSymmetry: return {40, 170, 80};
-    case Provenance::kObserved: break;
+    case Provenance::kSurface:
+      return {230, 120, 20};
+    case Provenance::kSymmetry:
+      return {40, 170, 80};
+    case Provenance::kObserved:
+      break;
   }
   return {95, 125, 175};
 }
@@ -28,9 +31,12 @@ constexpr Rgb8 ProvenanceColor(Provenance p) {
 /// The legend's name of the provenance.
 constexpr const char* ProvenanceLabel(Provenance p) {
   switch (p) {
-    case Provenance::kSurface: return "surface fill";
-    case Provenance::kSymmetry: return "symmetry fill";
-    case Provenance::kObserved: break;
+    case Provenance::kSurface:
+      return "surface fill";
+    case Provenance::kSymmetry:
+      return "symmetry fill";
+    case Provenance::kObserved:
+      break;
   }
   return "observed";
 }

@@ -18,7 +18,7 @@ namespace graspfill {
 /// Result of one ray: distance along the (unit) direction, or +inf on a miss.
 struct RayHit {
   float t{std::numeric_limits<float>::infinity()};
-  unsigned geom_id{~0u};           ///< id returned by AddMesh
+  unsigned geom_id{~0u};            ///< id returned by AddMesh
   Eigen::Vector3f normal{0, 0, 0};  ///< unnormalized geometric normal
   bool hit() const { return t < std::numeric_limits<float>::infinity(); }
 };
@@ -41,18 +41,15 @@ class Raycaster {
   bool committed() const;
 
   /// First hit of the ray origin + t * dir, t in [t_near, t_far].
-  RayHit Cast(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir,
-              float t_near = 0.0f,
+  RayHit Cast(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_near = 0.0f,
               float t_far = std::numeric_limits<float>::infinity()) const;
 
   /// Any hit of the ray within [t_near, t_far]: cheaper than Cast.
-  bool Occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir,
-                float t_near, float t_far) const;
+  bool Occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_near, float t_far) const;
 
   /// Packet of up to 16 rays sharing an origin; directions are [16][3]
   /// (x,y,z per ray), `count` <= 16. Writes the hit distances (+inf on miss).
-  void Cast16(const Eigen::Vector3f& origin, const float (*dirs)[3],
-              int count, float* t_out) const;
+  void Cast16(const Eigen::Vector3f& origin, const float (*dirs)[3], int count, float* t_out) const;
 
  private:
   struct Impl;

@@ -23,14 +23,13 @@ struct StageTotal {
 /// a StageTotal, or appends it to a list of timings under a stage's name.
 class ScopedStageTimer {
  public:
-  explicit ScopedStageTimer(StageTotal* total)
-      : total_(total), start_(std::chrono::steady_clock::now()) {}
+  explicit ScopedStageTimer(StageTotal* total) : total_(total), start_(std::chrono::steady_clock::now()) {}
   /// `stage` must outlive the timer (a string literal).
   ScopedStageTimer(std::vector<StageTiming>* timings, const char* stage)
       : timings_(timings), stage_(stage), start_(std::chrono::steady_clock::now()) {}
   ~ScopedStageTimer() {
-    const double ms = std::chrono::duration<double, std::milli>(
-                          std::chrono::steady_clock::now() - start_).count();
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
     if (total_ != nullptr) {
       total_->last_ms = ms;
       total_->total_ms += ms;

@@ -80,12 +80,12 @@ struct KeyFrame {
   int64_t utime{0};
   Eigen::Isometry3f T_C_G{Eigen::Isometry3f::Identity()};
   CameraIntrinsics intrinsics;
-  fusion::PixelRect roi;            ///< the arrays cover this rectangle
-  Eigen::Vector3f view_dir_G{0, 0, 1};  ///< workspace centre -> camera, unit
-  std::vector<float> depth_m;       ///< measured z-depth, 0 = no return
-  std::vector<float> free_depth_m;  ///< window minimum of depth_m (0 if any pixel is 0)
+  fusion::PixelRect roi;                   ///< the arrays cover this rectangle
+  Eigen::Vector3f view_dir_G{0, 0, 1};     ///< workspace centre -> camera, unit
+  std::vector<float> depth_m;              ///< measured z-depth, 0 = no return
+  std::vector<float> free_depth_m;         ///< window minimum of depth_m (0 if any pixel is 0)
   std::vector<float> coarse_free_depth_m;  ///< the same over the coarse window
-  std::vector<float> claw_depth_m;  ///< the posed claw's z-depth, 0 = no claw
+  std::vector<float> claw_depth_m;         ///< the posed claw's z-depth, 0 = no claw
 };
 
 class VisibilityRecord {
@@ -98,8 +98,7 @@ class VisibilityRecord {
   /// `claw_depth_m` the claw's z-depth over the whole image (0 = none),
   /// the gripper at T_C_G. Returns true if it became a key frame. Costs an
   /// angle test unless it does; allocates only for a new key frame.
-  bool Offer(const DepthFrame& raw, const std::vector<float>& claw_depth_m,
-             const Eigen::Isometry3d& T_C_G);
+  bool Offer(const DepthFrame& raw, const std::vector<float>& claw_depth_m, const Eigen::Isometry3d& T_C_G);
 
   /// Every key frame's vote for `p_G`.
   VisibilityVotes Votes(const Eigen::Vector3f& p_G) const;

@@ -18,8 +18,7 @@ struct WorkspaceBox {
   Eigen::Vector3d max_G{0.10, 0.10, 0.30};
 
   bool Contains(const Eigen::Vector3d& p_G) const {
-    return (p_G.array() >= min_G.array()).all() &&
-           (p_G.array() <= max_G.array()).all();
+    return (p_G.array() >= min_G.array()).all() && (p_G.array() <= max_G.array()).all();
   }
   /// Throws std::invalid_argument unless min < max on every axis.
   void Validate() const;
@@ -41,7 +40,7 @@ PixelRect ProjectBox(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G,
 /// Zeroes every pixel of `frame` whose back-projected point is outside the
 /// box. Returns the number of valid pixels kept; *roi (optional) receives
 /// the rectangle outside which every pixel is now zero. Allocates nothing.
-int CropToWorkspace(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G,
-                    DepthFrame* frame, PixelRect* roi = nullptr);
+int CropToWorkspace(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G, DepthFrame* frame,
+                    PixelRect* roi = nullptr);
 
 }  // namespace graspfill::fusion

@@ -32,9 +32,7 @@ enum class IfExists {
 };
 
 /// kReplace where `overwrite` (a command's --force), else kFail.
-constexpr IfExists ReplaceIf(bool overwrite) {
-  return overwrite ? IfExists::kReplace : IfExists::kFail;
-}
+constexpr IfExists ReplaceIf(bool overwrite) { return overwrite ? IfExists::kReplace : IfExists::kFail; }
 
 /// Writes `bytes` to `path` atomically (see the file comment).
 ///
@@ -50,8 +48,7 @@ constexpr IfExists ReplaceIf(bool overwrite) {
 ///   device, FIFO, socket or folder named as such); the target is then
 ///   untouched and no temporary file is left.
 void WriteFileAtomically(const std::string& path, const std::string& bytes,
-                         const std::string& what = "cannot write",
-                         IfExists if_exists = IfExists::kReplace);
+                         const std::string& what = "cannot write", IfExists if_exists = IfExists::kReplace);
 
 /// A file written in place of `path` on Commit(), for writers that stream
 /// (LCM logs): write to temp_path(), then Commit(). Destroyed or Abandon()ed

@@ -30,10 +30,10 @@ std::string ChannelNameDefect(const std::string& name);
 /// The first bad name of the six, in the order depth, gripper_state,
 /// object_cloud, status, session, collision_mesh.
 struct ChannelNameProblem {
-  std::string role;        ///< the channel at fault: "depth", ..., "collision_mesh"
-  std::string name;        ///< its name
-  std::string defect;      ///< ChannelNameDefect's reason, or "" for a repeat
-  std::string same_as;     ///< a repeat: the earlier channel of that name
+  std::string role;     ///< the channel at fault: "depth", ..., "collision_mesh"
+  std::string name;     ///< its name
+  std::string defect;   ///< ChannelNameDefect's reason, or "" for a repeat
+  std::string same_as;  ///< a repeat: the earlier channel of that name
 };
 
 /// Checks every name (ChannelNameDefect), then that no two are the same.

@@ -47,10 +47,10 @@ std::vector<std::vector<uint8_t>> EncodeCloudChunks(const std::vector<uint8_t>& 
 class CloudChunkAssembler {
  public:
   enum class Result {
-    kComplete,    ///< cloud() holds a whole object_cloud_t
-    kPending,     ///< a slice was kept; the cloud is not whole yet
-    kRepeat,      ///< a slice already had (or of the cloud just completed): ignored
-    kMalformed,   ///< neither type, inconsistent sizes, or a joined cloud whose CRC differs: *why
+    kComplete,   ///< cloud() holds a whole object_cloud_t
+    kPending,    ///< a slice was kept; the cloud is not whole yet
+    kRepeat,     ///< a slice already had (or of the cloud just completed): ignored
+    kMalformed,  ///< neither type, inconsistent sizes, or a joined cloud whose CRC differs: *why
   };
 
   /// Takes one message's payload (LCM's data, without channel).
@@ -84,10 +84,10 @@ class CloudChunkAssembler {
   std::vector<uint64_t> had_bits_;   // per slice of the pending cloud: a bit, set once had
   std::vector<uint32_t> had_words_;  // the words of had_bits_ not zero (the others are)
   uint32_t slices_missing_{0};
-  std::vector<uint8_t> joining_;     // the pending cloud's bytes, at its front
-  Key completed_key_;                // the cloud last completed: its repeats are ignored
+  std::vector<uint8_t> joining_;  // the pending cloud's bytes, at its front
+  Key completed_key_;             // the cloud last completed: its repeats are ignored
   bool completed_{false};
-  std::vector<uint8_t> cloud_;       // the complete cloud
+  std::vector<uint8_t> cloud_;  // the complete cloud
   int64_t dropped_unfinished_{0};
 };
 

@@ -53,7 +53,7 @@ std::vector<uint8_t> EncodeCollisionMesh(const CollisionMeshMessage& message);
 /// a non-finite vertex or a triangle index outside the vertices
 /// (kBadValue), and a utime outside [0, kMaxUtime] (kBadTimestamp).
 /// @param error  if not null, set to a one-line reason on failure.
-bool DecodeCollisionMesh(const void* data, size_t size, CollisionMeshMessage* out,
-                         std::string* error, MessageError* reason = nullptr);
+bool DecodeCollisionMesh(const void* data, size_t size, CollisionMeshMessage* out, std::string* error,
+                         MessageError* reason = nullptr);
 
 }  // namespace graspfill::io

@@ -30,7 +30,6 @@ std::optional<MeshFormat> MeshFormatOf(const std::string& path);
 ///   io/atomic_file.hpp; a command without --force).
 /// @throws std::runtime_error (with the path) on an unknown extension, a
 ///   triangle that indexes a missing vertex, or a failed write.
-void WriteMesh(const std::string& path, const TriangleMesh& mesh,
-               IfExists if_exists = IfExists::kReplace);
+void WriteMesh(const std::string& path, const TriangleMesh& mesh, IfExists if_exists = IfExists::kReplace);
 
 }  // namespace graspfill::io

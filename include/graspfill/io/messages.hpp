@@ -26,8 +26,8 @@
 #include <string>
 #include <vector>
 
-#include "graspfill/io/session_limits.hpp"
 #include "graspfill/core/frame_skip.hpp"
+#include "graspfill/io/session_limits.hpp"
 #include "graspfill/types.hpp"
 
 namespace graspfill::io {
@@ -81,9 +81,7 @@ struct BadMessageCounts {
   static constexpr size_t kNumReasons = static_cast<size_t>(MessageError::kCount);
   /// Indexed by MessageError (kNone stays 0).
   std::array<int64_t, kNumReasons> by_reason{};
-  int64_t operator[](MessageError reason) const {
-    return by_reason[static_cast<size_t>(reason)];
-  }
+  int64_t operator[](MessageError reason) const { return by_reason[static_cast<size_t>(reason)]; }
   int64_t total() const {
     int64_t sum = 0;
     for (int64_t n : by_reason) sum += n;
@@ -145,9 +143,9 @@ enum class DepthEncoding {
 /// @param depth_scale_m  meters per depth unit, finite and > 0 (0.001 = mm:
 ///   range up to 65.5 m; 0.0001 = 100 um: range up to 6.5 m).
 /// @throws std::invalid_argument on a size mismatch or a bad depth scale.
-std::vector<uint8_t> EncodeDepthImage(
-    const DepthFrame& frame, DepthEncoding encoding = DepthEncoding::kZlib16,
-    double depth_scale_m = 0.001);
+std::vector<uint8_t> EncodeDepthImage(const DepthFrame& frame,
+                                      DepthEncoding encoding = DepthEncoding::kZlib16,
+                                      double depth_scale_m = 0.001);
 
 /// Decodes a depth_image_t into *out, reusing out->depth_m's capacity.
 ///
@@ -171,9 +169,8 @@ std::vector<uint8_t> EncodeDepthImage(
 /// @param max_depth_pixels  largest width x height accepted, 1..kMaxDepthPixels
 ///   (larger values count as kMaxDepthPixels): kBadSize beyond it.
 /// @return true on success.
-bool DecodeDepthImage(const void* data, size_t size, DepthFrame* out,
-                      std::string* error, MessageError* reason = nullptr,
-                      int64_t max_depth_pixels = kDefaultMaxDepthPixels);
+bool DecodeDepthImage(const void* data, size_t size, DepthFrame* out, std::string* error,
+                      MessageError* reason = nullptr, int64_t max_depth_pixels = kDefaultMaxDepthPixels);
 
 /// Encodes a gripper state as gripper_state_t with frame = FRAME_CAMERA
 /// (the pose written is state.T_C_G; the quaternion is normalized).
@@ -188,8 +185,7 @@ std::vector<uint8_t> EncodeGripperState(const GripperState& state);
 /// (the accepted ones are renormalized) and a utime outside [0, kMaxUtime].
 /// @param T_C_B  hand-eye calibration: maps points from B to C.
 /// @param error  if not null, set to a one-line reason on failure.
-bool DecodeGripperState(const void* data, size_t size,
-                        const Eigen::Isometry3d& T_C_B, GripperState* out,
+bool DecodeGripperState(const void* data, size_t size, const Eigen::Isometry3d& T_C_B, GripperState* out,
                         std::string* error, MessageError* reason = nullptr);
 
 /// Encodes an object cloud as object_cloud_t.
@@ -206,8 +202,8 @@ std::vector<uint8_t> EncodeObjectCloud(const ObjectCloud& cloud);
 /// num_normals3 not 0 or n3), unknown provenance or hole kinds, non-finite
 /// points or pose, and non-unit quaternions (as DecodeGripperState).
 /// @param error  if not null, set to a one-line reason on failure.
-bool DecodeObjectCloud(const void* data, size_t size, ObjectCloud* out,
-                       std::string* error, MessageError* reason = nullptr);
+bool DecodeObjectCloud(const void* data, size_t size, ObjectCloud* out, std::string* error,
+                       MessageError* reason = nullptr);
 
 /// What the module is doing (module_status_t.state_code).
 enum class ModuleState : int8_t {
@@ -229,20 +225,20 @@ struct ModuleStatus {
   double last_frame_ms{0.0};  ///< receive-to-fused time of the last frame
   std::string state;          ///< state_code as text, with the detail
   ModuleState state_code{ModuleState::kWaiting};
-  std::string state_detail;   ///< why, for kStalled and kError
+  std::string state_detail;  ///< why, for kStalled and kError
   int64_t frames_skipped_no_pose{0};
   int64_t frames_skipped_clock_jump{0};
   int64_t frames_bad{0};
   int64_t frames_skipped_refine{0};  ///< pose refinement or object tracking
   /// Every frame not fused, by reason (kPendingFull also in frames_dropped).
   FrameSkipCounts frames_skipped_by_reason;
-  int64_t decode_errors{0};   ///< messages on our channels that did not decode
+  int64_t decode_errors{0};       ///< messages on our channels that did not decode
   BadMessageCounts bad_messages;  ///< decode_errors per reason
-  int64_t clock_jumps{0};     ///< backwards jumps the module started over at
+  int64_t clock_jumps{0};         ///< backwards jumps the module started over at
   int64_t repairs_done{0};
   int64_t repairs_superseded{0};
   int64_t repairs_failed{0};
-  int64_t grasp_id{0};        ///< the grasp being modelled (0: none / not numbered)
+  int64_t grasp_id{0};  ///< the grasp being modelled (0: none / not numbered)
   int64_t grasps_completed{0};
   /// Arrival of a cloud's newest depth frame -> its publication [ms], over
   /// the last clouds; clouds published.
@@ -260,8 +256,8 @@ struct ModuleStatus {
 std::vector<uint8_t> EncodeModuleStatus(const ModuleStatus& status);
 
 /// Decodes a module_status_t; false + *error on malformed bytes.
-bool DecodeModuleStatus(const void* data, size_t size, ModuleStatus* out,
-                        std::string* error, MessageError* reason = nullptr);
+bool DecodeModuleStatus(const void* data, size_t size, ModuleStatus* out, std::string* error,
+                        MessageError* reason = nullptr);
 
 /// How a session description gives its claw (session_description_t's
 /// claw_kind).
@@ -330,7 +326,7 @@ bool SessionWithinLimits(const SessionDescription& session, std::string* why);
 /// finite and > 0, centre not finite), a workspace box that is not finite
 /// with min < max on every axis, and a voxel size not finite and >= 0.
 /// @param error  if not null, set to a one-line reason on failure.
-bool DecodeSessionDescription(const void* data, size_t size, SessionDescription* out,
-                              std::string* error, MessageError* reason = nullptr);
+bool DecodeSessionDescription(const void* data, size_t size, SessionDescription* out, std::string* error,
+                              MessageError* reason = nullptr);
 
 }  // namespace graspfill::io

@@ -45,10 +45,9 @@ void WriteCloudPly(const std::string& path, const ObjectCloud& cloud,
 ///
 /// Normals are read if present. Provenance comes from a `provenance`
 /// property if present (values must be 0..2), else every point is
-/// kObserved (colours say nothing of it: they are ignored); confidence from a `confidence` property (values in [0, 1]),
-/// else empty. frame_name, utime, seq and T_C_G come from WriteCloudPly's
-/// header comments if present, else keep ObjectCloud's defaults. Holes and
-/// timings are not stored in PLY and come back empty.
+/// kObserved (colours say nothing of it: they are ignored); confidence from a `confidence` property (values
+/// in [0, 1]), else empty. frame_name, utime, seq and T_C_G come from WriteCloudPly's header comments if
+/// present, else keep ObjectCloud's defaults. Holes and timings are not stored in PLY and come back empty.
 /// @throws std::runtime_error (with the path) on a missing or malformed
 ///   file or out-of-range provenance.
 ObjectCloud ReadCloudPly(const std::string& path);
@@ -64,8 +63,7 @@ std::vector<Eigen::Vector3i> ReadPlyTriangles(const std::string& path);
 /// @param if_exists as WriteCloudPly's.
 /// @throws std::runtime_error (with the path) if the file cannot be written
 ///   or a triangle indexes a missing vertex.
-void WriteMeshPly(const std::string& path, const TriangleMesh& mesh,
-                  IfExists if_exists = IfExists::kReplace);
+void WriteMeshPly(const std::string& path, const TriangleMesh& mesh, IfExists if_exists = IfExists::kReplace);
 
 /// Reads a triangle mesh from STL, OBJ or PLY (by extension, through
 /// open3d::io::ReadTriangleMesh). Units are whatever the file uses; the

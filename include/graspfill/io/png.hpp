@@ -20,7 +20,6 @@ namespace graspfill::io {
 ///   failed write (with the system's reason where it gave one).
 /// @param if_exists kFail: refuse to replace anything at `path` (see
 ///   io/atomic_file.hpp; a command without --force).
-void WritePng(const std::string& path, const RgbImage& image,
-              IfExists if_exists = IfExists::kReplace);
+void WritePng(const std::string& path, const RgbImage& image, IfExists if_exists = IfExists::kReplace);
 
 }  // namespace graspfill::io

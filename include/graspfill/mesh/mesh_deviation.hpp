@@ -50,8 +50,8 @@ std::vector<double> OutsideDistances(const TriangleMesh& closed_mesh,
 /// OutsideDistances summed up: the stated deviation of a mesh that should
 /// hold a cloud.
 struct OutsideDeviation {
-  double max_m{0.0};       ///< the farthest point outside [m] (0: all inside)
-  double p99_m{0.0};       ///< 99th percentile over every point, inside ones as 0 [m]
+  double max_m{0.0};          ///< the farthest point outside [m] (0: all inside)
+  double p99_m{0.0};          ///< 99th percentile over every point, inside ones as 0 [m]
   int64_t points_outside{0};  ///< points with a distance > 0 [count]
 };
 OutsideDeviation SummarizeOutside(const std::vector<double>& outside_m);

@@ -23,8 +23,7 @@ struct SurfaceSamples {
 /// `count` points drawn uniformly by area over the mesh, seeded (Rng of
 /// core/random.hpp: the same mesh, count and seed give the same points).
 /// Points and normals are in the mesh's frame [m]; none for zero area.
-SurfaceSamples SampleSurface(const TriangleMesh& mesh, int count,
-                             uint64_t seed);
+SurfaceSamples SampleSurface(const TriangleMesh& mesh, int count, uint64_t seed);
 
 /// Total triangle area [m^2].
 double SurfaceArea(const TriangleMesh& mesh);
@@ -47,7 +46,7 @@ Eigen::AlignedBox3d Bounds(const TriangleMesh& mesh);
 double WindingNumber(const TriangleMesh& mesh, const Eigen::Vector3d& p);
 
 /// Distance from `p` to the closest point of triangle (a, b, c).
-double PointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                             const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+double PointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                             const Eigen::Vector3d& c);
 
 }  // namespace graspfill::mesh

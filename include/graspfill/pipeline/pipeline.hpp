@@ -4,13 +4,12 @@
 // the object's cloud in the gripper frame comes out.
 //
 // Per depth frame: decimated if it is very large, pose at the frame's
-// timestamp (interpolated between the bracketing gripper states), refined by registering the claw to the depth
-// (refine/pose_refiner.hpp; a frame it rejects is skipped), crop to the workspace box in G, claw cut-out by
-// ray casting the posed claw, with object tracking on the object's pixels
-// aligned to the model fused so far (refine/object_tracker.hpp: the object
-// slipping in G; a frame it rejects is skipped), TSDF integration in G (in
-// the object's frame as first seen, with tracking), and the frame offered
-// to the visibility record (evidence/). Extraction is on demand.
+// timestamp (interpolated between the bracketing gripper states), refined by registering the claw to the
+// depth (refine/pose_refiner.hpp; a frame it rejects is skipped), crop to the workspace box in G, claw
+// cut-out by ray casting the posed claw, with object tracking on the object's pixels aligned to the model
+// fused so far (refine/object_tracker.hpp: the object slipping in G; a frame it rejects is skipped), TSDF
+// integration in G (in the object's frame as first seen, with tracking), and the frame offered to the
+// visibility record (evidence/). Extraction is on demand.
 //
 // Single-threaded and NOT thread safe: rt/ owns the threads that feed it.
 // Open3D's OpenMP inside a call uses config.num_threads (default 1).
@@ -82,11 +81,11 @@ struct PipelineConfig {
 
 /// What became of a depth frame (FrameDecision: why, when skipped).
 enum class FrameOutcome {
-  kIntegrated,     ///< fused into the volume
-  kPending,        ///< waiting for a later gripper state
-  kSkippedNoPose,  ///< no gripper states close enough around its timestamp
-  kBadFrame,       ///< wrong size or bad intrinsics: rejected
-  kSkippedRefine,  ///< pose refinement rejected it (PipelineStats::refine says why)
+  kIntegrated,       ///< fused into the volume
+  kPending,          ///< waiting for a later gripper state
+  kSkippedNoPose,    ///< no gripper states close enough around its timestamp
+  kBadFrame,         ///< wrong size or bad intrinsics: rejected
+  kSkippedRefine,    ///< pose refinement rejected it (PipelineStats::refine says why)
   kSkippedTracking,  ///< object tracking rejected it (PipelineStats::tracking says why)
 };
 
@@ -106,13 +105,13 @@ struct PipelineStats {
   int64_t states_in{0};
   int64_t states_rejected{0};  ///< non-finite / not newer than the last
   int64_t claw_rebuilds{0};
-  int64_t frames_skipped_refine{0};  ///< rejected by pose refinement
-  int64_t frames_decimated{0};  ///< over max_fusion_pixels, fused decimated
-  refine::RefineStats refine;       ///< corrections, residuals, rejections by reason
-  StageTotal refine_time;  ///< claw registration (0 when refinement is off)
+  int64_t frames_skipped_refine{0};    ///< rejected by pose refinement
+  int64_t frames_decimated{0};         ///< over max_fusion_pixels, fused decimated
+  refine::RefineStats refine;          ///< corrections, residuals, rejections by reason
+  StageTotal refine_time;              ///< claw registration (0 when refinement is off)
   int64_t frames_skipped_tracking{0};  ///< rejected by object tracking
   refine::TrackStats tracking;         ///< object tracking by outcome
-  StageTotal track_time;  ///< object tracking and its model updates (0 when off)
+  StageTotal track_time;               ///< object tracking and its model updates (0 when off)
   StageTotal crop;
   StageTotal mask;
   StageTotal integrate;

@@ -72,10 +72,10 @@ struct ClawRegistrationConfig {
 
 enum class RegistrationStatus {
   kConverged,
-  kTooFewPoints,   ///< the claw is not in view, or the frame has no depth there
-  kNotConverged,   ///< no convergence within max_iterations, or residual too high
-  kDegenerate,     ///< the matched points do not constrain all six motions
-  kNoClaw,         ///< SetClaw was not called (or the claw was empty)
+  kTooFewPoints,  ///< the claw is not in view, or the frame has no depth there
+  kNotConverged,  ///< no convergence within max_iterations, or residual too high
+  kDegenerate,    ///< the matched points do not constrain all six motions
+  kNoClaw,        ///< SetClaw was not called (or the claw was empty)
 };
 
 /// "converged", "too_few_points", "not_converged", "degenerate", "no_claw".
@@ -86,8 +86,8 @@ struct RegistrationResult {
   /// T_C_G_registered = correction_C * T_C_G_initial.
   Eigen::Isometry3d correction_C{Eigen::Isometry3d::Identity()};
   Eigen::Isometry3d T_C_G{Eigen::Isometry3d::Identity()};  ///< registered pose
-  int candidates{0};  ///< depth points near the predicted claw
-  int matches{0};     ///< matched at the final gate
+  int candidates{0};                                       ///< depth points near the predicted claw
+  int matches{0};                                          ///< matched at the final gate
   int iterations{0};
   double rms_m{0.0};  ///< RMS point-to-plane residual of the matches
   /// Centroid of the matched depth points in C (where the claw is).
@@ -123,9 +123,9 @@ class ClawRegistration {
   std::vector<Eigen::Vector3f> model_points_G_;
   std::vector<Eigen::Vector3f> model_normals_G_;
   Eigen::AlignedBox3f model_box_G_;
-  ClosestPointGrid fine_;    // the model's closest points, fine and coarse
+  ClosestPointGrid fine_;  // the model's closest points, fine and coarse
   ClosestPointGrid coarse_;
-  std::vector<Eigen::Vector3f> points_C_;   // reused per frame
+  std::vector<Eigen::Vector3f> points_C_;  // reused per frame
   std::vector<Eigen::Vector3f> normals_C_;
 };
 

@@ -17,8 +17,7 @@ class ClosestPointGrid {
   /// Over every `stride`-th of `points` (at least one), with cells of
   /// `cell_m` [m] and the table reaching `band_m` [m] beyond all of them.
   /// Reuses the memory of the last build; no points give an empty table.
-  void Build(const std::vector<Eigen::Vector3f>& points, int stride, double cell_m,
-             double band_m);
+  void Build(const std::vector<Eigen::Vector3f>& points, int stride, double cell_m, double band_m);
   /// Forgets the table (every lookup then finds nothing).
   void Clear();
   /// Index into the points of the one nearest the centre of p's cell; -1

@@ -108,11 +108,11 @@ struct ObjectTrackingConfig {
 };
 
 enum class TrackOutcome {
-  kTracked,        ///< aligned: fuse at T_C_G * S_G
-  kNoModel,        ///< no model yet (warm-up): fuse at T_C_G * S_G (identity)
-  kTooFewPoints,   ///< too few object pixels or matches
-  kNotConverged,   ///< no convergence, or the residual too high
-  kJump,           ///< beyond max_step / max_total
+  kTracked,       ///< aligned: fuse at T_C_G * S_G
+  kNoModel,       ///< no model yet (warm-up): fuse at T_C_G * S_G (identity)
+  kTooFewPoints,  ///< too few object pixels or matches
+  kNotConverged,  ///< no convergence, or the residual too high
+  kJump,          ///< beyond max_step / max_total
 };
 
 struct TrackStats {
@@ -133,9 +133,7 @@ struct TrackStats {
   /// pose (at the object's centre) [m].
   double max_step_m{0.0};
 
-  int64_t rejected() const {
-    return rejected_too_few_points + rejected_not_converged + rejected_jump;
-  }
+  int64_t rejected() const { return rejected_too_few_points + rejected_not_converged + rejected_jump; }
 };
 
 class ObjectTracker {
@@ -145,8 +143,7 @@ class ObjectTracker {
 
   /// Replaces the model (points and outward unit normals in the object's
   /// frame) and rebuilds the lookup table, reusing its memory.
-  void SetModel(const std::vector<Eigen::Vector3f>& points_O,
-                const std::vector<Eigen::Vector3f>& normals_O);
+  void SetModel(const std::vector<Eigen::Vector3f>& points_O, const std::vector<Eigen::Vector3f>& normals_O);
   bool has_model() const;
   size_t model_points() const { return model_points_.size(); }
 
@@ -174,7 +171,7 @@ class ObjectTracker {
   std::vector<Eigen::Vector3f> model_points_;
   std::vector<Eigen::Vector3f> model_normals_;
   Eigen::Vector3f model_centre_{0, 0, 0};
-  ClosestPointGrid grid_;  // the model's closest points within band_m
+  ClosestPointGrid grid_;                  // the model's closest points within band_m
   std::vector<Eigen::Vector3f> points_C_;  // reused per frame
   std::vector<Eigen::Vector3f> normals_C_;
   Eigen::Isometry3d S_G_{Eigen::Isometry3d::Identity()};

@@ -96,12 +96,12 @@ struct ClockOffsetEstimate {
 
 /// What refinement did with a frame.
 enum class RefineOutcome {
-  kRefined,        ///< registered: fuse at the refined pose
-  kAtPrediction,   ///< registered within min_correction of the prediction: fuse at that
-  kOff,            ///< refinement disabled: fuse at the logged pose
-  kClawNotSeen,    ///< too few depth points near the predicted claw
-  kNotConverged,   ///< the registration did not converge (or was degenerate)
-  kJump,           ///< correction beyond max_correction / max_jump
+  kRefined,       ///< registered: fuse at the refined pose
+  kAtPrediction,  ///< registered within min_correction of the prediction: fuse at that
+  kOff,           ///< refinement disabled: fuse at the logged pose
+  kClawNotSeen,   ///< too few depth points near the predicted claw
+  kNotConverged,  ///< the registration did not converge (or was degenerate)
+  kJump,          ///< correction beyond max_correction / max_jump
 };
 
 /// "refined", "at_prediction", "off", "claw_not_seen", "not_converged", "jump".
@@ -186,8 +186,7 @@ class PoseRefiner {
     Eigen::Vector3d Angular() const;
     Eigen::Vector3d VelocityAt(const Eigen::Vector3d& p_C) const;
   };
-  void AddSample(const Eigen::Isometry3d& correction_C, const Eigen::Vector3d& centre_C,
-                 const Rate& rate);
+  void AddSample(const Eigen::Isometry3d& correction_C, const Eigen::Vector3d& centre_C, const Rate& rate);
   void UpdateEstimate();
   void UpdateClockOffset();
   // Whether a registration's deviation from the prediction (`residual_C`,

@@ -88,8 +88,7 @@ class IncrementalRepair {
   /// The fused cloud `fused` (all observed, as extracted) brought up to date
   /// with the base into `*out` (its buffers reused). With kNoBase or
   /// kOtherGrasp, `*out` is `fused` as it came (nothing to add from).
-  UpdateReport Update(const ObjectCloud& fused, const evidence::VisibilityRecord* record,
-                      ObjectCloud* out);
+  UpdateReport Update(const ObjectCloud& fused, const evidence::VisibilityRecord* record, ObjectCloud* out);
 
   bool has_base() const { return has_base_; }
   /// Forgets the base.
@@ -100,12 +99,12 @@ class IncrementalRepair {
   bool has_base_{false};
   int64_t base_grasp_id_{0};
   size_t base_key_frames_{0};
-  ObjectCloud added_;   // the base's added points (positions, normals, provenance, confidence)
+  ObjectCloud added_;  // the base's added points (positions, normals, provenance, confidence)
   std::vector<HoleSummary> holes_;
   SafeBound safe_bound_;
   Eigen::AlignedBox3f box_;  // the change grids' box: the base's bulk, widened
-  BitGrid base_observed_;  // the base's fused points, dilated by a cell
-  BitGrid fresh_;          // this update's new fused points, dilated
+  BitGrid base_observed_;    // the base's fused points, dilated by a cell
+  BitGrid fresh_;            // this update's new fused points, dilated
   std::vector<uint8_t> keep_;
 };
 

@@ -27,7 +27,7 @@ struct BoundaryLine {
 /// edges of the 2D bounding box of the cloud projected on that plane.
 struct VirtualFrame {
   Eigen::Isometry3d T_in_V{Eigen::Isometry3d::Identity()};  ///< V -> input
-  Eigen::Vector3f min_V{0, 0, 0};  ///< bounding box of the cloud in V [m]
+  Eigen::Vector3f min_V{0, 0, 0};                           ///< bounding box of the cloud in V [m]
   Eigen::Vector3f max_V{0, 0, 0};
 };
 

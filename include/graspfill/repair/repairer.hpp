@@ -130,7 +130,7 @@ struct RepairReport {
   /// The status's name, then the detail after ": " when there is one (what
   /// the CLI prints and `--json` gives as "status").
   std::string StatusText() const;
-  bool symmetric{false};        ///< a symmetry plane was found and used
+  bool symmetric{false};  ///< a symmetry plane was found and used
   /// Best mode: how the missing top was completed ("mirror", "revolution",
   /// "dome", "extrusion", or "open": nothing known there, nothing added), and the
   /// confidence of its points (the search's posterior, top_search.hpp).
@@ -143,7 +143,7 @@ struct RepairReport {
   int claw_holes_left_open{0};
   int boundary_points{0};
   int boundary_lines{0};
-  VirtualFrame frame;           ///< valid when status == kRepaired
+  VirtualFrame frame;              ///< valid when status == kRepaired
   std::vector<HoleSummary> holes;  ///< boxes in the input frame
   EvidenceReport evidence;
   std::vector<StageTiming> timings;
@@ -160,9 +160,9 @@ struct RepairResult {
 
 /// Repairs an unorganized cloud (meters, any pose, normals optional: when
 /// given they are kept and the added points get estimated ones, oriented
-/// away from the centroid; otherwise the output has none). Throws std::invalid_argument on non-finite coordinates or a
-/// bad config; a cloud too small or without holes comes back unchanged
-/// with the reason in report.status and report.status_detail.
+/// away from the centroid; otherwise the output has none). Throws std::invalid_argument on non-finite
+/// coordinates or a bad config; a cloud too small or without holes comes back unchanged with the reason in
+/// report.status and report.status_detail.
 ///
 /// `record` (optional, best mode): what the camera saw, in the input's
 /// frame (Pipeline::visibility() for a fused cloud in G). With it no added

@@ -28,8 +28,8 @@ Framing FrameClouds(const std::vector<const ObjectCloud*>& clouds);
 /// Where the camera looks from. G's +z (the approach direction, away from
 /// the palm) points down in the picture, so the palm side is on top.
 struct ViewAngle {
-  double azimuth_deg{0.0};    ///< about G's z axis, from +x towards +y
-  double elevation_deg{30.0}; ///< above the horizontal, from the palm's side
+  double azimuth_deg{0.0};     ///< about G's z axis, from +x towards +y
+  double elevation_deg{30.0};  ///< above the horizontal, from the palm's side
 };
 
 /// Draws `cloud` into the `size_px` x `size_px` square of *image whose
@@ -39,7 +39,7 @@ struct ViewAngle {
 /// normals (1 facing the camera), else by depth (1 at the framing sphere's
 /// near side, 0.6 at its far side); the disc radius follows the cloud's
 /// point spacing.
-void RenderView(const ObjectCloud& cloud, const Framing& framing, const ViewAngle& angle,
-                int x0, int y0, int size_px, RgbImage* image);
+void RenderView(const ObjectCloud& cloud, const Framing& framing, const ViewAngle& angle, int x0, int y0,
+                int size_px, RgbImage* image);
 
 }  // namespace graspfill::view

@@ -40,8 +40,8 @@ struct SheetLayout {
   int width{0};
   int height{0};
   int view_px{0};
-  int views_y{0};     ///< top of the first row of views
-  int legend_y{0};    ///< top of the legend, below the views
+  int views_y{0};   ///< top of the first row of views
+  int legend_y{0};  ///< top of the legend, below the views
   int columns{0};
   int views{0};
   /// Top-left pixel of view `view` of cloud `column`.

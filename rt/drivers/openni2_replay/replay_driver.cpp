@@ -70,8 +70,8 @@ double MetersPerUnit(OniPixelFormat format) {
 // Video modes of a recording: its own size, then half of it (every second
 // pixel of every second row) where the size is even; its own units first.
 std::vector<OniVideoMode> ModesOf(const RecordingIndex& index) {
-  const OniPixelFormat own = index.depth_scale_m < 0.00095 ? ONI_PIXEL_FORMAT_DEPTH_100_UM
-                                                           : ONI_PIXEL_FORMAT_DEPTH_1_MM;
+  const OniPixelFormat own =
+      index.depth_scale_m < 0.00095 ? ONI_PIXEL_FORMAT_DEPTH_100_UM : ONI_PIXEL_FORMAT_DEPTH_1_MM;
   const OniPixelFormat other =
       own == ONI_PIXEL_FORMAT_DEPTH_1_MM ? ONI_PIXEL_FORMAT_DEPTH_100_UM : ONI_PIXEL_FORMAT_DEPTH_1_MM;
   const int w = index.intrinsics.width, h = index.intrinsics.height;
@@ -111,19 +111,24 @@ class ReplayStream : public oni::driver::StreamBase {
   OniStatus getProperty(int id, void* data, int* size) override {
     std::lock_guard<std::mutex> lock(mutex_);
     switch (id) {
-      case ONI_STREAM_PROPERTY_VIDEO_MODE: return Put(mode_, data, size);
+      case ONI_STREAM_PROPERTY_VIDEO_MODE:
+        return Put(mode_, data, size);
       case ONI_STREAM_PROPERTY_CROPPING: {
-        OniCropping none{};  // cropping is not supported, but answered:
+        OniCropping none{};            // cropping is not supported, but answered:
         return Put(none, data, size);  // .oni playback needs it recorded
       }
       case ONI_STREAM_PROPERTY_HORIZONTAL_FOV:
         return Put(static_cast<float>(2.0 * std::atan(0.5 * mode_.resolutionX / Fx())), data, size);
       case ONI_STREAM_PROPERTY_VERTICAL_FOV:
         return Put(static_cast<float>(2.0 * std::atan(0.5 * mode_.resolutionY / Fy())), data, size);
-      case ONI_STREAM_PROPERTY_MAX_VALUE: return Put(int{kMaxDepthUnits}, data, size);
-      case ONI_STREAM_PROPERTY_MIN_VALUE: return Put(int{0}, data, size);
-      case ONI_STREAM_PROPERTY_STRIDE: return Put(int{2 * mode_.resolutionX}, data, size);
-      case ONI_STREAM_PROPERTY_MIRRORING: return Put(OniBool{FALSE}, data, size);
+      case ONI_STREAM_PROPERTY_MAX_VALUE:
+        return Put(int{kMaxDepthUnits}, data, size);
+      case ONI_STREAM_PROPERTY_MIN_VALUE:
+        return Put(int{0}, data, size);
+      case ONI_STREAM_PROPERTY_STRIDE:
+        return Put(int{2 * mode_.resolutionX}, data, size);
+      case ONI_STREAM_PROPERTY_MIRRORING:
+        return Put(OniBool{FALSE}, data, size);
       case kStreamPropertyIntrinsics: {
         const double s = Scale();
         const CameraIntrinsics& K = index_.intrinsics;
@@ -135,7 +140,8 @@ class ReplayStream : public oni::driver::StreamBase {
         *size = sizeof(values);
         return ONI_STATUS_OK;
       }
-      default: return ONI_STATUS_NOT_SUPPORTED;
+      default:
+        return ONI_STATUS_NOT_SUPPORTED;
     }
   }
 
@@ -165,7 +171,8 @@ class ReplayStream : public oni::driver::StreamBase {
         if (!Take(data, size, &mirror)) return ONI_STATUS_BAD_PARAMETER;
         return mirror ? ONI_STATUS_NOT_SUPPORTED : ONI_STATUS_OK;
       }
-      default: return ONI_STATUS_NOT_SUPPORTED;
+      default:
+        return ONI_STATUS_NOT_SUPPORTED;
     }
   }
 
@@ -179,8 +186,10 @@ class ReplayStream : public oni::driver::StreamBase {
       case ONI_STREAM_PROPERTY_MIN_VALUE:
       case ONI_STREAM_PROPERTY_STRIDE:
       case ONI_STREAM_PROPERTY_MIRRORING:
-      case kStreamPropertyIntrinsics: return TRUE;
-      default: return FALSE;
+      case kStreamPropertyIntrinsics:
+        return TRUE;
+      default:
+        return FALSE;
     }
   }
 
@@ -204,8 +213,9 @@ class ReplayStream : public oni::driver::StreamBase {
     if (speed > 0.0f) {
       const auto now = std::chrono::steady_clock::now();
       if (frame_index_ == 0) first_served_ = now;
-      const auto due = first_served_ + std::chrono::microseconds(static_cast<int64_t>(
-                                           (decoded_.utime - index_.first_utime) / speed));
+      const auto due =
+          first_served_ +
+          std::chrono::microseconds(static_cast<int64_t>((decoded_.utime - index_.first_utime) / speed));
       lock.unlock();
       if (due > now) std::this_thread::sleep_until(due);
       lock.lock();
@@ -292,10 +302,12 @@ class ReplayDevice : public oni::driver::DeviceBase {
 
   OniStatus getProperty(int id, void* data, int* size) override {
     switch (id) {
-      case kDevicePropertySpeed: return Put(speed_, data, size);
+      case kDevicePropertySpeed:
+        return Put(speed_, data, size);
       case kDevicePropertyFramesLeft:
         return Put(stream_ != nullptr ? stream_->frames_left() : index_.num_frames, data, size);
-      default: return ONI_STATUS_NOT_SUPPORTED;
+      default:
+        return ONI_STATUS_NOT_SUPPORTED;
     }
   }
   OniStatus setProperty(int id, const void* data, int size) override {

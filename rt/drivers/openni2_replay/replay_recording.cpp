@@ -27,8 +27,7 @@ double PeekDepthScale(const std::vector<uint8_t>& data) {
   for (size_t i = kOffset; i < kOffset + 8; ++i) bits = (bits << 8) | data[i];
   double scale;
   static_assert(sizeof(scale) == sizeof(bits));
-  std::copy_n(reinterpret_cast<const uint8_t*>(&bits), sizeof(bits),
-              reinterpret_cast<uint8_t*>(&scale));
+  std::copy_n(reinterpret_cast<const uint8_t*>(&bits), sizeof(bits), reinterpret_cast<uint8_t*>(&scale));
   return scale;
 }
 
@@ -50,8 +49,7 @@ RecordingIndex IndexRecording(const std::string& path, const std::string& depth_
       DepthFrame first;
       std::string error;
       if (!io::DecodeDepthImage(event.data.data(), event.data.size(), &first, &error)) {
-        throw std::runtime_error("'" + path + "': its first depth image does not decode: " +
-                                 error);
+        throw std::runtime_error("'" + path + "': its first depth image does not decode: " + error);
       }
       index.intrinsics = first.intrinsics;
       index.depth_scale_m = PeekDepthScale(event.data);
@@ -74,8 +72,7 @@ RecordingIndex IndexRecording(const std::string& path, const std::string& depth_
   return index;
 }
 
-RecordingReader::RecordingReader(const RecordingIndex& index)
-    : index_(index), reader_(index.path) {}
+RecordingReader::RecordingReader(const RecordingIndex& index) : index_(index), reader_(index.path) {}
 
 bool RecordingReader::Next(DepthFrame* frame) {
   while (reader_.Next(&event_) == io::LogReadResult::kEvent) {

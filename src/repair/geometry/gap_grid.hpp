@@ -52,7 +52,8 @@ class GapGrid {
     for (size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
     points_.resize(added_.size());
     std::vector<int> fill(start_.begin(), start_.end() - 1);
-    for (const auto& a : added_) points_[static_cast<size_t>(fill[static_cast<size_t>(a.first)]++)] = a.second;
+    for (const auto& a : added_)
+      points_[static_cast<size_t>(fill[static_cast<size_t>(a.first)]++)] = a.second;
     added_.clear();
     added_.shrink_to_fit();
   }
@@ -65,7 +66,8 @@ class GapGrid {
     if (!at.allFinite()) return false;
     const double iu = std::floor(at.x()), iv = std::floor(at.y());
     const int u0 = static_cast<int>(std::max(0.0, iu - 1.0)), v0 = static_cast<int>(std::max(0.0, iv - 1.0));
-    const int u1 = static_cast<int>(std::min(nu_ - 1.0, iu + 1.0)), v1 = static_cast<int>(std::min(nv_ - 1.0, iv + 1.0));
+    const int u1 = static_cast<int>(std::min(nu_ - 1.0, iu + 1.0)),
+              v1 = static_cast<int>(std::min(nv_ - 1.0, iv + 1.0));
     for (int v = v0; v <= v1; ++v) {
       for (int u = u0; u <= u1; ++u) {
         const size_t c = static_cast<size_t>(v) * static_cast<size_t>(nu_) + static_cast<size_t>(u);

@@ -15,8 +15,7 @@ std::vector<Eigen::Vector2d> ConvexHull2d(std::vector<Eigen::Vector2d>* points) 
   });
   p.erase(std::unique(p.begin(), p.end()), p.end());
   if (p.size() < 3) return p;
-  const auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a,
-                        const Eigen::Vector2d& b) {
+  const auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
   };
   std::vector<Eigen::Vector2d> hull(2 * p.size());
@@ -41,8 +40,7 @@ std::vector<Eigen::Vector2d> ApproxHull2d(const std::vector<Eigen::Vector2d>& q,
     if (q[i].x() > x_hi) x_hi = q[i].x(), i_hi = i;
   }
   const double width = std::max(x_hi - x_lo, 1e-12);
-  std::vector<int> lowest(static_cast<size_t>(columns), -1),
-      highest(static_cast<size_t>(columns), -1);
+  std::vector<int> lowest(static_cast<size_t>(columns), -1), highest(static_cast<size_t>(columns), -1);
   for (size_t i = 0; i < q.size(); ++i) {
     const int c = std::min(columns - 1, static_cast<int>((q[i].x() - x_lo) / width * columns));
     int& lo = lowest[static_cast<size_t>(c)];

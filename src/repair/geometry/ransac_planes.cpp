@@ -61,8 +61,7 @@ std::vector<int> PlaneInliers(const std::vector<Vec3>& points, const std::vector
 }
 
 RansacPlanes::RansacPlanes(const std::vector<Vec3>& points, const std::vector<Vec3>& cloud,
-                           const RansacPlanesConfig& config, int min_inliers,
-                           std::optional<Vec3> hint)
+                           const RansacPlanesConfig& config, int min_inliers, std::optional<Vec3> hint)
     : points_(points),
       config_(config),
       min_inliers_(min_inliers),
@@ -72,8 +71,7 @@ RansacPlanes::RansacPlanes(const std::vector<Vec3>& points, const std::vector<Ve
   for (size_t i = 0; i < points.size(); ++i) all_.push_back(static_cast<int>(i));
   all_scoring_ = Pack(Strided(all_, kScoringPoints));
   std::vector<Vec3> side;
-  const size_t stride =
-      std::max<size_t>(1, (cloud.size() + kSideSamplePoints - 1) / kSideSamplePoints);
+  const size_t stride = std::max<size_t>(1, (cloud.size() + kSideSamplePoints - 1) / kSideSamplePoints);
   for (size_t i = 0; i < cloud.size(); i += stride) side.push_back(cloud[i]);
   // Shuffled, so that a plane through the cloud meets points on both of
   // its sides within the first few and is dropped early.
@@ -101,8 +99,8 @@ void RansacPlanes::MakeSeeds(const std::optional<Vec3>& hint) {
     const Vec3 u = hint->unitOrthogonal(), v = hint->cross(u);
     for (int i = 0; i < 6; ++i) {
       const double a = M_PI / 3 * i;
-      dirs.push_back((*hint + std::tan(config_.hint_ring_rad) * (std::cos(a) * u + std::sin(a) * v))
-                         .normalized());
+      dirs.push_back(
+          (*hint + std::tan(config_.hint_ring_rad) * (std::cos(a) * u + std::sin(a) * v)).normalized());
     }
   }
   const double golden = M_PI * (3.0 - std::sqrt(5.0));
@@ -138,8 +136,7 @@ bool RansacPlanes::FindNext(Mode mode) {
   const Packed preemptive = Pack(Strided(scoring.index, kPreemptivePoints));
   const double threshold = config_.distance_m;
   const double log_miss = std::log(1.0 - config_.confidence);
-  const double pre_scale =
-      static_cast<double>(preemptive.size()) / static_cast<double>(scoring.size());
+  const double pre_scale = static_cast<double>(preemptive.size()) / static_cast<double>(scoring.size());
   const double min_score =
       min_inliers_ * static_cast<double>(scoring.size()) / static_cast<double>(pool.size());
 
@@ -201,11 +198,9 @@ bool RansacPlanes::FindNext(Mode mode) {
     // with the configured confidence.
     const double w = static_cast<double>(score) / static_cast<double>(scoring.size());
     const double p_all = w * w * w;
-    needed =
-        p_all >= 1.0
-            ? std::max(0, it + 1 - n_seeds)
-            : static_cast<int>(std::min<double>(config_.max_iterations,
-                                                std::ceil(log_miss / std::log(1.0 - p_all))));
+    needed = p_all >= 1.0 ? std::max(0, it + 1 - n_seeds)
+                          : static_cast<int>(std::min<double>(config_.max_iterations,
+                                                              std::ceil(log_miss / std::log(1.0 - p_all))));
   }
   if (!found) return false;
 
@@ -256,9 +251,8 @@ RansacPlanes::Packed RansacPlanes::Pack(const std::vector<Vec3>& points) {
 // True if at most the strays of the cloud sample lie beyond the plane on
 // one of its sides.
 bool RansacPlanes::OneSided(const Vec3& n, double d, double band) const {
-  const float nx = static_cast<float>(n.x()), ny = static_cast<float>(n.y()),
-              nz = static_cast<float>(n.z()), df = static_cast<float>(d),
-              bf = static_cast<float>(band);
+  const float nx = static_cast<float>(n.x()), ny = static_cast<float>(n.y()), nz = static_cast<float>(n.z()),
+              df = static_cast<float>(d), bf = static_cast<float>(band);
   int above = 0, below = 0;
   // Blocks of 16 between the early-exit checks, so the loop vectorises.
   constexpr size_t kBlock = 16;
@@ -266,8 +260,7 @@ bool RansacPlanes::OneSided(const Vec3& n, double d, double band) const {
   for (size_t start = 0; start < n_points; start += kBlock) {
     const size_t end = std::min(n_points, start + kBlock);
     for (size_t k = start; k < end; ++k) {
-      const float h =
-          nx * side_sample_.x[k] + ny * side_sample_.y[k] + nz * side_sample_.z[k] - df;
+      const float h = nx * side_sample_.x[k] + ny * side_sample_.y[k] + nz * side_sample_.z[k] - df;
       above += h > bf;
       below += h < -bf;
     }
@@ -288,6 +281,5 @@ bool RansacPlanes::Duplicate(const Vec3& n, double d) const {
   }
   return false;
 }
-
 
 }  // namespace graspfill::repair::geometry

@@ -44,9 +44,8 @@ bool FitPlaneOf(const std::vector<Eigen::Vector3d>& points, const std::vector<in
                 Eigen::Vector3d* normal, double* offset);
 
 /// The `candidates` (indices into points) within `distance` of the plane.
-std::vector<int> PlaneInliers(const std::vector<Eigen::Vector3d>& points,
-                              const std::vector<int>& candidates, const Eigen::Vector3d& normal,
-                              double offset, double distance);
+std::vector<int> PlaneInliers(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& candidates,
+                              const Eigen::Vector3d& normal, double offset, double distance);
 
 // Sequential RANSAC planes over a point set (the repair's one RANSAC: the
 // virtual frame's, over the boundary points), with local optimisation
@@ -74,8 +73,7 @@ class RansacPlanes {
   /// reference; a plane needs `min_inliers`; `hint`: the up direction, if
   /// known (kCut's seeds try it first).
   RansacPlanes(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& cloud,
-               const RansacPlanesConfig& config, int min_inliers,
-               std::optional<Eigen::Vector3d> hint);
+               const RansacPlanesConfig& config, int min_inliers, std::optional<Eigen::Vector3d> hint);
 
   /// Adds the next plane; false when there is none with enough inliers.
   bool FindNext(Mode mode);
@@ -109,8 +107,7 @@ class RansacPlanes {
                   nz = static_cast<float>(n.z()), df = static_cast<float>(d),
                   t = static_cast<float>(threshold);
       for (size_t k = 0; k < x.size(); ++k) {
-        if (std::abs(nx * x[k] + ny * y[k] + nz * z[k] - df) <= t)
-          out->push_back(static_cast<int>(k));
+        if (std::abs(nx * x[k] + ny * y[k] + nz * z[k] - df) <= t) out->push_back(static_cast<int>(k));
       }
     }
   };

@@ -43,8 +43,7 @@ int main(int argc, char** argv) {
   log.path = argv[1];
   graspfill::rt::LcmLogSource source(log);
   graspfill::rt::SourceEvent event;
-  for (graspfill::rt::FrameResult r;
-       (r = source.Next(&event)) != graspfill::rt::FrameResult::kEndOfStream;) {
+  for (graspfill::rt::FrameResult r; (r = source.Next(&event)) != graspfill::rt::FrameResult::kEndOfStream;) {
     if (r != graspfill::rt::FrameResult::kOk) continue;
     if (event.kind == graspfill::rt::SourceEvent::Kind::kDepth) {
       pipeline.AddDepthFrame(event.depth);
@@ -70,8 +69,7 @@ int main(int argc, char** argv) {
   graspfill::repair::RepairConfig repair;
   repair.up_hint = Eigen::Vector3d(0, 0, -1);
   const graspfill::repair::RepairResult r = graspfill::repair::Repair(cloud, repair);
-  std::printf("repair: %s, %zu -> %zu points\n", r.report.StatusText().c_str(), cloud.size(),
-              r.cloud.size());
+  std::printf("repair: %s, %zu -> %zu points\n", r.report.StatusText().c_str(), cloud.size(), r.cloud.size());
   Check(r.report.status == graspfill::repair::RepairStatus::kRepaired, "the repair ran");
   Check(r.cloud.size() > cloud.size(), "the repair added points");
   bool unchanged = r.cloud.size() >= cloud.size();

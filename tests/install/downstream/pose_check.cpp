@@ -32,8 +32,7 @@ int main(int argc, char** argv) {
   graspfill::GripperStateBuffer states(1 << 16, 50000);
   std::vector<int64_t> depth_utimes;
   graspfill::rt::SourceEvent event;
-  for (graspfill::rt::FrameResult r;
-       (r = source.Next(&event)) != graspfill::rt::FrameResult::kEndOfStream;) {
+  for (graspfill::rt::FrameResult r; (r = source.Next(&event)) != graspfill::rt::FrameResult::kEndOfStream;) {
     if (r != graspfill::rt::FrameResult::kOk) continue;
     if (event.kind == graspfill::rt::SourceEvent::Kind::kDepth) {
       depth_utimes.push_back(event.depth.utime);
@@ -44,13 +43,11 @@ int main(int argc, char** argv) {
   size_t posed = 0;
   for (const int64_t utime : depth_utimes) {
     graspfill::GripperState state;
-    if (states.Lookup(utime, &state) == graspfill::PoseLookup::kOk &&
-        graspfill::IsValidPose(state.T_C_G)) {
+    if (states.Lookup(utime, &state) == graspfill::PoseLookup::kOk && graspfill::IsValidPose(state.T_C_G)) {
       ++posed;
     }
   }
-  std::printf("depth frames %zu, posed %zu, gripper states %zu\n", depth_utimes.size(), posed,
-              states.size());
+  std::printf("depth frames %zu, posed %zu, gripper states %zu\n", depth_utimes.size(), posed, states.size());
   // The bundled recording: 36 depth frames, all bracketed by gripper states
   // but maybe the first and the last.
   check(depth_utimes.size() >= 30, "at least 30 depth frames");

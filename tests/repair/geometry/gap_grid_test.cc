@@ -40,7 +40,8 @@ TEST(GapGrid, AnswersAsBruteForce) {
       grid.Build();
       int hits = 0, misses = 0;
       for (int t = 0; t < 2000; ++t) {
-        const Eigen::Vector3f q(static_cast<float>(0.1 * rng.Uniform()), static_cast<float>(0.05 * rng.Uniform()),
+        const Eigen::Vector3f q(static_cast<float>(0.1 * rng.Uniform()),
+                                static_cast<float>(0.05 * rng.Uniform()),
                                 static_cast<float>(0.04 * rng.Uniform() - 0.01));
         const bool any = grid.AnyWithin(Xy(q), q);
         ASSERT_EQ(any, BruteForceAnyWithin(points, q, gap)) << q.transpose() << " gap " << gap;

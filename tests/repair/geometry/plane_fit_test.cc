@@ -29,7 +29,8 @@ TEST(PlaneFit, ATiltedPlaneFarFromTheOriginComesBackWithItsOffset) {
   const Eigen::Vector3d n = Eigen::Vector3d(0.3, -0.5, 0.8).normalized();
   const Eigen::Vector3d centre(40.0, -25.0, 12.0);
   const std::vector<Eigen::Vector3d> points = PlanePatch(n, centre, 1e-3, 500, 1);
-  const PlaneFit fit = FitPlane(points.size(), [&](size_t i) { return points[i]; }, EigenSolve::kClosedForm);
+  const PlaneFit fit = FitPlane(
+      points.size(), [&](size_t i) { return points[i]; }, EigenSolve::kClosedForm);
   EXPECT_NEAR(std::abs(fit.normal.dot(n)), 1.0, 1e-6);
   EXPECT_NEAR(fit.normal.norm(), 1.0, 1e-12);
   // The plane passes through the patch: the centre lies on it to within
@@ -46,10 +47,12 @@ TEST(PlaneFit, ATiltedPlaneFarFromTheOriginComesBackWithItsOffset) {
 TEST(PlaneFit, CollinearPointsSayTheyFixNoPlane) {
   std::vector<Eigen::Vector3d> line;
   for (int i = 0; i < 20; ++i) line.emplace_back(0.01 * i, 0.02 * i, -0.005 * i);
-  const PlaneFit fit = FitPlane(line.size(), [&](size_t i) { return line[i]; }, EigenSolve::kClosedForm);
+  const PlaneFit fit = FitPlane(
+      line.size(), [&](size_t i) { return line[i]; }, EigenSolve::kClosedForm);
   EXPECT_LT(fit.eigenvalues(1), 1e-12 * fit.eigenvalues(2));
   // No point: no scatter, a finite answer.
-  const PlaneFit none = FitPlane(0, [&](size_t i) { return line[i]; }, EigenSolve::kIterative);
+  const PlaneFit none = FitPlane(
+      0, [&](size_t i) { return line[i]; }, EigenSolve::kIterative);
   EXPECT_TRUE(none.normal.allFinite());
   EXPECT_EQ(none.eigenvalues.sum(), 0.0);
 }
@@ -59,7 +62,8 @@ TEST(PlaneFit, CollinearPointsSayTheyFixNoPlane) {
 // stray's scatter; the iterative solver still tells the patch's flat
 // direction from the stray's. (Why RANSAC's refits iterate.)
 TEST(PlaneFit, TheIterativeSolverKeepsThePlaneBesideAnAbsurdStray) {
-  std::vector<Eigen::Vector3d> points = PlanePatch(Eigen::Vector3d::UnitZ(), Eigen::Vector3d::Zero(), 0.0, 200, 2);
+  std::vector<Eigen::Vector3d> points =
+      PlanePatch(Eigen::Vector3d::UnitZ(), Eigen::Vector3d::Zero(), 0.0, 200, 2);
   points.emplace_back(1e30, 0.0, 0.0);  // along the patch: the plane z = 0 holds it too
   const auto at = [&](size_t i) { return points[i]; };
   const PlaneFit iterative = FitPlane(points.size(), at, EigenSolve::kIterative);

@@ -89,8 +89,10 @@ TEST(Polygon2d, SimplifiedVertexCountOfARectanglesHullAndACircle) {
   for (int i = 0; i < 2000; ++i) {
     const double t = rng.Uniform() * 0.17, jitter_x = 0.0005 * (rng.Uniform() - 0.5),
                  jitter_y = 0.0005 * (rng.Uniform() - 0.5);
-    const Vec2 on = t < 0.05 ? Vec2(t, 0.0) : t < 0.085 ? Vec2(0.05, t - 0.05) : t < 0.135 ? Vec2(0.135 - t, 0.035)
-                                                                                         : Vec2(0.0, 0.17 - t);
+    const Vec2 on = t < 0.05    ? Vec2(t, 0.0)
+                    : t < 0.085 ? Vec2(0.05, t - 0.05)
+                    : t < 0.135 ? Vec2(0.135 - t, 0.035)
+                                : Vec2(0.0, 0.17 - t);
     points.push_back(on + Vec2(jitter_x, jitter_y));
   }
   const std::vector<Vec2> hull = ConvexHull2d(&points);
@@ -99,7 +101,8 @@ TEST(Polygon2d, SimplifiedVertexCountOfARectanglesHullAndACircle) {
   EXPECT_GE(rectangle, 4);
   EXPECT_LE(rectangle, 8);  // the corners, and a few the noise bevels
   std::vector<Vec2> circle;
-  for (int i = 0; i < 400; ++i) circle.emplace_back(0.033 * std::cos(i * M_PI / 200), 0.033 * std::sin(i * M_PI / 200));
+  for (int i = 0; i < 400; ++i)
+    circle.emplace_back(0.033 * std::cos(i * M_PI / 200), 0.033 * std::sin(i * M_PI / 200));
   const int coarse = SimplifiedVertexCount(circle, 0.0007), fine = SimplifiedVertexCount(circle, 0.0001);
   EXPECT_GE(coarse, 12);
   EXPECT_LE(coarse, 24);  // pi / sqrt(2 x 0.7 / 33) = 15

@@ -21,8 +21,10 @@ std::vector<Vec3> BoxEdges(double top, uint64_t seed) {
   const auto noise = [&] { return 0.001 * (2.0 * rng.Uniform() - 1.0); };
   for (int i = 0; i < 400; ++i) {  // the rim: around the top rectangle
     const double t = rng.Uniform() * 0.32;
-    Vec3 p = t < 0.1 ? Vec3(t, 0, top) : t < 0.16 ? Vec3(0.1, t - 0.1, top)
-           : t < 0.26 ? Vec3(0.26 - t, 0.06, top) : Vec3(0, 0.32 - t, top);
+    Vec3 p = t < 0.1    ? Vec3(t, 0, top)
+             : t < 0.16 ? Vec3(0.1, t - 0.1, top)
+             : t < 0.26 ? Vec3(0.26 - t, 0.06, top)
+                        : Vec3(0, 0.32 - t, top);
     points.push_back(p + Vec3(noise(), noise(), noise()));
   }
   for (int i = 0; i < 400; ++i) {  // the four vertical edges
@@ -38,8 +40,10 @@ std::vector<Vec3> BoxSides(double top, uint64_t seed) {
   std::vector<Vec3> cloud;
   for (int i = 0; i < 4000; ++i) {
     const double z = rng.Uniform() * top, t = rng.Uniform() * 0.32;
-    cloud.push_back(t < 0.1 ? Vec3(t, 0, z) : t < 0.16 ? Vec3(0.1, t - 0.1, z)
-                    : t < 0.26 ? Vec3(0.26 - t, 0.06, z) : Vec3(0, 0.32 - t, z));
+    cloud.push_back(t < 0.1    ? Vec3(t, 0, z)
+                    : t < 0.16 ? Vec3(0.1, t - 0.1, z)
+                    : t < 0.26 ? Vec3(0.26 - t, 0.06, z)
+                               : Vec3(0, 0.32 - t, z));
   }
   return cloud;
 }
@@ -61,7 +65,8 @@ TEST(RansacPlanes, ACutFindsTheRimWithTheCloudOnOneSide) {
   double d;
   std::vector<int> all(edges.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
-  ASSERT_TRUE(FitPlaneOf(edges, PlaneInliers(edges, all, first.normal, first.offset, config.distance_m), &n, &d));
+  ASSERT_TRUE(
+      FitPlaneOf(edges, PlaneInliers(edges, all, first.normal, first.offset, config.distance_m), &n, &d));
   EXPECT_NEAR(std::abs(n.dot(first.normal)), 1.0, 1e-9);
   EXPECT_FALSE(FitPlaneOf(edges, {0, 1}, &n, &d));
 }
@@ -70,7 +75,8 @@ TEST(RansacPlanes, FreshPlanesTakeThePointsNoneExplainsYet) {
   // Two planes of points: x = 0 (600) and y = 0.2 (300), then no more.
   Rng rng(4);
   std::vector<Vec3> points;
-  for (int i = 0; i < 600; ++i) points.emplace_back(0.0005 * (2 * rng.Uniform() - 1), 0.1 * rng.Uniform(), 0.1 * rng.Uniform());
+  for (int i = 0; i < 600; ++i)
+    points.emplace_back(0.0005 * (2 * rng.Uniform() - 1), 0.1 * rng.Uniform(), 0.1 * rng.Uniform());
   for (int i = 0; i < 300; ++i) points.emplace_back(0.1 + 0.1 * rng.Uniform(), 0.2, 0.1 * rng.Uniform());
   RansacPlanesConfig config;
   RansacPlanes planes(points, points, config, 100, std::nullopt);

@@ -144,7 +144,8 @@ TEST(RigConfig, TheSourceOverridesReplaceTheSessionsOnlyWhereTheConfigSetsThem) 
 TEST(RigConfig, TheRefineSectionReachesThePipeline) {
   const RigConfig c = ParseRigConfig(
       "refine:\n  enabled: false\n  min_correction_m: 0.001\n  min_correction_deg: 0.25\n"
-      "  track_object: true\n", "refine.yaml");
+      "  track_object: true\n",
+      "refine.yaml");
   PipelineConfig pipeline;
   ApplyToPipeline(c, &pipeline);
   EXPECT_FALSE(pipeline.refine.enabled);
@@ -201,21 +202,20 @@ TEST(RigConfig, DumpThenParseGivesTheSameStruct) {
 
 TEST(RigConfig, TheDumpDocumentsEveryKeyWithItsUnit) {
   const std::string text = DumpRigConfig(RigConfig{});
-  for (const char* key : {"device:", "width_px:", "depth_units:", "intrinsics_override: null",
-                          "max_depth_pixels: 8388608",
-                          "T_C_B: null", "clock_offset_s: 0", "max_pose_gap_s: 0.05", "spec: \"\"",
-                          "workspace: null", "voxel_m: null", "sdf_trunc_voxels: 4",
-                          "mode: best", "publish_every_n_frames: 30", "status_period_s: 1",
-                          "object_cloud: \"GRASPFILL_OBJECT_CLOUD\"",
-                          "collision_mesh: \"GRASPFILL_COLLISION_MESH\"", "max_triangles: 5000",
-                          "convex_hull: false"}) {
+  for (const char* key :
+       {"device:", "width_px:", "depth_units:", "intrinsics_override: null", "max_depth_pixels: 8388608",
+        "T_C_B: null", "clock_offset_s: 0", "max_pose_gap_s: 0.05", "spec: \"\"", "workspace: null",
+        "voxel_m: null", "sdf_trunc_voxels: 4", "mode: best", "publish_every_n_frames: 30",
+        "status_period_s: 1", "object_cloud: \"GRASPFILL_OBJECT_CLOUD\"",
+        "collision_mesh: \"GRASPFILL_COLLISION_MESH\"", "max_triangles: 5000", "convex_hull: false"}) {
     EXPECT_NE(text.find(key), std::string::npos) << key << "\n" << text;
   }
   // The built-in values the nulls stand for are in the comments.
-  EXPECT_NE(text.find("# T_C_B: {translation_m: [0, 0, 0], rotation_wxyz: [1, 0, 0, 0]}"),
-            std::string::npos) << text;
+  EXPECT_NE(text.find("# T_C_B: {translation_m: [0, 0, 0], rotation_wxyz: [1, 0, 0, 0]}"), std::string::npos)
+      << text;
   EXPECT_NE(text.find("# workspace: {min_G_m: [-0.1, -0.1, 0.003], max_G_m: [0.1, 0.1, 0.3]}"),
-            std::string::npos) << text;
+            std::string::npos)
+      << text;
   EXPECT_NE(text.find("else 0.0015"), std::string::npos) << text;
 }
 
@@ -260,8 +260,8 @@ struct BadCase {
 TEST(RigConfig, EveryBadValueIsRefusedNamingItsField) {
   const std::vector<BadCase> cases = {
       {"tsdf:\n  voxel_m: 0.002mm\n", "tsdf.voxel_m", "tsdf.voxel_m '0.002mm': not a number", 2},
-      {"tsdf:\n  voxel_m: 0.5\n", "tsdf.voxel_m",
-       "tsdf.voxel_m '0.5': out of range, expected 0.0005..0.01 m", 2},
+      {"tsdf:\n  voxel_m: 0.5\n", "tsdf.voxel_m", "tsdf.voxel_m '0.5': out of range, expected 0.0005..0.01 m",
+       2},
       {"tsdf:\n  voxel_m: nan\n", "tsdf.voxel_m", "tsdf.voxel_m 'nan': out of range", 2},
       {"tsdf:\n  voxel_m: .nan\n", "tsdf.voxel_m", "tsdf.voxel_m '.nan': not a number", 2},
       {"tsdf:\n  voxel_m: inf\n", "tsdf.voxel_m", "tsdf.voxel_m 'inf': out of range", 2},
@@ -275,17 +275,17 @@ TEST(RigConfig, EveryBadValueIsRefusedNamingItsField) {
        "tsdf.block_resolution '16.5': not an integer", 2},
       {"tsdf:\n  block_resolution: 99999999999\n", "tsdf.block_resolution",
        "tsdf.block_resolution '99999999999': out of range, expected 2..128", 2},
-      {"tsdf:\n  sdf_trunc_voxels: 1\n", "tsdf.sdf_trunc_voxels",
-       "tsdf.sdf_trunc_voxels '1': out of range", 2},
-      {"tsdf:\n  depth_sampling_stride: 2 # ok\n  depth_sampling_stride: 3\n",
-       "tsdf.depth_sampling_stride", "duplicate key 'tsdf.depth_sampling_stride'", 3},
+      {"tsdf:\n  sdf_trunc_voxels: 1\n", "tsdf.sdf_trunc_voxels", "tsdf.sdf_trunc_voxels '1': out of range",
+       2},
+      {"tsdf:\n  depth_sampling_stride: 2 # ok\n  depth_sampling_stride: 3\n", "tsdf.depth_sampling_stride",
+       "duplicate key 'tsdf.depth_sampling_stride'", 3},
       {"tsdf: 5\n", "tsdf", "tsdf: expected a map of keys, got '5'", 1},
       {"repair:\n  enabled: yes\n", "repair.enabled", "repair.enabled 'yes': expected true or false", 2},
       {"repair:\n  mode: fast\n", "repair.mode", "repair.mode 'fast': expected best or paper", 2},
       {"compute:\n  num_threads: -1\n", "compute.num_threads",
        "compute.num_threads '-1': out of range, expected 0..1024", 2},
-      {"compute:\n  num_threads: 2.5\n", "compute.num_threads",
-       "compute.num_threads '2.5': not an integer", 2},
+      {"compute:\n  num_threads: 2.5\n", "compute.num_threads", "compute.num_threads '2.5': not an integer",
+       2},
       {"refine:\n  min_correction_deg: 5\n", "refine.min_correction_deg",
        "refine.min_correction_deg '5': out of range, expected 0..2 deg", 2},
       {"refine:\n  enabled: on\n", "refine.enabled", "refine.enabled 'on': expected true or false", 2},
@@ -305,13 +305,13 @@ TEST(RigConfig, EveryBadValueIsRefusedNamingItsField) {
        "robot.T_C_B.rotation_wxyz: missing", 3},
       {"workspace:\n  min_G_m: [0, 0, 0.2]\n  max_G_m: [0.1, 0.1, 0.1]\n", "workspace.max_G_m[2]",
        "workspace.max_G_m[2]: must be greater than workspace.min_G_m[2]", 3},
-      {"camera:\n  intrinsics_override:\n    width_px: 640\n",
-       "camera.intrinsics_override.height_px", "camera.intrinsics_override.height_px: missing", 3},
+      {"camera:\n  intrinsics_override:\n    width_px: 640\n", "camera.intrinsics_override.height_px",
+       "camera.intrinsics_override.height_px: missing", 3},
       {"camera:\n  intrinsics_override: {width_px: 640, height_px: 480, fx_px: 0, fy_px: 1, "
        "cx_px: 1, cy_px: 1}\n",
        "camera.intrinsics_override.fx_px", "camera.intrinsics_override.fx_px '0': out of range", 2},
-      {"camera:\n  depth_units: cm\n", "camera.depth_units",
-       "camera.depth_units 'cm': expected mm or 100um", 2},
+      {"camera:\n  depth_units: cm\n", "camera.depth_units", "camera.depth_units 'cm': expected mm or 100um",
+       2},
       {"camera:\n  fps: -1\n", "camera.fps", "camera.fps '-1': out of range, expected 0..1000", 2},
       {"tsdf:\n  max_fusion_pixels: 100\n", "tsdf.max_fusion_pixels",
        "tsdf.max_fusion_pixels '100': out of range, expected 3072..16777216", 2},
@@ -326,9 +326,9 @@ TEST(RigConfig, EveryBadValueIsRefusedNamingItsField) {
       // subscribe to nothing, "." to more than the name.
       {"channels:\n  depth: \"GRASPFILL_DEPTH(\"\n", "channels.depth",
        "channels.depth 'GRASPFILL_DEPTH(': '(' is not allowed (channel names are A-Z a-z 0-9 _ - / "
-       "only", 2},
-      {"channels:\n  status: A.B\n", "channels.status", "channels.status 'A.B': '.' is not allowed",
+       "only",
        2},
+      {"channels:\n  status: A.B\n", "channels.status", "channels.status 'A.B': '.' is not allowed", 2},
       {"channels:\n  object_cloud: \"" + std::string(300, 'C') + "\"\n", "channels.object_cloud",
        "300 characters, over LCM's limit of 63", 2},
       {"collision_mesh:\n  max_triangles: 11\n", "collision_mesh.max_triangles",
@@ -363,8 +363,7 @@ TEST(RigConfig, ChannelNamesAreCheckedAsLcmTakesThem) {
   // 63 characters of every allowed kind: taken; 64: not.
   const std::string longest = "abc-XYZ_0123/" + std::string(50, 'n');
   ASSERT_EQ(longest.size(), 63u);
-  EXPECT_EQ(ParseRigConfig("channels:\n  depth: " + longest + "\n", "ok.yaml").channels.depth,
-            longest);
+  EXPECT_EQ(ParseRigConfig("channels:\n  depth: " + longest + "\n", "ok.yaml").channels.depth, longest);
   EXPECT_THROW(ParseRigConfig("channels:\n  depth: " + longest + "x\n", "bad.yaml"), ConfigError);
   // Two the same, both in the file: named at the later one's line.
   try {
@@ -373,7 +372,10 @@ TEST(RigConfig, ChannelNamesAreCheckedAsLcmTakesThem) {
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.field(), "channels.status");
     EXPECT_EQ(std::string(e.what()).rfind("dup.yaml:4: channels.status 'X': the same name as "
-                                          "channels.depth", 0), 0u) << e.what();
+                                          "channels.depth",
+                                          0),
+              0u)
+        << e.what();
   }
   // Validate (a struct built in code) checks them too.
   RigConfig c;
@@ -403,13 +405,11 @@ TEST(RigConfig, ASecondYamlDocumentIsAnError) {
 }
 
 TEST(RigConfig, DeepNestingIsNamedNotBadFile) {
-  for (const std::string& deep :
-       {std::string(5000, '['), "tsdf: " + std::string(3000, '{'),
-        [] {
-          std::string nested;
-          for (int i = 0; i < 2500; ++i) nested += std::string(i, ' ') + "a:\n";
-          return nested;
-        }()}) {
+  for (const std::string& deep : {std::string(5000, '['), "tsdf: " + std::string(3000, '{'), [] {
+                                    std::string nested;
+                                    for (int i = 0; i < 2500; ++i) nested += std::string(i, ' ') + "a:\n";
+                                    return nested;
+                                  }()}) {
     try {
       ParseRigConfig(deep, "deep.yaml");
       ADD_FAILURE() << "accepted";
@@ -450,8 +450,8 @@ TEST(RigConfig, LoadNamesAFileItCannotRead) {
     LoadRigConfig(dir + "/missing.yaml");
     ADD_FAILURE() << "accepted";
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("cannot read config '" + dir + "/missing.yaml'"),
-              std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("cannot read config '" + dir + "/missing.yaml'"), std::string::npos)
+        << e.what();
   }
   // Not a regular file: refused unopened (a FIFO would block the read
   // until a writer came; /dev/zero would never end).
@@ -460,8 +460,7 @@ TEST(RigConfig, LoadNamesAFileItCannotRead) {
       LoadRigConfig(special);
       ADD_FAILURE() << special << " accepted";
     } catch (const ConfigError& e) {
-      EXPECT_EQ(std::string(e.what()).rfind("cannot read config '" + special + "': ", 0), 0u)
-          << e.what();
+      EXPECT_EQ(std::string(e.what()).rfind("cannot read config '" + special + "': ", 0), 0u) << e.what();
       EXPECT_TRUE(std::string(e.what()).find("not a regular file") != std::string::npos ||
                   std::string(e.what()).find("is a directory") != std::string::npos)
           << e.what();

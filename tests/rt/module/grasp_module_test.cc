@@ -30,8 +30,10 @@ TEST(GraspModule, ThreadedModuleGivesThePipelinesCloud) {
 
   Pipeline direct(PipelineConfig{}, claw::ClawModel::ThreeFinger());
   for (const SourceEvent& e : events) {
-    if (e.kind == SourceEvent::Kind::kDepth) direct.AddDepthFrame(e.depth);
-    else direct.AddGripperState(e.gripper);
+    if (e.kind == SourceEvent::Kind::kDepth)
+      direct.AddDepthFrame(e.depth);
+    else
+      direct.AddGripperState(e.gripper);
   }
   direct.Flush();
   const ObjectCloud expected = direct.ExtractCloud();
@@ -44,8 +46,10 @@ TEST(GraspModule, ThreadedModuleGivesThePipelinesCloud) {
   GraspModule module(config, claw::ClawModel::ThreeFinger(),
                      [&](const ObjectCloud&, const evidence::VisibilityRecord&) { ++callbacks; });
   for (const SourceEvent& e : events) {
-    if (e.kind == SourceEvent::Kind::kDepth) module.PushDepthFrame(e.depth);
-    else module.PushGripperState(e.gripper);
+    if (e.kind == SourceEvent::Kind::kDepth)
+      module.PushDepthFrame(e.depth);
+    else
+      module.PushGripperState(e.gripper);
   }
   const ObjectCloud cloud = module.Finish();
   const GraspModuleStatus status = module.status();
@@ -70,8 +74,10 @@ TEST(GraspModule, CloudsComeEveryNFusedFramesWhenStatesFuseThem) {
                      [&](const ObjectCloud&, const evidence::VisibilityRecord&) { ++callbacks; });
   int64_t pushed = 0;
   for (const SourceEvent& e : events) {
-    if (e.kind == SourceEvent::Kind::kDepth) module.PushDepthFrame(e.depth);
-    else module.PushGripperState(e.gripper);
+    if (e.kind == SourceEvent::Kind::kDepth)
+      module.PushDepthFrame(e.depth);
+    else
+      module.PushGripperState(e.gripper);
     ++pushed;
     // Wait (no time limit) until the worker has taken this event in.
     for (;;) {

@@ -36,8 +36,7 @@ std::vector<SourceEvent> LoadEvents() {
 
 // The events with their times moved by `shift_us` and their states given
 // grasp id `grasp_id`.
-std::vector<SourceEvent> Shifted(std::vector<SourceEvent> events, int64_t shift_us,
-                                 int64_t grasp_id) {
+std::vector<SourceEvent> Shifted(std::vector<SourceEvent> events, int64_t shift_us, int64_t grasp_id) {
   for (SourceEvent& e : events) {
     e.depth.utime += shift_us;
     e.gripper.utime += shift_us;
@@ -49,8 +48,10 @@ std::vector<SourceEvent> Shifted(std::vector<SourceEvent> events, int64_t shift_
 template <typename Target>
 void Feed(const std::vector<SourceEvent>& events, Target* target) {
   for (const SourceEvent& e : events) {
-    if (e.kind == SourceEvent::Kind::kDepth) target->AddDepthFrame(e.depth);
-    else target->AddGripperState(e.gripper);
+    if (e.kind == SourceEvent::Kind::kDepth)
+      target->AddDepthFrame(e.depth);
+    else
+      target->AddGripperState(e.gripper);
   }
 }
 
@@ -142,8 +143,8 @@ TEST(GraspSequencer, ABackwardsClockJumpStartsOverInsteadOfSkippingForever) {
   Pipeline bare(PipelineConfig{}, claw::ClawModel::ThreeFinger());
   Feed(base, &bare);
   const int64_t fused_once = bare.stats().frames_integrated;
-  Feed(Shifted(std::vector<SourceEvent>(base.begin(), base.begin() + base.size() / 3),
-               -10'000'000, 0), &bare);  // a third is enough to see nothing fused
+  Feed(Shifted(std::vector<SourceEvent>(base.begin(), base.begin() + base.size() / 3), -10'000'000, 0),
+       &bare);  // a third is enough to see nothing fused
   bare.Flush();
   EXPECT_EQ(bare.stats().frames_integrated, fused_once);
 

@@ -51,9 +51,15 @@ inline std::string CheckBusStatus(LiveSession& live, int64_t fed) {
 inline void FeedBus(LiveSession& live, BusChannel channel, const void* data, size_t size) {
   LcmBusSubscriber& bus = live.subscriber();
   switch (channel) {
-    case BusChannel::kDepth: bus.HandleDepth(data, size); break;
-    case BusChannel::kGripperState: bus.HandleGripperState(data, size); break;
-    case BusChannel::kSession: bus.HandleSession(data, size); break;
+    case BusChannel::kDepth:
+      bus.HandleDepth(data, size);
+      break;
+    case BusChannel::kGripperState:
+      bus.HandleGripperState(data, size);
+      break;
+    case BusChannel::kSession:
+      bus.HandleSession(data, size);
+      break;
   }
 }
 

@@ -97,9 +97,7 @@ TEST(LiveSessionBus, WhateverTheBusSaysTheSessionGoesOn) {
   config.module.state_queue_capacity = 10000;
   config.limits.idle_exit_s = 0.5;  // Run: after the feed
   config.limits.duration_s = 60;
-  config.build_session_claw = [](const io::SessionDescription& s) {
-    return cli::MakeSessionClaw(s, "");
-  };
+  config.build_session_claw = [](const io::SessionDescription& s) { return cli::MakeSessionClaw(s, ""); };
   config.same_claw = cli::SameClaw;
   std::mutex mutex;
   std::vector<std::string> notices, other_claws;
@@ -159,8 +157,8 @@ TEST(LiveSessionBus, WhateverTheBusSaysTheSessionGoesOn) {
   ASSERT_EQ(testing::CheckBusStatus(live, fed), "");
 
   const io::ModuleStatus status = live.Status();
-  for (io::MessageError reason : {io::MessageError::kBadClawName, io::MessageError::kOutOfLimits,
-                                  io::MessageError::kClawUnloadable}) {
+  for (io::MessageError reason :
+       {io::MessageError::kBadClawName, io::MessageError::kOutOfLimits, io::MessageError::kClawUnloadable}) {
     SCOPED_TRACE(io::MessageErrorName(reason));
     const int64_t sent = expected[static_cast<size_t>(reason)];
     ASSERT_GT(sent, 1) << "the seed must send each kind more than once";
@@ -189,13 +187,14 @@ TEST(LiveSessionBus, WhateverTheBusSaysTheSessionGoesOn) {
   const io::ModuleStatus& end = summary.status;
   EXPECT_EQ(testing::CheckBusStatus(live, fed), "");
   EXPECT_GT(2 * end.frames_used, live.subscriber().depth_received());
-  std::printf("fed %lld messages (%lld damaged); bad_claw_name %lld, out_of_limits %lld, "
-              "claw_unloadable %lld, decode errors %lld; %lld frames fused\n",
-              static_cast<long long>(fed), static_cast<long long>(damaged),
-              static_cast<long long>(end.bad_messages[io::MessageError::kBadClawName]),
-              static_cast<long long>(end.bad_messages[io::MessageError::kOutOfLimits]),
-              static_cast<long long>(end.bad_messages[io::MessageError::kClawUnloadable]),
-              static_cast<long long>(end.decode_errors), static_cast<long long>(end.frames_used));
+  std::printf(
+      "fed %lld messages (%lld damaged); bad_claw_name %lld, out_of_limits %lld, "
+      "claw_unloadable %lld, decode errors %lld; %lld frames fused\n",
+      static_cast<long long>(fed), static_cast<long long>(damaged),
+      static_cast<long long>(end.bad_messages[io::MessageError::kBadClawName]),
+      static_cast<long long>(end.bad_messages[io::MessageError::kOutOfLimits]),
+      static_cast<long long>(end.bad_messages[io::MessageError::kClawUnloadable]),
+      static_cast<long long>(end.decode_errors), static_cast<long long>(end.frames_used));
 }
 
 }  // namespace

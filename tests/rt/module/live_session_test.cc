@@ -254,8 +254,7 @@ TEST(LiveSession, AFullDiskStopsTheRecordingNotTheSession) {
   }
   while (bus->handleTimeout(50) > 0) {
   }
-  EXPECT_NE(summary.record_failure.find("cannot write log '" + record + "': " +
-                                        std::strerror(EFBIG)),
+  EXPECT_NE(summary.record_failure.find("cannot write log '" + record + "': " + std::strerror(EFBIG)),
             std::string::npos)
       << summary.record_failure;
   EXPECT_GE(summary.records_written, 1);

@@ -31,8 +31,7 @@ inline ObjectCloud MakeProtocolObjectCloud(int64_t seq, int num_points = 15000) 
 /// The repair's contract on `repaired`: more points than `fused`, the
 /// fused ones first and unchanged (observed), then only added ones
 /// (surface or symmetry).
-inline ::testing::AssertionResult FusedThenAdded(const ObjectCloud& fused,
-                                                 const ObjectCloud& repaired) {
+inline ::testing::AssertionResult FusedThenAdded(const ObjectCloud& fused, const ObjectCloud& repaired) {
   if (repaired.size() <= fused.size()) return ::testing::AssertionFailure() << "nothing added";
   if (repaired.provenance.size() != repaired.size()) {
     return ::testing::AssertionFailure() << "provenance not one per point";

@@ -10,15 +10,15 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
-#include <thread>
 #include <string>
+#include <thread>
 #include <vector>
-#include <chrono>
 
 #include "module/cloud_repair.hpp"
 #include "protocol_cloud.hpp"
@@ -81,7 +81,8 @@ TEST(RepairStage, PublishesTheRepairedCloudFromItsOwnThread) {
   Published out;
   RepairStageOptions full;  // every cloud repaired on the stage's thread
   full.incremental = false;
-  RepairStage stage(repair::RepairConfig{}, [&](const ObjectCloud& c) { out.Record(c); }, full);
+  RepairStage stage(
+      repair::RepairConfig{}, [&](const ObjectCloud& c) { out.Record(c); }, full);
   const ObjectCloud fused = ProtocolCloudWithSeq(1);
   stage.Submit(fused);
   stage.Drain();
@@ -110,10 +111,13 @@ TEST(RepairStage, ANewerCloudSupersedesTheOneWaiting) {
   Published out;
   RepairStageOptions full;  // every cloud repaired on the stage's thread
   full.incremental = false;
-  RepairStage stage(repair::RepairConfig{}, [&](const ObjectCloud& c) {
-    out.Record(c);
-    gate.PassOrWait();
-  }, full);
+  RepairStage stage(
+      repair::RepairConfig{},
+      [&](const ObjectCloud& c) {
+        out.Record(c);
+        gate.PassOrWait();
+      },
+      full);
   stage.Submit(ProtocolCloudWithSeq(0));
   gate.WaitUntilEntered(1);  // the stage is busy with cloud 0 from here on
   for (int64_t seq = 1; seq <= 4; ++seq) stage.Submit(ProtocolCloudWithSeq(seq));
@@ -155,7 +159,7 @@ TEST(RepairStage, SubmitNeverWaitsForTheStage) {
   const RepairStageStatus busy = stage.status();  // status() does not wait either
   EXPECT_EQ(busy.submitted, 3);
   EXPECT_EQ(busy.repaired + busy.unrepaired, 1);  // cloud 0: out before its full repair
-  EXPECT_EQ(busy.published, 0);  // cloud 0's callback has not returned
+  EXPECT_EQ(busy.published, 0);                   // cloud 0's callback has not returned
   gate.Open();
   stage.Drain();
   EXPECT_EQ(stage.status().published, 2);
@@ -165,7 +169,8 @@ TEST(RepairStage, AFailedRepairIsCountedAndPublishedUnrepaired) {
   Published out;
   RepairStageOptions full;  // the failure of a repair on the stage's own thread
   full.incremental = false;
-  RepairStage stage(repair::RepairConfig{}, [&](const ObjectCloud& c) { out.Record(c); }, full);
+  RepairStage stage(
+      repair::RepairConfig{}, [&](const ObjectCloud& c) { out.Record(c); }, full);
   ObjectCloud bad = ProtocolCloudWithSeq(1);
   bad.points_G[17].y() = std::nanf("");  // Repair throws std::invalid_argument
   stage.Submit(bad);
@@ -249,7 +254,8 @@ TEST(RepairStage, WithoutIncrementalEveryCloudIsRepairedInFull) {
   Published out;
   RepairStageOptions options;
   options.incremental = false;
-  RepairStage stage(repair::RepairConfig{}, [&](const ObjectCloud& c) { out.Record(c); }, options);
+  RepairStage stage(
+      repair::RepairConfig{}, [&](const ObjectCloud& c) { out.Record(c); }, options);
   stage.Submit(ProtocolCloudWithSeq(1));
   stage.Drain();
   stage.Submit(ProtocolCloudWithSeq(2));

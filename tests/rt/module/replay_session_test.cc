@@ -74,8 +74,8 @@ void WriteTwoGraspRecording(const std::string& path) {
     }
     GripperState state;
     std::string error;
-    ASSERT_TRUE(io::DecodeGripperState(e.data.data(), e.data.size(), Eigen::Isometry3d::Identity(),
-                                       &state, &error))
+    ASSERT_TRUE(
+        io::DecodeGripperState(e.data.data(), e.data.size(), Eigen::Isometry3d::Identity(), &state, &error))
         << error;
     state.grasp_id = e.timestamp_us < middle_utime ? 1 : 2;
     writer.Write(e.channel, e.timestamp_us, io::EncodeGripperState(state));

@@ -37,19 +37,17 @@ struct Rig {
         ++builds;
         if (s.claw_name == "bad") throw std::runtime_error("mesh 'x.stl' not found");
         if (s.claw_name == "slow") std::this_thread::sleep_for(std::chrono::milliseconds(1500));
-        return s.claw_name == "three-finger" ? claw::ClawModel::ThreeFinger()
-                                             : claw::ClawModel::Parallel();
+        return s.claw_name == "three-finger" ? claw::ClawModel::ThreeFinger() : claw::ClawModel::Parallel();
       },
       [](const claw::ClawModel& a, const claw::ClawModel& b) { return a.name() == b.name(); },
-      SessionClawChecker::Callbacks{
-          [this](const io::SessionDescription& s, const std::string& why) {
-            std::lock_guard<std::mutex> lock(mutex);
-            unloadable.push_back(s.claw_name + ": " + why);
-          },
-          [this](const io::SessionDescription& s) {
-            std::lock_guard<std::mutex> lock(mutex);
-            other.push_back(s.claw_name);
-          }}};
+      SessionClawChecker::Callbacks{[this](const io::SessionDescription& s, const std::string& why) {
+                                      std::lock_guard<std::mutex> lock(mutex);
+                                      unloadable.push_back(s.claw_name + ": " + why);
+                                    },
+                                    [this](const io::SessionDescription& s) {
+                                      std::lock_guard<std::mutex> lock(mutex);
+                                      other.push_back(s.claw_name);
+                                    }}};
 };
 
 TEST(SessionClawChecker, SubmitNeverWaitsForABuild) {
