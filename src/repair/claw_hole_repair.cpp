@@ -457,7 +457,7 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
     const double density = spacing.density_per_m2 * config.fill_density_factor;
     const double gap_m = kNewPointGapSpacings * d;
     if (!earlier) earlier = std::make_unique<AddedPoints>(std::max(gap_m, 1e-4));
-    Uniform01 rng(MixSeed(config.seed, h));
+    Rng rng(MixSeed(config.seed, h));
 
     // Outward: the caller's normals when given, else away from the centroid.
     Eigen::Vector3d outward = Eigen::Vector3d::Zero();

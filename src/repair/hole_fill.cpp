@@ -39,11 +39,7 @@ void CheckInputs(const PointList& points, const std::vector<Eigen::Vector3f>* no
 
 uint64_t MixSeed(uint64_t seed, uint64_t stream) {
   // SplitMix64 of the pair: neighbouring streams look independent.
-  uint64_t x = seed ^ (stream * 0x9e3779b97f4a7c15ULL + 0x632be59bd9b4e019ULL);
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
+  return SplitMix64(seed ^ (stream * 0x9e3779b97f4a7c15ULL + 0x632be59bd9b4e019ULL));
 }
 
 Spacing EstimateSpacing(const NeighborIndex& index, const std::vector<int>& subset, size_t max_queries) {

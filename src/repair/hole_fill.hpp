@@ -1,16 +1,16 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Shared pieces of the claw-hole fill (step 7): the hole's frame and fill
-// region, the cloud's spacing around a hole, PCA planes and normals, and a
-// seeded uniform sampler. Internal to the repair library.
+// region, the cloud's spacing around a hole, PCA planes and normals, and
+// the seed of each hole's samples. Internal to the repair library.
 #pragma once
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <limits>
-#include <random>
 #include <vector>
 
+#include "graspfill/core/random.hpp"
 #include "graspfill/repair/repair_types.hpp"
 #include "neighbor_index.hpp"
 
@@ -26,18 +26,9 @@ void CheckFinite(const PointList& points, const char* what);
 void CheckInputs(const PointList& points, const std::vector<Eigen::Vector3f>* normals,
                  const NeighborIndex* index, const char* what);
 
+/// The seed of a fill's sample stream `stream` (one per hole), for
+/// graspfill::Rng (core/random.hpp).
 uint64_t MixSeed(uint64_t seed, uint64_t stream);
-
-// Uniform in [0, 1) from 53 bits, written out so that a seed gives the same
-// numbers with every standard library.
-class Uniform01 {
- public:
-  explicit Uniform01(uint64_t seed) : engine_(seed) {}
-  double operator()() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }
-
- private:
-  std::mt19937_64 engine_;
-};
 
 // Sampling of the cloud around some of its points: D (mean distance to the
 // nearest neighbour) and the surface density. The density comes from the

@@ -250,7 +250,7 @@ constexpr double kMaxAreaElement = 4.0;
 // other).
 template <typename Sheet>
 void SampleHeightField(const Sheet& hf, const FillRegion& region, double density, const HeightField* clip,
-                       double clip_tol_m, const Quadric* snap, double max_snap_m, Uniform01* rng,
+                       double clip_tol_m, const Quadric* snap, double max_snap_m, Rng* rng,
                        GapTest* gap, PointList* out) {
   const double u0 = region.lo.x(), u1 = region.hi.x(), v0 = region.lo.y(), v1 = region.hi.y();
   double j_max = 1.0;
@@ -268,10 +268,10 @@ void SampleHeightField(const Sheet& hf, const FillRegion& region, double density
   const double expected = density * (u1 - u0) * (v1 - v0) * j_max;
   const auto count = static_cast<long>(std::min(expected, 5e6));
   for (long i = 0; i < count; ++i) {
-    const double u = u0 + (u1 - u0) * (*rng)();
-    const double v = v0 + (v1 - v0) * (*rng)();
+    const double u = u0 + (u1 - u0) * rng->Uniform();
+    const double v = v0 + (v1 - v0) * rng->Uniform();
     double w = 0.0;
-    if ((*rng)() * j_max > hf.AreaElement(u, v, &w)) continue;
+    if (rng->Uniform() * j_max > hf.AreaElement(u, v, &w)) continue;
     Eigen::Vector3d q = hf.frame.World(u, v, w);  // hf.Point(u, v)
     if (!hf.Holds(q)) continue;
     if (snap != nullptr && !snap->Project(&q, max_snap_m)) continue;

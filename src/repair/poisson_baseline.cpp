@@ -84,7 +84,7 @@ PointList PoissonFillAll(const PointList& points, const PoissonFillConfig& confi
     keep[v] = dense && crop.Contains(mesh.vertices_[v]);
   }
   GapTest gap(*index, nullptr, config.min_gap_d * d);
-  Uniform01 rng(MixSeed(config.seed, 0));
+  Rng rng(MixSeed(config.seed, 0));
   SampleMesh(mesh, HoleFrame{}, crop, false, -1.0, &keep, spacing.density_per_m2 * config.fill_density_factor,
              &rng, &gap, &out);
   return out;

@@ -32,7 +32,7 @@ PoissonSurface ReconstructPoisson(const PointList& points, const std::vector<int
 
 void SampleMesh(const open3d::geometry::TriangleMesh& mesh, const HoleFrame& frame, const FillRegion& region,
                 bool check_facing, double cos_max_angle, const std::vector<bool>* keep_vertex, double density,
-                Uniform01* rng, GapTest* gap, PointList* out) {
+                Rng* rng, GapTest* gap, PointList* out) {
   std::vector<int> tris;
   std::vector<double> cumulative;
   double total = 0.0;
@@ -62,14 +62,14 @@ void SampleMesh(const open3d::geometry::TriangleMesh& mesh, const HoleFrame& fra
   const double expected = std::min(total * density, 5e6);
   // Stochastic rounding keeps the expected count exact for small patches.
   auto count = static_cast<long>(expected);
-  if ((*rng)() < expected - static_cast<double>(count)) ++count;
+  if (rng->Uniform() < expected - static_cast<double>(count)) ++count;
   for (long i = 0; i < count; ++i) {
-    const double pick = (*rng)() * total;
+    const double pick = rng->Uniform() * total;
     const size_t k = std::min<size_t>(
         tris.size() - 1, static_cast<size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), pick) -
                                              cumulative.begin()));
     const Eigen::Vector3i& tri = mesh.triangles_[tris[k]];
-    const double r1 = std::sqrt((*rng)()), r2 = (*rng)();
+    const double r1 = std::sqrt(rng->Uniform()), r2 = rng->Uniform();
     const Eigen::Vector3d p = (1.0 - r1) * mesh.vertices_[tri(0)] + r1 * (1.0 - r2) * mesh.vertices_[tri(1)] +
                               r1 * r2 * mesh.vertices_[tri(2)];
     if (!region.Contains(frame.Local(p)) || !region.InZ(p.z())) continue;

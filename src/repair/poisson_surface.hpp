@@ -33,6 +33,6 @@ PoissonSurface ReconstructPoisson(const PointList& points, const std::vector<int
 // that pass the gap test.
 void SampleMesh(const open3d::geometry::TriangleMesh& mesh, const HoleFrame& frame, const FillRegion& region,
                 bool check_facing, double cos_max_angle, const std::vector<bool>* keep_vertex, double density,
-                Uniform01* rng, GapTest* gap, PointList* out);
+                Rng* rng, GapTest* gap, PointList* out);
 
 }  // namespace graspfill::repair::fill

@@ -50,7 +50,9 @@ TEST(BenchLive, ReportsEveryRunItWasAskedFor) {
       continue;
     }
     CheckRun(run, frames);
-    if (run["repair"] == "full") EXPECT_EQ(run["update_ms"]["p50"].get<double>(), 0.0);
+    if (run["repair"] == "full") {
+      EXPECT_EQ(run["update_ms"]["p50"].get<double>(), 0.0);
+    }
   }
 }
 

@@ -64,8 +64,12 @@ TEST(RevolutionFill, SphereWithItsTopCutOffClosesAtItsPole) {
   ASSERT_EQ(samples.in_hole.size(), samples.points_V.size());
   for (size_t i = 0; i < samples.points_V.size(); ++i) {
     const Eigen::Vector3f& p = samples.points_V[i];
-    if (p.z() > 0.034f) EXPECT_TRUE(samples.in_hole[i]) << p.transpose();
-    if (p.z() > 0.0f && p.z() < 0.026f) EXPECT_FALSE(samples.in_hole[i]) << p.transpose();
+    if (p.z() > 0.034f) {
+      EXPECT_TRUE(samples.in_hole[i]) << p.transpose();
+    }
+    if (p.z() > 0.0f && p.z() < 0.026f) {
+      EXPECT_FALSE(samples.in_hole[i]) << p.transpose();
+    }
   }
 }
 
