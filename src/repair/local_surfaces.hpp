@@ -250,8 +250,8 @@ constexpr double kMaxAreaElement = 4.0;
 // other).
 template <typename Sheet>
 void SampleHeightField(const Sheet& hf, const FillRegion& region, double density, const HeightField* clip,
-                       double clip_tol_m, const Quadric* snap, double max_snap_m, Rng* rng,
-                       GapTest* gap, PointList* out) {
+                       double clip_tol_m, const Quadric* snap, double max_snap_m, Rng* rng, GapTest* gap,
+                       PointList* out) {
   const double u0 = region.lo.x(), u1 = region.hi.x(), v0 = region.lo.y(), v1 = region.hi.y();
   double j_max = 1.0;
   for (int i = 0; i <= 8; ++i) {
