@@ -21,7 +21,7 @@ namespace {
 // voxel block; on 2 busy cores that is 15-30x slower than one thread (see
 // tsdf_fusion.hpp). The pipeline and the repair set their own count per
 // call (compute.num_threads, --num-threads; default 1); everything else
-// the CLI runs on its main thread (collision meshes, eval, bench's bare
+// the CLI runs on its main thread (collision meshes, eval, bench's own
 // Open3D integration) stays on that thread too. The calling thread's
 // OpenMP settings, not OMP_THREAD_LIMIT: no re-execution, and a limit the
 // user set in the environment still holds.
@@ -46,7 +46,7 @@ void PrintUsage() {
                "  synth   write a synthetic recording (LCM log) and its ground truth\n"
                "  replay  replay a recording through the pipeline, repair and write the cloud\n"
                "  eval    compare a predicted cloud with the ground truth\n"
-               "  bench   per-frame timings against Open3D's bare integration; `bench repair`: Tables 1-3;\n"
+               "  bench   per-frame timings beside Open3D's integration alone; `bench repair`: Tables 1-3;\n"
                "          `bench live`: the live module's latency and drops at 1x, 2x, 4x\n"
                "  demo    replay the bundled recording and evaluate it\n"
                "  live    OpenNI2 camera + gripper states over LCM -> object cloud over LCM\n"

@@ -378,6 +378,8 @@ void Pipeline::Reset() {
 
 const evidence::VisibilityRecord& Pipeline::visibility() const { return impl_->visibility; }
 const fusion::TsdfFusion& Pipeline::fusion() const { return impl_->fusion; }
+const DepthFrame& Pipeline::last_fused_frame() const { return impl_->work; }
+Eigen::Isometry3d Pipeline::last_fused_T_C_V() const { return impl_->last_T_C_G; }
 const refine::PoseRefiner& Pipeline::refiner() const { return impl_->refiner; }
 const refine::ObjectTracker& Pipeline::tracker() const { return impl_->tracker; }
 Eigen::Isometry3d Pipeline::ObjectPose() const { return impl_->tracker.S_G(); }

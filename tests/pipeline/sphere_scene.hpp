@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 
 #include "graspfill/core/raycaster.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
@@ -81,19 +82,28 @@ class PipelineTest : public ::testing::Test {
     raycaster_.AddMesh(Claw().Posed(kOpeningM));
     raycaster_.Commit();
   }
-  // Feeds 100 Hz states (offset 3.7 ms) and 30 Hz frames in time order.
-  void Feed(Pipeline* p, int num_frames, const CameraIntrinsics& K = CameraIntrinsics{}) {
+  // Feeds 100 Hz states (offset 3.7 ms) and 30 Hz frames in time order;
+  // `after_call` (may be empty) runs after each call to the pipeline.
+  void Feed(Pipeline* p, int num_frames, const CameraIntrinsics& K = CameraIntrinsics{},
+            const std::function<void()>& after_call = {}) {
+    auto after = [&] {
+      if (after_call) after_call();
+    };
     int64_t next_state = 3700;
     for (int i = 0; i < num_frames; ++i) {
       const int64_t t = 100000 + i * 33333;
       while (next_state <= t) {
         p->AddGripperState(State(next_state));
+        after();
         next_state += 10000;
       }
       p->AddDepthFrame(Render(raycaster_, T_C_G_at(t * 1e-6), t, K));
+      after();
     }
     p->AddGripperState(State(next_state));
+    after();
     p->Flush();
+    after();
   }
   Raycaster raycaster_;
 };

@@ -163,6 +163,14 @@ class Pipeline {
   const evidence::VisibilityRecord& visibility() const;
   /// The TSDF volume (in G, or the object's frame with tracking).
   const fusion::TsdfFusion& fusion() const;
+  /// The frame last fused as the volume took it (cropped to the workspace,
+  /// the claw cut out) and the camera's pose in the volume's frame then:
+  /// what a caller needs to integrate the same frames elsewhere (`graspfill
+  /// bench` times Open3D on them). Read them right after a call that fused
+  /// a frame (stats().frames_integrated grew): the next call reuses the
+  /// frame's buffer.
+  const DepthFrame& last_fused_frame() const;
+  Eigen::Isometry3d last_fused_T_C_V() const;
 
   /// The pose refinement's state: the hand-eye correction found so far
   /// (T_C_G ~= H * T_C_G_logged), the last registration.
