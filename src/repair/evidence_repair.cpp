@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "clamped_int.hpp"
+#include "evidence/point_list_queries.hpp"
 #include "geometry/polygon_2d.hpp"
 #include "local_surfaces.hpp"
 #include "neighbor_index.hpp"
@@ -267,18 +268,6 @@ std::string TopEvidenceName(TopEvidence outcome) {
   return "no outline";
 }
 
-double SeenFreeShare(const evidence::VisibilityRecord& record, const PointList& points_V,
-                     const Eigen::Isometry3f& T_in_V, const std::vector<char>* uncounted) {
-  size_t counted = 0, free = 0;
-  size_t first_key_frame = 0;  // neighbouring points are mostly carved by the same key frame
-  for (size_t i = 0; i < points_V.size(); ++i) {
-    if (uncounted != nullptr && (*uncounted)[i]) continue;
-    ++counted;
-    free += record.SeenFree(T_in_V * points_V[i], 0.0f, false, &first_key_frame);
-  }
-  return counted > 0 ? static_cast<double>(free) / static_cast<double>(counted) : 0.0;
-}
-
 double LowerMirrorOutOfFree(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
                             const Eigen::Isometry3f& T_in_V, float floor_z_V, PointList* added_V,
                             std::vector<char>* uncounted) {
@@ -301,7 +290,8 @@ double LowerMirrorOutOfFree(const evidence::VisibilityRecord& record, const Evid
       lowered_uncounted.push_back(uncounted != nullptr ? (*uncounted)[i] : 0);
     }
     if (std::find(lowered_uncounted.begin(), lowered_uncounted.end(), 0) == lowered_uncounted.end()) break;
-    if (SeenFreeShare(record, lowered, T_in_V, &lowered_uncounted) <= config.max_mirror_free_share) {
+    if (evidence::SeenFreeShare(record, lowered, T_in_V, &lowered_uncounted) <=
+        config.max_mirror_free_share) {
       added_V->swap(lowered);
       if (uncounted != nullptr) uncounted->swap(lowered_uncounted);
       return drop;
@@ -361,62 +351,11 @@ double MirrorLiftFromCarving(const evidence::VisibilityRecord& record, const Evi
     const double lift = k * config.top_step_m;
     lifted = layer;
     StretchImageTop(top, top.cap_z_V + static_cast<float>(lift), config, &lifted);
-    if (SeenFreeShare(record, lifted, T_in_V) > config.max_cap_free_share) {
+    if (evidence::SeenFreeShare(record, lifted, T_in_V) > config.max_cap_free_share) {
       return std::max(0.0, (k - 1) * config.top_step_m - config.carve_onset_m);
     }
   }
   return kNoAnswer;
-}
-
-int DropSeenFree(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                 PointList* points_V, float above_z_V) {
-  const size_t before = points_V->size();
-  size_t first_key_frame = 0;  // neighbouring points are mostly carved by the same key frame
-  points_V->erase(std::remove_if(points_V->begin(), points_V->end(),
-                                 [&](const Eigen::Vector3f& p) {
-                                   return p.z() > above_z_V &&
-                                          record.SeenFree(T_in_V * p, 0.0f, false, &first_key_frame);
-                                 }),
-                  points_V->end());
-  return static_cast<int>(before - points_V->size());
-}
-
-namespace {
-
-// Towards V's axis (x = y = 0), in the input frame; +x when on the axis.
-Eigen::Vector3f Inward(const Eigen::Isometry3f& T_in_V, const Eigen::Vector3f& p_V) {
-  Eigen::Vector3f d(-p_V.x(), -p_V.y(), 0.0f);
-  if (!(d.norm() > 1e-6f)) d = Eigen::Vector3f::UnitX();
-  return T_in_V.linear() * d;
-}
-
-}  // namespace
-
-int PushOutOfClaw(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                  PointList* points_V) {
-  if (!record.has_claw()) return 0;
-  const Eigen::Isometry3f T_V_in = T_in_V.inverse();
-  int moved = 0;
-  for (Eigen::Vector3f& p : *points_V) {
-    if (const auto exit = record.ExitClaw(T_in_V * p, Inward(T_in_V, p))) {
-      p = T_V_in * *exit;
-      ++moved;
-    }
-  }
-  return moved;
-}
-
-int DropInsideClaw(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                   PointList* points_V, float above_z_V) {
-  if (!record.has_claw()) return 0;
-  const size_t before = points_V->size();
-  points_V->erase(std::remove_if(points_V->begin(), points_V->end(),
-                                 [&](const Eigen::Vector3f& p) {
-                                   return p.z() > above_z_V &&
-                                          record.ExitClaw(T_in_V * p, Inward(T_in_V, p)).has_value();
-                                 }),
-                  points_V->end());
-  return static_cast<int>(before - points_V->size());
 }
 
 EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointList& fills_V,

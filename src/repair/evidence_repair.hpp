@@ -189,27 +189,6 @@ float StretchImageTop(const ImageTop& top, float cap_z_V, const EvidenceConfig& 
 double MirrorLiftFromCarving(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
                              const Eigen::Isometry3f& T_in_V, const ImageTop& top, const PointList& image_V);
 
-/// Share of `points_V` the record sees free (0 for an empty list), of
-/// those not flagged in `uncounted` (one flag per point) if given.
-double SeenFreeShare(const evidence::VisibilityRecord& record, const PointList& points_V,
-                     const Eigen::Isometry3f& T_in_V, const std::vector<char>* uncounted = nullptr);
-
-/// Removes the points the record sees free; returns how many. Only
-/// those above `above_z_V` are tested (the others passed before).
-int DropSeenFree(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                 PointList* points_V, float above_z_V = -std::numeric_limits<float>::infinity());
-
-/// Moves each point inside the record's claw to where the ray from it
-/// towards V's axis leaves the claw: a fill that bulged into a finger lands
-/// on the finger's face, where the object touches it. Returns how many.
-int PushOutOfClaw(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                  PointList* points_V);
-
-/// Removes the points inside the record's claw; returns how many. Only
-/// those above `above_z_V` are tested (the others passed before).
-int DropInsideClaw(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                   PointList* points_V, float above_z_V = -std::numeric_limits<float>::infinity());
-
 /// Closes the top of the cloud (`observed_V`'s points: observed, +z up in
 /// V) at the height the evidence gives: a wall band on the top outline from
 /// the highest observed point up to that height, and a cap there, sampled

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "evidence/point_list_queries.hpp"
 #include "evidence_repair.hpp"
 
 namespace graspfill::repair {
@@ -50,15 +51,7 @@ const evidence::VisibilityRecord* UsableRecord(const ObjectCloud& input,
     report->ignored_reason = "the record holds no key frame";
     return nullptr;
   }
-  const size_t n = input.points_G.size();
-  const size_t stride = std::max<size_t>(1, n / kRecordCheckPoints);
-  size_t tested = 0, free = 0;
-  for (size_t i = 0; i < n; i += stride) {
-    if (!input.provenance.empty() && input.provenance[i] != Provenance::kObserved) continue;
-    ++tested;
-    free += record->SeenFree(input.points_G[i]);
-  }
-  report->observed_free_share = tested ? static_cast<double>(free) / tested : 0.0;
+  report->observed_free_share = evidence::ObservedSeenFreeShare(*record, input, kRecordCheckPoints);
   if (report->observed_free_share > config.evidence.max_observed_free_share) {
     report->ignored_reason = "the record does not match the cloud: " +
                              std::to_string(static_cast<int>(100.0 * report->observed_free_share + 0.5)) +
@@ -73,22 +66,22 @@ EvidenceTopPoints ApplyEvidence(const evidence::VisibilityRecord& record, const 
                                 const Eigen::Isometry3f& T_in_V, const NeighborIndex& index_V,
                                 double spacing_m, PointList* surface_V, SymmetryResult* symmetry,
                                 EvidenceReport* report) {
-  report->rejected_free += DropSeenFree(record, T_in_V, surface_V);
-  report->moved_out_of_claw += PushOutOfClaw(record, T_in_V, surface_V);
+  report->rejected_free += evidence::DropSeenFree(record, T_in_V, surface_V);
+  report->moved_out_of_claw += evidence::PushOutOfClaw(record, T_in_V, surface_V);
   report->mirror_free_share = std::numeric_limits<double>::quiet_NaN();
   if (symmetry->symmetric) {
     // The image apart from its points beside the observed surface
     // (EvidenceConfig::near_observed_m) answers for it.
     PointList& m = symmetry->added_V;
     std::vector<char> beside = BesideObserved(index_V, config.near_observed_m, m);
-    report->mirror_free_share = SeenFreeShare(record, m, T_in_V, &beside);
+    report->mirror_free_share = evidence::SeenFreeShare(record, m, T_in_V, &beside);
     const bool any_counted = std::find(beside.begin(), beside.end(), 0) != beside.end();
     const double drop =
         any_counted ? LowerMirrorOutOfFree(record, config, T_in_V, symmetry->box_min_V.z(), &m, &beside)
                     : 0.0;
     if (drop > 0.0) {
       report->mirror_plane_drop_m = drop;
-      report->mirror_free_share = SeenFreeShare(record, m, T_in_V, &beside);
+      report->mirror_free_share = evidence::SeenFreeShare(record, m, T_in_V, &beside);
       symmetry->symmetry_plane_z -= drop;
       char text[96];
       std::snprintf(text, sizeof(text), "; plane lowered %.2f mm: the mirror's top lay in seen-free space",
@@ -102,8 +95,8 @@ EvidenceTopPoints ApplyEvidence(const evidence::VisibilityRecord& record, const 
                          "% of its points lie in seen-free space (not symmetric: a handle, a spout?)";
       symmetry->added_V.clear();
     } else {
-      report->rejected_free += DropSeenFree(record, T_in_V, &symmetry->added_V);
-      report->rejected_in_claw += DropInsideClaw(record, T_in_V, &symmetry->added_V);
+      report->rejected_free += evidence::DropSeenFree(record, T_in_V, &symmetry->added_V);
+      report->rejected_in_claw += evidence::DropInsideClaw(record, T_in_V, &symmetry->added_V);
     }
   }
   // The mirror closes low: the walls are seen only up to a few mm below
@@ -176,8 +169,8 @@ EvidenceTopPoints ApplyEvidence(const evidence::VisibilityRecord& record, const 
     if (cap_z > image_top.cap_z_V) {
       // Only the stretched points moved; the rest passed both tests above.
       const float moved_above = StretchImageTop(image_top, cap_z, config, &m);
-      report->rejected_free += DropSeenFree(record, T_in_V, &m, moved_above);
-      report->rejected_in_claw += DropInsideClaw(record, T_in_V, &m, moved_above);
+      report->rejected_free += evidence::DropSeenFree(record, T_in_V, &m, moved_above);
+      report->rejected_in_claw += evidence::DropInsideClaw(record, T_in_V, &m, moved_above);
       report->mirror_lift_m = cap_z - image_top.cap_z_V;
       char text[112];
       std::snprintf(text, sizeof(text), "; its top raised %.1f mm to where the rays %s",
@@ -209,7 +202,7 @@ EvidenceTopPoints ApplyEvidence(const evidence::VisibilityRecord& record, const 
             t.end());
   }
   report->rejected_free += top.rejected_free;
-  const int in_claw = DropInsideClaw(record, T_in_V, &top.added_V);
+  const int in_claw = evidence::DropInsideClaw(record, T_in_V, &top.added_V);
   report->rejected_in_claw += in_claw;
   report->top_points_added = static_cast<int>(top.added_V.size());
   result.points_V = std::move(top.added_V);
