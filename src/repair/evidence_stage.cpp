@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "evidence/point_list_queries.hpp"
-#include "evidence_repair.hpp"
+#include "mirror_evidence.hpp"
 
 namespace graspfill::repair {
 namespace {

@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The repair with the camera's evidence, on a fused cloud of a synthetic
 // grasp (synth -> pipeline -> repair in-process): a can held by the
-// three-finger claw, whose top the camera never sees.
-#include "evidence_repair.hpp"
+// three-finger claw, whose top the camera never sees. Covers the stage
+// (evidence_stage.*) through Repair, and its steps: the mirror's lowering
+// and lift (mirror_evidence.*) and the top from the evidence
+// (evidence_top.*).
+#include "evidence_top.hpp"
 
 #include <gtest/gtest.h>
 
@@ -21,6 +24,7 @@
 #include "graspfill/mesh/nearest_distances.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "graspfill/repair/repairer.hpp"
+#include "mirror_evidence.hpp"
 #include "synth/renderer.hpp"
 #include "synth/scene.hpp"
 
