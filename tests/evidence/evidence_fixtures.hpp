@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "graspfill/claw/primitive_meshes.hpp"
 #include "graspfill/evidence/visibility_record.hpp"
 
 namespace graspfill::testing {
@@ -64,19 +65,11 @@ inline evidence::VisibilityRecord RecordOfPlate() {
   return record;
 }
 
-// An axis-aligned box [lo, hi], outward-facing triangles (a claw block).
-inline TriangleMesh BoxMesh(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi) {
-  TriangleMesh m;
-  for (int i = 0; i < 8; ++i) {
-    m.vertices.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
-  }
-  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
-                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  for (const auto& f : faces) {
-    m.triangles.emplace_back(f[0], f[1], f[2]);
-    m.triangles.emplace_back(f[0], f[2], f[3]);
-  }
-  return m;
+// A claw block 2 cm x 2 cm about G's z axis, from 0.4 to 0.6 m deep.
+inline TriangleMesh ClawBlock() {
+  TriangleMesh block = claw::BoxMesh(Eigen::Vector3d(0.02, 0.02, 0.2));
+  for (Eigen::Vector3f& v : block.vertices) v.z() += 0.5f;
+  return block;
 }
 
 }  // namespace graspfill::testing

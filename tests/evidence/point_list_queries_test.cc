@@ -70,10 +70,10 @@ TEST(PointListQueries, PointsAreMappedIntoTheRecordsFrame) {
   EXPECT_EQ(DropSeenFree(record, T_in_V, &points_V), kFree);
 }
 
-// A claw block 2 cm wide about G's z axis, from 0.4 to 0.6 m.
+// A record of no key frame holding the claw block.
 VisibilityRecord RecordWithClaw() {
   VisibilityRecord record(VisibilityConfig{}, TestBox());
-  record.SetClaw(testing::BoxMesh({-0.01f, -0.01f, 0.4f}, {0.01f, 0.01f, 0.6f}));
+  record.SetClaw(testing::ClawBlock());
   return record;
 }
 

@@ -59,7 +59,7 @@ TEST(VisibilityRecord, TheCoarseTestKeepsAWiderBandAroundSilhouettes) {
 TEST(VisibilityRecord, PointsInsideTheClawLeaveItAlongTheRay) {
   VisibilityRecord record(VisibilityConfig{}, TestBox());
   EXPECT_FALSE(record.ExitClaw({0, 0, 0.5f}, {1, 0, 0}).has_value());  // no claw yet
-  record.SetClaw(testing::BoxMesh({-0.01f, -0.01f, 0.4f}, {0.01f, 0.01f, 0.6f}));
+  record.SetClaw(testing::ClawBlock());
   const auto out = record.ExitClaw({0.005f, 0, 0.5f}, {-2, 0, 0});
   ASSERT_TRUE(out.has_value());
   EXPECT_NEAR(out->x(), -0.01f, 1e-5f);
