@@ -315,6 +315,260 @@ class ObservedOutlines {
   std::vector<float> roundness_rms_;  // of the distances from the centre [m]
 };
 
+// The claw holes to fill (kClaw, a rim of 3 points or more) and their
+// indices into `claw_holes`.
+void SelectClawHoles(const std::vector<HoleBoundary>& claw_holes, std::vector<const HoleBoundary*>* holes,
+                     std::vector<size_t>* hole_index) {
+  for (size_t k = 0; k < claw_holes.size(); ++k) {
+    const HoleBoundary& hole = claw_holes[k];
+    if (hole.kind == HoleKind::kClaw && hole.points_V.size() >= 3) {
+      CheckFinite(hole.points_V, "RepairClawHoles: claw-hole boundary");
+      holes->push_back(&hole);
+      hole_index->push_back(k);
+    }
+  }
+}
+
+// What every hole's fill reads of the cloud, found once.
+struct CloudFacts {
+  const PointList& points_V;
+  const std::vector<Eigen::Vector3f>* normals_V;  // may be null
+  const NeighborIndex& index;
+  const ClawRepairConfig& config;
+  Eigen::Vector3f centroid;
+  float min_z{0.0f}, max_z{0.0f}, mid_z{0.0f};
+  double cos_max{0.0};
+  // Stray points far from the object can end up on a rim: a fill's samples
+  // must stay by the cloud's bulk, within its size of it (found by
+  // fuzz_repair: a fill point ~1e33 m away).
+  Box by_object{};
+};
+
+CloudFacts FactsOf(const PointList& points_V, const std::vector<Eigen::Vector3f>* normals_V,
+                   const NeighborIndex& index, const ClawRepairConfig& config) {
+  CloudFacts cloud{points_V, normals_V, index, config, Centroid(points_V)};
+  float max_z = -std::numeric_limits<float>::infinity();
+  float min_z = std::numeric_limits<float>::infinity();
+  for (const Eigen::Vector3f& p : points_V) max_z = std::max(max_z, p.z()), min_z = std::min(min_z, p.z());
+  cloud.min_z = min_z;
+  cloud.max_z = max_z;
+  cloud.mid_z = 0.5f * (min_z + max_z);
+  cloud.cos_max = std::cos(config.max_normal_deviation_deg * M_PI / 180.0);
+  const Box robust = RobustBox(points_V);
+  cloud.by_object = Box(robust.min() - robust.sizes(), robust.max() + robust.sizes());
+  return cloud;
+}
+
+// What the holes share, filled one after the other.
+struct FillsSoFar {
+  std::unique_ptr<AddedPoints> earlier;  // the fills of the holes before
+  // The paper's single surface of all the side points, built on first use.
+  std::unique_ptr<PoissonSurface> global_surface;
+  std::optional<ObservedOutlines> outlines;  // built for the first hole tested
+};
+
+// Normals of a subset: the caller's, else estimated on demand.
+std::vector<Eigen::Vector3f> NormalsOf(const CloudFacts& cloud, const std::vector<int>& subset) {
+  if (cloud.normals_V == nullptr) {
+    return EstimateNormals(cloud.index, subset, cloud.config.normal_knn, cloud.centroid);
+  }
+  std::vector<Eigen::Vector3f> n(subset.size());
+  for (size_t i = 0; i < subset.size(); ++i) n[i] = (*cloud.normals_V)[subset[i]];
+  return n;
+}
+
+// One hole as its fill sees it.
+struct HoleGeometry {
+  const PointList& rim;
+  Box box{};                   // the rim's
+  Box support_box{};           // the rim's, grown by local_margin_m
+  std::vector<int> support{};  // the cloud's points in support_box
+  HoleFrame frame{};
+  double d{0.0};        // the support's mean spacing [m]
+  double density{0.0};  // of the fill [1/m^2]
+  double pad{0.0};      // [m]
+  FillRegion region{};  // the rim's shadow
+  double bulge_m{0.0};
+};
+
+void FindSupport(const CloudFacts& cloud, HoleGeometry* hole) {
+  hole->box.setEmpty();
+  for (const Eigen::Vector3f& p : hole->rim) hole->box.extend(p);
+  const float margin = static_cast<float>(cloud.config.local_margin_m);
+  hole->support_box = Box(hole->box.min() - Eigen::Vector3f::Constant(margin),
+                          hole->box.max() + Eigen::Vector3f::Constant(margin));
+  for (size_t i = 0; i < cloud.points_V.size(); ++i) {
+    if (hole->support_box.contains(cloud.points_V[i])) hole->support.push_back(static_cast<int>(i));
+  }
+}
+
+// The hole's frame, outward: the caller's normals when given, else away
+// from the centroid.
+HoleFrame OutwardFrame(const CloudFacts& cloud, const HoleGeometry& hole) {
+  Eigen::Vector3d outward = Eigen::Vector3d::Zero();
+  if (cloud.normals_V != nullptr) {
+    for (int i : hole.support) outward += (*cloud.normals_V)[i].cast<double>();
+  }
+  if (outward.norm() < 1e-9) outward = (hole.box.center() - cloud.centroid).cast<double>();
+  return MakeHoleFrame(hole.rim, cloud.points_V, hole.support, outward);
+}
+
+// The grid spans the support box's shadow, so that the samples of a
+// second sheet (an edge hole), too, are tested on it.
+void BuildGapGrid(const HoleGeometry& hole, const PointList& out, GapTest* gap) {
+  Eigen::Vector2d grid_lo = hole.region.lo.head<2>(), grid_hi = hole.region.hi.head<2>();
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d l =
+        hole.frame.Local(hole.support_box.corner(static_cast<Box::CornerType>(c)).cast<double>());
+    grid_lo = grid_lo.cwiseMin(l.head<2>());
+    grid_hi = grid_hi.cwiseMax(l.head<2>());
+  }
+  gap->BuildGrid(hole.frame, grid_lo, grid_hi, hole.support, hole.support_box, out);
+}
+
+// The explicit local surfaces (kLocalFit): one or two sheets, else the
+// thin plate; false when neither explains the points around the hole.
+bool SampleLocalFit(const CloudFacts& cloud, const HoleGeometry& hole, Rng* rng, GapTest* gap,
+                    PointList* fill) {
+  const double d = hole.d;
+  // A sheet parametrizes a quadric's samples: it is within ~1 mm of it.
+  const double max_snap = std::max(0.003, 10.0 * d);
+  Sheets sheets;
+  // Otherwise the points around the hole are not one or two smooth
+  // sheets: the hole falls back to the thin plate below.
+  if (FitSheets(cloud.index, hole.support, hole.rim, hole.frame, cloud.centroid, cloud.config, d, &sheets)) {
+    const double clip_tol = 0.5 * d;
+    // Each sheet over the rim's shadow in its own frame.
+    const auto region_of = [&](const HoleFrame& f) {
+      return RimRegion(hole.rim, f, hole.pad, hole.region.z_lo, hole.region.z_hi);
+    };
+    SampleHeightField(sheets.a, region_of(sheets.a.frame), hole.density, sheets.two ? &sheets.b : nullptr,
+                      clip_tol, sheets.use_quadric ? &sheets.quadric : nullptr, max_snap, rng, gap, fill);
+    if (sheets.two) {
+      SampleHeightField(sheets.b, region_of(sheets.b.frame), hole.density, &sheets.a, clip_tol, nullptr, 0.0,
+                        rng, gap, fill);
+    }
+    return true;
+  }
+  ThinPlateSheet smooth;
+  if (FitThinPlate(cloud.index, hole.support, hole.frame, cloud.centroid, d, kThinPlateCentres, &smooth)) {
+    smooth.w_pad = 2.0 * d + hole.bulge_m;  // past the support's heights: the bulge
+    SampleHeightField(smooth, hole.region, hole.density, nullptr, 0.0,
+                      smooth.use_quadric ? &smooth.quadric : nullptr, max_snap, rng, gap, fill);
+    return true;
+  }
+  return false;
+}
+
+// The last resort (and the paper's surface): Poisson, ~0.3-0.8 s.
+void SamplePoisson(const CloudFacts& cloud, const HoleGeometry& hole, FillsSoFar* so_far, Rng* rng,
+                   GapTest* gap, PointList* fill) {
+  const ClawRepairConfig& config = cloud.config;
+  PoissonSurface local;
+  const PoissonSurface* surface = &local;
+  if (config.surface == ClawSurface::kPoisson && !config.local_reconstruction) {
+    if (!so_far->global_surface) {
+      std::vector<int> side(cloud.points_V.size());  // the paper's side points: all of them
+      std::iota(side.begin(), side.end(), 0);
+      so_far->global_surface = std::make_unique<PoissonSurface>(ReconstructPoisson(
+          cloud.points_V, side, NormalsOf(cloud, side), config.poisson_depth, config.poisson_scale));
+    }
+    surface = so_far->global_surface.get();
+  } else {
+    local = ReconstructPoisson(cloud.points_V, hole.support, NormalsOf(cloud, hole.support),
+                               config.poisson_depth, config.poisson_scale);
+  }
+  // Along n: the rim's spread, the surface's sag or bulge over the hole
+  // (up to about a cell, and the bulge), and the pad.
+  const double n_pad = hole.pad + config.poisson_box_pad_cells * surface->cell_m + hole.bulge_m;
+  FillRegion region = hole.region;
+  region.lo.z() -= n_pad;
+  region.hi.z() += n_pad;
+  SampleMesh(*surface->mesh, hole.frame, region, true, cloud.cos_max, nullptr, hole.density, rng, gap, fill);
+}
+
+// Keeps the fill's samples by the object and, where tested, within the
+// observed outlines; adds them to `out` and to the earlier fills.
+void KeepFillsByTheOutlines(const CloudFacts& cloud, const HoleGeometry& hole, const PointList& fill,
+                            FillsSoFar* so_far, PointList* out) {
+  const ClawRepairConfig& config = cloud.config;
+  // A wall's samples, and those of any hole reaching the upper half (a
+  // round body's shoulder under the missing top); a horizontal face
+  // lower down (a bottom) lies inside its own outline.
+  const bool tested = (config.max_inside_outline_m > 0.0 || config.max_outside_widest_m > 0.0) &&
+                      (std::abs(hole.frame.n.z()) < kMaxWallNormalZ || hole.box.max().z() > cloud.mid_z);
+  std::optional<ObservedOutlines>& outlines = so_far->outlines;
+  if (tested && !outlines) {
+    // Slabs of 2 D: a point lies within D of its slab's middle, so a
+    // wall leaning up to ~70 degrees stays within 3 mm of its outline.
+    const double slab_m = std::max(2.0 * MeanNearestDistance(cloud.index, 256), 0.001);
+    // Over the cloud's heights; where a stray far above or below makes
+    // them more than kMaxProfileSlabs slabs (2.4e35, found by
+    // fuzz_repair), over those a fill point can have (by_object's).
+    float lo_z = cloud.min_z, hi_z = cloud.max_z;
+    if (!((hi_z - lo_z) / slab_m < kMaxProfileSlabs)) {
+      lo_z = std::max(lo_z, cloud.by_object.min().z());
+      hi_z = std::min(hi_z, cloud.by_object.max().z());
+    }
+    outlines.emplace(cloud.points_V, lo_z, hi_z, slab_m);
+  }
+  for (const Eigen::Vector3f& p : fill) {
+    if (!cloud.by_object.contains(p)) continue;
+    if (tested && config.max_inside_outline_m > 0.0 && outlines->Inside(p, config.max_inside_outline_m))
+      continue;
+    if (tested && config.max_outside_widest_m > 0.0 &&
+        outlines->BeyondWidest(p, config.max_outside_widest_m)) {
+      continue;
+    }
+    so_far->earlier->Add(p);
+    out->push_back(p);
+  }
+}
+
+enum class HoleFill {
+  kSkipped,   // too few support points, or no spacing: neither filled nor reported
+  kLeftOpen,  // reported in holes_left_open
+  kFilled,
+};
+
+// Fills hole `h` (its samples seeded by h) beside the fills so far.
+HoleFill FillHole(const CloudFacts& cloud, const PointList& rim, size_t h, FillsSoFar* so_far,
+                  PointList* out) {
+  const ClawRepairConfig& config = cloud.config;
+  HoleGeometry hole{rim};
+  FindSupport(cloud, &hole);
+  if (static_cast<int>(hole.support.size()) < config.min_support_points) return HoleFill::kSkipped;
+  if (static_cast<double>(hole.support.size()) >
+      config.max_support_share * static_cast<double>(cloud.points_V.size())) {
+    return HoleFill::kLeftOpen;
+  }
+  const Spacing spacing = EstimateSpacing(cloud.index, hole.support, 200);
+  if (spacing.mean_nn_m <= 0.0 || spacing.density_per_m2 <= 0.0) return HoleFill::kSkipped;
+  hole.d = spacing.mean_nn_m;
+  hole.density = spacing.density_per_m2 * config.fill_density_factor;
+  const double gap_m = kNewPointGapSpacings * hole.d;
+  if (!so_far->earlier) so_far->earlier = std::make_unique<AddedPoints>(std::max(gap_m, 1e-4));
+  Rng rng(MixSeed(config.seed, h));
+
+  hole.frame = OutwardFrame(cloud, hole);
+  hole.pad = kHoleBoxPadSpacings * hole.d;
+  hole.region =
+      RimRegion(rim, hole.frame, hole.pad, hole.box.min().z() - hole.pad, hole.box.max().z() + hole.pad);
+  GapTest gap(cloud.index, so_far->earlier.get(), gap_m);
+  BuildGapGrid(hole, *out, &gap);
+
+  PointList fill;
+  // A surface sampled over the hole may bulge out of the rim's plane by
+  // the curvature's a^2 / 2r, bounded by a quarter of the hole's width.
+  hole.bulge_m = 0.25 * (hole.region.hi.head<2>() - hole.region.lo.head<2>()).minCoeff();
+  const bool local_fit = config.surface == ClawSurface::kLocalFit;
+  const bool filled = local_fit && SampleLocalFit(cloud, hole, &rng, &gap, &fill);
+  if (!filled && local_fit && !config.poisson_fallback) return HoleFill::kLeftOpen;
+  if (!filled) SamplePoisson(cloud, hole, so_far, &rng, &gap, &fill);
+  KeepFillsByTheOutlines(cloud, hole, fill, so_far, out);
+  return HoleFill::kFilled;
+}
+
 }  // namespace
 
 ClawRepairConfig ClawRepairConfig::Paper() {
@@ -391,14 +645,7 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
   if (points_V.empty()) return out;
   std::vector<const HoleBoundary*> holes;
   std::vector<size_t> hole_index;  // into claw_holes
-  for (size_t k = 0; k < claw_holes.size(); ++k) {
-    const HoleBoundary& hole = claw_holes[k];
-    if (hole.kind == HoleKind::kClaw && hole.points_V.size() >= 3) {
-      CheckFinite(hole.points_V, "RepairClawHoles: claw-hole boundary");
-      holes.push_back(&hole);
-      hole_index.push_back(k);
-    }
-  }
+  SelectClawHoles(claw_holes, &holes, &hole_index);
   if (holes.empty()) return out;
 
   std::unique_ptr<NeighborIndex> own_index;
@@ -406,171 +653,11 @@ PointList RepairClawHoles(const PointList& points_V, const std::vector<HoleBound
     own_index = std::make_unique<NeighborIndex>(points_V);
     index_V = own_index.get();
   }
-  const NeighborIndex& index = *index_V;
-  const Eigen::Vector3f centroid = Centroid(points_V);
-  float max_z = -std::numeric_limits<float>::infinity();
-  float min_z = std::numeric_limits<float>::infinity();
-  for (const Eigen::Vector3f& p : points_V) max_z = std::max(max_z, p.z()), min_z = std::min(min_z, p.z());
-  const float mid_z = 0.5f * (min_z + max_z);
-  const double cos_max = std::cos(config.max_normal_deviation_deg * M_PI / 180.0);
-
-  // Normals of a subset: the caller's, else estimated on demand.
-  const auto normals_of = [&](const std::vector<int>& subset) {
-    if (normals_V == nullptr) return EstimateNormals(index, subset, config.normal_knn, centroid);
-    std::vector<Eigen::Vector3f> n(subset.size());
-    for (size_t i = 0; i < subset.size(); ++i) n[i] = (*normals_V)[subset[i]];
-    return n;
-  };
-  // The paper's single surface of all the side points, built on first use.
-  std::unique_ptr<PoissonSurface> global_surface;
-
-  // Stray points far from the object can end up on a rim: a fill's samples
-  // must stay by the cloud's bulk, within its size of it (found by
-  // fuzz_repair: a fill point ~1e33 m away).
-  Box by_object = RobustBox(points_V);
-  by_object = Box(by_object.min() - by_object.sizes(), by_object.max() + by_object.sizes());
-
-  std::optional<ObservedOutlines> outlines;  // built for the first hole tested
-
-  std::unique_ptr<AddedPoints> earlier;  // the fills of the holes before
+  const CloudFacts cloud = FactsOf(points_V, normals_V, *index_V, config);
+  FillsSoFar so_far;
   for (size_t h = 0; h < holes.size(); ++h) {
-    const PointList& rim = holes[h]->points_V;
-    Box box;
-    box.setEmpty();
-    for (const Eigen::Vector3f& p : rim) box.extend(p);
-    const float margin = static_cast<float>(config.local_margin_m);
-    const Box support_box(box.min() - Eigen::Vector3f::Constant(margin),
-                          box.max() + Eigen::Vector3f::Constant(margin));
-    std::vector<int> support;  // the cloud's points in the box
-    for (size_t i = 0; i < points_V.size(); ++i) {
-      if (support_box.contains(points_V[i])) support.push_back(static_cast<int>(i));
-    }
-    if (static_cast<int>(support.size()) < config.min_support_points) continue;
-    if (static_cast<double>(support.size()) >
-        config.max_support_share * static_cast<double>(points_V.size())) {
-      if (holes_left_open != nullptr) holes_left_open->push_back(hole_index[h]);
-      continue;
-    }
-    const Spacing spacing = EstimateSpacing(index, support, 200);
-    if (spacing.mean_nn_m <= 0.0 || spacing.density_per_m2 <= 0.0) continue;
-    const double d = spacing.mean_nn_m;
-    const double density = spacing.density_per_m2 * config.fill_density_factor;
-    const double gap_m = kNewPointGapSpacings * d;
-    if (!earlier) earlier = std::make_unique<AddedPoints>(std::max(gap_m, 1e-4));
-    Rng rng(MixSeed(config.seed, h));
-
-    // Outward: the caller's normals when given, else away from the centroid.
-    Eigen::Vector3d outward = Eigen::Vector3d::Zero();
-    if (normals_V != nullptr) {
-      for (int i : support) outward += (*normals_V)[i].cast<double>();
-    }
-    if (outward.norm() < 1e-9) outward = (box.center() - centroid).cast<double>();
-    const HoleFrame frame = MakeHoleFrame(rim, points_V, support, outward);
-    const double pad = kHoleBoxPadSpacings * d;
-    FillRegion region = RimRegion(rim, frame, pad, box.min().z() - pad, box.max().z() + pad);
-    // The grid spans the support box's shadow, so that the samples of a
-    // second sheet (an edge hole), too, are tested on it.
-    Eigen::Vector2d grid_lo = region.lo.head<2>(), grid_hi = region.hi.head<2>();
-    for (int c = 0; c < 8; ++c) {
-      const Eigen::Vector3d l =
-          frame.Local(support_box.corner(static_cast<Box::CornerType>(c)).cast<double>());
-      grid_lo = grid_lo.cwiseMin(l.head<2>());
-      grid_hi = grid_hi.cwiseMax(l.head<2>());
-    }
-    GapTest gap(index, earlier.get(), gap_m);
-    gap.BuildGrid(frame, grid_lo, grid_hi, support, support_box, out);
-
-    PointList fill;
-    bool filled = false;
-    // A surface sampled over the hole may bulge out of the rim's plane by
-    // the curvature's a^2 / 2r, bounded by a quarter of the hole's width.
-    const double bulge_m = 0.25 * (region.hi.head<2>() - region.lo.head<2>()).minCoeff();
-    // A sheet parametrizes a quadric's samples: it is within ~1 mm of it.
-    const double max_snap = std::max(0.003, 10.0 * d);
-    Sheets sheets;
-    // Otherwise the points around the hole are not one or two smooth
-    // sheets: the hole falls back to the thin plate below.
-    if (config.surface == ClawSurface::kLocalFit &&
-        FitSheets(index, support, rim, frame, centroid, config, d, &sheets)) {
-      const double clip_tol = 0.5 * d;
-      // Each sheet over the rim's shadow in its own frame.
-      const auto region_of = [&](const HoleFrame& f) {
-        return RimRegion(rim, f, pad, region.z_lo, region.z_hi);
-      };
-      SampleHeightField(sheets.a, region_of(sheets.a.frame), density, sheets.two ? &sheets.b : nullptr,
-                        clip_tol, sheets.use_quadric ? &sheets.quadric : nullptr, max_snap, &rng, &gap,
-                        &fill);
-      if (sheets.two) {
-        SampleHeightField(sheets.b, region_of(sheets.b.frame), density, &sheets.a, clip_tol, nullptr, 0.0,
-                          &rng, &gap, &fill);
-      }
-      filled = true;
-    }
-    ThinPlateSheet smooth;
-    if (!filled && config.surface == ClawSurface::kLocalFit &&
-        FitThinPlate(index, support, frame, centroid, d, kThinPlateCentres, &smooth)) {
-      smooth.w_pad = 2.0 * d + bulge_m;  // past the support's heights: the bulge
-      SampleHeightField(smooth, region, density, nullptr, 0.0, smooth.use_quadric ? &smooth.quadric : nullptr,
-                        max_snap, &rng, &gap, &fill);
-      filled = true;
-    }
-    if (!filled && config.surface == ClawSurface::kLocalFit && !config.poisson_fallback) {
-      if (holes_left_open != nullptr) holes_left_open->push_back(hole_index[h]);
-      continue;
-    }
-    // The last resort (and the paper's surface): Poisson, ~0.3-0.8 s.
-    if (!filled) {
-      PoissonSurface local;
-      const PoissonSurface* surface = &local;
-      if (config.surface == ClawSurface::kPoisson && !config.local_reconstruction) {
-        if (!global_surface) {
-          std::vector<int> side(points_V.size());  // the paper's side points: all of them
-          std::iota(side.begin(), side.end(), 0);
-          global_surface = std::make_unique<PoissonSurface>(ReconstructPoisson(
-              points_V, side, normals_of(side), config.poisson_depth, config.poisson_scale));
-        }
-        surface = global_surface.get();
-      } else {
-        local = ReconstructPoisson(points_V, support, normals_of(support), config.poisson_depth,
-                                   config.poisson_scale);
-      }
-      // Along n: the rim's spread, the surface's sag or bulge over the hole
-      // (up to about a cell, and the bulge), and the pad.
-      const double n_pad = pad + config.poisson_box_pad_cells * surface->cell_m + bulge_m;
-      region.lo.z() -= n_pad;
-      region.hi.z() += n_pad;
-      SampleMesh(*surface->mesh, frame, region, true, cos_max, nullptr, density, &rng, &gap, &fill);
-    }
-    // A wall's samples, and those of any hole reaching the upper half (a
-    // round body's shoulder under the missing top); a horizontal face
-    // lower down (a bottom) lies inside its own outline.
-    const bool tested = (config.max_inside_outline_m > 0.0 || config.max_outside_widest_m > 0.0) &&
-                        (std::abs(frame.n.z()) < kMaxWallNormalZ || box.max().z() > mid_z);
-    if (tested && !outlines) {
-      // Slabs of 2 D: a point lies within D of its slab's middle, so a
-      // wall leaning up to ~70 degrees stays within 3 mm of its outline.
-      const double slab_m = std::max(2.0 * MeanNearestDistance(index, 256), 0.001);
-      // Over the cloud's heights; where a stray far above or below makes
-      // them more than kMaxProfileSlabs slabs (2.4e35, found by
-      // fuzz_repair), over those a fill point can have (by_object's).
-      float lo_z = min_z, hi_z = max_z;
-      if (!((hi_z - lo_z) / slab_m < kMaxProfileSlabs)) {
-        lo_z = std::max(lo_z, by_object.min().z());
-        hi_z = std::min(hi_z, by_object.max().z());
-      }
-      outlines.emplace(points_V, lo_z, hi_z, slab_m);
-    }
-    for (const Eigen::Vector3f& p : fill) {
-      if (!by_object.contains(p)) continue;
-      if (tested && config.max_inside_outline_m > 0.0 && outlines->Inside(p, config.max_inside_outline_m))
-        continue;
-      if (tested && config.max_outside_widest_m > 0.0 &&
-          outlines->BeyondWidest(p, config.max_outside_widest_m)) {
-        continue;
-      }
-      earlier->Add(p);
-      out.push_back(p);
-    }
+    const HoleFill fill = FillHole(cloud, holes[h]->points_V, h, &so_far, &out);
+    if (fill == HoleFill::kLeftOpen && holes_left_open != nullptr) holes_left_open->push_back(hole_index[h]);
   }
   return out;
 }

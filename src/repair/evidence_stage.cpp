@@ -8,7 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "evidence_repair.hpp"
+#include "evidence/point_list_queries.hpp"
+#include "mirror_evidence.hpp"
 
 namespace graspfill::repair {
 namespace {
@@ -35,6 +36,161 @@ std::vector<char> BesideObserved(const NeighborIndex& observed, double radius_m,
   return beside;
 }
 
+// The claw fills: none in seen-free space, those inside the claw moved
+// onto its face.
+void CheckClawFills(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
+                    PointList* surface_V, EvidenceReport* report) {
+  report->rejected_free += evidence::DropSeenFree(record, T_in_V, surface_V);
+  report->moved_out_of_claw += evidence::PushOutOfClaw(record, T_in_V, surface_V);
+}
+
+// A mirror image in seen-free space is lowered out of it, or refused when
+// no drop takes it out; the rest of the image drops its points seen free
+// or inside the claw.
+void TestMirrorAgainstRecord(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
+                             const Eigen::Isometry3f& T_in_V, const NeighborIndex& index_V,
+                             SymmetryResult* symmetry, EvidenceReport* report) {
+  // The image apart from its points beside the observed surface
+  // (EvidenceConfig::near_observed_m) answers for it.
+  PointList& m = symmetry->added_V;
+  std::vector<char> beside = BesideObserved(index_V, config.near_observed_m, m);
+  report->mirror_free_share = evidence::SeenFreeShare(record, m, T_in_V, &beside);
+  const bool any_counted = std::find(beside.begin(), beside.end(), 0) != beside.end();
+  const double drop =
+      any_counted ? LowerMirrorOutOfFree(record, config, T_in_V, symmetry->box_min_V.z(), &m, &beside) : 0.0;
+  if (drop > 0.0) {
+    report->mirror_plane_drop_m = drop;
+    report->mirror_free_share = evidence::SeenFreeShare(record, m, T_in_V, &beside);
+    symmetry->symmetry_plane_z -= drop;
+    char text[96];
+    std::snprintf(text, sizeof(text), "; plane lowered %.2f mm: the mirror's top lay in seen-free space",
+                  1000.0 * drop);
+    symmetry->reason += text;
+  }
+  if (std::isnan(drop)) {
+    symmetry->symmetric = false;
+    symmetry->reason = "the mirror image contradicts what the camera saw: " +
+                       std::to_string(static_cast<int>(100.0 * report->mirror_free_share + 0.5)) +
+                       "% of its points lie in seen-free space (not symmetric: a handle, a spout?)";
+    symmetry->added_V.clear();
+  } else {
+    report->rejected_free += evidence::DropSeenFree(record, T_in_V, &symmetry->added_V);
+    report->rejected_in_claw += evidence::DropInsideClaw(record, T_in_V, &symmetry->added_V);
+  }
+}
+
+// The height the rays carve the image's cap at: its cap raised until they
+// do; NaN when the carve cannot tell. A plain float: GCC's
+// -Wmaybe-uninitialized took an optional<float> for unset.
+float CarvedImageTop(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
+                     const Eigen::Isometry3f& T_in_V, const ImageTop& image_top, const PointList& image_V) {
+  float carved_top = std::numeric_limits<float>::quiet_NaN();
+  const double lift = MirrorLiftFromCarving(record, config, T_in_V, image_top, image_V);
+  if (!std::isnan(lift)) carved_top = image_top.cap_z_V + static_cast<float>(lift);
+  return carved_top;
+}
+
+// The outcome, and a flat top's whole lid for the search's extrusion.
+EvidenceTopPoints OutcomeAndExtrusion(const EvidenceTop& top) {
+  EvidenceTopPoints result;
+  result.outcome = top.outcome;
+  if (top.outcome == TopEvidence::kHeightFound || top.outcome == TopEvidence::kNotObservable) {
+    result.extrusion_V = top.added_V;  // the claw's test is the search's, where the walls pass
+    result.extrusion_rejected = top.rejected_free;
+    result.extrusion_rms_m = top.extrusion_rms_m;
+    result.outline_vertices = top.outline_vertices;
+  }
+  return result;
+}
+
+// Under a mirror the dome is fitted to the seen band and the image
+// together: over the seen band alone, to one side of the top, it sags
+// a mm or two under a round top.
+void RefitDomeWithImage(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
+                        const Eigen::Isometry3f& T_in_V, const NeighborIndex& index_V, double spacing_m,
+                        const PointList& surface_V, const PointList& image_V, EvidenceTop* top) {
+  PointList with_image = index_V.points();
+  with_image.insert(with_image.end(), image_V.begin(), image_V.end());
+  EvidenceTop over_both =
+      CloseTopFromEvidence(NeighborIndex(with_image), surface_V, record, T_in_V, spacing_m, config);
+  const bool dome = over_both.outcome == TopEvidence::kDome;
+  top->added_V = dome ? std::move(over_both.added_V) : PointList{};
+  top->rejected_free = dome ? over_both.rejected_free : 0;
+}
+
+// The rings' top stands when it is just under the carve (the hull is the
+// top's outline); far under it, the hull is wider than the top, and over
+// it the image would be carved.
+bool RingsConfirmTheCarve(const EvidenceTop& top, float carved_top, const EvidenceConfig& config) {
+  const float carve_starts = carved_top + static_cast<float>(config.carve_onset_m);
+  return top.outcome == TopEvidence::kHeightFound && top.top_z_V <= carve_starts &&
+         top.top_z_V >= carve_starts - static_cast<float>(config.ring_trust_m);
+}
+
+// Where the image's cap goes.
+struct ImageCap {
+  float z_V{0.0f};
+  bool keep_evidence_top{false};  ///< the evidence's top is kept beside the image
+};
+
+ImageCap ChooseImageCap(const ImageTop& image_top, float carved_top, bool carved, bool rings_agree,
+                        const EvidenceTop& top, const EvidenceConfig& config) {
+  ImageCap cap{image_top.cap_z_V, false};
+  if (carved) {
+    // The image alone: the rings' points, at another outline, left a
+    // sparse second sheet (the e2e prism's mesh 1.45 mm from its cloud).
+    cap.z_V = carved_top;
+  } else if (top.outcome == TopEvidence::kHeightFound &&
+             image_top.cap_z_V < top.top_z_V - static_cast<float>(config.mirror_low_m)) {
+    // Else the rings' top, when the image closes under it.
+    cap.z_V = top.top_z_V;
+    cap.keep_evidence_top = true;
+  } else if (rings_agree && image_top.cap_z_V < top.top_z_V) {
+    // The rays confirm the rings' top: the image rises to it, however
+    // little (the true top lies over both).
+    cap.z_V = top.top_z_V;
+  }
+  return cap;
+}
+
+// Stretches the image's top up to `cap_z_V` and tests what moved.
+void RaiseImageCap(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
+                   const Eigen::Isometry3f& T_in_V, const ImageTop& image_top, float cap_z_V, bool carved,
+                   SymmetryResult* symmetry, EvidenceReport* report) {
+  PointList& m = symmetry->added_V;
+  // Only the stretched points moved; the rest passed both tests above.
+  const float moved_above = StretchImageTop(image_top, cap_z_V, config, &m);
+  report->rejected_free += evidence::DropSeenFree(record, T_in_V, &m, moved_above);
+  report->rejected_in_claw += evidence::DropInsideClaw(record, T_in_V, &m, moved_above);
+  report->mirror_lift_m = cap_z_V - image_top.cap_z_V;
+  char text[112];
+  std::snprintf(text, sizeof(text), "; its top raised %.1f mm to where the rays %s",
+                1000.0 * report->mirror_lift_m, carved ? "carve it" : "carve the top's outline");
+  symmetry->reason += text;
+}
+
+// The evidence's top keeps its points only where the image has none
+// within `layer`, 2 spacings (under the claw, past the image's outline).
+// Cutting the image at the top band and adding the evidence's top
+// instead left the image's cap 1-2 mm under the evidence's as a second
+// layer wherever the phantom layer over the top edge raised the band
+// (a cuboid: 7% of its cloud over 1.2 mm from its collision mesh).
+// A dome keeps its points only in the columns the image leaves open
+// (the image's top is the sharper surface where it has one).
+void DropTopPointsUnderImage(const PointList& image_V, double layer, bool dome, PointList* top_V) {
+  PointList flat;
+  if (dome) {
+    for (const Eigen::Vector3f& p : image_V) flat.emplace_back(p.x(), p.y(), 0.0f);
+  }
+  const NeighborIndex image(dome ? flat : image_V);
+  PointList& t = *top_V;
+  t.erase(std::remove_if(t.begin(), t.end(),
+                         [&](const Eigen::Vector3f& p) {
+                           return image.AnyWithin(dome ? Eigen::Vector3f(p.x(), p.y(), 0.0f) : p, layer);
+                         }),
+          t.end());
+}
+
 }  // namespace
 
 const evidence::VisibilityRecord* UsableRecord(const ObjectCloud& input,
@@ -50,15 +206,7 @@ const evidence::VisibilityRecord* UsableRecord(const ObjectCloud& input,
     report->ignored_reason = "the record holds no key frame";
     return nullptr;
   }
-  const size_t n = input.points_G.size();
-  const size_t stride = std::max<size_t>(1, n / kRecordCheckPoints);
-  size_t tested = 0, free = 0;
-  for (size_t i = 0; i < n; i += stride) {
-    if (!input.provenance.empty() && input.provenance[i] != Provenance::kObserved) continue;
-    ++tested;
-    free += record->SeenFree(input.points_G[i]);
-  }
-  report->observed_free_share = tested ? static_cast<double>(free) / tested : 0.0;
+  report->observed_free_share = evidence::ObservedSeenFreeShare(*record, input, kRecordCheckPoints);
   if (report->observed_free_share > config.evidence.max_observed_free_share) {
     report->ignored_reason = "the record does not match the cloud: " +
                              std::to_string(static_cast<int>(100.0 * report->observed_free_share + 0.5)) +
@@ -73,39 +221,9 @@ EvidenceTopPoints ApplyEvidence(const evidence::VisibilityRecord& record, const 
                                 const Eigen::Isometry3f& T_in_V, const NeighborIndex& index_V,
                                 double spacing_m, PointList* surface_V, SymmetryResult* symmetry,
                                 EvidenceReport* report) {
-  report->rejected_free += DropSeenFree(record, T_in_V, surface_V);
-  report->moved_out_of_claw += PushOutOfClaw(record, T_in_V, surface_V);
+  CheckClawFills(record, T_in_V, surface_V, report);
   report->mirror_free_share = std::numeric_limits<double>::quiet_NaN();
-  if (symmetry->symmetric) {
-    // The image apart from its points beside the observed surface
-    // (EvidenceConfig::near_observed_m) answers for it.
-    PointList& m = symmetry->added_V;
-    std::vector<char> beside = BesideObserved(index_V, config.near_observed_m, m);
-    report->mirror_free_share = SeenFreeShare(record, m, T_in_V, &beside);
-    const bool any_counted = std::find(beside.begin(), beside.end(), 0) != beside.end();
-    const double drop =
-        any_counted ? LowerMirrorOutOfFree(record, config, T_in_V, symmetry->box_min_V.z(), &m, &beside)
-                    : 0.0;
-    if (drop > 0.0) {
-      report->mirror_plane_drop_m = drop;
-      report->mirror_free_share = SeenFreeShare(record, m, T_in_V, &beside);
-      symmetry->symmetry_plane_z -= drop;
-      char text[96];
-      std::snprintf(text, sizeof(text), "; plane lowered %.2f mm: the mirror's top lay in seen-free space",
-                    1000.0 * drop);
-      symmetry->reason += text;
-    }
-    if (std::isnan(drop)) {
-      symmetry->symmetric = false;
-      symmetry->reason = "the mirror image contradicts what the camera saw: " +
-                         std::to_string(static_cast<int>(100.0 * report->mirror_free_share + 0.5)) +
-                         "% of its points lie in seen-free space (not symmetric: a handle, a spout?)";
-      symmetry->added_V.clear();
-    } else {
-      report->rejected_free += DropSeenFree(record, T_in_V, &symmetry->added_V);
-      report->rejected_in_claw += DropInsideClaw(record, T_in_V, &symmetry->added_V);
-    }
-  }
+  if (symmetry->symmetric) TestMirrorAgainstRecord(record, config, T_in_V, index_V, symmetry, report);
   // The mirror closes low: the walls are seen only up to a few mm below
   // the top, and the plane is the middle of what was seen. Its top 2 x
   // top_band_m are stretched so that its cap (the median height of its top
@@ -115,101 +233,30 @@ EvidenceTopPoints ApplyEvidence(const evidence::VisibilityRecord& record, const 
   const bool mirrored = symmetry->symmetric && !m.empty();
   const double layer = 2.0 * spacing_m;
   const ImageTop image_top = mirrored ? TopOfImage(m, layer) : ImageTop{};
-  // The height the rays carve the image's cap at, when `carved`. A plain
-  // float: GCC's -Wmaybe-uninitialized took an optional<float> for unset.
-  float carved_top = std::numeric_limits<float>::quiet_NaN();
-  if (mirrored) {
-    const double lift = MirrorLiftFromCarving(record, config, T_in_V, image_top, m);
-    if (!std::isnan(lift)) carved_top = image_top.cap_z_V + static_cast<float>(lift);
-  }
+  const float carved_top = mirrored ? CarvedImageTop(record, config, T_in_V, image_top, m)
+                                    : std::numeric_limits<float>::quiet_NaN();
   bool carved = !std::isnan(carved_top);
   EvidenceTop top = CloseTopFromEvidence(index_V, *surface_V, record, T_in_V, spacing_m, config);
-  EvidenceTopPoints result;
-  result.outcome = top.outcome;
-  if (top.outcome == TopEvidence::kHeightFound || top.outcome == TopEvidence::kNotObservable) {
-    result.extrusion_V = top.added_V;  // the claw's test is the search's, where the walls pass
-    result.extrusion_rejected = top.rejected_free;
-    result.extrusion_rms_m = top.extrusion_rms_m;
-    result.outline_vertices = top.outline_vertices;
-  }
+  EvidenceTopPoints result = OutcomeAndExtrusion(top);
   if (mirrored && top.outcome == TopEvidence::kDome) {
-    // Under a mirror the dome is fitted to the seen band and the image
-    // together: over the seen band alone, to one side of the top, it sags
-    // a mm or two under a round top.
-    PointList with_image = index_V.points();
-    with_image.insert(with_image.end(), m.begin(), m.end());
-    EvidenceTop over_both =
-        CloseTopFromEvidence(NeighborIndex(with_image), *surface_V, record, T_in_V, spacing_m, config);
-    const bool dome = over_both.outcome == TopEvidence::kDome;
-    top.added_V = dome ? std::move(over_both.added_V) : PointList{};
-    top.rejected_free = dome ? over_both.rejected_free : 0;
+    RefitDomeWithImage(record, config, T_in_V, index_V, spacing_m, *surface_V, m, &top);
   }
-  // The rings' top stands when it is just under the carve (the hull is the
-  // top's outline); far under it, the hull is wider than the top, and over
-  // it the image would be carved.
-  const float carve_starts = carved ? carved_top + static_cast<float>(config.carve_onset_m) : 0.0f;
-  bool rings_agree = false;
-  if (carved && top.outcome == TopEvidence::kHeightFound && top.top_z_V <= carve_starts &&
-      top.top_z_V >= carve_starts - static_cast<float>(config.ring_trust_m)) {
-    carved = false;
-    rings_agree = true;
-  }
+  const bool rings_agree = carved && RingsConfirmTheCarve(top, carved_top, config);
+  if (rings_agree) carved = false;
   report->top = TopEvidenceName(top.outcome);
   report->top_above_wall_m = top.top_z_V - top.wall_top_z_V;
   if (mirrored) {
-    float cap_z = image_top.cap_z_V;
-    bool keep_evidence_top = false;
-    if (carved) {
-      // The image alone: the rings' points, at another outline, left a
-      // sparse second sheet (the e2e prism's mesh 1.45 mm from its cloud).
-      cap_z = carved_top;
-    } else if (top.outcome == TopEvidence::kHeightFound &&
-               image_top.cap_z_V < top.top_z_V - static_cast<float>(config.mirror_low_m)) {
-      // Else the rings' top, when the image closes under it.
-      cap_z = top.top_z_V;
-      keep_evidence_top = true;
-    } else if (rings_agree && image_top.cap_z_V < top.top_z_V) {
-      // The rays confirm the rings' top: the image rises to it, however
-      // little (the true top lies over both).
-      cap_z = top.top_z_V;
-    }
-    if (cap_z > image_top.cap_z_V) {
-      // Only the stretched points moved; the rest passed both tests above.
-      const float moved_above = StretchImageTop(image_top, cap_z, config, &m);
-      report->rejected_free += DropSeenFree(record, T_in_V, &m, moved_above);
-      report->rejected_in_claw += DropInsideClaw(record, T_in_V, &m, moved_above);
-      report->mirror_lift_m = cap_z - image_top.cap_z_V;
-      char text[112];
-      std::snprintf(text, sizeof(text), "; its top raised %.1f mm to where the rays %s",
-                    1000.0 * report->mirror_lift_m, carved ? "carve it" : "carve the top's outline");
-      symmetry->reason += text;
+    const ImageCap cap = ChooseImageCap(image_top, carved_top, carved, rings_agree, top, config);
+    if (cap.z_V > image_top.cap_z_V) {
+      RaiseImageCap(record, config, T_in_V, image_top, cap.z_V, carved, symmetry, report);
     }
     // The mirror's top holds, but for a dome: the image of a bottom the
     // camera never saw leaves a round top's middle open.
-    if (!keep_evidence_top && top.outcome != TopEvidence::kDome) return result;
-    // The evidence's top keeps its points only where the image has none
-    // within 2 spacings (under the claw, past the image's outline).
-    // Cutting the image at the top band and adding the evidence's top
-    // instead left the image's cap 1-2 mm under the evidence's as a second
-    // layer wherever the phantom layer over the top edge raised the band
-    // (a cuboid: 7% of its cloud over 1.2 mm from its collision mesh).
-    // A dome keeps its points only in the columns the image leaves open
-    // (the image's top is the sharper surface where it has one).
-    const bool dome = top.outcome == TopEvidence::kDome;
-    PointList flat;
-    if (dome) {
-      for (const Eigen::Vector3f& p : m) flat.emplace_back(p.x(), p.y(), 0.0f);
-    }
-    const NeighborIndex image(dome ? flat : m);
-    PointList& t = top.added_V;
-    t.erase(std::remove_if(t.begin(), t.end(),
-                           [&](const Eigen::Vector3f& p) {
-                             return image.AnyWithin(dome ? Eigen::Vector3f(p.x(), p.y(), 0.0f) : p, layer);
-                           }),
-            t.end());
+    if (!cap.keep_evidence_top && top.outcome != TopEvidence::kDome) return result;
+    DropTopPointsUnderImage(m, layer, top.outcome == TopEvidence::kDome, &top.added_V);
   }
   report->rejected_free += top.rejected_free;
-  const int in_claw = DropInsideClaw(record, T_in_V, &top.added_V);
+  const int in_claw = evidence::DropInsideClaw(record, T_in_V, &top.added_V);
   report->rejected_in_claw += in_claw;
   report->top_points_added = static_cast<int>(top.added_V.size());
   result.points_V = std::move(top.added_V);

@@ -1,15 +1,17 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The repair's evidence stage (Repair, best mode, with a record): whether
 // the record given is one to use, and the evidence's part of steps 7-8.
-// The tests of single points and images are evidence_repair.hpp's; this
-// composes them with the claw fills and the mirror image. Internal to
-// graspfill_repair.
+// It composes the record's point-list queries (evidence/
+// point_list_queries.hpp), the mirror's lowering and lift
+// (mirror_evidence.hpp) and the top from the evidence (evidence_top.hpp)
+// with the claw fills and the mirror image. Internal to graspfill_repair.
 #pragma once
 
 #include <Eigen/Geometry>
 #include <limits>
 
-#include "evidence_repair.hpp"
+#include "evidence_config.hpp"
+#include "evidence_top.hpp"
 #include "graspfill/evidence/visibility_record.hpp"
 #include "neighbor_index.hpp"
 #include "repair_steps.hpp"

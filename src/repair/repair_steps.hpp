@@ -13,7 +13,7 @@
 #include "boundary_detection.hpp"
 #include "boundary_linking.hpp"
 #include "claw_hole_repair.hpp"
-#include "evidence_repair.hpp"
+#include "evidence_config.hpp"
 #include "graspfill/repair/repairer.hpp"
 #include "outlier_removal.hpp"
 #include "symmetry_repair.hpp"

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "evidence/point_list_queries.hpp"
 #include "evidence_stage.hpp"
 #include "graspfill/core/openmp_threads.hpp"
 #include "graspfill/core/stage_timer.hpp"
@@ -479,9 +480,9 @@ TopCandidate RevolutionCandidate(const PointList& points_V, const PointList& rim
   if (record && proposed > 0) {
     // Where it runs into a finger, the object touches the finger: onto its
     // face, as the claw fills are.
-    const int dropped = DropSeenFree(*record, T_in_V, &c.points_V);
+    const int dropped = evidence::DropSeenFree(*record, T_in_V, &c.points_V);
     c.free_share = static_cast<double>(dropped) / static_cast<double>(proposed);
-    PushOutOfClaw(*record, T_in_V, &c.points_V);
+    evidence::PushOutOfClaw(*record, T_in_V, &c.points_V);
   }
   return c;
 }
@@ -538,7 +539,7 @@ TopCap SearchTop(const PointList& points_V, const ClawFills& fills, SymmetryResu
     extrusion.parameters = 1 + 2 * evidence_top.outline_vertices;
     extrusion.points_V = std::move(evidence_top.extrusion_V);
     const int rejected =
-        evidence_top.extrusion_rejected + DropInsideClaw(*record, T_in_V, &extrusion.points_V);
+        evidence_top.extrusion_rejected + evidence::DropInsideClaw(*record, T_in_V, &extrusion.points_V);
     extrusion.free_share =
         static_cast<double>(rejected) / static_cast<double>(rejected + extrusion.points_V.size());
     candidates.push_back(std::move(extrusion));

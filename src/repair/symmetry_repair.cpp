@@ -9,8 +9,10 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "clamped_int.hpp"
@@ -314,6 +316,334 @@ SymmetryResult NotSymmetric(std::string reason, double plane_z) {
   return r;
 }
 
+void CheckSymmetryInputs(const PointList& points_V, const HoleBoundary& missing_surface,
+                         const SymmetryConfig& config, const NeighborIndex* index_V,
+                         const PointList* added_before_V) {
+  config.Validate();
+  CheckFinite(points_V, "the cloud");
+  CheckFinite(missing_surface.points_V, "the missing-surface boundary");
+  if (added_before_V != nullptr) CheckFinite(*added_before_V, "the points added before");
+  if (index_V != nullptr) {
+    Require(&index_V->points() == &points_V,
+            "RepairMissingSurface: the neighbour index must be built over the same cloud");
+  }
+}
+
+// The cloud and the earlier fills together; empty when there are none
+// (the cloud is used alone).
+PointList WithEarlierFills(const PointList& points_V, const PointList* added_before_V) {
+  PointList merged;
+  if (added_before_V != nullptr && !added_before_V->empty()) {
+    merged.reserve(points_V.size() + added_before_V->size());
+    merged = points_V;
+    merged.insert(merged.end(), added_before_V->begin(), added_before_V->end());
+  }
+  return merged;
+}
+
+// The heights the profile spans: the boundary's, the lowest point's and
+// the median, and the boundary's box.
+struct Heights {
+  double z_b{0.0};
+  double z_min{0.0};
+  double z_median{0.0};
+  Eigen::AlignedBox3f boundary_box{};
+};
+
+Heights HeightsOf(const HoleBoundary& missing_surface, const PointList& all) {
+  Heights heights;
+  // The boundary's height: a high quantile of its points' z (the rim is
+  // the top of the observed surface; a boundary band's median would sit
+  // half its width lower), robust to a stray point of the completion.
+  std::vector<double> boundary_z;
+  heights.boundary_box.setEmpty();
+  for (const Eigen::Vector3f& p : missing_surface.points_V) {
+    boundary_z.push_back(p.z());
+    heights.boundary_box.extend(p);
+  }
+  const size_t q90 = (boundary_z.size() - 1) * 9 / 10;
+  std::nth_element(boundary_z.begin(), boundary_z.begin() + static_cast<long>(q90), boundary_z.end());
+  heights.z_b = boundary_z[q90];
+  double z_min = std::numeric_limits<double>::infinity();
+  std::vector<double> zs(all.size());
+  for (size_t i = 0; i < all.size(); ++i) {
+    zs[i] = all[i].z();
+    z_min = std::min(z_min, zs[i]);
+  }
+  heights.z_min = z_min;
+  std::nth_element(zs.begin(), zs.begin() + static_cast<long>(zs.size() / 2), zs.end());
+  heights.z_median = zs[zs.size() / 2];
+  return heights;
+}
+
+// The cross-section profile between the bottom and the boundary: slabs of
+// h, the median height's slab, every slab's size relative to it.
+struct Sections {
+  double z_min{0.0}, z_b{0.0}, h{0.0};
+  int slabs{0};
+  int median_slab{0};
+  std::vector<double> size{};
+  int first_valid{-1}, last_valid{-1};
+};
+
+// The symmetry plane and how it was found.
+struct Plane {
+  double z_s{0.0};
+  std::string how{};
+  bool constant_section{false};
+};
+
+// Prism-like (cuboid, prisms, cylinders): nearly every slab has the
+// median slab's size. The largest section can then be anywhere (a fused
+// cloud's claw fills bulge the top slabs by 15%), and the middle of the
+// observed height is the plane: the mirror closes the object at the rim.
+// Asked of the observed points alone: a fill ~1 mm proud of a box's
+// narrow face moves the outline's corners, so every direction (a box's
+// sections by the claw 3-9% larger with the fills: a plane tens of mm
+// too high), while a claw hole's dent is only in the directions it
+// faces, which the median over them ignores.
+std::optional<Plane> PrismPlane(const PointList& points_V, bool with_fills, const Sections& sec,
+                                const SymmetryConfig& config) {
+  int near_median = 0, valid = 0;
+  if (!with_fills) {
+    CountNearMedian(sec.size, config.plateau_tolerance, &near_median, &valid);
+  } else {
+    std::vector<double> observed;
+    if (SectionSizes(SlabProfile(points_V, sec.z_min, sec.h, sec.slabs), sec.median_slab,
+                     config.min_slab_points, &observed)) {
+      CountNearMedian(observed, config.plateau_tolerance, &near_median, &valid);
+    }
+  }
+  const bool prism_like = config.plateau_search && valid > 0 && near_median >= config.prism_fraction * valid;
+  if (!prism_like) return std::nullopt;
+  return Plane{0.5 * (sec.z_min + sec.z_b),
+               "constant cross-section (" + std::to_string(near_median) + " of " + std::to_string(valid) +
+                   " slabs within " +
+                   std::to_string(static_cast<int>(std::lround(100 * config.plateau_tolerance))) +
+                   "% of the median): plane at mid-height",
+               true};
+}
+
+// The plane in the run of near-largest slabs nearest the median slab.
+Plane PlateauPlane(const Sections& sec, const SymmetryConfig& config) {
+  const std::vector<double>& size = sec.size;
+  const int slabs = sec.slabs, median_slab = sec.median_slab;
+  const double z_min = sec.z_min, h = sec.h;
+  const double s_max = *std::max_element(size.begin(), size.end());
+  const double s_min = (1.0 - config.plateau_tolerance) * s_max;
+  // Runs of near-largest slabs; the one nearest the median slab wins.
+  int best_first = -1, best_last = -1, best_dist = std::numeric_limits<int>::max();
+  for (int k = 0; k < slabs;) {
+    if (size[k] < s_min) {
+      ++k;
+      continue;
+    }
+    int e = k;
+    while (e + 1 < slabs && size[e + 1] >= s_min) ++e;
+    const int dist = median_slab < k ? k - median_slab : (median_slab > e ? median_slab - e : 0);
+    if (dist < best_dist) best_first = k, best_last = e, best_dist = dist;
+    k = e + 1;
+  }
+  // The end slabs straddle the bottom edge and the rim, whose outlines
+  // are the least certain (the protocol's 7 cm cuboid: 0.935 at the
+  // bottom against 1.000 +- 0.005 above): the run may miss them.
+  const int slack = config.end_slack_slabs;
+  if (best_first <= sec.first_valid + slack && best_last >= sec.last_valid - slack) {
+    // Constant section over the whole observed height (prism-like): the
+    // middle of the observed height, i.e. the mirror closes the object at
+    // the boundary.
+    return Plane{0.5 * (z_min + sec.z_b),
+                 "constant cross-section from bottom to boundary: plane at mid-height", true};
+  }
+  // The run's middle, refined to the plane about which the size profile
+  // is most symmetric: the run's ends are where the profile is flat, so
+  // a 1% dent moves them by ~1 mm on an ellipsoid, while the steep
+  // flanks of the profile pin the plane down.
+  Plane plane;
+  plane.z_s = RefinePlane(size, z_min, h, z_min + 0.5 * (best_first + best_last + 1) * h,
+                          0.5 * (best_last - best_first + 1) * h);
+  plane.how = "largest cross-section from " + Mm(z_min + best_first * h) + " to " +
+              Mm(z_min + (best_last + 1) * h) + ", profile symmetric about " + Mm(plane.z_s);
+  return plane;
+}
+
+// The paper: from the median slab to the nearest local maximum.
+Plane UphillPlane(const SlabProfile& profile, const Sections& sec) {
+  const std::vector<double>& size = sec.size;
+  int k = sec.median_slab;
+  for (;;) {
+    const double left = k > 0 ? size[k - 1] : -1.0;
+    const double right = k + 1 < sec.slabs ? size[k + 1] : -1.0;
+    if (std::max(left, right) <= size[k]) break;
+    k = right >= left ? k + 1 : k - 1;
+  }
+  return Plane{profile.Centre(k), "largest cross-section uphill from the median", false};
+}
+
+Plane FindPlane(const PointList& points_V, bool with_fills, const SlabProfile& profile, const Sections& sec,
+                const SymmetryConfig& config) {
+  if (std::optional<Plane> prism = PrismPlane(points_V, with_fills, sec, config)) return *prism;
+  if (config.plateau_search) return PlateauPlane(sec, config);
+  return UphillPlane(profile, sec);
+}
+
+// The plane refused when the mirror could not match the object: too far
+// above the bottom for the boundary's distance, or adding too much.
+std::optional<SymmetryResult> RefuseByRange(const Sections& sec, double z_s, const SymmetryConfig& config) {
+  const double z_b = sec.z_b, z_min = sec.z_min;
+  const double above = z_b - z_s, below = z_s - z_min;
+  if (above > below + config.range_tolerance_slabs * sec.h) {
+    return NotSymmetric("the largest cross-section (z = " + Mm(z_s) + ") lies " + Mm(above) +
+                            " below the missing surface but only " + Mm(below) +
+                            " above the bottom: the mirrored top would not match the object "
+                            "(no horizontal symmetry plane)",
+                        z_s);
+  }
+  const double added_height = (2.0 * z_s - z_min) - z_b;
+  if (added_height > config.max_added_height_fraction * (z_b - z_min)) {
+    return NotSymmetric(
+        "a symmetry plane at z = " + Mm(z_s) + " would add " + Mm(added_height) +
+            " above the boundary, more than " +
+            std::to_string(static_cast<int>(std::lround(100.0 * config.max_added_height_fraction))) +
+            "% of the observed height " + Mm(z_b - z_min),
+        z_s);
+  }
+  return std::nullopt;
+}
+
+// Outlines above the plane against their mirror images below; the
+// mirror slab may shift by one slab (the plane is known to about that).
+// (mismatch, z) of every check; the verdict goes by the
+// (outlier_checks + 1)-th worst, so that a fused cloud's rounded bottom
+// edge or a ragged slab by the claw holes does not sink a symmetric
+// object, while a real asymmetry (it spans many slabs) still does.
+// Returns (mismatch, z): (0, z_s) when nothing was compared.
+std::pair<double, double> WorstOutlineMismatch(const SlabProfile& profile, const Sections& sec, double z_s,
+                                               const SymmetryConfig& config) {
+  const double h = sec.h;
+  std::vector<std::pair<double, double>> mismatches;
+  const double top = sec.z_b - 0.5 * h;  // the highest full slab
+  for (int i = 0; i < config.outline_checks && top - z_s > h; ++i) {
+    const double z_up = z_s + h + (top - z_s - h) * (i + 0.5) / config.outline_checks;
+    const Polygon up = profile.HullAt(z_up, config.min_slab_points);
+    if (up.empty()) continue;
+    double best = std::numeric_limits<double>::infinity();
+    for (int shift = -1; shift <= 1; ++shift) {
+      const double z_dn = 2.0 * z_s - z_up + shift * h;
+      if (z_dn - 0.5 * h < sec.z_min) continue;
+      const Polygon dn = profile.HullAt(z_dn, config.min_slab_points);
+      if (!dn.empty()) best = std::min(best, OutlineMismatch(up, dn));
+    }
+    if (std::isfinite(best)) mismatches.emplace_back(best, z_up);
+  }
+  std::sort(mismatches.begin(), mismatches.end(), std::greater<>());
+  double worst = 0.0, worst_z = z_s;
+  if (!mismatches.empty()) {
+    const size_t pick = std::min(mismatches.size() - 1, static_cast<size_t>(config.outlier_checks));
+    worst = mismatches[pick].first;
+    worst_z = mismatches[pick].second;
+  }
+  return {worst, worst_z};
+}
+
+// The plane's checks (config.check_symmetry): a refusal, or nothing with
+// `*outline_mismatch` set.
+std::optional<SymmetryResult> CheckPlane(const SlabProfile& profile, const Sections& sec, double z_s,
+                                         const SymmetryConfig& config, double* outline_mismatch) {
+  if (std::optional<SymmetryResult> refused = RefuseByRange(sec, z_s, config)) return refused;
+  const auto [worst, worst_z] = WorstOutlineMismatch(profile, sec, z_s, config);
+  *outline_mismatch = worst;
+  if (worst > config.max_outline_mismatch) {
+    char buf[32];
+    std::snprintf(buf, sizeof(buf), "%.0f%%", 100.0 * worst);
+    SymmetryResult r = NotSymmetric("the outline at z = " + Mm(worst_z) +
+                                        " differs from its mirror image at z = " + Mm(2.0 * z_s - worst_z) +
+                                        " by " + buf + " (plane at z = " + Mm(z_s) + ")",
+                                    z_s);
+    r.outline_mismatch = worst;
+    return r;
+  }
+  return std::nullopt;
+}
+
+// The missing surface's box (V), up to the mirror of the lowest point.
+// With a constant section the top is the rim's whole outline, even where
+// the boundary test found only part of the rim (a rounded box held
+// obliquely: 74 rim points, a third of its top mirrored); the mirror
+// still adds nothing beside an original point.
+Eigen::AlignedBox3f MirrorBox(const SlabProfile& profile, const Sections& sec,
+                              Eigen::AlignedBox3f boundary_box, const Plane& plane, float pad,
+                              const SymmetryConfig& config) {
+  if (plane.constant_section) {
+    for (const Point2& v : profile.HullAt(sec.z_b - 0.5 * sec.h, config.min_slab_points)) {
+      boundary_box.extend(
+          Eigen::Vector3f(static_cast<float>(v.x()), static_cast<float>(v.y()), boundary_box.min().z()));
+    }
+  }
+  const Eigen::Vector3f box_min(boundary_box.min().x() - pad, boundary_box.min().y() - pad,
+                                boundary_box.min().z() - pad);
+  const Eigen::Vector3f box_max(boundary_box.max().x() + pad, boundary_box.max().y() + pad,
+                                static_cast<float>(2.0 * plane.z_s - sec.z_min) + pad);
+  return Eigen::AlignedBox3f(box_min, box_max);
+}
+
+// Mirrors every point of `all` about z = z_s into `added_V` where it lands
+// in the top's box or in an open hole's (padded as the top's) and has no
+// original point within `gap`. Returns the points added to each open hole.
+std::vector<size_t> MirrorInto(const PointList& all, const Eigen::AlignedBox3f& box,
+                               const std::vector<Eigen::AlignedBox3f>* open_holes_V, float pad, double gap,
+                               double z_s, PointList* added_V) {
+  const Eigen::Vector3f box_min = box.min(), box_max = box.max();
+  const Eigen::Vector3f g = Eigen::Vector3f::Constant(static_cast<float>(gap));
+  // The original points a mirrored one could overlap, on an xy grid of
+  // cell `gap` over the box (a few cell lookups instead of a KD query).
+  const auto xy = [](const Eigen::Vector3f& p) { return Eigen::Vector2d(p.x(), p.y()); };
+  const auto points_in = [&](const Eigen::AlignedBox3f& b) {
+    geometry::GapGrid grid(xy(b.min()), xy(b.max()), gap);
+    for (const Eigen::Vector3f& p : all) {
+      if (b.contains(p)) grid.Add(xy(p), p);
+    }
+    grid.Build();
+    return grid;
+  };
+  const geometry::GapGrid near = points_in(Eigen::AlignedBox3f(box_min - g, box_max + g));
+  std::vector<Eigen::AlignedBox3f> open_boxes;  // padded as the top's box
+  std::vector<geometry::GapGrid> near_open;
+  if (open_holes_V != nullptr) {
+    for (const Eigen::AlignedBox3f& b : *open_holes_V) {
+      if (b.isEmpty()) continue;
+      const Eigen::Vector3f p3 = Eigen::Vector3f::Constant(pad);
+      open_boxes.emplace_back(b.min() - p3, b.max() + p3);
+      near_open.push_back(
+          points_in(Eigen::AlignedBox3f(open_boxes.back().min() - g, open_boxes.back().max() + g)));
+    }
+  }
+  std::vector<size_t> in_open(open_boxes.size(), 0);
+  for (const Eigen::Vector3f& p : all) {
+    const Eigen::Vector3f q(p.x(), p.y(), static_cast<float>(2.0 * z_s - p.z()));
+    if (box.contains(q)) {
+      if (!near.AnyWithin(xy(q), q)) added_V->push_back(q);
+      continue;
+    }
+    for (size_t k = 0; k < open_boxes.size(); ++k) {
+      if (open_boxes[k].contains(q)) {
+        if (!near_open[k].AnyWithin(xy(q), q)) added_V->push_back(q), ++in_open[k];
+        break;
+      }
+    }
+  }
+  return in_open;
+}
+
+// The note on the open holes the image filled ("" when none).
+std::string OpenHolesNote(const std::vector<size_t>& in_open) {
+  const auto filled = [](size_t n) { return n > 0; };
+  const size_t holes_filled = static_cast<size_t>(std::count_if(in_open.begin(), in_open.end(), filled));
+  if (holes_filled == 0) return "";
+  return "; the image also fills " + std::to_string(holes_filled) + " claw hole(s) no fit or line closed (" +
+         std::to_string(std::accumulate(in_open.begin(), in_open.end(), size_t{0})) + " points)";
+}
+
 }  // namespace
 
 SymmetryConfig SymmetryConfig::Paper() {
@@ -352,14 +682,7 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
                                     const SymmetryConfig& config, const NeighborIndex* index_V,
                                     const PointList* added_before_V,
                                     const std::vector<Eigen::AlignedBox3f>* open_holes_V) {
-  config.Validate();
-  CheckFinite(points_V, "the cloud");
-  CheckFinite(missing_surface.points_V, "the missing-surface boundary");
-  if (added_before_V != nullptr) CheckFinite(*added_before_V, "the points added before");
-  if (index_V != nullptr) {
-    Require(&index_V->points() == &points_V,
-            "RepairMissingSurface: the neighbour index must be built over the same cloud");
-  }
+  CheckSymmetryInputs(points_V, missing_surface, config, index_V, added_before_V);
   const double kNaN = std::numeric_limits<double>::quiet_NaN();
   if (points_V.size() < static_cast<size_t>(3 * config.min_slab_points)) {
     return NotSymmetric("too few points (" + std::to_string(points_V.size()) + ")", kNaN);
@@ -376,266 +699,58 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
   const double d = MeanNearestDistance(*index_V, config.spacing_samples);
   if (!(d > 0.0)) return NotSymmetric("the points coincide (no spacing)", kNaN);
   // The cloud and the earlier fills, used alike from here on.
-  PointList merged;
-  if (added_before_V != nullptr && !added_before_V->empty()) {
-    merged.reserve(points_V.size() + added_before_V->size());
-    merged = points_V;
-    merged.insert(merged.end(), added_before_V->begin(), added_before_V->end());
-  }
+  const PointList merged = WithEarlierFills(points_V, added_before_V);
   const PointList& all = merged.empty() ? points_V : merged;
-
-  // The boundary's height: a high quantile of its points' z (the rim is
-  // the top of the observed surface; a boundary band's median would sit
-  // half its width lower), robust to a stray point of the completion.
-  std::vector<double> boundary_z;
-  Eigen::AlignedBox3f boundary_box;
-  boundary_box.setEmpty();
-  for (const Eigen::Vector3f& p : missing_surface.points_V) {
-    boundary_z.push_back(p.z());
-    boundary_box.extend(p);
-  }
-  const size_t q90 = (boundary_z.size() - 1) * 9 / 10;
-  std::nth_element(boundary_z.begin(), boundary_z.begin() + static_cast<long>(q90), boundary_z.end());
-  const double z_b = boundary_z[q90];
-  double z_min = std::numeric_limits<double>::infinity();
-  std::vector<double> zs(all.size());
-  for (size_t i = 0; i < all.size(); ++i) {
-    zs[i] = all[i].z();
-    z_min = std::min(z_min, zs[i]);
-  }
-  std::nth_element(zs.begin(), zs.begin() + static_cast<long>(zs.size() / 2), zs.end());
-  const double z_median = zs[zs.size() / 2];
+  const Heights heights = HeightsOf(missing_surface, all);
 
   // Cross-section profile between the bottom and the boundary.
-  const double h = std::max(config.slab_thickness_d * d, config.min_slab_thickness_m);
-  const int slabs = FloorToInt((z_b - z_min) / h, 0, kMaxProfileSlabs + 1);
-  if (slabs > kMaxProfileSlabs) {
-    return NotSymmetric("the cloud reaches " + Mm(z_b - z_min) + " below the boundary: more than " +
+  Sections sec;
+  sec.z_min = heights.z_min;
+  sec.z_b = heights.z_b;
+  sec.h = std::max(config.slab_thickness_d * d, config.min_slab_thickness_m);
+  sec.slabs = FloorToInt((sec.z_b - sec.z_min) / sec.h, 0, kMaxProfileSlabs + 1);
+  if (sec.slabs > kMaxProfileSlabs) {
+    return NotSymmetric("the cloud reaches " + Mm(sec.z_b - sec.z_min) + " below the boundary: more than " +
                             std::to_string(kMaxProfileSlabs) + " cross-sections to compare",
                         kNaN);
   }
-  if (slabs < 3) {
-    return NotSymmetric(
-        "the boundary is only " + Mm(z_b - z_min) + " above the lowest point: no cross-sections to compare",
-        kNaN);
+  if (sec.slabs < 3) {
+    return NotSymmetric("the boundary is only " + Mm(sec.z_b - sec.z_min) +
+                            " above the lowest point: no cross-sections to compare",
+                        kNaN);
   }
-  const SlabProfile profile(all, z_min, h, slabs);
-  const int median_slab = FloorToInt((z_median - z_min) / h, 0, slabs - 1);
-  std::vector<double> size;
-  int first_valid = -1, last_valid = -1;
-  if (!SectionSizes(profile, median_slab, config.min_slab_points, &size, &first_valid, &last_valid)) {
+  const SlabProfile profile(all, sec.z_min, sec.h, sec.slabs);
+  sec.median_slab = FloorToInt((heights.z_median - sec.z_min) / sec.h, 0, sec.slabs - 1);
+  if (!SectionSizes(profile, sec.median_slab, config.min_slab_points, &sec.size, &sec.first_valid,
+                    &sec.last_valid)) {
     return NotSymmetric("no cross-section has enough points", kNaN);
   }
 
-  double z_s = 0.0;
-  std::string how;
-  // Prism-like (cuboid, prisms, cylinders): nearly every slab has the
-  // median slab's size. The largest section can then be anywhere (a fused
-  // cloud's claw fills bulge the top slabs by 15%), and the middle of the
-  // observed height is the plane: the mirror closes the object at the rim.
-  // Asked of the observed points alone: a fill ~1 mm proud of a box's
-  // narrow face moves the outline's corners, so every direction (a box's
-  // sections by the claw 3-9% larger with the fills: a plane tens of mm
-  // too high), while a claw hole's dent is only in the directions it
-  // faces, which the median over them ignores.
-  int near_median = 0, valid = 0;
-  if (merged.empty()) {
-    CountNearMedian(size, config.plateau_tolerance, &near_median, &valid);
-  } else {
-    std::vector<double> observed;
-    if (SectionSizes(SlabProfile(points_V, z_min, h, slabs), median_slab, config.min_slab_points,
-                     &observed)) {
-      CountNearMedian(observed, config.plateau_tolerance, &near_median, &valid);
-    }
-  }
-  const bool prism_like = config.plateau_search && valid > 0 && near_median >= config.prism_fraction * valid;
-  bool constant_section = prism_like;
-  if (prism_like) {
-    z_s = 0.5 * (z_min + z_b);
-    how = "constant cross-section (" + std::to_string(near_median) + " of " + std::to_string(valid) +
-          " slabs within " + std::to_string(static_cast<int>(std::lround(100 * config.plateau_tolerance))) +
-          "% of the median): plane at mid-height";
-  } else if (config.plateau_search) {
-    const double s_max = *std::max_element(size.begin(), size.end());
-    const double s_min = (1.0 - config.plateau_tolerance) * s_max;
-    // Runs of near-largest slabs; the one nearest the median slab wins.
-    int best_first = -1, best_last = -1, best_dist = std::numeric_limits<int>::max();
-    for (int k = 0; k < slabs;) {
-      if (size[k] < s_min) {
-        ++k;
-        continue;
-      }
-      int e = k;
-      while (e + 1 < slabs && size[e + 1] >= s_min) ++e;
-      const int dist = median_slab < k ? k - median_slab : (median_slab > e ? median_slab - e : 0);
-      if (dist < best_dist) best_first = k, best_last = e, best_dist = dist;
-      k = e + 1;
-    }
-    // The end slabs straddle the bottom edge and the rim, whose outlines
-    // are the least certain (the protocol's 7 cm cuboid: 0.935 at the
-    // bottom against 1.000 +- 0.005 above): the run may miss them.
-    const int slack = config.end_slack_slabs;
-    if (best_first <= first_valid + slack && best_last >= last_valid - slack) {
-      // Constant section over the whole observed height (prism-like): the
-      // middle of the observed height, i.e. the mirror closes the object at
-      // the boundary.
-      z_s = 0.5 * (z_min + z_b);
-      constant_section = true;
-      how = "constant cross-section from bottom to boundary: plane at mid-height";
-    } else {
-      // The run's middle, refined to the plane about which the size profile
-      // is most symmetric: the run's ends are where the profile is flat, so
-      // a 1% dent moves them by ~1 mm on an ellipsoid, while the steep
-      // flanks of the profile pin the plane down.
-      z_s = RefinePlane(size, z_min, h, z_min + 0.5 * (best_first + best_last + 1) * h,
-                        0.5 * (best_last - best_first + 1) * h);
-      how = "largest cross-section from " + Mm(z_min + best_first * h) + " to " +
-            Mm(z_min + (best_last + 1) * h) + ", profile symmetric about " + Mm(z_s);
-    }
-  } else {
-    // The paper: from the median slab to the nearest local maximum.
-    int k = median_slab;
-    for (;;) {
-      const double left = k > 0 ? size[k - 1] : -1.0;
-      const double right = k + 1 < slabs ? size[k + 1] : -1.0;
-      if (std::max(left, right) <= size[k]) break;
-      k = right >= left ? k + 1 : k - 1;
-    }
-    z_s = profile.Centre(k);
-    how = "largest cross-section uphill from the median";
-  }
-
+  Plane plane = FindPlane(points_V, !merged.empty(), profile, sec, config);
   SymmetryResult result;
-  result.symmetry_plane_z = z_s;
+  result.symmetry_plane_z = plane.z_s;
   if (config.check_symmetry) {
-    const double above = z_b - z_s, below = z_s - z_min;
-    if (above > below + config.range_tolerance_slabs * h) {
-      return NotSymmetric("the largest cross-section (z = " + Mm(z_s) + ") lies " + Mm(above) +
-                              " below the missing surface but only " + Mm(below) +
-                              " above the bottom: the mirrored top would not match the object "
-                              "(no horizontal symmetry plane)",
-                          z_s);
-    }
-    const double added_height = (2.0 * z_s - z_min) - z_b;
-    if (added_height > config.max_added_height_fraction * (z_b - z_min)) {
-      return NotSymmetric(
-          "a symmetry plane at z = " + Mm(z_s) + " would add " + Mm(added_height) +
-              " above the boundary, more than " +
-              std::to_string(static_cast<int>(std::lround(100.0 * config.max_added_height_fraction))) +
-              "% of the observed height " + Mm(z_b - z_min),
-          z_s);
-    }
-    // Outlines above the plane against their mirror images below; the
-    // mirror slab may shift by one slab (the plane is known to about that).
-    // (mismatch, z) of every check; the verdict goes by the
-    // (outlier_checks + 1)-th worst, so that a fused cloud's rounded bottom
-    // edge or a ragged slab by the claw holes does not sink a symmetric
-    // object, while a real asymmetry (it spans many slabs) still does.
-    std::vector<std::pair<double, double>> mismatches;
-    const double top = z_b - 0.5 * h;  // the highest full slab
-    for (int i = 0; i < config.outline_checks && top - z_s > h; ++i) {
-      const double z_up = z_s + h + (top - z_s - h) * (i + 0.5) / config.outline_checks;
-      const Polygon up = profile.HullAt(z_up, config.min_slab_points);
-      if (up.empty()) continue;
-      double best = std::numeric_limits<double>::infinity();
-      for (int shift = -1; shift <= 1; ++shift) {
-        const double z_dn = 2.0 * z_s - z_up + shift * h;
-        if (z_dn - 0.5 * h < z_min) continue;
-        const Polygon dn = profile.HullAt(z_dn, config.min_slab_points);
-        if (!dn.empty()) best = std::min(best, OutlineMismatch(up, dn));
-      }
-      if (std::isfinite(best)) mismatches.emplace_back(best, z_up);
-    }
-    std::sort(mismatches.begin(), mismatches.end(), std::greater<>());
-    double worst = 0.0, worst_z = z_s;
-    if (!mismatches.empty()) {
-      const size_t pick = std::min(mismatches.size() - 1, static_cast<size_t>(config.outlier_checks));
-      worst = mismatches[pick].first;
-      worst_z = mismatches[pick].second;
-    }
-    result.outline_mismatch = worst;
-    if (worst > config.max_outline_mismatch) {
-      char buf[32];
-      std::snprintf(buf, sizeof(buf), "%.0f%%", 100.0 * worst);
-      SymmetryResult r = NotSymmetric("the outline at z = " + Mm(worst_z) +
-                                          " differs from its mirror image at z = " + Mm(2.0 * z_s - worst_z) +
-                                          " by " + buf + " (plane at z = " + Mm(z_s) + ")",
-                                      z_s);
-      r.outline_mismatch = worst;
-      return r;
-    }
+    std::optional<SymmetryResult> refused =
+        CheckPlane(profile, sec, plane.z_s, config, &result.outline_mismatch);
+    if (refused) return std::move(*refused);
   }
 
   // The missing surface's box and the mirrored points that land in it.
-  // With a constant section the top is the rim's whole outline, even where
-  // the boundary test found only part of the rim (a rounded box held
-  // obliquely: 74 rim points, a third of its top mirrored); the mirror
-  // still adds nothing beside an original point.
-  if (constant_section) {
-    for (const Point2& v : profile.HullAt(z_b - 0.5 * h, config.min_slab_points)) {
-      boundary_box.extend(
-          Eigen::Vector3f(static_cast<float>(v.x()), static_cast<float>(v.y()), boundary_box.min().z()));
-    }
-  }
   const float pad = static_cast<float>(kHoleBoxPadSpacings * d);
-  const Eigen::Vector3f box_min(boundary_box.min().x() - pad, boundary_box.min().y() - pad,
-                                boundary_box.min().z() - pad);
-  const Eigen::Vector3f box_max(boundary_box.max().x() + pad, boundary_box.max().y() + pad,
-                                static_cast<float>(2.0 * z_s - z_min) + pad);
-  result.box_min_V = box_min;
-  result.box_max_V = box_max;
-  const Eigen::AlignedBox3f box(box_min, box_max);
+  const Eigen::AlignedBox3f box = MirrorBox(profile, sec, heights.boundary_box, plane, pad, config);
+  result.box_min_V = box.min();
+  result.box_max_V = box.max();
   const double gap = kNewPointGapSpacings * d;
-  const Eigen::Vector3f g = Eigen::Vector3f::Constant(static_cast<float>(gap));
-  // The original points a mirrored one could overlap, on an xy grid of
-  // cell `gap` over the box (a few cell lookups instead of a KD query).
-  const auto xy = [](const Eigen::Vector3f& p) { return Eigen::Vector2d(p.x(), p.y()); };
-  const auto points_in = [&](const Eigen::AlignedBox3f& b) {
-    geometry::GapGrid grid(xy(b.min()), xy(b.max()), gap);
-    for (const Eigen::Vector3f& p : all) {
-      if (b.contains(p)) grid.Add(xy(p), p);
-    }
-    grid.Build();
-    return grid;
-  };
-  const geometry::GapGrid near = points_in(Eigen::AlignedBox3f(box_min - g, box_max + g));
-  std::vector<Eigen::AlignedBox3f> open_boxes;  // padded as the top's box
-  std::vector<geometry::GapGrid> near_open;
-  if (open_holes_V != nullptr) {
-    for (const Eigen::AlignedBox3f& b : *open_holes_V) {
-      if (b.isEmpty()) continue;
-      const Eigen::Vector3f p3 = Eigen::Vector3f::Constant(pad);
-      open_boxes.emplace_back(b.min() - p3, b.max() + p3);
-      near_open.push_back(
-          points_in(Eigen::AlignedBox3f(open_boxes.back().min() - g, open_boxes.back().max() + g)));
-    }
-  }
-  std::vector<size_t> in_open(open_boxes.size(), 0);
-  for (const Eigen::Vector3f& p : all) {
-    const Eigen::Vector3f q(p.x(), p.y(), static_cast<float>(2.0 * z_s - p.z()));
-    if (box.contains(q)) {
-      if (!near.AnyWithin(xy(q), q)) result.added_V.push_back(q);
-      continue;
-    }
-    for (size_t k = 0; k < open_boxes.size(); ++k) {
-      if (open_boxes[k].contains(q)) {
-        if (!near_open[k].AnyWithin(xy(q), q)) result.added_V.push_back(q), ++in_open[k];
-        break;
-      }
-    }
-  }
+  const std::vector<size_t> in_open =
+      MirrorInto(all, box, open_holes_V, pad, gap, plane.z_s, &result.added_V);
   // A constant section's image is exact by construction; the fit would
   // only move its corners' radii by the sampling, off the walls.
-  if (!constant_section) FitImageToObserved(points_V, all, z_s, h, box_max.z(), config, &result.added_V);
-  const auto filled = [](size_t n) { return n > 0; };
-  const size_t holes_filled = static_cast<size_t>(std::count_if(in_open.begin(), in_open.end(), filled));
-  if (holes_filled > 0) {
-    how += "; the image also fills " + std::to_string(holes_filled) +
-           " claw hole(s) no fit or line closed (" +
-           std::to_string(std::accumulate(in_open.begin(), in_open.end(), size_t{0})) + " points)";
+  if (!plane.constant_section) {
+    FitImageToObserved(points_V, all, plane.z_s, sec.h, box.max().z(), config, &result.added_V);
   }
+  plane.how += OpenHolesNote(in_open);
   result.symmetric = true;
-  result.reason = how;
+  result.reason = plane.how;
   return result;
 }
 

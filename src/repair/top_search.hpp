@@ -40,8 +40,8 @@ enum class TopFamily {
   kOpen,        ///< nothing added: the top stays unobserved
   kMirror,      ///< the mirror image of the far end (symmetry_repair.hpp)
   kRevolution,  ///< a surface of revolution that closes (revolution_fill.hpp)
-  kDome,        ///< a quadratic dome over a tapered top (evidence_repair.hpp)
-  kExtrusion,   ///< the top's outline extruded to the rays' height (evidence_repair.hpp)
+  kDome,        ///< a quadratic dome over a tapered top (evidence_top.hpp)
+  kExtrusion,   ///< the top's outline extruded to the rays' height (evidence_top.hpp)
 };
 
 /// "Open" costs what a completion meeting the rim at this many sigma does;

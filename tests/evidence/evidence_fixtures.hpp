@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "graspfill/claw/primitive_meshes.hpp"
 #include "graspfill/evidence/visibility_record.hpp"
 
 namespace graspfill::testing {
@@ -62,6 +63,13 @@ inline evidence::VisibilityRecord RecordOfPlate() {
     throw std::logic_error("RecordOfPlate: the first frame must become a key frame");
   }
   return record;
+}
+
+// A claw block 2 cm x 2 cm about G's z axis, from 0.4 to 0.6 m deep.
+inline TriangleMesh ClawBlock() {
+  TriangleMesh block = claw::BoxMesh(Eigen::Vector3d(0.02, 0.02, 0.2));
+  for (Eigen::Vector3f& v : block.vertices) v.z() += 0.5f;
+  return block;
 }
 
 }  // namespace graspfill::testing

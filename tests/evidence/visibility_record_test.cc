@@ -56,25 +56,10 @@ TEST(VisibilityRecord, TheCoarseTestKeepsAWiderBandAroundSilhouettes) {
   EXPECT_TRUE(record.SeenFree(PointAt(100, 100, 0.75f), 0.1f));
 }
 
-// An axis-aligned box [lo, hi], outward-facing triangles.
-TriangleMesh Box(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi) {
-  TriangleMesh m;
-  for (int i = 0; i < 8; ++i) {
-    m.vertices.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
-  }
-  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
-                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  for (const auto& f : faces) {
-    m.triangles.emplace_back(f[0], f[1], f[2]);
-    m.triangles.emplace_back(f[0], f[2], f[3]);
-  }
-  return m;
-}
-
 TEST(VisibilityRecord, PointsInsideTheClawLeaveItAlongTheRay) {
   VisibilityRecord record(VisibilityConfig{}, TestBox());
   EXPECT_FALSE(record.ExitClaw({0, 0, 0.5f}, {1, 0, 0}).has_value());  // no claw yet
-  record.SetClaw(Box({-0.01f, -0.01f, 0.4f}, {0.01f, 0.01f, 0.6f}));
+  record.SetClaw(testing::ClawBlock());
   const auto out = record.ExitClaw({0.005f, 0, 0.5f}, {-2, 0, 0});
   ASSERT_TRUE(out.has_value());
   EXPECT_NEAR(out->x(), -0.01f, 1e-5f);

@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The repair with the camera's evidence, on a fused cloud of a synthetic
 // grasp (synth -> pipeline -> repair in-process): a can held by the
-// three-finger claw, whose top the camera never sees.
-#include "evidence_repair.hpp"
+// three-finger claw, whose top the camera never sees. Covers the stage
+// (evidence_stage.*) through Repair, and its steps: the mirror's lowering
+// and lift (mirror_evidence.*) and the top from the evidence
+// (evidence_top.*).
+#include "evidence_top.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,6 +16,7 @@
 #include <stdexcept>
 
 #include "eval/metrics.hpp"
+#include "evidence/point_list_queries.hpp"
 #include "fused_scene.hpp"
 #include "graspfill/core/percentile.hpp"
 #include "graspfill/io/messages.hpp"
@@ -20,6 +24,7 @@
 #include "graspfill/mesh/nearest_distances.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "graspfill/repair/repairer.hpp"
+#include "mirror_evidence.hpp"
 #include "synth/renderer.hpp"
 #include "synth/scene.hpp"
 
@@ -136,21 +141,6 @@ TEST(EvidenceRepair, DeterministicAndPaperModeIgnoresTheRecord) {
   EXPECT_FALSE(Repair(can.cloud, paper, &can.record).report.evidence.used);
 }
 
-TEST(EvidenceRepair, SeenFreePointsAreCountedAndDropped) {
-  const Fused& can = Can();
-  // Points far in front of the object, between it and the camera's orbit,
-  // and points on the fused surface.
-  PointList points;
-  for (int i = 0; i < 50; ++i) points.emplace_back(0.06f + 0.0005f * i, 0.0f, 0.06f);
-  const size_t n_free = points.size();
-  for (size_t i = 0; i < 50; ++i) points.push_back(can.cloud.points_G[i * 97]);
-  const Eigen::Isometry3f identity = Eigen::Isometry3f::Identity();
-  EXPECT_NEAR(SeenFreeShare(can.record, points, identity), 0.5, 0.05);
-  const int dropped = DropSeenFree(can.record, identity, &points);
-  EXPECT_NEAR(dropped, static_cast<int>(n_free), 3);
-  EXPECT_EQ(SeenFreeShare(can.record, points, identity), 0.0);
-}
-
 // A mirror image capping the can too high (its top band raised into the
 // space the rays passed over) is lowered until it meets the share; one
 // shifted sideways (a handle's image) is contradicted at every height and
@@ -174,24 +164,24 @@ TEST(EvidenceRepair, AMirrorCappingTooHighIsLoweredASidewaysOneIsNot) {
 
   PointList high = cap_V;
   for (Eigen::Vector3f& p : high) p.z() += 0.006f;
-  const double share_high = SeenFreeShare(can.record, high, T_in_V);
+  const double share_high = evidence::SeenFreeShare(can.record, high, T_in_V);
   ASSERT_GT(share_high, config.max_mirror_free_share) << "the raised cap is not contradicted";
   const double drop = LowerMirrorOutOfFree(can.record, config, T_in_V, floor_V, &high);
   ASSERT_FALSE(std::isnan(drop));
   EXPECT_GT(drop, 0.0);
   EXPECT_LE(drop, config.max_plane_drop_m + 1e-9);
-  EXPECT_LE(SeenFreeShare(can.record, high, T_in_V), config.max_mirror_free_share);
+  EXPECT_LE(evidence::SeenFreeShare(can.record, high, T_in_V), config.max_mirror_free_share);
   // Lowered by twice the drop, and no lower than needed: half a step less
   // was still contradicted.
   EXPECT_NEAR(high.front().z(), cap_V.front().z() + 0.006f - 2.0f * static_cast<float>(drop), 1e-6f);
   PointList less = cap_V;
   for (Eigen::Vector3f& p : less) p.z() += 0.006f - 2.0f * static_cast<float>(drop - config.top_step_m);
-  EXPECT_GT(SeenFreeShare(can.record, less, T_in_V), config.max_mirror_free_share);
+  EXPECT_GT(evidence::SeenFreeShare(can.record, less, T_in_V), config.max_mirror_free_share);
 
   PointList sideways = cap_V;  // the band 25 mm out from the wall, at all heights
   for (Eigen::Vector3f& p : sideways) p.x() += 0.025f, p.z() -= 0.03f;
   const PointList before = sideways;
-  ASSERT_GT(SeenFreeShare(can.record, sideways, T_in_V), config.max_mirror_free_share);
+  ASSERT_GT(evidence::SeenFreeShare(can.record, sideways, T_in_V), config.max_mirror_free_share);
   EXPECT_TRUE(std::isnan(LowerMirrorOutOfFree(can.record, config, T_in_V, floor_V - 0.05f, &sideways)));
   EXPECT_EQ(sideways, before);
 

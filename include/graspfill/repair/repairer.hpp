@@ -85,7 +85,7 @@ struct EvidenceReport {
   double mirror_plane_drop_m{0.0};
   /// How far the mirror image's cap was raised, its top band stretched:
   /// to where the rays carve it, or to the rings' top when that decides
-  /// (src/repair/evidence_repair.hpp says when) [m].
+  /// (src/repair/evidence_config.hpp says when) [m].
   double mirror_lift_m{0.0};
   /// Proposed points dropped as seen free, over all fills.
   int rejected_free{0};

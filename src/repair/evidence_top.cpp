@@ -1,16 +1,15 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "evidence_repair.hpp"
+#include "evidence_top.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
-#include <stdexcept>
+#include <vector>
 
 #include "clamped_int.hpp"
 #include "geometry/polygon_2d.hpp"
 #include "local_surfaces.hpp"
-#include "neighbor_index.hpp"
 
 namespace graspfill::repair {
 namespace {
@@ -203,54 +202,6 @@ void FindTopHeight(const Ring& ring, float z_wall, const evidence::VisibilityRec
 
 }  // namespace
 
-void EvidenceConfig::Validate() const {
-  auto share = [](double v, const char* name) {
-    if (!(v >= 0.0 && v <= 1.0))
-      throw std::invalid_argument(std::string("EvidenceConfig: ") + name + " must be in [0, 1]");
-  };
-  share(max_observed_free_share, "max_observed_free_share");
-  share(max_mirror_free_share, "max_mirror_free_share");
-  if (!(max_outline_mismatch >= 0.0 && max_outline_mismatch <= 10.0)) {
-    throw std::invalid_argument("EvidenceConfig: max_outline_mismatch must be in [0, 10]");
-  }
-  share(top_free_jump, "top_free_jump");
-  if (!(phantom_m >= 0.0 && phantom_m < 0.05))
-    throw std::invalid_argument("EvidenceConfig: phantom_m must be in [0, 0.05) m");
-  if (!(top_band_m > 0.0 && top_band_m < 0.1))
-    throw std::invalid_argument("EvidenceConfig: top_band_m must be in (0, 0.1) m");
-  if (!(top_step_m > 0.0 && top_step_m <= top_band_m)) {
-    throw std::invalid_argument("EvidenceConfig: top_step_m must be in (0, top_band_m]");
-  }
-  if (!(top_jump_window_m >= 0.0 && top_jump_window_m <= top_search_m)) {
-    throw std::invalid_argument("EvidenceConfig: top_jump_window_m must be in [0, top_search_m] m");
-  }
-  if (!(top_search_m >= top_step_m && top_search_m < 0.5)) {
-    throw std::invalid_argument("EvidenceConfig: top_search_m must be in [top_step_m, 0.5) m");
-  }
-  share(min_flat_area_ratio, "min_flat_area_ratio");
-  if (!(taper_drop_m > 0.0 && taper_drop_m < 0.2))
-    throw std::invalid_argument("EvidenceConfig: taper_drop_m must be in (0, 0.2) m");
-  if (!(dome_support_m >= 0.0 && dome_support_m < 0.2))
-    throw std::invalid_argument("EvidenceConfig: dome_support_m must be in [0, 0.2) m");
-  if (!(mirror_low_m >= 0.0 && mirror_low_m < 0.1))
-    throw std::invalid_argument("EvidenceConfig: mirror_low_m must be in [0, 0.1) m");
-  share(max_cap_free_share, "max_cap_free_share");
-  if (!(carve_onset_m >= 0.0 && carve_onset_m < 0.01))
-    throw std::invalid_argument("EvidenceConfig: carve_onset_m must be in [0, 0.01) m");
-  if (!(max_mirror_lift_m >= 0.0 && max_mirror_lift_m < 0.05)) {
-    throw std::invalid_argument("EvidenceConfig: max_mirror_lift_m must be in [0, 0.05) m");
-  }
-  if (!(ring_trust_m >= 0.0 && ring_trust_m < 0.05))
-    throw std::invalid_argument("EvidenceConfig: ring_trust_m must be in [0, 0.05) m");
-  if (min_cap_points < 1) throw std::invalid_argument("EvidenceConfig: min_cap_points must be >= 1");
-  if (!(near_observed_m >= 0.0 && near_observed_m < 0.05)) {
-    throw std::invalid_argument("EvidenceConfig: near_observed_m must be in [0, 0.05) m");
-  }
-  if (!(max_plane_drop_m >= 0.0 && max_plane_drop_m < 0.05)) {
-    throw std::invalid_argument("EvidenceConfig: max_plane_drop_m must be in [0, 0.05) m");
-  }
-}
-
 std::string TopEvidenceName(TopEvidence outcome) {
   switch (outcome) {
     case TopEvidence::kHeightFound:
@@ -265,158 +216,6 @@ std::string TopEvidenceName(TopEvidence outcome) {
       return "dome";
   }
   return "no outline";
-}
-
-double SeenFreeShare(const evidence::VisibilityRecord& record, const PointList& points_V,
-                     const Eigen::Isometry3f& T_in_V, const std::vector<char>* uncounted) {
-  size_t counted = 0, free = 0;
-  size_t first_key_frame = 0;  // neighbouring points are mostly carved by the same key frame
-  for (size_t i = 0; i < points_V.size(); ++i) {
-    if (uncounted != nullptr && (*uncounted)[i]) continue;
-    ++counted;
-    free += record.SeenFree(T_in_V * points_V[i], 0.0f, false, &first_key_frame);
-  }
-  return counted > 0 ? static_cast<double>(free) / static_cast<double>(counted) : 0.0;
-}
-
-double LowerMirrorOutOfFree(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
-                            const Eigen::Isometry3f& T_in_V, float floor_z_V, PointList* added_V,
-                            std::vector<char>* uncounted) {
-  if (uncounted != nullptr && uncounted->size() != added_V->size()) {
-    throw std::invalid_argument("LowerMirrorOutOfFree: one uncounted flag per point is needed");
-  }
-  const int steps = static_cast<int>(std::floor(config.max_plane_drop_m / config.top_step_m + 1e-9));
-  PointList lowered;
-  std::vector<char> lowered_uncounted;
-  lowered.reserve(added_V->size());
-  for (int k = 0; k <= steps; ++k) {
-    const float drop = static_cast<float>(k * config.top_step_m);
-    lowered.clear();
-    lowered_uncounted.clear();
-    for (size_t i = 0; i < added_V->size(); ++i) {
-      const Eigen::Vector3f& p = (*added_V)[i];
-      const Eigen::Vector3f q(p.x(), p.y(), p.z() - 2.0f * drop);
-      if (k > 0 && q.z() < floor_z_V) continue;
-      lowered.push_back(q);
-      lowered_uncounted.push_back(uncounted != nullptr ? (*uncounted)[i] : 0);
-    }
-    if (std::find(lowered_uncounted.begin(), lowered_uncounted.end(), 0) == lowered_uncounted.end()) break;
-    if (SeenFreeShare(record, lowered, T_in_V, &lowered_uncounted) <= config.max_mirror_free_share) {
-      added_V->swap(lowered);
-      if (uncounted != nullptr) uncounted->swap(lowered_uncounted);
-      return drop;
-    }
-  }
-  return std::numeric_limits<double>::quiet_NaN();
-}
-
-ImageTop TopOfImage(const PointList& image_V, double layer_m) {
-  ImageTop top;
-  if (image_V.empty()) return top;
-  // The layer hangs from the height 1% of the image exceeds: a few strays
-  // over the cap (the image of a fin at a bottom corner) would leave it a
-  // handful of points.
-  std::vector<float> z;
-  z.reserve(image_V.size());
-  for (const Eigen::Vector3f& p : image_V) z.push_back(p.z());
-  top.highest_z_V = *std::max_element(z.begin(), z.end());
-  const auto near_top = z.begin() + static_cast<long>(0.99 * static_cast<double>(z.size() - 1));
-  std::nth_element(z.begin(), near_top, z.end());
-  top.layer_from_z_V = *near_top - static_cast<float>(layer_m);
-  std::vector<float> layer_z;
-  for (const Eigen::Vector3f& p : image_V) {
-    if (p.z() > top.layer_from_z_V) layer_z.push_back(p.z());
-  }
-  const auto middle = layer_z.begin() + static_cast<long>(layer_z.size() / 2);
-  std::nth_element(layer_z.begin(), middle, layer_z.end());
-  top.cap_z_V = *middle;
-  top.layer_points = static_cast<int>(layer_z.size());
-  return top;
-}
-
-float StretchImageTop(const ImageTop& top, float cap_z_V, const EvidenceConfig& config, PointList* image_V) {
-  const float base = top.cap_z_V - static_cast<float>(2.0 * config.top_band_m);
-  const float stretch = (cap_z_V - base) / (top.cap_z_V - base);
-  for (Eigen::Vector3f& p : *image_V) {
-    if (p.z() > base) p.z() = base + (p.z() - base) * stretch;
-  }
-  return base;
-}
-
-double MirrorLiftFromCarving(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
-                             const Eigen::Isometry3f& T_in_V, const ImageTop& top, const PointList& image_V) {
-  constexpr double kNoAnswer = std::numeric_limits<double>::quiet_NaN();
-  if (top.layer_points < config.min_cap_points) return kNoAnswer;
-  // The top layer, evenly thinned: a few hundred points tell a share of 1%.
-  constexpr int kMaxTested = 256;
-  const int stride = std::max(1, top.layer_points / kMaxTested);
-  PointList layer;
-  int seen = 0;
-  for (const Eigen::Vector3f& p : image_V) {
-    if (p.z() > top.layer_from_z_V && seen++ % stride == 0) layer.push_back(p);
-  }
-  const int steps = static_cast<int>(std::floor(config.max_mirror_lift_m / config.top_step_m + 1e-9));
-  PointList lifted;
-  for (int k = 0; k <= steps; ++k) {
-    const double lift = k * config.top_step_m;
-    lifted = layer;
-    StretchImageTop(top, top.cap_z_V + static_cast<float>(lift), config, &lifted);
-    if (SeenFreeShare(record, lifted, T_in_V) > config.max_cap_free_share) {
-      return std::max(0.0, (k - 1) * config.top_step_m - config.carve_onset_m);
-    }
-  }
-  return kNoAnswer;
-}
-
-int DropSeenFree(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                 PointList* points_V, float above_z_V) {
-  const size_t before = points_V->size();
-  size_t first_key_frame = 0;  // neighbouring points are mostly carved by the same key frame
-  points_V->erase(std::remove_if(points_V->begin(), points_V->end(),
-                                 [&](const Eigen::Vector3f& p) {
-                                   return p.z() > above_z_V &&
-                                          record.SeenFree(T_in_V * p, 0.0f, false, &first_key_frame);
-                                 }),
-                  points_V->end());
-  return static_cast<int>(before - points_V->size());
-}
-
-namespace {
-
-// Towards V's axis (x = y = 0), in the input frame; +x when on the axis.
-Eigen::Vector3f Inward(const Eigen::Isometry3f& T_in_V, const Eigen::Vector3f& p_V) {
-  Eigen::Vector3f d(-p_V.x(), -p_V.y(), 0.0f);
-  if (!(d.norm() > 1e-6f)) d = Eigen::Vector3f::UnitX();
-  return T_in_V.linear() * d;
-}
-
-}  // namespace
-
-int PushOutOfClaw(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                  PointList* points_V) {
-  if (!record.has_claw()) return 0;
-  const Eigen::Isometry3f T_V_in = T_in_V.inverse();
-  int moved = 0;
-  for (Eigen::Vector3f& p : *points_V) {
-    if (const auto exit = record.ExitClaw(T_in_V * p, Inward(T_in_V, p))) {
-      p = T_V_in * *exit;
-      ++moved;
-    }
-  }
-  return moved;
-}
-
-int DropInsideClaw(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                   PointList* points_V, float above_z_V) {
-  if (!record.has_claw()) return 0;
-  const size_t before = points_V->size();
-  points_V->erase(std::remove_if(points_V->begin(), points_V->end(),
-                                 [&](const Eigen::Vector3f& p) {
-                                   return p.z() > above_z_V &&
-                                          record.ExitClaw(T_in_V * p, Inward(T_in_V, p)).has_value();
-                                 }),
-                  points_V->end());
-  return static_cast<int>(before - points_V->size());
 }
 
 EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointList& fills_V,

@@ -12,18 +12,13 @@
 //    highest wall and the lowest carved ring (the walls are measured only
 //    up to 3-4 mm below the top: the views are grazing under the palm).
 //
+// The record and its queries over points are src/evidence's; the repair's
+// use of them is here: these settings, the mirror's lowering and lift
+// (mirror_evidence.hpp), the top from the evidence (evidence_top.hpp), and
+// the stage that chooses the record and composes them (evidence_stage.hpp).
 // Pure and single-threaded. Points of the repair are in V; the record is in
 // the input frame (G for the pipeline), T_in_V maps between them.
 #pragma once
-
-#include <Eigen/Geometry>
-#include <limits>
-#include <string>
-#include <vector>
-
-#include "graspfill/evidence/visibility_record.hpp"
-#include "graspfill/repair/repair_types.hpp"
-#include "neighbor_index.hpp"
 
 namespace graspfill::repair {
 
@@ -126,100 +121,5 @@ struct EvidenceConfig {
   /// Throws std::invalid_argument naming the bad field.
   void Validate() const;
 };
-
-/// How the evidence top came out.
-enum class TopEvidence {
-  kHeightFound,    ///< a carved ring above the wall fixed the height
-  kNotObservable,  ///< no ring was carved: closed at the highest wall
-  kNoOutline,      ///< too few points near the top for an outline
-  kTapered,        ///< the walls close in towards the top: no flat cap
-  kDome,           ///< tapered, closed by a dome fitted to the top band
-};
-
-struct EvidenceTop {
-  TopEvidence outcome{TopEvidence::kNoOutline};
-  float wall_top_z_V{0.0f};  ///< highest observed point [m]
-  float top_z_V{0.0f};       ///< the top's height used [m]
-  PointList added_V;         ///< band and cap, none in seen-free space
-  /// A flat top's: how far the observed walls depart from a prism under
-  /// it, the RMS distance in V's x-y from each height band's outline
-  /// (top_band_m thick, down to the lowest point) to the top band's. An
-  /// extrusion of the top's outline explains the walls within this [m].
-  double extrusion_rms_m{std::numeric_limits<double>::infinity()};
-  /// The vertices that describe the top band's hull (a flat top's
-  /// outline) to within a spacing.
-  int outline_vertices{0};
-  int rejected_free{0};  ///< candidates dropped as seen free
-};
-
-/// Lowers a mirror image (`added_V`, made about the plane z = plane_z_V)
-/// until at most `max_mirror_free_share` of it lies in seen-free space: the
-/// plane drops by top_step_m up to max_plane_drop_m, each point by twice
-/// the drop, and the points that fall below `floor_z_V` (the missing
-/// surface's boundary: observed surface there) are dropped. Returns the
-/// drop [m] (0 when the image already met the share), or NaN, leaving
-/// `added_V` as it was, when no drop meets it (or no point is counted).
-/// The points flagged in `uncounted` (one flag per point, kept in step),
-/// if given, are lowered with the rest but not counted in the share.
-double LowerMirrorOutOfFree(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
-                            const Eigen::Isometry3f& T_in_V, float floor_z_V, PointList* added_V,
-                            std::vector<char>* uncounted = nullptr);
-
-/// A mirror image's top: its highest point and its cap, the median height
-/// of its top layer (the points within `layer_m` under the height that 1%
-/// of the image exceeds, and those over it).
-struct ImageTop {
-  float highest_z_V{0.0f};
-  float layer_from_z_V{0.0f};  ///< the top layer: z above this
-  float cap_z_V{0.0f};
-  int layer_points{0};
-};
-ImageTop TopOfImage(const PointList& image_V, double layer_m);
-
-/// Raises the image's cap from `top.cap_z_V` to `cap_z_V`: its top
-/// 2 x top_band_m are stretched, so that its walls rise with the cap.
-/// Returns the height [m, V] above which points moved.
-float StretchImageTop(const ImageTop& top, float cap_z_V, const EvidenceConfig& config, PointList* image_V);
-
-/// How far the image's cap can rise before the rays carve it: the highest
-/// lift (steps of top_step_m) at which at most max_cap_free_share of the
-/// top layer is seen free, less carve_onset_m, at least 0. NaN when the
-/// test cannot tell: fewer than min_cap_points in the layer, or no lift up
-/// to max_mirror_lift_m carved.
-double MirrorLiftFromCarving(const evidence::VisibilityRecord& record, const EvidenceConfig& config,
-                             const Eigen::Isometry3f& T_in_V, const ImageTop& top, const PointList& image_V);
-
-/// Share of `points_V` the record sees free (0 for an empty list), of
-/// those not flagged in `uncounted` (one flag per point) if given.
-double SeenFreeShare(const evidence::VisibilityRecord& record, const PointList& points_V,
-                     const Eigen::Isometry3f& T_in_V, const std::vector<char>* uncounted = nullptr);
-
-/// Removes the points the record sees free; returns how many. Only
-/// those above `above_z_V` are tested (the others passed before).
-int DropSeenFree(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                 PointList* points_V, float above_z_V = -std::numeric_limits<float>::infinity());
-
-/// Moves each point inside the record's claw to where the ray from it
-/// towards V's axis leaves the claw: a fill that bulged into a finger lands
-/// on the finger's face, where the object touches it. Returns how many.
-int PushOutOfClaw(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                  PointList* points_V);
-
-/// Removes the points inside the record's claw; returns how many. Only
-/// those above `above_z_V` are tested (the others passed before).
-int DropInsideClaw(const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                   PointList* points_V, float above_z_V = -std::numeric_limits<float>::infinity());
-
-/// Closes the top of the cloud (`observed_V`'s points: observed, +z up in
-/// V) at the height the evidence gives: a wall band on the top outline from
-/// the highest observed point up to that height, and a cap there, sampled
-/// at `spacing_m`, skipping places within 0.75 spacing of the cloud or of
-/// `fills_V` (earlier fills) and any point the record sees free.
-EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointList& fills_V,
-                                 const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                                 double spacing_m, const EvidenceConfig& config);
-
-/// "height found", "not observable", "no outline", "tapered top", "dome".
-std::string TopEvidenceName(TopEvidence outcome);
 
 }  // namespace graspfill::repair
