@@ -8,6 +8,7 @@
 #include <open3d/pipelines/integration/ScalableTSDFVolume.h>
 #include <open3d/utility/Parallel.h>
 
+#include "frame_size_check.hpp"
 #include "graspfill/core/openmp_threads.hpp"
 #include "sorted_cloud.hpp"
 #include "unit_surface_cache.hpp"
@@ -56,14 +57,8 @@ TsdfFusion::~TsdfFusion() = default;
 
 void TsdfFusion::Integrate(const DepthFrame& frame, const Eigen::Isometry3d& T_C_G) {
   const CameraIntrinsics& K = frame.intrinsics;
-  if (static_cast<size_t>(K.width) * K.height != frame.depth_m.size()) {
-    throw std::invalid_argument("TsdfFusion::Integrate: depth size != width*height");
-  }
+  CheckFrameSize("TsdfFusion::Integrate", frame, impl_->intrinsics_set, impl_->frames);
   if (impl_->intrinsics_set != K) {
-    if (impl_->frames > 0 &&
-        (impl_->intrinsics_set.width != K.width || impl_->intrinsics_set.height != K.height)) {
-      throw std::invalid_argument("TsdfFusion::Integrate: frame size changed");
-    }
     impl_->intrinsic.SetIntrinsics(K.width, K.height, K.fx, K.fy, K.cx, K.cy);
     impl_->rgbd.depth_.Prepare(K.width, K.height, 1, 4);
     impl_->intrinsics_set = K;

@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "frame_size_check.hpp"
 #include "graspfill/core/openmp_threads.hpp"
 #include "sorted_cloud.hpp"
 
@@ -101,14 +102,9 @@ VoxelBlockGridFusion::~VoxelBlockGridFusion() = default;
 
 void VoxelBlockGridFusion::Integrate(const DepthFrame& frame, const Eigen::Isometry3d& T_C_G) {
   const CameraIntrinsics& K = frame.intrinsics;
-  if (K.width <= 0 || K.height <= 0 || static_cast<size_t>(K.width) * K.height != frame.depth_m.size()) {
-    throw std::invalid_argument("VoxelBlockGridFusion::Integrate: depth size != width*height");
-  }
   Impl& m = *impl_;
+  CheckFrameSize("VoxelBlockGridFusion::Integrate", frame, m.intrinsics_set, m.frames);
   if (m.intrinsics_set != K) {
-    if (m.frames > 0 && (m.intrinsics_set.width != K.width || m.intrinsics_set.height != K.height)) {
-      throw std::invalid_argument("VoxelBlockGridFusion::Integrate: frame size changed");
-    }
     m.intrinsic = core::Tensor::Init<double>({{K.fx, 0.0, K.cx}, {0.0, K.fy, K.cy}, {0.0, 0.0, 1.0}});
     // Open3D's tensor integration reads the pixel at floor(u), floor(v)
     // (the legacy one the nearest): half a pixel on the principal point
