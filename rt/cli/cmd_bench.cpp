@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -16,11 +17,13 @@
 #include <string>
 #include <vector>
 
+#include "bench_integrators.hpp"
 #include "claw_option.hpp"
 #include "commands.hpp"
 #include "data_paths.hpp"
 #include "graspfill/core/percentile.hpp"
 #include "graspfill/core/pose_interpolation.hpp"
+#include "graspfill/io/ply.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
 #include "module/sequencer_feed.hpp"
 #include "module/session_loop.hpp"
@@ -34,13 +37,18 @@ namespace graspfill::cli {
 namespace {
 
 std::string Usage() {
-  return "usage: graspfill bench [LOG] [--claw SPEC] [--repeat N] [--json]\n"
+  return "usage: graspfill bench [LOG] [--claw SPEC] [--repeat N] [--two-threads] [--json]\n"
          "  LOG defaults to the bundled recording " +
          (DataDir() / "replay" / "default" / "recording.lcmlog").string() +
          "\n"
          "  --repeat N   replay passes for the throughput figure (default 3; the best is kept)\n"
+         "  --two-threads  also time Open3D's integrators at 2 OpenMP threads (on busy cores\n"
+         "               the legacy volume's team waits at every block: minutes, not seconds)\n"
          "The reference: Open3D's TSDF integration of the frames the pipeline fused, as it\n"
-         "fused them (cropped, the claw cut out, at the refined pose), with nothing else.\n";
+         "fused them (cropped, the claw cut out, at the refined pose), with nothing else:\n"
+         "its legacy ScalableTSDFVolume (the product's) beside its tensor VoxelBlockGrid, at\n"
+         "16^3 and 8^3 voxels a block, and their final clouds compared (with gt_cloud.ply\n"
+         "beside LOG, against the truth too).\n";
 }
 
 using Clock = std::chrono::steady_clock;
@@ -94,24 +102,31 @@ void FeedFrames(const std::vector<PosedFrame>& frames, Pipeline* pipeline, Frame
 }
 
 // Open3D's integration alone, on the frames `pipeline` fuses as it fuses
-// them: each one, right after the pipeline took it, integrated into a
-// volume of the same settings and timed. A call that fused more than one
-// frame (a frame kept pending) leaves the reference its last one only.
+// them: each one, right after the pipeline took it, integrated into
+// volumes of the same settings and timed, Open3D's legacy volume (the
+// product's) and its tensor VoxelBlockGrid (bench_integrators.hpp), at one
+// thread (the product's default) and, with --two-threads, at two. A call
+// that fused more than one frame (a frame kept pending) leaves the
+// reference its last one only.
 struct Open3dReference {
-  fusion::TsdfFusion volume;
-  StageTotal integrate;
+  IntegratorComparison one_thread;
+  std::unique_ptr<IntegratorComparison> two_threads;  // with --two-threads
   int64_t fused_seen{0};
   int64_t frames_missed{0};
 
-  explicit Open3dReference(const PipelineConfig& config) : volume(config.tsdf) {}
+  Open3dReference(const PipelineConfig& config, bool also_two_threads) : one_thread(config.tsdf, 1) {
+    if (also_two_threads) two_threads = std::make_unique<IntegratorComparison>(config.tsdf, 2);
+  }
   void AfterCall(const Pipeline& pipeline) {
     const int64_t fused = pipeline.stats().frames_integrated;
     if (fused == fused_seen) return;
     frames_missed += fused - fused_seen - 1;
     fused_seen = fused;
-    ScopedStageTimer t(&integrate);
-    volume.Integrate(pipeline.last_fused_frame(), pipeline.last_fused_T_C_V());
+    one_thread.Integrate(pipeline.last_fused_frame(), pipeline.last_fused_T_C_V());
+    if (two_threads) two_threads->Integrate(pipeline.last_fused_frame(), pipeline.last_fused_T_C_V());
   }
+  // The product's volume at one thread: the "open3d alone" column.
+  const StageTotal& integrate() const { return one_thread.runs()[0].integrate; }
 };
 
 // FeedFrames with the reference taking each fused frame.
@@ -226,7 +241,16 @@ struct BenchOptions {
   std::string claw_spec{"three-finger"};
   int repeat{3};
   bool json{false};
+  bool two_threads{false};  // the integrators at 2 OpenMP threads too
 };
+
+// The object's surface the recording was made of (gt_cloud.ply beside
+// the log, as `graspfill synth` writes it), if there.
+std::optional<ObjectCloud> TruthBesideLog(const std::string& log) {
+  const std::filesystem::path path = std::filesystem::path(log).parent_path() / "gt_cloud.ply";
+  if (!std::filesystem::exists(path)) return std::nullopt;
+  return io::ReadCloudPly(path.string());
+}
 
 // Reads the command line into *o. Returns -1 to go on, else the exit code:
 // 0 after --help, 2 after a bad option or value (said on stderr).
@@ -237,6 +261,8 @@ int ParseBenchArgs(const Args& args, BenchOptions* o) {
       return 0;
     } else if (args[i] == "--json") {
       o->json = true;
+    } else if (args[i] == "--two-threads") {
+      o->two_threads = true;
     } else if ((args[i] == "--claw" || args[i] == "--repeat") && i + 1 < args.size()) {
       try {
         if (args[i] == "--claw")
@@ -271,6 +297,7 @@ struct BenchResults {
   ExtractionTimes extraction;
   double raster_mask_ms{0.0};
   double open3d_integrate_ms{0.0};  // the reference, per frame it took
+  IntegratorSummary integrators;    // the reference beside the tensor VoxelBlockGrid
   int64_t open3d_frames{0};
   int64_t open3d_frames_missed{0};
   int64_t replay_frames{0};
@@ -293,10 +320,14 @@ BenchResults Measure(const BenchOptions& o, const claw::ClawModel& claw,
   // graspfill's frame path, stage by stage (the Pipeline's own code path),
   // and the reference on the frames it fused.
   Pipeline pipeline(config, claw);
-  Open3dReference reference(config);
+  Open3dReference reference(config, o.two_threads);
   FeedFramesWithReference(frames, &pipeline, &reference, &progress);
-  r.open3d_integrate_ms = reference.integrate.mean_ms();
-  r.open3d_frames = reference.integrate.count;
+  reference.one_thread.Finish();
+  if (reference.two_threads) reference.two_threads->Finish();
+  r.open3d_integrate_ms = reference.integrate().mean_ms();
+  const std::optional<ObjectCloud> truth = TruthBesideLog(o.log);
+  r.integrators = Summarize(reference.one_thread, reference.two_threads.get(), truth ? &*truth : nullptr);
+  r.open3d_frames = reference.integrate().count;
   r.open3d_frames_missed = reference.frames_missed;
   const PipelineStats& s = pipeline.stats();
   r.cut_ms = s.crop.mean_ms() + s.mask.mean_ms();
@@ -344,6 +375,7 @@ void PrintBenchJson(const std::string& log, const BenchResults& r) {
   j["open3d_same_frames"] = {{"integrate_ms", r.open3d_integrate_ms},
                              {"frames", r.open3d_frames},
                              {"frames_missed", r.open3d_frames_missed}};
+  j["integrators_same_frames"] = IntegratorJson(r.integrators);
   j["visibility_over_integrate"] = Ratio(s.visibility.mean_ms(), s.integrate.mean_ms());
   j["frame_total_over_open3d_integrate"] = Ratio(r.total_ms, r.open3d_integrate_ms);
   j["extraction_every_3_frames"] = {
@@ -367,6 +399,10 @@ void PrintBenchTable(const std::string& log, const BenchResults& r) {
   std::printf("%-34s %12.3f %14s\n", "claw cut-out (Embree)", s.mask.mean_ms(), "-");
   std::printf("%-34s %12.3f %14s\n", "  (claw cut-out by z-buffer instead)", r.raster_mask_ms, "-");
   std::printf("%-34s %12.3f %14.3f\n", "TSDF integration", s.integrate.mean_ms(), r.open3d_integrate_ms);
+  for (size_t i = 1; i < r.integrators.rows.size(); ++i) {
+    const std::string label = "  (" + r.integrators.rows[i].name + " instead)";
+    std::printf("%-34s %12s %14.3f\n", label.c_str(), "-", r.integrators.rows[i].integrate_ms[0]);
+  }
   std::printf("%-34s %12.3f %14s\n", "visibility record (key frames)", s.visibility.mean_ms(), "-");
   std::printf("%-34s %12.3f %14s\n", "pose refinement (claw registration)", s.refine_time.mean_ms(), "-");
   std::printf("%-34s %12.3f %14.3f\n", "frame path total", r.total_ms, r.open3d_integrate_ms);
@@ -391,6 +427,7 @@ void PrintBenchTable(const std::string& log, const BenchResults& r) {
               Ratio(r.total_ms, r.open3d_integrate_ms));
   std::printf("replay throughput (decode + pipeline): %.1f fps over %lld frames (target >= 200)\n",
               r.best_fps, static_cast<long long>(r.replay_frames));
+  PrintIntegratorTable(r.integrators);
 }
 
 }  // namespace

@@ -8,12 +8,12 @@
 #include <open3d/pipelines/integration/ScalableTSDFVolume.h>
 #include <open3d/utility/Parallel.h>
 
+#include "frame_size_check.hpp"
 #include "graspfill/core/openmp_threads.hpp"
+#include "sorted_cloud.hpp"
 #include "unit_surface_cache.hpp"
 
-#include <algorithm>
 #include <cstring>
-#include <numeric>
 #include <stdexcept>
 #include <vector>
 
@@ -48,37 +48,6 @@ struct TsdfFusion::Impl {
   int open3d_team{open3d::utility::EstimateMaxThreads()};
 };
 
-namespace {
-
-// Canonical order (lexicographic, normals breaking ties), so that the
-// output depends neither on the order of Open3D's block hash map nor on the
-// cache's.
-void WriteSorted(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals,
-                 ObjectCloud* cloud) {
-  auto less = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-    if (a.x() != b.x()) return a.x() < b.x();
-    if (a.y() != b.y()) return a.y() < b.y();
-    return a.z() < b.z();
-  };
-  const size_t n = points.size();
-  const bool has_normals = normals.size() == n && n > 0;
-  std::vector<size_t> order(n);
-  std::iota(order.begin(), order.end(), size_t{0});
-  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-    if (points[a] != points[b]) return less(points[a], points[b]);
-    return has_normals && less(normals[a], normals[b]);
-  });
-  cloud->points_G.resize(n);
-  cloud->normals_G.resize(has_normals ? n : 0);
-  cloud->provenance.assign(n, Provenance::kObserved);
-  for (size_t i = 0; i < n; ++i) {
-    cloud->points_G[i] = points[order[i]].cast<float>();
-    if (has_normals) cloud->normals_G[i] = normals[order[i]].normalized().cast<float>();
-  }
-}
-
-}  // namespace
-
 TsdfFusion::TsdfFusion(const TsdfConfig& config) {
   config.Validate();
   impl_ = std::make_unique<Impl>(config);
@@ -88,14 +57,8 @@ TsdfFusion::~TsdfFusion() = default;
 
 void TsdfFusion::Integrate(const DepthFrame& frame, const Eigen::Isometry3d& T_C_G) {
   const CameraIntrinsics& K = frame.intrinsics;
-  if (static_cast<size_t>(K.width) * K.height != frame.depth_m.size()) {
-    throw std::invalid_argument("TsdfFusion::Integrate: depth size != width*height");
-  }
+  CheckFrameSize("TsdfFusion::Integrate", frame, impl_->intrinsics_set, impl_->frames);
   if (impl_->intrinsics_set != K) {
-    if (impl_->frames > 0 &&
-        (impl_->intrinsics_set.width != K.width || impl_->intrinsics_set.height != K.height)) {
-      throw std::invalid_argument("TsdfFusion::Integrate: frame size changed");
-    }
     impl_->intrinsic.SetIntrinsics(K.width, K.height, K.fx, K.fy, K.cx, K.cy);
     impl_->rgbd.depth_.Prepare(K.width, K.height, 1, 4);
     impl_->intrinsics_set = K;
@@ -113,13 +76,13 @@ void TsdfFusion::ExtractCloud(ObjectCloud* cloud) const {
   impl_->points.clear();
   impl_->normals.clear();
   impl_->surface.Extract(impl_->volume, &impl_->points, &impl_->normals);
-  WriteSorted(impl_->points, impl_->normals, cloud);
+  WriteSortedCloud(impl_->points, impl_->normals, cloud);
 }
 
 void TsdfFusion::ExtractCloudUncached(ObjectCloud* cloud) const {
   const ScopedOpenMpFixedTeam team(impl_->open3d_team);
   const std::shared_ptr<open3d::geometry::PointCloud> pcd = impl_->volume.ExtractPointCloud();
-  WriteSorted(pcd->points_, pcd->normals_, cloud);
+  WriteSortedCloud(pcd->points_, pcd->normals_, cloud);
 }
 
 int TsdfFusion::units() const { return impl_->surface.units(); }
