@@ -33,7 +33,9 @@ echo "$(git ls-files include | grep -c '\.hpp$') under include/, $(git ls-files 
 
 echo "## Installed libraries (exported as graspfill::<name>)"
 {
-  grep -rhoE '^graspfill_module\((\w+)' src rt --include=CMakeLists.txt | sed 's/graspfill_module(//'
+  # INTERNAL modules (the CLI's and the tests' tools) are neither exported nor installed.
+  grep -rhE '^graspfill_module\(\w+' src rt --include=CMakeLists.txt | grep -v INTERNAL |
+    sed -E 's/^graspfill_module\((\w+).*/\1/'
   grep -rhoE 'graspfill_export\(graspfill\w* \w+\)' src rt lcmtypes --include=CMakeLists.txt |
     sed -E 's/.* (\w+)\)/\1/'
 } | sort | tr '\n' ' '

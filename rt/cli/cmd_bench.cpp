@@ -149,7 +149,8 @@ double FramePathWithoutRefinementMs(PipelineConfig config, const claw::ClawModel
   Pipeline pipeline(config, claw);
   FeedFrames(frames, &pipeline, progress);
   const PipelineStats& s = pipeline.stats();
-  return s.crop.mean_ms() + s.mask.mean_ms() + s.integrate.mean_ms() + s.visibility.mean_ms();
+  return s.depth_edges.mean_ms() + s.crop.mean_ms() + s.mask.mean_ms() + s.integrate.mean_ms() +
+         s.visibility.mean_ms();
 }
 
 // The frame path on the same frames with object tracking on (refine/
@@ -206,8 +207,8 @@ double Ratio(double a, double b) { return b > 0.0 ? a / b : 0.0; }
 double PercentileMs(const std::vector<double>& v, double p) { return v.empty() ? 0.0 : Percentile(v, p); }
 
 double FramePathMs(const PipelineStats& s) {
-  return s.crop.mean_ms() + s.mask.mean_ms() + s.integrate.mean_ms() + s.visibility.mean_ms() +
-         s.refine_time.mean_ms() + s.track_time.mean_ms();
+  return s.depth_edges.mean_ms() + s.crop.mean_ms() + s.mask.mean_ms() + s.integrate.mean_ms() +
+         s.visibility.mean_ms() + s.refine_time.mean_ms() + s.track_time.mean_ms();
 }
 
 // Replays the log file through a fresh pipeline: decode + pipeline, no output.
@@ -289,13 +290,15 @@ int ParseBenchArgs(const Args& args, BenchOptions* o) {
 struct BenchResults {
   size_t frames{0};
   PipelineStats stats;  // graspfill's frame path, refinement on
-  double cut_ms{0.0};   // crop + claw cut-out
+  double cut_ms{0.0};   // depth edges + crop + claw cut-out
   double total_ms{0.0};
   double unrefined_total_ms{0.0};
   size_t points{0};
   PipelineStats tracked;  // with --track-object
   ExtractionTimes extraction;
   double raster_mask_ms{0.0};
+  double depth_edges_ms{0.0};  // the depth-edge rejection, off by default, timed on
+  double depth_edge_pixels_per_frame{0.0};
   double open3d_integrate_ms{0.0};  // the reference, per frame it took
   IntegratorSummary integrators;    // the reference beside the tensor VoxelBlockGrid
   int64_t open3d_frames{0};
@@ -330,7 +333,7 @@ BenchResults Measure(const BenchOptions& o, const claw::ClawModel& claw,
   r.open3d_frames = reference.integrate().count;
   r.open3d_frames_missed = reference.frames_missed;
   const PipelineStats& s = pipeline.stats();
-  r.cut_ms = s.crop.mean_ms() + s.mask.mean_ms();
+  r.cut_ms = s.depth_edges.mean_ms() + s.crop.mean_ms() + s.mask.mean_ms();
   r.total_ms = r.cut_ms + s.integrate.mean_ms() + s.visibility.mean_ms() + s.refine_time.mean_ms();
   r.unrefined_total_ms = FramePathWithoutRefinementMs(config, claw, frames, &progress);
   r.points = pipeline.ExtractCloud().size();
@@ -339,11 +342,16 @@ BenchResults Measure(const BenchOptions& o, const claw::ClawModel& claw,
   r.extraction = ExtractionEvery(config, claw, frames, 3, &progress);
 
   // The z-buffer alternative to Embree for the claw's depth, same frames.
+  // The same pass times the depth-edge rejection (off by default).
   PipelineConfig raster_config = config;
   raster_config.mask.method = claw::ClawMaskMethod::kRaster;
+  raster_config.reject_depth_edges = true;
   Pipeline raster(raster_config, claw);
   FeedFrames(frames, &raster, &progress);
   r.raster_mask_ms = raster.stats().mask.mean_ms();
+  r.depth_edges_ms = raster.stats().depth_edges.mean_ms();
+  r.depth_edge_pixels_per_frame = Ratio(static_cast<double>(raster.stats().depth_edge_pixels),
+                                        static_cast<double>(raster.stats().depth_edges.count));
 
   for (int k = 0; k < o.repeat; ++k) {
     r.best_fps = std::max(r.best_fps, ReplayFps(o.log, claw, &r.replay_frames, &progress));
@@ -362,6 +370,8 @@ void PrintBenchJson(const std::string& log, const BenchResults& r) {
                     {"mask_ms", s.mask.mean_ms()},
                     {"cutout_ms", r.cut_ms},
                     {"mask_zbuffer_ms", r.raster_mask_ms},
+                    {"depth_edges_when_on_ms", r.depth_edges_ms},
+                    {"depth_edge_pixels_per_frame_when_on", r.depth_edge_pixels_per_frame},
                     {"integrate_ms", s.integrate.mean_ms()},
                     {"visibility_ms", s.visibility.mean_ms()},
                     {"refine_ms", s.refine_time.mean_ms()},
@@ -398,6 +408,7 @@ void PrintBenchTable(const std::string& log, const BenchResults& r) {
   std::printf("%-34s %12.3f %14s\n", "crop to workspace box", s.crop.mean_ms(), "-");
   std::printf("%-34s %12.3f %14s\n", "claw cut-out (Embree)", s.mask.mean_ms(), "-");
   std::printf("%-34s %12.3f %14s\n", "  (claw cut-out by z-buffer instead)", r.raster_mask_ms, "-");
+  std::printf("%-34s %12.3f %14s\n", "  (depth edges rejected, when on)", r.depth_edges_ms, "-");
   std::printf("%-34s %12.3f %14.3f\n", "TSDF integration", s.integrate.mean_ms(), r.open3d_integrate_ms);
   for (size_t i = 1; i < r.integrators.rows.size(); ++i) {
     const std::string label = "  (" + r.integrators.rows[i].name + " instead)";

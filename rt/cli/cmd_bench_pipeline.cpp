@@ -221,8 +221,8 @@ CaseResult RunCase(const ZooCase& c, const PipelineBenchOptions& o) {
   r.fused_coverage =
       eval::FractionWithin(mesh::NearestDistances(truth_samples.points, fused.points_G), kCoverageRadiusM);
   r.visibility_ms = stats.visibility.mean_ms();
-  r.frame_ms =
-      stats.crop.mean_ms() + stats.mask.mean_ms() + stats.integrate.mean_ms() + stats.visibility.mean_ms();
+  r.frame_ms = stats.depth_edges.mean_ms() + stats.crop.mean_ms() + stats.mask.mean_ms() +
+               stats.integrate.mean_ms() + stats.visibility.mean_ms();
   r.key_frames = record.size();
   r.record_mb = record.memory_bytes() / 1e6;
   return r;

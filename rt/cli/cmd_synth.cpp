@@ -90,6 +90,7 @@ std::optional<synth::SceneConfig> SceneConfigOf(const SynthOptions& o) {
   config.seed = o.seed;
   config.num_frames = o.frames;
   if (o.ideal) config.sensor = synth::SensorModelConfig::Ideal();
+  config.sensor.mixed_pixel_prob = o.mixed_pixel_prob;
   config.environment.wall_distance_m = o.wall_m;
   config.intrinsics = synth::IntrinsicsAtResolution(o.width, o.height);
   config.slip.distance_m = 0.001 * o.slip_mm;

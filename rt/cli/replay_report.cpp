@@ -128,7 +128,9 @@ nlohmann::ordered_json ReplayReportJson(const ReplayReport& report) {
   j["preview"] = report.preview_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(report.preview_path);
   j["software_version"] = io::SoftwareVersion();
   j["repair"] = RepairJson(output);
-  j["timings_ms"] = {{"crop_per_frame", stats.crop.mean_ms()},
+  j["depth_edge_pixels"] = stats.depth_edge_pixels;
+  j["timings_ms"] = {{"depth_edges_per_frame", stats.depth_edges.mean_ms()},
+                     {"crop_per_frame", stats.crop.mean_ms()},
                      {"mask_per_frame", stats.mask.mean_ms()},
                      {"integrate_per_frame", stats.integrate.mean_ms()},
                      {"visibility_per_frame", stats.visibility.mean_ms()},

@@ -119,9 +119,10 @@ json SensorJson(const synth::SensorModelConfig& s, bool ideal) {
           {"edge_jump_m", s.edge_jump_m},
           {"edge_dropout_prob", s.edge_dropout_prob},
           {"random_dropout_prob", s.random_dropout_prob},
+          {"mixed_pixel_prob", s.mixed_pixel_prob},
           {"model_doc",
            "Nguyen et al. 2012 axial noise, 1/8 px disparity "
-           "quantization, grazing/edge/random dropouts"}};
+           "quantization, grazing/edge/random dropouts, mixed pixels at edges"}};
 }
 
 // The placement's config and what it gave.

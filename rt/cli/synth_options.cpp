@@ -36,6 +36,9 @@ const char* const kSynthUsage =
     "  --seed N          sensor noise and wobble seed (default 1)\n"
     "  --frames N        depth frames at 30 Hz (default 90: one full turn)\n"
     "  --ideal           noise-free sensor (no noise, quantization, dropouts)\n"
+    "  --mixed-pixels P  a pixel on a depth edge returns a depth between the edge's\n"
+    "                    two sides with probability P (0..1; default 0: a Kinect v1\n"
+    "                    loses its edges instead), the flying pixels of ToF cameras\n"
     "  --wall-m D        background wall D m from the camera (default 1.4;\n"
     "                    0: none, which makes the log ~5x smaller)\n"
     "  --width W --height H  depth image size, 16..4096 (default 640 x 480), the\n"
@@ -113,7 +116,7 @@ bool IsRecordingOnly(const std::string& a) {
   return a == "--mesh" || a == "--mesh-scale" || a == "--mesh-up" || a == "--claw" || a == "--frames" ||
          a == "--ideal" || a == "--wall-m" || a == "--hand-eye-error" || a == "--pose-noise" ||
          a == "--clock-offset-ms" || a == "--width" || a == "--height" || a == "--slip-mm" ||
-         a == "--speed-variation";
+         a == "--speed-variation" || a == "--mixed-pixels";
 }
 
 // args[*i] (and its value, advancing *i) into *o.
@@ -172,6 +175,8 @@ void ParseOption(const Args& args, size_t* i, SynthOptions* o) {
     o->slip_mm = ParseDouble(a, value(), 0.0, 20.0, "mm");
   else if (a == "--speed-variation")
     o->speed_variation = ParseDouble(a, value(), 0.0, 0.9, "");
+  else if (a == "--mixed-pixels")
+    o->mixed_pixel_prob = ParseDouble(a, value(), 0.0, 1.0, "");
   else if (a == "--width")
     o->width = ParseInteger<int>(a, value(), 16, 4096);
   else if (a == "--height")

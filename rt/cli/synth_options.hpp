@@ -41,6 +41,7 @@ struct SynthOptions {
   synth::RigErrorConfig rig_errors;     ///< logged-pose errors (all off)
   double slip_mm{0.0};                  ///< --slip-mm: the object's slide in the grasp (off)
   double speed_variation{0.0};          ///< --speed-variation (steady turn)
+  double mixed_pixel_prob{0.0};         ///< --mixed-pixels (none)
   int width{CameraIntrinsics{}.width};  ///< depth image size [pixels]
   int height{CameraIntrinsics{}.height};
   /// Options given that only a recording uses, to refuse them in protocol

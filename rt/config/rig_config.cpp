@@ -25,7 +25,7 @@ bool RigConfig::Intrinsics::operator==(const Intrinsics& o) const {
 bool RigConfig::Camera::operator==(const Camera& o) const {
   return device == o.device && width_px == o.width_px && height_px == o.height_px && fps == o.fps &&
          depth_units == o.depth_units && intrinsics_override == o.intrinsics_override &&
-         max_depth_pixels == o.max_depth_pixels;
+         max_depth_pixels == o.max_depth_pixels && reject_depth_edges == o.reject_depth_edges;
 }
 bool RigConfig::Pose::operator==(const Pose& o) const {
   return translation_m == o.translation_m && rotation_wxyz == o.rotation_wxyz;
@@ -114,6 +114,7 @@ void ApplyToPipeline(const RigConfig& c, PipelineConfig* p) {
   p->tsdf.block_resolution = c.tsdf.block_resolution;
   p->tsdf.depth_sampling_stride = c.tsdf.depth_sampling_stride;
   p->max_fusion_pixels = c.tsdf.max_fusion_pixels;
+  p->reject_depth_edges = c.camera.reject_depth_edges;
   if (c.workspace) {
     p->workspace.min_G =
         Eigen::Vector3d(c.workspace->min_G_m[0], c.workspace->min_G_m[1], c.workspace->min_G_m[2]);

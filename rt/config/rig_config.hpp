@@ -87,6 +87,9 @@ struct RigConfig {
     /// decoded (counted as bad_size): 1..2^24; 2^23 (8 MP) by default, room
     /// for the largest common depth sensors (~5 MP) (io::kDefaultMaxDepthPixels).
     int max_depth_pixels{static_cast<int>(io::kDefaultMaxDepthPixels)};
+    /// Drop the pixels on depth edges before fusion: mixed (flying) pixels
+    /// and the silhouette's grazing returns (fusion/depth_edges.hpp).
+    bool reject_depth_edges{false};
     bool operator==(const Camera& o) const;
   };
   /// A rigid transform: p_C = R(rotation_wxyz) * p_B + translation_m.

@@ -99,6 +99,10 @@ void DumpCamera(Writer* w, const RigConfig& c, const RigConfig& d) {
   w->Comment(
       1, "depth sensors are ~5 MP; a 4096 x 4096 stream needs " + std::to_string(io::kMaxDepthPixels) + ").");
   w->Key(1, "max_depth_pixels", std::to_string(c.camera.max_depth_pixels));
+  w->Comment(1, "Drop the pixels on depth edges before fusion: mixed (flying) pixels and the");
+  w->Comment(1, "silhouette's grazing returns (default false: measured in");
+  w->Comment(1, "docs/measurements/2026-12-06-depth-edges.md).");
+  w->Key(1, "reject_depth_edges", c.camera.reject_depth_edges ? "true" : "false");
 }
 
 // The robot: hand-eye, clock offset, pose gap.

@@ -11,7 +11,6 @@
 #include "graspfill/evidence/seen_free_carve.hpp"
 
 namespace graspfill {
-
 namespace {
 
 FrameSkipReason SkipReasonOf(refine::RefineOutcome outcome) {
@@ -141,6 +140,13 @@ struct Pipeline::Impl {
     work.utime = frame.utime;
     work.intrinsics = frame.intrinsics;
     work.depth_m.assign(frame.depth_m.begin(), frame.depth_m.end());
+    if (config.reject_depth_edges) {
+      // Before the crop, which zeroes the background an edge pixel jumps to
+      // (a zeroed neighbour says nothing); over the box's image only.
+      ScopedStageTimer t(&stats.depth_edges);
+      const fusion::PixelRect box = fusion::ProjectBox(config.workspace, T_C_G, work.intrinsics, 2);
+      stats.depth_edge_pixels += fusion::RejectDepthEdges(box, &work, &edge_marks);
+    }
     {
       ScopedStageTimer t(&stats.crop);
       fusion::CropToWorkspace(config.workspace, T_C_G, &work);
@@ -247,9 +253,10 @@ struct Pipeline::Impl {
   std::vector<DepthFrame> pending;  // ring, slots reused
   size_t pending_head{0};
   size_t num_pending{0};
-  DepthFrame decimated;  // a frame over max_fusion_pixels, decimated
-  DepthFrame work;       // the frame being cropped and masked
-  GripperState pose;     // interpolated state, reused
+  DepthFrame decimated;             // a frame over max_fusion_pixels, decimated
+  DepthFrame work;                  // the frame being cropped and masked
+  std::vector<uint8_t> edge_marks;  // RejectDepthEdges' scratch, reused
+  GripperState pose;                // interpolated state, reused
   bool claw_set{false};
   double claw_opening_m{0.0};
   std::vector<double> claw_joints;

@@ -42,6 +42,7 @@ void SensorModelConfig::Validate() const {
   Require(grazing_start_deg >= 0.0 && grazing_start_deg <= grazing_full_deg && grazing_full_deg <= 90.0,
           "need 0 <= grazing_start_deg <= grazing_full_deg <= 90");
   Require(edge_jump_m > 0.0, "edge_jump_m must be > 0");
+  Require(IsProbability(mixed_pixel_prob), "mixed_pixel_prob must lie in [0, 1]");
   Require(IsProbability(edge_dropout_prob) && IsProbability(random_dropout_prob),
           "dropout probabilities must be in [0, 1]");
 }
@@ -65,6 +66,26 @@ double QuantizeDepth(const SensorModelConfig& config, double fx_px, double z_m) 
   return bf / (steps / config.disparity_steps_per_px);
 }
 
+namespace {
+
+// The depth of the 4-neighbour of pixel i with a return that differs most
+// from i's (i's own when none has a return).
+double FarthestNeighbourDepth(const std::vector<float>& z, int width, int height, size_t i) {
+  const int u = static_cast<int>(i % static_cast<size_t>(width));
+  const int v = static_cast<int>(i / static_cast<size_t>(width));
+  double best = z[i];
+  auto consider = [&](size_t j) {
+    if (z[j] > 0.0f && std::abs(z[j] - z[i]) > std::abs(best - z[i])) best = z[j];
+  };
+  if (u > 0) consider(i - 1);
+  if (u + 1 < width) consider(i + 1);
+  if (v > 0) consider(i - static_cast<size_t>(width));
+  if (v + 1 < height) consider(i + static_cast<size_t>(width));
+  return best;
+}
+
+}  // namespace
+
 DepthFrame ApplySensorModel(const SensorModelConfig& config, const IdealDepthImage& ideal, uint64_t seed,
                             int64_t utime) {
   const int width = ideal.intrinsics.width;
@@ -81,7 +102,7 @@ DepthFrame ApplySensorModel(const SensorModelConfig& config, const IdealDepthIma
   // Depth edges: mark both pixels of every horizontal or vertical pair that
   // jumps by more than edge_jump_m or has a pixel without a return.
   std::vector<uint8_t> edge;
-  if (config.edge_dropout_prob > 0.0) {
+  if (config.edge_dropout_prob > 0.0 || config.mixed_pixel_prob > 0.0) {
     edge.assign(frame.depth_m.size(), 0);
     const float jump = static_cast<float>(config.edge_jump_m);
     auto mark = [&](size_t a, size_t b) {
@@ -116,10 +137,14 @@ DepthFrame ApplySensorModel(const SensorModelConfig& config, const IdealDepthIma
     } else if (cos_inc < cos_start) {
       p_graze = (cos_start - cos_inc) / (cos_start - cos_full);
     }
-    const double p_edge = !edge.empty() && edge[i] ? config.edge_dropout_prob : 0.0;
+    const bool on_edge = !edge.empty() && edge[i];
+    const double p_edge = on_edge ? config.edge_dropout_prob : 0.0;
     const double p_keep = (1.0 - p_graze) * (1.0 - p_edge) * (1.0 - config.random_dropout_prob);
     if (p_keep < 1.0 && rng.Uniform() >= p_keep) continue;
     double z_meas = z_true;
+    if (on_edge && config.mixed_pixel_prob > 0.0 && rng.Uniform() < config.mixed_pixel_prob) {
+      z_meas += rng.Uniform() * (FarthestNeighbourDepth(z, width, height, i) - z_true);
+    }
     if (config.noise) {
       const double dz = z_true - config.sigma_reference_depth_m;
       const double x = cos_inc * kAngularBins;

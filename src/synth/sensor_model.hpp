@@ -10,7 +10,12 @@
 //     steps of 1/8 pixel (baseline b = 0.075 m, f = fx of the intrinsics),
 //     so depth comes in steps of ~z^2 / (8 b f);
 //   - dropouts: at grazing angles (a probability ramp up to certain loss),
-//     at depth discontinuities, and at random; and the range limits.
+//     at depth discontinuities, and at random; and the range limits;
+//   - mixed ("flying") pixels, off by default: a ray that straddles a depth
+//     edge returns a depth between its two sides, as time-of-flight cameras
+//     do (Hansard et al., "Time-of-Flight Cameras: Principles, Methods and
+//     Applications", Springer 2012, sec. 1.3) and structured-light and
+//     stereo sensors do where their matching window spans the edge.
 #pragma once
 
 #include <cstdint>
@@ -63,6 +68,11 @@ struct SensorModelConfig {
   double edge_dropout_prob{0.5};
   /// Probability that any pixel is lost at random.
   double random_dropout_prob{0.005};
+  /// Probability that a pixel on a jump between two returns, not lost,
+  /// returns a mixed depth: its own plus a uniform share of the jump to
+  /// the 4-neighbour farthest from it in depth (0: as a Kinect v1, whose
+  /// edges are lost rather than mixed).
+  double mixed_pixel_prob{0.0};
 
   /// Noise-free, unquantized, no dropouts; only the range limits remain.
   static SensorModelConfig Ideal();

@@ -25,6 +25,7 @@
 #include "graspfill/core/frame_skip.hpp"
 #include "graspfill/core/stage_timer.hpp"
 #include "graspfill/evidence/visibility_record.hpp"
+#include "graspfill/fusion/depth_edges.hpp"
 #include "graspfill/fusion/tsdf_fusion.hpp"
 #include "graspfill/fusion/workspace_crop.hpp"
 #include "graspfill/refine/object_tracker.hpp"
@@ -36,6 +37,12 @@ namespace graspfill {
 struct PipelineConfig {
   claw::ClawMaskConfig mask;
   fusion::WorkspaceBox workspace;
+  /// Drop the pixels on depth edges before the crop (fusion/depth_edges.hpp):
+  /// mixed (flying) pixels and the silhouette's grazing returns. Off by
+  /// default: the fused clouds lie closer to the truth, but the repair,
+  /// tuned on clouds with those returns, meets fewer of the scanned
+  /// objects' targets with it (docs/measurements/2026-12-06-depth-edges.md).
+  bool reject_depth_edges{false};
   fusion::TsdfConfig tsdf;
   /// The key frames the repair tests its proposals against (over the
   /// workspace box above).
@@ -114,6 +121,8 @@ struct PipelineStats {
   StageTotal track_time;               ///< object tracking and its model updates (0 when off)
   StageTotal crop;
   StageTotal mask;
+  StageTotal depth_edges;        ///< rejecting the pixels on depth edges
+  int64_t depth_edge_pixels{0};  ///< pixels it dropped, over all frames
   StageTotal integrate;
   StageTotal visibility;  ///< the key-frame test (and copy, for a new one)
   StageTotal extract;

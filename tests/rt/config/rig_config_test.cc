@@ -33,6 +33,7 @@ RigConfig EveryFieldChanged() {
   c.camera.depth_units = "100um";
   c.camera.intrinsics_override = RigConfig::Intrinsics{848, 480, 421.1 + 1e-13, 421.3, 424.7, 239.1};
   c.camera.max_depth_pixels = 4096 * 4096;
+  c.camera.reject_depth_edges = true;
   const double s = std::sqrt(0.5);
   c.robot.T_C_B = RigConfig::Pose{{0.1 + 0.2, -0.25, 0.8}, {s, 0.0, s, 0.0}};
   c.robot.clock_offset_s = -0.0123;
@@ -68,8 +69,10 @@ TEST(RigConfig, DefaultsAreTheLibrariesDefaults) {
   PipelineConfig pipeline;
   pipeline.tsdf.sdf_trunc_m = 1.0;  // must come back as the default's
   pipeline.max_pose_gap_us = 1;
+  pipeline.reject_depth_edges = !PipelineConfig{}.reject_depth_edges;  // must come back
   ApplyToPipeline(c, &pipeline);
   const PipelineConfig want;
+  EXPECT_EQ(pipeline.reject_depth_edges, want.reject_depth_edges);
   EXPECT_EQ(pipeline.tsdf.voxel_m, want.tsdf.voxel_m);
   EXPECT_EQ(pipeline.tsdf.sdf_trunc_m, want.tsdf.sdf_trunc_m);
   EXPECT_EQ(pipeline.tsdf.block_resolution, want.tsdf.block_resolution);
@@ -154,6 +157,15 @@ TEST(RigConfig, TheRefineSectionReachesThePipeline) {
   EXPECT_TRUE(pipeline.track_object.enabled);
 }
 
+TEST(RigConfig, TheDepthEdgeRejectionCanBeSwitchedOnAndOff) {
+  PipelineConfig pipeline;
+  ApplyToPipeline(ParseRigConfig("camera:\n  reject_depth_edges: false\n", "edges.yaml"), &pipeline);
+  EXPECT_FALSE(pipeline.reject_depth_edges);
+  ApplyToPipeline(ParseRigConfig("camera:\n  reject_depth_edges: true\n", "edges.yaml"), &pipeline);
+  EXPECT_TRUE(pipeline.reject_depth_edges);
+  EXPECT_THROW(ParseRigConfig("camera:\n  reject_depth_edges: 3\n", "edges.yaml"), ConfigError);
+}
+
 TEST(RigConfig, TheThreadCountReachesThePipelineAndTheRepair) {
   const RigConfig c = ParseRigConfig("compute:\n  num_threads: 3\n", "threads.yaml");
   PipelineConfig pipeline;
@@ -202,12 +214,26 @@ TEST(RigConfig, DumpThenParseGivesTheSameStruct) {
 
 TEST(RigConfig, TheDumpDocumentsEveryKeyWithItsUnit) {
   const std::string text = DumpRigConfig(RigConfig{});
-  for (const char* key :
-       {"device:", "width_px:", "depth_units:", "intrinsics_override: null", "max_depth_pixels: 8388608",
-        "T_C_B: null", "clock_offset_s: 0", "max_pose_gap_s: 0.05", "spec: \"\"", "workspace: null",
-        "voxel_m: null", "sdf_trunc_voxels: 4", "mode: best", "publish_every_n_frames: 30",
-        "status_period_s: 1", "object_cloud: \"GRASPFILL_OBJECT_CLOUD\"",
-        "collision_mesh: \"GRASPFILL_COLLISION_MESH\"", "max_triangles: 5000", "convex_hull: false"}) {
+  for (const char* key : {"device:",
+                          "width_px:",
+                          "depth_units:",
+                          "intrinsics_override: null",
+                          "max_depth_pixels: 8388608",
+                          "reject_depth_edges: false",
+                          "T_C_B: null",
+                          "clock_offset_s: 0",
+                          "max_pose_gap_s: 0.05",
+                          "spec: \"\"",
+                          "workspace: null",
+                          "voxel_m: null",
+                          "sdf_trunc_voxels: 4",
+                          "mode: best",
+                          "publish_every_n_frames: 30",
+                          "status_period_s: 1",
+                          "object_cloud: \"GRASPFILL_OBJECT_CLOUD\"",
+                          "collision_mesh: \"GRASPFILL_COLLISION_MESH\"",
+                          "max_triangles: 5000",
+                          "convex_hull: false"}) {
     EXPECT_NE(text.find(key), std::string::npos) << key << "\n" << text;
   }
   // The built-in values the nulls stand for are in the comments.
