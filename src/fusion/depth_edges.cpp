@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace graspfill::fusion {
 
@@ -24,6 +25,9 @@ int RejectDepthEdges(const PixelRect& roi, DepthFrame* frame, std::vector<uint8_
   const int v0 = std::max(roi.v0, 0), v1 = std::min(roi.v1, height);
   if (u1 <= u0 || v1 <= v0) return 0;
   const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
+  if (frame->depth_m.size() != pixels) {
+    throw std::invalid_argument("RejectDepthEdges: the depth buffer does not match the intrinsics' size");
+  }
   if (marks->size() < pixels) marks->resize(pixels);
   const double tan_max = std::tan(kDepthEdgeMaxIncidenceDeg * M_PI / 180.0);
   const float slope_u = static_cast<float>(tan_max / frame->intrinsics.fx);

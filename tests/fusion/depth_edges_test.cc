@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 
 namespace graspfill::fusion {
 namespace {
@@ -96,6 +97,13 @@ TEST(DepthEdges, NoReturnIsNoEdgeAndOutsideTheRectangleNothingChanges) {
   EXPECT_EQ(Returns(f), before);
   // The whole frame: the jump's column and its two neighbours go.
   EXPECT_EQ(RejectDepthEdges(kWhole, &f, &marks), 3 * kH);
+}
+
+TEST(DepthEdges, ABufferOfTheWrongSizeIsRefused) {
+  DepthFrame f = Blank();
+  f.depth_m.resize(100);
+  std::vector<uint8_t> marks;
+  EXPECT_THROW(RejectDepthEdges(kWhole, &f, &marks), std::invalid_argument);
 }
 
 TEST(DepthEdges, TheScratchIsReused) {

@@ -49,8 +49,8 @@ Fused FuseBox(double mixed_pixel_prob, bool reject_edges) {
   f.p99_mm = 1000.0 * sorted[sorted.size() * 99 / 100];
   f.max_mm = 1000.0 * sorted.back();
   std::printf("mixed %.1f edges %s: %zu points, %zu > 5 mm, p99 %.2f mm, max %.2f mm, %lld edge pixels\n",
-              mixed_pixel_prob, reject_edges ? "rejected" : "kept", f.points, f.off_object, f.p99_mm, f.max_mm,
-              static_cast<long long>(f.edge_pixels));
+              mixed_pixel_prob, reject_edges ? "rejected" : "kept", f.points, f.off_object, f.p99_mm,
+              f.max_mm, static_cast<long long>(f.edge_pixels));
   return f;
 }
 

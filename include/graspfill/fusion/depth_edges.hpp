@@ -36,6 +36,8 @@ inline constexpr double kDepthEdgeNoiseM = 0.005;
 /// the two. Pixels outside `roi` are neither changed nor read. `marks` is
 /// scratch, kept by the caller between frames (allocates only when the
 /// frame grows). Returns the number of pixels zeroed.
+/// @throws std::invalid_argument when the depth buffer does not hold
+///   width x height pixels.
 int RejectDepthEdges(const PixelRect& roi, DepthFrame* frame, std::vector<uint8_t>* marks);
 
 }  // namespace graspfill::fusion
