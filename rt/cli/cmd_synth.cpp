@@ -91,6 +91,9 @@ std::optional<synth::SceneConfig> SceneConfigOf(const SynthOptions& o) {
   config.num_frames = o.frames;
   if (o.ideal) config.sensor = synth::SensorModelConfig::Ideal();
   config.sensor.mixed_pixel_prob = o.mixed_pixel_prob;
+  config.sensor.depth_scale = o.depth_scale;
+  config.sensor.intrinsics_scale = o.intrinsics_scale;
+  config.sensor.wobble_m = 0.001 * o.wobble_mm;
   config.environment.wall_distance_m = o.wall_m;
   config.intrinsics = synth::IntrinsicsAtResolution(o.width, o.height);
   config.slip.distance_m = 0.001 * o.slip_mm;

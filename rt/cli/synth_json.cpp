@@ -120,9 +120,15 @@ json SensorJson(const synth::SensorModelConfig& s, bool ideal) {
           {"edge_dropout_prob", s.edge_dropout_prob},
           {"random_dropout_prob", s.random_dropout_prob},
           {"mixed_pixel_prob", s.mixed_pixel_prob},
+          {"depth_scale", s.depth_scale},
+          {"intrinsics_scale", s.intrinsics_scale},
+          {"wobble_m", s.wobble_m},
+          {"wobble_period_s", s.wobble_period_s},
           {"model_doc",
            "Nguyen et al. 2012 axial noise, 1/8 px disparity "
-           "quantization, grazing/edge/random dropouts, mixed pixels at edges"}};
+           "quantization, grazing/edge/random dropouts, mixed pixels at edges; "
+           "depth_scale: measured = scale x true; intrinsics_scale: the frames' "
+           "stated fx, fy over the true ones; wobble: wobble_m sin(2 pi t / period)"}};
 }
 
 // The placement's config and what it gave.

@@ -39,6 +39,12 @@ const char* const kSynthUsage =
     "  --mixed-pixels P  a pixel on a depth edge returns a depth between the edge's\n"
     "                    two sides with probability P (0..1; default 0: a Kinect v1\n"
     "                    loses its edges instead), the flying pixels of ToF cameras\n"
+    "  --depth-scale S   every depth comes out S times its truth (0.9..1.1; 1.01: 1%\n"
+    "                    long, an uncalibrated sensor; default 1)\n"
+    "  --intrinsics-scale S  the frames state fx and fy S times the true ones\n"
+    "                    (0.9..1.1; default 1)\n"
+    "  --wobble-mm A     a slow depth offset of whole frames, A sin(2 pi t / 2 s)\n"
+    "                    (0..5 mm; default 0; all three recorded in scene.json)\n"
     "  --wall-m D        background wall D m from the camera (default 1.4;\n"
     "                    0: none, which makes the log ~5x smaller)\n"
     "  --width W --height H  depth image size, 16..4096 (default 640 x 480), the\n"
@@ -116,7 +122,8 @@ bool IsRecordingOnly(const std::string& a) {
   return a == "--mesh" || a == "--mesh-scale" || a == "--mesh-up" || a == "--claw" || a == "--frames" ||
          a == "--ideal" || a == "--wall-m" || a == "--hand-eye-error" || a == "--pose-noise" ||
          a == "--clock-offset-ms" || a == "--width" || a == "--height" || a == "--slip-mm" ||
-         a == "--speed-variation" || a == "--mixed-pixels";
+         a == "--speed-variation" || a == "--mixed-pixels" || a == "--depth-scale" ||
+         a == "--intrinsics-scale" || a == "--wobble-mm";
 }
 
 // args[*i] (and its value, advancing *i) into *o.
@@ -177,6 +184,12 @@ void ParseOption(const Args& args, size_t* i, SynthOptions* o) {
     o->speed_variation = ParseDouble(a, value(), 0.0, 0.9, "");
   else if (a == "--mixed-pixels")
     o->mixed_pixel_prob = ParseDouble(a, value(), 0.0, 1.0, "");
+  else if (a == "--depth-scale")
+    o->depth_scale = ParseDouble(a, value(), 0.9, 1.1, "");
+  else if (a == "--intrinsics-scale")
+    o->intrinsics_scale = ParseDouble(a, value(), 0.9, 1.1, "");
+  else if (a == "--wobble-mm")
+    o->wobble_mm = ParseDouble(a, value(), 0.0, 5.0, "mm");
   else if (a == "--width")
     o->width = ParseInteger<int>(a, value(), 16, 4096);
   else if (a == "--height")

@@ -42,6 +42,9 @@ struct SynthOptions {
   double slip_mm{0.0};                  ///< --slip-mm: the object's slide in the grasp (off)
   double speed_variation{0.0};          ///< --speed-variation (steady turn)
   double mixed_pixel_prob{0.0};         ///< --mixed-pixels (none)
+  double depth_scale{1.0};              ///< --depth-scale (exact)
+  double intrinsics_scale{1.0};         ///< --intrinsics-scale (exact)
+  double wobble_mm{0.0};                ///< --wobble-mm (none)
   int width{CameraIntrinsics{}.width};  ///< depth image size [pixels]
   int height{CameraIntrinsics{}.height};
   /// Options given that only a recording uses, to refuse them in protocol

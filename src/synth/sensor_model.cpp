@@ -43,6 +43,10 @@ void SensorModelConfig::Validate() const {
           "need 0 <= grazing_start_deg <= grazing_full_deg <= 90");
   Require(edge_jump_m > 0.0, "edge_jump_m must be > 0");
   Require(IsProbability(mixed_pixel_prob), "mixed_pixel_prob must lie in [0, 1]");
+  Require(depth_scale > 0.5 && depth_scale < 2.0, "depth_scale must lie in (0.5, 2)");
+  Require(intrinsics_scale > 0.5 && intrinsics_scale < 2.0, "intrinsics_scale must lie in (0.5, 2)");
+  Require(std::isfinite(wobble_m) && std::abs(wobble_m) <= 0.05 && wobble_period_s > 0.0,
+          "wobble_m must lie in [-0.05, 0.05] m and wobble_period_s be > 0");
   Require(IsProbability(edge_dropout_prob) && IsProbability(random_dropout_prob),
           "dropout probabilities must be in [0, 1]");
 }
@@ -94,6 +98,10 @@ DepthFrame ApplySensorModel(const SensorModelConfig& config, const IdealDepthIma
   frame.utime = utime;
   frame.intrinsics = ideal.intrinsics;
   frame.depth_m.assign(static_cast<size_t>(width) * height, 0.0f);
+  frame.intrinsics.fx *= config.intrinsics_scale;
+  frame.intrinsics.fy *= config.intrinsics_scale;
+  const double wobble_m =
+      config.wobble_m * std::sin(2.0 * M_PI * (static_cast<double>(utime) * 1e-6) / config.wobble_period_s);
   const std::vector<float>& z = ideal.depth_m;
   const double cos_start = std::cos(config.grazing_start_deg * kDegToRad);
   const double cos_full = std::cos(config.grazing_full_deg * kDegToRad);
@@ -145,6 +153,7 @@ DepthFrame ApplySensorModel(const SensorModelConfig& config, const IdealDepthIma
     if (on_edge && config.mixed_pixel_prob > 0.0 && rng.Uniform() < config.mixed_pixel_prob) {
       z_meas += rng.Uniform() * (FarthestNeighbourDepth(z, width, height, i) - z_true);
     }
+    z_meas = z_meas * config.depth_scale + wobble_m;
     if (config.noise) {
       const double dz = z_true - config.sigma_reference_depth_m;
       const double x = cos_inc * kAngularBins;

@@ -15,7 +15,12 @@
 //     edge returns a depth between its two sides, as time-of-flight cameras
 //     do (Hansard et al., "Time-of-Flight Cameras: Principles, Methods and
 //     Applications", Springer 2012, sec. 1.3) and structured-light and
-//     stereo sensors do where their matching window spans the edge.
+//     stereo sensors do where their matching window spans the edge;
+//   - an uncalibrated sensor, off by default: depth scaled (a disparity
+//     offset or baseline error reads as a scale over a workspace's depth
+//     range), the frames' focal lengths stated off the true ones, and a
+//     slow depth wobble of the whole frame (thermal drift of structured-
+//     light sensors, sub-mm over seconds).
 #pragma once
 
 #include <cstdint>
@@ -73,6 +78,15 @@ struct SensorModelConfig {
   /// the 4-neighbour farthest from it in depth (0: as a Kinect v1, whose
   /// edges are lost rather than mixed).
   double mixed_pixel_prob{0.0};
+  /// Every returned depth is this many times its truth (1.01: 1% long).
+  double depth_scale{1.0};
+  /// The frames state focal lengths (fx, fy) this many times the ones they
+  /// were rendered with; the principal point is right.
+  double intrinsics_scale{1.0};
+  /// A slow offset of every depth in a frame: wobble_m sin(2 pi t /
+  /// wobble_period_s), t the frame's time [m, s].
+  double wobble_m{0.0};
+  double wobble_period_s{2.0};
 
   /// Noise-free, unquantized, no dropouts; only the range limits remain.
   static SensorModelConfig Ideal();

@@ -187,6 +187,42 @@ TEST_F(SynthCliTest, SessionDescriptionCarriesTheClawAsUsed) {
   EXPECT_EQ(nlohmann::json::parse(session.claw_text), scene["claw"]["used"]);
 }
 
+// The sensor's errors reach the frames, and scene.json holds their truth.
+TEST_F(SynthCliTest, SensorErrorsAreRecordedWithTheirTruth) {
+  const std::string out = dir_.string();
+  ASSERT_EQ(RunSynth({"--shape", "sphere", "--frames", "2", "--ideal", "--depth-scale", "1.01",
+                      "--intrinsics-scale", "1.005", "--wobble-mm", "0.5", "--mixed-pixels", "0.25", "-o",
+                      out}),
+            0);
+  std::ifstream in(dir_ / "scene.json");
+  const nlohmann::json sensor = nlohmann::json::parse(in)["sensor"];
+  EXPECT_EQ(sensor["depth_scale"], 1.01);
+  EXPECT_EQ(sensor["intrinsics_scale"], 1.005);
+  EXPECT_EQ(sensor["wobble_m"], 0.0005);
+  EXPECT_EQ(sensor["mixed_pixel_prob"], 0.25);
+  lcm::LogFile log((dir_ / "recording.lcmlog").string(), "r");
+  ASSERT_TRUE(log.good());
+  DepthFrame frame;
+  std::string error;
+  bool decoded = false;
+  while (const lcm::LogEvent* event = log.readNextEvent()) {
+    if (event->channel != io::ChannelNames{}.depth) continue;
+    ASSERT_TRUE(io::DecodeDepthImage(event->data, event->datalen, &frame, &error)) << error;
+    decoded = true;
+    break;
+  }
+  ASSERT_TRUE(decoded);
+  EXPECT_NEAR(frame.intrinsics.fx, 1.005 * synth::IntrinsicsAtResolution(640, 480).fx, 1e-9);
+  for (const std::vector<std::string>& bad : {std::vector<std::string>{"--depth-scale", "1.5"},
+                                              {"--intrinsics-scale", "0"},
+                                              {"--wobble-mm", "-1"},
+                                              {"--mixed-pixels", "2"}}) {
+    Args args = {"--shape", "cuboid", "-o", (dir_ / "bad").string()};
+    args.insert(args.end(), bad.begin(), bad.end());
+    EXPECT_EQ(RunSynth(args), 2) << bad[0] << " " << bad[1];
+  }
+}
+
 TEST_F(SynthCliTest, NumbersAreParsedStrictly) {
   const std::string out = dir_.string();
   for (const std::vector<std::string>& bad : {std::vector<std::string>{"--frames", "12x"},

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <stdexcept>
 #include <vector>
 
 #include "graspfill/mesh/mesh_geometry.hpp"
@@ -401,6 +402,40 @@ TEST(SensorModelTest, AxialNoiseMatchesNguyen) {
   const double step = z * z / (0.075 * 525.0 * 8.0);
   EXPECT_NEAR(std, std::sqrt(sigma * sigma + step * step / 12.0), 0.1 * sigma);
   EXPECT_NEAR(valid, 0.995, 0.001);
+}
+
+// An uncalibrated sensor: depth scaled, focal lengths stated off, and a
+// slow wobble of the whole frame, each as configured and nothing else.
+TEST(SensorModelTest, ScaleIntrinsicsAndWobbleAreAppliedAsConfigured) {
+  const double z = 0.6;
+  SensorModelConfig config = SensorModelConfig::Ideal();
+  config.depth_scale = 1.01;
+  config.intrinsics_scale = 1.005;
+  double mean, std, valid;
+  const DepthFrame scaled = ApplySensorModel(config, FlatImage(z, 1.0), 5, 0);
+  MeanStd(scaled, z, &mean, &std, &valid);
+  EXPECT_NEAR(mean, 0.01 * z, 1e-6);  // 6 mm long at 0.6 m
+  EXPECT_EQ(valid, 1.0);
+  for (float d : scaled.depth_m) ASSERT_NEAR(d, 1.01 * z, 1e-6);
+  EXPECT_NEAR(scaled.intrinsics.fx, 525.0 * 1.005, 1e-9);
+  EXPECT_NEAR(scaled.intrinsics.fy, 525.0 * 1.005, 1e-9);
+  EXPECT_EQ(scaled.intrinsics.cx, FlatImage(z, 1.0).intrinsics.cx);
+
+  config = SensorModelConfig::Ideal();
+  config.wobble_m = 0.0005;
+  config.wobble_period_s = 2.0;
+  MeanStd(ApplySensorModel(config, FlatImage(z, 1.0), 5, 500000), z, &mean, &std, &valid);
+  EXPECT_NEAR(mean, 0.0005, 1e-6);  // a quarter period: the crest
+  const DepthFrame trough = ApplySensorModel(config, FlatImage(z, 1.0), 5, 1500000);
+  for (float d : trough.depth_m) ASSERT_NEAR(d, z - 0.0005, 1e-6);  // the whole frame, together
+
+  SensorModelConfig bad;
+  bad.depth_scale = 0.0;
+  EXPECT_THROW(bad.Validate(), std::invalid_argument);
+  bad = SensorModelConfig{};
+  bad.wobble_period_s = 0.0;
+  bad.wobble_m = 0.001;
+  EXPECT_THROW(bad.Validate(), std::invalid_argument);
 }
 
 TEST(SensorModelTest, QuantizationSteps) {
