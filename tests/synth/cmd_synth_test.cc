@@ -190,10 +190,10 @@ TEST_F(SynthCliTest, SessionDescriptionCarriesTheClawAsUsed) {
 // The sensor's errors reach the frames, and scene.json holds their truth.
 TEST_F(SynthCliTest, SensorErrorsAreRecordedWithTheirTruth) {
   const std::string out = dir_.string();
-  ASSERT_EQ(RunSynth({"--shape", "sphere", "--frames", "2", "--ideal", "--depth-scale", "1.01",
-                      "--intrinsics-scale", "1.005", "--wobble-mm", "0.5", "--mixed-pixels", "0.25", "-o",
-                      out}),
-            0);
+  ASSERT_EQ(
+      RunSynth({"--shape", "sphere", "--frames", "2", "--ideal", "--depth-scale", "1.01",
+                "--intrinsics-scale", "1.005", "--wobble-mm", "0.5", "--mixed-pixels", "0.25", "-o", out}),
+      0);
   std::ifstream in(dir_ / "scene.json");
   const nlohmann::json sensor = nlohmann::json::parse(in)["sensor"];
   EXPECT_EQ(sensor["depth_scale"], 1.01);
