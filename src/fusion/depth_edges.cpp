@@ -18,16 +18,15 @@ inline bool Jumps(float a, float b, float slope, float noise) {
 }  // namespace
 
 int RejectDepthEdges(const PixelRect& roi, DepthFrame* frame, std::vector<uint8_t>* marks) {
-  if (roi.empty()) return 0;
   const int width = frame->intrinsics.width;
   const int height = frame->intrinsics.height;
-  const int u0 = std::max(roi.u0, 0), u1 = std::min(roi.u1, width);
-  const int v0 = std::max(roi.v0, 0), v1 = std::min(roi.v1, height);
-  if (u1 <= u0 || v1 <= v0) return 0;
-  const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
+  const size_t pixels = static_cast<size_t>(std::max(width, 0)) * static_cast<size_t>(std::max(height, 0));
   if (frame->depth_m.size() != pixels) {
     throw std::invalid_argument("RejectDepthEdges: the depth buffer does not match the intrinsics' size");
   }
+  const int u0 = std::max(roi.u0, 0), u1 = std::min(roi.u1, width);
+  const int v0 = std::max(roi.v0, 0), v1 = std::min(roi.v1, height);
+  if (u1 <= u0 || v1 <= v0) return 0;
   if (marks->size() < pixels) marks->resize(pixels);
   const double tan_max = std::tan(kDepthEdgeMaxIncidenceDeg * M_PI / 180.0);
   const float slope_u = static_cast<float>(tan_max / frame->intrinsics.fx);

@@ -9,6 +9,7 @@
 #include "graspfill/core/openmp_threads.hpp"
 #include "graspfill/core/pose_interpolation.hpp"
 #include "graspfill/evidence/seen_free_carve.hpp"
+#include "graspfill/fusion/depth_edges.hpp"
 
 namespace graspfill {
 namespace {

@@ -25,7 +25,6 @@
 #include "graspfill/core/frame_skip.hpp"
 #include "graspfill/core/stage_timer.hpp"
 #include "graspfill/evidence/visibility_record.hpp"
-#include "graspfill/fusion/depth_edges.hpp"
 #include "graspfill/fusion/tsdf_fusion.hpp"
 #include "graspfill/fusion/workspace_crop.hpp"
 #include "graspfill/refine/object_tracker.hpp"
