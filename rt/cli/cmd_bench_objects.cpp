@@ -46,7 +46,7 @@ constexpr const char* kUsage =
     "usage: graspfill bench repair --objects DIR [--object NAME[,NAME..]] [--split tune|check]\n"
     "                              [--claw three-finger,parallel] [--grasp WAY[,WAY..]]\n"
     "                              [--seeds 1,2,3] [--frames N] [--repeat N] [--dump OUT]\n"
-    "                              [--verbose] [--json]\n"
+    "                              [--reject-depth-edges] [--verbose] [--json]\n"
     "  DIR/objects.json lists the meshes (meters, +z up; PLY, OBJ or STL) as\n"
     "    {\"objects\": {\"NAME\": {\"file\": \"NAME.ply\", \"kind\": K, \"split\": S}, ...}}\n"
     "    K closed_symmetric, closed_asymmetric or open; S tune or check; optional\n"
@@ -61,6 +61,8 @@ constexpr const char* kUsage =
     "                give the same cloud)\n"
     "  --dump OUT    each row's truth, fused and repaired clouds as PLY in OUT\n"
     "                (an existing folder; no file there is overwritten)\n"
+    "  --reject-depth-edges  the pipeline drops the pixels on depth edges (off by\n"
+    "                default; docs/measurements/2026-12-06-depth-edges.md)\n"
     "targets (issue 42): closed_symmetric coverage >= 97% (truth within 2 mm),\n"
     "added points' p95 <= 2 mm, <= 2% of them > 3 mm; closed_asymmetric and open:\n"
     "<= 2% > 3 mm, coverage not below the fused cloud's; every row: no added point\n"
@@ -166,8 +168,9 @@ std::string HoldProblem(const synth::Scene& scene) {
 // The pipeline's default box, grown to hold the scene's object (plus 2 cm,
 // as `synth` reports it) where it does not: the box is a rig setting, and
 // an object cut by it would measure the box, not the repair.
-PipelineConfig PipelineFor(const synth::Scene& scene, bool* grown) {
+PipelineConfig PipelineFor(const synth::Scene& scene, bool reject_depth_edges, bool* grown) {
   PipelineConfig config;
+  config.reject_depth_edges = reject_depth_edges;
   const Eigen::AlignedBox3d need = scene.WorkspaceBoxG(0.02);
   fusion::WorkspaceBox& box = config.workspace;
   *grown = false;
@@ -196,7 +199,7 @@ std::string DumpPath(const std::string& dir, const RowSpec& s, const char* what)
 // One row: the scene, the pipeline, the repair and the measurements.
 // @throws std::exception on a failure of the run itself (not of a target).
 RowResult RunRow(const RowSpec& s, const TriangleMesh& mesh, int frames, int repeat,
-                 const std::string& dump_dir) {
+                 const std::string& dump_dir, bool reject_depth_edges) {
   RowResult r;
   synth::SceneConfig sc;
   sc.mesh = mesh;
@@ -224,7 +227,7 @@ RowResult RunRow(const RowSpec& s, const TriangleMesh& mesh, int frames, int rep
                          1000.0 * scene->placement().claw.finger_length_m);
   }
   const std::unique_ptr<Pipeline> pipeline =
-      RunSceneThroughPipeline(*scene, PipelineFor(*scene, &r.workspace_grown));
+      RunSceneThroughPipeline(*scene, PipelineFor(*scene, reject_depth_edges, &r.workspace_grown));
   const ObjectCloud fused = pipeline->ExtractCloud();
   const mesh::SurfaceSamples truth = TruthSamples(*scene);
   r.fused_points = fused.size();
@@ -437,6 +440,7 @@ struct Options {
   std::string dump_dir;
   bool json{false};
   bool verbose{false};
+  bool reject_depth_edges{false};
 };
 
 // @throws UsageError
@@ -488,6 +492,8 @@ Options Parse(const Args& args) {
       o.json = true;
     else if (a == "--verbose")
       o.verbose = true;
+    else if (a == "--reject-depth-edges")
+      o.reject_depth_edges = true;
     else
       throw BadOption(a, kUsage);
   }
@@ -582,11 +588,11 @@ int RunBenchRepairObjects(const Args& args) {
 
   if (!o.json) {
     std::printf(
-        "Objects of %s through the pipeline (%d frames, one turn), repaired with the record:\n"
+        "Objects of %s through the pipeline (%d frames, one turn%s), repaired with the record:\n"
         "fused: its points, coverage (truth within 2 mm) and p99 distance to the truth;\n"
         "repaired: points, coverage, added points' p95 / share > 3 mm / in seen-free space, "
         "repair ms (fastest of %d)\n\n",
-        ManifestPath(o.dir).c_str(), o.frames, o.repeat);
+        ManifestPath(o.dir).c_str(), o.frames, o.reject_depth_edges ? ", depth edges dropped" : "", o.repeat);
     std::printf("%-25s %-17s %-5s %-12s %-15s %4s | %6s %6s %6s | %6s %6s %6s %6s %5s %6s | %s\n", "object",
                 "kind", "split", "claw", "grasp", "seed", "fused", "cov", "p99mm", "points", "cov", "p95mm",
                 "wrong", "free", "ms", "meets");
@@ -599,7 +605,7 @@ int RunBenchRepairObjects(const Args& args) {
     progress.Update(static_cast<int64_t>(done));
     RowResult r;
     try {
-      r = RunRow(s, meshes.at(s.object->name), o.frames, o.repeat, o.dump_dir);
+      r = RunRow(s, meshes.at(s.object->name), o.frames, o.repeat, o.dump_dir, o.reject_depth_edges);
     } catch (const std::exception& e) {
       progress.Clear();
       std::fprintf(stderr, "%s: %s, %s, %s, seed %llu: %s\n", kCommand, s.object->name.c_str(),
