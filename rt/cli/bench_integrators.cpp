@@ -17,9 +17,6 @@ std::string Name(const char* integrator, int block_resolution) {
   return std::string(integrator) + " " + std::to_string(block_resolution) + "^3";
 }
 
-// 0 when nothing was measured (fewer than kExtractEvery frames).
-double PercentileOr0(const std::vector<double>& v, double q) { return v.empty() ? 0.0 : Percentile(v, q); }
-
 DistancesMm NearestDistancesMm(const ObjectCloud& from, const ObjectCloud& to) {
   if (from.size() == 0 || to.size() == 0) return {};
   const std::vector<double> d = mesh::NearestDistances(from.points_G, to.points_G);
@@ -32,6 +29,8 @@ nlohmann::ordered_json Json(const DistancesMm& d) {
 }
 
 }  // namespace
+
+double PercentileOr0(const std::vector<double>& v, double q) { return v.empty() ? 0.0 : Percentile(v, q); }
 
 IntegratorComparison::IntegratorComparison(const fusion::TsdfConfig& tsdf, int num_threads)
     : num_threads_(num_threads) {

@@ -63,6 +63,10 @@ class IntegratorComparison {
   std::vector<IntegratorRun> runs_;
 };
 
+/// Percentile(v, q), 0 when v is empty (nothing measured, e.g. no cloud
+/// taken from fewer than kExtractEvery frames).
+double PercentileOr0(const std::vector<double>& v, double q);
+
 /// Nearest distances from one cloud to another [mm].
 struct DistancesMm {
   double p50{0.0}, p95{0.0}, p99{0.0}, max{0.0};

@@ -21,7 +21,6 @@
 #include "claw_option.hpp"
 #include "commands.hpp"
 #include "data_paths.hpp"
-#include "graspfill/core/percentile.hpp"
 #include "graspfill/core/pose_interpolation.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/pipeline/pipeline.hpp"
@@ -203,9 +202,6 @@ ExtractionTimes ExtractionEvery(const PipelineConfig& config, const claw::ClawMo
 // a / b, 0 when b is 0 (nothing measured).
 double Ratio(double a, double b) { return b > 0.0 ? a / b : 0.0; }
 
-// 0 when no cloud was extracted (a recording of fewer than 3 fused frames).
-double PercentileMs(const std::vector<double>& v, double p) { return v.empty() ? 0.0 : Percentile(v, p); }
-
 double FramePathMs(const PipelineStats& s) {
   return s.depth_edges.mean_ms() + s.crop.mean_ms() + s.mask.mean_ms() + s.integrate.mean_ms() +
          s.visibility.mean_ms() + s.refine_time.mean_ms() + s.track_time.mean_ms();
@@ -334,7 +330,7 @@ BenchResults Measure(const BenchOptions& o, const claw::ClawModel& claw,
   r.open3d_frames_missed = reference.frames_missed;
   const PipelineStats& s = pipeline.stats();
   r.cut_ms = s.depth_edges.mean_ms() + s.crop.mean_ms() + s.mask.mean_ms();
-  r.total_ms = r.cut_ms + s.integrate.mean_ms() + s.visibility.mean_ms() + s.refine_time.mean_ms();
+  r.total_ms = FramePathMs(s);  // tracking is off here
   r.unrefined_total_ms = FramePathWithoutRefinementMs(config, claw, frames, &progress);
   r.points = pipeline.ExtractCloud().size();
   r.stats = pipeline.stats();
@@ -391,9 +387,9 @@ void PrintBenchJson(const std::string& log, const BenchResults& r) {
   j["extraction_every_3_frames"] = {
       {"clouds", extraction.clouds},
       {"cached_ms",
-       {{"p50", PercentileMs(extraction.cached_ms, 50)}, {"p99", PercentileMs(extraction.cached_ms, 99)}}},
+       {{"p50", PercentileOr0(extraction.cached_ms, 50)}, {"p99", PercentileOr0(extraction.cached_ms, 99)}}},
       {"open3d_full_ms",
-       {{"p50", PercentileMs(extraction.full_ms, 50)}, {"p99", PercentileMs(extraction.full_ms, 99)}}},
+       {{"p50", PercentileOr0(extraction.full_ms, 50)}, {"p99", PercentileOr0(extraction.full_ms, 99)}}},
       {"units_extracted_share", extraction.units_share}};
   j["replay_fps"] = r.best_fps;
   j["replay_frames"] = r.replay_frames;
@@ -424,8 +420,8 @@ void PrintBenchTable(const std::string& log, const BenchResults& r) {
   std::printf(
       "cloud every 3 fused frames (%d clouds), extraction p50 / p99 [ms]: cached %.2f / %.2f, "
       "Open3D's whole volume %.2f / %.2f (%.0f%% of the units extracted anew)\n",
-      extraction.clouds, PercentileMs(extraction.cached_ms, 50), PercentileMs(extraction.cached_ms, 99),
-      PercentileMs(extraction.full_ms, 50), PercentileMs(extraction.full_ms, 99),
+      extraction.clouds, PercentileOr0(extraction.cached_ms, 50), PercentileOr0(extraction.cached_ms, 99),
+      PercentileOr0(extraction.full_ms, 50), PercentileOr0(extraction.full_ms, 99),
       100.0 * extraction.units_share);
   std::printf("open3d alone: the %lld frames the pipeline fused, as it fused them (cropped, claw cut out)",
               static_cast<long long>(r.open3d_frames));

@@ -3,7 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
+
+#include "frame_size_check.hpp"
 
 namespace graspfill::fusion {
 
@@ -20,10 +21,8 @@ inline bool Jumps(float a, float b, float slope, float noise) {
 int RejectDepthEdges(const PixelRect& roi, DepthFrame* frame, std::vector<uint8_t>* marks) {
   const int width = frame->intrinsics.width;
   const int height = frame->intrinsics.height;
-  const size_t pixels = static_cast<size_t>(std::max(width, 0)) * static_cast<size_t>(std::max(height, 0));
-  if (frame->depth_m.size() != pixels) {
-    throw std::invalid_argument("RejectDepthEdges: the depth buffer does not match the intrinsics' size");
-  }
+  CheckFrameSize("RejectDepthEdges", *frame, frame->intrinsics, 0);
+  const size_t pixels = frame->depth_m.size();
   const int u0 = std::max(roi.u0, 0), u1 = std::min(roi.u1, width);
   const int v0 = std::max(roi.v0, 0), v1 = std::min(roi.v1, height);
   if (u1 <= u0 || v1 <= v0) return 0;
