@@ -7,6 +7,7 @@
 // whole pipeline) in frames per second.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -162,6 +163,23 @@ PipelineStats FramePathWithTracking(PipelineConfig config, const claw::ClawModel
   return pipeline.stats();
 }
 
+// The same frames with their depth `scale` times too long (an uncalibrated
+// sensor): the refinement finds the scale from the claw and, once it is
+// confident, the frames are divided by it (depth_rescale's cost).
+struct DepthErrorPass {
+  PipelineStats stats;
+  refine::DepthScaleEstimate found;
+};
+DepthErrorPass WithDepthError(const PipelineConfig& config, const claw::ClawModel& claw,
+                              std::vector<PosedFrame> frames, float scale, FramesDone* progress) {
+  for (PosedFrame& p : frames) {
+    for (float& z : p.frame.depth_m) z *= scale;
+  }
+  Pipeline pipeline(config, claw);
+  FeedFrames(frames, &pipeline, progress);
+  return {pipeline.stats(), pipeline.refiner().depth_scale()};
+}
+
 // Extraction as the live loop does it, a cloud every `every` fused frames:
 // the cached extraction (only the volume units changed since the last one,
 // and their neighbours, anew) beside Open3D's over the whole volume, on the
@@ -204,7 +222,8 @@ double Ratio(double a, double b) { return b > 0.0 ? a / b : 0.0; }
 
 double FramePathMs(const PipelineStats& s) {
   return s.depth_edges.mean_ms() + s.crop.mean_ms() + s.mask.mean_ms() + s.integrate.mean_ms() +
-         s.visibility.mean_ms() + s.refine_time.mean_ms() + s.track_time.mean_ms();
+         s.visibility.mean_ms() + s.refine_time.mean_ms() + s.depth_scale.mean_ms() +
+         s.depth_rescale.mean_ms() + s.track_time.mean_ms();
 }
 
 // Replays the log file through a fresh pipeline: decode + pipeline, no output.
@@ -282,6 +301,9 @@ int ParseBenchArgs(const Args& args, BenchOptions* o) {
   return -1;
 }
 
+// The depth error of the pass that times the depth's rescaling.
+constexpr float kBenchDepthError = 1.01f;
+
 // What the bench measured, for the table or the JSON.
 struct BenchResults {
   size_t frames{0};
@@ -291,6 +313,8 @@ struct BenchResults {
   double unrefined_total_ms{0.0};
   size_t points{0};
   PipelineStats tracked;  // with --track-object
+  PipelineStats scaled;   // the depth 1% long
+  refine::DepthScaleEstimate scale_found;
   ExtractionTimes extraction;
   double raster_mask_ms{0.0};
   double depth_edges_ms{0.0};  // the depth-edge rejection, off by default, timed on
@@ -311,7 +335,7 @@ BenchResults Measure(const BenchOptions& o, const claw::ClawModel& claw,
 
   // Six passes over the posed frames, then the replays of the whole log
   // (a log's unposed frames can take the count past the total: capped).
-  ProgressLine line("bench", "frames", static_cast<int64_t>(frames.size()) * (5 + o.repeat));
+  ProgressLine line("bench", "frames", static_cast<int64_t>(frames.size()) * (6 + o.repeat));
   FramesDone progress{line};
   BenchResults r;
   r.frames = frames.size();
@@ -336,6 +360,9 @@ BenchResults Measure(const BenchOptions& o, const claw::ClawModel& claw,
   r.stats = pipeline.stats();
   r.tracked = FramePathWithTracking(config, claw, frames, &progress);
   r.extraction = ExtractionEvery(config, claw, frames, 3, &progress);
+  const DepthErrorPass scaled = WithDepthError(config, claw, frames, kBenchDepthError, &progress);
+  r.scaled = scaled.stats;
+  r.scale_found = scaled.found;
 
   // The z-buffer alternative to Embree for the claw's depth, same frames.
   // The same pass times the depth-edge rejection (off by default).
@@ -371,6 +398,8 @@ void PrintBenchJson(const std::string& log, const BenchResults& r) {
                     {"integrate_ms", s.integrate.mean_ms()},
                     {"visibility_ms", s.visibility.mean_ms()},
                     {"refine_ms", s.refine_time.mean_ms()},
+                    {"depth_scale_ms", s.depth_scale.mean_ms()},
+                    {"depth_rescale_when_applied_ms", r.scaled.depth_rescale.mean_ms()},
                     {"frames_rejected_by_refine", s.frames_skipped_refine},
                     {"frame_total_ms", r.total_ms},
                     {"frame_total_without_refine_ms", r.unrefined_total_ms},
@@ -391,6 +420,12 @@ void PrintBenchJson(const std::string& log, const BenchResults& r) {
       {"open3d_full_ms",
        {{"p50", PercentileOr0(extraction.full_ms, 50)}, {"p99", PercentileOr0(extraction.full_ms, 99)}}},
       {"units_extracted_share", extraction.units_share}};
+  j["depth_1pc_long"] = {
+      {"factor_found", r.scale_found.factor},
+      {"stderr", std::isfinite(r.scale_found.stderr_) ? nlohmann::ordered_json(r.scale_found.stderr_)
+                                                      : nlohmann::ordered_json(nullptr)},
+      {"applied", r.scale_found.applied},
+      {"frame_total_ms", FramePathMs(r.scaled)}};
   j["replay_fps"] = r.best_fps;
   j["replay_frames"] = r.replay_frames;
   std::printf("%s\n", j.dump(2).c_str());
@@ -412,11 +447,17 @@ void PrintBenchTable(const std::string& log, const BenchResults& r) {
   }
   std::printf("%-34s %12.3f %14s\n", "visibility record (key frames)", s.visibility.mean_ms(), "-");
   std::printf("%-34s %12.3f %14s\n", "pose refinement (claw registration)", s.refine_time.mean_ms(), "-");
+  std::printf("%-34s %12.3f %14s\n", "depth scale from the claw", s.depth_scale.mean_ms(), "-");
+  std::printf("%-34s %12.3f %14s\n", "  (depth divided by it, when found)", r.scaled.depth_rescale.mean_ms(),
+              "-");
   std::printf("%-34s %12.3f %14.3f\n", "frame path total", r.total_ms, r.open3d_integrate_ms);
   std::printf("%-34s %12.3f %14s\n", "  (frame path without refinement)", r.unrefined_total_ms, "-");
   std::printf("%-34s %12.3f %14s\n", "  (object tracking, --track-object)", r.tracked.track_time.mean_ms(),
               "-");
   std::printf("%-34s %12.3f %14s\n", "  (frame path with object tracking)", FramePathMs(r.tracked), "-");
+  std::printf("%-34s %12.3f %14s\n", "  (frame path, depth 1% long)", FramePathMs(r.scaled), "-");
+  std::printf("the same frames with the depth 1%% long: scale found %.4f +- %.4f, applied %.4f\n",
+              r.scale_found.factor, r.scale_found.stderr_, r.scale_found.applied);
   std::printf(
       "cloud every 3 fused frames (%d clouds), extraction p50 / p99 [ms]: cached %.2f / %.2f, "
       "Open3D's whole volume %.2f / %.2f (%.0f%% of the units extracted anew)\n",

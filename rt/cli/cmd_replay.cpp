@@ -86,6 +86,9 @@ constexpr const char* kUsage =
     "  --refine                 correct each frame's gripper pose by registering the claw\n"
     "                           model to the depth (the default)\n"
     "  --no-refine              fuse at the logged gripper poses\n"
+    "  --no-depth-calibration   report the depth's scale error the claw shows (--json\n"
+    "                           refine.depth_scale), but do not divide the depth by it\n"
+    "                           (default: divided by it once confident)\n"
     "  --track-object           follow the object slipping in the grasp: align each frame's\n"
     "                           object pixels to the model fused so far and fuse it in the\n"
     "                           object's frame as first seen (the cloud's frame; where the\n"
@@ -176,6 +179,8 @@ void Parse(const Args& args, ReplayOptions* o) {
       s.pipeline.refine.enabled = false;
     else if (a == "--refine")
       s.pipeline.refine.enabled = true;
+    else if (a == "--no-depth-calibration")
+      s.pipeline.refine.apply_depth_scale = false;
     else if (a == "--track-object")
       s.pipeline.track_object.enabled = true;
     else if (a == "--num-threads") {

@@ -84,6 +84,8 @@ const char* const kLiveUsage =
     "  --no-refine           fuse at the logged gripper poses (default: correct each frame's\n"
     "                        pose by registering the claw model to the depth)\n"
     "  --refine              the default; over a config's refine.enabled: false\n"
+    "  --no-depth-calibration report the depth's scale error the claw shows, but do not\n"
+    "                        divide the depth by it (default: divided by it once confident)\n"
     "  --track-object        follow the object slipping in the grasp (frame-to-model)\n"
     "  --record LOG          write what the session receives (session description, depth,\n"
     "                        gripper states) as an LCM log that `graspfill replay` and\n"
@@ -142,6 +144,8 @@ LiveOptions ParseLiveOptions(const Args& args, const std::optional<rt::RigConfig
       module_config.pipeline.refine.enabled = false;
     else if (a == "--refine")
       module_config.pipeline.refine.enabled = true;
+    else if (a == "--no-depth-calibration")
+      module_config.pipeline.refine.apply_depth_scale = false;
     else if (a == "--track-object")
       module_config.pipeline.track_object.enabled = true;
     else if (a == "--num-threads" && has_value) {

@@ -63,6 +63,21 @@ inline nlohmann::ordered_json RefineJson(const Pipeline& pipeline) {
                                                : nlohmann::ordered_json(nullptr)},
                        {"frames", clock.frames},
                        {"jump_frames_in_fit", r.clock_only_samples}};
+  // The depth's scale from the claw's size: the sensor's depth is `factor`
+  // times the true one; `applied` is what the frames were divided by
+  // (RefineConfig::apply_depth_scale). null until estimable.
+  const refine::DepthScaleEstimate& scale = refiner.depth_scale();
+  const bool scale_known = std::isfinite(scale.stderr_);
+  const auto known = [&](double v) {
+    return scale_known ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
+  };
+  j["depth_scale"] = {{"factor", known(scale.factor)},
+                      {"stderr", known(scale.stderr_)},
+                      {"error_percent", known(100.0 * (scale.factor - 1.0))},
+                      {"frames", scale.frames},
+                      {"applied", scale.applied},
+                      {"changes", scale.changes},
+                      {"ms_per_frame", stats.depth_scale.mean_ms() + stats.depth_rescale.mean_ms()}};
   j["ms_per_frame"] = stats.refine_time.mean_ms();
   return j;
 }
@@ -79,18 +94,24 @@ inline std::string RefineSummary(const Pipeline& pipeline) {
     std::snprintf(clock, sizeof(clock), "%.1f +- %.1f ms%s", 1000.0 * c.offset_s, 1000.0 * c.stderr_s,
                   c.applied ? " (applied)" : " (not applied)");
   }
-  char line[480];
+  const refine::DepthScaleEstimate& s = refiner.depth_scale();
+  char scale[96] = "not estimable yet";
+  if (std::isfinite(s.stderr_)) {
+    std::snprintf(scale, sizeof(scale), "%+.2f +- %.2f%%%s", 100.0 * (s.factor - 1.0), 100.0 * s.stderr_,
+                  s.applied != 1.0 ? " (applied)" : " (not applied)");
+  }
+  char line[560];
   std::snprintf(line, sizeof(line),
                 "pose refinement: %lld frames refined, %lld rejected (claw not seen %lld, not "
                 "converged %lld, jump %lld); hand-eye correction %.2f mm at the claw, %.3f deg; "
-                "per frame beyond it %.2f mm; clock offset %s; %.3f ms a frame",
+                "per frame beyond it %.2f mm; clock offset %s; depth scale error %s; %.3f ms a frame",
                 static_cast<long long>(r.frames_refined), static_cast<long long>(r.rejected()),
                 static_cast<long long>(r.rejected_claw_not_seen),
                 static_cast<long long>(r.rejected_not_converged), static_cast<long long>(r.rejected_jump),
                 1000.0 * (H * centre - centre).norm(),
                 Eigen::AngleAxisd(H.linear()).angle() * 180.0 / 3.14159265358979323846,
                 1000.0 * r.residual_sum_m / std::max<double>(1.0, static_cast<double>(r.frames_tracked)),
-                clock, pipeline.stats().refine_time.mean_ms());
+                clock, scale, pipeline.stats().refine_time.mean_ms());
   return line;
 }
 

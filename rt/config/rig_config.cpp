@@ -47,7 +47,8 @@ bool RigConfig::Repair::operator==(const Repair& o) const {
 }
 bool RigConfig::Refine::operator==(const Refine& o) const {
   return enabled == o.enabled && min_correction_m == o.min_correction_m &&
-         min_correction_deg == o.min_correction_deg && track_object == o.track_object;
+         min_correction_deg == o.min_correction_deg && track_object == o.track_object &&
+         apply_depth_scale == o.apply_depth_scale;
 }
 bool RigConfig::Channels::operator==(const Channels& o) const {
   return depth == o.depth && gripper_state == o.gripper_state && object_cloud == o.object_cloud &&
@@ -125,6 +126,7 @@ void ApplyToPipeline(const RigConfig& c, PipelineConfig* p) {
   p->refine.enabled = c.refine.enabled;
   p->refine.min_correction_m = c.refine.min_correction_m;
   p->refine.min_correction_deg = c.refine.min_correction_deg;
+  p->refine.apply_depth_scale = c.refine.apply_depth_scale;
   p->track_object.enabled = c.refine.track_object;
   // The record keeps the safe bound at the repair's voxel (0: none).
   p->visibility.safe_bound_voxel_m = c.repair.safe_bound_voxel_m;

@@ -167,6 +167,9 @@ struct RigConfig {
     double min_correction_deg{0.5};
     /// Follow the object slipping in the grasp (frame-to-model tracking).
     bool track_object{false};
+    /// Divide the depth by the scale error the claw's size shows, once
+    /// confident (false: only reported).
+    bool apply_depth_scale{true};
     bool operator==(const Refine& o) const;
   };
   /// LCM channel names: each 1..63 characters of A-Z a-z 0-9 _ - /, no

@@ -208,6 +208,9 @@ void DumpRefine(Writer* w, const RigConfig& c, const RigConfig& d) {
   w->Key(1, "min_correction_deg", FormatNumber(c.refine.min_correction_deg));
   w->Comment(1, "Follow the object slipping in the grasp (frame-to-model tracking).");
   w->Key(1, "track_object", Bool(c.refine.track_object));
+  w->Comment(1, "Divide the depth by the scale error the claw's size in it shows, once confident");
+  w->Comment(1, "(false: only reported, in the replay report's refine.depth_scale).");
+  w->Key(1, "apply_depth_scale", Bool(c.refine.apply_depth_scale));
 }
 
 // The channels: the LCM channel names.

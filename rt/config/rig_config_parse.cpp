@@ -346,7 +346,7 @@ void ReadClaw(const Reader& r, const YAML::Node& v, const std::string& path, Rig
 }
 
 void ReadRefine(const Reader& r, const YAML::Node& v, const std::string& path, RigConfig::Refine* refine) {
-  r.Map(v, path, {"enabled", "min_correction_m", "min_correction_deg", "track_object"},
+  r.Map(v, path, {"enabled", "min_correction_m", "min_correction_deg", "track_object", "apply_depth_scale"},
         [&](const std::string& k, const YAML::Node& x, const std::string& f) {
           if (k == "enabled")
             refine->enabled = r.Bool(x, f);
@@ -354,6 +354,8 @@ void ReadRefine(const Reader& r, const YAML::Node& v, const std::string& path, R
             refine->min_correction_m = r.Number(x, f, kCorrectionM);
           else if (k == "min_correction_deg")
             refine->min_correction_deg = r.Number(x, f, kCorrectionDeg);
+          else if (k == "apply_depth_scale")
+            refine->apply_depth_scale = r.Bool(x, f);
           else
             refine->track_object = r.Bool(x, f);
         });

@@ -124,8 +124,23 @@ struct Pipeline::Impl {
   // Refine the pose, crop, mask, track the object and fuse one frame; a
   // frame refinement or tracking rejects is counted, nothing fused, and
   // *skip says why.
-  FrameOutcome Integrate(const DepthFrame& frame, const GripperState& state, FrameSkipReason* skip) {
+  // `frame` with its depth divided by the scale the refinement found
+  // (into `rescaled`), or `frame` itself while there is none.
+  const DepthFrame& WithDepthScale(const DepthFrame& frame) {
+    const double applied = refiner.depth_scale().applied;
+    if (applied == 1.0) return frame;
+    ScopedStageTimer t(&stats.depth_rescale);
+    rescaled.utime = frame.utime;
+    rescaled.intrinsics = frame.intrinsics;
+    rescaled.depth_m.resize(frame.depth_m.size());
+    const float inverse = static_cast<float>(1.0 / applied);
+    for (size_t i = 0; i < frame.depth_m.size(); ++i) rescaled.depth_m[i] = frame.depth_m[i] * inverse;
+    return rescaled;
+  }
+
+  FrameOutcome Integrate(const DepthFrame& raw_frame, const GripperState& state, FrameSkipReason* skip) {
     UpdateClaw(state);
+    const DepthFrame& frame = WithDepthScale(raw_frame);
     Eigen::Isometry3d T_C_G = state.T_C_G;
     refine::RefineOutcome refined = refine::RefineOutcome::kOff;
     {
@@ -137,6 +152,12 @@ struct Pipeline::Impl {
         *skip = SkipReasonOf(refined);
         return FrameOutcome::kSkippedRefine;
       }
+    }
+    if (config.refine.enabled) {
+      // This frame stays at the scale it was registered at; the next ones
+      // get a new one.
+      ScopedStageTimer t(&stats.depth_scale);
+      refiner.CalibrateDepthScale();
     }
     work.utime = frame.utime;
     work.intrinsics = frame.intrinsics;
@@ -255,6 +276,7 @@ struct Pipeline::Impl {
   size_t pending_head{0};
   size_t num_pending{0};
   DepthFrame decimated;             // a frame over max_fusion_pixels, decimated
+  DepthFrame rescaled;              // a frame's depth divided by the scale found
   DepthFrame work;                  // the frame being cropped and masked
   std::vector<uint8_t> edge_marks;  // RejectDepthEdges' scratch, reused
   GripperState pose;                // interpolated state, reused

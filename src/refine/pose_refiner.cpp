@@ -69,7 +69,8 @@ const char* RefineOutcomeName(RefineOutcome outcome) {
 PoseRefiner::PoseRefiner(const RefineConfig& config)
     : config_(config), registration_((config.Validate(), config.registration)) {
   window_.resize(static_cast<size_t>(config_.hand_eye_window));
-  scratch_.reserve(window_.size());
+  scratch_.reserve(std::max(window_.size(), static_cast<size_t>(kDepthScaleWindow)));
+  scale_errors_.reserve(kDepthScaleWindow);
 }
 
 void PoseRefiner::SetClaw(const TriangleMesh& claw_G) { registration_.SetClaw(claw_G); }
@@ -79,6 +80,10 @@ void PoseRefiner::Reset() {
   samples_ = 0;
   hand_eye_.setIdentity();
   clock_ = ClockOffsetEstimate{};
+  scale_errors_.clear();
+  scale_next_ = 0;
+  depth_scale_ = DepthScaleEstimate{};
+  last_fused_ = false;
   shift_s_ = 0.0;
   prev_utime_ = -1;
   previous_rate_ = Rate{};
@@ -214,8 +219,51 @@ void PoseRefiner::UpdateClockOffset() {
   if (clock_.applied) shift_s_ = slope;
 }
 
+// The median of the window's errors (robust to a frame whose matches
+// took the object for the claw), its standard error from their median
+// absolute deviation (1.4826 MAD estimates the spread of normal errors,
+// and a median's error is 1.2533 that of a mean).
+void PoseRefiner::AddDepthScaleSample(double error) {
+  if (scale_errors_.size() < static_cast<size_t>(kDepthScaleWindow)) {
+    scale_errors_.push_back(error);
+  } else {
+    scale_errors_[scale_next_] = error;
+  }
+  scale_next_ = (scale_next_ + 1) % kDepthScaleWindow;
+  depth_scale_.frames = static_cast<int>(scale_errors_.size());
+  if (depth_scale_.frames < kDepthScaleMinFrames) return;
+  scratch_.assign(scale_errors_.begin(), scale_errors_.end());
+  const size_t mid = scratch_.size() / 2;
+  std::nth_element(scratch_.begin(), scratch_.begin() + mid, scratch_.end());
+  const double median = scratch_[mid];
+  for (double& e : scratch_) e = std::abs(e - median);
+  std::nth_element(scratch_.begin(), scratch_.begin() + mid, scratch_.end());
+  const double mad = scratch_[mid];
+  depth_scale_.factor = 1.0 + median;
+  depth_scale_.stderr_ = 1.2533 * 1.4826 * mad / std::sqrt(static_cast<double>(scratch_.size()));
+}
+
+bool PoseRefiner::CalibrateDepthScale() {
+  if (!last_fused_) return false;
+  last_fused_ = false;
+  DepthScaleSample sample;
+  if (!registration_.EstimateDepthScale(last_, &sample)) return false;
+  // The frame was divided by `applied` already: the sensor's error is both.
+  AddDepthScaleSample(depth_scale_.applied * (1.0 + sample.error) - 1.0);
+  if (!config_.apply_depth_scale || !std::isfinite(depth_scale_.stderr_)) return false;
+  const double change = std::abs(depth_scale_.factor / depth_scale_.applied - 1.0);
+  if (change < kDepthScaleMinChange || change < kDepthScaleMinSigmas * depth_scale_.stderr_) return false;
+  depth_scale_.applied = depth_scale_.factor;
+  ++depth_scale_.changes;
+  next_ = 0;
+  samples_ = 0;
+  hand_eye_.setIdentity();
+  return true;
+}
+
 RefineOutcome PoseRefiner::Refine(const DepthFrame& frame, const Eigen::Isometry3d& T_C_G_logged,
                                   Eigen::Isometry3d* T_C_G) {
+  last_fused_ = false;
   if (!config_.enabled) {
     *T_C_G = T_C_G_logged;
     return RefineOutcome::kOff;
@@ -289,6 +337,7 @@ RefineOutcome PoseRefiner::Refine(const DepthFrame& frame, const Eigen::Isometry
   const bool below_precision = beyond_m < config_.min_correction_m && beyond_deg < config_.min_correction_deg;
   if (below_precision) ++stats_.frames_at_prediction;
   *T_C_G = below_precision ? prediction : last_.T_C_G;
+  last_fused_ = true;
   return below_precision ? RefineOutcome::kAtPrediction : RefineOutcome::kRefined;
 }
 

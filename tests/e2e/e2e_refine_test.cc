@@ -157,6 +157,63 @@ TEST(RefineE2E, HandEyeCorrectionMatchesTheInjectedError) {
   EXPECT_LE(refined.p95_m, 0.0010);
 }
 
+// How far H leaves the claw from where E put it: H * E is the identity,
+// up to the estimate's error [mm], [deg].
+void HandEyeLeft(const nlohmann::json& refine, const Eigen::Isometry3d& E, double* at_claw_mm, double* deg) {
+  const nlohmann::json& he = refine["hand_eye_correction"];
+  const Eigen::Vector3d centre(he["claw_centre_C"][0].get<double>(), he["claw_centre_C"][1].get<double>(),
+                               he["claw_centre_C"][2].get<double>());
+  const Eigen::Isometry3d residual = Matrix(he["H_C"]) * E;
+  *at_claw_mm = 1000.0 * (residual * centre - centre).norm();
+  *deg = Eigen::AngleAxisd(residual.linear()).angle() * 180.0 / M_PI;
+}
+
+// A depth 1% long (synth --depth-scale) on top of a hand-eye error: the
+// claw's size tells the scale (the issue: within 0.2%), the depth is
+// divided by it, and the hand-eye correction undoes the injected error
+// (within 1 mm and 0.3 deg) instead of absorbing the scale's 5-6 mm along
+// the ray. --no-depth-calibration reports the scale and leaves the depth,
+// so the hand-eye correction takes the shift. Exact depth: nothing applied.
+TEST(RefineE2E, DepthScaleIsFoundAndNotTakenForTheHandEye) {
+  for (const char* scale : {"1.01", "1"}) {
+    const std::string dir = ScratchDir(std::string("e2e_refine_depth_scale_") + scale);
+    ASSERT_EQ(RunCli("synth --shape cylinder --claw parallel --frames 45 --wall-m 0 --seed 6 "
+                     "--hand-eye-error 3,1 --depth-scale " +
+                     std::string(scale) + " -o " + dir)
+                  .exit_code,
+              0);
+    const Eigen::Isometry3d E = Matrix(ReadJson(dir + "/scene.json")["rig_errors"]["E_C"]);
+    const double truth = std::stod(scale);
+    const Fused calibrated = ReplayAndMeasure(dir, "--refine");
+    const nlohmann::json& refine = calibrated.report["refine"];
+    const nlohmann::json& found = refine["depth_scale"];
+    double mm = 0.0, deg = 0.0;
+    HandEyeLeft(refine, E, &mm, &deg);
+    std::printf(
+        "depth scale %s: found %.4f +- %.4f, applied %.4f; hand-eye left %.2f mm, %.3f deg; "
+        "fused p95 %.2f mm\n",
+        scale, found["factor"].get<double>(), found["stderr"].get<double>(), found["applied"].get<double>(),
+        mm, deg, 1000.0 * calibrated.p95_m);
+    EXPECT_NEAR(found["factor"].get<double>(), truth, 0.002);
+    EXPECT_LT(mm, 1.0);
+    EXPECT_LT(deg, 0.3);
+    if (truth == 1.0) {
+      EXPECT_EQ(found["applied"].get<double>(), 1.0);
+      EXPECT_EQ(found["changes"].get<int>(), 0);
+      continue;
+    }
+    EXPECT_NEAR(found["applied"].get<double>(), truth, 0.002);
+    const Fused reported = ReplayAndMeasure(dir, "--no-depth-calibration");
+    const nlohmann::json& unapplied = reported.report["refine"]["depth_scale"];
+    EXPECT_EQ(unapplied["applied"].get<double>(), 1.0);
+    EXPECT_NEAR(unapplied["factor"].get<double>(), truth, 0.002);
+    HandEyeLeft(reported.report["refine"], E, &mm, &deg);
+    std::printf("  not applied: hand-eye left %.2f mm; fused p95 %.2f mm\n", mm, 1000.0 * reported.p95_m);
+    EXPECT_GT(mm, 3.0);  // the scale's shift along the ray, taken for the hand-eye's
+    EXPECT_LT(calibrated.p95_m, reported.p95_m);
+  }
+}
+
 // The clock offset (RefineConfig::clock_*): on a turn whose speed varies,
 // the corrections' rotation follows the rate by -T, so the offset is found
 // (the issue: within 3 ms) and the hand-eye part apart from it (within 1 mm

@@ -13,7 +13,9 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <vector>
 
+#include "graspfill/core/percentile.hpp"
 #include "refine_fixtures.hpp"
 
 namespace graspfill::refine {
@@ -153,6 +155,44 @@ TEST_F(ClawRegistrationTest, ReportsAClawThatIsNotInView) {
   // A claw never set.
   ClawRegistration unset;
   EXPECT_EQ(unset.Register(frame, truth, 0.008).status, RegistrationStatus::kNoClaw);
+}
+
+// A depth 1% long puts every point 1% farther along its ray: 5.5 mm at
+// the claw, which the registration takes as a shift, and a claw 1% larger,
+// which the scale estimate finds. Exact depth shows no scale. Eight views,
+// the same noise with and without the error.
+TEST_F(ClawRegistrationTest, FindsTheDepthScaleFromTheClawsSize) {
+  std::vector<double> exact, long_by_1pc, difference;
+  for (int k = 0; k < 8; ++k) {
+    const Eigen::Isometry3d truth = TrueT_C_G(0.8 * k);
+    const DepthFrame frame = RenderFrame(raycaster_, truth, 0.001, 40 + k);
+    double error[2] = {0.0, 0.0};
+    for (int i = 0; i < 2; ++i) {
+      DepthFrame scaled = frame;
+      for (float& z : scaled.depth_m) z *= i == 0 ? 1.0f : 1.01f;
+      const RegistrationResult r = registration_.Register(scaled, truth, 0.025);
+      ASSERT_EQ(r.status, RegistrationStatus::kConverged) << "view " << k;
+      DepthScaleSample sample;
+      ASSERT_TRUE(registration_.EstimateDepthScale(r, &sample)) << "view " << k;
+      EXPECT_GT(sample.stderr_, 0.0);
+      EXPECT_LT(sample.stderr_, 0.003);
+      EXPECT_GT(sample.matches, 300);
+      error[i] = sample.error;
+    }
+    exact.push_back(error[0]);
+    long_by_1pc.push_back(error[1]);
+    difference.push_back(error[1] - error[0]);
+  }
+  std::printf("depth scale error, median of 8 views: exact %+.4f%%, 1%% long %+.4f%%\n",
+              100.0 * Percentile(exact, 50.0), 100.0 * Percentile(long_by_1pc, 50.0));
+  EXPECT_NEAR(Percentile(exact, 50.0), 0.0, 0.001);
+  EXPECT_NEAR(Percentile(long_by_1pc, 50.0), 0.01, 0.001);
+  EXPECT_NEAR(Percentile(difference, 50.0), 0.01, 0.0005);
+  // Nothing to estimate from a registration that did not converge.
+  RegistrationResult failed;
+  failed.status = RegistrationStatus::kNotConverged;
+  DepthScaleSample sample;
+  EXPECT_FALSE(registration_.EstimateDepthScale(failed, &sample));
 }
 
 TEST(ClawRegistrationConfig, BadValuesAreRejected) {

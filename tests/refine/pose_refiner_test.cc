@@ -149,6 +149,53 @@ TEST_F(PoseRefinerTest, TheDefaultDeadbandFusesSmallCorrectionsAtThePrediction) 
   EXPECT_LT(worst, 0.0005 + refiner.config().min_correction_m);
 }
 
+// A depth 1% long, divided by the applied factor as the pipeline does:
+// after kDepthScaleMinFrames frames the factor is found (within 0.2%) and
+// applied, the hand-eye estimate starts anew at that moment, and once it
+// is known again it is the injected error's, not the scale's shift along
+// the ray. With apply_depth_scale false the factor is only reported.
+TEST_F(PoseRefinerTest, FindsTheDepthScaleAndKeepsItOutOfTheHandEye) {
+  RefineConfig report_only;
+  report_only.apply_depth_scale = false;
+  PoseRefiner reporter(report_only);
+  reporter.SetClaw(graspfill::testing::PosedClaw());
+  std::mt19937 rng(9);
+  int changed_at = -1;
+  for (int k = 0; k < kDepthScaleMinFrames + 12; ++k) {
+    const Eigen::Isometry3d truth = TrueT_C_G(0.3 * k);
+    const DepthFrame exact = RenderFrame(raycaster_, truth, 0.001, 200 + k);
+    const Eigen::Isometry3d logged = Logged(truth, &rng);
+    for (PoseRefiner* refiner : {&refiner_, &reporter}) {
+      DepthFrame frame = exact;
+      const float divide = static_cast<float>(1.01 / refiner->depth_scale().applied);
+      for (float& z : frame.depth_m) z *= divide;
+      Eigen::Isometry3d refined;
+      ASSERT_TRUE(Fuses(refiner->Refine(frame, logged, &refined))) << "frame " << k;
+      const bool changed = refiner->CalibrateDepthScale();
+      if (refiner == &reporter) {
+        EXPECT_FALSE(changed);
+        continue;
+      }
+      if (changed) {
+        EXPECT_EQ(changed_at, -1) << "applied twice";
+        changed_at = k;
+        EXPECT_EQ(refiner->hand_eye_samples(), 0);
+      }
+    }
+  }
+  EXPECT_EQ(changed_at, kDepthScaleMinFrames - 1);
+  EXPECT_NEAR(refiner_.depth_scale().applied, 1.01, 0.002);
+  EXPECT_NEAR(reporter.depth_scale().factor, 1.01, 0.002);
+  EXPECT_EQ(reporter.depth_scale().applied, 1.0);
+  // H undoes E at the claw once the scale is out of the depth; the
+  // reporter's H also carries the scale's 5.5 mm along the ray.
+  const Eigen::Vector3d centre = refiner_.claw_centre_C();
+  const double left_m = ((refiner_.HandEyeCorrection() * E_) * centre - centre).norm();
+  const double reporter_left_m = ((reporter.HandEyeCorrection() * E_) * centre - centre).norm();
+  EXPECT_LT(left_m, 0.001);
+  EXPECT_GT(reporter_left_m, 0.004);
+}
+
 TEST(PoseRefiner, OffPassesTheLoggedPoseThrough) {
   RefineConfig off;
   off.enabled = false;

@@ -111,10 +111,14 @@ struct PipelineStats {
   int64_t states_in{0};
   int64_t states_rejected{0};  ///< non-finite / not newer than the last
   int64_t claw_rebuilds{0};
-  int64_t frames_skipped_refine{0};    ///< rejected by pose refinement
-  int64_t frames_decimated{0};         ///< over max_fusion_pixels, fused decimated
-  refine::RefineStats refine;          ///< corrections, residuals, rejections by reason
-  StageTotal refine_time;              ///< claw registration (0 when refinement is off)
+  int64_t frames_skipped_refine{0};  ///< rejected by pose refinement
+  int64_t frames_decimated{0};       ///< over max_fusion_pixels, fused decimated
+  refine::RefineStats refine;        ///< corrections, residuals, rejections by reason
+  StageTotal refine_time;            ///< claw registration (0 when refinement is off)
+  /// The depth's scale from the claw (PoseRefiner::CalibrateDepthScale),
+  /// and dividing the frames' depth by it once applied.
+  StageTotal depth_scale;
+  StageTotal depth_rescale;
   int64_t frames_skipped_tracking{0};  ///< rejected by object tracking
   refine::TrackStats tracking;         ///< object tracking by outcome
   StageTotal track_time;               ///< object tracking and its model updates (0 when off)

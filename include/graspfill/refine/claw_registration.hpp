@@ -81,6 +81,15 @@ enum class RegistrationStatus {
 /// "converged", "too_few_points", "not_converged", "degenerate", "no_claw".
 const char* RegistrationStatusName(RegistrationStatus status);
 
+/// One frame's depth-scale error: its depth is (1 + error) times the true
+/// one, as the claw's size in the depth says (its place along the ray is
+/// the hand-eye correction's to explain).
+struct DepthScaleSample {
+  double error{0.0};
+  double stderr_{0.0};  ///< its standard error
+  int matches{0};
+};
+
 struct RegistrationResult {
   RegistrationStatus status{RegistrationStatus::kNoClaw};
   /// T_C_G_registered = correction_C * T_C_G_initial.
@@ -109,6 +118,12 @@ class ClawRegistration {
   /// the initial pose may have at the claw) [m].
   RegistrationResult Register(const DepthFrame& frame, const Eigen::Isometry3d& T_C_G_initial,
                               double initial_gate_m);
+
+  /// The depth's scale error in the frame `registered` came from (call
+  /// right after that Register: it uses its depth points, and moves them):
+  /// the claw's size in the depth against the model's. False when the
+  /// registration did not converge or too few points matched.
+  bool EstimateDepthScale(const RegistrationResult& registered, DepthScaleSample* sample);
 
   const ClawRegistrationConfig& config() const { return config_; }
   /// The model's surface samples and their outward unit normals, in G.
