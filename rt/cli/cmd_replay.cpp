@@ -86,6 +86,9 @@ constexpr const char* kUsage =
     "  --refine                 correct each frame's gripper pose by registering the claw\n"
     "                           model to the depth (the default)\n"
     "  --no-refine              fuse at the logged gripper poses\n"
+    "  --depth-scale S          the recording's depth is S (0.8..1.25) times the true one:\n"
+    "                           divided by it from the first frame (rig config\n"
+    "                           camera.depth_scale; e.g. what an earlier replay found)\n"
     "  --no-depth-calibration   report the depth's scale error the claw shows (--json\n"
     "                           refine.depth_scale), but do not divide the depth by it\n"
     "                           (default: divided by it once confident)\n"
@@ -204,7 +207,10 @@ void Parse(const Args& args, ReplayOptions* o) {
       value(&s.log.channels.session);
     else if (a == "--mesh-channel")
       value(&s.log.channels.collision_mesh);
-    else if (a == "--voxel-m") {
+    else if (a == "--depth-scale") {
+      value(&v);
+      s.pipeline.refine.known_depth_scale = ParseDouble(a, v, refine::kMinDepthScale, refine::kMaxDepthScale, "");
+    } else if (a == "--voxel-m") {
       value(&v);
       SetVoxel(ParseDouble(a, v, kMinVoxelM, kMaxVoxelM, "m"), s.sdf_trunc_voxels, &s.pipeline);
       s.voxel_fixed = true;

@@ -84,6 +84,8 @@ const char* const kLiveUsage =
     "  --no-refine           fuse at the logged gripper poses (default: correct each frame's\n"
     "                        pose by registering the claw model to the depth)\n"
     "  --refine              the default; over a config's refine.enabled: false\n"
+    "  --depth-scale S       the sensor's depth is S (0.8..1.25) times the true one: divided\n"
+    "                        by it from the first frame (rig config camera.depth_scale)\n"
     "  --no-depth-calibration report the depth's scale error the claw shows, but do not\n"
     "                        divide the depth by it (default: divided by it once confident)\n"
     "  --track-object        follow the object slipping in the grasp (frame-to-model)\n"
@@ -148,7 +150,10 @@ LiveOptions ParseLiveOptions(const Args& args, const std::optional<rt::RigConfig
       module_config.pipeline.refine.apply_depth_scale = false;
     else if (a == "--track-object")
       module_config.pipeline.track_object.enabled = true;
-    else if (a == "--num-threads" && has_value) {
+    else if (a == "--depth-scale" && has_value) {
+      module_config.pipeline.refine.known_depth_scale =
+          ParseDouble(a, args[++i], refine::kMinDepthScale, refine::kMaxDepthScale, "");
+    } else if (a == "--num-threads" && has_value) {
       module_config.pipeline.num_threads = repair_config.num_threads = ParseNumThreads(args[++i]);
     } else if (a == "--repair-mode" && has_value) {
       const std::string mode = args[++i];

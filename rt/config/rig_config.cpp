@@ -25,7 +25,8 @@ bool RigConfig::Intrinsics::operator==(const Intrinsics& o) const {
 bool RigConfig::Camera::operator==(const Camera& o) const {
   return device == o.device && width_px == o.width_px && height_px == o.height_px && fps == o.fps &&
          depth_units == o.depth_units && intrinsics_override == o.intrinsics_override &&
-         max_depth_pixels == o.max_depth_pixels && reject_depth_edges == o.reject_depth_edges;
+         max_depth_pixels == o.max_depth_pixels && reject_depth_edges == o.reject_depth_edges &&
+         depth_scale == o.depth_scale;
 }
 bool RigConfig::Pose::operator==(const Pose& o) const {
   return translation_m == o.translation_m && rotation_wxyz == o.rotation_wxyz;
@@ -86,6 +87,7 @@ void RigConfig::Validate() const {
     CheckIntrinsics("camera.intrinsics_override", *camera.intrinsics_override);
   }
   CheckRange("camera.max_depth_pixels", camera.max_depth_pixels, kDepthPixels);
+  CheckRange("camera.depth_scale", camera.depth_scale, kDepthScale);
   if (robot.T_C_B) CheckPose("robot.T_C_B", *robot.T_C_B);
   CheckRange("robot.clock_offset_s", robot.clock_offset_s, kClockOffsetS);
   CheckRange("robot.max_pose_gap_s", robot.max_pose_gap_s, kPoseGapS);
@@ -116,6 +118,7 @@ void ApplyToPipeline(const RigConfig& c, PipelineConfig* p) {
   p->tsdf.depth_sampling_stride = c.tsdf.depth_sampling_stride;
   p->max_fusion_pixels = c.tsdf.max_fusion_pixels;
   p->reject_depth_edges = c.camera.reject_depth_edges;
+  p->refine.known_depth_scale = c.camera.depth_scale;
   if (c.workspace) {
     p->workspace.min_G =
         Eigen::Vector3d(c.workspace->min_G_m[0], c.workspace->min_G_m[1], c.workspace->min_G_m[2]);

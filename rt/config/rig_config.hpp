@@ -90,6 +90,10 @@ struct RigConfig {
     /// Drop the pixels on depth edges before fusion: mixed (flying) pixels
     /// and the silhouette's grazing returns (fusion/depth_edges.hpp).
     bool reject_depth_edges{false};
+    /// The sensor's depth is this many times the true one (a calibration,
+    /// e.g. the factor a replay reported in refine.depth_scale): frames are
+    /// divided by it from the first. 0.8..1.25.
+    double depth_scale{1.0};
     bool operator==(const Camera& o) const;
   };
   /// A rigid transform: p_C = R(rotation_wxyz) * p_B + translation_m.

@@ -11,6 +11,7 @@
 #include "graspfill/core/openmp_threads.hpp"
 #include "graspfill/io/messages.hpp"
 #include "graspfill/mesh/planner_mesh.hpp"
+#include "graspfill/refine/pose_refiner.hpp"
 
 namespace graspfill::rt::internal {
 
@@ -40,6 +41,7 @@ inline constexpr Range kSafeBoundM{0.0, 0.1, "m"};  // and 0 or >= kMinSafeBound
 inline constexpr double kMinSafeBoundM = 0.0005;
 inline constexpr Range kRimBandM{0.0, 0.5, "m"};
 inline constexpr Range kCorrectionM{0.0, 0.005, "m"};
+inline constexpr Range kDepthScale{refine::kMinDepthScale, refine::kMaxDepthScale, ""};
 inline constexpr Range kCorrectionDeg{0.0, 2.0, "deg"};
 inline constexpr Range kPublishEvery{0, 100000, "frames"};
 inline constexpr Range kStatusPeriodS{0.05, 60.0, "s"};

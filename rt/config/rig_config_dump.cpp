@@ -103,6 +103,9 @@ void DumpCamera(Writer* w, const RigConfig& c, const RigConfig& d) {
   w->Comment(1, "silhouette's grazing returns (default false: measured in");
   w->Comment(1, "docs/measurements/2026-12-06-depth-edges.md).");
   w->Key(1, "reject_depth_edges", c.camera.reject_depth_edges ? "true" : "false");
+  w->Comment(1, "The sensor's depth is this many times the true one (as a replay reported in");
+  w->Comment(1, "refine.depth_scale.factor): frames are divided by it from the first; 0.8..1.25.");
+  w->Key(1, "depth_scale", FormatNumber(c.camera.depth_scale));
 }
 
 // The robot: hand-eye, clock offset, pose gap.

@@ -204,12 +204,14 @@ RigConfig::Intrinsics ReadIntrinsics(const Reader& r, const YAML::Node& x, const
 void ReadCamera(const Reader& r, const YAML::Node& v, const std::string& path, RigConfig::Camera* cam) {
   r.Map(v, path,
         {"device", "width_px", "height_px", "fps", "depth_units", "intrinsics_override", "max_depth_pixels",
-         "reject_depth_edges"},
+         "reject_depth_edges", "depth_scale"},
         [&](const std::string& k, const YAML::Node& x, const std::string& f) {
           if (k == "device")
             cam->device = r.String(x, f);
           else if (k == "reject_depth_edges")
             cam->reject_depth_edges = r.Bool(x, f);
+          else if (k == "depth_scale")
+            cam->depth_scale = r.Number(x, f, kDepthScale);
           else if (k == "max_depth_pixels")
             cam->max_depth_pixels = r.Integer(x, f, kDepthPixels);
           else if (k == "width_px")

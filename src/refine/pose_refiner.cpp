@@ -44,6 +44,8 @@ void RefineConfig::Validate() const {
   Require(hand_eye_min_frames >= 1, "hand_eye_min_frames must be >= 1");
   Require(hand_eye_window >= hand_eye_min_frames, "hand_eye_window must be >= hand_eye_min_frames");
   Require(clock_min_frames >= 3, "clock_min_frames must be >= 3");
+  Require(known_depth_scale >= kMinDepthScale && known_depth_scale <= kMaxDepthScale,
+          "known_depth_scale must be in [0.8, 1.25]");
   Require(max_clock_stderr_s >= 0.0 && max_clock_offset_s >= 0.0 && max_rate_gap_s > 0.0,
           "clock bounds must be >= 0 and max_rate_gap_s > 0");
 }
@@ -71,6 +73,7 @@ PoseRefiner::PoseRefiner(const RefineConfig& config)
   window_.resize(static_cast<size_t>(config_.hand_eye_window));
   scratch_.reserve(std::max(window_.size(), static_cast<size_t>(kDepthScaleWindow)));
   scale_errors_.reserve(kDepthScaleWindow);
+  depth_scale_.applied = config_.known_depth_scale;
 }
 
 void PoseRefiner::SetClaw(const TriangleMesh& claw_G) { registration_.SetClaw(claw_G); }
@@ -83,6 +86,7 @@ void PoseRefiner::Reset() {
   scale_errors_.clear();
   scale_next_ = 0;
   depth_scale_ = DepthScaleEstimate{};
+  depth_scale_.applied = config_.known_depth_scale;
   last_fused_ = false;
   shift_s_ = 0.0;
   prev_utime_ = -1;

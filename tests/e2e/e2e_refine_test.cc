@@ -6,6 +6,7 @@
 // hand-eye correction found matches the error synth injected.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -41,12 +42,15 @@ struct Fused {
 // fused points (and the whole output's coverage) against DIR's ground truth.
 Fused ReplayAndMeasure(const std::string& dir, const std::string& extra, bool repair = false) {
   Fused f;
-  const auto replay = RunCli("replay " + dir + "/recording.lcmlog -o " + dir + "/cloud" + extra +
-                             ".ply --force --json --no-publish " + (repair ? "" : "--no-repair ") + extra);
+  std::string tag = extra;  // the output's name: the flags, spaces as _
+  std::replace(tag.begin(), tag.end(), ' ', '_');
+  const std::string cloud = dir + "/cloud" + tag + ".ply";
+  const auto replay = RunCli("replay " + dir + "/recording.lcmlog -o " + cloud +
+                             " --force --json --no-publish " + (repair ? "" : "--no-repair ") + extra);
   EXPECT_EQ(replay.exit_code, 0) << replay.output;
   if (replay.exit_code != 0) return f;
   f.report = nlohmann::json::parse(replay.output.substr(replay.output.find('{')));
-  const ObjectCloud output = io::ReadCloudPly(dir + "/cloud" + extra + ".ply");
+  const ObjectCloud output = io::ReadCloudPly(cloud);
   const std::vector<Eigen::Vector3f> fused = ObservedPoints(output);
   const ObjectCloud gt = io::ReadCloudPly(dir + "/gt_cloud.ply");
   const std::vector<Eigen::Vector3f> claw = SampleSurface(io::ReadMesh(dir + "/claw.ply"), 0.001f);
@@ -168,16 +172,18 @@ void HandEyeLeft(const nlohmann::json& refine, const Eigen::Isometry3d& E, doubl
   *deg = Eigen::AngleAxisd(residual.linear()).angle() * 180.0 / M_PI;
 }
 
-// A depth 1% long (synth --depth-scale) on top of a hand-eye error: the
+// A depth 1% long (synth --depth-scale) on top of a hand-eye error, 72
+// frames (the scale is applied from the 48th): the
 // claw's size tells the scale (the issue: within 0.2%), the depth is
 // divided by it, and the hand-eye correction undoes the injected error
 // (within 1 mm and 0.3 deg) instead of absorbing the scale's 5-6 mm along
 // the ray. --no-depth-calibration reports the scale and leaves the depth,
-// so the hand-eye correction takes the shift. Exact depth: nothing applied.
+// so the hand-eye correction takes the shift; --depth-scale gives it from
+// the first frame. Exact depth: nothing applied.
 TEST(RefineE2E, DepthScaleIsFoundAndNotTakenForTheHandEye) {
   for (const char* scale : {"1.01", "1"}) {
     const std::string dir = ScratchDir(std::string("e2e_refine_depth_scale_") + scale);
-    ASSERT_EQ(RunCli("synth --shape cylinder --claw parallel --frames 45 --wall-m 0 --seed 6 "
+    ASSERT_EQ(RunCli("synth --shape cylinder --claw parallel --frames 72 --wall-m 0 --seed 6 "
                      "--hand-eye-error 3,1 --depth-scale " +
                      std::string(scale) + " -o " + dir)
                   .exit_code,
@@ -211,6 +217,19 @@ TEST(RefineE2E, DepthScaleIsFoundAndNotTakenForTheHandEye) {
     std::printf("  not applied: hand-eye left %.2f mm; fused p95 %.2f mm\n", mm, 1000.0 * reported.p95_m);
     EXPECT_GT(mm, 3.0);  // the scale's shift along the ray, taken for the hand-eye's
     EXPECT_LT(calibrated.p95_m, reported.p95_m);
+    // Known beforehand (rig config camera.depth_scale): divided from the
+    // first frame, nothing left to change, and no frame fused at the
+    // wrong scale.
+    const Fused known = ReplayAndMeasure(dir, "--depth-scale " + std::string(scale));
+    const nlohmann::json& given = known.report["refine"]["depth_scale"];
+    HandEyeLeft(known.report["refine"], E, &mm, &deg);
+    std::printf("  known beforehand: found %.4f; hand-eye left %.2f mm; fused p95 %.2f mm\n",
+                given["factor"].get<double>(), mm, 1000.0 * known.p95_m);
+    EXPECT_EQ(given["applied"].get<double>(), truth);
+    EXPECT_EQ(given["changes"].get<int>(), 0);
+    EXPECT_NEAR(given["factor"].get<double>(), truth, 0.002);
+    EXPECT_LT(mm, 1.0);
+    EXPECT_LE(known.p95_m, calibrated.p95_m + 0.00005);
   }
 }
 

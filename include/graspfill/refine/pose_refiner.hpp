@@ -76,6 +76,11 @@ struct RefineConfig {
   double max_clock_stderr_s{0.001};
   /// Estimates beyond this are not applied [s].
   double max_clock_offset_s{0.2};
+  /// The sensor's depth is this many times the true one, as calibrated
+  /// beforehand (e.g. a factor an earlier session reported): frames are
+  /// divided by it from the first (depth_scale().applied starts here).
+  /// 0.8..1.25.
+  double known_depth_scale{1.0};
   /// The depth's scale is always estimated from the claw's size
   /// (PoseRefiner::CalibrateDepthScale); true: applied once confident (the
   /// pipeline divides the depth by it), false: only reported.
@@ -112,15 +117,21 @@ struct DepthScaleEstimate {
   int changes{0};  ///< times `applied` changed
 };
 
+/// The depth scales a config may know (RefineConfig::known_depth_scale).
+inline constexpr double kMinDepthScale = 0.8;
+inline constexpr double kMaxDepthScale = 1.25;
 /// Frames the depth-scale estimate takes its median over (the newest).
 inline constexpr int kDepthScaleWindow = 256;
-/// Fewer frames than this give no estimate.
-inline constexpr int kDepthScaleMinFrames = 20;
+/// Fewer frames than this give no estimate: the claw's faces in view bias
+/// a few frames' estimate by up to 0.3% on exact depth; over half of a
+/// turn's 90 frames that averages out to within 0.2%.
+inline constexpr int kDepthScaleMinFrames = 48;
 /// The estimate replaces the applied factor when they differ by at least
-/// this much and by kDepthScaleMinSigmas standard errors: a 0.1% scale
-/// moves a surface 50 mm from the claw by 0.05 mm, far below a voxel, and
-/// on exact depth the estimate stays within 0.03% (docs/imperfect-robots.md).
-inline constexpr double kDepthScaleMinChange = 0.001;
+/// this much and by kDepthScaleMinSigmas standard errors: on exact depth
+/// the estimate stays within 0.2% (objects in the fingers and quantized
+/// disparity bias it per grasp; docs/imperfect-robots.md), and a 0.2%
+/// scale moves a surface 50 mm from the claw by 0.1 mm, below a voxel.
+inline constexpr double kDepthScaleMinChange = 0.002;
 inline constexpr double kDepthScaleMinSigmas = 4.0;
 
 /// What refinement did with a frame.

@@ -34,6 +34,7 @@ RigConfig EveryFieldChanged() {
   c.camera.intrinsics_override = RigConfig::Intrinsics{848, 480, 421.1 + 1e-13, 421.3, 424.7, 239.1};
   c.camera.max_depth_pixels = 4096 * 4096;
   c.camera.reject_depth_edges = true;
+  c.camera.depth_scale = 1.0 + 1.0 / 3.0 * 0.03;
   const double s = std::sqrt(0.5);
   c.robot.T_C_B = RigConfig::Pose{{0.1 + 0.2, -0.25, 0.8}, {s, 0.0, s, 0.0}};
   c.robot.clock_offset_s = -0.0123;
@@ -56,6 +57,7 @@ RigConfig EveryFieldChanged() {
   c.refine.min_correction_m = 0.00025;
   c.refine.min_correction_deg = 0.3;
   c.refine.track_object = true;
+  c.refine.apply_depth_scale = false;
   c.channels = {"D", "G", "C", "S", "SESSION_2", "MESH_2"};
   c.collision_mesh.max_triangles = 1200;
   c.collision_mesh.convex_hull = true;
@@ -82,6 +84,8 @@ TEST(RigConfig, DefaultsAreTheLibrariesDefaults) {
   EXPECT_EQ(pipeline.refine.enabled, want.refine.enabled);
   EXPECT_EQ(pipeline.refine.min_correction_m, want.refine.min_correction_m);
   EXPECT_EQ(pipeline.refine.min_correction_deg, want.refine.min_correction_deg);
+  EXPECT_EQ(pipeline.refine.apply_depth_scale, want.refine.apply_depth_scale);
+  EXPECT_EQ(pipeline.refine.known_depth_scale, want.refine.known_depth_scale);
   EXPECT_EQ(pipeline.track_object.enabled, want.track_object.enabled);
   EXPECT_EQ(pipeline.workspace.min_G, want.workspace.min_G);
   EXPECT_EQ(pipeline.workspace.max_G, want.workspace.max_G);
@@ -147,11 +151,13 @@ TEST(RigConfig, TheSourceOverridesReplaceTheSessionsOnlyWhereTheConfigSetsThem) 
 TEST(RigConfig, TheRefineSectionReachesThePipeline) {
   const RigConfig c = ParseRigConfig(
       "refine:\n  enabled: false\n  min_correction_m: 0.001\n  min_correction_deg: 0.25\n"
-      "  track_object: true\n",
+      "  track_object: true\n  apply_depth_scale: false\ncamera:\n  depth_scale: 1.012\n",
       "refine.yaml");
   PipelineConfig pipeline;
   ApplyToPipeline(c, &pipeline);
   EXPECT_FALSE(pipeline.refine.enabled);
+  EXPECT_FALSE(pipeline.refine.apply_depth_scale);
+  EXPECT_EQ(pipeline.refine.known_depth_scale, 1.012);
   EXPECT_EQ(pipeline.refine.min_correction_m, 0.001);
   EXPECT_EQ(pipeline.refine.min_correction_deg, 0.25);
   EXPECT_TRUE(pipeline.track_object.enabled);
@@ -315,6 +321,8 @@ TEST(RigConfig, EveryBadValueIsRefusedNamingItsField) {
       {"refine:\n  min_correction_deg: 5\n", "refine.min_correction_deg",
        "refine.min_correction_deg '5': out of range, expected 0..2 deg", 2},
       {"refine:\n  enabled: on\n", "refine.enabled", "refine.enabled 'on': expected true or false", 2},
+      {"camera:\n  depth_scale: 1.5\n", "camera.depth_scale",
+       "camera.depth_scale '1.5': out of range, expected 0.8..1.25", 2},
       {"repair:\n  safe_bound_voxel_m: 0.0001\n", "repair.safe_bound_voxel_m",
        "expected 0 (no bound) or 0.0005..0.1 m", 2},
       {"robot:\n  clock_offset_s: 1e400\n", "robot.clock_offset_s",
