@@ -91,6 +91,8 @@ std::optional<synth::SceneConfig> SceneConfigOf(const SynthOptions& o) {
   config.num_frames = o.frames;
   if (o.ideal) config.sensor = synth::SensorModelConfig::Ideal();
   config.sensor.mixed_pixel_prob = o.mixed_pixel_prob;
+  config.sensor.projector_shadow = o.projector_shadow;
+  config.sensor.dark_patch_share = o.dark_patch_share;
   config.sensor.depth_scale = o.depth_scale;
   config.sensor.intrinsics_scale = o.intrinsics_scale;
   config.sensor.wobble_m = 0.001 * o.wobble_mm;

@@ -120,6 +120,9 @@ json SensorJson(const synth::SensorModelConfig& s, bool ideal) {
           {"edge_dropout_prob", s.edge_dropout_prob},
           {"random_dropout_prob", s.random_dropout_prob},
           {"mixed_pixel_prob", s.mixed_pixel_prob},
+          {"projector_shadow", s.projector_shadow},
+          {"dark_patch_share", s.dark_patch_share},
+          {"dark_patch_size_m", s.dark_patch_size_m},
           {"depth_scale", s.depth_scale},
           {"intrinsics_scale", s.intrinsics_scale},
           {"wobble_m", s.wobble_m},
@@ -127,6 +130,9 @@ json SensorJson(const synth::SensorModelConfig& s, bool ideal) {
           {"model_doc",
            "Nguyen et al. 2012 axial noise, 1/8 px disparity "
            "quantization, grazing/edge/random dropouts, mixed pixels at edges; "
+           "projector_shadow: no depth where the projector (baseline_m along +x of C) "
+           "cannot light the surface; dark patches: that share of the object's surface "
+           "returns nothing, in blobs of about dark_patch_size_m; "
            "depth_scale: measured = scale x true; intrinsics_scale: the frames' "
            "stated fx, fy over the true ones; wobble: wobble_m sin(2 pi t / period)"}};
 }

@@ -39,6 +39,11 @@ const char* const kSynthUsage =
     "  --mixed-pixels P  a pixel on a depth edge returns a depth between the edge's\n"
     "                    two sides with probability P (0..1; default 0: a Kinect v1\n"
     "                    loses its edges instead), the flying pixels of ToF cameras\n"
+    "  --projector-shadow  no depth where the projector, 75 mm beside the camera\n"
+    "                    (+x), cannot light the surface: the bands beside fingers\n"
+    "  --dark-patches F  a share F (0..0.5) of the object's surface lies in dark or\n"
+    "                    shiny patches ~1 cm across that return nothing, fixed on\n"
+    "                    the object as it turns (default 0)\n"
     "  --depth-scale S   every depth comes out S times its truth (0.9..1.1; 1.01: 1%\n"
     "                    long, an uncalibrated sensor; default 1)\n"
     "  --intrinsics-scale S  the frames state fx and fy S times the true ones\n"
@@ -123,7 +128,8 @@ bool IsRecordingOnly(const std::string& a) {
          a == "--ideal" || a == "--wall-m" || a == "--hand-eye-error" || a == "--pose-noise" ||
          a == "--clock-offset-ms" || a == "--width" || a == "--height" || a == "--slip-mm" ||
          a == "--speed-variation" || a == "--mixed-pixels" || a == "--depth-scale" ||
-         a == "--intrinsics-scale" || a == "--wobble-mm";
+         a == "--intrinsics-scale" || a == "--wobble-mm" || a == "--projector-shadow" ||
+         a == "--dark-patches";
 }
 
 // args[*i] (and its value, advancing *i) into *o.
@@ -184,6 +190,10 @@ void ParseOption(const Args& args, size_t* i, SynthOptions* o) {
     o->speed_variation = ParseDouble(a, value(), 0.0, 0.9, "");
   else if (a == "--mixed-pixels")
     o->mixed_pixel_prob = ParseDouble(a, value(), 0.0, 1.0, "");
+  else if (a == "--projector-shadow")
+    o->projector_shadow = true;
+  else if (a == "--dark-patches")
+    o->dark_patch_share = ParseDouble(a, value(), 0.0, 0.5, "");
   else if (a == "--depth-scale")
     o->depth_scale = ParseDouble(a, value(), 0.9, 1.1, "");
   else if (a == "--intrinsics-scale")

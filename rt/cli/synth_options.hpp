@@ -42,6 +42,8 @@ struct SynthOptions {
   double slip_mm{0.0};                  ///< --slip-mm: the object's slide in the grasp (off)
   double speed_variation{0.0};          ///< --speed-variation (steady turn)
   double mixed_pixel_prob{0.0};         ///< --mixed-pixels (none)
+  bool projector_shadow{false};         ///< --projector-shadow
+  double dark_patch_share{0.0};         ///< --dark-patches (none)
   double depth_scale{1.0};              ///< --depth-scale (exact)
   double intrinsics_scale{1.0};         ///< --intrinsics-scale (exact)
   double wobble_mm{0.0};                ///< --wobble-mm (none)

@@ -31,6 +31,12 @@ class DepthRenderer {
   void AddMesh(const TriangleMesh& mesh_G, SurfaceLabel label);
   void Commit();
 
+  /// Marks what `sensor` leaves unlit (IdealDepthImage::unlit): the
+  /// projector's shadow, and dark patches on the object's pixels (drawn
+  /// from `seed`, over this renderer's frame, the object's own). Call
+  /// after Commit(); nothing is marked by default.
+  void SetUnlit(const SensorModelConfig& sensor, uint64_t seed);
+
   /// Renders the scene with the gripper at `T_C_G` (maps p_G to p_C).
   void Render(const Eigen::Isometry3d& T_C_G, IdealDepthImage* out) const;
 
@@ -42,6 +48,13 @@ class DepthRenderer {
   Raycaster raycaster_;
   std::vector<SurfaceLabel> labels_;  ///< by Embree geometry id
   Eigen::AlignedBox3d bounds_G_;
+  // What SetUnlit asked for.
+  bool projector_shadow_{false};
+  Eigen::Vector3d projector_C_{0.0, 0.0, 0.0};
+  double patch_share_{0.0};
+  double patch_cell_m_{0.01};
+  uint64_t patch_seed_{0};
+  double patch_threshold_{1.0};  // the field's value above which a point is dark
 };
 
 /// Renders the frames of a Scene (object, claw, arm, wall) with its sensor

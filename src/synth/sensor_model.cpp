@@ -43,6 +43,9 @@ void SensorModelConfig::Validate() const {
           "need 0 <= grazing_start_deg <= grazing_full_deg <= 90");
   Require(edge_jump_m > 0.0, "edge_jump_m must be > 0");
   Require(IsProbability(mixed_pixel_prob), "mixed_pixel_prob must lie in [0, 1]");
+  Require(dark_patch_share >= 0.0 && dark_patch_share <= 0.5, "dark_patch_share must lie in [0, 0.5]");
+  Require(dark_patch_size_m >= 0.001 && dark_patch_size_m <= 0.1,
+          "dark_patch_size_m must lie in [0.001, 0.1]");
   Require(depth_scale > 0.5 && depth_scale < 2.0, "depth_scale must lie in (0.5, 2)");
   Require(intrinsics_scale > 0.5 && intrinsics_scale < 2.0, "intrinsics_scale must lie in (0.5, 2)");
   Require(std::isfinite(wobble_m) && std::abs(wobble_m) <= 0.05 && wobble_period_s > 0.0,
@@ -137,6 +140,7 @@ DepthFrame ApplySensorModel(const SensorModelConfig& config, const IdealDepthIma
   for (size_t i = 0; i < frame.depth_m.size(); ++i) {
     const double z_true = z[i];
     if (!(z_true >= config.min_range_m && z_true <= config.max_range_m)) continue;
+    if (!ideal.unlit.empty() && ideal.unlit[i] != kLit) continue;
     const double cos_inc = std::clamp(static_cast<double>(ideal.cos_incidence[i]), 0.0, 1.0);
     // Combine the independent losses into one draw.
     double p_graze = 0.0;

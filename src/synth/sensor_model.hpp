@@ -16,6 +16,16 @@
 //     do (Hansard et al., "Time-of-Flight Cameras: Principles, Methods and
 //     Applications", Springer 2012, sec. 1.3) and structured-light and
 //     stereo sensors do where their matching window spans the edge;
+//   - projector shadow, off by default: a structured-light sensor sees
+//     depth only where its projector, `baseline_m` beside the camera along
+//     +x of C, lights the surface too (Khoshelham & Elberink, "Accuracy and
+//     Resolution of Kinect Depth Data", Sensors 2012: the shadow bands
+//     beside every occluding edge);
+//   - dark or shiny patches, off by default: blobs fixed on the object's
+//     surface that return nothing (too little infrared back, or a mirror
+//     reflection away from the camera; Khoshelham & Elberink again, and
+//     Mallick et al., "Characterizations of Noise in Kinect Depth Images",
+//     IEEE Sensors Journal 2014);
 //   - an uncalibrated sensor, off by default: depth scaled (a disparity
 //     offset or baseline error reads as a scale over a workspace's depth
 //     range), the frames' focal lengths stated off the true ones, and a
@@ -39,14 +49,23 @@ enum class SurfaceLabel : uint8_t {
   kBackground = 4,  ///< wall
 };
 
+/// Why a hit returns nothing whatever the noise (IdealDepthImage::unlit).
+enum UnlitFlag : uint8_t {
+  kLit = 0,
+  kProjectorShadow = 1,  ///< the projector's ray to the point is blocked
+  kDarkPatch = 2,        ///< the point lies in a dark or shiny patch
+};
+
 /// A noise-free rendering: per pixel (row-major, width*height) the true
 /// z-depth in the camera frame (0 where nothing was hit), the cosine of the
-/// angle between the viewing ray and the surface normal, and the label.
+/// angle between the viewing ray and the surface normal, the label, and
+/// (empty unless the sensor asks for them) UnlitFlag bits.
 struct IdealDepthImage {
   CameraIntrinsics intrinsics;
   std::vector<float> depth_m;
   std::vector<float> cos_incidence;
   std::vector<SurfaceLabel> label;
+  std::vector<uint8_t> unlit;
 };
 
 /// Sensor parameters; the defaults are a Kinect v1 (see file comment).
@@ -78,6 +97,15 @@ struct SensorModelConfig {
   /// the 4-neighbour farthest from it in depth (0: as a Kinect v1, whose
   /// edges are lost rather than mixed).
   double mixed_pixel_prob{0.0};
+  /// No return where the projector (baseline_m along +x of C) cannot
+  /// light the surface.
+  bool projector_shadow{false};
+  /// The share of the object's surface in dark or shiny patches that
+  /// return nothing (0..0.5), and their size [m]: a smooth random field
+  /// over the object's own frame, so a patch stays on the object as it
+  /// turns.
+  double dark_patch_share{0.0};
+  double dark_patch_size_m{0.01};
   /// Every returned depth is this many times its truth (1.01: 1% long).
   double depth_scale{1.0};
   /// The frames state focal lengths (fx, fy) this many times the ones they

@@ -75,6 +75,89 @@ TEST(DepthRendererTest, BoxFaceIsAnalyticPlane) {
   EXPECT_GT(checked, 10000);
 }
 
+// The projector, 75 mm along +x of the camera, casts a plate's shadow on
+// a wall of boxes behind it: a band on the plate's -u side, as wide as the
+// parallax between the two depths, f b (1 / z_plate - 1 / z_back); the
+// plate itself is lit. Without the option nothing is marked.
+TEST(DepthRendererTest, ProjectorShadowIsTheParallaxBand) {
+  const double z_plate = 0.5, z_back = 0.8;
+  Eigen::Isometry3d at_plate = Eigen::Isometry3d::Identity(), at_back = Eigen::Isometry3d::Identity();
+  at_plate.translation().z() = z_plate;
+  at_back.translation().z() = z_back;
+  const TriangleMesh plate =
+      MakeShape(Shape::kCuboid, Eigen::Vector3d(0.04, 0.04, 0.002)).Transformed(at_plate);
+  const TriangleMesh back = MakeShape(Shape::kCuboid, Eigen::Vector3d(0.4, 0.4, 0.05)).Transformed(at_back);
+  SensorModelConfig sensor;
+  for (const bool shadow : {false, true}) {
+    DepthRenderer renderer(CameraIntrinsics{}, 0.0);
+    renderer.AddMesh(plate, SurfaceLabel::kClaw);
+    renderer.AddMesh(back, SurfaceLabel::kObject);
+    renderer.Commit();
+    sensor.projector_shadow = shadow;
+    renderer.SetUnlit(sensor, 1);
+    IdealDepthImage image;
+    renderer.Render(Eigen::Isometry3d::Identity(), &image);
+    if (!shadow) {
+      EXPECT_TRUE(image.unlit.empty());
+      continue;
+    }
+    const CameraIntrinsics& k = image.intrinsics;
+    ASSERT_EQ(image.unlit.size(), image.depth_m.size());
+    const int v = static_cast<int>(k.cy);
+    int band = 0, plate_left = k.width, lit_plate = 0;
+    for (int u = 0; u < k.width; ++u) {
+      const size_t i = static_cast<size_t>(v) * k.width + u;
+      if (image.label[i] == SurfaceLabel::kClaw) {
+        plate_left = std::min(plate_left, u);
+        lit_plate += image.unlit[i] == kLit;
+      }
+    }
+    for (int u = 0; u < k.width; ++u) {
+      const size_t i = static_cast<size_t>(v) * k.width + u;
+      if (image.label[i] != SurfaceLabel::kObject || !(image.unlit[i] & kProjectorShadow)) continue;
+      ++band;
+      EXPECT_LT(u, plate_left) << "the shadow lies on the plate's -u side";
+    }
+    const double expected = k.fx * sensor.baseline_m * (1.0 / (z_plate + 0.002) - 1.0 / z_back);
+    std::printf("shadow band %d px, parallax %.1f px\n", band, expected);
+    EXPECT_NEAR(band, expected, 2.0);
+    EXPECT_GT(lit_plate, 30);
+  }
+}
+
+// Dark patches cover about the share asked of the object's pixels, none
+// of the claw's, and the sensor returns nothing there.
+TEST(DepthRendererTest, DarkPatchesCoverTheirShareOfTheObject) {
+  Eigen::Isometry3d at = Eigen::Isometry3d::Identity();
+  at.translation().z() = 0.6;
+  DepthRenderer renderer(CameraIntrinsics{}, 0.0);
+  renderer.AddMesh(MakeShape(Shape::kCuboid, Eigen::Vector3d(0.2, 0.2, 0.1)).Transformed(at),
+                   SurfaceLabel::kObject);
+  renderer.Commit();
+  SensorModelConfig sensor = SensorModelConfig::Ideal();
+  sensor.dark_patch_share = 0.2;
+  sensor.dark_patch_size_m = 0.01;
+  renderer.SetUnlit(sensor, 7);
+  IdealDepthImage image;
+  renderer.Render(Eigen::Isometry3d::Identity(), &image);
+  const DepthFrame frame = ApplySensorModel(sensor, image, 3, 0);
+  int object = 0, dark = 0, dark_returned = 0, lit_lost = 0;
+  for (size_t i = 0; i < image.depth_m.size(); ++i) {
+    if (image.label[i] != SurfaceLabel::kObject) continue;
+    ++object;
+    const bool is_dark = image.unlit[i] & kDarkPatch;
+    dark += is_dark;
+    dark_returned += is_dark && frame.depth_m[i] > 0.0f;
+    lit_lost += !is_dark && !(frame.depth_m[i] > 0.0f);
+  }
+  ASSERT_GT(object, 10000);
+  const double share = static_cast<double>(dark) / object;
+  std::printf("dark patches: %.3f of the object's pixels (asked 0.2)\n", share);
+  EXPECT_NEAR(share, 0.2, 0.07);
+  EXPECT_EQ(dark_returned, 0);
+  EXPECT_EQ(lit_lost, 0);
+}
+
 // Another resolution keeps the field of view: an off-centre box covers
 // the same part of the image at 640 x 480 and at 1600 x 1200 (6.25 x the
 // pixels), and a 4096 x 4096 image spans the same angles across.
