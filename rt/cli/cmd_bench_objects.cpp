@@ -47,6 +47,8 @@ constexpr const char* kUsage =
     "                              [--claw three-finger,parallel] [--grasp WAY[,WAY..]]\n"
     "                              [--seeds 1,2,3] [--frames N] [--repeat N] [--dump OUT]\n"
     "                              [--reject-depth-edges] [--verbose] [--json]\n"
+    "                              [--projector-shadow] [--dark-patches F] [--mixed-pixels P]\n"
+    "                              [--wobble-mm A] [--depth-scale S]\n"
     "  DIR/objects.json lists the meshes (meters, +z up; PLY, OBJ or STL) as\n"
     "    {\"objects\": {\"NAME\": {\"file\": \"NAME.ply\", \"kind\": K, \"split\": S}, ...}}\n"
     "    K closed_symmetric, closed_asymmetric or open; S tune or check; optional\n"
@@ -63,6 +65,10 @@ constexpr const char* kUsage =
     "                (an existing folder; no file there is overwritten)\n"
     "  --reject-depth-edges  the pipeline drops the pixels on depth edges (off by\n"
     "                default; docs/measurements/2026-12-06-depth-edges.md)\n"
+    "  --projector-shadow, --dark-patches F, --mixed-pixels P, --wobble-mm A,\n"
+    "  --depth-scale S  the sensor's artefacts, as `graspfill synth` makes them\n"
+    "                (none by default); --json rows add the fused cloud's p95 and\n"
+    "                the share of it more than 3 mm from the truth\n"
     "targets (issue 42): closed_symmetric coverage >= 97% (truth within 2 mm),\n"
     "added points' p95 <= 2 mm, <= 2% of them > 3 mm; closed_asymmetric and open:\n"
     "<= 2% > 3 mm, coverage not below the fused cloud's; every row: no added point\n"
@@ -96,6 +102,8 @@ struct RowResult {
   size_t fused_points{0};
   double fused_coverage{0.0};
   double fused_p99_mm{0.0};
+  double fused_p95_mm{0.0};
+  double fused_off_share{0.0};  // of the fused points, farther than 3 mm from the truth
   Outcome repaired;
   std::vector<Miss> misses;
   bool meets() const { return misses.empty(); }
@@ -199,9 +207,11 @@ std::string DumpPath(const std::string& dir, const RowSpec& s, const char* what)
 // One row: the scene, the pipeline, the repair and the measurements.
 // @throws std::exception on a failure of the run itself (not of a target).
 RowResult RunRow(const RowSpec& s, const TriangleMesh& mesh, int frames, int repeat,
-                 const std::string& dump_dir, bool reject_depth_edges) {
+                 const std::string& dump_dir, bool reject_depth_edges,
+                 const synth::SensorModelConfig& sensor) {
   RowResult r;
   synth::SceneConfig sc;
+  sc.sensor = sensor;
   sc.mesh = mesh;
   sc.mesh_name = s.object->path;
   sc.claw = s.claw;
@@ -238,7 +248,10 @@ RowResult RunRow(const RowSpec& s, const TriangleMesh& mesh, int frames, int rep
   }
   r.fused_coverage =
       eval::FractionWithin(mesh::NearestDistances(truth.points, fused.points_G), kCoverageRadiusM);
-  r.fused_p99_mm = 1000.0 * Percentile(mesh::NearestDistances(fused.points_G, truth.points), 99.0);
+  const std::vector<double> fused_to_truth = mesh::NearestDistances(fused.points_G, truth.points);
+  r.fused_p99_mm = 1000.0 * Percentile(fused_to_truth, 99.0);
+  r.fused_p95_mm = 1000.0 * Percentile(fused_to_truth, 95.0);
+  r.fused_off_share = 1.0 - eval::FractionWithin(fused_to_truth, kWrongDistanceM);
   const evidence::VisibilityRecord& record = pipeline->visibility();
   const TimedRepair repair = RepairTimed(fused, &record, repeat);
   r.repaired = Measure(repair.cloud, fused.size(), truth.points, record);
@@ -284,6 +297,8 @@ nlohmann::ordered_json RowJson(const RowSpec& s, const RowResult& r) {
       {"fused_points", r.fused_points},
       {"fused_coverage", NumberOrNull(ran, r.fused_coverage)},
       {"fused_p99_mm", NumberOrNull(ran, r.fused_p99_mm)},
+      {"fused_p95_mm", NumberOrNull(ran, r.fused_p95_mm)},
+      {"fused_off_object_share", NumberOrNull(ran, r.fused_off_share)},
       {"points", NumberOrNull(ran, r.repaired.points)},
       {"added", NumberOrNull(ran, r.repaired.added)},
       {"coverage_2mm", NumberOrNull(ran, r.repaired.coverage)},
@@ -441,7 +456,19 @@ struct Options {
   bool json{false};
   bool verbose{false};
   bool reject_depth_edges{false};
+  synth::SensorModelConfig sensor;  // the artefacts asked for
 };
+
+// The sensor artefacts asked for, as ", projector shadow, ..." ("" for none).
+std::string SensorArtefactsText(const synth::SensorModelConfig& s) {
+  std::string text;
+  if (s.projector_shadow) text += ", projector shadow";
+  if (s.dark_patch_share > 0.0) text += Format(", dark patches %.0f%%", 100.0 * s.dark_patch_share);
+  if (s.mixed_pixel_prob > 0.0) text += Format(", mixed pixels %.2f", s.mixed_pixel_prob);
+  if (s.wobble_m > 0.0) text += Format(", wobble %.1f mm", 1000.0 * s.wobble_m);
+  if (s.depth_scale != 1.0) text += Format(", depth x %.3f", s.depth_scale);
+  return text;
+}
 
 // @throws UsageError
 Options Parse(const Args& args) {
@@ -494,6 +521,16 @@ Options Parse(const Args& args) {
       o.verbose = true;
     else if (a == "--reject-depth-edges")
       o.reject_depth_edges = true;
+    else if (a == "--projector-shadow")
+      o.sensor.projector_shadow = true;
+    else if (a == "--dark-patches")
+      o.sensor.dark_patch_share = ParseDouble(a, value(), 0.0, 0.5, "");
+    else if (a == "--mixed-pixels")
+      o.sensor.mixed_pixel_prob = ParseDouble(a, value(), 0.0, 1.0, "");
+    else if (a == "--wobble-mm")
+      o.sensor.wobble_m = 0.001 * ParseDouble(a, value(), 0.0, 5.0, "mm");
+    else if (a == "--depth-scale")
+      o.sensor.depth_scale = ParseDouble(a, value(), 0.9, 1.1, "");
     else
       throw BadOption(a, kUsage);
   }
@@ -592,7 +629,10 @@ int RunBenchRepairObjects(const Args& args) {
         "fused: its points, coverage (truth within 2 mm) and p99 distance to the truth;\n"
         "repaired: points, coverage, added points' p95 / share > 3 mm / in seen-free space, "
         "repair ms (fastest of %d)\n\n",
-        ManifestPath(o.dir).c_str(), o.frames, o.reject_depth_edges ? ", depth edges dropped" : "", o.repeat);
+        ManifestPath(o.dir).c_str(), o.frames,
+        (std::string(o.reject_depth_edges ? ", depth edges dropped" : "") + SensorArtefactsText(o.sensor))
+            .c_str(),
+        o.repeat);
     std::printf("%-25s %-17s %-5s %-12s %-15s %4s | %6s %6s %6s | %6s %6s %6s %6s %5s %6s | %s\n", "object",
                 "kind", "split", "claw", "grasp", "seed", "fused", "cov", "p99mm", "points", "cov", "p95mm",
                 "wrong", "free", "ms", "meets");
@@ -605,7 +645,8 @@ int RunBenchRepairObjects(const Args& args) {
     progress.Update(static_cast<int64_t>(done));
     RowResult r;
     try {
-      r = RunRow(s, meshes.at(s.object->name), o.frames, o.repeat, o.dump_dir, o.reject_depth_edges);
+      r = RunRow(s, meshes.at(s.object->name), o.frames, o.repeat, o.dump_dir, o.reject_depth_edges,
+                 o.sensor);
     } catch (const std::exception& e) {
       progress.Clear();
       std::fprintf(stderr, "%s: %s, %s, %s, seed %llu: %s\n", kCommand, s.object->name.c_str(),

@@ -151,8 +151,10 @@ TEST(BenchObjectsE2E, TwoScansOneClawGraspSeedRowsMatchTheirDumpedClouds) {
     EXPECT_EQ(ObservedPoints(repaired).size(), fused.size());
 
     // The row's numbers, measured here from the files.
-    const double fused_p99_mm =
-        1000.0 * Percentile(mesh::NearestDistances(fused.points_G, truth.points_G), 99.0);
+    const std::vector<double> fused_to_truth = mesh::NearestDistances(fused.points_G, truth.points_G);
+    const double fused_p99_mm = 1000.0 * Percentile(fused_to_truth, 99.0);
+    EXPECT_NEAR(Get(row, "fused_p95_mm"), 1000.0 * Percentile(fused_to_truth, 95.0), 1e-6);
+    EXPECT_NEAR(Get(row, "fused_off_object_share"), 1.0 - eval::FractionWithin(fused_to_truth, 0.003), 1e-9);
     const double fused_coverage =
         eval::FractionWithin(mesh::NearestDistances(truth.points_G, fused.points_G), 0.002);
     const double coverage =
@@ -362,6 +364,8 @@ TEST(BenchObjectsE2E, ManifestErrorsAreNamedAndExitTwo) {
       {"--seeds x", "--seeds 'x': not an integer"},
       {"--frames 5", "--frames '5': out of range, expected 10..3000"},
       {"--dump", "--dump needs a value"},
+      {"--dark-patches 0.9", "--dark-patches '0.9': out of range, expected 0..0.5"},
+      {"--mixed-pixels", "--mixed-pixels needs a value"},
       {"--bogus", "bad option '--bogus'"},
   };
   for (const auto& [option, message] : usage) {
