@@ -209,7 +209,8 @@ void Parse(const Args& args, ReplayOptions* o) {
       value(&s.log.channels.collision_mesh);
     else if (a == "--depth-scale") {
       value(&v);
-      s.pipeline.refine.known_depth_scale = ParseDouble(a, v, refine::kMinDepthScale, refine::kMaxDepthScale, "");
+      s.pipeline.refine.known_depth_scale =
+          ParseDouble(a, v, refine::kMinDepthScale, refine::kMaxDepthScale, "");
     } else if (a == "--voxel-m") {
       value(&v);
       SetVoxel(ParseDouble(a, v, kMinVoxelM, kMaxVoxelM, "m"), s.sdf_trunc_voxels, &s.pipeline);
