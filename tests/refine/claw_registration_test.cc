@@ -186,9 +186,9 @@ TEST_F(ClawRegistrationTest, FindsTheDepthScaleFromTheClawsSize) {
   std::printf("depth scale error, median of 8 views: exact %+.4f%%, 1%% long %+.4f%%, difference %+.4f%%\n",
               100.0 * Percentile(exact, 50.0), 100.0 * Percentile(long_by_1pc, 50.0),
               100.0 * Percentile(difference, 50.0));
-  // One frame's estimate keeps a few % of the error where the final gate
-  // cut matches (0.94% of 1% here); the session's, re-estimated on the
-  // divided depth, closes it (pose_refiner_test, e2e_refine_test).
+  // One frame's estimate falls a few % short of the error (0.94% of 1%
+  // here); the session's, estimated again on the divided depth, closes the
+  // gap (pose_refiner_test, e2e_refine_test).
   EXPECT_NEAR(Percentile(exact, 50.0), 0.0, 0.001);
   EXPECT_NEAR(Percentile(long_by_1pc, 50.0), 0.01, 0.0015);
   EXPECT_NEAR(Percentile(difference, 50.0), 0.01, 0.001);
