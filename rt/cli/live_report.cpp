@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "live_report.hpp"
 
+#include <cmath>
 #include <cstdio>
 
 #include "graspfill/core/frame_skip.hpp"
@@ -31,6 +32,13 @@ int PrintLiveSummary(const rt::LiveSessionSummary& summary, const io::ChannelNam
       static_cast<long long>(st.frames_skipped_refine), static_cast<long long>(s.session.frames_released),
       static_cast<long long>(st.decode_errors), static_cast<long long>(st.clock_jumps),
       static_cast<long long>(st.grasps_completed), st.state.c_str());
+  const refine::DepthScaleEstimate& scale = s.pipeline.refine.depth_scale;
+  if (std::isfinite(scale.stderr_)) {
+    // What a rig config's camera.depth_scale can take (docs/imperfect-robots.md).
+    std::printf("refine: the depth reads %+.2f +- %.2f%% against the claw's size, over %d frames; %s\n",
+                100.0 * (scale.factor - 1.0), 100.0 * scale.stderr_, scale.frames,
+                scale.applied != 1.0 ? "divided out" : "not divided out");
+  }
   if (st.frames_skipped_by_reason.total() > 0) {
     std::printf("live: frames not fused, by reason: %s\n",
                 FrameSkipText(st.frames_skipped_by_reason).c_str());

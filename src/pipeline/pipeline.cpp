@@ -158,6 +158,7 @@ struct Pipeline::Impl {
       // get a new one.
       ScopedStageTimer t(&stats.depth_scale);
       refiner.CalibrateDepthScale();
+      stats.refine = refiner.stats();
     }
     work.utime = frame.utime;
     work.intrinsics = frame.intrinsics;

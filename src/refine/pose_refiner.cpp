@@ -73,7 +73,7 @@ PoseRefiner::PoseRefiner(const RefineConfig& config)
   window_.resize(static_cast<size_t>(config_.hand_eye_window));
   scratch_.reserve(std::max(window_.size(), static_cast<size_t>(kDepthScaleWindow)));
   scale_errors_.reserve(kDepthScaleWindow);
-  depth_scale_.applied = config_.known_depth_scale;
+  stats_.depth_scale.applied = config_.known_depth_scale;
 }
 
 void PoseRefiner::SetClaw(const TriangleMesh& claw_G) { registration_.SetClaw(claw_G); }
@@ -85,8 +85,6 @@ void PoseRefiner::Reset() {
   clock_ = ClockOffsetEstimate{};
   scale_errors_.clear();
   scale_next_ = 0;
-  depth_scale_ = DepthScaleEstimate{};
-  depth_scale_.applied = config_.known_depth_scale;
   last_fused_ = false;
   shift_s_ = 0.0;
   prev_utime_ = -1;
@@ -94,6 +92,7 @@ void PoseRefiner::Reset() {
   centre_mean_C_.setZero();
   last_ = RegistrationResult{};
   stats_ = RefineStats{};
+  stats_.depth_scale.applied = config_.known_depth_scale;
 }
 
 Eigen::Isometry3d PoseRefiner::HandEyeCorrection() const {
@@ -234,8 +233,8 @@ void PoseRefiner::AddDepthScaleSample(double error) {
     scale_errors_[scale_next_] = error;
   }
   scale_next_ = (scale_next_ + 1) % kDepthScaleWindow;
-  depth_scale_.frames = static_cast<int>(scale_errors_.size());
-  if (depth_scale_.frames < kDepthScaleMinFrames) return;
+  stats_.depth_scale.frames = static_cast<int>(scale_errors_.size());
+  if (stats_.depth_scale.frames < kDepthScaleMinFrames) return;
   scratch_.assign(scale_errors_.begin(), scale_errors_.end());
   const size_t mid = scratch_.size() / 2;
   std::nth_element(scratch_.begin(), scratch_.begin() + mid, scratch_.end());
@@ -243,8 +242,8 @@ void PoseRefiner::AddDepthScaleSample(double error) {
   for (double& e : scratch_) e = std::abs(e - median);
   std::nth_element(scratch_.begin(), scratch_.begin() + mid, scratch_.end());
   const double mad = scratch_[mid];
-  depth_scale_.factor = 1.0 + median;
-  depth_scale_.stderr_ = 1.2533 * 1.4826 * mad / std::sqrt(static_cast<double>(scratch_.size()));
+  stats_.depth_scale.factor = 1.0 + median;
+  stats_.depth_scale.stderr_ = 1.2533 * 1.4826 * mad / std::sqrt(static_cast<double>(scratch_.size()));
 }
 
 bool PoseRefiner::CalibrateDepthScale() {
@@ -253,12 +252,12 @@ bool PoseRefiner::CalibrateDepthScale() {
   DepthScaleSample sample;
   if (!registration_.EstimateDepthScale(last_, &sample)) return false;
   // The frame was divided by `applied` already: the sensor's error is both.
-  AddDepthScaleSample(depth_scale_.applied * (1.0 + sample.error) - 1.0);
-  if (!config_.apply_depth_scale || !std::isfinite(depth_scale_.stderr_)) return false;
-  const double change = std::abs(depth_scale_.factor / depth_scale_.applied - 1.0);
-  if (change < kDepthScaleMinChange || change < kDepthScaleMinSigmas * depth_scale_.stderr_) return false;
-  depth_scale_.applied = depth_scale_.factor;
-  ++depth_scale_.changes;
+  AddDepthScaleSample(stats_.depth_scale.applied * (1.0 + sample.error) - 1.0);
+  if (!config_.apply_depth_scale || !std::isfinite(stats_.depth_scale.stderr_)) return false;
+  const double change = std::abs(stats_.depth_scale.factor / stats_.depth_scale.applied - 1.0);
+  if (change < kDepthScaleMinChange || change < kDepthScaleMinSigmas * stats_.depth_scale.stderr_) return false;
+  stats_.depth_scale.applied = stats_.depth_scale.factor;
+  ++stats_.depth_scale.changes;
   next_ = 0;
   samples_ = 0;
   hand_eye_.setIdentity();

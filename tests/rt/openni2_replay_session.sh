@@ -73,4 +73,14 @@ grep -q "has no depth mode 800x600@\*/1mm; available: 640x480@30/1mm 640x480@30/
   fail "live --width 320 --height 240"
 grep -q "8 frames in, [1-9][0-9]* fused, 0 dropped" "$TMP/half.out" || fail "half size: $(cat "$TMP/half.out")"
 echo "modes: 800x600 refused with the list; 320x240: $(grep -o '8 frames in[^;]*' "$TMP/half.out")"
+
+# 5. A depth 1% long: live says what the claw's size shows, and that it
+#    divided it out (docs/imperfect-robots.md, the depth scale).
+"$G" synth --shape cylinder --claw parallel --frames 60 --depth-scale 1.01 -o "$TMP/long" \
+    >"$TMP/long_synth.out" 2>&1 || fail "synth --depth-scale 1.01"
+"$G" live --device "graspfill-replay:$TMP/long/recording.lcmlog" --replay-speed 0 --publish-every 0 \
+    --no-repair --lcm-url "$(bus long)" >"$TMP/long.out" 2>"$TMP/long.err" || fail "live on the 1% long depth"
+grep -Eq "refine: the depth reads \+(0\.9[0-9]|1\.0[0-9]) \+- 0\.[0-9]+% against the claw's size, over [0-9]+ frames; divided out" \
+  "$TMP/long.out" || fail "no depth scale of about +1% divided out: $(cat "$TMP/long.out")"
+echo "depth 1% long: $(grep -o 'the depth reads.*' "$TMP/long.out")"
 echo "PASS"

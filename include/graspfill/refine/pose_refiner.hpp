@@ -174,6 +174,8 @@ struct RefineStats {
   /// Rejected as jumps, but a turn along the motion that a clock offset not
   /// yet applied explains: in the clock and hand-eye fits, not fused.
   int64_t clock_only_samples{0};
+  /// The depth's scale found so far (PoseRefiner::depth_scale()).
+  DepthScaleEstimate depth_scale;
 
   int64_t rejected() const { return rejected_claw_not_seen + rejected_not_converged + rejected_jump; }
 };
@@ -209,7 +211,7 @@ class PoseRefiner {
   const RegistrationResult& last_registration() const { return last_; }
   const RefineStats& stats() const { return stats_; }
   const ClockOffsetEstimate& clock_offset() const { return clock_; }
-  const DepthScaleEstimate& depth_scale() const { return depth_scale_; }
+  const DepthScaleEstimate& depth_scale() const { return stats_.depth_scale; }
   const RefineConfig& config() const { return config_; }
 
   /// Forgets the estimate and the statistics (keeps the claw).
@@ -258,7 +260,6 @@ class PoseRefiner {
   ClockOffsetEstimate clock_;
   std::vector<double> scale_errors_;  // ring of kDepthScaleWindow frames' errors
   size_t scale_next_{0};
-  DepthScaleEstimate depth_scale_;
   double shift_s_{0.0};  // applied: T_C_G(t) ~= H * pose logged at t + shift_s_
   Eigen::Isometry3d prev_logged_{Eigen::Isometry3d::Identity()};
   int64_t prev_utime_{-1};
