@@ -255,7 +255,8 @@ bool PoseRefiner::CalibrateDepthScale() {
   AddDepthScaleSample(stats_.depth_scale.applied * (1.0 + sample.error) - 1.0);
   if (!config_.apply_depth_scale || !std::isfinite(stats_.depth_scale.stderr_)) return false;
   const double change = std::abs(stats_.depth_scale.factor / stats_.depth_scale.applied - 1.0);
-  if (change < kDepthScaleMinChange || change < kDepthScaleMinSigmas * stats_.depth_scale.stderr_) return false;
+  if (change < kDepthScaleMinChange || change < kDepthScaleMinSigmas * stats_.depth_scale.stderr_)
+    return false;
   stats_.depth_scale.applied = stats_.depth_scale.factor;
   ++stats_.depth_scale.changes;
   next_ = 0;
