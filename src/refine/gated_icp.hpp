@@ -111,6 +111,29 @@ inline void SolveFullStep(const Eigen::Matrix<double, 6, 6>& H, const Eigen::Mat
   *v = xi.tail<3>();
 }
 
+// Point i's match when the problem has one within the gate (squared,
+// gate2) whose normal agrees with the point's (cos_min): the residual's
+// vector d = p - q, the model point q and its normal m.
+template <class Problem>
+bool GatedMatch(const Problem& problem, size_t i, float gate2, float cos_min, Eigen::Vector3f* d,
+                Eigen::Vector3f* q, Eigen::Vector3f* m) {
+  Eigen::Vector3f p;
+  if (!problem.Nearest(i, &p, q, m)) return false;
+  *d = p - *q;
+  return d->squaredNorm() <= gate2 && problem.Normal(i).dot(*m) >= cos_min;
+}
+
+// The motion turning by the rotation vector w [rad] about `centre` and
+// moving it by v [m].
+inline Eigen::Isometry3d MotionAbout(const Eigen::Vector3d& w, const Eigen::Vector3d& v,
+                                     const Eigen::Vector3d& centre) {
+  Eigen::Isometry3d D = Eigen::Isometry3d::Identity();
+  const double angle = w.norm();
+  if (angle > 0.0) D.linear() = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
+  D.translation() = centre + v - D.linear() * centre;
+  return D;
+}
+
 // Runs the loop from *pose (updated in place), stepping about `centre` (in
 // the step frame).
 template <class Problem>
@@ -130,11 +153,8 @@ GatedIcpOutcome RunGatedIcp(const GatedIcpSchedule& schedule, const Eigen::Vecto
     int matches = 0;
     double sum_r2 = 0.0;
     for (size_t i = 0; i < problem.size(); ++i) {
-      Eigen::Vector3f p, q, m;
-      if (!problem.Nearest(i, &p, &q, &m)) continue;
-      const Eigen::Vector3f d = p - q;
-      if (d.squaredNorm() > gate2) continue;
-      if (problem.Normal(i).dot(m) < cos_min) continue;
+      Eigen::Vector3f d, q, m;
+      if (!GatedMatch(problem, i, gate2, cos_min, &d, &q, &m)) continue;
       const double r = m.dot(d);
       Eigen::Vector3d q_step, m_step;
       problem.InStepFrame(q, m, &q_step, &m_step);
@@ -161,11 +181,8 @@ GatedIcpOutcome RunGatedIcp(const GatedIcpSchedule& schedule, const Eigen::Vecto
       out.end = GatedIcpEnd::kNoStep;
       return out;
     }
-    Eigen::Isometry3d D = Eigen::Isometry3d::Identity();
     const double angle = w.norm();
-    if (angle > 0.0) D.linear() = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
-    D.translation() = centre + v - D.linear() * centre;  // about the centre
-    T = D * T;
+    T = MotionAbout(w, v, centre) * T;
     if (at_final && v.norm() < schedule.converged_m && angle < schedule.converged_deg * kIcpDegToRad) {
       out.end = GatedIcpEnd::kConverged;
       return out;
