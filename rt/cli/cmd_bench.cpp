@@ -36,7 +36,7 @@
 namespace graspfill::cli {
 namespace {
 
-std::string Usage() {
+std::string BenchUsage() {
   return "usage: graspfill bench [LOG] [--claw SPEC] [--repeat N] [--two-threads] [--json]\n"
          "  LOG defaults to the bundled recording " +
          (DataDir() / "replay" / "default" / "recording.lcmlog").string() +
@@ -273,7 +273,7 @@ std::optional<ObjectCloud> TruthBesideLog(const std::string& log) {
 int ParseBenchArgs(const Args& args, BenchOptions* o) {
   for (size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--help" || args[i] == "-h") {
-      std::fputs(Usage().c_str(), stdout);
+      std::fputs(BenchUsage().c_str(), stdout);
       return 0;
     } else if (args[i] == "--json") {
       o->json = true;
@@ -292,8 +292,8 @@ int ParseBenchArgs(const Args& args, BenchOptions* o) {
     } else if (!args[i].empty() && args[i][0] != '-') {
       o->log = args[i];
     } else {
-      std::fprintf(stderr, "graspfill bench: %s\n%s", BadOptionText(args[i], Usage()).c_str(),
-                   Usage().c_str());
+      std::fprintf(stderr, "graspfill bench: %s\n%s", BadOptionText(args[i], BenchUsage()).c_str(),
+                   BenchUsage().c_str());
       return 2;
     }
   }
@@ -327,8 +327,8 @@ struct BenchResults {
   double best_fps{0.0};
 };
 
-BenchResults Measure(const BenchOptions& o, const claw::ClawModel& claw,
-                     const std::vector<PosedFrame>& frames) {
+BenchResults MeasureFramePath(const BenchOptions& o, const claw::ClawModel& claw,
+                              const std::vector<PosedFrame>& frames) {
   // Refinement on (the default), its cost shown beside the path without.
   PipelineConfig config;
   config.refine.enabled = true;
@@ -487,7 +487,7 @@ int RunBench(const Args& args) {
   if (const int exit_code = ParseBenchArgs(args, &o); exit_code >= 0) return exit_code;
   const claw::ClawModel claw = MakeClaw(o.claw_spec);
   const std::vector<PosedFrame> frames = LoadPosedFrames(o.log);
-  const BenchResults results = Measure(o, claw, frames);
+  const BenchResults results = MeasureFramePath(o, claw, frames);
   if (o.json) {
     PrintBenchJson(o.log, results);
   } else {

@@ -70,7 +70,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-std::string Usage() {
+std::string LiveBenchUsage() {
   return "usage: graspfill bench live [LOG] [--speeds 1,2,4] [--transport memq|udpm|both]\n"
          "                            [--repair incremental|full|both] [--publish-every N]\n"
          "                            [--soak-s S [--soak-faults PERCENT] [--soak-speed X]]\n"
@@ -788,7 +788,7 @@ BenchLiveOptions ParseBenchLiveArgs(const Args& args) {
       o.log = a;
       log_given = true;
     } else {
-      throw UsageError(BadOptionText(a, Usage()) + " (or its value is missing)");
+      throw UsageError(BadOptionText(a, LiveBenchUsage()) + " (or its value is missing)");
     }
   });
   if (o.help) return o;
@@ -860,11 +860,11 @@ int RunBenchLive(const Args& args) {
   try {
     o = ParseBenchLiveArgs(args);
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "graspfill bench live: %s\n%s", e.what(), Usage().c_str());
+    std::fprintf(stderr, "graspfill bench live: %s\n%s", e.what(), LiveBenchUsage().c_str());
     return 2;
   }
   if (o.help) {
-    std::fputs(Usage().c_str(), stdout);
+    std::fputs(LiveBenchUsage().c_str(), stdout);
     return 0;
   }
 

@@ -40,9 +40,9 @@
 namespace graspfill::cli {
 namespace {
 
-constexpr const char* kCommand = "graspfill bench repair --objects";
+constexpr const char* kObjectsBenchCommand = "graspfill bench repair --objects";
 
-constexpr const char* kUsage =
+constexpr const char* kObjectsBenchUsage =
     "usage: graspfill bench repair --objects DIR [--object NAME[,NAME..]] [--split tune|check]\n"
     "                              [--claw three-finger,parallel] [--grasp WAY[,WAY..]]\n"
     "                              [--seeds 1,2,3] [--frames N] [--repeat N] [--dump OUT]\n"
@@ -532,7 +532,7 @@ Options Parse(const Args& args) {
     else if (a == "--depth-scale")
       o.sensor.depth_scale = ParseDouble(a, value(), 0.9, 1.1, "");
     else
-      throw BadOption(a, kUsage);
+      throw BadOption(a, kObjectsBenchUsage);
   }
   if (!dir_given || o.dir.empty()) throw UsageError("--objects needs a folder with objects.json");
   return o;
@@ -543,14 +543,14 @@ Options Parse(const Args& args) {
 int RunBenchRepairObjects(const Args& args) {
   if (std::find(args.begin(), args.end(), "--help") != args.end() ||
       std::find(args.begin(), args.end(), "-h") != args.end()) {
-    std::fputs(kUsage, stdout);
+    std::fputs(kObjectsBenchUsage, stdout);
     return 0;
   }
   Options o;
   try {
     o = Parse(args);
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "%s: %s\n", kCommand, e.what());
+    std::fprintf(stderr, "%s: %s\n", kObjectsBenchCommand, e.what());
     return 2;
   }
   // The set: every listed mesh there, the selected ones read (a bad file
@@ -559,13 +559,13 @@ int RunBenchRepairObjects(const Args& args) {
   try {
     manifest = ReadObjectManifest(o.dir);
   } catch (const ManifestError& e) {
-    std::fprintf(stderr, "%s: %s\n", kCommand, e.what());
+    std::fprintf(stderr, "%s: %s\n", kObjectsBenchCommand, e.what());
     return 2;
   }
   for (const std::string& name : o.objects) {
     if (std::none_of(manifest.begin(), manifest.end(),
                      [&](const ManifestObject& m) { return m.name == name; })) {
-      std::fprintf(stderr, "%s: --object '%s': not in %s\n", kCommand, name.c_str(),
+      std::fprintf(stderr, "%s: --object '%s': not in %s\n", kObjectsBenchCommand, name.c_str(),
                    ManifestPath(o.dir).c_str());
       return 2;
     }
@@ -579,7 +579,7 @@ int RunBenchRepairObjects(const Args& args) {
     try {
       meshes[m.name] = ReadObjectMesh(m.path, m.mesh_scale, m.mesh_y_up);
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "%s: object '%s' in %s: %s\n", kCommand, m.name.c_str(),
+      std::fprintf(stderr, "%s: object '%s' in %s: %s\n", kObjectsBenchCommand, m.name.c_str(),
                    ManifestPath(o.dir).c_str(), ErrorText(e).c_str());
       return 2;
     }
@@ -588,14 +588,15 @@ int RunBenchRepairObjects(const Args& args) {
       std::fprintf(stderr,
                    "%s: object '%s' in %s: mesh '%s' is %.3g m across; graspfill expects meters and "
                    "objects a claw can hold (\"mesh_scale\": 0.001 for a mesh in mm)\n",
-                   kCommand, m.name.c_str(), ManifestPath(o.dir).c_str(), m.path.c_str(), extent_m);
+                   kObjectsBenchCommand, m.name.c_str(), ManifestPath(o.dir).c_str(), m.path.c_str(),
+                   extent_m);
       return 2;
     }
     selected.push_back(&m);
   }
   if (selected.empty()) {
-    std::fprintf(stderr, "%s: no object of %s is in split '%s'\n", kCommand, ManifestPath(o.dir).c_str(),
-                 ObjectSplitName(*o.split).c_str());
+    std::fprintf(stderr, "%s: no object of %s is in split '%s'\n", kObjectsBenchCommand,
+                 ManifestPath(o.dir).c_str(), ObjectSplitName(*o.split).c_str());
     return 2;
   }
   std::vector<RowSpec> specs;
@@ -618,7 +619,7 @@ int RunBenchRepairObjects(const Args& args) {
           "two objects' names give the same --dump file names (letters, digits, '-', '_', '.' are kept)";
     }
     if (!problem.empty()) {
-      std::fprintf(stderr, "%s: %s\n", kCommand, problem.c_str());
+      std::fprintf(stderr, "%s: %s\n", kObjectsBenchCommand, problem.c_str());
       return 1;
     }
   }
@@ -649,7 +650,7 @@ int RunBenchRepairObjects(const Args& args) {
                  o.sensor);
     } catch (const std::exception& e) {
       progress.Clear();
-      std::fprintf(stderr, "%s: %s, %s, %s, seed %llu: %s\n", kCommand, s.object->name.c_str(),
+      std::fprintf(stderr, "%s: %s, %s, %s, seed %llu: %s\n", kObjectsBenchCommand, s.object->name.c_str(),
                    synth::ClawTypeName(s.claw).c_str(), synth::GraspWayName(s.grasp).c_str(),
                    static_cast<unsigned long long>(s.seed), ErrorText(e).c_str());
       return 1;

@@ -89,7 +89,7 @@ struct PipelineBenchOptions {
   uint64_t seed{11};
 };
 
-constexpr const char* kCommand = "graspfill bench repair --pipeline";
+constexpr const char* kPipelineBenchCommand = "graspfill bench repair --pipeline";
 
 // Reads the command line into *o; false after a bad option or value (said
 // on stderr).
@@ -112,12 +112,12 @@ bool ParsePipelineBenchArgs(const Args& args, PipelineBenchOptions* o) {
       else if (args[i] == "--seed" && i + 1 < args.size()) {
         o->seed = ParseInteger<uint64_t>("--seed", args[++i], 0, std::numeric_limits<uint64_t>::max());
       } else {
-        std::fprintf(stderr, "%s: bad option '%s'\n", kCommand, args[i].c_str());
+        std::fprintf(stderr, "%s: bad option '%s'\n", kPipelineBenchCommand, args[i].c_str());
         return false;
       }
     }
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "%s: %s\n", kCommand, e.what());
+    std::fprintf(stderr, "%s: %s\n", kPipelineBenchCommand, e.what());
     return false;
   }
   return true;
@@ -303,7 +303,7 @@ int RunBenchRepairPipeline(const Args& args) {
     }
     const std::string problem = CheckDumpPaths(o.dump_dir, paths);
     if (!problem.empty()) {
-      std::fprintf(stderr, "%s: %s\n", kCommand, problem.c_str());
+      std::fprintf(stderr, "%s: %s\n", kPipelineBenchCommand, problem.c_str());
       return 1;
     }
   }
@@ -315,7 +315,7 @@ int RunBenchRepairPipeline(const Args& args) {
     try {
       r = RunCase(c, o);
     } catch (const CaseFailed& e) {
-      std::fprintf(stderr, "%s: %s\n", kCommand, e.what());
+      std::fprintf(stderr, "%s: %s\n", kPipelineBenchCommand, e.what());
       return 1;
     }
     if (o.json) {

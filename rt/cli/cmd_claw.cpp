@@ -20,7 +20,7 @@
 namespace graspfill::cli {
 namespace {
 
-constexpr const char* kUsage =
+constexpr const char* kClawUsage =
     "usage: graspfill claw SPEC [--opening X] [--joints Q1,Q2,...] [--claw-mesh-root DIR]\n"
     "                      -o CLAW.ply [--force]\n"
     "  SPEC              three-finger, parallel, a description (.json), a URDF (.urdf)\n"
@@ -58,7 +58,7 @@ int RunClaw(const Args& args) {
       const std::string& a = args[i];
       const bool has_value = i + 1 < args.size();
       if (a == "--help" || a == "-h") {
-        std::fputs(kUsage, stdout);
+        std::fputs(kClawUsage, stdout);
         return 0;
       } else if ((a == "-o" || a == "--output") && has_value) {
         out = args[++i];
@@ -73,13 +73,13 @@ int RunClaw(const Args& args) {
       } else if (!a.empty() && a[0] != '-' && spec.empty()) {
         spec = a;
       } else {
-        throw BadOption(a, kUsage);
+        throw BadOption(a, kClawUsage);
       }
     }
     if (spec.empty() || out.empty()) throw UsageError("need SPEC and -o CLAW.ply");
     spec = ResolveClawSpec(spec, InstalledClawsDir());
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "graspfill claw: %s\n%s", e.what(), kUsage);
+    std::fprintf(stderr, "graspfill claw: %s\n%s", e.what(), kClawUsage);
     return 2;
   }
   try {

@@ -19,7 +19,7 @@
 namespace graspfill::cli {
 namespace {
 
-constexpr const char* kUsage =
+constexpr const char* kConfigUsage =
     "usage: graspfill config --dump-defaults [-o FILE [--force]]\n"
     "       graspfill config --check FILE\n"
     "  --dump-defaults   print the rig config with every default, documented (YAML);\n"
@@ -43,7 +43,7 @@ int RunConfig(const Args& args) {
         return args[++i];
       };
       if (a == "--help" || a == "-h") {
-        std::fputs(kUsage, stdout);
+        std::fputs(kConfigUsage, stdout);
         return 0;
       } else if (a == "--dump-defaults") {
         dump = true;
@@ -54,13 +54,13 @@ int RunConfig(const Args& args) {
       } else if (a == "--check") {
         check = value();
       } else {
-        throw BadOption(a, kUsage);
+        throw BadOption(a, kConfigUsage);
       }
     }
     if (dump == !check.empty()) throw UsageError("need --dump-defaults or --check FILE");
     if (!output.empty() && !dump) throw UsageError("-o goes with --dump-defaults");
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "graspfill config: %s\n%s", e.what(), kUsage);
+    std::fprintf(stderr, "graspfill config: %s\n%s", e.what(), kConfigUsage);
     return 2;
   }
   if (!check.empty()) {

@@ -31,7 +31,7 @@
 namespace graspfill::cli {
 namespace {
 
-constexpr const char* kUsage =
+constexpr const char* kEvalUsage =
     "usage: graspfill eval PRED GT [--json]\n"
     "  PRED    predicted (repaired) cloud, meters (PLY/PCD/XYZ...)\n"
     "  GT      hole-free ground-truth cloud, same frame; a mesh PLY is\n"
@@ -143,14 +143,14 @@ int RunEval(const Args& args) {
   std::vector<std::string> files;
   for (const std::string& arg : args) {
     if (arg == "--help" || arg == "-h") {
-      std::fputs(kUsage, stdout);
+      std::fputs(kEvalUsage, stdout);
       return 0;
     }
     if (arg == "--json") {
       json = true;
     } else if (!arg.empty() && arg[0] == '-') {
-      std::fprintf(stderr, "graspfill eval: %s\n", BadOptionText(arg, kUsage).c_str());
-      std::fputs(kUsage, stderr);
+      std::fprintf(stderr, "graspfill eval: %s\n", BadOptionText(arg, kEvalUsage).c_str());
+      std::fputs(kEvalUsage, stderr);
       return 2;
     } else {
       files.push_back(arg);
@@ -158,7 +158,7 @@ int RunEval(const Args& args) {
   }
   if (files.size() != 2) {
     std::fprintf(stderr, "graspfill eval: expected 2 files, got %zu\n", files.size());
-    std::fputs(kUsage, stderr);
+    std::fputs(kEvalUsage, stderr);
     return 2;
   }
   const std::string& pred_path = files[0];

@@ -17,7 +17,7 @@
 namespace graspfill::cli {
 namespace {
 
-constexpr const char* kUsage =
+constexpr const char* kOniRecordUsage =
     "usage: graspfill oni-record --device URI -o FILE.oni [options]\n"
     "  --device URI          OpenNI2 device URI (graspfill-replay:LOG.lcmlog, a camera's)\n"
     "  -o FILE.oni           the recording (not overwritten without --force)\n"
@@ -40,7 +40,7 @@ int RunOniRecord(const Args& args) {
       const std::string& a = args[i];
       const bool has_value = i + 1 < args.size();
       if (a == "--help" || a == "-h") {
-        std::fputs(kUsage, stdout);
+        std::fputs(kOniRecordUsage, stdout);
         std::fputs(kCameraUsage, stdout);
         return 0;
       } else if (a == "--device" && has_value)
@@ -55,12 +55,12 @@ int RunOniRecord(const Args& args) {
         force = true;
       else if (a != "--gripper-log" && ParseCameraOption(args, &i, &camera)) {
       } else
-        throw BadOption(a, std::string(kUsage) + kCameraUsage);
+        throw BadOption(a, std::string(kOniRecordUsage) + kCameraUsage);
     }
     if (camera.device.uri.empty()) throw UsageError("--device is required");
     if (out.empty()) throw UsageError("-o FILE.oni is required");
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "graspfill oni-record: %s\n%s", e.what(), kUsage);
+    std::fprintf(stderr, "graspfill oni-record: %s\n%s", e.what(), kOniRecordUsage);
     return 2;
   }
   io::CheckOutputFile(out, force);  // throws naming the file

@@ -24,7 +24,7 @@
 namespace graspfill::cli {
 namespace {
 
-constexpr const char* kUsage =
+constexpr const char* kRepairUsage =
     "usage: graspfill repair IN.ply -o OUT.{ply,pcd} [--mode paper|best] [--up X,Y,Z] [--preview DIR]\n"
     "                               [--mesh-out FILE.{ply,stl,obj} [--mesh-max-triangles N]\n"
     "                               [--mesh-convex-hull]] [--scale S] [--num-threads N] [--json]\n"
@@ -146,7 +146,7 @@ RepairOptions ParseRepairArgs(const Args& args) {
     } else if (!a.empty() && a[0] != '-' && o.in.empty()) {
       o.in = a;
     } else {
-      throw BadOption(a, kUsage);
+      throw BadOption(a, kRepairUsage);
     }
   });
   if (o.help) return o;
@@ -224,11 +224,11 @@ int RunRepair(const Args& args) {
   try {
     o = ParseRepairArgs(args);
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "graspfill repair: %s\n%s", e.what(), kUsage);
+    std::fprintf(stderr, "graspfill repair: %s\n%s", e.what(), kRepairUsage);
     return 2;
   }
   if (o.help) {
-    std::fputs(kUsage, stdout);
+    std::fputs(kRepairUsage, stdout);
     return 0;
   }
   try {

@@ -46,7 +46,7 @@
 namespace graspfill::cli {
 namespace {
 
-constexpr const char* kUsage =
+constexpr const char* kReplayUsage =
     "usage: graspfill replay LOG -o CLOUD.{ply,pcd} [options]\n"
     "  --config FILE            the rig config (`graspfill config --dump-defaults`): over the\n"
     "                           recording's session description; the flags below over it\n"
@@ -216,7 +216,7 @@ void Parse(const Args& args, ReplayOptions* o) {
       SetVoxel(ParseDouble(a, v, kMinVoxelM, kMaxVoxelM, "m"), s.sdf_trunc_voxels, &s.pipeline);
       s.voxel_fixed = true;
     } else if (!a.empty() && a[0] == '-') {
-      throw BadOption(a, kUsage);
+      throw BadOption(a, kReplayUsage);
     } else if (s.log.path.empty()) {
       s.log.path = a;
     } else {
@@ -409,7 +409,7 @@ bool WritePictureAndMesh(const ReplayOptions& o, const rt::ReplayResult& r, std:
 int RunReplay(const Args& args) {
   for (const std::string& a : args) {
     if (a == "--help" || a == "-h") {
-      std::fputs(kUsage, stdout);
+      std::fputs(kReplayUsage, stdout);
       return 0;
     }
   }
@@ -420,7 +420,7 @@ int RunReplay(const Args& args) {
     }
     Parse(args, &o);
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "graspfill replay: %s\n%s", e.what(), kUsage);
+    std::fprintf(stderr, "graspfill replay: %s\n%s", e.what(), kReplayUsage);
     return 2;
   } catch (const rt::ConfigError& e) {
     std::fprintf(stderr, "graspfill replay: --config: %s\n", e.what());

@@ -26,7 +26,7 @@ namespace {
 
 namespace fs = std::filesystem;
 // Ordered: protocol.json reads top-down, format and doc first.
-using json = nlohmann::ordered_json;
+using ordered_json = nlohmann::ordered_json;
 
 constexpr const char* kHoleyFile = "holey.ply";
 constexpr const char* kTruthFile = "gt_cloud.ply";
@@ -36,11 +36,11 @@ constexpr const char* kProtocolFile = "protocol.json";
 // protocol.json relates to the object frame; there is no gripper or camera.
 constexpr const char* kCloudFrameName = "cloud";
 
-json Vec(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+ordered_json OrderedVec(const Eigen::Vector3d& v) { return ordered_json::array({v.x(), v.y(), v.z()}); }
 
-json MatrixRows(const Eigen::Isometry3d& T) {
-  json rows = json::array();
-  for (int r = 0; r < 4; ++r) rows.push_back(json::array({T(r, 0), T(r, 1), T(r, 2), T(r, 3)}));
+ordered_json MatrixRows(const Eigen::Isometry3d& T) {
+  ordered_json rows = ordered_json::array();
+  for (int r = 0; r < 4; ++r) rows.push_back(ordered_json::array({T(r, 0), T(r, 1), T(r, 2), T(r, 3)}));
   return rows;
 }
 
@@ -55,9 +55,9 @@ ObjectCloud MakeCloud(const std::vector<Eigen::Vector3f>& points) {
 
 // Only file names, never the output folder: the same arguments must give
 // the same bytes wherever they are written.
-json ProtocolJson(const SynthProtocolOptions& o, const synth::PaperProtocolCloud& c) {
-  json centres = json::array();
-  for (const Eigen::Vector3d& centre : c.claw_hole_centres) centres.push_back(Vec(centre));
+ordered_json ProtocolJson(const SynthProtocolOptions& o, const synth::PaperProtocolCloud& c) {
+  ordered_json centres = ordered_json::array();
+  for (const Eigen::Vector3d& centre : c.claw_hole_centres) centres.push_back(OrderedVec(centre));
   return {
       {"format", "graspfill-synth-protocol/1"},
       {"doc",
@@ -69,7 +69,7 @@ json ProtocolJson(const SynthProtocolOptions& o, const synth::PaperProtocolCloud
        "T_cloud_object maps object points into the clouds' frame; meters"},
       {"protocol", "paper"},
       {"shape", synth::ShapeName(o.shape)},
-      {"size_m", Vec(c.size_m)},
+      {"size_m", OrderedVec(c.size_m)},
       {"grasp", synth::GraspWayName(o.grasp)},
       {"seed", o.seed},
       {"points", o.points},

@@ -21,7 +21,7 @@
 namespace graspfill::cli {
 namespace {
 
-constexpr const char* kUsage =
+constexpr const char* kViewUsage =
     "usage: graspfill view CLOUD.ply [AFTER.ply] -o VIEW.png [--views N] [--force]\n"
     "  CLOUD.ply   an object cloud (graspfill's PLY: provenance colours; any other PLY: observed);\n"
     "              a PLY with faces (e.g. --mesh-out's) is drawn as a shaded surface\n"
@@ -55,7 +55,7 @@ void Parse(const Args& args, ViewOptions* o) {
     else if (!a.empty() && a[0] != '-')
       o->clouds.push_back(a);
     else
-      throw BadOption(a, kUsage);
+      throw BadOption(a, kViewUsage);
   }
   if (o->clouds.empty()) throw UsageError("need a CLOUD.ply");
   if (o->clouds.size() > 2) throw UsageError("at most two clouds (before and after)");
@@ -70,7 +70,7 @@ void Parse(const Args& args, ViewOptions* o) {
 int RunView(const Args& args) {
   for (const std::string& a : args) {
     if (a == "--help" || a == "-h") {
-      std::fputs(kUsage, stdout);
+      std::fputs(kViewUsage, stdout);
       return 0;
     }
   }
@@ -78,7 +78,7 @@ int RunView(const Args& args) {
   try {
     Parse(args, &o);
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "graspfill view: %s\n%s", e.what(), kUsage);
+    std::fprintf(stderr, "graspfill view: %s\n%s", e.what(), kViewUsage);
     return 2;
   }
   try {

@@ -51,8 +51,6 @@ std::string ModeText(const openni::VideoMode& m) {
          (m.getPixelFormat() == openni::PIXEL_FORMAT_DEPTH_1_MM ? "/1mm" : "/100um");
 }
 
-constexpr double kPi = 3.14159265358979323846;
-
 int64_t WallClockMicros() {
   return std::chrono::duration_cast<std::chrono::microseconds>(
              std::chrono::system_clock::now().time_since_epoch())
@@ -241,8 +239,8 @@ class OpenNI2Source::Impl {
       K.cy = 0.5 * (K.height - 1);
     }
     const IntrinsicsOverride& o = config_.intrinsics;
-    if (o.hfov_deg) K.fx = 0.5 * K.width / std::tan(0.5 * *o.hfov_deg * kPi / 180.0);
-    if (o.vfov_deg) K.fy = 0.5 * K.height / std::tan(0.5 * *o.vfov_deg * kPi / 180.0);
+    if (o.hfov_deg) K.fx = 0.5 * K.width / std::tan(0.5 * *o.hfov_deg * M_PI / 180.0);
+    if (o.vfov_deg) K.fy = 0.5 * K.height / std::tan(0.5 * *o.vfov_deg * M_PI / 180.0);
     if (o.fx) K.fx = *o.fx;
     if (o.fy) K.fy = *o.fy;
     if (o.cx) K.cx = *o.cx;

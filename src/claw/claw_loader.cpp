@@ -43,25 +43,25 @@ class Context {
 
 // ---- limits (claw_limits.hpp): each check names the field ----
 
-void CheckLimit(const Context& ctx, const std::string& field, const std::string& defect) {
+void CheckDescriptionLimit(const Context& ctx, const std::string& field, const std::string& defect) {
   if (!defect.empty()) ctx.Fail(field, defect);
 }
 
-void CheckEach(const Context& ctx, const Eigen::Vector3d& v, const std::string& field,
-               std::string (*defect)(double)) {
-  for (int k = 0; k < 3; ++k) CheckLimit(ctx, field + "[" + std::to_string(k) + "]", defect(v[k]));
+void CheckDescriptionEach(const Context& ctx, const Eigen::Vector3d& v, const std::string& field,
+                          std::string (*defect)(double)) {
+  for (int k = 0; k < 3; ++k) CheckDescriptionLimit(ctx, field + "[" + std::to_string(k) + "]", defect(v[k]));
 }
 
 // A movable joint's limits: meters (prismatic) or radians (revolute).
-void CheckJointLimits(const Context& ctx, const Joint& joint, const std::string& field) {
+void CheckDescriptionJointLimits(const Context& ctx, const Joint& joint, const std::string& field) {
   const auto defect = joint.type == JointType::kPrismatic ? DistanceDefect : AngleDefect;
-  CheckLimit(ctx, field + ".lower", defect(joint.lower));
-  CheckLimit(ctx, field + ".upper", defect(joint.upper));
+  CheckDescriptionLimit(ctx, field + ".lower", defect(joint.lower));
+  CheckDescriptionLimit(ctx, field + ".upper", defect(joint.upper));
 }
 
 // Before any mesh is read.
 void CheckLinkCount(const Context& ctx, size_t count) {
-  CheckLimit(ctx, "links", LinkCountDefect(static_cast<int64_t>(count)));
+  CheckDescriptionLimit(ctx, "links", LinkCountDefect(static_cast<int64_t>(count)));
 }
 
 // A claw of frames only would hide nothing from the camera.
@@ -107,11 +107,11 @@ Eigen::Isometry3d ReadPose(const Context& ctx, const json& j, const std::string&
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   if (j.contains("xyz")) {
     T.translation() = ReadVector3(ctx, j["xyz"], field + ".xyz");
-    CheckEach(ctx, T.translation(), field + ".xyz", DistanceDefect);
+    CheckDescriptionEach(ctx, T.translation(), field + ".xyz", DistanceDefect);
   }
   if (j.contains("rpy")) {
     const Eigen::Vector3d rpy = ReadVector3(ctx, j["rpy"], field + ".rpy");
-    CheckEach(ctx, rpy, field + ".rpy", AngleDefect);
+    CheckDescriptionEach(ctx, rpy, field + ".rpy", AngleDefect);
     T.linear() = RotationFromRpy(rpy);
   }
   return T;
@@ -182,7 +182,7 @@ Joint ReadJoint(const Context& ctx, const json& j, const std::string& field) {
   if (upper == nullptr) ctx.Fail(field + ".limits.upper", "missing");
   joint.lower = ReadNumber(ctx, *lower, field + ".limits.lower");
   joint.upper = ReadNumber(ctx, *upper, field + ".limits.upper");
-  CheckJointLimits(ctx, joint, field + ".limits");
+  CheckDescriptionJointLimits(ctx, joint, field + ".limits");
   if (joint.lower > joint.upper) {
     ctx.Fail(field + ".limits", "lower > upper");
   }
@@ -281,7 +281,7 @@ Link ReadLink(const Context& ctx, const json& j, size_t i, const MeshPlace& mesh
   if (const json* s = Find(j, "mesh_scale")) {
     scale = ReadNumber(ctx, *s, field + ".mesh_scale");
     if (!(scale > 0.0)) ctx.Fail(field + ".mesh_scale", "must be > 0");
-    CheckLimit(ctx, field + ".mesh_scale", ScaleDefect(scale));
+    CheckDescriptionLimit(ctx, field + ".mesh_scale", ScaleDefect(scale));
   }
   if (const json* mesh = Find(j, "mesh")) {
     const std::string ref = ReadString(ctx, *mesh, field + ".mesh");

@@ -13,7 +13,6 @@
 namespace graspfill::claw {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Sides of the palm polygon: enough to look round in a depth image, few
 // enough to keep the BVH tiny.
 constexpr int kPalmSides = 24;
@@ -49,7 +48,7 @@ TriangleMesh MakePrism(double radius_m, double z_lo, double z_hi, int sides) {
   TriangleMesh prism;
   const int n = sides;
   for (int i = 0; i < n; ++i) {
-    const double a = 2.0 * kPi * i / n;
+    const double a = 2.0 * M_PI * i / n;
     const float x = static_cast<float>(radius_m * std::cos(a));
     const float y = static_cast<float>(radius_m * std::sin(a));
     prism.vertices.emplace_back(x, y, static_cast<float>(z_lo));  // i
@@ -143,11 +142,11 @@ ClawModel::ClawModel(std::string name, std::vector<Link> links, std::string open
 }
 
 ClawModel ClawModel::ThreeFinger(const ProceduralClawConfig& config) {
-  return MakeRadialClaw("three_finger", config, {0.0, 2.0 * kPi / 3.0, 4.0 * kPi / 3.0});
+  return MakeRadialClaw("three_finger", config, {0.0, 2.0 * M_PI / 3.0, 4.0 * M_PI / 3.0});
 }
 
 ClawModel ClawModel::Parallel(const ProceduralClawConfig& config) {
-  return MakeRadialClaw("parallel", config, {0.0, kPi});
+  return MakeRadialClaw("parallel", config, {0.0, M_PI});
 }
 
 std::vector<Eigen::Isometry3d> ClawModel::LinkPoses(double opening_m,

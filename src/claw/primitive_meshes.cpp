@@ -8,13 +8,11 @@
 namespace graspfill::claw {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // A ring of vertices at height z, radius r; returns the first index.
 int AddRing(TriangleMesh* mesh, double r, double z, int segments) {
   const int first = static_cast<int>(mesh->vertices.size());
   for (int i = 0; i < segments; ++i) {
-    const double a = 2.0 * kPi * i / segments;
+    const double a = 2.0 * M_PI * i / segments;
     mesh->vertices.emplace_back(static_cast<float>(r * std::cos(a)), static_cast<float>(r * std::sin(a)),
                                 static_cast<float>(z));
   }
@@ -80,7 +78,7 @@ TriangleMesh SphereMesh(double radius_m, int segments) {
   const int bands = std::max(2, segments / 2);
   std::vector<int> rings;
   for (int k = 1; k < bands; ++k) {
-    const double polar = kPi * k / bands;  // from the south pole up
+    const double polar = M_PI * k / bands;  // from the south pole up
     rings.push_back(AddRing(&mesh, radius_m * std::sin(polar), -radius_m * std::cos(polar), segments));
   }
   for (size_t k = 0; k + 1 < rings.size(); ++k) Band(&mesh, rings[k], rings[k + 1], segments);

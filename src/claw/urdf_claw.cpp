@@ -33,13 +33,15 @@ std::string ReadText(const std::string& path) {
   return ReadRegularFile(path, kMaxClawFileBytes, "cannot open file");
 }
 
-std::string Lower(std::string s) {
+std::string LowerCase(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return s;
 }
 
-bool IsUrdfFileName(const std::string& path) { return Lower(fs::path(path).extension().string()) == ".urdf"; }
+bool IsUrdfFileName(const std::string& path) {
+  return LowerCase(fs::path(path).extension().string()) == ".urdf";
+}
 
 // urdfdom reports why it rejects a file through console_bridge: keep its
 // errors for our message instead of printing them. Loading is setup-time

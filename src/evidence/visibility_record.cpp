@@ -12,8 +12,6 @@
 namespace graspfill::evidence {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // Nearer than this to the camera plane a point is not projected [m].
 constexpr float kMinZ = 0.01f;
 
@@ -160,7 +158,7 @@ bool VisibilityRecord::Offer(const DepthFrame& raw, const std::vector<float>& cl
   const Eigen::Vector3d dir = camera_G - centre;
   if (!(dir.norm() > 1e-6)) return false;
   const Eigen::Vector3f view = dir.normalized().cast<float>();
-  const float cos_min = static_cast<float>(std::cos(config_.min_view_angle_deg * kPi / 180.0));
+  const float cos_min = static_cast<float>(std::cos(config_.min_view_angle_deg * M_PI / 180.0));
   for (const auto& k : key_frames_) {
     if (k->view_dir_G.dot(view) > cos_min) return false;  // too close to a key frame
   }

@@ -32,7 +32,7 @@ struct ZlibScratch {
   }
 };
 
-ZlibScratch& Scratch() {
+ZlibScratch& CodecScratch() {
   thread_local ZlibScratch scratch;
   return scratch;
 }
@@ -41,7 +41,7 @@ ZlibScratch& Scratch() {
 // writes past `out_size` (a stream that would inflate to more, a zlib bomb,
 // stops there and is refused).
 bool Inflate(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_size, std::string* error) {
-  ZlibScratch& s = Scratch();
+  ZlibScratch& s = CodecScratch();
   if (!s.inflater_ready) {
     if (inflateInit(&s.inflater) != Z_OK) {
       SetError(error, "depth_image_t: zlib init failed");
@@ -70,7 +70,7 @@ bool Inflate(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_size, s
 }
 
 std::vector<uint8_t> Deflate(const std::vector<uint8_t>& raw) {
-  ZlibScratch& s = Scratch();
+  ZlibScratch& s = CodecScratch();
   if (!s.deflater_ready) {
     // Z_BEST_SPEED: ~6 ms for a 640x480 frame on one core; level 6 gains
     // ~15% more but costs ~50 ms, too slow for 30 Hz.
@@ -115,7 +115,7 @@ std::vector<uint8_t> EncodeDepthImage(const DepthFrame& frame, DepthEncoding enc
   // Quantize, delta-code along each row and lay out little-endian in one
   // pass; the delta is only applied for kZlib16.
   const bool delta = encoding == DepthEncoding::kZlib16;
-  std::vector<uint8_t>& raw = Scratch().raw;
+  std::vector<uint8_t>& raw = CodecScratch().raw;
   raw.resize(2 * num_pixels);
   for (int v = 0; v < K.height; ++v) {
     uint16_t left = 0;
@@ -235,7 +235,7 @@ static bool DecodeDepthImageImpl(const void* data, size_t size, DepthFrame* out,
                MessageError::kBadEncoding);
       return false;
     }
-    std::vector<uint8_t>& raw = Scratch().raw;
+    std::vector<uint8_t>& raw = CodecScratch().raw;
     raw.resize(2 * num_pixels);  // grows once, then reused
     if (!Inflate(payload, static_cast<size_t>(num_bytes), raw.data(), raw.size(), error)) {
       FailureReason() = MessageError::kBadEncoding;

@@ -29,7 +29,7 @@ int16_t GetInt16(const uint8_t* at) {
 }
 
 // Per thread, reused: published clouds are decoded at the bus's rate.
-std::vector<uint8_t>& Scratch() {
+std::vector<uint8_t>& PackedBytesScratch() {
   thread_local std::vector<uint8_t> bytes;
   return bytes;
 }
@@ -65,7 +65,7 @@ PackedPoints PackPoints(const ObjectCloud& cloud) {
   const Eigen::Vector3d origin = (0.5 * (lo + hi) / packed.step_m).array().round() * packed.step_m;
   for (int k = 0; k < 3; ++k) packed.origin[k] = origin[k];
 
-  std::vector<uint8_t>& raw = Scratch();
+  std::vector<uint8_t>& raw = PackedBytesScratch();
   raw.assign(PackedSize(n, packed.has_normals), 0);
   uint8_t* at = raw.data();
   for (int k = 0; k < 3; ++k) {
@@ -119,7 +119,7 @@ bool UnpackPoints(const double origin[3], double step_m, bool has_normals, size_
            " packed bytes";
     return false;
   }
-  std::vector<uint8_t>& raw = Scratch();
+  std::vector<uint8_t>& raw = PackedBytesScratch();
   raw.resize(size + 1);  // one more: a stream that inflates past `size` fills it
   uLongf inflated = static_cast<uLongf>(raw.size());
   uLong consumed = static_cast<uLong>(deflated_size);

@@ -11,6 +11,7 @@
 
 #include "depth_pixel_normals.hpp"
 #include "gated_icp.hpp"
+#include "graspfill/core/require.hpp"
 
 namespace graspfill::refine {
 namespace {
@@ -21,10 +22,6 @@ constexpr double kMinDepthM = 0.05;
 // the centroid scaled by kIcpLeverM) below this: the matches leave a motion
 // unconstrained.
 constexpr double kMinConditioning = 1e-5;
-
-void Require(bool ok, const std::string& what) {
-  if (!ok) throw std::invalid_argument("ClawRegistrationConfig: " + what);
-}
 
 // R2 low-discrepancy sequence (Roberts 2018): even, deterministic samples.
 constexpr double kR2a = 0.7548776662466927;
@@ -128,17 +125,20 @@ constexpr int kMinScaleMatches = 100;
 }  // namespace
 
 void ClawRegistrationConfig::Validate() const {
-  Require(model_spacing_m > 0.0, "model_spacing_m must be > 0");
-  Require(fine_cell_m > 0.0 && coarse_cell_m > 0.0, "grid cells must be > 0");
-  Require(fine_band_m > 0.0 && coarse_band_m >= fine_band_m,
+  Require("ClawRegistrationConfig", model_spacing_m > 0.0, "model_spacing_m must be > 0");
+  Require("ClawRegistrationConfig", fine_cell_m > 0.0 && coarse_cell_m > 0.0, "grid cells must be > 0");
+  Require("ClawRegistrationConfig", fine_band_m > 0.0 && coarse_band_m >= fine_band_m,
           "bands must be > 0 and coarse_band_m >= fine_band_m");
-  RequireSampledIcpFields(*this, Require);
-  Require(final_gate_m > 0.0 && final_gate_m <= fine_band_m, "final_gate_m must be in (0, fine_band_m]");
-  Require(max_iterations >= 1, "max_iterations must be >= 1");
-  Require(huber_m > 0.0, "huber_m must be > 0");
-  Require(converged_m > 0.0 && converged_deg > 0.0, "convergence thresholds must be > 0");
-  Require(min_matches >= 6, "min_matches must be >= 6");
-  Require(max_rms_m > 0.0, "max_rms_m must be > 0");
+  RequireSampledIcpFields(
+      *this, [](bool ok, const std::string& what) { Require("ClawRegistrationConfig", ok, what); });
+  Require("ClawRegistrationConfig", final_gate_m > 0.0 && final_gate_m <= fine_band_m,
+          "final_gate_m must be in (0, fine_band_m]");
+  Require("ClawRegistrationConfig", max_iterations >= 1, "max_iterations must be >= 1");
+  Require("ClawRegistrationConfig", huber_m > 0.0, "huber_m must be > 0");
+  Require("ClawRegistrationConfig", converged_m > 0.0 && converged_deg > 0.0,
+          "convergence thresholds must be > 0");
+  Require("ClawRegistrationConfig", min_matches >= 6, "min_matches must be >= 6");
+  Require("ClawRegistrationConfig", max_rms_m > 0.0, "max_rms_m must be > 0");
 }
 
 const char* RegistrationStatusName(RegistrationStatus status) {

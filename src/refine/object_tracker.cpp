@@ -10,15 +10,12 @@
 
 #include "depth_pixel_normals.hpp"
 #include "gated_icp.hpp"
+#include "graspfill/core/require.hpp"
 
 namespace graspfill::refine {
 namespace {
 
 constexpr double kDegToRad = kIcpDegToRad;
-
-void Require(bool ok, const std::string& what) {
-  if (!ok) throw std::invalid_argument("ObjectTrackingConfig: " + what);
-}
 
 double AngleOf(const Eigen::Matrix3d& R) { return Eigen::AngleAxisd(R).angle(); }
 
@@ -111,21 +108,27 @@ class TrackerProblem {
 }  // namespace
 
 void ObjectTrackingConfig::Validate() const {
-  Require(warmup_frames >= 1, "warmup_frames must be >= 1");
-  Require(min_model_points >= 10, "min_model_points must be >= 10");
-  Require(model_refresh_frames >= 1, "model_refresh_frames must be >= 1");
-  Require(cell_m > 0.0 && band_m > cell_m, "cell_m must be > 0 and band_m > cell_m");
-  RequireSampledIcpFields(*this, Require);
-  Require(final_gate_m > 0.0 && final_gate_m <= band_m, "final_gate_m must be in (0, band_m]");
-  Require(max_iterations >= 1, "max_iterations must be >= 1");
-  Require(huber_m > 0.0, "huber_m must be > 0");
-  Require(damping >= 0.0 && damping < 1.0, "damping must be in [0, 1)");
-  Require(min_constraint >= 0.0 && min_constraint < 1.0, "min_constraint must be in [0, 1)");
-  Require(converged_m > 0.0 && converged_deg > 0.0, "convergence thresholds must be > 0");
-  Require(min_matches >= 6, "min_matches must be >= 6");
-  Require(max_rms_m > 0.0, "max_rms_m must be > 0");
-  Require(min_step_m >= 0.0 && min_step_m < max_step_m, "min_step_m must be in [0, max_step_m)");
-  Require(max_step_m > 0.0 && max_step_deg > 0.0 && max_total_m > 0.0 && max_total_deg > 0.0,
+  Require("ObjectTrackingConfig", warmup_frames >= 1, "warmup_frames must be >= 1");
+  Require("ObjectTrackingConfig", min_model_points >= 10, "min_model_points must be >= 10");
+  Require("ObjectTrackingConfig", model_refresh_frames >= 1, "model_refresh_frames must be >= 1");
+  Require("ObjectTrackingConfig", cell_m > 0.0 && band_m > cell_m, "cell_m must be > 0 and band_m > cell_m");
+  RequireSampledIcpFields(
+      *this, [](bool ok, const std::string& what) { Require("ObjectTrackingConfig", ok, what); });
+  Require("ObjectTrackingConfig", final_gate_m > 0.0 && final_gate_m <= band_m,
+          "final_gate_m must be in (0, band_m]");
+  Require("ObjectTrackingConfig", max_iterations >= 1, "max_iterations must be >= 1");
+  Require("ObjectTrackingConfig", huber_m > 0.0, "huber_m must be > 0");
+  Require("ObjectTrackingConfig", damping >= 0.0 && damping < 1.0, "damping must be in [0, 1)");
+  Require("ObjectTrackingConfig", min_constraint >= 0.0 && min_constraint < 1.0,
+          "min_constraint must be in [0, 1)");
+  Require("ObjectTrackingConfig", converged_m > 0.0 && converged_deg > 0.0,
+          "convergence thresholds must be > 0");
+  Require("ObjectTrackingConfig", min_matches >= 6, "min_matches must be >= 6");
+  Require("ObjectTrackingConfig", max_rms_m > 0.0, "max_rms_m must be > 0");
+  Require("ObjectTrackingConfig", min_step_m >= 0.0 && min_step_m < max_step_m,
+          "min_step_m must be in [0, max_step_m)");
+  Require("ObjectTrackingConfig",
+          max_step_m > 0.0 && max_step_deg > 0.0 && max_total_m > 0.0 && max_total_deg > 0.0,
           "the jump bounds must be > 0");
 }
 

@@ -7,14 +7,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "graspfill/core/require.hpp"
+
 namespace graspfill::refine {
 namespace {
 
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
-
-void Require(bool ok, const std::string& what) {
-  if (!ok) throw std::invalid_argument("RefineConfig: " + what);
-}
 
 Eigen::Vector3d RotationVector(const Eigen::Matrix3d& R) {
   const Eigen::AngleAxisd aa(R);
@@ -37,16 +35,18 @@ void MotionAt(const Eigen::Isometry3d& D, const Eigen::Vector3d& centre_C, doubl
 
 void RefineConfig::Validate() const {
   registration.Validate();
-  Require(search_gate_m > 0.0 && tracking_gate_m > 0.0, "gates must be > 0");
-  Require(max_correction_m > 0.0 && max_correction_deg > 0.0, "max_correction must be > 0");
-  Require(max_jump_m > 0.0 && max_jump_deg > 0.0, "max_jump must be > 0");
-  Require(min_correction_m >= 0.0 && min_correction_deg >= 0.0, "min_correction must be >= 0");
-  Require(hand_eye_min_frames >= 1, "hand_eye_min_frames must be >= 1");
-  Require(hand_eye_window >= hand_eye_min_frames, "hand_eye_window must be >= hand_eye_min_frames");
-  Require(clock_min_frames >= 3, "clock_min_frames must be >= 3");
-  Require(known_depth_scale >= kMinDepthScale && known_depth_scale <= kMaxDepthScale,
+  Require("RefineConfig", search_gate_m > 0.0 && tracking_gate_m > 0.0, "gates must be > 0");
+  Require("RefineConfig", max_correction_m > 0.0 && max_correction_deg > 0.0, "max_correction must be > 0");
+  Require("RefineConfig", max_jump_m > 0.0 && max_jump_deg > 0.0, "max_jump must be > 0");
+  Require("RefineConfig", min_correction_m >= 0.0 && min_correction_deg >= 0.0,
+          "min_correction must be >= 0");
+  Require("RefineConfig", hand_eye_min_frames >= 1, "hand_eye_min_frames must be >= 1");
+  Require("RefineConfig", hand_eye_window >= hand_eye_min_frames,
+          "hand_eye_window must be >= hand_eye_min_frames");
+  Require("RefineConfig", clock_min_frames >= 3, "clock_min_frames must be >= 3");
+  Require("RefineConfig", known_depth_scale >= kMinDepthScale && known_depth_scale <= kMaxDepthScale,
           "known_depth_scale must be in [0.8, 1.25]");
-  Require(max_clock_stderr_s >= 0.0 && max_clock_offset_s >= 0.0 && max_rate_gap_s > 0.0,
+  Require("RefineConfig", max_clock_stderr_s >= 0.0 && max_clock_offset_s >= 0.0 && max_rate_gap_s > 0.0,
           "clock bounds must be >= 0 and max_rate_gap_s > 0");
 }
 

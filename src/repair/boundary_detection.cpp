@@ -51,7 +51,7 @@ struct Direction2 {
   float x, y;
 };
 
-struct Gap {
+struct AngularGap {
   float angle_rad{0.0f};
   Eigen::Vector3f direction{Eigen::Vector3f::Zero()};
 };
@@ -99,7 +99,7 @@ bool MayHaveGap(uint32_t occupied, int run) {
 // bisector, in the plane. `dirs` is scratch space.
 bool HasWideGap(const PointList& points, const std::vector<int>& nn, const Eigen::Vector3f& p,
                 const Eigen::Vector3f& normal, const GapThreshold& threshold, std::vector<Direction2>* dirs,
-                Gap* gap) {
+                AngularGap* gap) {
   // Any orthonormal basis (u, v) of the tangent plane will do: the
   // criterion only looks at differences of angles.
   const Eigen::Vector3f u = normal.unitOrthogonal();
@@ -206,7 +206,7 @@ std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const Boundary
   }
   // A boundary point, with its gap's direction and the spacing of the
   // neighbourhood it was judged on.
-  const auto accept = [&](size_t i, const Gap& gap) {
+  const auto accept = [&](size_t i, const AngularGap& gap) {
     boundary.push_back(static_cast<int>(i));
     if (info != nullptr && nn.size() > 1) {
       // Density from the neighbourhood: its nn.size() - 1 neighbours fill
@@ -234,7 +234,7 @@ std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const Boundary
     }
     const Eigen::Vector3f normal = PlaneNormal(points, nn);
     if (normals != nullptr) (*normals)[i] = normal;
-    Gap gap;
+    AngularGap gap;
     if (normal.isZero() || !HasWideGap(points, nn, p, normal, threshold, &dirs, &gap)) {
       continue;
     }
@@ -254,7 +254,7 @@ std::vector<int> DetectBoundaryPoints(const NeighborIndex& index, const Boundary
     nn.assign(wide.Row(r), wide.Row(r) + wide.k);
     d2.assign(wide.RowDistances(r), wide.RowDistances(r) + wide.k);
     const Eigen::Vector3f wide_normal = PlaneNormal(points, nn);
-    Gap gap;
+    AngularGap gap;
     if (wide_normal.isZero() || !HasWideGap(points, nn, points[i], wide_normal, threshold, &dirs, &gap)) {
       continue;
     }

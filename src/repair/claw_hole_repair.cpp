@@ -16,6 +16,7 @@
 #include "clamped_int.hpp"
 #include "gap_test.hpp"
 #include "geometry/circle_fit.hpp"
+#include "graspfill/core/require.hpp"
 #include "hole_fill.hpp"
 #include "local_surfaces.hpp"
 #include "poisson_surface.hpp"
@@ -55,10 +56,6 @@ namespace graspfill::repair {
 using namespace fill;  // the fill's pieces: hole_fill, gap_test, local_surfaces, poisson_surface
 
 namespace {
-
-void Require(bool ok, const std::string& message) {
-  if (!ok) throw std::invalid_argument(message);
-}
 
 // The support points in front of the cloud's centroid along n: on a convex
 // object they form one sheet over the plane (the far side of a narrow top,

@@ -11,20 +11,13 @@
 #include <string>
 
 #include "gap_test.hpp"
+#include "graspfill/core/require.hpp"
 #include "hole_fill.hpp"
 #include "poisson_surface.hpp"
 
 namespace graspfill::repair {
 
 using namespace fill;
-
-namespace {
-
-void Require(bool ok, const std::string& message) {
-  if (!ok) throw std::invalid_argument(message);
-}
-
-}  // namespace
 
 void PoissonFillConfig::Validate() const {
   const std::string p = "PoissonFillConfig.";

@@ -10,8 +10,6 @@
 namespace graspfill::repair {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // The radial distance of p from the surface.
 double RadialResidual(const Revolution& s, const Eigen::Vector3f& p) {
   const double r = std::hypot(p.x() - s.x0, p.y() - s.y0);
@@ -107,9 +105,9 @@ RevolutionSamples SampleRevolution(const Revolution& s, double from_z, double sp
       continue;
     }
     const double r = std::sqrt(r2);
-    const int n = std::max(1, static_cast<int>(std::ceil(2.0 * kPi * r / spacing_m)));
+    const int n = std::max(1, static_cast<int>(std::ceil(2.0 * M_PI * r / spacing_m)));
     for (int k = 0; k < n; ++k) {
-      const double t = 2.0 * kPi * k / n;
+      const double t = 2.0 * M_PI * k / n;
       keep(Eigen::Vector3f(static_cast<float>(s.x0 + r * std::cos(t)),
                            static_cast<float>(s.y0 + r * std::sin(t)), static_cast<float>(z)));
     }

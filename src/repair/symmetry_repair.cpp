@@ -17,6 +17,7 @@
 
 #include "clamped_int.hpp"
 #include "geometry/gap_grid.hpp"
+#include "graspfill/core/require.hpp"
 #include "sampling_gaps.hpp"
 #include "slab_profile.hpp"
 
@@ -25,10 +26,6 @@ namespace {
 
 using Point2 = Eigen::Vector2d;
 using Polygon = std::vector<Point2>;  // convex, counter-clockwise
-
-void Require(bool ok, const std::string& message) {
-  if (!ok) throw std::invalid_argument(message);
-}
 
 void CheckFinite(const PointList& points, const char* what) {
   for (size_t i = 0; i < points.size(); ++i) {

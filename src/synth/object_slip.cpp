@@ -7,30 +7,27 @@
 #include <string>
 
 #include "graspfill/core/random.hpp"
+#include "graspfill/core/require.hpp"
+#include "synth/angles.hpp"
 
 namespace graspfill::synth {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDegToRad = kPi / 180.0;
 // Sub-stream of the scene seed, far from frame indices (renderer.cpp), the
 // wobble's (scene.cpp) and the rig errors' (rig_errors.cpp).
 constexpr uint64_t kSlipStream = 0xfffffffff000ULL;
 
-void Require(bool ok, const std::string& what) {
-  if (!ok) throw std::invalid_argument("SlipConfig: " + what);
-}
-
 }  // namespace
 
 void SlipConfig::Validate() const {
-  Require(std::isfinite(distance_m) && distance_m >= 0.0 && distance_m < 0.05,
+  Require("SlipConfig", std::isfinite(distance_m) && distance_m >= 0.0 && distance_m < 0.05,
           "distance_m must be in [0, 0.05)");
-  Require(std::isfinite(max_tilt_deg) && max_tilt_deg >= 0.0 && max_tilt_deg <= 90.0,
+  Require("SlipConfig", std::isfinite(max_tilt_deg) && max_tilt_deg >= 0.0 && max_tilt_deg <= 90.0,
           "max_tilt_deg must be in [0, 90]");
-  Require(start_min_fraction >= 0.0 && start_min_fraction <= start_max_fraction && start_max_fraction <= 1.0,
+  Require("SlipConfig",
+          start_min_fraction >= 0.0 && start_min_fraction <= start_max_fraction && start_max_fraction <= 1.0,
           "start fractions must satisfy 0 <= min <= max <= 1");
-  Require(std::isfinite(duration_s) && duration_s > 0.0 && duration_s <= 10.0,
+  Require("SlipConfig", std::isfinite(duration_s) && duration_s > 0.0 && duration_s <= 10.0,
           "duration_s must be in (0, 10]");
 }
 
@@ -46,7 +43,7 @@ ObjectSlip::ObjectSlip(const SlipConfig& config, uint64_t seed, int64_t first_ut
   const double cos_max = std::cos(config_.max_tilt_deg * kDegToRad);
   const double cos_tilt = 1.0 - rng.Uniform() * (1.0 - cos_max);
   const double sin_tilt = std::sqrt(std::max(0.0, 1.0 - cos_tilt * cos_tilt));
-  const double azimuth = 2.0 * kPi * rng.Uniform();
+  const double azimuth = 2.0 * M_PI * rng.Uniform();
   direction_G_ =
       Eigen::Vector3d(sin_tilt * std::cos(azimuth), sin_tilt * std::sin(azimuth), cos_tilt).normalized();
   const double fraction =

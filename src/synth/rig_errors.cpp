@@ -6,11 +6,12 @@
 #include <string>
 
 #include "graspfill/core/random.hpp"
+#include "graspfill/core/require.hpp"
+#include "synth/angles.hpp"
 
 namespace graspfill::synth {
 namespace {
 
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 // Sub-streams of the scene seed, far from frame indices (renderer) and the
 // wobble's stream (scene.cpp).
 constexpr uint64_t kHandEyeStream = 0xffffffffff00ULL;
@@ -38,22 +39,19 @@ Eigen::Isometry3d FromRotationVector(const Eigen::Vector3d& w, const Eigen::Vect
   return T;
 }
 
-void Require(bool ok, const std::string& what) {
-  if (!ok) throw std::invalid_argument("RigErrorConfig: " + what);
-}
-
 }  // namespace
 
 void RigErrorConfig::Validate() const {
-  Require(std::isfinite(hand_eye_m) && hand_eye_m >= 0.0 && hand_eye_m < 0.1,
+  Require("RigErrorConfig", std::isfinite(hand_eye_m) && hand_eye_m >= 0.0 && hand_eye_m < 0.1,
           "hand_eye_m must be in [0, 0.1)");
-  Require(std::isfinite(hand_eye_deg) && hand_eye_deg >= 0.0 && hand_eye_deg < 45.0,
+  Require("RigErrorConfig", std::isfinite(hand_eye_deg) && hand_eye_deg >= 0.0 && hand_eye_deg < 45.0,
           "hand_eye_deg must be in [0, 45)");
-  Require(std::isfinite(pose_noise_m) && pose_noise_m >= 0.0 && pose_noise_m < 0.1,
+  Require("RigErrorConfig", std::isfinite(pose_noise_m) && pose_noise_m >= 0.0 && pose_noise_m < 0.1,
           "pose_noise_m must be in [0, 0.1)");
-  Require(std::isfinite(pose_noise_deg) && pose_noise_deg >= 0.0 && pose_noise_deg < 45.0,
+  Require("RigErrorConfig", std::isfinite(pose_noise_deg) && pose_noise_deg >= 0.0 && pose_noise_deg < 45.0,
           "pose_noise_deg must be in [0, 45)");
-  Require(clock_offset_us > -1000000 && clock_offset_us < 1000000, "clock_offset_us must be within +-1 s");
+  Require("RigErrorConfig", clock_offset_us > -1000000 && clock_offset_us < 1000000,
+          "clock_offset_us must be within +-1 s");
 }
 
 RigErrors::RigErrors(const RigErrorConfig& config, uint64_t seed) : config_(config), seed_(seed) {

@@ -8,24 +8,20 @@
 #include <string>
 
 #include "graspfill/core/random.hpp"
+#include "graspfill/core/require.hpp"
 #include "graspfill/mesh/mesh_geometry.hpp"
+#include "synth/angles.hpp"
 #include "synth/finger_touch.hpp"
 #include "synth/model_claw_placement.hpp"
 
 namespace graspfill::synth {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDegToRad = kPi / 180.0;
 // Sub-stream of the scene seed for the wobble phases (frames use their
 // index, see renderer.cpp, so this sits far from any frame index).
 constexpr uint64_t kWobbleStream = 0xfffffffffff0ULL;
 // Facets of the arm cylinder: it is background, keep it cheap.
 constexpr int kArmSegments = 32;
-
-void Require(bool ok, const std::string& what) {
-  if (!ok) throw std::invalid_argument("SceneConfig: " + what);
-}
 
 claw::ClawModel MakeClaw(ClawType type, const claw::ProceduralClawConfig& config) {
   return type == ClawType::kParallel ? claw::ClawModel::Parallel(config)
@@ -82,29 +78,36 @@ Eigen::Vector3d SceneConfig::EffectiveSize() const {
 void SceneConfig::Validate() const {
   if (mesh.empty()) {
     const Eigen::Vector3d size = EffectiveSize();
-    Require(size.allFinite() && (size.array() > 0.0).all(),
+    Require("SceneConfig", size.allFinite() && (size.array() > 0.0).all(),
             "size_m must be positive (or all zero for the default)");
-    Require(shape_segments >= 8, "shape_segments must be >= 8");
+    Require("SceneConfig", shape_segments >= 8, "shape_segments must be >= 8");
   }
-  Require(num_frames >= 1, "num_frames must be >= 1");
-  Require(depth_rate_hz > 0.0 && gripper_rate_hz > 0.0, "rates must be > 0");
-  Require(gripper_lead_s >= 0.0, "gripper_lead_s must be >= 0");
-  Require(intrinsics.width > 0 && intrinsics.height > 0 && intrinsics.fx > 0.0 && intrinsics.fy > 0.0,
+  Require("SceneConfig", num_frames >= 1, "num_frames must be >= 1");
+  Require("SceneConfig", depth_rate_hz > 0.0 && gripper_rate_hz > 0.0, "rates must be > 0");
+  Require("SceneConfig", gripper_lead_s >= 0.0, "gripper_lead_s must be >= 0");
+  Require("SceneConfig",
+          intrinsics.width > 0 && intrinsics.height > 0 && intrinsics.fx > 0.0 && intrinsics.fy > 0.0,
           "intrinsics need a positive size and focal length");
   Require(
+      "SceneConfig",
       placement.min_palm_gap_m >= 0.0 && placement.finger_pad_m >= 0.0 && placement.finger_clearance_m >= 0.0,
       "placement distances must be >= 0");
-  Require(placement.top_contact_fraction > 0.0 && placement.top_contact_fraction < 1.0 &&
+  Require("SceneConfig",
+          placement.top_contact_fraction > 0.0 && placement.top_contact_fraction < 1.0 &&
               placement.middle_contact_fraction > 0.0 && placement.middle_contact_fraction < 1.0,
           "contact fractions must be in (0, 1)");
-  Require(std::abs(placement.oblique_tilt_deg) < 80.0, "oblique_tilt_deg must be < 80");
-  Require(motion.camera_distance_m > 0.0, "camera_distance_m must be > 0");
-  Require(motion.speed_variation >= 0.0 && motion.speed_variation < 1.0, "speed_variation must be in [0, 1)");
-  Require(std::abs(motion.camera_elevation_deg) < 80.0, "camera_elevation_deg must be in (-80, 80)");
-  Require(environment.wall_distance_m >= 0.0 && environment.arm_radius_m >= 0.0 &&
+  Require("SceneConfig", std::abs(placement.oblique_tilt_deg) < 80.0, "oblique_tilt_deg must be < 80");
+  Require("SceneConfig", motion.camera_distance_m > 0.0, "camera_distance_m must be > 0");
+  Require("SceneConfig", motion.speed_variation >= 0.0 && motion.speed_variation < 1.0,
+          "speed_variation must be in [0, 1)");
+  Require("SceneConfig", std::abs(motion.camera_elevation_deg) < 80.0,
+          "camera_elevation_deg must be in (-80, 80)");
+  Require("SceneConfig",
+          environment.wall_distance_m >= 0.0 && environment.arm_radius_m >= 0.0 &&
               environment.arm_length_m >= 0.0,
           "environment distances must be >= 0");
-  Require(claw_config.finger_length_m > 0.0 && claw_config.finger_width_m > 0.0 &&
+  Require("SceneConfig",
+          claw_config.finger_length_m > 0.0 && claw_config.finger_width_m > 0.0 &&
               claw_config.finger_thickness_m > 0.0 && claw_config.palm_thickness_m >= 0.0,
           "claw dimensions must be positive");
   sensor.Validate();
@@ -116,13 +119,13 @@ Scene::Scene(const SceneConfig& config) : config_(config) {
   object_O_ = config_.mesh.empty() ? MakeShape(config_.shape, config_.EffectiveSize(), config_.shape_segments)
                                    : NormalizeToObjectFrame(config_.mesh);
   const double height = mesh::Bounds(object_O_).sizes().z();
-  Require(height > 0.0, "the object mesh is flat or empty");
+  Require("SceneConfig", height > 0.0, "the object mesh is flat or empty");
   const PlacementConfig& pc = config_.placement;
 
   // Orientation: up (z_O) to -z_G, then the oblique tilt about G's x.
   const double tilt = config_.grasp == GraspWay::kTopOblique ? pc.oblique_tilt_deg * kDegToRad : 0.0;
   const Eigen::Matrix3d R_G_O =
-      (Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX()))
+      (Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()))
           .toRotationMatrix();
   placement_.contact_fraction =
       config_.grasp == GraspWay::kMiddleStraight ? pc.middle_contact_fraction : pc.top_contact_fraction;
@@ -139,7 +142,7 @@ Scene::Scene(const SceneConfig& config) : config_(config) {
   PlaceCamera();
 
   Rng rng(DeriveSeed(config_.seed, kWobbleStream));
-  for (double& phase : wobble_phase_) phase = 2.0 * kPi * rng.Uniform();
+  for (double& phase : wobble_phase_) phase = 2.0 * M_PI * rng.Uniform();
 
   slip_ = ObjectSlip(config_.slip, config_.seed, DepthUtime(0), DepthUtime(config_.num_frames - 1));
   object_G_after_slip_ = config_.slip.any() ? object_G_.Transformed(slip_.S_G_final()) : object_G_;
@@ -201,7 +204,7 @@ void Scene::PlaceInBuiltinClaw(const Eigen::Matrix3d& R_G_O, const Eigen::Vector
         FingerTouchRadii(object_G_, dirs, placement_.claw.finger_width_m, placement_.claw.finger_length_m);
   }
   placement_.opening_m = *std::max_element(radii.begin(), radii.end()) + pc.finger_clearance_m;
-  Require(placement_.opening_m > 0.0, "the object is too thin for the claw");
+  Require("SceneConfig", placement_.opening_m > 0.0, "the object is too thin for the claw");
   // Keep the claw's joint limits from clamping the opening we need.
   placement_.claw.max_opening_m = std::max(placement_.claw.max_opening_m, placement_.opening_m);
   placement_.claw.min_opening_m = std::min(placement_.claw.min_opening_m, placement_.opening_m);
@@ -252,23 +255,23 @@ Eigen::Isometry3d Scene::T_W_G(double t_s) const {
   const double duration_s = config_.num_frames / config_.depth_rate_hz;
   double s = t_s / duration_s;
   if (config_.motion.speed_variation != 0.0) {
-    s -= config_.motion.speed_variation * std::sin(2.0 * kPi * s) / (2.0 * kPi);
+    s -= config_.motion.speed_variation * std::sin(2.0 * M_PI * s) / (2.0 * M_PI);
   }
-  const double theta = 2.0 * kPi * config_.motion.turns * s;
+  const double theta = 2.0 * M_PI * config_.motion.turns * s;
   // Slow, incommensurate frequencies: a smooth wobble that 100 Hz states
   // sample densely enough for slerp.
   const double a = config_.motion.wobble_deg * kDegToRad;
   const double w = config_.motion.wobble_translation_m;
   const double* ph = wobble_phase_;
   const Eigen::Matrix3d R_wobble =
-      (Eigen::AngleAxisd(a * std::sin(2.0 * kPi * 0.37 * t_s + ph[0]), Eigen::Vector3d::UnitX()) *
-       Eigen::AngleAxisd(a * std::sin(2.0 * kPi * 0.23 * t_s + ph[1]), Eigen::Vector3d::UnitY()))
+      (Eigen::AngleAxisd(a * std::sin(2.0 * M_PI * 0.37 * t_s + ph[0]), Eigen::Vector3d::UnitX()) *
+       Eigen::AngleAxisd(a * std::sin(2.0 * M_PI * 0.23 * t_s + ph[1]), Eigen::Vector3d::UnitY()))
           .toRotationMatrix();
-  const Eigen::Vector3d p_wobble(w * std::sin(2.0 * kPi * 0.29 * t_s + ph[2]),
-                                 w * std::sin(2.0 * kPi * 0.41 * t_s + ph[0] + 1.0),
-                                 w * std::sin(2.0 * kPi * 0.17 * t_s + ph[1] + 2.0));
+  const Eigen::Vector3d p_wobble(w * std::sin(2.0 * M_PI * 0.29 * t_s + ph[2]),
+                                 w * std::sin(2.0 * M_PI * 0.41 * t_s + ph[0] + 1.0),
+                                 w * std::sin(2.0 * M_PI * 0.17 * t_s + ph[1] + 2.0));
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = R_wobble * Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX()).toRotationMatrix() *
+  T.linear() = R_wobble * Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix() *
                Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   // The turn axis (G's z) passes through the object's centre at W's origin.
   T.translation() = -(T.linear() * centre_G_) + p_wobble;

@@ -7,16 +7,11 @@
 #include <string>
 
 #include "graspfill/core/random.hpp"
+#include "graspfill/core/require.hpp"
+#include "synth/angles.hpp"
 
 namespace graspfill::synth {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDegToRad = kPi / 180.0;
-
-void Require(bool ok, const std::string& what) {
-  if (!ok) throw std::invalid_argument("SensorModelConfig: " + what);
-}
 
 bool IsProbability(double p) { return p >= 0.0 && p <= 1.0; }
 
@@ -34,23 +29,27 @@ SensorModelConfig SensorModelConfig::Ideal() {
 }
 
 void SensorModelConfig::Validate() const {
-  Require(sigma_base_m >= 0.0 && sigma_quadratic_m >= 0.0 && sigma_angular_m >= 0.0,
+  Require("SensorModelConfig", sigma_base_m >= 0.0 && sigma_quadratic_m >= 0.0 && sigma_angular_m >= 0.0,
           "noise coefficients must be >= 0");
-  Require(baseline_m > 0.0 && disparity_steps_per_px > 0.0,
+  Require("SensorModelConfig", baseline_m > 0.0 && disparity_steps_per_px > 0.0,
           "baseline_m and disparity_steps_per_px must be > 0");
-  Require(min_range_m >= 0.0 && min_range_m < max_range_m, "need 0 <= min_range_m < max_range_m");
-  Require(grazing_start_deg >= 0.0 && grazing_start_deg <= grazing_full_deg && grazing_full_deg <= 90.0,
+  Require("SensorModelConfig", min_range_m >= 0.0 && min_range_m < max_range_m,
+          "need 0 <= min_range_m < max_range_m");
+  Require("SensorModelConfig",
+          grazing_start_deg >= 0.0 && grazing_start_deg <= grazing_full_deg && grazing_full_deg <= 90.0,
           "need 0 <= grazing_start_deg <= grazing_full_deg <= 90");
-  Require(edge_jump_m > 0.0, "edge_jump_m must be > 0");
-  Require(IsProbability(mixed_pixel_prob), "mixed_pixel_prob must lie in [0, 1]");
-  Require(dark_patch_share >= 0.0 && dark_patch_share <= 0.5, "dark_patch_share must lie in [0, 0.5]");
-  Require(dark_patch_size_m >= 0.001 && dark_patch_size_m <= 0.1,
+  Require("SensorModelConfig", edge_jump_m > 0.0, "edge_jump_m must be > 0");
+  Require("SensorModelConfig", IsProbability(mixed_pixel_prob), "mixed_pixel_prob must lie in [0, 1]");
+  Require("SensorModelConfig", dark_patch_share >= 0.0 && dark_patch_share <= 0.5,
+          "dark_patch_share must lie in [0, 0.5]");
+  Require("SensorModelConfig", dark_patch_size_m >= 0.001 && dark_patch_size_m <= 0.1,
           "dark_patch_size_m must lie in [0.001, 0.1]");
-  Require(depth_scale > 0.5 && depth_scale < 2.0, "depth_scale must lie in (0.5, 2)");
-  Require(intrinsics_scale > 0.5 && intrinsics_scale < 2.0, "intrinsics_scale must lie in (0.5, 2)");
-  Require(std::isfinite(wobble_m) && std::abs(wobble_m) <= 0.05 && wobble_period_s > 0.0,
+  Require("SensorModelConfig", depth_scale > 0.5 && depth_scale < 2.0, "depth_scale must lie in (0.5, 2)");
+  Require("SensorModelConfig", intrinsics_scale > 0.5 && intrinsics_scale < 2.0,
+          "intrinsics_scale must lie in (0.5, 2)");
+  Require("SensorModelConfig", std::isfinite(wobble_m) && std::abs(wobble_m) <= 0.05 && wobble_period_s > 0.0,
           "wobble_m must lie in [-0.05, 0.05] m and wobble_period_s be > 0");
-  Require(IsProbability(edge_dropout_prob) && IsProbability(random_dropout_prob),
+  Require("SensorModelConfig", IsProbability(edge_dropout_prob) && IsProbability(random_dropout_prob),
           "dropout probabilities must be in [0, 1]");
 }
 
@@ -59,8 +58,8 @@ double AxialNoiseSigma(const SensorModelConfig& config, double z_m, double incid
   double sigma = config.sigma_base_m + config.sigma_quadratic_m * dz * dz;
   // The angular term diverges at 90 deg; those pixels are dropped anyway,
   // so cap the angle just below it.
-  const double theta = std::clamp(incidence_rad, 0.0, 0.5 * kPi - 1e-3);
-  const double ratio = theta / (0.5 * kPi - theta);
+  const double theta = std::clamp(incidence_rad, 0.0, 0.5 * M_PI - 1e-3);
+  const double ratio = theta / (0.5 * M_PI - theta);
   sigma += config.sigma_angular_m / std::sqrt(std::max(z_m, 1e-3)) * ratio * ratio;
   return sigma;
 }

@@ -10,8 +10,6 @@
 namespace graspfill::synth {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 Eigen::Vector3f V(double x, double y, double z) {
   return Eigen::Vector3f(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
 }
@@ -45,7 +43,7 @@ std::vector<Eigen::Vector2d> Ellipse(double a, double b, int segments) {
   std::vector<Eigen::Vector2d> polygon;
   polygon.reserve(segments);
   for (int i = 0; i < segments; ++i) {
-    const double phi = 2.0 * kPi * i / segments;
+    const double phi = 2.0 * M_PI * i / segments;
     polygon.emplace_back(a * std::cos(phi), b * std::sin(phi));
   }
   return polygon;
@@ -61,11 +59,11 @@ TriangleMesh MakeEllipsoid(double a, double b, double c, int segments) {
   mesh.vertices.push_back(V(0.0, 0.0, 2.0 * c));  // north pole: 1
   // Ring k (1..lat-1) at polar angle theta_k from the south pole.
   for (int k = 1; k < lat; ++k) {
-    const double theta = kPi * k / lat;
+    const double theta = M_PI * k / lat;
     const double s = std::sin(theta);
     const double z = c - c * std::cos(theta);
     for (int i = 0; i < lon; ++i) {
-      const double phi = 2.0 * kPi * i / lon;
+      const double phi = 2.0 * M_PI * i / lon;
       mesh.vertices.push_back(V(a * s * std::cos(phi), b * s * std::sin(phi), z));
     }
   }
@@ -208,10 +206,10 @@ double AnalyticVolume(Shape shape, const Eigen::Vector3d& size_m) {
       return 0.5 * w * d * h;
     case Shape::kCylinder:
     case Shape::kEllipticCylinder:
-      return kPi * (w / 2) * (d / 2) * h;
+      return M_PI * (w / 2) * (d / 2) * h;
     case Shape::kSphere:
     case Shape::kEllipsoid:
-      return 4.0 / 3.0 * kPi * (w / 2) * (d / 2) * (h / 2);
+      return 4.0 / 3.0 * M_PI * (w / 2) * (d / 2) * (h / 2);
     case Shape::kRoundedBox:
       return internal::RoundedBoxVolume(size_m);
     case Shape::kBottle:

@@ -13,8 +13,6 @@
 namespace graspfill::synth::internal {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 int QuarterFacets(int segments) { return std::max(2, segments / 4); }
 
 // An ellipse of semi-axes (rx, ry) at height z, n points counter-clockwise
@@ -24,7 +22,7 @@ Ring Ellipse(double rx, double ry, double z, int n) {
   Ring ring;
   ring.reserve(n);
   for (int i = 0; i < n; ++i) {
-    const double phi = 2.0 * kPi * i / n;
+    const double phi = 2.0 * M_PI * i / n;
     ring.emplace_back(rx * std::cos(phi), ry * std::sin(phi), z);
   }
   return ring;
@@ -46,7 +44,7 @@ Ring RoundedRectangle(double hx, double hy, double rho, double z, int m) {
   ring.reserve(4 * (m + 1));
   for (int q = 0; q < 4; ++q) {
     for (int j = 0; j <= m; ++j) {
-      const double beta = 0.5 * kPi * (q + static_cast<double>(j) / m);
+      const double beta = 0.5 * M_PI * (q + static_cast<double>(j) / m);
       ring.emplace_back(cx[q] + rho * std::cos(beta), cy[q] + rho * std::sin(beta), z);
     }
   }
@@ -87,7 +85,7 @@ Eigen::Vector3d Direction(double theta, double phi) {
 double UnitBlobSupport(const Eigen::Vector3d& d) {
   auto value = [&d](double theta, double phi) { return d.dot(UnitBlobPoint(Direction(theta, phi))); };
   constexpr int kCoarse = 90;
-  double step = kPi / kCoarse;
+  double step = M_PI / kCoarse;
   double best = -std::numeric_limits<double>::infinity();
   double best_theta = 0.0;
   double best_phi = 0.0;
@@ -148,8 +146,8 @@ BlobFit FitBlob(const Eigen::Vector3d& size_m) {
 double UnitBlobVolume() {
   constexpr int kTheta = 512;
   constexpr int kPhi = 128;
-  const double dtheta = kPi / kTheta;
-  const double dphi = 2.0 * kPi / kPhi;
+  const double dtheta = M_PI / kTheta;
+  const double dphi = 2.0 * M_PI / kPhi;
   double sum = 0.0;
   for (int i = 0; i < kTheta; ++i) {
     const double theta = (i + 0.5) * dtheta;
@@ -210,10 +208,10 @@ double HalfEllipseLength(double rx, double rz) {
   constexpr int kSteps = 256;
   double sum = 0.0;
   for (int k = 0; k < kSteps; ++k) {
-    const double a = kPi * k / kSteps;
+    const double a = M_PI * k / kSteps;
     sum += std::hypot(rx * std::sin(a), rz * std::cos(a));
   }
-  return sum * kPi / kSteps;
+  return sum * M_PI / kSteps;
 }
 
 }  // namespace
@@ -230,12 +228,12 @@ TriangleMesh MakeRoundedBox(const Eigen::Vector3d& size_m, int segments) {
   // Latitude psi = 90 degrees * j / m on the lower, then the upper rounding;
   // rho is set to exactly 0 at the faces (cos(pi / 2) is not).
   for (int j = m; j >= 0; --j) {
-    const double psi = 0.5 * kPi * j / m;
+    const double psi = 0.5 * M_PI * j / m;
     const double rho = j == m ? 0.0 : e * std::cos(psi);
     rings.push_back(RoundedRectangle(hx, hy, rho, z_low - e * std::sin(psi), m));
   }
   for (int j = 0; j <= m; ++j) {
-    const double psi = 0.5 * kPi * j / m;
+    const double psi = 0.5 * M_PI * j / m;
     const double rho = j == m ? 0.0 : e * std::cos(psi);
     rings.push_back(RoundedRectangle(hx, hy, rho, z_high + e * std::sin(psi), m));
   }
@@ -248,8 +246,8 @@ double RoundedBoxVolume(const Eigen::Vector3d& size_m) {
   const double a = size_m.x() - 2.0 * e;
   const double b = size_m.y() - 2.0 * e;
   const double c = size_m.z() - 2.0 * e;
-  return a * b * c + 2.0 * e * (a * b + b * c + c * a) + kPi * e * e * (a + b + c) +
-         4.0 / 3.0 * kPi * e * e * e;
+  return a * b * c + 2.0 * e * (a * b + b * c + c * a) + M_PI * e * e * (a + b + c) +
+         4.0 / 3.0 * M_PI * e * e * e;
 }
 
 TriangleMesh MakeBottle(const Eigen::Vector3d& size_m, int segments) {
@@ -265,7 +263,7 @@ TriangleMesh MakeBottle(const Eigen::Vector3d& size_m, int segments) {
   const int m = QuarterFacets(segments);
   for (int j = 0; j <= m; ++j) {
     const double s = static_cast<double>(j) / m;
-    const double r = neck_r + (body_r - neck_r) * 0.5 * (1.0 + std::cos(kPi * s));
+    const double r = neck_r + (body_r - neck_r) * 0.5 * (1.0 + std::cos(M_PI * s));
     rings.push_back(section(r, shoulder_z0 + s * shoulder_len));
   }
   rings.push_back(section(neck_r, h));
@@ -283,8 +281,8 @@ double BottleVolume(const Eigen::Vector3d& size_m) {
   const double b = 0.5 * (body_r - neck_r);
   const double neck_len = (1.0 - kBottleBodyFraction - kBottleShoulderFraction) * h;
   const double circular =
-      kPi * (body_r * body_r * kBottleBodyFraction * h + (a * a + 0.5 * b * b) * kBottleShoulderFraction * h +
-             neck_r * neck_r * neck_len);
+      M_PI * (body_r * body_r * kBottleBodyFraction * h +
+              (a * a + 0.5 * b * b) * kBottleShoulderFraction * h + neck_r * neck_r * neck_len);
   return circular * size_m.y() / w;
 }
 
@@ -293,11 +291,11 @@ TriangleMesh MakeBlob(const Eigen::Vector3d& size_m, int segments) {
   const int lat = std::max(4, segments / 2);  // latitude steps, pole to pole
   std::vector<Ring> rings = {Pole(fit.Apply(UnitBlobPoint({0.0, 0.0, -1.0})), segments)};
   for (int k = 1; k < lat; ++k) {
-    const double theta = kPi * k / lat;
+    const double theta = M_PI * k / lat;
     Ring ring;
     ring.reserve(segments);
     for (int i = 0; i < segments; ++i) {
-      ring.push_back(fit.Apply(UnitBlobPoint(Direction(theta, 2.0 * kPi * i / segments))));
+      ring.push_back(fit.Apply(UnitBlobPoint(Direction(theta, 2.0 * M_PI * i / segments))));
     }
     rings.push_back(std::move(ring));
   }
@@ -332,7 +330,7 @@ TriangleMesh MakeMug(const Eigen::Vector3d& size_m, int segments) {
   std::vector<Ring> tube;
   std::vector<Eigen::Vector3d> centres;
   for (int k = 0; k <= steps; ++k) {
-    const double alpha = kPi * (static_cast<double>(k) / steps - 0.5);
+    const double alpha = M_PI * (static_cast<double>(k) / steps - 0.5);
     const Eigen::Vector3d c(g.path_x + g.path_rx * std::cos(alpha), 0.0,
                             g.path_z + g.path_rz * std::sin(alpha));
     const Eigen::Vector3d t =
@@ -342,7 +340,7 @@ TriangleMesh MakeMug(const Eigen::Vector3d& size_m, int segments) {
     Ring ring;
     ring.reserve(around);
     for (int i = 0; i < around; ++i) {
-      const double phi = 2.0 * kPi * i / around;
+      const double phi = 2.0 * M_PI * i / around;
       ring.push_back(c + g.tube_radius * (std::cos(phi) * n1 + std::sin(phi) * n2));
     }
     centres.push_back(c);
@@ -356,8 +354,8 @@ TriangleMesh MakeMug(const Eigen::Vector3d& size_m, int segments) {
 
 double MugVolume(const Eigen::Vector3d& size_m) {
   const MugGeometry g = Mug(size_m);
-  const double body = kPi * g.body_radius * g.body_radius * size_m.z();
-  const double tube = kPi * g.tube_radius * g.tube_radius * HalfEllipseLength(g.path_rx, g.path_rz);
+  const double body = M_PI * g.body_radius * g.body_radius * size_m.z();
+  const double tube = M_PI * g.tube_radius * g.tube_radius * HalfEllipseLength(g.path_rx, g.path_rz);
   return body + tube;
 }
 
@@ -375,7 +373,7 @@ TriangleMesh MakeBowl(const Eigen::Vector3d& size_m, int segments) {
   // Latitude psi from -90 degrees (bottom) to 0 (rim) on a half ellipsoid
   // centred at the rim's height: outer surface up, then inner one down.
   auto half_ellipsoid_ring = [&](double ra, double rb, double rz, int j) {
-    const double psi = 0.5 * kPi * (static_cast<double>(j) / m - 1.0);
+    const double psi = 0.5 * M_PI * (static_cast<double>(j) / m - 1.0);
     return Ellipse(ra * std::cos(psi), rb * std::cos(psi), h + rz * std::sin(psi), segments);
   };
   std::vector<Ring> rings = {Pole({0.0, 0.0, 0.0}, segments)};
@@ -390,7 +388,7 @@ double BowlVolume(const Eigen::Vector3d& size_m) {
   const double b = 0.5 * size_m.y();
   const double h = size_m.z();
   const double t = BowlWall(size_m);
-  return 2.0 / 3.0 * kPi * (a * b * h - (a - t) * (b - t) * (h - t));
+  return 2.0 / 3.0 * M_PI * (a * b * h - (a - t) * (b - t) * (h - t));
 }
 
 }  // namespace graspfill::synth::internal

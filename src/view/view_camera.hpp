@@ -21,11 +21,10 @@ constexpr double kMinShade = 0.45;
 
 struct ViewCamera {
   ViewCamera(const Framing& framing, const ViewAngle& angle, int size_px) {
-    constexpr double kPi = 3.14159265358979323846;
     // The framing sphere's diameter as a share of the view's edge (a margin).
     constexpr double kFill = 0.92;
-    const double az = angle.azimuth_deg * kPi / 180.0;
-    const double el = angle.elevation_deg * kPi / 180.0;
+    const double az = angle.azimuth_deg * M_PI / 180.0;
+    const double el = angle.elevation_deg * M_PI / 180.0;
     // The palm side (-z in G) is up: the camera rises towards it.
     const Eigen::Vector3d to_camera(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), -std::sin(el));
     forward = -to_camera;
