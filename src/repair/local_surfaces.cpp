@@ -241,4 +241,16 @@ bool FitThinPlate(const NeighborIndex& index, const std::vector<int>& support, c
   return true;
 }
 
+bool Quadric::IsPlanePair() const {
+  Eigen::Matrix4d m;
+  m << q(0), q(3) / 2, q(4) / 2, q(6) / 2,  //
+      q(3) / 2, q(1), q(5) / 2, q(7) / 2,   //
+      q(4) / 2, q(5) / 2, q(2), q(8) / 2,   //
+      q(6) / 2, q(7) / 2, q(8) / 2, q(9);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(m, Eigen::EigenvaluesOnly);
+  Eigen::Vector4d a = eig.eigenvalues().cwiseAbs();
+  std::sort(a.data(), a.data() + 4);
+  return a(1) < 1e-3 * a(3);
+}
+
 }  // namespace graspfill::repair::fill

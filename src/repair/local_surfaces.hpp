@@ -6,7 +6,6 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -113,17 +112,7 @@ struct Quadric {
   // A pair of planes (the rank-2 degenerate quadric) fits the two faces of
   // an edge exactly, but continues each face past the edge and has no
   // gradient along it. Spheres, ellipsoids and cylinders have rank >= 3.
-  bool IsPlanePair() const {
-    Eigen::Matrix4d m;
-    m << q(0), q(3) / 2, q(4) / 2, q(6) / 2,  //
-        q(3) / 2, q(1), q(5) / 2, q(7) / 2,   //
-        q(4) / 2, q(5) / 2, q(2), q(8) / 2,   //
-        q(6) / 2, q(7) / 2, q(8) / 2, q(9);
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(m, Eigen::EigenvaluesOnly);
-    Eigen::Vector4d a = eig.eigenvalues().cwiseAbs();
-    std::sort(a.data(), a.data() + 4);
-    return a(1) < 1e-3 * a(3);
-  }
+  bool IsPlanePair() const;  // out of line: Eigen's 4x4 solver is slow to compile
   // First-order signed distance of p to the quadric [m].
   double Distance(const Eigen::Vector3d& p) const {
     const Eigen::Vector3d y = (p - mean) / scale;
