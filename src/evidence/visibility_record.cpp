@@ -53,23 +53,29 @@ void SlidingMin(const float* in, size_t stride, int n, int r, float* out, size_t
   for (int i = 0; i < n; ++i) out[static_cast<size_t>(i) * out_stride] = std::min((*h)[i], (*g)[i + 2 * r]);
 }
 
+}  // namespace
+
 // Window minimum of `in` (w x h) with radius r: rows by SlidingMin, then
 // the columns by the same scheme run on whole rows at a time (contiguous,
 // so the compiler vectorizes it and the cache is not strided through). Any
 // 0 in the window gives 0, since valid depths are positive.
-void WindowMin(const std::vector<float>& in, int w, int h, int r, std::vector<float>* out) {
-  std::vector<float> rows(in.size()), g, hs;
+void VisibilityRecord::WindowMin(const std::vector<float>& in, int w, int h, int r, OfferScratch* scratch,
+                                 std::vector<float>* out) {
+  std::vector<float>& rows = scratch->rows;
+  rows.resize(in.size());
   for (int v = 0; v < h; ++v) {
     const size_t row = static_cast<size_t>(v) * w;
-    SlidingMin(&in[row], 1, w, r, &rows[row], 1, &g, &hs);
+    SlidingMin(&in[row], 1, w, r, &rows[row], 1, &scratch->g, &scratch->h);
   }
   const int win = 2 * r + 1, m = h + 2 * r;
   const size_t W = static_cast<size_t>(w);
-  std::vector<float> G(static_cast<size_t>(m) * W), H(static_cast<size_t>(m) * W);
-  std::vector<float> pad(W, std::numeric_limits<float>::infinity());
-  const auto at = [&](int j) {
-    return j < r || j >= h + r ? pad.data() : &rows[static_cast<size_t>(j - r) * W];
-  };
+  std::vector<float>& G = scratch->column_g;
+  std::vector<float>& H = scratch->column_h;
+  G.resize(static_cast<size_t>(m) * W);
+  H.resize(static_cast<size_t>(m) * W);
+  scratch->pad.assign(W, std::numeric_limits<float>::infinity());
+  const float* pad = scratch->pad.data();
+  const auto at = [&](int j) { return j < r || j >= h + r ? pad : &rows[static_cast<size_t>(j - r) * W]; };
   for (int j = 0; j < m; ++j) {
     const float* x = at(j);
     float* gj = &G[static_cast<size_t>(j) * W];
@@ -98,8 +104,6 @@ void WindowMin(const std::vector<float>& in, int w, int h, int r, std::vector<fl
     for (size_t u = 0; u < W; ++u) o[u] = std::min(hv[u], gv[u]);
   }
 }
-
-}  // namespace
 
 Visibility VisibilityVotes::Verdict() const {
   if (free > 0) return Visibility::kSeenFree;
@@ -185,8 +189,8 @@ bool VisibilityRecord::Offer(const DepthFrame& raw, const std::vector<float>& cl
   for (float& d : k->depth_m) {
     if (!std::isfinite(d) || d < 0.0f) d = 0.0f;  // unusable samples are "no return"
   }
-  WindowMin(k->depth_m, w, h, config_.erode_px, &k->free_depth_m);
-  WindowMin(k->depth_m, w, h, config_.coarse_erode_px, &k->coarse_free_depth_m);
+  WindowMin(k->depth_m, w, h, config_.erode_px, &scratch_, &k->free_depth_m);
+  WindowMin(k->depth_m, w, h, config_.coarse_erode_px, &scratch_, &k->coarse_free_depth_m);
   key_frames_.push_back(std::move(k));
   if (safe_bound_) {
     auto bound = std::make_shared<SafeBound>(*safe_bound_);

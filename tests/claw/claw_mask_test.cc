@@ -4,35 +4,15 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <new>
 #include <string>
 
+#include "../allocation_count.hpp"
 #include "graspfill/claw/claw_model.hpp"
 #include "graspfill/core/raycaster.hpp"
-
-// Counts heap allocations made through operator new in this test binary,
-// to check that Apply allocates nothing after the first frame.
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-// GCC cannot tell that these replace the global operators and warns that
-// free() meets memory from "new".
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-#pragma GCC diagnostic pop
 
 namespace graspfill::claw {
 namespace {
@@ -279,7 +259,7 @@ TEST_P(ClawMaskTest, NoAllocationAfterFirstFrame) {
   DepthFrame frame = Wall(kWallM);
   mask.Apply(SidePose(), &frame);  // sizes the buffers
   Eigen::Isometry3d T_C_G = SidePose();
-  const long before = g_allocations.load();
+  const long before = testing::Allocations();
   for (int k = 0; k < 5; ++k) {
     T_C_G.translation().x() += 0.02;
     mask.Apply(T_C_G, &frame);
@@ -289,7 +269,7 @@ TEST_P(ClawMaskTest, NoAllocationAfterFirstFrame) {
   T_C_G = Eigen::Isometry3d::Identity();
   T_C_G.translation() = Eigen::Vector3d(0, 0, -0.03);
   mask.Apply(T_C_G, &frame);
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(testing::Allocations() - before, 0);
 }
 
 TEST_P(ClawMaskTest, ClawAroundAndBehindCamera) {

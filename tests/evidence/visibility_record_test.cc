@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "../allocation_count.hpp"
 #include "evidence_fixtures.hpp"
 
 namespace graspfill::evidence {
@@ -105,6 +106,22 @@ TEST(VisibilityRecord, KeyFramesAreSpreadByViewDirectionAndBounded) {
   EXPECT_FALSE(record.Offer(f.raw, f.claw_depth, Turned(40)));  // full
   EXPECT_EQ(record.size(), 3u);
   EXPECT_GT(record.memory_bytes(), 0u);
+}
+
+// The hot path allocates nothing it could reuse: a new key frame allocates
+// what it keeps (the KeyFrame, its four arrays, room in the record's list,
+// and the safe bound it replaces with its bit set), not the window
+// minima's working rows, which the record keeps from the first key frame.
+TEST(VisibilityRecord, AKeyFrameAllocatesOnlyWhatItKeeps) {
+  VisibilityRecord record(VisibilityConfig{}, TestBox());
+  const auto f = PlateFrame();
+  ASSERT_TRUE(record.Offer(f.raw, f.claw_depth, Turned(0)));  // the working rows grow here
+  constexpr long kKept = 1 + 4 + 1 + 2;
+  for (const double deg : {15.0, 30.0}) {
+    const long before = testing::Allocations();
+    ASSERT_TRUE(record.Offer(f.raw, f.claw_depth, Turned(deg)));
+    EXPECT_LE(testing::Allocations() - before, kKept) << "the key frame at " << deg << " degrees";
+  }
 }
 
 TEST(VisibilityRecord, QueriesFollowTheKeyFramePose) {

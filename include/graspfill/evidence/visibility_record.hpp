@@ -151,6 +151,19 @@ class VisibilityRecord {
   std::shared_ptr<const SafeBound> safe_bound_;
   struct ClawSolid;
   std::shared_ptr<const ClawSolid> claw_;
+  // Offer's working rows, kept from key frame to key frame so that a new
+  // one allocates only what it keeps. Never copied: a copy of the record
+  // starts without them.
+  struct OfferScratch {
+    std::vector<float> rows, g, h, column_g, column_h, pad;
+    OfferScratch() = default;
+    OfferScratch(const OfferScratch&) {}
+    OfferScratch& operator=(const OfferScratch&) { return *this; }
+  };
+  OfferScratch scratch_;
+  // The window minimum of `in` (w x h) with radius r into `out`.
+  static void WindowMin(const std::vector<float>& in, int w, int h, int r, OfferScratch* scratch,
+                        std::vector<float>* out);
 };
 
 }  // namespace graspfill::evidence
