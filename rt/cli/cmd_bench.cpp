@@ -175,23 +175,22 @@ struct DepthErrorPass {
   int turns{0};
 };
 DepthErrorPass WithDepthError(const PipelineConfig& config, const claw::ClawModel& claw,
-                              const std::vector<PosedFrame>& frames, float scale, FramesDone* progress) {
+                              std::vector<PosedFrame> frames, float scale, FramesDone* progress) {
   const size_t wanted = static_cast<size_t>(refine::kDepthScaleMinFrames) * 5 / 4;
   const int turns = static_cast<int>((wanted + frames.size() - 1) / frames.size());
   constexpr int64_t kFrameAt30HzUs = 33333;  // a lone frame's period
-  const int64_t period_us = frames.size() > 1 ? (frames.back().frame.utime - frames.front().frame.utime) /
-                                                    static_cast<int64_t>(frames.size() - 1)
-                                              : kFrameAt30HzUs;
-  const int64_t turn_us = frames.back().frame.utime - frames.front().frame.utime + period_us;
+  const int64_t span_us = frames.back().frame.utime - frames.front().frame.utime;
+  const int64_t turn_us =
+      span_us + (frames.size() > 1 ? span_us / static_cast<int64_t>(frames.size() - 1) : kFrameAt30HzUs);
+  for (PosedFrame& p : frames) {
+    for (float& z : p.frame.depth_m) z *= scale;
+  }
   Pipeline pipeline(config, claw);
   for (int t = 0; t < turns; ++t) {
-    for (const PosedFrame& p : frames) {
-      PosedFrame q = p;
-      for (float& z : q.frame.depth_m) z *= scale;
-      q.frame.utime += t * turn_us;
-      q.state.utime += t * turn_us;
-      pipeline.AddGripperState(q.state);
-      pipeline.AddDepthFrame(q.frame);
+    for (PosedFrame& p : frames) {
+      if (t > 0) p.frame.utime += turn_us, p.state.utime += turn_us;
+      pipeline.AddGripperState(p.state);
+      pipeline.AddDepthFrame(p.frame);
       if (t == 0) progress->Add();
     }
   }
