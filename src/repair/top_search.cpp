@@ -42,13 +42,17 @@ TopChoice ChooseTop(std::vector<TopCandidate> candidates, const PointList& rim_V
   const double sigma = std::max(spacing_m, 1e-6);
   const double n = static_cast<double>(std::max<size_t>(rim_V.size(), 1));
   const double cap = kSealCapSigmas * sigma;
-  if (rim_V.empty()) candidates.clear();
-  // Only what lies within the cap of the rim can answer for the seal.
+  // Only what lies within the cap of the rim can answer for the seal; with
+  // no rim nothing can, and "open" is the answer.
   std::optional<NeighborIndex> rim_index;
-  if (!rim_V.empty()) rim_index.emplace(rim_V);
   PointList fills_near;
-  for (const Eigen::Vector3f& p : fills_V) {
-    if (rim_index->AnyWithin(p, cap)) fills_near.push_back(p);
+  if (rim_V.empty()) {
+    candidates.clear();
+  } else {
+    rim_index.emplace(rim_V);
+    for (const Eigen::Vector3f& p : fills_V) {
+      if (rim_index->AnyWithin(p, cap)) fills_near.push_back(p);
+    }
   }
   for (TopCandidate& c : candidates) {
     if (c.points_V.empty()) continue;  // adds nothing: "open" says it

@@ -105,6 +105,12 @@ TEST(TopSearch, NothingProposedOrNoRimLeavesItOpen) {
   EXPECT_EQ(alone.confidence, 0.5f);  // nothing weighed against it
   EXPECT_EQ(ChooseTop({Candidate(TopFamily::kMirror, Disc(0.03, 0.001), 1)}, {}, {}, kSpacing).Best().family,
             TopFamily::kOpen);
+  // No rim, with claw fills beside it: still "open" (the fills are not
+  // looked up against a rim that is not there).
+  EXPECT_EQ(ChooseTop({Candidate(TopFamily::kMirror, Disc(0.03, 0.001), 1)}, {}, Disc(0.01, 0.0), kSpacing)
+                .Best()
+                .family,
+            TopFamily::kOpen);
   EXPECT_EQ(ChooseTop({Candidate(TopFamily::kMirror, {}, 1)}, kRim, {}, kSpacing).Best().family,
             TopFamily::kOpen);
 }
