@@ -457,24 +457,18 @@ bool SampleLocalFit(const CloudFacts& cloud, const HoleGeometry& hole, Rng* rng,
   return false;
 }
 
-// The last resort (and the paper's surface): Poisson, ~0.3-0.8 s.
+// The paper's surface: one Poisson surface of all the side points (~0.3-1
+// s), made for the first hole and shared by the rest.
 void SamplePoisson(const CloudFacts& cloud, const HoleGeometry& hole, FillsSoFar* so_far, Rng* rng,
                    GapTest* gap, PointList* fill) {
   const ClawRepairConfig& config = cloud.config;
-  PoissonSurface local;
-  const PoissonSurface* surface = &local;
-  if (config.surface == ClawSurface::kPoisson && !config.local_reconstruction) {
-    if (!so_far->global_surface) {
-      std::vector<int> side(cloud.points_V.size());  // the paper's side points: all of them
-      std::iota(side.begin(), side.end(), 0);
-      so_far->global_surface = std::make_unique<PoissonSurface>(ReconstructPoisson(
-          cloud.points_V, side, NormalsOf(cloud, side), config.poisson_depth, config.poisson_scale));
-    }
-    surface = so_far->global_surface.get();
-  } else {
-    local = ReconstructPoisson(cloud.points_V, hole.support, NormalsOf(cloud, hole.support),
-                               config.poisson_depth, config.poisson_scale);
+  if (!so_far->global_surface) {
+    std::vector<int> side(cloud.points_V.size());  // the paper's side points: all of them
+    std::iota(side.begin(), side.end(), 0);
+    so_far->global_surface = std::make_unique<PoissonSurface>(ReconstructPoisson(
+        cloud.points_V, side, NormalsOf(cloud, side), config.poisson_depth, config.poisson_scale));
   }
+  const PoissonSurface* surface = so_far->global_surface.get();
   // Along n: the rim's spread, the surface's sag or bulge over the hole
   // (up to about a cell, and the bulge), and the pad.
   const double n_pad = hole.pad + config.poisson_box_pad_cells * surface->cell_m + hole.bulge_m;
@@ -558,10 +552,11 @@ HoleFill FillHole(const CloudFacts& cloud, const PointList& rim, size_t h, Fills
   // A surface sampled over the hole may bulge out of the rim's plane by
   // the curvature's a^2 / 2r, bounded by a quarter of the hole's width.
   hole.bulge_m = 0.25 * (hole.region.hi.head<2>() - hole.region.lo.head<2>()).minCoeff();
-  const bool local_fit = config.surface == ClawSurface::kLocalFit;
-  const bool filled = local_fit && SampleLocalFit(cloud, hole, &rng, &gap, &fill);
-  if (!filled && local_fit && !config.poisson_fallback) return HoleFill::kLeftOpen;
-  if (!filled) SamplePoisson(cloud, hole, so_far, &rng, &gap, &fill);
+  if (config.surface == ClawSurface::kLocalFit) {
+    if (!SampleLocalFit(cloud, hole, &rng, &gap, &fill)) return HoleFill::kLeftOpen;
+  } else {
+    SamplePoisson(cloud, hole, so_far, &rng, &gap, &fill);
+  }
   KeepFillsByTheOutlines(cloud, hole, fill, so_far, out);
   return HoleFill::kFilled;
 }
@@ -571,9 +566,6 @@ HoleFill FillHole(const CloudFacts& cloud, const PointList& rim, size_t h, Fills
 ClawRepairConfig ClawRepairConfig::Paper() {
   ClawRepairConfig config;
   config.surface = ClawSurface::kPoisson;
-  config.local_reconstruction = false;
-  config.poisson_depth = 6;
-  config.poisson_scale = 4.0;
   config.max_support_share = 1.0;  // no such rule in the paper
   config.max_inside_outline_m = 0.0;
   config.max_outside_widest_m = 0.0;

@@ -119,32 +119,17 @@ struct ClawRepairConfig {
   /// Iterations of the reweighted least squares (3 to 100; a height field's
   /// first two fit a plane).
   int irls_iterations{6};
-  /// A hole that no sheet, quadric, pair of faces or thin plate explains
-  /// (its support does not face the hole's way: a rim running round much
-  /// of the object, a ragged fused edge): true = a local Poisson solve
-  /// (0.3-0.8 s: PoissonRecon's fixed full-depth system, whatever the
-  /// hole's size); false = left open and counted (the planner's safe bound
-  /// still holds the space). Measured on `bench repair --pipeline`, the
-  /// four such cases: coverage 0-1.1 points lower without it, the repair
-  /// 540-870 -> 76-135 ms, and the soft box's added p95 2.06 -> 0.87 mm.
-  bool poisson_fallback{false};
-
-  // --- kPoisson (and the fallback) ---
-  /// true: one small Poisson problem per hole on its support points.
-  /// false (the paper): one Poisson surface of all the side points, shared
-  /// by the holes.
-  bool local_reconstruction{true};
+  // --- kPoisson (the paper's: one Poisson surface of all the side points,
+  // shared by the holes) ---
   /// Octree depth of the Poisson solve (paper: 6). The grid spans the
   /// input's bounding cube times `poisson_scale`, so the cell edge is
-  /// scale * extent / 2^depth: ~1.0 mm for a local patch of ~55 mm at
-  /// depth 6 and scale 1.1; ~8.8 mm for the paper's whole 14 cm object at
-  /// depth 6 and scale 4.0.
+  /// scale * extent / 2^depth: ~8.8 mm for the paper's 14 cm object.
   int poisson_depth{6};
   /// Ratio of the reconstruction cube to the input's bounding cube (PCL's
-  /// and Open3D's `scale`; paper: 4.0, Open3D's default 1.1). The paper's
-  /// "min samples per octree node 16" has no Open3D counterpart (Open3D
-  /// fixes samples_per_node at 1.5).
-  double poisson_scale{1.1};
+  /// and Open3D's `scale`; paper: 4.0). The paper's "min samples per octree
+  /// node 16" has no Open3D counterpart (Open3D fixes samples_per_node at
+  /// 1.5).
+  double poisson_scale{4.0};
   /// Neighbours of the PCA normal estimates (Poisson's input when no
   /// normals are given; at most 10 of them for kLocalFit's face split).
   int normal_knn{16};
@@ -169,8 +154,8 @@ struct ClawRepairConfig {
   /// Seed of the sample positions.
   uint64_t seed{7};
 
-  /// The paper's settings: one Poisson surface of the side points, octree
-  /// depth 6, scale 4.0.
+  /// The paper's settings: one Poisson surface of the side points, and none
+  /// of graspfill's rules around it.
   static ClawRepairConfig Paper();
   /// Throws std::invalid_argument naming the bad field.
   void Validate() const;
@@ -196,7 +181,7 @@ struct ClawRepairConfig {
 ///        vector object); built here when null.
 /// @param holes_left_open optional; receives the holes left open (indices
 ///   into `claw_holes`): support over `max_support_share`, or (kLocalFit)
-///   no explicit surface explains them and `poisson_fallback` is off.
+///   no explicit surface explains them.
 /// @return the new points in V, hole after hole (empty if no holes).
 /// @throws std::invalid_argument on a bad config, non-finite coordinates,
 ///         normals of the wrong size or an index over another cloud.

@@ -25,9 +25,9 @@ repair::PointList ProtocolCylinder(int num_points) {
   return synth::MakePaperProtocolCloud(config).holey;
 }
 // 2,000 points: its claw holes are filled by the local sheets (~20 ms a
-// repair). 800 points: too sparse for them, the holes go to the Poisson
-// fallback (~0.7 s; on for these inputs, off by default), so that path is
-// fuzzed too, on one input in two.
+// repair). 800 points: too sparse for them, so best mode leaves the holes
+// open. Paper mode fills them from its Poisson surface, so that path is
+// fuzzed too.
 const repair::PointList& BaseCloud(bool sparse) {
   static const repair::PointList dense = ProtocolCylinder(2000);
   static const repair::PointList thin = ProtocolCylinder(800);
@@ -53,7 +53,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   config.mode = (flags & 2) ? repair::RepairMode::kPaper : repair::RepairMode::kBest;
   if (flags & 4) config.up_hint = Eigen::Vector3d(0, 0, -1);
   repair::RepairSteps steps = repair::RepairSteps::For(config.mode);
-  steps.claw.poisson_fallback = (flags & 8) != 0;
   try {
     const repair::RepairResult result = repair::RepairWithSteps(cloud, config, steps);
     FUZZ_CHECK(finite);
