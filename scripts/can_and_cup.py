@@ -44,10 +44,10 @@ class Mesh:
         solid for the bands used here: up the outside, in across the rim,
         down the inside."""
         rings = [self.ring(r0 + (r1 - r0) * s / steps, z0 + (z1 - z0) * s / steps) for s in range(steps + 1)]
-        for lower, upper in zip(rings, rings[1:]):
+        for ring, following in zip(rings, rings[1:]):
             for k in range(SEGMENTS):
-                a, b = lower + k, lower + (k + 1) % SEGMENTS
-                c, d = upper + k, upper + (k + 1) % SEGMENTS
+                a, b = ring + k, ring + (k + 1) % SEGMENTS
+                c, d = following + k, following + (k + 1) % SEGMENTS
                 self.faces += [(a, b, d), (a, d, c)]
 
     def disc(self, radius, z, up):
