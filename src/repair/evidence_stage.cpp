@@ -23,15 +23,10 @@ constexpr size_t kRecordCheckPoints = 2000;
 std::vector<char> BesideObserved(const NeighborIndex& observed, double radius_m, const PointList& image_V) {
   std::vector<char> beside(image_V.size(), 0);
   if (!(radius_m > 0.0)) return beside;
-  std::vector<int> nn;
   for (size_t i = 0; i < image_V.size(); ++i) {
-    observed.Radius(image_V[i], radius_m, &nn);
-    for (int j : nn) {
-      if (observed.points()[static_cast<size_t>(j)].z() >= image_V[i].z()) {
-        beside[i] = 1;
-        break;
-      }
-    }
+    const float z = image_V[i].z();
+    beside[i] =
+        observed.AnyWithin(image_V[i], radius_m, [z](const Eigen::Vector3f& p) { return p.z() >= z; });
   }
   return beside;
 }

@@ -417,11 +417,23 @@ void NeighborIndex::Radius(const Eigen::Vector3f& query, double radius_m, std::v
 }
 
 bool NeighborIndex::AnyWithin(const Eigen::Vector3f& query, double radius_m) const {
+  return AnyWithinIf(query, radius_m, [](const Eigen::Vector3f&) { return true; });
+}
+
+bool NeighborIndex::AnyWithin(const Eigen::Vector3f& query, double radius_m,
+                              const std::function<bool(const Eigen::Vector3f&)>& accept) const {
+  return AnyWithinIf(query, radius_m, accept);
+}
+
+template <typename Accept>
+bool NeighborIndex::AnyWithinIf(const Eigen::Vector3f& query, double radius_m, const Accept& accept) const {
   const Impl& g = *impl_;
   if (!(radius_m >= 0.0)) return false;
   const Eigen::Vector3d q = query.cast<double>();
   const double r2 = radius_m * radius_m;
-  const auto near = [&](const Eigen::Vector3f& p) { return (p.cast<double>() - q).squaredNorm() <= r2; };
+  const auto near = [&](const Eigen::Vector3f& p) {
+    return (p.cast<double>() - q).squaredNorm() <= r2 && accept(p);
+  };
   const int centre[3] = {g.CellOf(query.x(), 0), g.CellOf(query.y(), 1), g.CellOf(query.z(), 2)};
   const auto cell_has = [&](int c) {
     for (int j = g.cell_start[c]; j < g.cell_start[c + 1]; ++j) {

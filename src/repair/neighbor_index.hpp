@@ -14,6 +14,7 @@
 // Ties are broken by index, so every answer is deterministic.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -51,6 +52,10 @@ class NeighborIndex {
   /// Whether some point lies within `radius_m` of `query` (the search stops
   /// at the first): Radius's answer, not empty, without collecting it.
   bool AnyWithin(const Eigen::Vector3f& query, double radius_m) const;
+  /// The same, counting only the points `accept` takes: Radius's answer
+  /// filtered by `accept`, not empty, without collecting or sorting it.
+  bool AnyWithin(const Eigen::Vector3f& query, double radius_m,
+                 const std::function<bool(const Eigen::Vector3f&)>& accept) const;
 
   /// Knn(p, k) for every cloud point p at once (k capped at the cloud's
   /// size): the points of one grid cell share their candidates, several
@@ -67,6 +72,9 @@ class NeighborIndex {
  private:
   // AllKnn (row_of null) and KnnOf: row_of[point] its row, or -1.
   KnnTable Table(int k, const std::vector<int>* row_of) const;
+  // Both AnyWithins (defined and instantiated in the source only).
+  template <typename Accept>
+  bool AnyWithinIf(const Eigen::Vector3f& query, double radius_m, const Accept& accept) const;
 
   const PointList& points_;
   struct Impl;

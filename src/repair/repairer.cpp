@@ -430,9 +430,11 @@ SymmetryResult MirrorTop(const PointList& points_V, const Holes& holes, const Ne
                               config.mode == RepairMode::kBest ? &fills->open_holes_V : nullptr);
 }
 
-// The top's points (V) and their confidence.
+// The top's points (V), their normals where the completion gives them
+// (else empty), and their confidence.
 struct TopCap {
   PointList points_V;
+  std::vector<Eigen::Vector3f> normals_V;
   float confidence{0.0f};
 };
 
@@ -484,6 +486,9 @@ TopCandidate RevolutionCandidate(const PointList& points_V, const PointList& rim
     c.free_share = static_cast<double>(dropped) / static_cast<double>(proposed);
     evidence::PushOutOfClaw(*record, T_in_V, &c.points_V);
   }
+  // The surface's own normals: exact where a neighbourhood of new points
+  // would only estimate them (and the estimate's kNN is the slow part).
+  for (const Eigen::Vector3f& p : c.points_V) c.normals_V.push_back(surface->Normal(p));
   return c;
 }
 
@@ -573,7 +578,10 @@ TopCap SearchTop(const PointList& points_V, const ClawFills& fills, SymmetryResu
     symmetry->added_V.clear();
   }
   TopCap top;
-  if (best.family != TopFamily::kMirror && best.family != TopFamily::kOpen) top.points_V = best.points_V;
+  if (best.family != TopFamily::kMirror && best.family != TopFamily::kOpen) {
+    top.points_V = best.points_V;
+    top.normals_V = best.normals_V;
+  }
   if (best.family == TopFamily::kMirror) top.points_V = std::move(evidence_top.points_V);
   top.confidence = choice.confidence;
   report->evidence.top_points_added = static_cast<int>(top.points_V.size());
@@ -610,14 +618,18 @@ void AppendAdded(const ObjectCloud& input, const ClawFills& fills, const Symmetr
     return;
   }
   ScopedStageTimer t(&report->timings, "normals");
-  // A flat cap's is V's axis (a bowl's cap: 27k points, 48 ms of kNN);
+  // A top whose model has a surface (the surface of revolution) gives its
+  // own; a flat cap's is V's axis (a bowl's cap: 27k points, 48 ms of kNN);
   // the other added points' come from their neighbours.
   std::vector<Eigen::Vector3f> known_G(out->points_G.size() - input.points_G.size(), Eigen::Vector3f::Zero());
-  if (!top.points_V.empty()) {
+  const size_t first_top = known_G.size() - top.points_V.size();
+  if (top.normals_V.size() == top.points_V.size()) {
+    for (size_t k = 0; k < top.points_V.size(); ++k)
+      known_G[first_top + k] = T_in_V.linear() * top.normals_V[k];
+  } else if (!top.points_V.empty()) {
     float cap_z = -std::numeric_limits<float>::infinity();
     for (const Eigen::Vector3f& p : top.points_V) cap_z = std::max(cap_z, p.z());
     const Eigen::Vector3f up_G = T_in_V.linear().col(2);
-    const size_t first_top = known_G.size() - top.points_V.size();
     for (size_t k = 0; k < top.points_V.size(); ++k) {
       if (top.points_V[k].z() == cap_z) known_G[first_top + k] = up_G;
     }

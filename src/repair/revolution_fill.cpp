@@ -32,6 +32,13 @@ double PoleAbove(const Revolution& s, double top_z) {
 
 }  // namespace
 
+Eigen::Vector3f Revolution::Normal(const Eigen::Vector3f& p) const {
+  const Eigen::Vector3d gradient(p.x() - x0, p.y() - y0, -0.5 * (b + 2.0 * c * p.z()));
+  const double norm = gradient.norm();
+  if (!(norm > 0.0)) return Eigen::Vector3f::Zero();
+  return (gradient / norm).cast<float>();
+}
+
 std::optional<Revolution> FitRevolution(const PointList& points_V, double top_z, double reach_m) {
   if (points_V.size() < 20) return std::nullopt;
   std::vector<double> weight(points_V.size(), 1.0);

@@ -28,6 +28,9 @@ struct Revolution {
   double rms_m{0.0};              ///< radial RMS of the inliers [m]
 
   double RadiusSquared(double z) const { return a + (b + c * z) * z; }
+  /// The outward unit normal at `p` (on or near the surface): the gradient
+  /// of r^2 - r(z)^2; zero where it vanishes.
+  Eigen::Vector3f Normal(const Eigen::Vector3f& p) const;
 };
 
 /// Fits the surface to `points_V` (reweighted twice: points farther than

@@ -57,6 +57,9 @@ struct TopCandidate {
   /// The points its seal is measured on, when not points_V: a model
   /// sampled where the cloud leaves a spacing open, as the mirror's image.
   PointList seam_V;
+  /// The model's own normals of points_V (V), where it has a surface to
+  /// give them; empty otherwise (estimated from the neighbours).
+  std::vector<Eigen::Vector3f> normals_V;
   int parameters{0};       ///< its free parameters (the complexity prior)
   double free_share{0.0};  ///< of its proposed points, seen free or in the claw
   double seal_m{0.0};      ///< set by ChooseTop

@@ -127,7 +127,7 @@ TEST(NeighborIndex, AnyWithinIsRadiusNotEmpty) {
   const NeighborIndex index(points);
   Rng rng(10);
   std::vector<int> nn;
-  int hits = 0, misses = 0;
+  int hits = 0, misses = 0, hits_above = 0, misses_above = 0;
   for (int t = 0; t < 600; ++t) {
     const Eigen::Vector3f q(static_cast<float>(1.4 * rng.Uniform() - 0.2),
                             static_cast<float>(1.4 * rng.Uniform() - 0.2),
@@ -137,11 +137,19 @@ TEST(NeighborIndex, AnyWithinIsRadiusNotEmpty) {
       const bool any = index.AnyWithin(q, radius);
       EXPECT_EQ(any, !nn.empty()) << q.transpose() << " r " << radius;
       any ? ++hits : ++misses;
+      // With a filter: Radius's answer filtered, not empty (the points at
+      // least as high as the query, as the repair's mirror test asks).
+      const auto above = [&](const Eigen::Vector3f& p) { return p.z() >= q.z(); };
+      const bool any_above = std::any_of(nn.begin(), nn.end(), [&](int i) { return above(points[i]); });
+      EXPECT_EQ(index.AnyWithin(q, radius, above), any_above) << q.transpose() << " r " << radius;
+      any_above ? ++hits_above : ++misses_above;
     }
   }
   // Both answers occur, so the comparison could have failed either way.
   EXPECT_GT(hits, 200);
   EXPECT_GT(misses, 200);
+  EXPECT_GT(hits_above, 200);
+  EXPECT_GT(misses_above, misses + 50);  // the filter turned some hits into misses
   EXPECT_TRUE(index.AnyWithin(Eigen::Vector3f(50.0f, 50.5f, 50.0f), 0.6));
   EXPECT_FALSE(index.AnyWithin(Eigen::Vector3f(50.0f, 50.5f, 50.0f), 0.4));
   EXPECT_TRUE(index.AnyWithin(points[17], 0.0));  // a point is within 0 of itself

@@ -190,8 +190,10 @@ TEST(Repairer, ABallsCutTopIsClosedByTheSearch) {
   const mesh::SurfaceSamples s =
       mesh::SampleSurface(synth::MakeShape(synth::Shape::kSphere, {0.06, 0.06, 0.06}), 30000, 4);
   ObjectCloud in;
-  for (const Eigen::Vector3f& p : s.points) {
-    if (p.z() < 0.048f) in.points_G.push_back(p);  // the top 12 mm cut off
+  for (size_t i = 0; i < s.points.size(); ++i) {
+    if (s.points[i].z() >= 0.048f) continue;  // the top 12 mm cut off
+    in.points_G.push_back(s.points[i]);
+    in.normals_G.push_back(s.normals[i]);
   }
   const RepairResult r = RepairUp(in);
   ASSERT_EQ(r.report.status, RepairStatus::kRepaired);
@@ -214,8 +216,13 @@ TEST(Repairer, ABallsCutTopIsClosedByTheSearch) {
   }
   ASSERT_GT(cut, 500u);
   EXPECT_GT(static_cast<double>(covered) / cut, 0.98);
+  // Each added point's normal points out along the radius (whichever
+  // completion won: the model's own or its neighbours').
+  ASSERT_EQ(r.cloud.normals_G.size(), r.cloud.size());
   for (size_t i = in.size(); i < r.cloud.size(); ++i) {
     EXPECT_NEAR((r.cloud.points_G[i] - centre).norm(), 0.03f, 0.0015f);
+    const Eigen::Vector3f radial = (r.cloud.points_G[i] - centre).normalized();
+    EXPECT_GT(r.cloud.normals_G[i].dot(radial), std::cos(5.0 * M_PI / 180.0)) << i;
   }
 }
 

@@ -2,7 +2,8 @@
 // The surface of revolution (src/repair/revolution_fill.hpp): right where
 // the object is one (a sphere and a spheroid whose top is cut off), no
 // surface where nothing closes it (a cylinder, a cup that widens to its
-// mouth), and samples only where the cloud leaves a hole.
+// mouth), samples only where the cloud leaves a hole, and the surface's
+// own normals.
 #include "revolution_fill.hpp"
 
 #include <gtest/gtest.h>
@@ -71,6 +72,30 @@ TEST(RevolutionFill, SphereWithItsTopCutOffClosesAtItsPole) {
       EXPECT_FALSE(samples.in_hole[i]) << p.transpose();
     }
   }
+}
+
+TEST(RevolutionFill, NormalsPointOutOfTheSurface) {
+  // A sphere's: along the radius, at the pole too; a spheroid's: its
+  // gradient, which is not radial off the equator and the poles.
+  const Revolution sphere{0.003, -0.002, 1.6e-3, 0.0, -1.0, 0.04, 0.0};
+  const Eigen::Vector3d centre(0.003, -0.002, 0.0);
+  for (const Eigen::Vector3d& d : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0.6, 0, 0.8),
+                                   Eigen::Vector3d(0, -0.8, -0.6), Eigen::Vector3d(0, 0, 1)}) {
+    const Eigen::Vector3f n = sphere.Normal((centre + 0.04 * d).cast<float>());
+    EXPECT_NEAR(n.cast<double>().dot(d), 1.0, 1e-6) << d.transpose();
+  }
+  // r^2 = 900 mm^2 - 0.5625 z^2 at z = 20 mm: r^2 = 675 mm^2; the normal
+  // is along (r, 0.5625 z) = (25.98, 11.25), 23.4 degrees above the
+  // horizontal, not the point's own 37.6 degrees.
+  const Revolution spheroid{0.0, 0.0, 9e-4, 0.0, -0.5625, 0.04, 0.0};
+  const Eigen::Vector3f n =
+      spheroid.Normal(Eigen::Vector3f(static_cast<float>(std::sqrt(6.75e-4)), 0.0f, 0.02f));
+  EXPECT_NEAR(std::atan2(n.z(), n.x()) * 180.0 / kPi, std::atan2(11.25, std::sqrt(675.0)) * 180.0 / kPi,
+              1e-3);
+  EXPECT_NEAR(n.norm(), 1.0f, 1e-6f);
+  // On the axis of a cylinder (no gradient): zero, for the caller to estimate.
+  const Revolution cylinder{0.0, 0.0, 9e-4, 0.0, 0.0, 0.0, 0.0};
+  EXPECT_EQ(cylinder.Normal(Eigen::Vector3f(0.0f, 0.0f, 0.05f)), Eigen::Vector3f::Zero());
 }
 
 TEST(RevolutionFill, SpheroidKeepsItsProfile) {
