@@ -174,10 +174,13 @@ struct DepthErrorPass {
   refine::DepthScaleEstimate found;
   int turns{0};
 };
+int DepthErrorTurns(size_t frames) {
+  const size_t wanted = static_cast<size_t>(refine::kDepthScaleMinFrames) * 5 / 4;
+  return static_cast<int>((wanted + frames - 1) / frames);
+}
 DepthErrorPass WithDepthError(const PipelineConfig& config, const claw::ClawModel& claw,
                               std::vector<PosedFrame> frames, float scale, FramesDone* progress) {
-  const size_t wanted = static_cast<size_t>(refine::kDepthScaleMinFrames) * 5 / 4;
-  const int turns = static_cast<int>((wanted + frames.size() - 1) / frames.size());
+  const int turns = DepthErrorTurns(frames.size());
   constexpr int64_t kFrameAt30HzUs = 33333;  // a lone frame's period
   const int64_t span_us = frames.back().frame.utime - frames.front().frame.utime;
   const int64_t turn_us =
@@ -187,12 +190,10 @@ DepthErrorPass WithDepthError(const PipelineConfig& config, const claw::ClawMode
   }
   Pipeline pipeline(config, claw);
   for (int t = 0; t < turns; ++t) {
-    for (PosedFrame& p : frames) {
-      if (t > 0) p.frame.utime += turn_us, p.state.utime += turn_us;
-      pipeline.AddGripperState(p.state);
-      pipeline.AddDepthFrame(p.frame);
-      if (t == 0) progress->Add();
+    if (t > 0) {
+      for (PosedFrame& p : frames) p.frame.utime += turn_us, p.state.utime += turn_us;
     }
+    FeedFrames(frames, &pipeline, progress);
   }
   return {pipeline.stats(), pipeline.refiner().depth_scale(), turns};
 }
@@ -351,9 +352,12 @@ BenchResults MeasureFramePath(const BenchOptions& o, const claw::ClawModel& claw
   PipelineConfig config;
   config.refine.enabled = true;
 
-  // Six passes over the posed frames, then the replays of the whole log
-  // (a log's unposed frames can take the count past the total: capped).
-  ProgressLine line("bench", "frames", static_cast<int64_t>(frames.size()) * (6 + o.repeat));
+  // Six passes over the posed frames (the depth error's plays the
+  // recording as many turns as its estimate needs), then the replays of
+  // the whole log (a log's unposed frames can take the count past the
+  // total: capped).
+  const int64_t passes = 5 + DepthErrorTurns(frames.size()) + o.repeat;
+  ProgressLine line("bench", "frames", static_cast<int64_t>(frames.size()) * passes);
   FramesDone progress{line};
   BenchResults r;
   r.frames = frames.size();
