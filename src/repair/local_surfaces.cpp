@@ -92,7 +92,10 @@ bool FitQuadric(const PointList& points, const std::vector<int>& support, std::v
       const Eigen::Matrix<double, 9, 1> v = Quadric::V(y[k]).head<9>() - vbar;
       const Eigen::Matrix<double, 3, 9> j = Quadric::J(y[k]).leftCols<9>();
       mm += weights[k] * v * v.transpose();
-      nn += weights[k] * j.transpose() * j;
+      // Coefficient by coefficient: a 9 x 3 x 9 product is past the size at
+      // which Eigen calls its general matrix product, whose setup cost more
+      // than the product.
+      nn += weights[k] * j.transpose().lazyProduct(j);
     }
     nn.diagonal().array() += 1e-12 * nn.trace();
     Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix<double, 9, 9>> ges(mm, nn);
