@@ -142,7 +142,8 @@ NeighborIndex::NeighborIndex(const PointList& points) : points_(points), impl_(s
   // cells around a point then hold its 20 nearest with few others (on a
   // rotated surface sample the first grid has cells ~2x larger and ~2x the
   // candidates).
-  impl_->box = RobustBox(points);
+  constexpr size_t kBoxSamples = 4096;
+  impl_->box = RobustBox(points, kBoxSamples);
   const Eigen::Vector3f extent = impl_->box.sizes().cwiseMax(MinExtent(impl_->box));
   const double count = static_cast<double>(points.size());
   impl_->Build(points, std::cbrt(static_cast<double>(extent.x()) * extent.y() * extent.z() / count));
@@ -459,11 +460,16 @@ bool NeighborIndex::AnyWithinIf(const Eigen::Vector3f& query, double radius_m, c
 // quantiles widened by half their distance on each side: a clean cloud's
 // extremes lie inside that, so its box (and every result) is the bounding
 // box as before; stray points beyond it are searched apart (Impl::far).
-Eigen::AlignedBox3f RobustBox(const PointList& points) {
+Eigen::AlignedBox3f RobustBox(const PointList& points, size_t max_samples) {
   Eigen::AlignedBox3f box;
   size_t finite = 0;
   for (const Eigen::Vector3f& p : points) {
     if (p.allFinite()) box.extend(p), ++finite;
+  }
+  const size_t stride = max_samples > 0 ? std::max<size_t>(1, points.size() / max_samples) : 1;
+  if (stride > 1) {
+    finite = 0;
+    for (size_t i = 0; i < points.size(); i += stride) finite += points[i].allFinite();
   }
   if (finite < 64) return box;
   std::vector<float> values;
@@ -472,8 +478,8 @@ Eigen::AlignedBox3f RobustBox(const PointList& points) {
   const size_t hi_rank = finite - 1 - lo_rank;
   for (int a = 0; a < 3; ++a) {
     values.clear();
-    for (const Eigen::Vector3f& p : points) {
-      if (p.allFinite()) values.push_back(p[a]);
+    for (size_t i = 0; i < points.size(); i += stride) {
+      if (points[i].allFinite()) values.push_back(points[i][a]);
     }
     std::nth_element(values.begin(), values.begin() + static_cast<long>(lo_rank), values.end());
     const float lo = values[lo_rank];
