@@ -41,7 +41,7 @@ Eigen::Vector3f Revolution::Normal(const Eigen::Vector3f& p) const {
 
 std::optional<Revolution> FitRevolution(const PointList& points_V, double top_z, double reach_m) {
   if (points_V.size() < 20) return std::nullopt;
-  std::vector<double> weight(points_V.size(), 1.0);
+  std::vector<double> weight(points_V.size(), 1.0), residual(points_V.size(), 0.0);
   Revolution s;
   // Two reweightings: the first fit's 3-RMS band keeps the body and drops
   // what belongs to another part (a stem, a handle); the second refits.
@@ -63,19 +63,20 @@ std::optional<Revolution> FitRevolution(const PointList& points_V, double top_z,
     s.a = u(2) + s.x0 * s.x0 + s.y0 * s.y0;
     s.b = u(3);
     s.c = u(4);
+    // Each point's residual once (the last pass needs only the inliers').
     double squares = 0.0;
     size_t used = 0;
     for (size_t i = 0; i < points_V.size(); ++i) {
+      if (weight[i] == 0.0 && pass == 2) continue;
+      residual[i] = RadialResidual(s, points_V[i]);
       if (weight[i] == 0.0) continue;
-      squares += std::pow(RadialResidual(s, points_V[i]), 2);
+      squares += std::pow(residual[i], 2);
       ++used;
     }
     if (used < 20) return std::nullopt;
     s.rms_m = std::sqrt(squares / static_cast<double>(used));
     if (pass == 2) break;
-    for (size_t i = 0; i < points_V.size(); ++i) {
-      weight[i] = RadialResidual(s, points_V[i]) <= 3.0 * s.rms_m ? 1.0 : 0.0;
-    }
+    for (size_t i = 0; i < points_V.size(); ++i) weight[i] = residual[i] <= 3.0 * s.rms_m ? 1.0 : 0.0;
   }
   s.pole_z = PoleAbove(s, top_z);
   if (!(s.pole_z <= top_z + reach_m)) return std::nullopt;
