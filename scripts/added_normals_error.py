@@ -8,8 +8,9 @@ BEFORE and AFTER are folders written by `graspfill bench repair --objects DIR
 --dump OUT` with two builds. For each row found in both (NAME_repaired.ply
 beside NAME_truth.ply), the added points (provenance not 0) are compared with
 the nearest truth sample: the angle between the two normals, unoriented
-[deg], median and p95, and the share that points the other way. Needs numpy
-and scipy (Debian: python3-numpy python3-scipy).
+[deg], median and p95, and the share that points the other way. Needs
+graspfill's Python package (the build tree's: PYTHONPATH=build/lcmtypes/
+lcmgen/python) and scipy (Debian: python3-scipy).
 (docs/measurements/2026-12-07-repair-time-and-ablations.md)
 """
 import glob
@@ -17,52 +18,26 @@ import os
 import sys
 
 try:
+    import graspfill
     import numpy as np
     from scipy.spatial import cKDTree
 except ImportError as e:
-    sys.exit(f"added_normals_error.py: {e} (apt-get install python3-numpy python3-scipy)")
-
-PLY_TYPES = {"float": "<f4", "double": "<f8", "uchar": "u1", "int": "<i4", "uint": "<u4"}
-
-
-def read_ply(path):
-    """The vertex table of a binary little-endian PLY."""
-    with open(path, "rb") as f:
-        if f.readline().strip() != b"ply":
-            sys.exit(f"added_normals_error.py: {path} is not a PLY file")
-        count, fields = 0, []
-        while True:
-            line = f.readline().decode("ascii", "replace").split()
-            if not line:
-                continue
-            if line[0] == "format" and line[1] != "binary_little_endian":
-                sys.exit(f"added_normals_error.py: {path}: only binary_little_endian PLY is read")
-            if line[:2] == ["element", "vertex"]:
-                count = int(line[2])
-            elif line[0] == "element":
-                break  # the faces (if any) follow the vertices
-            elif line[0] == "property" and line[1] != "list":
-                fields.append((line[2], PLY_TYPES[line[1]]))
-            elif line[0] == "end_header":
-                break
-        return np.frombuffer(f.read(np.dtype(fields).itemsize * count), dtype=np.dtype(fields), count=count)
-
-
-def columns(table, names):
-    return np.stack([table[n] for n in names], axis=1).astype(np.float64)
+    sys.exit(f"added_normals_error.py: {e} (PYTHONPATH=build/lcmtypes/lcmgen/python; apt-get install python3-scipy)")
 
 
 def row_error(folder, name):
     """(added points, median deg, p95 deg, share flipped), or None without added points."""
-    repaired = read_ply(os.path.join(folder, name + "_repaired.ply"))
-    truth = read_ply(os.path.join(folder, name + "_truth.ply"))
-    added = repaired[repaired["provenance"] != 0]
-    if len(added) == 0:
+    repaired = graspfill.read_ply(os.path.join(folder, name + "_repaired.ply"))
+    truth = graspfill.read_ply(os.path.join(folder, name + "_truth.ply"))
+    if repaired["normals"] is None or truth["normals"] is None:
+        sys.exit(f"added_normals_error.py: {folder}/{name}: a cloud without normals")
+    added = repaired["provenance"] != 0
+    if not added.any():
         return None
-    _, nearest = cKDTree(columns(truth, "xyz")).query(columns(added, "xyz"))
-    dot = np.sum(columns(added, ("nx", "ny", "nz")) * columns(truth, ("nx", "ny", "nz"))[nearest], axis=1)
+    _, nearest = cKDTree(truth["points"]).query(repaired["points"][added])
+    dot = np.sum(repaired["normals"][added].astype(np.float64) * truth["normals"][nearest], axis=1)
     angle = np.degrees(np.arccos(np.clip(np.abs(dot), 0.0, 1.0)))
-    return len(added), np.median(angle), np.percentile(angle, 95), np.mean(dot < 0.0)
+    return int(added.sum()), np.median(angle), np.percentile(angle, 95), np.mean(dot < 0.0)
 
 
 def main():
