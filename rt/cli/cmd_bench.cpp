@@ -174,6 +174,7 @@ struct DepthErrorPass {
   refine::DepthScaleEstimate found;
   int turns{0};
 };
+// The turns of a recording of `frames` posed frames that the pass plays.
 int DepthErrorTurns(size_t frames) {
   const size_t wanted = static_cast<size_t>(refine::kDepthScaleMinFrames) * 5 / 4;
   return static_cast<int>((wanted + frames - 1) / frames);

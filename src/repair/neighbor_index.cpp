@@ -462,15 +462,12 @@ bool NeighborIndex::AnyWithinIf(const Eigen::Vector3f& query, double radius_m, c
 // box as before; stray points beyond it are searched apart (Impl::far).
 Eigen::AlignedBox3f RobustBox(const PointList& points, size_t max_samples) {
   Eigen::AlignedBox3f box;
-  size_t finite = 0;
   for (const Eigen::Vector3f& p : points) {
-    if (p.allFinite()) box.extend(p), ++finite;
+    if (p.allFinite()) box.extend(p);
   }
   const size_t stride = max_samples > 0 ? std::max<size_t>(1, points.size() / max_samples) : 1;
-  if (stride > 1) {
-    finite = 0;
-    for (size_t i = 0; i < points.size(); i += stride) finite += points[i].allFinite();
-  }
+  size_t finite = 0;  // of the points the quantiles read
+  for (size_t i = 0; i < points.size(); i += stride) finite += points[i].allFinite();
   if (finite < 64) return box;
   std::vector<float> values;
   values.reserve(finite);
