@@ -27,6 +27,16 @@ double SeenFreeShare(const VisibilityRecord& record, const std::vector<Eigen::Ve
   return counted > 0 ? static_cast<double>(free) / static_cast<double>(counted) : 0.0;
 }
 
+std::vector<char> SeenFreeFlags(const VisibilityRecord& record, const std::vector<Eigen::Vector3f>& points_V,
+                                const Eigen::Isometry3f& T_in_V) {
+  std::vector<char> free(points_V.size(), 0);
+  size_t first_key_frame = 0;  // neighbouring points are mostly carved by the same key frame
+  for (size_t i = 0; i < points_V.size(); ++i) {
+    free[i] = record.SeenFree(T_in_V * points_V[i], 0.0f, false, &first_key_frame);
+  }
+  return free;
+}
+
 int DropSeenFree(const VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
                  std::vector<Eigen::Vector3f>* points_V, float above_z_V) {
   const size_t before = points_V->size();

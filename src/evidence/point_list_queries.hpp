@@ -28,6 +28,9 @@ namespace graspfill::evidence {
 double SeenFreeShare(const VisibilityRecord& record, const std::vector<Eigen::Vector3f>& points_V,
                      const Eigen::Isometry3f& T_in_V, const std::vector<char>* uncounted = nullptr);
 
+/// One flag per point of `points_V`: whether the record sees it free.
+std::vector<char> SeenFreeFlags(const VisibilityRecord& record, const std::vector<Eigen::Vector3f>& points_V,
+                                const Eigen::Isometry3f& T_in_V);
 /// Removes the points the record sees free; returns how many. Only
 /// those above `above_z_V` are tested (the others passed before).
 int DropSeenFree(const VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,

@@ -49,10 +49,19 @@ void TestMirrorAgainstRecord(const evidence::VisibilityRecord& record, const Evi
   // (EvidenceConfig::near_observed_m) answers for it.
   PointList& m = symmetry->added_V;
   std::vector<char> beside = BesideObserved(index_V, config.near_observed_m, m);
-  report->mirror_free_share = evidence::SeenFreeShare(record, m, T_in_V, &beside);
-  const bool any_counted = std::find(beside.begin(), beside.end(), 0) != beside.end();
-  const double drop =
-      any_counted ? LowerMirrorOutOfFree(record, config, T_in_V, symmetry->box_min_V.z(), &m, &beside) : 0.0;
+  // Each point is asked once: the share, and the drop below where the
+  // image stays where it is (the lowering's first height is the image).
+  const std::vector<char> free = evidence::SeenFreeFlags(record, m, T_in_V);
+  size_t counted = 0, counted_free = 0;
+  for (size_t i = 0; i < m.size(); ++i) {
+    counted += !beside[i];
+    counted_free += !beside[i] && free[i];
+  }
+  report->mirror_free_share =
+      counted ? static_cast<double>(counted_free) / static_cast<double>(counted) : 0.0;
+  const double drop = counted > 0 && report->mirror_free_share > config.max_mirror_free_share
+                          ? LowerMirrorOutOfFree(record, config, T_in_V, symmetry->box_min_V.z(), &m, &beside)
+                          : 0.0;
   if (drop > 0.0) {
     report->mirror_plane_drop_m = drop;
     report->mirror_free_share = evidence::SeenFreeShare(record, m, T_in_V, &beside);
@@ -69,8 +78,17 @@ void TestMirrorAgainstRecord(const evidence::VisibilityRecord& record, const Evi
                        "% of its points lie in seen-free space (not symmetric: a handle, a spout?)";
     symmetry->added_V.clear();
   } else {
-    report->rejected_free += evidence::DropSeenFree(record, T_in_V, &symmetry->added_V);
-    report->rejected_in_claw += evidence::DropInsideClaw(record, T_in_V, &symmetry->added_V);
+    if (drop == 0.0) {
+      size_t kept = 0;
+      for (size_t i = 0; i < m.size(); ++i) {
+        if (!free[i]) m[kept++] = m[i];
+      }
+      report->rejected_free += static_cast<int>(m.size() - kept);
+      m.resize(kept);
+    } else {
+      report->rejected_free += evidence::DropSeenFree(record, T_in_V, &m);
+    }
+    report->rejected_in_claw += evidence::DropInsideClaw(record, T_in_V, &m);
   }
 }
 
@@ -231,7 +249,8 @@ EvidenceTopPoints ApplyEvidence(const evidence::VisibilityRecord& record, const 
   const float carved_top = mirrored ? CarvedImageTop(record, config, T_in_V, image_top, m)
                                     : std::numeric_limits<float>::quiet_NaN();
   bool carved = !std::isnan(carved_top);
-  EvidenceTop top = CloseTopFromEvidence(index_V, *surface_V, record, T_in_V, spacing_m, config);
+  // With a mirror, a dome is refitted over the cloud and the image below.
+  EvidenceTop top = CloseTopFromEvidence(index_V, *surface_V, record, T_in_V, spacing_m, config, mirrored);
   EvidenceTopPoints result = OutcomeAndExtrusion(top);
   if (mirrored && top.outcome == TopEvidence::kDome) {
     RefitDomeWithImage(record, config, T_in_V, index_V, spacing_m, *surface_V, m, &top);

@@ -88,8 +88,9 @@ PointList KeepNewAndUnseen(const PointList& candidates, const NeighborIndex& obs
 // may rise no more than the config's search reach above the wall. (Not the
 // top band's outline: where the highest points seen lie to one side of a
 // round top, the apex lies outside it, and the top's middle stayed open.)
+// With `first_only`, the first candidate alone: whether there is a dome.
 PointList DomeCandidates(const PointList& points_V, float z_wall, double spacing_m,
-                         const EvidenceConfig& config) {
+                         const EvidenceConfig& config, bool first_only) {
   std::vector<int> support;
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   Ring outline;
@@ -148,7 +149,9 @@ PointList DomeCandidates(const PointList& points_V, float z_wall, double spacing
       if (!geometry::InsideConvex(outline, {x, y})) continue;
       Eigen::Vector3d p = f.Point(x - frame.origin.x(), y - frame.origin.y());
       if (on_quadric && !quadric.Project(&p, kMaxMoveM)) continue;
-      if (!seen.AnyWithin(At(p.head<2>(), 0.0), spacing_m)) candidates.push_back(p.cast<float>());
+      if (seen.AnyWithin(At(p.head<2>(), 0.0), spacing_m)) continue;
+      candidates.push_back(p.cast<float>());
+      if (first_only) return candidates;
     }
   }
   return candidates;
@@ -221,7 +224,7 @@ std::string TopEvidenceName(TopEvidence outcome) {
 
 EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointList& fills_V,
                                  const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                                 double spacing_m, const EvidenceConfig& config) {
+                                 double spacing_m, const EvidenceConfig& config, bool dome_outcome_only) {
   config.Validate();
   const PointList& points_V = observed_V.points();
   EvidenceTop top;
@@ -249,11 +252,13 @@ EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointLis
       geometry::PolygonArea(hull) < config.min_flat_area_ratio * geometry::PolygonArea(lower)) {
     top.outcome = TopEvidence::kTapered;
     if (config.dome_support_m > 0.0) {
-      const PointList dome = DomeCandidates(points_V, z_wall, spacing_m, config);
+      const PointList dome = DomeCandidates(points_V, z_wall, spacing_m, config, dome_outcome_only);
       if (!dome.empty()) {
         top.outcome = TopEvidence::kDome;
-        top.added_V =
-            KeepNewAndUnseen(dome, observed_V, fills_index, spacing_m, record, T_in_V, &top.rejected_free);
+        if (!dome_outcome_only) {
+          top.added_V =
+              KeepNewAndUnseen(dome, observed_V, fills_index, spacing_m, record, T_in_V, &top.rejected_free);
+        }
       }
     }
     return top;

@@ -45,9 +45,12 @@ struct EvidenceTop {
 /// the highest observed point up to that height, and a cap there, sampled
 /// at `spacing_m`, skipping places within 0.75 spacing of the cloud or of
 /// `fills_V` (earlier fills) and any point the record sees free.
+/// `dome_outcome_only`: a dome is only found, not sampled (no added_V):
+/// for a caller that refits it over more points.
 EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointList& fills_V,
                                  const evidence::VisibilityRecord& record, const Eigen::Isometry3f& T_in_V,
-                                 double spacing_m, const EvidenceConfig& config);
+                                 double spacing_m, const EvidenceConfig& config,
+                                 bool dome_outcome_only = false);
 
 /// "height found", "not observable", "no outline", "tapered top", "dome".
 std::string TopEvidenceName(TopEvidence outcome);

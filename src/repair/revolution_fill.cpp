@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
 namespace graspfill::repair {
@@ -87,23 +88,17 @@ RevolutionSamples SampleRevolution(const Revolution& s, double from_z, double sp
                                    const PointList& taken_V) {
   RevolutionSamples out;
   if (!(spacing_m > 0.0) || !(s.pole_z > from_z)) return out;
-  PointList on_surface;  // the taken points, moved radially onto the surface
-  on_surface.reserve(taken_V.size());
-  for (const Eigen::Vector3f& p : taken_V) {
-    const double r2 = s.RadiusSquared(p.z());
-    const Eigen::Vector2d d(p.x() - s.x0, p.y() - s.y0);
-    if (!(r2 > 0.0) || d.norm() < 1e-9) continue;
-    const Eigen::Vector2d q = Eigen::Vector2d(s.x0, s.y0) + d.normalized() * std::sqrt(r2);
-    on_surface.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()), p.z());
-  }
-  const NeighborIndex taken(on_surface);
-  const auto keep = [&](const Eigen::Vector3f& p) {
-    if (taken.AnyWithin(p, spacing_m)) return;  // most samples: on the seen surface
-    out.points_V.push_back(p);
-    out.in_hole.push_back(!taken.AnyWithin(p, hole_m));
-  };
   // Rings one spacing apart along the profile (dz shrinks where the
-  // surface turns flat towards the pole), then the pole itself.
+  // surface turns flat towards the pole), then the pole itself, a ring of
+  // one.
+  struct Ring {
+    float z;
+    size_t first;               // its first sample in `samples`
+    long n;                     // its samples
+    double radius, per_sample;  // [m], [rad]
+  };
+  std::vector<Ring> rings;
+  PointList samples;
   double z = from_z;
   while (z < s.pole_z) {
     const double r2 = s.RadiusSquared(z);
@@ -114,15 +109,69 @@ RevolutionSamples SampleRevolution(const Revolution& s, double from_z, double sp
     }
     const double r = std::sqrt(r2);
     const int n = std::max(1, static_cast<int>(std::ceil(2.0 * M_PI * r / spacing_m)));
+    rings.push_back({static_cast<float>(z), samples.size(), n, r, 2.0 * M_PI / n});
     for (int k = 0; k < n; ++k) {
       const double t = 2.0 * M_PI * k / n;
-      keep(Eigen::Vector3f(static_cast<float>(s.x0 + r * std::cos(t)),
-                           static_cast<float>(s.y0 + r * std::sin(t)), static_cast<float>(z)));
+      samples.emplace_back(static_cast<float>(s.x0 + r * std::cos(t)),
+                           static_cast<float>(s.y0 + r * std::sin(t)), static_cast<float>(z));
     }
     const double slope = (s.b + 2.0 * s.c * z) / (2.0 * r);  // dr/dz
     z += std::max(spacing_m / std::sqrt(1.0 + slope * slope), 1e-6);
   }
-  keep(Eigen::Vector3f(static_cast<float>(s.x0), static_cast<float>(s.y0), static_cast<float>(s.pole_z)));
+  rings.push_back({static_cast<float>(s.pole_z), samples.size(), 1, 0.0, 2.0 * M_PI});
+  samples.emplace_back(static_cast<float>(s.x0), static_cast<float>(s.y0), static_cast<float>(s.pole_z));
+
+  // A sample within a spacing of a taken point moved radially onto the
+  // surface lies on the seen surface (so the model's own error off it, a
+  // ball's panels, opens no hole). Asked from the taken points' side: each
+  // reaches the few samples of the rings within a spacing, by its angle.
+  PointList on_surface;
+  on_surface.reserve(taken_V.size());
+  std::vector<char> covered(samples.size(), 0);
+  const double spacing2 = spacing_m * spacing_m;
+  for (const Eigen::Vector3f& p : taken_V) {
+    const double r2 = s.RadiusSquared(p.z());
+    const Eigen::Vector2d d(p.x() - s.x0, p.y() - s.y0);
+    if (!(r2 > 0.0) || d.norm() < 1e-9) continue;
+    const Eigen::Vector2d q2 = Eigen::Vector2d(s.x0, s.y0) + d.normalized() * std::sqrt(r2);
+    const Eigen::Vector3f q(static_cast<float>(q2.x()), static_cast<float>(q2.y()), p.z());
+    on_surface.push_back(q);
+    const Eigen::Vector3d qd = q.cast<double>();
+    const auto test = [&](size_t j) {
+      if (!covered[j] && (samples[j].cast<double>() - qd).squaredNorm() <= spacing2) covered[j] = 1;
+    };
+    const double angle = std::atan2(qd.y() - s.y0, qd.x() - s.x0);
+    const double q_radius = std::hypot(qd.x() - s.x0, qd.y() - s.y0);
+    auto ring = std::lower_bound(rings.begin(), rings.end(), q.z() - spacing_m - 1e-6,
+                                 [](const Ring& a, double v) { return a.z < v; });
+    for (; ring != rings.end() && ring->z <= q.z() + spacing_m + 1e-6; ++ring) {
+      const long n = ring->n;
+      // Within a spacing, the angle to a sample at radius r is at most
+      // 2 asin(spacing / (2 sqrt(r q_radius))) <= pi spacing / (2 sqrt(r
+      // q_radius)); one sample more each side for the rounding, and the
+      // exact test decides.
+      const double reach = M_PI * spacing_m / (2.0 * std::sqrt(ring->radius * q_radius));
+      const double per_reach = reach / ring->per_sample;
+      const long half = per_reach < static_cast<double>(n) ? static_cast<long>(per_reach) + 2 : n;
+      if (2 * half + 1 >= n) {
+        for (long k = 0; k < n; ++k) test(ring->first + static_cast<size_t>(k));
+        continue;
+      }
+      long k = std::lround(angle / ring->per_sample) - half;
+      if (k < 0) k += n;
+      for (long m = 0; m <= 2 * half; ++m, ++k) {
+        if (k >= n) k -= n;
+        test(ring->first + static_cast<size_t>(k));
+      }
+    }
+  }
+  std::optional<NeighborIndex> taken;
+  for (size_t j = 0; j < samples.size(); ++j) {
+    if (covered[j]) continue;
+    if (!taken && !on_surface.empty()) taken.emplace(on_surface);
+    out.points_V.push_back(samples[j]);
+    out.in_hole.push_back(!taken || !taken->AnyWithin(samples[j], hole_m));
+  }
   return out;
 }
 

@@ -39,6 +39,11 @@ TEST(PointListQueries, SeenFreeShareCountsTheFreePointsAndDropSeenFreeRemovesThe
   // The surface points stay, in their order.
   EXPECT_EQ(points, Points(before.begin() + kFree, before.end()));
   EXPECT_EQ(SeenFreeShare(record, points, identity), 0.0);
+  // One flag per point, in order: the free ones first.
+  std::vector<char> expected(kFree + kSurface, 0);
+  std::fill(expected.begin(), expected.begin() + kFree, 1);
+  EXPECT_EQ(SeenFreeFlags(record, before, identity), expected);
+  EXPECT_TRUE(SeenFreeFlags(record, Points{}, identity).empty());
 }
 
 TEST(PointListQueries, UncountedPointsAndPointsBelowTheHeightAreLeftOut) {
@@ -67,6 +72,8 @@ TEST(PointListQueries, PointsAreMappedIntoTheRecordsFrame) {
   for (int i = 0; i < kFree; ++i) points_V.push_back(T_in_V.inverse() * PointAt(220 + 5 * i, 160, 0.40f));
   for (int i = 0; i < kSurface; ++i) points_V.push_back(T_in_V.inverse() * PointAt(220 + 5 * i, 300, 0.5f));
   EXPECT_DOUBLE_EQ(SeenFreeShare(record, points_V, T_in_V), static_cast<double>(kFree) / (kFree + kSurface));
+  EXPECT_EQ(SeenFreeFlags(record, points_V, T_in_V)[0], 1);
+  EXPECT_EQ(SeenFreeFlags(record, points_V, T_in_V)[kFree], 0);
   EXPECT_EQ(DropSeenFree(record, T_in_V, &points_V), kFree);
 }
 

@@ -302,6 +302,18 @@ TEST(EvidenceRepair, ARoundTopGetsADomeOnTheBall) {
                                                 Eigen::Isometry3f::Identity(), 0.001, no_dome);
   EXPECT_EQ(flat.outcome, TopEvidence::kTapered);
   EXPECT_TRUE(flat.added_V.empty());
+  // Asked for the outcome alone (a caller that refits the dome), the same
+  // outcome and heights, and no points.
+  const EvidenceTop found = CloseTopFromEvidence(
+      NeighborIndex(open), {}, nothing_seen, Eigen::Isometry3f::Identity(), 0.001, EvidenceConfig{}, true);
+  EXPECT_EQ(found.outcome, TopEvidence::kDome);
+  EXPECT_EQ(found.top_z_V, top.top_z_V);
+  EXPECT_EQ(found.wall_top_z_V, top.wall_top_z_V);
+  EXPECT_TRUE(found.added_V.empty());
+  EXPECT_EQ(found.rejected_free, 0);
+  const EvidenceTop no_dome_found = CloseTopFromEvidence(NeighborIndex(open), {}, nothing_seen,
+                                                         Eigen::Isometry3f::Identity(), 0.001, no_dome, true);
+  EXPECT_EQ(no_dome_found.outcome, TopEvidence::kTapered);
 }
 
 // The highest points seen lie to one side of a round top (the cut tilted

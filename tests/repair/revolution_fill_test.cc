@@ -74,6 +74,58 @@ TEST(RevolutionFill, SphereWithItsTopCutOffClosesAtItsPole) {
   }
 }
 
+TEST(RevolutionFill, SamplesLeftAreThoseNoTakenPointComesWithinASpacingOf) {
+  // The definition, by brute force: with nothing taken, every sample; with
+  // a scattered cloud taken (off the surface, with a gap, all around the
+  // axis and up to the pole), exactly those samples with no taken point,
+  // moved radially onto the surface, within a spacing; and in_hole where
+  // none lies within the hole's width either.
+  const double R = 0.04, spacing = 0.0012, hole = 0.0036;
+  const Revolution s{0.003, -0.002, R * R, 0.0, -1.0, R, 0.0};
+  const RevolutionSamples all = SampleRevolution(s, -0.9 * R, spacing, hole, {});
+  ASSERT_GT(all.points_V.size(), 1000u);
+  for (char h : all.in_hole) EXPECT_TRUE(h);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  PointList taken;
+  while (taken.size() < 6000) {
+    const Eigen::Vector3d d(unit(rng), unit(rng), unit(rng));
+    if (d.norm() < 0.1 || d.norm() > 1.0) continue;
+    const Eigen::Vector3d p = Eigen::Vector3d(0.003, -0.002, 0.0) + (R + 0.001 * unit(rng)) * d.normalized();
+    if (std::abs(p.z() - 0.01) < 0.004) continue;  // a band left open
+    taken.push_back(p.cast<float>());
+  }
+  PointList on_surface;
+  for (const Eigen::Vector3f& p : taken) {
+    const Eigen::Vector2d d(p.x() - s.x0, p.y() - s.y0);
+    const double r2 = s.RadiusSquared(p.z());
+    if (r2 <= 0.0) continue;
+    const Eigen::Vector2d q = Eigen::Vector2d(s.x0, s.y0) + d.normalized() * std::sqrt(r2);
+    on_surface.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()), p.z());
+  }
+  const auto within = [&](const Eigen::Vector3f& a, double radius) {
+    for (const Eigen::Vector3f& b : on_surface) {
+      if ((a.cast<double>() - b.cast<double>()).squaredNorm() <= radius * radius) return true;
+    }
+    return false;
+  };
+  PointList expected;
+  std::vector<char> expected_hole;
+  for (const Eigen::Vector3f& p : all.points_V) {
+    if (within(p, spacing)) continue;
+    expected.push_back(p);
+    expected_hole.push_back(!within(p, hole));
+  }
+  const RevolutionSamples left = SampleRevolution(s, -0.9 * R, spacing, hole, taken);
+  ASSERT_GT(expected.size(), 100u);
+  ASSERT_LT(expected.size(), all.points_V.size() / 2);
+  ASSERT_EQ(left.points_V.size(), expected.size());
+  for (size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(left.points_V[i], expected[i]) << i;
+    EXPECT_EQ(left.in_hole[i], expected_hole[i]) << i;
+  }
+}
+
 TEST(RevolutionFill, NormalsPointOutOfTheSurface) {
   // A sphere's: along the radius, at the pole too; a spheroid's: its
   // gradient, which is not radial off the equator and the poles.
