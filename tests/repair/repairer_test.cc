@@ -267,6 +267,19 @@ TEST(Repairer, KeepsInputNormalsAndEstimatesTheAddedOnes) {
   }
   EXPECT_GT(judged, 0.5 * static_cast<double>(r.cloud.size() - in.size()));
   EXPECT_GT(good, 0.95 * static_cast<double>(judged));
+  // The mirror's points take their source's normal, mirrored: on the top
+  // cap (the bottom's image) it is the axis, to within a degree, where a
+  // plane through neighbours tilts at the cap's edge.
+  size_t on_cap = 0, along_axis = 0;
+  for (size_t i = in.size(); i < r.cloud.size(); ++i) {
+    if (r.cloud.provenance[i] != Provenance::kSymmetry) continue;
+    const Eigen::Vector3f& p = r.cloud.points_G[i];
+    if (p.z() < height - 0.001 || std::hypot(p.x(), p.y()) > radius - 0.001) continue;
+    ++on_cap;
+    along_axis += r.cloud.normals_G[i].z() > std::cos(M_PI / 180.0);
+  }
+  EXPECT_GT(on_cap, 100u);
+  EXPECT_EQ(along_axis, on_cap);
   // Without input normals the output has none.
   EXPECT_TRUE(Repair(Cloud(c.holey)).cloud.normals_G.empty());
 }
