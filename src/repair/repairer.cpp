@@ -69,7 +69,7 @@ void BoxInInput(const PointList& points_V, const VirtualFrame& frame, HoleSummar
 // points (`index`'s: so a small patch borrows its rim's), turned away from
 // the centroid, since a held object is roughly convex about it.
 void AppendAddedNormals(size_t first_added, const std::vector<Eigen::Vector3f>& known_G,
-                        const NeighborIndex& index, ObjectCloud* cloud) {
+                        const NeighborIndex* index, ObjectCloud* cloud) {
   constexpr int kNeighbors = 16;  // a few spacings: stable, yet follows a curve
   const PointList& points = cloud->points_G;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
@@ -80,7 +80,8 @@ void AppendAddedNormals(size_t first_added, const std::vector<Eigen::Vector3f>& 
     if (known_G[i - first_added].isZero()) unknown.push_back(static_cast<int>(i));
   }
   std::vector<Eigen::Vector3f> estimated;
-  if (!unknown.empty()) estimated = fill::EstimateNormals(index, unknown, kNeighbors, centroid.cast<float>());
+  if (!unknown.empty())
+    estimated = fill::EstimateNormals(*index, unknown, kNeighbors, centroid.cast<float>());
   size_t next = 0;
   for (size_t i = first_added; i < points.size(); ++i) {
     const Eigen::Vector3f& known = known_G[i - first_added];
@@ -633,26 +634,30 @@ void AppendAdded(const ObjectCloud& input, const ClawFills& fills, const Symmetr
       if (top.points_V[k].z() == cap_z) known_G[first_top + k] = up_G;
     }
   }
-  const NeighborIndex index(out->points_G);
+  // All points' index, where a normal is still to find.
+  std::optional<NeighborIndex> index;
+  if (std::any_of(known_G.begin(), known_G.end(), [](const Eigen::Vector3f& n) { return n.isZero(); })) {
+    index.emplace(out->points_G);
+  }
   // The mirror's points: their source's normal, mirrored (the input's point
   // nearest to where each was mirrored from, about the plane z = h in V).
   // Where that is an added point, the neighbours' estimate.
   const double h = symmetry.symmetry_plane_z;
-  if (std::isfinite(h)) {
+  if (index && std::isfinite(h)) {
     const Eigen::Vector3f up_G = T_in_V.linear().col(2);
     const size_t first_mirror = fills.surface_V.size();
     std::vector<int> nearest;
     std::vector<double> squared;
     for (size_t k = 0; k < symmetry.added_V.size(); ++k) {
       const Eigen::Vector3f& q = symmetry.added_V[k];
-      index.Knn(T_in_V * Eigen::Vector3f(q.x(), q.y(), static_cast<float>(2.0 * h) - q.z()), 1, &nearest,
-                &squared);
+      index->Knn(T_in_V * Eigen::Vector3f(q.x(), q.y(), static_cast<float>(2.0 * h) - q.z()), 1, &nearest,
+                 &squared);
       if (nearest.empty() || static_cast<size_t>(nearest[0]) >= input.points_G.size()) continue;
       const Eigen::Vector3f& n = input.normals_G[static_cast<size_t>(nearest[0])];
       known_G[first_mirror + k] = n - 2.0f * n.dot(up_G) * up_G;
     }
   }
-  AppendAddedNormals(input.points_G.size(), known_G, index, out);
+  AppendAddedNormals(input.points_G.size(), known_G, index ? &*index : nullptr, out);
 }
 
 // The report's holes (in the input's frame), with the points added to each.
