@@ -129,6 +129,7 @@ void RefitDomeWithImage(const evidence::VisibilityRecord& record, const Evidence
   const bool dome = over_both.outcome == TopEvidence::kDome;
   top->added_V = dome ? std::move(over_both.added_V) : PointList{};
   top->rejected_free = dome ? over_both.rejected_free : 0;
+  top->dome = dome ? std::move(over_both.dome) : std::nullopt;
 }
 
 // The rings' top stands when it is just under the carve (the hull is the
@@ -274,6 +275,7 @@ EvidenceTopPoints ApplyEvidence(const evidence::VisibilityRecord& record, const 
   report->rejected_in_claw += in_claw;
   report->top_points_added = static_cast<int>(top.added_V.size());
   result.points_V = std::move(top.added_V);
+  result.dome = std::move(top.dome);
   result.rejected = top.rejected_free + in_claw;
   return result;
 }

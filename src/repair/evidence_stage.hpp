@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 #include <limits>
+#include <optional>
 
 #include "evidence_config.hpp"
 #include "evidence_top.hpp"
@@ -37,6 +38,7 @@ struct EvidenceTopPoints {
   int extrusion_rejected{0};                                        ///< seen free
   double extrusion_rms_m{std::numeric_limits<double>::infinity()};  ///< EvidenceTop's
   int outline_vertices{0};                                          ///< EvidenceTop's
+  std::optional<DomeSurface> dome;                                  ///< the surface of points_V, when a dome
 };
 
 // The evidence's part of steps 7-8: fills in seen-free space dropped, a

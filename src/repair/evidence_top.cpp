@@ -89,8 +89,9 @@ PointList KeepNewAndUnseen(const PointList& candidates, const NeighborIndex& obs
 // top band's outline: where the highest points seen lie to one side of a
 // round top, the apex lies outside it, and the top's middle stayed open.)
 // With `first_only`, the first candidate alone: whether there is a dome.
+// `surface`: the surface they lie on.
 PointList DomeCandidates(const PointList& points_V, float z_wall, double spacing_m,
-                         const EvidenceConfig& config, bool first_only) {
+                         const EvidenceConfig& config, bool first_only, DomeSurface* surface) {
   std::vector<int> support;
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   Ring outline;
@@ -140,6 +141,8 @@ PointList DomeCandidates(const PointList& points_V, float z_wall, double spacing
   const bool on_quadric =
       fill::FitQuadric(points_V, support, std::vector<double>(support.size(), 1.0), 6, 0.0001, &quadric) &&
       !quadric.IsPlanePair() && quadric.sigma_m <= kQuadricFitM;
+  surface->field = f;
+  if (on_quadric) surface->quadric = quadric;
   const NeighborIndex seen(columns);
   PointList candidates;
   Eigen::AlignedBox2d box;
@@ -206,6 +209,17 @@ void FindTopHeight(const Ring& ring, float z_wall, const evidence::VisibilityRec
 
 }  // namespace
 
+Eigen::Vector3f DomeSurface::Normal(const Eigen::Vector3f& p_V) const {
+  const Eigen::Vector3d p = p_V.cast<double>();
+  const Eigen::Vector3d local = field.frame.Local(p);
+  const Eigen::Vector3d up = field.Normal(local.x(), local.y());
+  if (!quadric) return up.cast<float>();
+  const Eigen::Vector3d g = quadric->Gradient(p);
+  if (!(g.norm() > 0.0)) return up.cast<float>();
+  // The quadric's gradient, on the field's side (out of the top).
+  return (g.dot(up) < 0.0 ? -g : g).normalized().cast<float>();
+}
+
 std::string TopEvidenceName(TopEvidence outcome) {
   switch (outcome) {
     case TopEvidence::kHeightFound:
@@ -252,9 +266,11 @@ EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointLis
       geometry::PolygonArea(hull) < config.min_flat_area_ratio * geometry::PolygonArea(lower)) {
     top.outcome = TopEvidence::kTapered;
     if (config.dome_support_m > 0.0) {
-      const PointList dome = DomeCandidates(points_V, z_wall, spacing_m, config, dome_outcome_only);
+      DomeSurface surface;
+      const PointList dome = DomeCandidates(points_V, z_wall, spacing_m, config, dome_outcome_only, &surface);
       if (!dome.empty()) {
         top.outcome = TopEvidence::kDome;
+        top.dome = std::move(surface);
         if (!dome_outcome_only) {
           top.added_V =
               KeepNewAndUnseen(dome, observed_V, fills_index, spacing_m, record, T_in_V, &top.rejected_free);

@@ -6,11 +6,13 @@
 
 #include <Eigen/Geometry>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "evidence_config.hpp"
 #include "graspfill/evidence/visibility_record.hpp"
 #include "graspfill/repair/repair_types.hpp"
+#include "local_surfaces.hpp"
 #include "neighbor_index.hpp"
 
 namespace graspfill::repair {
@@ -22,6 +24,16 @@ enum class TopEvidence {
   kNoOutline,      ///< too few points near the top for an outline
   kTapered,        ///< the walls close in towards the top: no flat cap
   kDome,           ///< tapered, closed by a dome fitted to the top band
+};
+
+/// A dome's surface (V): the height field over V's x-y that closes a
+/// tapered top, or the quadric its points were moved onto. Its points take
+/// their normals from it.
+struct DomeSurface {
+  fill::HeightField field;
+  std::optional<fill::Quadric> quadric;
+  /// The outward unit normal at `p_V`, a point of the dome.
+  Eigen::Vector3f Normal(const Eigen::Vector3f& p_V) const;
 };
 
 struct EvidenceTop {
@@ -37,7 +49,8 @@ struct EvidenceTop {
   /// The vertices that describe the top band's hull (a flat top's
   /// outline) to within a spacing.
   int outline_vertices{0};
-  int rejected_free{0};  ///< candidates dropped as seen free
+  int rejected_free{0};             ///< candidates dropped as seen free
+  std::optional<DomeSurface> dome;  ///< a dome's surface (outcome kDome)
 };
 
 /// Closes the top of the cloud (`observed_V`'s points: observed, +z up in

@@ -53,6 +53,12 @@ struct HeightField {
     Basis(u, v, &f, nullptr, nullptr);
     return frame.World(u, v, f.dot(coeffs));
   }
+  // The unit normal at (u, v), on n's side.
+  Eigen::Vector3d Normal(double u, double v) const {
+    BasisVec f, fu, fv;
+    Basis(u, v, &f, &fu, &fv);
+    return (frame.n - fu.dot(coeffs) * frame.e1 - fv.dot(coeffs) * frame.e2).normalized();
+  }
   // Signed height of p above the sheet along n (outside the object > 0).
   double Above(const Eigen::Vector3d& p) const {
     const Eigen::Vector3d l = frame.Local(p);
@@ -113,6 +119,8 @@ struct Quadric {
   // an edge exactly, but continues each face past the edge and has no
   // gradient along it. Spheres, ellipsoids and cylinders have rank >= 3.
   bool IsPlanePair() const;  // out of line: Eigen's 4x4 solver is slow to compile
+  // The gradient's direction at p (either sign: the quadric has no outside).
+  Eigen::Vector3d Gradient(const Eigen::Vector3d& p) const { return J((p - mean) / scale) * q; }
   // First-order signed distance of p to the quadric [m].
   double Distance(const Eigen::Vector3d& p) const {
     const Eigen::Vector3d y = (p - mean) / scale;

@@ -525,6 +525,9 @@ TopCap SearchTop(const PointList& points_V, const ClawFills& fills, SymmetryResu
     dome.family = TopFamily::kDome;
     dome.parameters = 6;  // a quadratic height field
     dome.points_V = evidence_top.points_V;
+    if (evidence_top.dome) {
+      for (const Eigen::Vector3f& p : dome.points_V) dome.normals_V.push_back(evidence_top.dome->Normal(p));
+    }
     dome.free_share = static_cast<double>(evidence_top.rejected) /
                       static_cast<double>(evidence_top.rejected + evidence_top.points_V.size());
     candidates.push_back(std::move(dome));
@@ -582,7 +585,12 @@ TopCap SearchTop(const PointList& points_V, const ClawFills& fills, SymmetryResu
     top.points_V = best.points_V;
     top.normals_V = best.normals_V;
   }
-  if (best.family == TopFamily::kMirror) top.points_V = std::move(evidence_top.points_V);
+  if (best.family == TopFamily::kMirror) {
+    top.points_V = std::move(evidence_top.points_V);
+    if (evidence_top.dome) {
+      for (const Eigen::Vector3f& p : top.points_V) top.normals_V.push_back(evidence_top.dome->Normal(p));
+    }
+  }
   top.confidence = choice.confidence;
   report->evidence.top_points_added = static_cast<int>(top.points_V.size());
   return top;

@@ -292,6 +292,11 @@ TEST(EvidenceRepair, ARoundTopGetsADomeOnTheBall) {
   double worst = 0.0;
   for (const Eigen::Vector3f& p : top.added_V) worst = std::max(worst, OffBall(p));
   EXPECT_LT(worst, 0.0015);  // a paraboloid over a 36 mm cap of a 60 mm ball
+  // Its surface gives its points their normals: the ball's radius.
+  ASSERT_TRUE(top.dome.has_value());
+  for (const Eigen::Vector3f& p : top.added_V) {
+    EXPECT_GT(top.dome->Normal(p).dot(p.normalized()), std::cos(3.0 * M_PI / 180.0)) << p.transpose();
+  }
   // Every spot of the missing cap is within 2 mm of a dome point.
   const PointList cap = Ball([](const Eigen::Vector3f& p) { return p.z() > 0.024f; });
   EXPECT_GE(eval::FractionWithin(mesh::NearestDistances(cap, top.added_V), 0.002), 0.97);
