@@ -159,8 +159,11 @@ struct RepairResult {
 };
 
 /// Repairs an unorganized cloud (meters, any pose, normals optional: when
-/// given they are kept and the added points get estimated ones, oriented
-/// away from the centroid; otherwise the output has none). Throws std::invalid_argument on non-finite
+/// given they are kept and the added points get normals too: a mirrored
+/// point its source's, mirrored; a point on a fitted surface (the surface
+/// of revolution, the dome) that surface's; the others a plane through
+/// their neighbours', oriented away from the centroid; without input
+/// normals the output has none). Throws std::invalid_argument on non-finite
 /// coordinates or a bad config; a cloud too small or without holes comes back unchanged with the reason in
 /// report.status and report.status_detail.
 ///
