@@ -492,6 +492,14 @@ TopCandidate RevolutionCandidate(const PointList& points_V, const PointList& rim
   return c;
 }
 
+// The evidence's dome's own normals of `points_V` (V); empty without a dome.
+std::vector<Eigen::Vector3f> DomeNormals(const EvidenceTopPoints& evidence_top, const PointList& points_V) {
+  std::vector<Eigen::Vector3f> normals;
+  if (!evidence_top.dome) return normals;
+  for (const Eigen::Vector3f& p : points_V) normals.push_back(evidence_top.dome->Normal(p));
+  return normals;
+}
+
 // Step 9: the missing top by one scored search (top_search.hpp) over the
 // mirror (with its top), a surface of revolution, the evidence's dome and
 // "open". The winner's points and confidence; the report says which won.
@@ -525,9 +533,7 @@ TopCap SearchTop(const PointList& points_V, const ClawFills& fills, SymmetryResu
     dome.family = TopFamily::kDome;
     dome.parameters = 6;  // a quadratic height field
     dome.points_V = evidence_top.points_V;
-    if (evidence_top.dome) {
-      for (const Eigen::Vector3f& p : dome.points_V) dome.normals_V.push_back(evidence_top.dome->Normal(p));
-    }
+    dome.normals_V = DomeNormals(evidence_top, dome.points_V);
     dome.free_share = static_cast<double>(evidence_top.rejected) /
                       static_cast<double>(evidence_top.rejected + evidence_top.points_V.size());
     candidates.push_back(std::move(dome));
@@ -587,9 +593,7 @@ TopCap SearchTop(const PointList& points_V, const ClawFills& fills, SymmetryResu
   }
   if (best.family == TopFamily::kMirror) {
     top.points_V = std::move(evidence_top.points_V);
-    if (evidence_top.dome) {
-      for (const Eigen::Vector3f& p : top.points_V) top.normals_V.push_back(evidence_top.dome->Normal(p));
-    }
+    top.normals_V = DomeNormals(evidence_top, top.points_V);
   }
   top.confidence = choice.confidence;
   report->evidence.top_points_added = static_cast<int>(top.points_V.size());
