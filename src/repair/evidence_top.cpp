@@ -258,10 +258,14 @@ EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointLis
     if (p.z() <= lower_top && p.z() >= lower_top - config.top_band_m) lower_band.emplace_back(p.x(), p.y());
   }
   const Ring lower = geometry::ConvexHull2d(&lower_band);
-  // The fills apart: the cloud's index is the caller's.
-  std::optional<NeighborIndex> fills;
-  if (!fills_V.empty()) fills.emplace(fills_V);
-  const NeighborIndex* fills_index = fills ? &*fills : nullptr;
+  // The candidates kept, with the fills' own index (the cloud's is the
+  // caller's), built where some are to test: once on any path.
+  const auto keep_new_and_unseen = [&](const PointList& candidates) {
+    std::optional<NeighborIndex> fills;
+    if (!fills_V.empty()) fills.emplace(fills_V);
+    return KeepNewAndUnseen(candidates, observed_V, fills ? &*fills : nullptr, spacing_m, record, T_in_V,
+                            &top.rejected_free);
+  };
   if (lower.size() >= 3 &&
       geometry::PolygonArea(hull) < config.min_flat_area_ratio * geometry::PolygonArea(lower)) {
     top.outcome = TopEvidence::kTapered;
@@ -271,10 +275,7 @@ EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointLis
       if (!dome.empty()) {
         top.outcome = TopEvidence::kDome;
         top.dome = std::move(surface);
-        if (!dome_outcome_only) {
-          top.added_V =
-              KeepNewAndUnseen(dome, observed_V, fills_index, spacing_m, record, T_in_V, &top.rejected_free);
-        }
+        if (!dome_outcome_only) top.added_V = keep_new_and_unseen(dome);
       }
     }
     return top;
@@ -297,8 +298,7 @@ EvidenceTop CloseTopFromEvidence(const NeighborIndex& observed_V, const PointLis
       if (geometry::InsideConvex(hull, {x, y})) candidates.push_back(At({x, y}, top.top_z_V));
     }
   }
-  top.added_V =
-      KeepNewAndUnseen(candidates, observed_V, fills_index, spacing_m, record, T_in_V, &top.rejected_free);
+  top.added_V = keep_new_and_unseen(candidates);
   return top;
 }
 

@@ -80,8 +80,9 @@ void AppendAddedNormals(size_t first_added, const std::vector<Eigen::Vector3f>& 
     if (known_G[i - first_added].isZero()) unknown.push_back(static_cast<int>(i));
   }
   std::vector<Eigen::Vector3f> estimated;
-  if (!unknown.empty())
+  if (!unknown.empty()) {
     estimated = fill::EstimateNormals(*index, unknown, kNeighbors, centroid.cast<float>());
+  }
   size_t next = 0;
   for (size_t i = first_added; i < points.size(); ++i) {
     const Eigen::Vector3f& known = known_G[i - first_added];
