@@ -51,6 +51,16 @@ mesh::SurfaceSamples TruthSamples(const synth::Scene& scene) {
   return mesh::SampleSurface(scene.object_G(), 200000, 5);
 }
 
+FusedMeasures MeasureFused(const ObjectCloud& fused, const std::vector<Eigen::Vector3f>& truth) {
+  FusedMeasures m;
+  m.coverage = eval::FractionWithin(mesh::NearestDistances(truth, fused.points_G), kCoverageRadiusM);
+  const std::vector<double> to_truth = mesh::NearestDistances(fused.points_G, truth);
+  m.p95_mm = 1000.0 * Percentile(to_truth, 95.0);
+  m.p99_mm = 1000.0 * Percentile(to_truth, 99.0);
+  m.off_object_share = 1.0 - eval::FractionWithin(to_truth, kWrongDistanceM);
+  return m;
+}
+
 Outcome Measure(const ObjectCloud& cloud, size_t fused, const std::vector<Eigen::Vector3f>& truth,
                 const evidence::VisibilityRecord& record) {
   Outcome o;

@@ -36,6 +36,17 @@ std::unique_ptr<Pipeline> RunSceneThroughPipeline(const synth::Scene& scene, con
 /// object's surface in G (seed 5, whatever the scene's seed).
 mesh::SurfaceSamples TruthSamples(const synth::Scene& scene);
 
+/// A fused cloud against the truth.
+struct FusedMeasures {
+  double coverage{0.0};  ///< share of the truth within kCoverageRadiusM
+  double p95_mm{0.0};    ///< of its points' distances to the truth
+  double p99_mm{0.0};
+  double off_object_share{0.0};  ///< share of its points > kWrongDistanceM from the truth
+};
+
+/// `fused` (not empty) against `truth`.
+FusedMeasures MeasureFused(const ObjectCloud& fused, const std::vector<Eigen::Vector3f>& truth);
+
 /// A repaired cloud against the truth.
 struct Outcome {
   size_t points{0};

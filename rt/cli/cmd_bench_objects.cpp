@@ -25,15 +25,14 @@
 #include "bench_pipeline_parts.hpp"
 #include "commands.hpp"
 #include "error_text.hpp"
-#include "eval/metrics.hpp"
 #include "graspfill/core/percentile.hpp"
 #include "graspfill/io/ply.hpp"
 #include "graspfill/mesh/mesh_geometry.hpp"
-#include "graspfill/mesh/nearest_distances.hpp"
 #include "number_parsing.hpp"
 #include "object_manifest.hpp"
 #include "object_mesh.hpp"
 #include "progress.hpp"
+#include "sensor_options.hpp"
 #include "synth/scene.hpp"
 #include "unknown_option.hpp"
 
@@ -42,7 +41,7 @@ namespace {
 
 constexpr const char* kObjectsBenchCommand = "graspfill bench repair --objects";
 
-constexpr const char* kObjectsBenchUsage =
+constexpr const char* kObjectsBenchOptions =
     "usage: graspfill bench repair --objects DIR [--object NAME[,NAME..]] [--split tune|check]\n"
     "                              [--claw three-finger,parallel] [--grasp WAY[,WAY..]]\n"
     "                              [--seeds 1,2,3] [--frames N] [--repeat N] [--dump OUT]\n"
@@ -63,16 +62,18 @@ constexpr const char* kObjectsBenchUsage =
     "                give the same cloud)\n"
     "  --dump OUT    each row's truth, fused and repaired clouds as PLY in OUT\n"
     "                (an existing folder; no file there is overwritten)\n"
-    "  --reject-depth-edges  the pipeline drops the pixels on depth edges (off by\n"
-    "                default; docs/measurements/2026-12-06-depth-edges.md)\n"
-    "  --projector-shadow, --dark-patches F, --mixed-pixels P, --wobble-mm A,\n"
-    "  --depth-scale S  the sensor's artefacts, as `graspfill synth` makes them\n"
-    "                (none by default); --json rows add the fused cloud's p95 and\n"
-    "                the share of it more than 3 mm from the truth\n"
+    "  --json        rows add the fused cloud's p95 and the share of it more than\n"
+    "                3 mm from the truth\n";
+
+constexpr const char* kObjectsBenchTargets =
     "targets (issue 42): closed_symmetric coverage >= 97% (truth within 2 mm),\n"
     "added points' p95 <= 2 mm, <= 2% of them > 3 mm; closed_asymmetric and open:\n"
     "<= 2% > 3 mm, coverage not below the fused cloud's; every row: no added point\n"
     "in seen-free space. A claw that cannot hold an object: the row says why, not met.\n";
+
+std::string ObjectsBenchUsage() {
+  return std::string(kObjectsBenchOptions) + kSensorOptionsUsage + kObjectsBenchTargets;
+}
 
 // The issue's targets.
 constexpr double kMinCoverageSymmetric = 0.97;
@@ -207,11 +208,10 @@ std::string DumpPath(const std::string& dir, const RowSpec& s, const char* what)
 // One row: the scene, the pipeline, the repair and the measurements.
 // @throws std::exception on a failure of the run itself (not of a target).
 RowResult RunRow(const RowSpec& s, const TriangleMesh& mesh, int frames, int repeat,
-                 const std::string& dump_dir, bool reject_depth_edges,
-                 const synth::SensorModelConfig& sensor) {
+                 const std::string& dump_dir, const SensorOptions& sensor) {
   RowResult r;
   synth::SceneConfig sc;
-  sc.sensor = sensor;
+  sc.sensor = sensor.sensor;
   sc.mesh = mesh;
   sc.mesh_name = s.object->path;
   sc.claw = s.claw;
@@ -237,7 +237,7 @@ RowResult RunRow(const RowSpec& s, const TriangleMesh& mesh, int frames, int rep
                          1000.0 * scene->placement().claw.finger_length_m);
   }
   const std::unique_ptr<Pipeline> pipeline =
-      RunSceneThroughPipeline(*scene, PipelineFor(*scene, reject_depth_edges, &r.workspace_grown));
+      RunSceneThroughPipeline(*scene, PipelineFor(*scene, sensor.reject_depth_edges, &r.workspace_grown));
   const ObjectCloud fused = pipeline->ExtractCloud();
   const mesh::SurfaceSamples truth = TruthSamples(*scene);
   r.fused_points = fused.size();
@@ -246,12 +246,11 @@ RowResult RunRow(const RowSpec& s, const TriangleMesh& mesh, int frames, int rep
     r.misses.push_back({"fused_points", r.not_run});
     return r;
   }
-  r.fused_coverage =
-      eval::FractionWithin(mesh::NearestDistances(truth.points, fused.points_G), kCoverageRadiusM);
-  const std::vector<double> fused_to_truth = mesh::NearestDistances(fused.points_G, truth.points);
-  r.fused_p99_mm = 1000.0 * Percentile(fused_to_truth, 99.0);
-  r.fused_p95_mm = 1000.0 * Percentile(fused_to_truth, 95.0);
-  r.fused_off_share = 1.0 - eval::FractionWithin(fused_to_truth, kWrongDistanceM);
+  const FusedMeasures measured = MeasureFused(fused, truth.points);
+  r.fused_coverage = measured.coverage;
+  r.fused_p99_mm = measured.p99_mm;
+  r.fused_p95_mm = measured.p95_mm;
+  r.fused_off_share = measured.off_object_share;
   const evidence::VisibilityRecord& record = pipeline->visibility();
   const TimedRepair repair = RepairTimed(fused, &record, repeat);
   r.repaired = Measure(repair.cloud, fused.size(), truth.points, record);
@@ -455,20 +454,8 @@ struct Options {
   std::string dump_dir;
   bool json{false};
   bool verbose{false};
-  bool reject_depth_edges{false};
-  synth::SensorModelConfig sensor;  // the artefacts asked for
+  SensorOptions sensor;  // the artefacts asked for, and the depth-edge rule
 };
-
-// The sensor artefacts asked for, as ", projector shadow, ..." ("" for none).
-std::string SensorArtefactsText(const synth::SensorModelConfig& s) {
-  std::string text;
-  if (s.projector_shadow) text += ", projector shadow";
-  if (s.dark_patch_share > 0.0) text += Format(", dark patches %.0f%%", 100.0 * s.dark_patch_share);
-  if (s.mixed_pixel_prob > 0.0) text += Format(", mixed pixels %.2f", s.mixed_pixel_prob);
-  if (s.wobble_m > 0.0) text += Format(", wobble %.1f mm", 1000.0 * s.wobble_m);
-  if (s.depth_scale != 1.0) text += Format(", depth x %.3f", s.depth_scale);
-  return text;
-}
 
 // @throws UsageError
 Options Parse(const Args& args) {
@@ -519,20 +506,8 @@ Options Parse(const Args& args) {
       o.json = true;
     else if (a == "--verbose")
       o.verbose = true;
-    else if (a == "--reject-depth-edges")
-      o.reject_depth_edges = true;
-    else if (a == "--projector-shadow")
-      o.sensor.projector_shadow = true;
-    else if (a == "--dark-patches")
-      o.sensor.dark_patch_share = ParseDouble(a, value(), 0.0, 0.5, "");
-    else if (a == "--mixed-pixels")
-      o.sensor.mixed_pixel_prob = ParseDouble(a, value(), 0.0, 1.0, "");
-    else if (a == "--wobble-mm")
-      o.sensor.wobble_m = 0.001 * ParseDouble(a, value(), 0.0, 5.0, "mm");
-    else if (a == "--depth-scale")
-      o.sensor.depth_scale = ParseDouble(a, value(), 0.9, 1.1, "");
-    else
-      throw BadOption(a, kObjectsBenchUsage);
+    else if (!ParseSensorOption(a, value, &o.sensor))
+      throw BadOption(a, ObjectsBenchUsage());
   }
   if (!dir_given || o.dir.empty()) throw UsageError("--objects needs a folder with objects.json");
   return o;
@@ -543,7 +518,7 @@ Options Parse(const Args& args) {
 int RunBenchRepairObjects(const Args& args) {
   if (std::find(args.begin(), args.end(), "--help") != args.end() ||
       std::find(args.begin(), args.end(), "-h") != args.end()) {
-    std::fputs(kObjectsBenchUsage, stdout);
+    std::fputs(ObjectsBenchUsage().c_str(), stdout);
     return 0;
   }
   Options o;
@@ -630,10 +605,7 @@ int RunBenchRepairObjects(const Args& args) {
         "fused: its points, coverage (truth within 2 mm) and p99 distance to the truth;\n"
         "repaired: points, coverage, added points' p95 / share > 3 mm / in seen-free space, "
         "repair ms (fastest of %d)\n\n",
-        ManifestPath(o.dir).c_str(), o.frames,
-        (std::string(o.reject_depth_edges ? ", depth edges dropped" : "") + SensorArtefactsText(o.sensor))
-            .c_str(),
-        o.repeat);
+        ManifestPath(o.dir).c_str(), o.frames, SensorOptionsText(o.sensor).c_str(), o.repeat);
     std::printf("%-25s %-17s %-5s %-12s %-15s %4s | %6s %6s %6s | %6s %6s %6s %6s %5s %6s | %s\n", "object",
                 "kind", "split", "claw", "grasp", "seed", "fused", "cov", "p99mm", "points", "cov", "p95mm",
                 "wrong", "free", "ms", "meets");
@@ -646,8 +618,7 @@ int RunBenchRepairObjects(const Args& args) {
     progress.Update(static_cast<int64_t>(done));
     RowResult r;
     try {
-      r = RunRow(s, meshes.at(s.object->name), o.frames, o.repeat, o.dump_dir, o.reject_depth_edges,
-                 o.sensor);
+      r = RunRow(s, meshes.at(s.object->name), o.frames, o.repeat, o.dump_dir, o.sensor);
     } catch (const std::exception& e) {
       progress.Clear();
       std::fprintf(stderr, "%s: %s, %s, %s, seed %llu: %s\n", kObjectsBenchCommand, s.object->name.c_str(),

@@ -21,6 +21,7 @@
 #include "number_parsing.hpp"
 #include "poisson_baseline.hpp"
 #include "progress.hpp"
+#include "sensor_options.hpp"
 #include "synth/paper_protocol.hpp"
 
 namespace graspfill::cli {
@@ -104,6 +105,9 @@ int RunBenchRepair(const Args& args) {
             "usage: graspfill bench repair [--points N] [--seed S] [--case TEXT] [--verbose] [--json]\n"
             "       graspfill bench repair --pipeline [--frames N] [--seed S] [--case TEXT] [--verbose]\n"
             "                                         [--json] [--dump DIR] [--repeat N]\n"
+            "                                         [--reject-depth-edges] [--projector-shadow]\n"
+            "                                         [--dark-patches F] [--mixed-pixels P]\n"
+            "                                         [--wobble-mm A] [--depth-scale S]\n"
             "       graspfill bench repair --objects DIR [...]   (graspfill bench repair --objects --help)\n"
             "  --pipeline   the shape zoo through the whole pipeline, cloud-only vs with evidence\n"
             "  --objects DIR  the meshes DIR/objects.json lists (e.g. scanned objects) through the\n"
@@ -115,7 +119,10 @@ int RunBenchRepair(const Args& args) {
             "  the paper's Tables 1-3 next to graspfill's numbers on the same protocol\n"
             "  --case TEXT  only the rows whose label contains TEXT\n"
             "  --top-cut F  cut every shape's top band above (1 - F) x its height (0.02, 0.15)\n"
-            "  --verbose    each repair's status, holes and symmetry finding\n");
+            "  --verbose    each repair's status, holes and symmetry finding\n"
+            "  (--pipeline) the sensor's artefacts and the depth-edge rule, as for --objects:\n"
+            "%s",
+            kSensorOptionsUsage);
         return 0;
       } else if (args[i] == "--points" && i + 1 < args.size()) {
         num_points = ParseInteger<int>("--points", args[++i], kMinProtocolPoints, kMaxProtocolPoints);

@@ -249,6 +249,8 @@ TEST(SessionE2E, NumbersAreParsedStrictlyEverywhere) {
       {"bench repair --pipeline --frames 12x", "--frames '12x': not an integer"},
       {"bench repair --pipeline --frames 5", "--frames '5': out of range, expected 10..3000"},
       {"bench repair --pipeline --repeat 0", "--repeat '0': out of range, expected 1..100"},
+      {"bench repair --pipeline --mixed-pixels 2", "--mixed-pixels '2': out of range, expected 0..1"},
+      {"bench repair --pipeline --wobble-mm", "--wobble-mm needs a value"},
       {"repair " + dir + "/in.ply -o " + dir + "/x.ply --up 0,0,1x", "--up '1x': not a number"},
       {"repair " + dir + "/in.ply -o " + dir + "/x.ply --up 0,0", "--up '0,0': expected X,Y,Z"},
       {"repair " + dir + "/in.ply -o " + dir + "/x.ply --up 0,0,0",
@@ -280,6 +282,30 @@ TEST(SessionE2E, BenchPipelineDumpRefusesAMissingDirectoryAndExistingFiles) {
   std::ifstream in(kept);
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "mine");
   EXPECT_FALSE(std::filesystem::exists(dir + "/plum_fused.ply"));
+}
+
+// The zoo under a sensor's artefacts: the tuna can with every edge pixel
+// mixed (synth's flying pixels) leaves fused points off the can; with the
+// depth edges dropped, none. (Clean, none is off: bench repair --pipeline
+// --case tuna.)
+TEST(SessionE2E, BenchPipelineRendersTheArtefactsAndDropsTheDepthEdges) {
+  const auto fused_row = [](const std::string& flags) {
+    const auto r = RunCli("bench repair --pipeline --case tuna --repeat 1 --json " + flags);
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    const size_t first = r.output.find('['), last = r.output.rfind(']');
+    if (first == std::string::npos || last == std::string::npos || last < first) return nlohmann::json();
+    const nlohmann::json rows =
+        nlohmann::json::parse(r.output.substr(first, last - first + 1), nullptr, false);
+    return rows.is_array() && rows.size() == 1 ? rows[0] : nlohmann::json();
+  };
+  const nlohmann::json mixed = fused_row("--mixed-pixels 1");
+  const nlohmann::json dropped = fused_row("--mixed-pixels 1 --reject-depth-edges");
+  ASSERT_TRUE(mixed.is_object() && dropped.is_object());
+  EXPECT_GT(mixed["fused_off_object_share"].get<double>(), 0.001);
+  EXPECT_GT(mixed["fused_p99_mm"].get<double>(), 1.5);
+  EXPECT_LT(dropped["fused_off_object_share"].get<double>(), 0.0005);
+  EXPECT_LT(dropped["fused_p99_mm"].get<double>(), 1.0);
+  EXPECT_LT(dropped["fused_points"].get<int>(), mixed["fused_points"].get<int>());
 }
 
 }  // namespace
