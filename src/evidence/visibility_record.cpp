@@ -15,8 +15,9 @@ namespace {
 // Nearer than this to the camera plane a point is not projected [m].
 constexpr float kMinZ = 0.01f;
 
-// Where `p_G` falls in key frame `k`: false if out of its rectangle.
-inline bool Project(const KeyFrame& k, const Eigen::Vector3f& p_G, size_t* index, float* z) {
+// Where `p_G` falls in key frame `k`: its pixel (u, v) in the rectangle
+// and its depth z; false if out of the rectangle.
+inline bool ProjectPixel(const KeyFrame& k, const Eigen::Vector3f& p_G, int* u_roi, int* v_roi, float* z) {
   const Eigen::Vector3f p = k.T_C_G * p_G;
   if (!(p.z() > kMinZ)) return false;
   const CameraIntrinsics& K = k.intrinsics;
@@ -28,11 +29,30 @@ inline bool Project(const KeyFrame& k, const Eigen::Vector3f& p_G, size_t* index
         vf >= static_cast<float>(k.roi.v0) && vf < static_cast<float>(k.roi.v1))) {
     return false;
   }
-  const int width = k.roi.u1 - k.roi.u0;
-  *index = static_cast<size_t>(static_cast<int>(vf) - k.roi.v0) * width +
-           static_cast<size_t>(static_cast<int>(uf) - k.roi.u0);
+  *u_roi = static_cast<int>(uf) - k.roi.u0;
+  *v_roi = static_cast<int>(vf) - k.roi.v0;
   *z = p.z();
   return true;
+}
+
+// Where `p_G` falls in key frame `k`: its index in the rectangle's arrays.
+inline bool Project(const KeyFrame& k, const Eigen::Vector3f& p_G, size_t* index, float* z) {
+  int u = 0, v = 0;
+  if (!ProjectPixel(k, p_G, &u, &v, z)) return false;
+  *index = static_cast<size_t>(v) * (k.roi.u1 - k.roi.u0) + static_cast<size_t>(u);
+  return true;
+}
+
+// The maximum of `in` (w x h) over each block x block square (row by row,
+// the last row and column of blocks cut short), into *out.
+void BlockMax(const std::vector<float>& in, int w, int h, int block, std::vector<float>* out) {
+  const int bw = (w + block - 1) / block, bh = (h + block - 1) / block;
+  out->assign(static_cast<size_t>(bw) * bh, 0.0f);
+  for (int v = 0; v < h; ++v) {
+    float* row = out->data() + static_cast<size_t>(v / block) * bw;
+    const float* src = in.data() + static_cast<size_t>(v) * w;
+    for (int u = 0; u < w; ++u) row[u / block] = std::max(row[u / block], src[u]);
+  }
 }
 
 // Sliding minimum of n samples over windows of 2r+1, clipped at the ends:
@@ -191,6 +211,7 @@ bool VisibilityRecord::Offer(const DepthFrame& raw, const std::vector<float>& cl
   }
   WindowMin(k->depth_m, w, h, config_.erode_px, &scratch_, &k->free_depth_m);
   WindowMin(k->depth_m, w, h, config_.coarse_erode_px, &scratch_, &k->coarse_free_depth_m);
+  BlockMax(k->free_depth_m, w, h, KeyFrame::kFreeBlockPx, &k->free_depth_block_max_m);
   key_frames_.push_back(std::move(k));
   if (safe_bound_) {
     auto bound = std::make_shared<SafeBound>(*safe_bound_);
@@ -247,11 +268,18 @@ bool VisibilityRecord::SeenFreeBy(size_t key_frame, const Eigen::Vector3f& p_G, 
 
 bool VisibilityRecord::FreeIn(const KeyFrame& kf, const Eigen::Vector3f& p_G, float extra_m,
                               bool coarse) const {
-  size_t i = 0;
+  int u = 0, v = 0;
   float z = 0.0f;
-  if (!Project(kf, p_G, &i, &z)) return false;
+  if (!ProjectPixel(kf, p_G, &u, &v, &z)) return false;
+  const float beyond = z + static_cast<float>(config_.free_margin_m) + extra_m;
+  const int blocks_per_row = (kf.roi.u1 - kf.roi.u0 + KeyFrame::kFreeBlockPx - 1) / KeyFrame::kFreeBlockPx;
+  const size_t block = static_cast<size_t>(v / KeyFrame::kFreeBlockPx) * blocks_per_row +
+                       static_cast<size_t>(u / KeyFrame::kFreeBlockPx);
+  // The coarse window's minimum is at most the fine one's.
+  if (!(kf.free_depth_block_max_m[block] > beyond)) return false;
+  const size_t i = static_cast<size_t>(v) * (kf.roi.u1 - kf.roi.u0) + static_cast<size_t>(u);
   const float d_free = coarse ? kf.coarse_free_depth_m[i] : kf.free_depth_m[i];
-  return d_free > 0.0f && d_free > z + static_cast<float>(config_.free_margin_m) + extra_m;
+  return d_free > 0.0f && d_free > beyond;
 }
 
 struct VisibilityRecord::ClawSolid {
@@ -279,7 +307,7 @@ size_t VisibilityRecord::memory_bytes() const {
   size_t bytes = 0;
   for (const auto& k : key_frames_) {
     bytes += sizeof(float) * (k->depth_m.size() + k->free_depth_m.size() + k->coarse_free_depth_m.size() +
-                              k->claw_depth_m.size());
+                              k->claw_depth_m.size() + k->free_depth_block_max_m.size());
   }
   return bytes;
 }

@@ -108,15 +108,68 @@ TEST(VisibilityRecord, KeyFramesAreSpreadByViewDirectionAndBounded) {
   EXPECT_GT(record.memory_bytes(), 0u);
 }
 
+// The blocks' maxima only skip pixels that cannot answer: every key
+// frame's answer is the one its free depths give pixel by pixel, fine and
+// coarse, with and without an extra margin, over a grid of points in front
+// of, on and behind the plate, the claw and the wall, from three views.
+TEST(VisibilityRecord, SeenFreeIsThePixelsAnswerWhereverTheBlocksSkipThem) {
+  VisibilityRecord record(VisibilityConfig{}, TestBox());
+  const auto f = PlateFrame();
+  for (const double deg : {0.0, 15.0, -30.0}) ASSERT_TRUE(record.Offer(f.raw, f.claw_depth, Turned(deg)));
+  const float margin = static_cast<float>(record.config().free_margin_m);
+  int free = 0, not_free = 0;
+  for (float x = -0.25f; x <= 0.25f; x += 0.0123f) {
+    for (float y = -0.2f; y <= 0.2f; y += 0.0171f) {
+      for (float z = 0.25f; z <= 1.15f; z += 0.0137f) {
+        const Eigen::Vector3f p_G(x, y, z);
+        for (size_t k = 0; k < record.size(); ++k) {
+          const KeyFrame& kf = *record.key_frames()[k];
+          const Eigen::Vector3f p = kf.T_C_G * p_G;
+          bool in = p.z() > 0.01f;
+          int u = 0, v = 0;
+          if (in) {
+            const CameraIntrinsics& K = kf.intrinsics;
+            const float uf =
+                std::floor(static_cast<float>(K.fx) * p.x() / p.z() + static_cast<float>(K.cx) + 0.5f);
+            const float vf =
+                std::floor(static_cast<float>(K.fy) * p.y() / p.z() + static_cast<float>(K.cy) + 0.5f);
+            in = uf >= kf.roi.u0 && uf < kf.roi.u1 && vf >= kf.roi.v0 && vf < kf.roi.v1;
+            u = static_cast<int>(uf) - kf.roi.u0;
+            v = static_cast<int>(vf) - kf.roi.v0;
+          }
+          for (const float extra : {0.0f, 0.05f}) {
+            for (const bool coarse : {false, true}) {
+              bool expected = false;
+              if (in) {
+                const size_t i = static_cast<size_t>(v) * (kf.roi.u1 - kf.roi.u0) + u;
+                const float d = coarse ? kf.coarse_free_depth_m[i] : kf.free_depth_m[i];
+                expected = d > 0.0f && d > p.z() + margin + extra;
+              }
+              ASSERT_EQ(record.SeenFreeBy(k, p_G, extra, coarse), expected)
+                  << "key frame " << k << " at " << p_G.transpose() << ", extra " << extra << ", coarse "
+                  << coarse;
+              (expected ? free : not_free) += 1;
+            }
+          }
+        }
+      }
+    }
+  }
+  // Both answers are well represented.
+  EXPECT_GT(free, 10000);
+  EXPECT_GT(not_free, 10000);
+}
+
 // The hot path allocates nothing it could reuse: a new key frame allocates
-// what it keeps (the KeyFrame, its four arrays, room in the record's list,
-// and the safe bound it replaces with its bit set), not the window
+// what it keeps (the KeyFrame, its four arrays and their free depths'
+// block maxima, room in the record's list, and the safe bound it replaces
+// with its bit set), not the window
 // minima's working rows, which the record keeps from the first key frame.
 TEST(VisibilityRecord, AKeyFrameAllocatesOnlyWhatItKeeps) {
   VisibilityRecord record(VisibilityConfig{}, TestBox());
   const auto f = PlateFrame();
   ASSERT_TRUE(record.Offer(f.raw, f.claw_depth, Turned(0)));  // the working rows grow here
-  constexpr long kKept = 1 + 4 + 1 + 2;
+  constexpr long kKept = 1 + 5 + 1 + 2;
   for (const double deg : {15.0, 30.0}) {
     const long before = testing::Allocations();
     ASSERT_TRUE(record.Offer(f.raw, f.claw_depth, Turned(deg)));

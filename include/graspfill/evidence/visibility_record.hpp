@@ -86,6 +86,13 @@ struct KeyFrame {
   std::vector<float> free_depth_m;         ///< window minimum of depth_m (0 if any pixel is 0)
   std::vector<float> coarse_free_depth_m;  ///< the same over the coarse window
   std::vector<float> claw_depth_m;         ///< the posed claw's z-depth, 0 = no claw
+  /// free_depth_m's maximum over each kFreeBlockPx-square block of the
+  /// rectangle (row by row, the last ones cut short): a point farther than
+  /// it is seen free by no pixel of the block, fine or coarse, which most
+  /// points the repair asks about are. A few kB, where the pixels are a
+  /// few hundred: the test reads it from cache.
+  std::vector<float> free_depth_block_max_m;
+  static constexpr int kFreeBlockPx = 4;
 };
 
 class VisibilityRecord {
