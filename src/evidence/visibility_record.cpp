@@ -275,7 +275,8 @@ bool VisibilityRecord::FreeIn(const KeyFrame& kf, const Eigen::Vector3f& p_G, fl
   const int blocks_per_row = (kf.roi.u1 - kf.roi.u0 + KeyFrame::kFreeBlockPx - 1) / KeyFrame::kFreeBlockPx;
   const size_t block = static_cast<size_t>(v / KeyFrame::kFreeBlockPx) * blocks_per_row +
                        static_cast<size_t>(u / KeyFrame::kFreeBlockPx);
-  // The coarse window's minimum is at most the fine one's.
+  // The coarse window holds the fine one (Validate), so its minimum is at
+  // most the fine one's: the fine blocks answer for both.
   if (!(kf.free_depth_block_max_m[block] > beyond)) return false;
   const size_t i = static_cast<size_t>(v) * (kf.roi.u1 - kf.roi.u0) + static_cast<size_t>(u);
   const float d_free = coarse ? kf.coarse_free_depth_m[i] : kf.free_depth_m[i];
