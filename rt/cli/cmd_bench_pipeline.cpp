@@ -96,27 +96,28 @@ constexpr const char* kPipelineBenchCommand = "graspfill bench repair --pipeline
 bool ParsePipelineBenchArgs(const Args& args, PipelineBenchOptions* o) {
   try {
     for (size_t i = 0; i < args.size(); ++i) {
+      const std::string& a = args[i];
       const auto value = [&]() -> std::string {
-        if (i + 1 >= args.size()) throw UsageError(args[i] + " needs a value");
+        if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
         return args[++i];
       };
-      if (args[i] == "--pipeline") continue;
-      if (args[i] == "--json")
+      if (a == "--pipeline") continue;
+      if (a == "--json")
         o->json = true;
-      else if (args[i] == "--verbose")
+      else if (a == "--verbose")
         o->verbose = true;
-      else if (args[i] == "--case" && i + 1 < args.size())
-        o->only = args[++i];
-      else if (args[i] == "--dump" && i + 1 < args.size())
-        o->dump_dir = args[++i];
-      else if (args[i] == "--repeat" && i + 1 < args.size())
-        o->repeat = ParseInteger<int>("--repeat", args[++i], 1, 100);
-      else if (args[i] == "--frames" && i + 1 < args.size())
-        o->frames = ParseInteger<int>("--frames", args[++i], 10, 3000);
-      else if (args[i] == "--seed" && i + 1 < args.size()) {
-        o->seed = ParseInteger<uint64_t>("--seed", args[++i], 0, std::numeric_limits<uint64_t>::max());
-      } else if (!ParseSensorOption(args[i], value, &o->sensor)) {
-        std::fprintf(stderr, "%s: bad option '%s'\n", kPipelineBenchCommand, args[i].c_str());
+      else if (a == "--case")
+        o->only = value();
+      else if (a == "--dump")
+        o->dump_dir = value();
+      else if (a == "--repeat")
+        o->repeat = ParseInteger<int>(a, value(), 1, 100);
+      else if (a == "--frames")
+        o->frames = ParseInteger<int>(a, value(), 10, 3000);
+      else if (a == "--seed") {
+        o->seed = ParseInteger<uint64_t>(a, value(), 0, std::numeric_limits<uint64_t>::max());
+      } else if (!ParseSensorOption(a, value, &o->sensor)) {
+        std::fprintf(stderr, "%s: bad option '%s'\n", kPipelineBenchCommand, a.c_str());
         return false;
       }
     }
