@@ -65,7 +65,7 @@ void IntegratorComparison::Integrate(const DepthFrame& frame, const Eigen::Isome
   const ScopedOpenMpThreads threads(num_threads_);
   for (size_t i = 0; i < scalable_.size(); ++i) {
     ScopedStageTimer t(&runs_[i].integrate);
-    scalable_[i]->Integrate(frame, T_C_V);
+    scalable_[i]->IntegrateUncached(frame, T_C_V);  // Open3D's own call
   }
   for (size_t g = 0; g < grids_.size(); ++g) {
     ScopedStageTimer t(&runs_[scalable_.size() + g].integrate);

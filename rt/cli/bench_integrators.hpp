@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // `graspfill bench`'s integrators side by side (issue 39, "the
-// integrator"): Open3D's legacy ScalableTSDFVolume (the product's, through
-// fusion::TsdfFusion) and its tensor VoxelBlockGrid
+// integrator"): Open3D's legacy ScalableTSDFVolume (the product's volume,
+// integrated by Open3D's own call: fusion::TsdfFusion::IntegrateUncached)
+// and its tensor VoxelBlockGrid
 // (fusion/voxel_block_grid_fusion.hpp), each at 16^3 and 8^3 voxels a
 // block, fed the very frames the pipeline fused, at the product's voxel
 // and truncation, each frame timed; a cloud from each over its whole

@@ -11,6 +11,7 @@
 #include "frame_size_check.hpp"
 #include "graspfill/core/openmp_threads.hpp"
 #include "sorted_cloud.hpp"
+#include "unit_integrator.hpp"
 #include "unit_surface_cache.hpp"
 
 #include <cstring>
@@ -40,6 +41,8 @@ struct TsdfFusion::Impl {
   open3d::camera::PinholeCameraIntrinsic intrinsic;
   CameraIntrinsics intrinsics_set{0, 0, 0, 0, 0, 0};
   int frames{0};
+  // Open3D's Integrate without its per-frame rebuilds (same voxels).
+  UnitIntegrator integrator;
   // The last extraction's points per volume unit: logically part of the
   // volume's state, refreshed by the (const) ExtractCloud.
   UnitSurfaceCache surface;
@@ -55,7 +58,7 @@ TsdfFusion::TsdfFusion(const TsdfConfig& config) {
 
 TsdfFusion::~TsdfFusion() = default;
 
-void TsdfFusion::Integrate(const DepthFrame& frame, const Eigen::Isometry3d& T_C_G) {
+void TsdfFusion::TakeDepth(const DepthFrame& frame) {
   const CameraIntrinsics& K = frame.intrinsics;
   CheckFrameSize("TsdfFusion::Integrate", frame, impl_->intrinsics_set, impl_->frames);
   if (impl_->intrinsics_set != K) {
@@ -64,10 +67,21 @@ void TsdfFusion::Integrate(const DepthFrame& frame, const Eigen::Isometry3d& T_C
     impl_->intrinsics_set = K;
   }
   std::memcpy(impl_->rgbd.depth_.data_.data(), frame.depth_m.data(), frame.depth_m.size() * sizeof(float));
+}
+
+void TsdfFusion::Integrate(const DepthFrame& frame, const Eigen::Isometry3d& T_C_G) {
+  TakeDepth(frame);
   // Open3D's integration names its own team (a thread per physical core):
   // one thread when the caller allows fewer (core/openmp_threads.hpp).
   const ScopedOpenMpFixedTeam team(impl_->open3d_team);
   // Open3D's extrinsic maps world (here G) points into the camera: T_C_G.
+  impl_->integrator.Integrate(impl_->rgbd, impl_->intrinsic, T_C_G.matrix(), &impl_->volume);
+  ++impl_->frames;
+}
+
+void TsdfFusion::IntegrateUncached(const DepthFrame& frame, const Eigen::Isometry3d& T_C_G) {
+  TakeDepth(frame);
+  const ScopedOpenMpFixedTeam team(impl_->open3d_team);
   impl_->volume.Integrate(impl_->rgbd, impl_->intrinsic, T_C_G.matrix());
   ++impl_->frames;
 }
@@ -90,6 +104,7 @@ int TsdfFusion::units_extracted() const { return impl_->surface.units_extracted(
 
 void TsdfFusion::Reset() {
   impl_->volume.Reset();
+  impl_->integrator.Clear();
   impl_->surface.Clear();
   impl_->frames = 0;
 }

@@ -5,48 +5,16 @@
 
 #include <cmath>
 
+#include "sphere_frames.hpp"
+
 namespace graspfill::fusion {
 namespace {
-
-constexpr double kRadiusM = 0.04;
-const Eigen::Vector3d kCentreG(0.0, 0.0, 0.08);
-
-// Camera 0.5 m from the sphere, turned about G's z by `angle`, looking at it.
-Eigen::Isometry3d CameraPose(double angle) {
-  const Eigen::Vector3d eye_G = kCentreG + 0.5 * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.0);
-  const Eigen::Vector3d z = (kCentreG - eye_G).normalized();
-  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
-  Eigen::Isometry3d T_G_C = Eigen::Isometry3d::Identity();
-  T_G_C.linear().col(0) = x;
-  T_G_C.linear().col(1) = z.cross(x);
-  T_G_C.linear().col(2) = z;
-  T_G_C.translation() = eye_G;
-  return T_G_C.inverse();
-}
-
-// Exact z-depth image of the sphere (ray-sphere intersection).
-DepthFrame RenderSphere(const Eigen::Isometry3d& T_C_G) {
-  DepthFrame f;
-  f.depth_m.assign(f.intrinsics.width * f.intrinsics.height, 0.0f);
-  const Eigen::Vector3d c = T_C_G * kCentreG;
-  const CameraIntrinsics& K = f.intrinsics;
-  for (int v = 0; v < K.height; ++v) {
-    for (int u = 0; u < K.width; ++u) {
-      const Eigen::Vector3d ray((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
-      const double a = ray.squaredNorm(), b = -2.0 * ray.dot(c);
-      const double disc = b * b - 4 * a * (c.squaredNorm() - kRadiusM * kRadiusM);
-      if (disc < 0) continue;
-      f.depth_m[v * K.width + u] = static_cast<float>((-b - std::sqrt(disc)) / (2 * a));
-    }
-  }
-  return f;
-}
 
 TEST(TsdfFusion, FusedSphereLiesOnTheSphere) {
   TsdfConfig config;
   TsdfFusion fusion(config);
   for (int i = 0; i < 12; ++i) {
-    const Eigen::Isometry3d T_C_G = CameraPose(i * 2.0 * M_PI / 12);
+    const Eigen::Isometry3d T_C_G = SphereCameraPose(i * 2.0 * M_PI / 12);
     fusion.Integrate(RenderSphere(T_C_G), T_C_G);
   }
   EXPECT_EQ(fusion.frames_integrated(), 12);
@@ -57,8 +25,8 @@ TEST(TsdfFusion, FusedSphereLiesOnTheSphere) {
   double max_err = 0.0;
   int normals_outward = 0;
   for (size_t i = 0; i < cloud.size(); ++i) {
-    const Eigen::Vector3d d = cloud.points_G[i].cast<double>() - kCentreG;
-    max_err = std::max(max_err, std::abs(d.norm() - kRadiusM));
+    const Eigen::Vector3d d = cloud.points_G[i].cast<double>() - kSphereCentreG;
+    max_err = std::max(max_err, std::abs(d.norm() - kSphereRadiusM));
     if (cloud.normals_G[i].cast<double>().dot(d.normalized()) > 0.9) ++normals_outward;
     EXPECT_EQ(cloud.provenance[i], Provenance::kObserved);
   }
@@ -71,11 +39,11 @@ TEST(TsdfFusion, EmptyFramesGiveEmptyCloudAndResetClears) {
   TsdfFusion fusion;
   DepthFrame empty;
   empty.depth_m.assign(640 * 480, 0.0f);
-  fusion.Integrate(empty, CameraPose(0.0));
+  fusion.Integrate(empty, SphereCameraPose(0.0));
   ObjectCloud cloud;
   fusion.ExtractCloud(&cloud);
   EXPECT_EQ(cloud.size(), 0u);
-  fusion.Integrate(RenderSphere(CameraPose(0.0)), CameraPose(0.0));
+  fusion.Integrate(RenderSphere(SphereCameraPose(0.0)), SphereCameraPose(0.0));
   fusion.Reset();
   fusion.ExtractCloud(&cloud);
   EXPECT_EQ(cloud.size(), 0u);
@@ -88,7 +56,7 @@ TEST(TsdfFusion, RejectsBadConfigAndBadFrames) {
   TsdfFusion fusion;
   DepthFrame wrong;
   wrong.depth_m.assign(100, 0.0f);
-  EXPECT_THROW(fusion.Integrate(wrong, CameraPose(0.0)), std::invalid_argument);
+  EXPECT_THROW(fusion.Integrate(wrong, SphereCameraPose(0.0)), std::invalid_argument);
 }
 
 TEST(TsdfFusion, SameFramesGiveIdenticalClouds) {
@@ -96,13 +64,33 @@ TEST(TsdfFusion, SameFramesGiveIdenticalClouds) {
   for (ObjectCloud& cloud : clouds) {
     TsdfFusion fusion;
     for (int i = 0; i < 4; ++i) {
-      const Eigen::Isometry3d T_C_G = CameraPose(i * 0.7);
+      const Eigen::Isometry3d T_C_G = SphereCameraPose(i * 0.7);
       fusion.Integrate(RenderSphere(T_C_G), T_C_G);
     }
     fusion.ExtractCloud(&cloud);
   }
   ASSERT_EQ(clouds[0].size(), clouds[1].size());
   EXPECT_TRUE(clouds[0].points_G == clouds[1].points_G);
+}
+
+// The product's integration and Open3D's own call (the benchmark's
+// reference) fuse the same frames into the same cloud, bit for bit.
+TEST(TsdfFusion, IntegrateGivesOpen3DsOwnIntegrationsCloud) {
+  TsdfFusion own, open3d;
+  for (int i = 0; i < 5; ++i) {
+    const Eigen::Isometry3d T_C_G = SphereCameraPose(i * 0.9);
+    const DepthFrame frame = RenderSphere(T_C_G);
+    own.Integrate(frame, T_C_G);
+    open3d.IntegrateUncached(frame, T_C_G);
+  }
+  EXPECT_EQ(own.frames_integrated(), 5);
+  EXPECT_EQ(open3d.frames_integrated(), 5);
+  ObjectCloud a, b;
+  own.ExtractCloud(&a);
+  open3d.ExtractCloud(&b);
+  ASSERT_GT(a.size(), 1000u);
+  EXPECT_TRUE(a.points_G == b.points_G);
+  EXPECT_TRUE(a.normals_G == b.normals_G);
 }
 
 // The cached extraction (only changed units and their neighbours anew)
@@ -115,7 +103,7 @@ TEST(TsdfFusion, CachedExtractionEqualsOpen3DsAfterEveryFrame) {
   int fewer = 0;
   for (int i = 0; i < 23; ++i) {  // the last frame is extracted
     // A slow turn, the camera 15 deg further each frame.
-    const Eigen::Isometry3d T_C_G = CameraPose(i * M_PI / 12);
+    const Eigen::Isometry3d T_C_G = SphereCameraPose(i * M_PI / 12);
     fusion.Integrate(RenderSphere(T_C_G), T_C_G);
     if (i % 3 == 2) continue;  // two frames between some extractions
     fusion.ExtractCloud(&cached);

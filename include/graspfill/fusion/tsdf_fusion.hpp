@@ -45,6 +45,10 @@ class TsdfFusion {
   /// Integrates one frame (0 = no depth) taken with the gripper at T_C_G.
   /// The frame's size must stay the same between calls (else throws).
   void Integrate(const DepthFrame& frame, const Eigen::Isometry3d& T_C_G);
+  /// The same by Open3D's own ScalableTSDFVolume::Integrate, which rebuilds
+  /// per frame what Integrate keeps (the reference for the tests and the
+  /// benchmark): the same voxels, bit for bit.
+  void IntegrateUncached(const DepthFrame& frame, const Eigen::Isometry3d& T_C_G);
 
   /// Writes the zero crossings of the TSDF (points and normals in G, all
   /// observed) into *cloud, replacing its points.
@@ -66,6 +70,9 @@ class TsdfFusion {
   int frames_integrated() const;
 
  private:
+  // Checks the frame and copies its depth into Open3D's image.
+  void TakeDepth(const DepthFrame& frame);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
