@@ -73,7 +73,7 @@ void UnitIntegrator::Integrate(const open3d::geometry::RGBDImage& image,
         for (int uy = lo(1); uy <= hi(1); ++uy) {
           for (int uz = lo(2); uz <= hi(2); ++uz) {
             const Eigen::Vector3i index(ux, uy, uz);
-            std::uint32_t& last = last_frame_[index];
+            std::uint64_t& last = last_frame_[index];
             if (last == frame_) continue;  // this frame has integrated it
             last = frame_;
             OpenUnit(index, volume).IntegrateWithDepthToCameraDistanceMultiplier(image, intrinsic, T_C_G,
