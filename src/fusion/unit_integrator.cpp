@@ -24,7 +24,8 @@ Eigen::Vector3i UnitOf(const Eigen::Vector3d& point, double unit_m) {
 }
 
 // The unit at `index`, made when new (Open3D's OpenVolumeUnit).
-integration::UniformTSDFVolume& OpenUnit(const Eigen::Vector3i& index, integration::ScalableTSDFVolume* volume) {
+integration::UniformTSDFVolume& OpenUnit(const Eigen::Vector3i& index,
+                                         integration::ScalableTSDFVolume* volume) {
   integration::ScalableTSDFVolume::VolumeUnit& unit = volume->volume_units_[index];
   if (!unit.volume_) {
     unit.volume_ = std::make_shared<integration::UniformTSDFVolume>(
@@ -42,8 +43,10 @@ void UnitIntegrator::Integrate(const open3d::geometry::RGBDImage& image,
                                const Eigen::Matrix4d& T_C_G, integration::ScalableTSDFVolume* volume) {
   const open3d::geometry::Image& depth = image.depth_;
   if (depth.num_of_channels_ != 1 || depth.bytes_per_channel_ != 4 || depth.width_ != intrinsic.width_ ||
-      depth.height_ != intrinsic.height_ || volume->color_type_ != integration::TSDFVolumeColorType::NoColor) {
-    throw std::invalid_argument("UnitIntegrator: needs a float depth image of the intrinsic's size, no colour");
+      depth.height_ != intrinsic.height_ ||
+      volume->color_type_ != integration::TSDFVolumeColorType::NoColor) {
+    throw std::invalid_argument(
+        "UnitIntegrator: needs a float depth image of the intrinsic's size, no colour");
   }
   if (!ray_factor_ || !SameIntrinsic(ray_factor_intrinsic_, intrinsic)) {
     ray_factor_ = open3d::geometry::Image::CreateDepthToCameraDistanceMultiplierFloatImage(intrinsic);
@@ -76,8 +79,8 @@ void UnitIntegrator::Integrate(const open3d::geometry::RGBDImage& image,
             std::uint64_t& last = last_frame_[index];
             if (last == frame_) continue;  // this frame has integrated it
             last = frame_;
-            OpenUnit(index, volume).IntegrateWithDepthToCameraDistanceMultiplier(image, intrinsic, T_C_G,
-                                                                               *ray_factor_);
+            OpenUnit(index, volume)
+                .IntegrateWithDepthToCameraDistanceMultiplier(image, intrinsic, T_C_G, *ray_factor_);
           }
         }
       }

@@ -45,7 +45,8 @@ class UnitIntegrator {
   std::shared_ptr<open3d::geometry::Image> ray_factor_;  // for ray_factor_intrinsic_
   open3d::camera::PinholeCameraIntrinsic ray_factor_intrinsic_;
   // Per unit the last frame that integrated it (frames count from 1).
-  std::unordered_map<Eigen::Vector3i, std::uint64_t, open3d::utility::hash_eigen<Eigen::Vector3i>> last_frame_;
+  std::unordered_map<Eigen::Vector3i, std::uint64_t, open3d::utility::hash_eigen<Eigen::Vector3i>>
+      last_frame_;
   std::uint64_t frame_{0};
 };
 
