@@ -71,9 +71,6 @@ void TsdfFusion::TakeDepth(const DepthFrame& frame) {
 
 void TsdfFusion::Integrate(const DepthFrame& frame, const Eigen::Isometry3d& T_C_G) {
   TakeDepth(frame);
-  // Open3D's integration names its own team (a thread per physical core):
-  // one thread when the caller allows fewer (core/openmp_threads.hpp).
-  const ScopedOpenMpFixedTeam team(impl_->open3d_team);
   // Open3D's extrinsic maps world (here G) points into the camera: T_C_G.
   impl_->integrator.Integrate(impl_->rgbd, impl_->intrinsic, T_C_G.matrix(), &impl_->volume);
   ++impl_->frames;
@@ -81,6 +78,8 @@ void TsdfFusion::Integrate(const DepthFrame& frame, const Eigen::Isometry3d& T_C
 
 void TsdfFusion::IntegrateUncached(const DepthFrame& frame, const Eigen::Isometry3d& T_C_G) {
   TakeDepth(frame);
+  // Open3D's integration names its own team (a thread per physical core):
+  // one thread when the caller allows fewer (core/openmp_threads.hpp).
   const ScopedOpenMpFixedTeam team(impl_->open3d_team);
   impl_->volume.Integrate(impl_->rgbd, impl_->intrinsic, T_C_G.matrix());
   ++impl_->frames;

@@ -3,6 +3,7 @@
 
 #include <open3d/pipelines/integration/UniformTSDFVolume.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -36,6 +37,69 @@ integration::UniformTSDFVolume& OpenUnit(const Eigen::Vector3i& index,
   return *unit.volume_;
 }
 
+// What Open3D's per-unit update reads of a frame, in its own types.
+struct FrameView {
+  const float* depth_m;     // row-major, width x height
+  const float* ray_factor;  // likewise
+  int width, height;
+  float fx, fy, cx, cy;
+  Eigen::Matrix4f T_C_G;
+  float safe_width, safe_height;  // the last column and row a voxel may land in
+
+  FrameView(const open3d::geometry::Image& depth, const open3d::geometry::Image& factor,
+            const open3d::camera::PinholeCameraIntrinsic& intrinsic, const Eigen::Matrix4d& T_C_G_d)
+      : depth_m(reinterpret_cast<const float*>(depth.data_.data())),
+        ray_factor(reinterpret_cast<const float*>(factor.data_.data())),
+        width(depth.width_),
+        height(depth.height_),
+        fx(static_cast<float>(intrinsic.GetFocalLength().first)),
+        fy(static_cast<float>(intrinsic.GetFocalLength().second)),
+        cx(static_cast<float>(intrinsic.GetPrincipalPoint().first)),
+        cy(static_cast<float>(intrinsic.GetPrincipalPoint().second)),
+        T_C_G(T_C_G_d.cast<float>()),
+        safe_width(intrinsic.width_ - 0.0001f),
+        safe_height(intrinsic.height_ - 0.0001f) {}
+};
+
+// Open3D 0.16's UniformTSDFVolume::IntegrateWithDepthToCameraDistanceMultiplier
+// (no colour), term for term and in its types, so every voxel gets the
+// same bits; the pixel reads inlined, where Open3D calls into its library
+// for each (Image::PointerAt). One thread, as the product runs Open3D's.
+void IntegrateUnit(const FrameView& f, integration::UniformTSDFVolume* unit) {
+  const float voxel_length_f = static_cast<float>(unit->voxel_length_);
+  const float half_voxel_length_f = voxel_length_f * 0.5f;
+  const float sdf_trunc_f = static_cast<float>(unit->sdf_trunc_);
+  const float sdf_trunc_inv_f = 1.0f / sdf_trunc_f;
+  const Eigen::Matrix4f T_scaled = f.T_C_G * voxel_length_f;
+  const Eigen::Vector3d& origin = unit->origin_;
+  const int n = unit->resolution_;
+  for (int x = 0; x < n; x++) {
+    for (int y = 0; y < n; y++) {
+      const Eigen::Vector4f voxel_G(float(half_voxel_length_f + voxel_length_f * x + origin(0)),
+                                    float(half_voxel_length_f + voxel_length_f * y + origin(1)),
+                                    float(half_voxel_length_f + origin(2)), 1.f);
+      Eigen::Vector4f voxel_C = f.T_C_G * voxel_G;
+      for (int z = 0; z < n;
+           z++, voxel_C(0) += T_scaled(0, 2), voxel_C(1) += T_scaled(1, 2), voxel_C(2) += T_scaled(2, 2)) {
+        if (voxel_C(2) <= 0) continue;
+        const float u_f = voxel_C(0) * f.fx / voxel_C(2) + f.cx + 0.5f;
+        const float v_f = voxel_C(1) * f.fy / voxel_C(2) + f.cy + 0.5f;
+        if (!(u_f >= 0.0001f && u_f < f.safe_width && v_f >= 0.0001f && v_f < f.safe_height)) continue;
+        const size_t pixel = static_cast<size_t>(static_cast<int>(v_f)) * f.width + static_cast<int>(u_f);
+        const float d = f.depth_m[pixel];
+        if (d <= 0.0f) continue;
+        const float sdf = (d - voxel_C(2)) * f.ray_factor[pixel];
+        if (sdf > -sdf_trunc_f) {
+          open3d::geometry::TSDFVoxel& voxel = unit->voxels_[unit->IndexOf(x, y, z)];
+          const float tsdf = std::min(1.0f, sdf * sdf_trunc_inv_f);
+          voxel.tsdf_ = (voxel.tsdf_ * voxel.weight_ + tsdf) / (voxel.weight_ + 1.0f);
+          voxel.weight_ += 1.0f;
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 
 void UnitIntegrator::Integrate(const open3d::geometry::RGBDImage& image,
@@ -53,6 +117,7 @@ void UnitIntegrator::Integrate(const open3d::geometry::RGBDImage& image,
     ray_factor_intrinsic_ = intrinsic;
   }
   ++frame_;
+  const FrameView frame(depth, *ray_factor_, intrinsic, T_C_G);
   // Open3D's pixel to point (PointCloud::CreateFromDepthImage, float
   // depth): the same expressions, so the same bits, and the same units.
   const Eigen::Matrix4d T_G_C = T_C_G.inverse();
@@ -79,8 +144,7 @@ void UnitIntegrator::Integrate(const open3d::geometry::RGBDImage& image,
             std::uint64_t& last = last_frame_[index];
             if (last == frame_) continue;  // this frame has integrated it
             last = frame_;
-            OpenUnit(index, volume)
-                .IntegrateWithDepthToCameraDistanceMultiplier(image, intrinsic, T_C_G, *ray_factor_);
+            IntegrateUnit(frame, &OpenUnit(index, volume));
           }
         }
       }

@@ -7,14 +7,18 @@
 //  - the point cloud of every depth_sampling_stride-th pixel, and the hash
 //    set of the units a frame touches (a node allocated per unit), here a
 //    stamp per unit that lives as long as the volume.
+//  - a call into Open3D's library for each pixel a voxel reads
+//    (Image::PointerAt, twice a voxel), and an OpenMP region per unit.
 // The units touched, the order they are opened in (and so the volume's own
-// map), and each unit's integration (Open3D's
-// UniformTSDFVolume::IntegrateWithDepthToCameraDistanceMultiplier) are
-// Open3D 0.16's, term for term: the voxels come out bit for bit the same
-// (unit_integrator_test checks them against Integrate()).
+// map), and each voxel's update (Open3D's
+// UniformTSDFVolume::IntegrateWithDepthToCameraDistanceMultiplier, here
+// with the pixel reads inlined) are Open3D 0.16's, term for term and in its
+// types: the voxels come out bit for bit the same (unit_integrator_test
+// checks them against Integrate() after a turn of frames; the
+// benchmark keeps Open3D's own call beside this one,
+// TsdfFusion::IntegrateUncached).
 //
-// Private to the fusion module. Single-threaded (Open3D's per-unit loop
-// names its own OpenMP team).
+// Private to the fusion module. Single-threaded.
 #pragma once
 
 #include <open3d/camera/PinholeCameraIntrinsic.h>
