@@ -51,41 +51,33 @@ void BlockMax(const std::vector<float>& in, int w, int h, int block, std::vector
   for (int v = 0; v < h; ++v) {
     float* row = out->data() + static_cast<size_t>(v / block) * bw;
     const float* src = in.data() + static_cast<size_t>(v) * w;
-    for (int u = 0; u < w; ++u) row[u / block] = std::max(row[u / block], src[u]);
+    for (int b = 0, u0 = 0; b < bw; ++b, u0 += block) {
+      const float* end = src + std::min(w, u0 + block);
+      row[b] = std::max(row[b], *std::max_element(src + u0, end));
+    }
   }
-}
-
-// Sliding minimum of n samples over windows of 2r+1, clipped at the ends:
-// van Herk / Gil-Werman, three comparisons a sample whatever r. `g` and
-// `h` are scratch of n + 2r.
-void SlidingMin(const float* in, size_t stride, int n, int r, float* out, size_t out_stride,
-                std::vector<float>* g, std::vector<float>* h) {
-  const int w = 2 * r + 1, m = n + 2 * r;
-  constexpr float kInf = std::numeric_limits<float>::infinity();
-  g->resize(m);
-  h->resize(m);
-  // Padded index j holds sample j - r (+inf outside).
-  const auto at = [&](int j) { return j < r || j >= n + r ? kInf : in[static_cast<size_t>(j - r) * stride]; };
-  for (int j = 0; j < m; ++j) (*g)[j] = j % w == 0 ? at(j) : std::min((*g)[j - 1], at(j));
-  for (int j = m - 1; j >= 0; --j) {
-    (*h)[j] = (j % w == w - 1 || j == m - 1) ? at(j) : std::min((*h)[j + 1], at(j));
-  }
-  for (int i = 0; i < n; ++i) out[static_cast<size_t>(i) * out_stride] = std::min((*h)[i], (*g)[i + 2 * r]);
 }
 
 }  // namespace
 
-// Window minimum of `in` (w x h) with radius r: rows by SlidingMin, then
-// the columns by the same scheme run on whole rows at a time (contiguous,
-// so the compiler vectorizes it and the cache is not strided through). Any
-// 0 in the window gives 0, since valid depths are positive.
+// Window minimum of `in` (w x h) with radius r: along the rows first, one
+// shifted pass per offset (r is a few pixels; each pass runs over whole
+// rows, so the compiler vectorizes it), then the columns by van Herk /
+// Gil-Werman run on whole rows at a time (contiguous, vectorized, and the
+// cache is not strided through). Any 0 in the window gives 0, since valid
+// depths are positive.
 void VisibilityRecord::WindowMin(const std::vector<float>& in, int w, int h, int r, OfferScratch* scratch,
                                  std::vector<float>* out) {
   std::vector<float>& rows = scratch->rows;
   rows.resize(in.size());
   for (int v = 0; v < h; ++v) {
-    const size_t row = static_cast<size_t>(v) * w;
-    SlidingMin(&in[row], 1, w, r, &rows[row], 1, &scratch->g, &scratch->h);
+    const float* x = &in[static_cast<size_t>(v) * w];
+    float* o = &rows[static_cast<size_t>(v) * w];
+    std::copy_n(x, w, o);
+    for (int k = 1; k <= r; ++k) {
+      for (int u = 0; u + k < w; ++u) o[u] = std::min(o[u], x[u + k]);
+      for (int u = k; u < w; ++u) o[u] = std::min(o[u], x[u - k]);
+    }
   }
   const int win = 2 * r + 1, m = h + 2 * r;
   const size_t W = static_cast<size_t>(w);

@@ -162,7 +162,7 @@ class VisibilityRecord {
   // one allocates only what it keeps. Never copied: a copy of the record
   // starts without them.
   struct OfferScratch {
-    std::vector<float> rows, g, h, column_g, column_h, pad;
+    std::vector<float> rows, column_g, column_h, pad;
     OfferScratch() = default;
     OfferScratch(const OfferScratch&) {}
     OfferScratch& operator=(const OfferScratch&) { return *this; }
