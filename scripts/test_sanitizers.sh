@@ -45,6 +45,7 @@ asan_tests="
   depth_edges_test
   closest_point_grid_test claw_registration_test pose_refiner_test synth_renderer_test
   visibility_record_test safe_bound_test seen_free_carve_test point_list_queries_test pipeline_test
+  pipeline_allocations_test
   repair_neighbor_index_test repair_analysis_cloud_test repair_outlier_removal_test
   repair_boundary_detection_test repair_boundary_linking_test repair_virtual_frame_test
   repair_axis_refinement_test repair_boundary_classification_test repair_boundary_completion_test
