@@ -128,7 +128,7 @@ void UnitIntegrator::Integrate(const open3d::geometry::RGBDImage& image,
   const int stride = volume->depth_sampling_stride_;
   for (int i = 0; i < depth.height_; i += stride) {
     for (int j = 0; j < depth.width_; j += stride) {
-      const float d = *depth.PointerAt<float>(j, i);
+      const float d = frame.depth_m[static_cast<size_t>(i) * frame.width + j];
       if (!(d > 0)) continue;
       const double z = static_cast<double>(d);
       const double x = (j - principal.first) * z / focal.first;
