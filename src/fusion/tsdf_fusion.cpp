@@ -37,7 +37,7 @@ struct TsdfFusion::Impl {
                c.depth_sampling_stride) {}
   TsdfConfig config;
   integration::ScalableTSDFVolume volume;
-  open3d::geometry::RGBDImage rgbd;  // depth_ reused across frames
+  open3d::geometry::RGBDImage rgbd;  // IntegrateUncached's; depth_ made on its first call, then reused
   open3d::camera::PinholeCameraIntrinsic intrinsic;
   CameraIntrinsics intrinsics_set{0, 0, 0, 0, 0, 0};
   int frames{0};
@@ -58,26 +58,29 @@ TsdfFusion::TsdfFusion(const TsdfConfig& config) {
 
 TsdfFusion::~TsdfFusion() = default;
 
-void TsdfFusion::TakeDepth(const DepthFrame& frame) {
+void TsdfFusion::TakeIntrinsics(const DepthFrame& frame) {
   const CameraIntrinsics& K = frame.intrinsics;
   CheckFrameSize("TsdfFusion::Integrate", frame, impl_->intrinsics_set, impl_->frames);
   if (impl_->intrinsics_set != K) {
     impl_->intrinsic.SetIntrinsics(K.width, K.height, K.fx, K.fy, K.cx, K.cy);
-    impl_->rgbd.depth_.Prepare(K.width, K.height, 1, 4);
     impl_->intrinsics_set = K;
   }
-  std::memcpy(impl_->rgbd.depth_.data_.data(), frame.depth_m.data(), frame.depth_m.size() * sizeof(float));
 }
 
 void TsdfFusion::Integrate(const DepthFrame& frame, const Eigen::Isometry3d& T_C_G) {
-  TakeDepth(frame);
+  TakeIntrinsics(frame);
   // Open3D's extrinsic maps world (here G) points into the camera: T_C_G.
-  impl_->integrator.Integrate(impl_->rgbd, impl_->intrinsic, T_C_G.matrix(), &impl_->volume);
+  impl_->integrator.Integrate(frame.depth_m, impl_->intrinsic, T_C_G.matrix(), &impl_->volume);
   ++impl_->frames;
 }
 
 void TsdfFusion::IntegrateUncached(const DepthFrame& frame, const Eigen::Isometry3d& T_C_G) {
-  TakeDepth(frame);
+  TakeIntrinsics(frame);
+  const CameraIntrinsics& K = frame.intrinsics;
+  if (impl_->rgbd.depth_.width_ != K.width || impl_->rgbd.depth_.height_ != K.height) {
+    impl_->rgbd.depth_.Prepare(K.width, K.height, 1, 4);
+  }
+  std::memcpy(impl_->rgbd.depth_.data_.data(), frame.depth_m.data(), frame.depth_m.size() * sizeof(float));
   // Open3D's integration names its own team (a thread per physical core):
   // one thread when the caller allows fewer (core/openmp_threads.hpp).
   const ScopedOpenMpFixedTeam team(impl_->open3d_team);

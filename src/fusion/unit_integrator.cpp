@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 namespace graspfill::fusion {
 namespace {
@@ -46,12 +47,12 @@ struct FrameView {
   Eigen::Matrix4f T_C_G;
   float safe_width, safe_height;  // the last column and row a voxel may land in
 
-  FrameView(const open3d::geometry::Image& depth, const open3d::geometry::Image& factor,
+  FrameView(const std::vector<float>& depth, const open3d::geometry::Image& factor,
             const open3d::camera::PinholeCameraIntrinsic& intrinsic, const Eigen::Matrix4d& T_C_G_d)
-      : depth_m(reinterpret_cast<const float*>(depth.data_.data())),
+      : depth_m(depth.data()),
         ray_factor(reinterpret_cast<const float*>(factor.data_.data())),
-        width(depth.width_),
-        height(depth.height_),
+        width(intrinsic.width_),
+        height(intrinsic.height_),
         fx(static_cast<float>(intrinsic.GetFocalLength().first)),
         fy(static_cast<float>(intrinsic.GetFocalLength().second)),
         cx(static_cast<float>(intrinsic.GetPrincipalPoint().first)),
@@ -102,22 +103,20 @@ void IntegrateUnit(const FrameView& f, integration::UniformTSDFVolume* unit) {
 
 }  // namespace
 
-void UnitIntegrator::Integrate(const open3d::geometry::RGBDImage& image,
+void UnitIntegrator::Integrate(const std::vector<float>& depth_m,
                                const open3d::camera::PinholeCameraIntrinsic& intrinsic,
                                const Eigen::Matrix4d& T_C_G, integration::ScalableTSDFVolume* volume) {
-  const open3d::geometry::Image& depth = image.depth_;
-  if (depth.num_of_channels_ != 1 || depth.bytes_per_channel_ != 4 || depth.width_ != intrinsic.width_ ||
-      depth.height_ != intrinsic.height_ ||
+  if (intrinsic.width_ <= 0 || intrinsic.height_ <= 0 ||
+      depth_m.size() != static_cast<size_t>(intrinsic.width_) * static_cast<size_t>(intrinsic.height_) ||
       volume->color_type_ != integration::TSDFVolumeColorType::NoColor) {
-    throw std::invalid_argument(
-        "UnitIntegrator: needs a float depth image of the intrinsic's size, no colour");
+    throw std::invalid_argument("UnitIntegrator: needs a depth image of the intrinsic's size, no colour");
   }
   if (!ray_factor_ || !SameIntrinsic(ray_factor_intrinsic_, intrinsic)) {
     ray_factor_ = open3d::geometry::Image::CreateDepthToCameraDistanceMultiplierFloatImage(intrinsic);
     ray_factor_intrinsic_ = intrinsic;
   }
   ++frame_;
-  const FrameView frame(depth, *ray_factor_, intrinsic, T_C_G);
+  const FrameView frame(depth_m, *ray_factor_, intrinsic, T_C_G);
   // Open3D's pixel to point (PointCloud::CreateFromDepthImage, float
   // depth): the same expressions, so the same bits, and the same units.
   const Eigen::Matrix4d T_G_C = T_C_G.inverse();
@@ -126,8 +125,8 @@ void UnitIntegrator::Integrate(const open3d::geometry::RGBDImage& image,
   const double trunc = volume->sdf_trunc_;
   const double unit_m = volume->volume_unit_length_;
   const int stride = volume->depth_sampling_stride_;
-  for (int i = 0; i < depth.height_; i += stride) {
-    for (int j = 0; j < depth.width_; j += stride) {
+  for (int i = 0; i < frame.height; i += stride) {
+    for (int j = 0; j < frame.width; j += stride) {
       const float d = frame.depth_m[static_cast<size_t>(i) * frame.width + j];
       if (!(d > 0)) continue;
       const double z = static_cast<double>(d);

@@ -23,7 +23,6 @@
 
 #include <open3d/camera/PinholeCameraIntrinsic.h>
 #include <open3d/geometry/Image.h>
-#include <open3d/geometry/RGBDImage.h>
 #include <open3d/pipelines/integration/ScalableTSDFVolume.h>
 #include <open3d/utility/Helper.h>
 
@@ -31,17 +30,19 @@
 #include <cstdint>
 #include <memory>
 #include <unordered_map>
+#include <vector>
 
 namespace graspfill::fusion {
 
 class UnitIntegrator {
  public:
   /// ScalableTSDFVolume::Integrate(image, intrinsic, T_C_G) into `volume`
-  /// (no colour: graspfill fuses depth alone). `image.depth_` is float
-  /// meters, intrinsic's size.
-  void Integrate(const open3d::geometry::RGBDImage& image,
-                 const open3d::camera::PinholeCameraIntrinsic& intrinsic, const Eigen::Matrix4d& T_C_G,
-                 open3d::pipelines::integration::ScalableTSDFVolume* volume);
+  /// (no colour: graspfill fuses depth alone), for the image whose depth
+  /// is `depth_m` [m, row-major, the intrinsic's size; 0 = no return]: read
+  /// where it lies, not copied into an Open3D image first.
+  /// @throws std::invalid_argument on another size or a colour volume.
+  void Integrate(const std::vector<float>& depth_m, const open3d::camera::PinholeCameraIntrinsic& intrinsic,
+                 const Eigen::Matrix4d& T_C_G, open3d::pipelines::integration::ScalableTSDFVolume* volume);
   /// Forgets the units (the volume was reset).
   void Clear() { last_frame_.clear(); }
 

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -29,20 +30,23 @@ CameraIntrinsics Intrinsics() {
   return K;
 }
 
-// The sphere's frame as Open3D's image, with a band of pixels cut out as
-// the claw's would be.
-open3d::geometry::RGBDImage RenderSphereImage(const Eigen::Matrix4d& T_C_G) {
-  const DepthFrame frame = RenderSphere(Eigen::Isometry3d(T_C_G), Intrinsics());
-  open3d::geometry::RGBDImage rgbd;
-  rgbd.depth_.Prepare(frame.intrinsics.width, frame.intrinsics.height, 1, 4);
-  for (int v = 0; v < frame.intrinsics.height; ++v) {
-    for (int u = 0; u < frame.intrinsics.width; ++u) {
-      const bool cut = u > 300 && u < 320;
-      *rgbd.depth_.PointerAt<float>(u, v) =
-          cut ? 0.0f : frame.depth_m[static_cast<size_t>(v) * frame.intrinsics.width + u];
-    }
+// The sphere's frame, with a band of pixels cut out as the claw's would
+// be: its depth as the product holds it, and as Open3D's image.
+struct SphereFrame {
+  std::vector<float> depth_m;
+  open3d::geometry::RGBDImage image;
+};
+
+SphereFrame RenderSphereFrame(const Eigen::Matrix4d& T_C_G) {
+  SphereFrame f;
+  f.depth_m = RenderSphere(Eigen::Isometry3d(T_C_G), Intrinsics()).depth_m;
+  const CameraIntrinsics K = Intrinsics();
+  for (int v = 0; v < K.height; ++v) {
+    for (int u = 301; u < 320; ++u) f.depth_m[static_cast<size_t>(v) * K.width + u] = 0.0f;  // the cut-out
   }
-  return rgbd;
+  f.image.depth_.Prepare(K.width, K.height, 1, 4);
+  std::copy(f.depth_m.begin(), f.depth_m.end(), f.image.depth_.PointerAt<float>(0, 0));
+  return f;
 }
 
 Eigen::Matrix4d CameraPose(double angle, double elevation) {
@@ -64,9 +68,9 @@ TEST(UnitIntegrator, VoxelsAreOpen3DsIntegrateBitForBit) {
   UnitIntegrator integrator;
   for (int i = 0; i < 9; ++i) {
     const Eigen::Matrix4d T_C_G = CameraPose(0.45 * i, 0.2 * std::sin(i));
-    const open3d::geometry::RGBDImage frame = RenderSphereImage(T_C_G);
-    open3d_volume.Integrate(frame, kIntrinsic, T_C_G);
-    integrator.Integrate(frame, kIntrinsic, T_C_G, &own_volume);
+    const SphereFrame frame = RenderSphereFrame(T_C_G);
+    open3d_volume.Integrate(frame.image, kIntrinsic, T_C_G);
+    integrator.Integrate(frame.depth_m, kIntrinsic, T_C_G, &own_volume);
   }
   ASSERT_GT(open3d_volume.volume_units_.size(), 20u);
   ASSERT_EQ(own_volume.volume_units_.size(), open3d_volume.volume_units_.size());
@@ -93,18 +97,18 @@ TEST(UnitIntegrator, VoxelsAreOpen3DsIntegrateBitForBit) {
 
 TEST(UnitIntegrator, AFrameWhoseUnitsExistAllocatesNothing) {
   const Eigen::Matrix4d T_C_G = CameraPose(0.3, 0.1);
-  const open3d::geometry::RGBDImage frame = RenderSphereImage(T_C_G);
+  const SphereFrame frame = RenderSphereFrame(T_C_G);
   integration::ScalableTSDFVolume own_volume = MakeVolume(), open3d_volume = MakeVolume();
   UnitIntegrator integrator;
-  integrator.Integrate(frame, kIntrinsic, T_C_G, &own_volume);  // makes the units and the ray factors
+  integrator.Integrate(frame.depth_m, kIntrinsic, T_C_G, &own_volume);  // makes the units and the ray factors
   long before = graspfill::testing::Allocations();
-  integrator.Integrate(frame, kIntrinsic, T_C_G, &own_volume);
+  integrator.Integrate(frame.depth_m, kIntrinsic, T_C_G, &own_volume);
   EXPECT_EQ(graspfill::testing::Allocations() - before, 0);
   // Open3D's own call, its units made too, allocates on every frame (its
   // ray factors, its point cloud, its set of units): what the test guards.
-  open3d_volume.Integrate(frame, kIntrinsic, T_C_G);
+  open3d_volume.Integrate(frame.image, kIntrinsic, T_C_G);
   before = graspfill::testing::Allocations();
-  open3d_volume.Integrate(frame, kIntrinsic, T_C_G);
+  open3d_volume.Integrate(frame.image, kIntrinsic, T_C_G);
   EXPECT_GT(graspfill::testing::Allocations() - before, 2);
 }
 
@@ -117,10 +121,10 @@ TEST(UnitIntegrator, OtherIntrinsicsGetTheirOwnRayFactorsAndBadImagesAreRefused)
   UnitIntegrator integrator;
   for (int i = 0; i < 4; ++i) {
     const Eigen::Matrix4d T_C_G = CameraPose(0.8 * i, 0.0);
-    const open3d::geometry::RGBDImage frame = RenderSphereImage(T_C_G);
+    const SphereFrame frame = RenderSphereFrame(T_C_G);
     const open3d::camera::PinholeCameraIntrinsic& K = i < 2 ? kIntrinsic : other;
-    open3d_volume.Integrate(frame, K, T_C_G);
-    integrator.Integrate(frame, K, T_C_G, &own_volume);
+    open3d_volume.Integrate(frame.image, K, T_C_G);
+    integrator.Integrate(frame.depth_m, K, T_C_G, &own_volume);
   }
   ASSERT_EQ(own_volume.volume_units_.size(), open3d_volume.volume_units_.size());
   for (const auto& [index, unit] : open3d_volume.volume_units_) {
@@ -130,14 +134,18 @@ TEST(UnitIntegrator, OtherIntrinsicsGetTheirOwnRayFactorsAndBadImagesAreRefused)
       ASSERT_EQ(unit.volume_->voxels_[k].tsdf_, own->second.volume_->voxels_[k].tsdf_);
     }
   }
-  // A depth image of another size than the intrinsic's, or 16-bit depth.
-  open3d::geometry::RGBDImage small;
-  small.depth_.Prepare(320, 240, 1, 4);
+  // A depth image of another size than the intrinsic's, none at all, or a
+  // volume with colour.
+  const std::vector<float> small(320 * 240, 0.5f);
   EXPECT_THROW(integrator.Integrate(small, kIntrinsic, Eigen::Matrix4d::Identity(), &own_volume),
                std::invalid_argument);
-  open3d::geometry::RGBDImage millimetres;
-  millimetres.depth_.Prepare(kK.width, kK.height, 1, 2);
-  EXPECT_THROW(integrator.Integrate(millimetres, kIntrinsic, Eigen::Matrix4d::Identity(), &own_volume),
+  EXPECT_THROW(integrator.Integrate({}, kIntrinsic, Eigen::Matrix4d::Identity(), &own_volume),
+               std::invalid_argument);
+  const TsdfConfig config;
+  integration::ScalableTSDFVolume coloured(config.voxel_m, config.sdf_trunc_m,
+                                           integration::TSDFVolumeColorType::RGB8);
+  const SphereFrame frame = RenderSphereFrame(CameraPose(0.0, 0.0));
+  EXPECT_THROW(integrator.Integrate(frame.depth_m, kIntrinsic, Eigen::Matrix4d::Identity(), &coloured),
                std::invalid_argument);
 }
 

@@ -70,8 +70,8 @@ class TsdfFusion {
   int frames_integrated() const;
 
  private:
-  // Checks the frame and copies its depth into Open3D's image.
-  void TakeDepth(const DepthFrame& frame);
+  // Checks the frame's size and takes its intrinsics (once per set).
+  void TakeIntrinsics(const DepthFrame& frame);
 
   struct Impl;
   std::unique_ptr<Impl> impl_;
