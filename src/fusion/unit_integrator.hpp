@@ -46,7 +46,24 @@ class UnitIntegrator {
   /// Forgets the units (the volume was reset).
   void Clear() { last_frame_.clear(); }
 
+  /// A unit's projected voxels, one x slice at a time: kept, so that a
+  /// frame allocates nothing.
+  struct Scratch {
+    std::vector<float> cam_x, cam_y, cam_z, voxel_depth;
+    std::vector<std::int32_t> pixel;
+    void Resize(int resolution) {
+      const size_t n = static_cast<size_t>(resolution);
+      if (cam_x.size() == n) return;
+      cam_x.assign(n, 0.0f);
+      cam_y.assign(n, 0.0f);
+      cam_z.assign(n, 0.0f);
+      voxel_depth.assign(n * n, 0.0f);
+      pixel.assign(n * n, -1);
+    }
+  };
+
  private:
+  Scratch scratch_;
   std::shared_ptr<open3d::geometry::Image> ray_factor_;  // for ray_factor_intrinsic_
   open3d::camera::PinholeCameraIntrinsic ray_factor_intrinsic_;
   // Per unit the last frame that integrated it (frames count from 1).
