@@ -52,6 +52,7 @@ void ClosestPointGrid::Build(const std::vector<Eigen::Vector3f>& points, int str
     const Eigen::Vector3f rel = (p - origin_) / cell;
     const int ci = static_cast<int>(rel.x()), cj = static_cast<int>(rel.y()), ck = static_cast<int>(rel.z());
     const int32_t index = static_cast<int32_t>(k);
+    const float origin_x = origin_.x(), p_x = p.x();
     for (int l = std::max(0, ck - reach); l <= std::min(nz_ - 1, ck + reach); ++l) {
       const float dz = origin_.z() + cell * (static_cast<float>(l) + 0.5f) - p.z();
       const float dz2 = dz * dz;
@@ -62,14 +63,16 @@ void ClosestPointGrid::Build(const std::vector<Eigen::Vector3f>& points, int str
         const float dy = origin_.y() + cell * (static_cast<float>(j) + 0.5f) - p.y();
         const float dy2 = dy * dy;
         const size_t row = static_cast<size_t>(nx_) * (j + static_cast<size_t>(ny_) * l);
-        for (int i = std::max(0, ci - w); i <= std::min(nx_ - 1, ci + w); ++i) {
-          const float dx = origin_.x() + cell * (static_cast<float>(i) + 0.5f) - p.x();
+        float* const best_d2 = best_d2_.data() + row;
+        int32_t* const nearest = nearest_.data() + row;
+        const int i_end = std::min(nx_ - 1, ci + w);
+        // Both stores unconditional, so that the row vectorizes.
+        for (int i = std::max(0, ci - w); i <= i_end; ++i) {
+          const float dx = origin_x + cell * (static_cast<float>(i) + 0.5f) - p_x;
           const float d2 = dx * dx + dy2 + dz2;
-          const size_t c = row + static_cast<size_t>(i);
-          if (d2 < best_d2_[c]) {
-            best_d2_[c] = d2;
-            nearest_[c] = index;
-          }
+          const int32_t closer = -static_cast<int32_t>(d2 < best_d2[i]);  // all ones if closer
+          nearest[i] = (index & closer) | (nearest[i] & ~closer);
+          best_d2[i] = d2 < best_d2[i] ? d2 : best_d2[i];
         }
       }
     }
