@@ -30,29 +30,35 @@ SafeBound WholeBox(const fusion::WorkspaceBox& box, const SafeBoundConfig& confi
 
 void CarveSafeBound(const VisibilityRecord& record, size_t first_key_frame, SafeBound* bound) {
   // A voxel is carved only when all of it is free: its centre by the
-  // margin plus half its diagonal.
+  // margin plus half its diagonal. Each key frame is asked about the
+  // voxels still standing, up to a chunk of a row at a time.
   const float half_diagonal = 0.5f * std::sqrt(3.0f) * bound->voxel_m;
-  const size_t frames = record.size();
-  if (first_key_frame >= frames) return;
-  size_t b = 0;
-  size_t carver = first_key_frame;  // the key frame that carved the voxel before
-  for (int k = 0; k < bound->nz; ++k) {
-    for (int j = 0; j < bound->ny; ++j) {
-      for (int i = 0; i < bound->nx; ++i, ++b) {
-        const uint8_t bit = uint8_t(1u << (b & 7));
-        if (!(bound->bits[b >> 3] & bit)) continue;
-        const Eigen::Vector3f centre =
-            bound->origin_G + bound->voxel_m * Eigen::Vector3f(i + 0.5f, j + 0.5f, k + 0.5f);
-        // Neighbouring voxels are mostly carved by the same key frame: ask
-        // it first.
-        for (size_t f = 0; f < frames - first_key_frame; ++f) {
-          const size_t frame = first_key_frame + (carver - first_key_frame + f) % (frames - first_key_frame);
-          if (record.SeenFreeBy(frame, centre, half_diagonal, /*coarse=*/true)) {
-            bound->bits[b >> 3] &= uint8_t(~bit);
-            carver = frame;
-            break;
+  constexpr int kChunk = 64;
+  float x_G[kChunk];
+  size_t voxel[kChunk];
+  uint8_t free[kChunk];
+  for (size_t frame = first_key_frame; frame < record.size(); ++frame) {
+    size_t b = 0;
+    for (int k = 0; k < bound->nz; ++k) {
+      for (int j = 0; j < bound->ny; ++j) {
+        // The centres as Eigen sums them: origin + voxel * (index + 0.5).
+        const float y_G = bound->origin_G.y() + bound->voxel_m * (static_cast<float>(j) + 0.5f);
+        const float z_G = bound->origin_G.z() + bound->voxel_m * (static_cast<float>(k) + 0.5f);
+        int standing = 0;
+        const auto carve = [&] {
+          record.SeenFreeAlongX(frame, x_G, standing, y_G, z_G, half_diagonal, /*coarse=*/true, free);
+          for (int s = 0; s < standing; ++s) {
+            if (free[s]) bound->bits[voxel[s] >> 3] &= uint8_t(~(1u << (voxel[s] & 7)));
           }
+          standing = 0;
+        };
+        for (int i = 0; i < bound->nx; ++i, ++b) {
+          if (!(bound->bits[b >> 3] & uint8_t(1u << (b & 7)))) continue;
+          x_G[standing] = bound->origin_G.x() + bound->voxel_m * (static_cast<float>(i) + 0.5f);
+          voxel[standing++] = b;
+          if (standing == kChunk) carve();
         }
+        if (standing > 0) carve();
       }
     }
   }

@@ -15,24 +15,65 @@ namespace {
 // Nearer than this to the camera plane a point is not projected [m].
 constexpr float kMinZ = 0.01f;
 
+// Projects points (x, y_G, z_G) of one row along x into key frame k. One
+// point and a row of them (SeenFreeAlongX) go through the same expressions,
+// so they get the same bits.
+class RowProjection {
+ public:
+  RowProjection(const KeyFrame& k, float y_G, float z_G)
+      : fx_(static_cast<float>(k.intrinsics.fx)),
+        fy_(static_cast<float>(k.intrinsics.fy)),
+        cx_(static_cast<float>(k.intrinsics.cx)),
+        cy_(static_cast<float>(k.intrinsics.cy)),
+        u0_(k.roi.u0),
+        v0_(k.roi.v0),
+        u0_f_(static_cast<float>(k.roi.u0)),
+        u1_f_(static_cast<float>(k.roi.u1)),
+        v0_f_(static_cast<float>(k.roi.v0)),
+        v1_f_(static_cast<float>(k.roi.v1)) {
+    const Eigen::Matrix4f& T = k.T_C_G.matrix();
+    for (int r = 0; r < 3; ++r) {
+      x_factor_[r] = T(r, 0);
+      y_term_[r] = T(r, 1) * y_G;
+      z_term_[r] = T(r, 2) * z_G;
+      t_[r] = T(r, 3);
+    }
+  }
+
+  // The point's pixel in the rectangle (*u_roi = -1 when outside it) and
+  // its depth. No branches, so that a loop over a row vectorizes.
+  void operator()(float x, int* u_roi, int* v_roi, float* z) const {
+    // T_C_G * p in the order Eigen evaluates it: each column times its
+    // coordinate, summed left to right, then the translation.
+    const float px = ((x_factor_[0] * x + y_term_[0]) + z_term_[0]) + t_[0];
+    const float py = ((x_factor_[1] * x + y_term_[1]) + z_term_[1]) + t_[1];
+    const float pz = ((x_factor_[2] * x + y_term_[2]) + z_term_[2]) + t_[2];
+    // Pixel centres are at integer coordinates (the renderer's and the
+    // crop's convention): the pixel is floor(u + 0.5). For an integer n,
+    // floor(w) >= n exactly when w >= n, and floor(w) < n when w < n; and
+    // w >= 0 inside, so truncation is the floor.
+    const float u = fx_ * px / pz + cx_ + 0.5f;
+    const float v = fy_ * py / pz + cy_ + 0.5f;
+    const bool inside = (pz > kMinZ) & (u >= u0_f_) & (u < u1_f_) & (v >= v0_f_) & (v < v1_f_);
+    // Converted only where inside (a select, not a branch).
+    const int u_px = static_cast<int>(inside ? u : 0.0f), v_px = static_cast<int>(inside ? v : 0.0f);
+    *u_roi = inside ? u_px - u0_ : -1;
+    *v_roi = v_px - v0_;
+    *z = pz;
+  }
+
+ private:
+  float fx_, fy_, cx_, cy_;
+  int u0_, v0_;
+  float u0_f_, u1_f_, v0_f_, v1_f_;  // the rectangle
+  float x_factor_[3], y_term_[3], z_term_[3], t_[3];
+};
+
 // Where `p_G` falls in key frame `k`: its pixel (u, v) in the rectangle
 // and its depth z; false if out of the rectangle.
 inline bool ProjectPixel(const KeyFrame& k, const Eigen::Vector3f& p_G, int* u_roi, int* v_roi, float* z) {
-  const Eigen::Vector3f p = k.T_C_G * p_G;
-  if (!(p.z() > kMinZ)) return false;
-  const CameraIntrinsics& K = k.intrinsics;
-  const float u = static_cast<float>(K.fx) * p.x() / p.z() + static_cast<float>(K.cx);
-  const float v = static_cast<float>(K.fy) * p.y() / p.z() + static_cast<float>(K.cy);
-  // Pixel centres are at integer coordinates (the renderer's and the crop's convention).
-  const float uf = std::floor(u + 0.5f), vf = std::floor(v + 0.5f);
-  if (!(uf >= static_cast<float>(k.roi.u0) && uf < static_cast<float>(k.roi.u1) &&
-        vf >= static_cast<float>(k.roi.v0) && vf < static_cast<float>(k.roi.v1))) {
-    return false;
-  }
-  *u_roi = static_cast<int>(uf) - k.roi.u0;
-  *v_roi = static_cast<int>(vf) - k.roi.v0;
-  *z = p.z();
-  return true;
+  RowProjection(k, p_G.y(), p_G.z())(p_G.x(), u_roi, v_roi, z);
+  return *u_roi >= 0;
 }
 
 // Where `p_G` falls in key frame `k`: its index in the rectangle's arrays.
@@ -263,6 +304,10 @@ bool VisibilityRecord::FreeIn(const KeyFrame& kf, const Eigen::Vector3f& p_G, fl
   int u = 0, v = 0;
   float z = 0.0f;
   if (!ProjectPixel(kf, p_G, &u, &v, &z)) return false;
+  return FreeAt(kf, u, v, z, extra_m, coarse);
+}
+
+bool VisibilityRecord::FreeAt(const KeyFrame& kf, int u, int v, float z, float extra_m, bool coarse) const {
   const float beyond = z + static_cast<float>(config_.free_margin_m) + extra_m;
   const int blocks_per_row = (kf.roi.u1 - kf.roi.u0 + KeyFrame::kFreeBlockPx - 1) / KeyFrame::kFreeBlockPx;
   const size_t block = static_cast<size_t>(v / KeyFrame::kFreeBlockPx) * blocks_per_row +
@@ -273,6 +318,24 @@ bool VisibilityRecord::FreeIn(const KeyFrame& kf, const Eigen::Vector3f& p_G, fl
   const size_t i = static_cast<size_t>(v) * (kf.roi.u1 - kf.roi.u0) + static_cast<size_t>(u);
   const float d_free = coarse ? kf.coarse_free_depth_m[i] : kf.free_depth_m[i];
   return d_free > 0.0f && d_free > beyond;
+}
+
+void VisibilityRecord::SeenFreeAlongX(size_t key_frame, const float* x_G, int count, float y_G, float z_G,
+                                      float extra_m, bool coarse, uint8_t* free) const {
+  const KeyFrame& k = *key_frames_.at(key_frame);
+  const RowProjection project(k, y_G, z_G);
+  // A chunk of points projected at a time (a loop the compiler vectorizes:
+  // two divisions a point), then read one by one.
+  constexpr int kChunk = 64;  // on the stack: a key frame allocates only what it keeps
+  int u_roi[kChunk], v_roi[kChunk];
+  float z_C[kChunk];
+  for (int start = 0; start < count; start += kChunk) {
+    const int n = std::min(kChunk, count - start);
+    for (int i = 0; i < n; ++i) project(x_G[start + i], &u_roi[i], &v_roi[i], &z_C[i]);
+    for (int i = 0; i < n; ++i) {
+      free[start + i] = u_roi[i] >= 0 && FreeAt(k, u_roi[i], v_roi[i], z_C[i], extra_m, coarse);
+    }
+  }
 }
 
 struct VisibilityRecord::ClawSolid {

@@ -8,6 +8,7 @@
 #include <limits>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include "../allocation_count.hpp"
 #include "evidence_fixtures.hpp"
@@ -162,6 +163,39 @@ TEST(VisibilityRecord, SeenFreeIsThePixelsAnswerWhereverTheBlocksSkipThem) {
   }
   // Both answers are well represented.
   EXPECT_GT(free, 10000);
+  EXPECT_GT(not_free, 10000);
+}
+
+TEST(VisibilityRecord, ARowOfPointsGetsEachPointsAnswer) {
+  VisibilityRecord record(VisibilityConfig{}, TestBox());
+  const auto f = PlateFrame();
+  for (const double deg : {0.0, 15.0, -30.0}) ASSERT_TRUE(record.Offer(f.raw, f.claw_depth, Turned(deg)));
+  // Rows longer than the row test's chunk, from behind the camera's side
+  // of the box to past the image, with steps that land points on pixel
+  // borders as well as between them.
+  std::vector<float> x_G;
+  for (float x = -0.4f; x <= 0.4f; x += 0.00073f) x_G.push_back(x);
+  std::vector<uint8_t> free(x_G.size());
+  int free_count = 0, not_free = 0;
+  for (float y = -0.2f; y <= 0.2f; y += 0.0371f) {
+    for (float z = -0.2f; z <= 1.15f; z += 0.0537f) {
+      for (size_t k = 0; k < record.size(); ++k) {
+        for (const float extra : {0.0f, 0.05f}) {
+          for (const bool coarse : {false, true}) {
+            record.SeenFreeAlongX(k, x_G.data(), static_cast<int>(x_G.size()), y, z, extra, coarse,
+                                  free.data());
+            for (size_t i = 0; i < x_G.size(); ++i) {
+              const bool expected = record.SeenFreeBy(k, Eigen::Vector3f(x_G[i], y, z), extra, coarse);
+              ASSERT_EQ(free[i] != 0, expected)
+                  << "key frame " << k << " at " << x_G[i] << " " << y << " " << z;
+              (expected ? free_count : not_free) += 1;
+            }
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(free_count, 10000);
   EXPECT_GT(not_free, 10000);
 }
 
