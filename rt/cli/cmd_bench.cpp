@@ -447,7 +447,9 @@ void PrintBenchJson(const std::string& log, const BenchResults& r) {
                     {"points", r.points},
                     {"track_object_ms", r.tracked.track_time.mean_ms()},
                     {"frames_rejected_by_track_object", r.tracked.frames_skipped_tracking},
-                    {"frame_total_with_track_object_ms", FramePathMs(r.tracked)}};
+                    {"frame_total_with_track_object_ms", FramePathMs(r.tracked)},
+                    {"claw_rebuild_ms", s.claw_rebuild.mean_ms()},
+                    {"claw_rebuilds", s.claw_rebuild.count}};
   j["open3d_same_frames"] = {{"integrate_ms", r.open3d_integrate_ms},
                              {"frames", r.open3d_frames},
                              {"frames_missed", r.open3d_frames_missed}};
@@ -527,6 +529,12 @@ void PrintBenchTable(const std::string& log, const BenchResults& r) {
               Ratio(r.total_ms, r.open3d_integrate_ms));
   std::printf("replay throughput (decode + pipeline): %.1f fps over %lld frames (target >= 200)\n",
               r.best_fps, static_cast<long long>(r.replay_frames));
+  std::printf(
+      "the claw's tables remade when the fingers moved (cut-out, record, refinement): %.2f ms each, "
+      "%lld time%s over %zu frames (on that frame's path; not in the per-frame means above, in the "
+      "replay's)\n",
+      s.claw_rebuild.mean_ms(), static_cast<long long>(s.claw_rebuild.count),
+      s.claw_rebuild.count == 1 ? "" : "s", r.frames);
   if (r.heap_readied) {
     std::printf(
         "the heap readied as live readies it (%d MB), measured last: frame path %.3f ms (integration %.3f, "

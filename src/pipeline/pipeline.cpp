@@ -89,6 +89,7 @@ struct Pipeline::Impl {
       changed = std::abs(state.joint_values[i] - claw_joints[i]) > config.claw_rebuild_tolerance;
     }
     if (!changed) return;
+    ScopedStageTimer t(&stats.claw_rebuild);
     const TriangleMesh posed = claw.Posed(state.opening_m, state.joint_values);
     mask.SetClaw(posed);
     visibility.SetClaw(posed);

@@ -18,6 +18,8 @@ TEST_F(PipelineTest, CloudLiesOnTheSphereWithoutTheClaw) {
   Feed(&pipeline, 60);
   EXPECT_EQ(pipeline.stats().frames_integrated, 60);
   EXPECT_EQ(pipeline.stats().claw_rebuilds, 1);
+  EXPECT_EQ(pipeline.stats().claw_rebuild.count, 1);  // the rebuild timed, on the frame that made it
+  EXPECT_GT(pipeline.stats().claw_rebuild.total_ms, 0.0);
   const ObjectCloud cloud = pipeline.ExtractCloud();
   ASSERT_GT(cloud.size(), 2000u);
   int off_surface = 0;

@@ -111,6 +111,9 @@ struct PipelineStats {
   int64_t states_in{0};
   int64_t states_rejected{0};  ///< non-finite / not newer than the last
   int64_t claw_rebuilds{0};
+  /// Remaking the claw's tables when the fingers moved (cut-out, record,
+  /// refinement): on the frame path of the frame that saw them move.
+  StageTotal claw_rebuild;
   int64_t frames_skipped_refine{0};  ///< rejected by pose refinement
   int64_t frames_decimated{0};       ///< over max_fusion_pixels, fused decimated
   refine::RefineStats refine;        ///< corrections, residuals, rejections by reason
