@@ -116,7 +116,7 @@ class VisibilityRecord {
   /// carves whole voxels with it).
   /// `first_key_frame` (may be null): the key frame asked first, set to the
   /// one that saw the point free; neighbouring points are mostly carved by
-  /// the same one (the safe bound walks the grid so). The answer is the same.
+  /// the same one (the repair walks its samples so). The answer is the same.
   bool SeenFree(const Eigen::Vector3f& p_G, float extra_m = 0.0f, bool coarse = false,
                 size_t* first_key_frame = nullptr) const;
   /// SeenFree asking key frame `key_frame` only.
