@@ -49,15 +49,16 @@ PixelRect ProjectBox(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G, co
   return r;
 }
 
-int CropToWorkspace(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G, DepthFrame* frame,
-                    PixelRect* roi) {
-  const CameraIntrinsics& K = frame->intrinsics;
+namespace {
+
+// The crop from `in` into `out` (the same size; may be the same array).
+int Crop(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G, const CameraIntrinsics& K, const float* in,
+         float* out, PixelRect* roi) {
   const PixelRect r = ProjectBox(box, T_C_G, K);
-  float* depth = frame->depth_m.data();
   const int width = K.width;
   // Zero the rows above and below the rectangle, and the sides of its rows.
-  std::memset(depth, 0, sizeof(float) * static_cast<size_t>(r.v0) * width);
-  std::memset(depth + static_cast<size_t>(r.v1) * width, 0,
+  std::memset(out, 0, sizeof(float) * static_cast<size_t>(r.v0) * width);
+  std::memset(out + static_cast<size_t>(r.v1) * width, 0,
               sizeof(float) * static_cast<size_t>(K.height - r.v1) * width);
   // Test each pixel in G: p_G = R_G_C * p_C + t_G_C, with p_C = z * ray.
   const Eigen::Isometry3d T_G_C = T_C_G.inverse();
@@ -69,27 +70,41 @@ int CropToWorkspace(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G, Dep
   const float inv_fy = static_cast<float>(1.0 / K.fy);
   int kept = 0;
   for (int v = r.v0; v < r.v1; ++v) {
-    float* row = depth + static_cast<size_t>(v) * width;
+    const float* in_row = in + static_cast<size_t>(v) * width;
+    float* row = out + static_cast<size_t>(v) * width;
     std::fill(row, row + r.u0, 0.0f);
     std::fill(row + r.u1, row + width, 0.0f);
     const float y = (static_cast<float>(v) - static_cast<float>(K.cy)) * inv_fy;
     for (int u = r.u0; u < r.u1; ++u) {
-      const float z = row[u];
+      const float z = in_row[u];
       if (!(z > 0.0f)) {
         row[u] = 0.0f;  // also clears NaN
         continue;
       }
       const float x = (static_cast<float>(u) - static_cast<float>(K.cx)) * inv_fx;
       const Eigen::Array3f p_G = (R * Eigen::Vector3f(x * z, y * z, z) + t).array();
-      if ((p_G >= lo).all() && (p_G <= hi).all()) {
-        ++kept;
-      } else {
-        row[u] = 0.0f;
-      }
+      const bool inside = (p_G >= lo).all() && (p_G <= hi).all();
+      kept += inside;
+      row[u] = inside ? z : 0.0f;
     }
   }
   if (roi) *roi = r;
   return kept;
+}
+
+}  // namespace
+
+int CropToWorkspace(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G, DepthFrame* frame,
+                    PixelRect* roi) {
+  return Crop(box, T_C_G, frame->intrinsics, frame->depth_m.data(), frame->depth_m.data(), roi);
+}
+
+int CropToWorkspace(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G, const DepthFrame& in,
+                    DepthFrame* out, PixelRect* roi) {
+  out->utime = in.utime;
+  out->intrinsics = in.intrinsics;
+  out->depth_m.resize(in.depth_m.size());
+  return Crop(box, T_C_G, in.intrinsics, in.depth_m.data(), out->depth_m.data(), roi);
 }
 
 }  // namespace graspfill::fusion

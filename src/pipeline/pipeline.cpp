@@ -161,19 +161,25 @@ struct Pipeline::Impl {
       refiner.CalibrateDepthScale();
       stats.refine = refiner.stats();
     }
-    work.utime = frame.utime;
-    work.intrinsics = frame.intrinsics;
-    work.depth_m.assign(frame.depth_m.begin(), frame.depth_m.end());
     if (config.reject_depth_edges) {
       // Before the crop, which zeroes the background an edge pixel jumps to
       // (a zeroed neighbour says nothing); over the box's image only.
       ScopedStageTimer t(&stats.depth_edges);
+      work.utime = frame.utime;
+      work.intrinsics = frame.intrinsics;
+      work.depth_m.assign(frame.depth_m.begin(), frame.depth_m.end());
       const fusion::PixelRect box = fusion::ProjectBox(config.workspace, T_C_G, work.intrinsics, 2);
       stats.depth_edge_pixels += fusion::RejectDepthEdges(box, &work, &edge_marks);
     }
     {
+      // The crop writes the working copy (one pass over the frame), or crops
+      // the one the edges were dropped from.
       ScopedStageTimer t(&stats.crop);
-      fusion::CropToWorkspace(config.workspace, T_C_G, &work);
+      if (config.reject_depth_edges) {
+        fusion::CropToWorkspace(config.workspace, T_C_G, &work);
+      } else {
+        fusion::CropToWorkspace(config.workspace, T_C_G, frame, &work);
+      }
     }
     {
       ScopedStageTimer t(&stats.mask);

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
+
 namespace graspfill::fusion {
 namespace {
 
@@ -46,6 +49,44 @@ TEST(WorkspaceCrop, KeepsExactlyThePixelsInsideTheBox) {
   }
   EXPECT_EQ(nonzero, kept);
   EXPECT_EQ(f.depth_m[10 * 640 + 320], 0.0f);  // background removed
+}
+
+// Cropped into another frame: the same depths, count and rectangle as in
+// place, and the source untouched; a reused target of another size is
+// resized.
+TEST(WorkspaceCrop, IntoAnotherFrameIsTheCropInPlace) {
+  WorkspaceBox box;
+  box.min_G = Eigen::Vector3d(-0.05, -0.05, 0.05);
+  box.max_G = Eigen::Vector3d(0.05, 0.05, 0.15);
+  const Eigen::Isometry3d T_C_G = SideCamera();
+  DepthFrame source;
+  source.utime = 42;
+  source.depth_m.resize(640 * 480);
+  for (int v = 0; v < 480; ++v) {
+    for (int u = 0; u < 640; ++u) {
+      // A wall tilted through the box, holes and a NaN among it.
+      float z = 0.45f + 0.0004f * static_cast<float>(u % 300) + 0.0002f * static_cast<float>(v % 200);
+      if ((u * 7 + v * 13) % 29 == 0) z = 0.0f;
+      source.depth_m[static_cast<size_t>(v) * 640 + u] = z;
+    }
+  }
+  source.depth_m[300 * 640 + 320] = std::nanf("");
+  DepthFrame in_place = source;
+  PixelRect roi_in_place;
+  const int kept_in_place = CropToWorkspace(box, T_C_G, &in_place, &roi_in_place);
+  ASSERT_GT(kept_in_place, 1000);
+  DepthFrame out;
+  out.depth_m.assign(17, 3.0f);
+  PixelRect roi;
+  const DepthFrame copy = source;
+  EXPECT_EQ(CropToWorkspace(box, T_C_G, source, &out, &roi), kept_in_place);
+  EXPECT_EQ(out.utime, 42);
+  EXPECT_EQ(roi.u0, roi_in_place.u0);
+  EXPECT_EQ(roi.v1, roi_in_place.v1);
+  ASSERT_EQ(out.depth_m.size(), in_place.depth_m.size());
+  EXPECT_EQ(std::memcmp(out.depth_m.data(), in_place.depth_m.data(), sizeof(float) * out.depth_m.size()), 0);
+  EXPECT_EQ(std::memcmp(source.depth_m.data(), copy.depth_m.data(), sizeof(float) * source.depth_m.size()),
+            0);
 }
 
 TEST(WorkspaceCrop, BoxBehindCameraUsesFullImageAndNaNIsCleared) {

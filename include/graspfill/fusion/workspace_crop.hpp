@@ -42,5 +42,10 @@ PixelRect ProjectBox(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G,
 /// the rectangle outside which every pixel is now zero. Allocates nothing.
 int CropToWorkspace(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G, DepthFrame* frame,
                     PixelRect* roi = nullptr);
+/// The same crop of `in`, written to *out (resized to `in`'s size; its
+/// memory reused): one pass over the frame where a copy and a crop in place
+/// take two. `in` must hold width x height depths.
+int CropToWorkspace(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G, const DepthFrame& in,
+                    DepthFrame* out, PixelRect* roi = nullptr);
 
 }  // namespace graspfill::fusion
