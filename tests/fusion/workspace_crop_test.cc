@@ -19,10 +19,16 @@ Eigen::Isometry3d SideCamera() {
   return T_G_C.inverse();
 }
 
-TEST(WorkspaceCrop, KeepsExactlyThePixelsInsideTheBox) {
+// A 10 cm cube, 5 to 15 cm along G's z.
+WorkspaceBox SmallBox() {
   WorkspaceBox box;
   box.min_G = Eigen::Vector3d(-0.05, -0.05, 0.05);
   box.max_G = Eigen::Vector3d(0.05, 0.05, 0.15);
+  return box;
+}
+
+TEST(WorkspaceCrop, KeepsExactlyThePixelsInsideTheBox) {
+  const WorkspaceBox box = SmallBox();
   const Eigen::Isometry3d T_C_G = SideCamera();
   DepthFrame f;
   // A wall through G's origin plane x = 0 (0.5 m away) and a far background.
@@ -55,9 +61,7 @@ TEST(WorkspaceCrop, KeepsExactlyThePixelsInsideTheBox) {
 // place, and the source untouched; a reused target of another size is
 // resized.
 TEST(WorkspaceCrop, IntoAnotherFrameIsTheCropInPlace) {
-  WorkspaceBox box;
-  box.min_G = Eigen::Vector3d(-0.05, -0.05, 0.05);
-  box.max_G = Eigen::Vector3d(0.05, 0.05, 0.15);
+  const WorkspaceBox box = SmallBox();
   const Eigen::Isometry3d T_C_G = SideCamera();
   DepthFrame source;
   source.utime = 42;
@@ -103,9 +107,7 @@ TEST(WorkspaceCrop, BoxBehindCameraUsesFullImageAndNaNIsCleared) {
 // Issue 12: fx = 1e300 or cx = 1e308 overflowed double -> int (UBSan); in
 // practice the rectangle came out empty and every pixel was cropped.
 TEST(WorkspaceCrop, ExtremeIntrinsicsGiveAConservativeRectangle) {
-  WorkspaceBox box;
-  box.min_G = Eigen::Vector3d(-0.05, -0.05, 0.05);
-  box.max_G = Eigen::Vector3d(0.05, 0.05, 0.15);
+  const WorkspaceBox box = SmallBox();
   CameraIntrinsics K;
   K.fx = K.fy = 1e300;  // the box straddles the optical axis: +-1e299 px
   PixelRect r = ProjectBox(box, SideCamera(), K);
