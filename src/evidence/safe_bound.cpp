@@ -36,7 +36,7 @@ void CarveSafeBound(const VisibilityRecord& record, size_t first_key_frame, Safe
   constexpr int kChunk = 64;
   float x_G[kChunk];
   size_t voxel[kChunk];
-  uint8_t free[kChunk];
+  uint8_t seen_free[kChunk];
   for (size_t frame = first_key_frame; frame < record.size(); ++frame) {
     size_t b = 0;
     for (int k = 0; k < bound->nz; ++k) {
@@ -46,9 +46,9 @@ void CarveSafeBound(const VisibilityRecord& record, size_t first_key_frame, Safe
         const float z_G = bound->origin_G.z() + bound->voxel_m * (static_cast<float>(k) + 0.5f);
         int standing = 0;
         const auto carve = [&] {
-          record.SeenFreeAlongX(frame, x_G, standing, y_G, z_G, half_diagonal, /*coarse=*/true, free);
+          record.SeenFreeAlongX(frame, x_G, standing, y_G, z_G, half_diagonal, /*coarse=*/true, seen_free);
           for (int s = 0; s < standing; ++s) {
-            if (free[s]) bound->bits[voxel[s] >> 3] &= uint8_t(~(1u << (voxel[s] & 7)));
+            if (seen_free[s]) bound->bits[voxel[s] >> 3] &= uint8_t(~(1u << (voxel[s] & 7)));
           }
           standing = 0;
         };

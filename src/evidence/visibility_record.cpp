@@ -321,7 +321,7 @@ bool VisibilityRecord::FreeAt(const KeyFrame& kf, int u, int v, float z, float e
 }
 
 void VisibilityRecord::SeenFreeAlongX(size_t key_frame, const float* x_G, int count, float y_G, float z_G,
-                                      float extra_m, bool coarse, uint8_t* free) const {
+                                      float extra_m, bool coarse, uint8_t* seen_free) const {
   const KeyFrame& k = *key_frames_.at(key_frame);
   const RowProjection project(k, y_G, z_G);
   // A chunk of points projected at a time (a loop the compiler vectorizes:
@@ -333,7 +333,7 @@ void VisibilityRecord::SeenFreeAlongX(size_t key_frame, const float* x_G, int co
     const int n = std::min(kChunk, count - start);
     for (int i = 0; i < n; ++i) project(x_G[start + i], &u_roi[i], &v_roi[i], &z_C[i]);
     for (int i = 0; i < n; ++i) {
-      free[start + i] = u_roi[i] >= 0 && FreeAt(k, u_roi[i], v_roi[i], z_C[i], extra_m, coarse);
+      seen_free[start + i] = u_roi[i] >= 0 && FreeAt(k, u_roi[i], v_roi[i], z_C[i], extra_m, coarse);
     }
   }
 }

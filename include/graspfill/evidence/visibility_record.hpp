@@ -123,10 +123,10 @@ class VisibilityRecord {
   bool SeenFreeBy(size_t key_frame, const Eigen::Vector3f& p_G, float extra_m = 0.0f,
                   bool coarse = false) const;
   /// SeenFreeBy(key_frame, (x_G[i], y_G, z_G), extra_m, coarse) for each
-  /// i < count, into free[i] (1 or 0): the same answers, a row of points
+  /// i < count, into seen_free[i] (1 or 0): the same answers, a row of points
   /// projected at a time (the safe bound's carve).
   void SeenFreeAlongX(size_t key_frame, const float* x_G, int count, float y_G, float z_G, float extra_m,
-                      bool coarse, uint8_t* free) const;
+                      bool coarse, uint8_t* seen_free) const;
   /// The safe bound at config().safe_bound_voxel_m over the key frames so
   /// far (the whole box before the first); null when none is kept.
   const std::shared_ptr<const SafeBound>& safe_bound() const { return safe_bound_; }
