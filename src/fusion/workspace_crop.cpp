@@ -51,6 +51,13 @@ PixelRect ProjectBox(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G, co
 
 namespace {
 
+void CheckSize(const DepthFrame& frame) {
+  const CameraIntrinsics& K = frame.intrinsics;
+  if (K.width <= 0 || K.height <= 0 || frame.depth_m.size() != static_cast<size_t>(K.width) * K.height) {
+    throw std::invalid_argument("CropToWorkspace: the depth does not hold width x height pixels");
+  }
+}
+
 // The crop from `in` into `out` (the same size; may be the same array).
 int Crop(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G, const CameraIntrinsics& K, const float* in,
          float* out, PixelRect* roi) {
@@ -96,11 +103,13 @@ int Crop(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G, const CameraIn
 
 int CropToWorkspace(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G, DepthFrame* frame,
                     PixelRect* roi) {
+  CheckSize(*frame);
   return Crop(box, T_C_G, frame->intrinsics, frame->depth_m.data(), frame->depth_m.data(), roi);
 }
 
 int CropToWorkspace(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G, const DepthFrame& in,
                     DepthFrame* out, PixelRect* roi) {
+  CheckSize(in);
   out->utime = in.utime;
   out->intrinsics = in.intrinsics;
   out->depth_m.resize(in.depth_m.size());

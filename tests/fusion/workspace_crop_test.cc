@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 
 namespace graspfill::fusion {
 namespace {
@@ -122,6 +123,18 @@ TEST(WorkspaceCrop, ExtremeIntrinsicsGiveAConservativeRectangle) {
   r = ProjectBox(box, SideCamera(), K);
   EXPECT_EQ(r.u0, 0);
   EXPECT_EQ(r.u1, 0);
+}
+
+// A depth that does not match its size is refused, not read past its end.
+TEST(WorkspaceCrop, RefusesADepthOfAnotherSize) {
+  DepthFrame f;
+  f.depth_m.assign(640 * 479, 0.5f);
+  EXPECT_THROW(CropToWorkspace(SmallBox(), SideCamera(), &f), std::invalid_argument);
+  DepthFrame out;
+  EXPECT_THROW(CropToWorkspace(SmallBox(), SideCamera(), f, &out), std::invalid_argument);
+  f.depth_m.assign(640 * 480, 0.5f);
+  f.intrinsics.width = 0;
+  EXPECT_THROW(CropToWorkspace(SmallBox(), SideCamera(), f, &out), std::invalid_argument);
 }
 
 TEST(WorkspaceCrop, ValidateRejectsInvertedBox) {

@@ -40,11 +40,13 @@ PixelRect ProjectBox(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G,
 /// Zeroes every pixel of `frame` whose back-projected point is outside the
 /// box. Returns the number of valid pixels kept; *roi (optional) receives
 /// the rectangle outside which every pixel is now zero. Allocates nothing.
+/// @throws std::invalid_argument unless the depth holds width x height
+/// pixels (both overloads).
 int CropToWorkspace(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G, DepthFrame* frame,
                     PixelRect* roi = nullptr);
 /// The same crop of `in`, written to *out (resized to `in`'s size; its
 /// memory reused): one pass over the frame where a copy and a crop in place
-/// take two. `in` must hold width x height depths.
+/// take two.
 int CropToWorkspace(const WorkspaceBox& box, const Eigen::Isometry3d& T_C_G, const DepthFrame& in,
                     DepthFrame* out, PixelRect* roi = nullptr);
 
