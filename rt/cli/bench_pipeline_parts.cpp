@@ -74,6 +74,17 @@ Outcome Measure(const ObjectCloud& cloud, size_t fused, const std::vector<Eigen:
     const std::vector<double> d = mesh::NearestDistances(added, truth);
     o.added_p95_mm = 1000.0 * Percentile(d, 95.0);
     o.added_wrong = 1.0 - eval::FractionWithin(d, kWrongDistanceM);
+    if (cloud.confidence.size() == cloud.size()) {
+      std::vector<double> trusted;
+      for (size_t k = 0; k < d.size(); ++k) {
+        if (cloud.confidence[fused + k] > 0.5f) trusted.push_back(d[k]);
+      }
+      o.trusted_added = trusted.size();
+      if (!trusted.empty()) {
+        o.trusted_p95_mm = 1000.0 * Percentile(trusted, 95.0);
+        o.trusted_wrong = 1.0 - eval::FractionWithin(trusted, kWrongDistanceM);
+      }
+    }
     for (const Eigen::Vector3f& p : added) o.added_in_free += record.SeenFree(p);
   }
   o.truth_outside_bound = std::numeric_limits<double>::quiet_NaN();

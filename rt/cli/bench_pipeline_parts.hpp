@@ -54,7 +54,13 @@ struct Outcome {
   double coverage{0.0};      ///< share of the truth within kCoverageRadiusM
   double added_p95_mm{0.0};  ///< 0 when nothing was added
   double added_wrong{0.0};   ///< share of the added points > kWrongDistanceM
-  int added_in_free{0};      ///< added points in seen-free space
+  /// The added points the repair stands behind (confidence > 0.5, more
+  /// likely right than not), their p95 and share > kWrongDistanceM (0 when
+  /// none): what a planner that keeps only those would be given.
+  size_t trusted_added{0};
+  double trusted_p95_mm{0.0};
+  double trusted_wrong{0.0};
+  int added_in_free{0};  ///< added points in seen-free space
   /// Share of the truth outside the cloud's safe bound, the planner's
   /// keep-out (NaN: the cloud carries none): the bound must hold the whole
   /// object, the unseen top and what the claw hid included.

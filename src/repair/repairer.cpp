@@ -27,8 +27,12 @@ namespace {
 // this many spacings: a hole, not the gaps between seen points.
 constexpr double kHoleSpacings = 3.0;
 
-// The paper mode's mirrored points: no search weighs them.
-constexpr float kPaperMirrorConfidence = 0.5f;
+// A coin flip, for what nothing decides: the paper mode's mirrored points
+// (no search weighs them), and at most for a lid over walls that run
+// straight up to the rim (no view saw it, and a mouth would end the walls
+// alike: a can and a cup with the same outside give byte-identical fused
+// clouds, docs/measurements/2026-12-07-can-or-cup.md).
+constexpr float kCoinFlipConfidence = 0.5f;
 
 // Below this the neighbourhood statistics of every step are meaningless.
 constexpr size_t kMinPoints = 200;
@@ -432,11 +436,22 @@ SymmetryResult MirrorTop(const PointList& points_V, const Holes& holes, const Ne
 }
 
 // The top's points (V), their normals where the completion gives them
-// (else empty), and their confidence.
+// (else empty), and their confidence. A lid over straight walls
+// (`undecided_lid`) closes a top the walls do not close towards: its
+// points, and the mirror's in the missing surface's box or over it
+// (`top_box_V`; not those that fill claw holes beside it), carry at most
+// kCoinFlipConfidence.
 struct TopCap {
   PointList points_V;
   std::vector<Eigen::Vector3f> normals_V;
   float confidence{0.0f};
+  bool undecided_lid{false};
+  Eigen::AlignedBox3f top_box_V;
+
+  float Capped() const { return undecided_lid ? std::min(confidence, kCoinFlipConfidence) : confidence; }
+  float MirroredAt(const Eigen::Vector3f& p_V) const {
+    return top_box_V.contains(p_V) ? Capped() : confidence;
+  }
 };
 
 // The camera's evidence: nothing in seen-free space, no contradicted
@@ -597,6 +612,25 @@ TopCap SearchTop(const PointList& points_V, const ClawFills& fills, SymmetryResu
     top.normals_V = DomeNormals(evidence_top, top.points_V);
   }
   top.confidence = choice.confidence;
+  // A lid: the extrusion's, or the mirror's over a constant section (where
+  // its image fills claw holes beside the top, the straight walls do imply
+  // the walls there).
+  top.undecided_lid = best.family == TopFamily::kExtrusion ||
+                      (best.family == TopFamily::kMirror && symmetry->constant_section);
+  // Open upwards: the evidence stretches the image's top up to the rays.
+  top.top_box_V = Eigen::AlignedBox3f(
+      symmetry->box_min_V,
+      Eigen::Vector3f(symmetry->box_max_V.x(), symmetry->box_max_V.y(), std::numeric_limits<float>::max()));
+  if (top.undecided_lid) {
+    if (top.confidence > kCoinFlipConfidence) {
+      report->top_confidence = kCoinFlipConfidence;
+      char text[160];
+      std::snprintf(text, sizeof(text),
+                    "; its lid over straight walls, never seen, as likely a mouth: confidence %.2f, not %.2f",
+                    kCoinFlipConfidence, top.confidence);
+      symmetry->reason += text;
+    }
+  }
   report->evidence.top_points_added = static_cast<int>(top.points_V.size());
   return top;
 }
@@ -617,12 +651,12 @@ void AppendAdded(const ObjectCloud& input, const ClawFills& fills, const Symmetr
   for (const Eigen::Vector3f& p : symmetry.added_V) {
     out->points_G.push_back(T_in_V * p);
     out->provenance.push_back(Provenance::kSymmetry);
-    out->confidence.push_back(top.confidence);
+    out->confidence.push_back(top.MirroredAt(p));
   }
   for (const Eigen::Vector3f& p : top.points_V) {
     out->points_G.push_back(T_in_V * p);
     out->provenance.push_back(Provenance::kSurface);
-    out->confidence.push_back(top.confidence);
+    out->confidence.push_back(top.Capped());
   }
   // Normals: the input's are kept; the added points get estimated ones
   // when the input had them (a planner wants one per point), else none.
@@ -673,9 +707,11 @@ void AppendAdded(const ObjectCloud& input, const ClawFills& fills, const Symmetr
   AppendAddedNormals(input.points_G.size(), known_G, index ? &*index : nullptr, out);
 }
 
-// The report's holes (in the input's frame), with the points added to each.
+// The report's holes (in the input's frame), with the points added to each
+// and their mean confidence (`added_confidence`: the added points', in
+// AppendAdded's order: the fills, the mirror's, the top's).
 void ReportHoles(const Holes& holes, const VirtualFrame& frame, const ClawFills& fills,
-                 const float* fill_confidence, const SymmetryResult& symmetry, const TopCap& top,
+                 const float* added_confidence, const SymmetryResult& symmetry, const TopCap& top,
                  RepairReport* report) {
   for (const HoleBoundary& h : holes.classified) {
     if (h.kind == HoleKind::kMissingSurface && holes.top_is_rim) continue;  // reported as the rim
@@ -706,22 +742,28 @@ void ReportHoles(const Holes& holes, const VirtualFrame& frame, const ClawFills&
     if (best < 0) continue;
     HoleSummary& hole = report->holes[best];
     // The running mean of its points' confidence.
-    hole.confidence += (fill_confidence[k] - hole.confidence) / static_cast<float>(++hole.points_added);
+    hole.confidence += (added_confidence[k] - hole.confidence) / static_cast<float>(++hole.points_added);
   }
+  // The top's points follow the fills.
+  const size_t top_points = symmetry.added_V.size() + top.points_V.size();
+  double top_sum = 0.0;
+  for (size_t k = 0; k < top_points; ++k) top_sum += added_confidence[fills.surface_V.size() + k];
+  const float top_mean =
+      top_points > 0 ? static_cast<float>(top_sum / static_cast<double>(top_points)) : 0.0f;
   const auto missing_hole =
       std::find_if(report->holes.begin(), report->holes.end(),
                    [](const HoleSummary& h) { return h.kind == HoleKind::kMissingSurface; });
   if (missing_hole != report->holes.end()) {
-    missing_hole->points_added = static_cast<int>(symmetry.added_V.size() + top.points_V.size());
+    missing_hole->points_added = static_cast<int>(top_points);
     missing_hole->unobserved = report->top_completion == TopFamilyName(TopFamily::kOpen);
-    if (missing_hole->points_added > 0) missing_hole->confidence = top.confidence;
+    missing_hole->confidence = top_mean;
   } else if (!top.points_V.empty()) {
     // The evidence found the top the cloud's boundaries did not show.
     HoleSummary s;
     s.kind = HoleKind::kMissingSurface;
     BoxInInput(top.points_V, frame, &s);
     s.points_added = static_cast<int>(top.points_V.size());
-    s.confidence = top.confidence;
+    s.confidence = top_mean;
     report->holes.insert(report->holes.begin(), s);
   }
 }
@@ -864,7 +906,7 @@ RepairResult RepairWithSteps(const ObjectCloud& input, const RepairConfig& confi
     top = SearchTop(points_V, fills, &symmetry, std::move(evidence_top), spacing_m, record, T_in_V, config,
                     &report);
   } else {
-    top.confidence = kPaperMirrorConfidence;
+    top.confidence = kCoinFlipConfidence;
   }
   report.symmetric = symmetry.symmetric;
   report.symmetry_reason = symmetry.reason;

@@ -747,6 +747,7 @@ SymmetryResult RepairMissingSurface(const PointList& points_V, const HoleBoundar
   }
   plane.how += OpenHolesNote(in_open);
   result.symmetric = true;
+  result.constant_section = plane.constant_section;
   result.reason = plane.how;
   return result;
 }

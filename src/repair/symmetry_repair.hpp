@@ -143,6 +143,10 @@ struct SymmetryResult {
   double symmetry_plane_z{std::numeric_limits<double>::quiet_NaN()};
   /// A plausible symmetry plane was found and used.
   bool symmetric{false};
+  /// The plane is a prism's mid-height: the walls run straight up to the
+  /// rim, so the image closes the top with a lid that no view saw and no
+  /// wall implies (a mouth would end them alike).
+  bool constant_section{false};
   /// Why not, when !symmetric; a short note otherwise.
   std::string reason;
   /// Largest outline mismatch of the checked slab pairs (0 when none was

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -250,7 +251,10 @@ TEST(BenchObjectsE2E, AnOpenCupsUnseenMouthIsLeftOpen) {
 // A block whose bottom edges are bevelled 3 mm, held by its top: the
 // mirror image of its bevelled bottom would bevel its lid too, and the
 // walls are those of a prism all the way down, so the search closes it by
-// the extrusion of its top's outline, at the rays' height.
+// the extrusion of its top's outline, at the rays' height. No view saw
+// that lid, and a tray's mouth would end the walls alike: it comes with a
+// coin flip's confidence, and the points the repair stands behind are the
+// rest.
 TEST(BenchObjectsE2E, AChamferedBlocksLidIsTheExtrusionOfItsWalls) {
   const std::string dir = ScratchDir("bench_objects_block");
   WriteText(dir + "/block.obj", BoxObj(0.05, 0.035, 0.08, 0.003));
@@ -259,8 +263,103 @@ TEST(BenchObjectsE2E, AChamferedBlocksLidIsTheExtrusionOfItsWalls) {
   const nlohmann::json row = OnlyRow(dir, "--claw parallel --grasp top-oblique");
   SCOPED_TRACE(row.dump());
   EXPECT_EQ(row["top_completion"], "extrusion");
-  EXPECT_GT(Get(row, "top_confidence"), 0.5);
+  EXPECT_EQ(Get(row, "top_confidence"), 0.5);
   EXPECT_TRUE(row["meets"].get<bool>());
+  EXPECT_TRUE(row["meets_on_trusted"].get<bool>());
+  EXPECT_LT(Get(row, "trusted_added"), 0.5 * Get(row, "added"));
+  EXPECT_LE(Get(row, "trusted_wrong_share"), 0.02);
+}
+
+// A can (66 x 101 mm) or a cup with the same outside, a 2 mm wall and no
+// lid (its inside 5 mm over its bottom), as OBJ: the pair of
+// scripts/can_and_cup.py, 96 facets around.
+std::string CanOrCupObj(bool cup) {
+  constexpr int kSegments = 96, kRings = 20;  // around the axis, along a wall
+  constexpr double kRadius = 0.033, kHeight = 0.101, kWall = 0.002, kInnerBottom = 0.005;
+  std::ostringstream obj;
+  obj.precision(9);  // as the script's float32 vertices
+  int vertices = 0;
+  // A ring of kSegments vertices; returns its first (1-based).
+  const auto ring = [&](double r, double z) {
+    for (int k = 0; k < kSegments; ++k) {
+      const double t = 2.0 * M_PI * k / kSegments;
+      obj << "v " << r * std::cos(t) << " " << r * std::sin(t) << " " << z << "\n";
+    }
+    vertices += kSegments;
+    return vertices - kSegments + 1;
+  };
+  // Rings from (r0, z0) to (r1, z1), faces out: up the outside, in across
+  // the rim, down the inside.
+  const auto band = [&](double r0, double z0, double r1, double z1, int steps) {
+    int a = ring(r0, z0);
+    for (int s = 1; s <= steps; ++s) {
+      const int b = ring(r0 + (r1 - r0) * s / steps, z0 + (z1 - z0) * s / steps);
+      for (int k = 0; k < kSegments; ++k) {
+        const int k1 = (k + 1) % kSegments;
+        obj << "f " << a + k << " " << a + k1 << " " << b + k1 << "\nf " << a + k << " " << b + k1 << " "
+            << b + k << "\n";
+      }
+      a = b;
+    }
+  };
+  const auto disc = [&](double r, double z, bool up) {
+    obj << "v 0 0 " << z << "\n";
+    const int centre = ++vertices;
+    const int first = ring(r, z);
+    for (int k = 0; k < kSegments; ++k) {
+      const int a = first + k, b = first + (k + 1) % kSegments;
+      obj << "f " << centre << " " << (up ? a : b) << " " << (up ? b : a) << "\n";
+    }
+  };
+  disc(kRadius, 0.0, false);
+  band(kRadius, 0.0, kRadius, kHeight, kRings);
+  if (!cup) {
+    disc(kRadius, kHeight, true);
+  } else {
+    band(kRadius, kHeight, kRadius - kWall, kHeight, 1);  // the rim
+    band(kRadius - kWall, kHeight, kRadius - kWall, kInnerBottom, kRings);
+    disc(kRadius - kWall, kInnerBottom, true);
+  }
+  return obj.str();
+}
+
+// The can and the cup, held by their tops (parallel claw, top-straight,
+// seed 1): the repair is given byte-identical clouds
+// (docs/measurements/2026-12-07-can-or-cup.md), so one of the issue's two
+// targets must fail. Their lid is added with a coin flip's confidence:
+// the can meets the stated targets, the cup misses them, and both meet
+// the case proposed beside them (the wrong share over the points with
+// confidence > 0.5).
+TEST(BenchObjectsE2E, ACanAndACupWithTheSameOutsideMeetTheProposedCase) {
+  const std::string dir = ScratchDir("bench_objects_can_or_cup");
+  WriteText(dir + "/can.obj", CanOrCupObj(false));
+  WriteText(dir + "/cup.obj", CanOrCupObj(true));
+  WriteText(dir + "/objects.json", R"({"objects": {
+      "can": {"file": "can.obj", "kind": "closed_symmetric", "split": "tune"},
+      "cup": {"file": "cup.obj", "kind": "open", "split": "tune"}}})");
+  const auto run = RunCli("bench repair --objects " + dir +
+                          " --claw parallel --grasp top-straight --seeds 1 --repeat 1 --json");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json out = JsonOf(run.output);
+  const nlohmann::json& rows = out.at("rows");
+  ASSERT_EQ(rows.size(), 2u);
+  const nlohmann::json& can = rows[0]["object"] == "can" ? rows[0] : rows[1];
+  const nlohmann::json& cup = rows[0]["object"] == "can" ? rows[1] : rows[0];
+  SCOPED_TRACE(rows.dump());
+  EXPECT_EQ(can["fused_points"], cup["fused_points"]);
+  EXPECT_EQ(can["added"], cup["added"]);
+  for (const nlohmann::json* row : {&can, &cup}) {
+    EXPECT_EQ((*row)["top_completion"], "mirror");
+    EXPECT_EQ(Get(*row, "top_confidence"), 0.5);
+    EXPECT_TRUE((*row)["meets_on_trusted"].get<bool>());
+    EXPECT_LE(Get(*row, "trusted_wrong_share"), 0.02);
+  }
+  EXPECT_TRUE(can["meets"].get<bool>());
+  EXPECT_FALSE(cup["meets"].get<bool>());
+  EXPECT_GT(Get(cup, "wrong_share"), 0.1);  // the lid over its mouth
+  const nlohmann::json& proposed = out.at("summary").at("on_trusted_by_split_kind").at("tune");
+  EXPECT_EQ(proposed.at("open").at("met"), 1);
+  EXPECT_EQ(proposed.at("closed_symmetric").at("met"), 1);
 }
 
 // An object the claw cannot hold stays in the table: not met, and why.

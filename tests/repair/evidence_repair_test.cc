@@ -564,6 +564,8 @@ TEST(EvidenceRepair, AMirroredRoundTopsOpenMiddleGetsTheDome) {
   EXPECT_EQ(h.repaired.report.evidence.top, "dome");
   EXPECT_GE(h.coverage, 0.99);
   ExpectTargets(h);
+  // A round top the walls narrow towards is not a coin flip.
+  EXPECT_GT(h.repaired.report.top_confidence, 0.5f);
   // The dome's points (the top's surface points, at the search's
   // confidence; the claw fills have their own) lie nearer the apple's top.
   const ObjectCloud& cloud = h.repaired.cloud;

@@ -226,6 +226,51 @@ TEST(Repairer, ABallsCutTopIsClosedByTheSearch) {
   }
 }
 
+// A can with its lid cut off and a finger's hole in its wall, seen from
+// the cloud alone: the walls run straight to the rim, so the mirror closes
+// it with a lid, which a cup's mouth would leave open on the same points.
+// Every point added at the top carries at most a coin flip, and so does
+// the top's hole; the wall's fill keeps its own confidence.
+TEST(Repairer, ALidOverStraightWallsIsACoinFlip) {
+  const mesh::SurfaceSamples s =
+      mesh::SampleSurface(synth::MakeShape(synth::Shape::kCylinder, {0.066, 0.066, 0.10}), 30000, 6);
+  const auto in_wall_hole = [](const Eigen::Vector3f& p) {
+    return p.z() > 0.03f && p.z() < 0.045f && p.x() > 0.02f && std::abs(p.y()) < 0.01f;
+  };
+  ObjectCloud in;
+  float rim_z = -1.0f;
+  for (size_t i = 0; i < s.points.size(); ++i) {
+    if (s.points[i].z() > 0.0995f || in_wall_hole(s.points[i])) continue;  // the lid, never seen
+    in.points_G.push_back(s.points[i]);
+    in.normals_G.push_back(s.normals[i]);
+    rim_z = std::max(rim_z, s.points[i].z());
+  }
+  const RepairResult r = RepairUp(in);
+  ASSERT_EQ(r.report.status, RepairStatus::kRepaired);
+  ASSERT_EQ(r.report.top_completion, "mirror") << r.report.symmetry_reason;
+  EXPECT_EQ(r.report.top_confidence, 0.5f);
+  EXPECT_NE(r.report.symmetry_reason.find("as likely a mouth"), std::string::npos)
+      << r.report.symmetry_reason;
+  size_t lid = 0, wall = 0;
+  for (size_t i = in.size(); i < r.cloud.size(); ++i) {
+    const Eigen::Vector3f& p = r.cloud.points_G[i];
+    if (p.z() > rim_z - 0.005f) {
+      ++lid;
+      EXPECT_LE(r.cloud.confidence[i], 0.5f) << i;
+    } else if (in_wall_hole(p)) {
+      ++wall;
+      EXPECT_GT(r.cloud.confidence[i], 0.5f) << i;
+    }
+  }
+  EXPECT_GT(lid, 2000u);
+  EXPECT_GT(wall, 20u);
+  const auto top = std::find_if(r.report.holes.begin(), r.report.holes.end(),
+                                [](const HoleSummary& h) { return h.kind == HoleKind::kMissingSurface; });
+  ASSERT_NE(top, r.report.holes.end());
+  EXPECT_FALSE(top->unobserved);
+  EXPECT_EQ(top->confidence, 0.5f);
+}
+
 // A protocol cylinder (object frame) with its true outward normals: the
 // input's normals come back unchanged, the added points get normals that
 // match the surface there and point out.
