@@ -14,7 +14,9 @@
 //         plays as "file://LOG?speed=0" (at its end LCM's Java file provider
 //         prints an EOFException on stderr: harmless)
 // Prints per cloud, as the C++ example does:
-//   seq=S utime=U grasp=G final=F points=N observed=A surface=B symmetry=C holes=H unobserved=U
+//   seq=S utime=U grasp=G final=F points=N observed=A surface=B symmetry=C holes=H unobserved=U trusted=T
+//   (T: the added points the repair stands behind, confidence above 0.5; 0.5,
+//   a coin flip, packs to the byte 128 and reads back as 0.502)
 // Exit: 0 once N clouds (default 1) are received; 1 on a usage error, an
 // undecodable message or S seconds (default 10) without a cloud before that.
 import graspfill.hole_t;
@@ -35,11 +37,19 @@ public class ObjectCloudSubscriber {
     for (hole_t h : cloud.holes) {
       if (h.unobserved != 0) ++unobserved;
     }
+    // Added points more likely right than not; the rest of the added ones
+    // (a lid no view saw) are a guess, which the safe bound covers.
+    long trusted = 0;
+    for (int i = 0; i < points.provenance.length; ++i) {
+      if (points.provenance[i] != object_cloud_t.OBSERVED && Math.round(255.0f * points.confidence[i]) > 128) {
+        ++trusted;
+      }
+    }
     System.out.printf("seq=%d utime=%d grasp=%d final=%d points=%d observed=%d surface=%d "
-            + "symmetry=%d holes=%d unobserved=%d%n", cloud.seq, cloud.utime, cloud.grasp_id,
+            + "symmetry=%d holes=%d unobserved=%d trusted=%d%n", cloud.seq, cloud.utime, cloud.grasp_id,
         cloud.is_final, cloud.num_points, byProvenance[object_cloud_t.OBSERVED],
         byProvenance[object_cloud_t.SURFACE], byProvenance[object_cloud_t.SYMMETRY],
-        cloud.num_holes, unobserved);
+        cloud.num_holes, unobserved, trusted);
     System.out.flush();
   }
 

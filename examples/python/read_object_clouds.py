@@ -3,7 +3,10 @@
 """Reads graspfill's object clouds from an LCM log file and prints a summary
 of each, as the C++ and Java subscribers do:
 
-  seq=S utime=U grasp=G final=F points=N observed=A surface=B symmetry=C holes=H unobserved=U
+  seq=S utime=U grasp=G final=F points=N observed=A surface=B symmetry=C holes=H unobserved=U trusted=T
+
+(T: the added points the repair stands behind, confidence above 0.5; 0.5, a
+coin flip, packs to the byte 128 and reads back as 0.502.)
 
 Debian ships no Python binding of LCM, and none is needed to read a log: the
 event format is small (below), and the classes `lcm-gen -p` made (the
@@ -117,7 +120,11 @@ def unpack(cloud):
 
 
 def summary(cloud):
-    _, _, provenance, _ = unpack(cloud)
+    _, _, provenance, confidence = unpack(cloud)
+    # Added points more likely right than not; the rest of the added ones
+    # (a lid no view saw) are a guess, which the safe bound covers.
+    trusted = sum(1 for p, c in zip(provenance, confidence)
+                  if p != object_cloud_t.OBSERVED and round(255 * c) > 128)
     by_provenance = [0, 0, 0]
     for p in provenance:
         if 0 <= p < 3:
@@ -128,7 +135,7 @@ def summary(cloud):
             f"surface={by_provenance[object_cloud_t.SURFACE]} "
             f"symmetry={by_provenance[object_cloud_t.SYMMETRY]} holes={cloud.num_holes} "
             # Holes whose inside nothing is known of (an open mouth): keep clear.
-            f"unobserved={sum(1 for h in cloud.holes if h.unobserved)}")
+            f"unobserved={sum(1 for h in cloud.holes if h.unobserved)} trusted={trusted}")
 
 
 def main():

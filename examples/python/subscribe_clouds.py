@@ -4,7 +4,10 @@
 graspfill's Python module (graspfill.Subscriber, over liblcm's C API: no
 Python LCM binding needed), as the C++ and Java subscribers do:
 
-  seq=S utime=U grasp=G final=F points=N observed=A surface=B symmetry=C holes=H unobserved=U
+  seq=S utime=U grasp=G final=F points=N observed=A surface=B symmetry=C holes=H unobserved=U trusted=T
+
+(T: the added points the repair stands behind, confidence above 0.5; 0.5, a
+coin flip, packs to the byte 128 and reads back as 0.502.)
 
 usage: subscribe_clouds.py [URL] [--channel NAME] [--count N] [--timeout-s S]
   URL  LCM URL (default: LCM's default; a recorded bus log plays as
@@ -26,9 +29,14 @@ import graspfill
 def summary(cloud):
     observed, surface, symmetry = np.bincount(cloud["provenance"], minlength=3)[:3]
     unobserved = sum(1 for hole in cloud["holes"] if hole["unobserved"])  # keep clear of these
+    # Added points more likely right than not; the rest of the added ones
+    # (a lid no view saw) are a guess, which the safe bound covers.
+    added = np.asarray(cloud["provenance"]) != 0
+    trusted = int(np.count_nonzero(added & (np.rint(255 * np.asarray(cloud["confidence"])) > 128)))
     return (f"seq={cloud['seq']} utime={cloud['utime']} grasp={cloud['grasp_id']} "
             f"final={int(cloud['is_final'])} points={len(cloud['points'])} observed={observed} "
-            f"surface={surface} symmetry={symmetry} holes={len(cloud['holes'])} unobserved={unobserved}")
+            f"surface={surface} symmetry={symmetry} holes={len(cloud['holes'])} unobserved={unobserved} "
+            f"trusted={trusted}")
 
 
 def main():

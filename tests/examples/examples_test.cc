@@ -10,6 +10,7 @@
 #include <unistd.h>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -35,15 +36,22 @@ CliResult RunLine(const std::string& command) { return testing::RunShell(command
 std::string Summary(const ObjectCloud& c) {
   std::array<long long, 3> by{0, 0, 0};
   for (Provenance p : c.provenance) ++by[static_cast<int>(p)];
+  // The added points above a coin flip, as the packed byte says it (0.5
+  // packs to 128).
+  long long trusted = 0;
+  for (size_t i = 0; i < c.size(); ++i) {
+    trusted += c.provenance[i] != Provenance::kObserved && std::lround(255.0f * c.confidence[i]) > 128;
+  }
   char line[256];
   std::snprintf(line, sizeof(line),
                 "seq=%lld utime=%lld grasp=%lld final=%d points=%zu observed=%lld surface=%lld "
-                "symmetry=%lld holes=%zu unobserved=%d\n",
+                "symmetry=%lld holes=%zu unobserved=%d trusted=%lld\n",
                 static_cast<long long>(c.seq), static_cast<long long>(c.utime),
                 static_cast<long long>(c.grasp_id), c.is_final ? 1 : 0, c.size(), by[0], by[1], by[2],
                 c.holes.size(),
                 static_cast<int>(std::count_if(c.holes.begin(), c.holes.end(),
-                                               [](const HoleSummary& h) { return h.unobserved; })));
+                                               [](const HoleSummary& h) { return h.unobserved; })),
+                trusted);
   return line;
 }
 
