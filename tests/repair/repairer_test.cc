@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "graspfill/mesh/mesh_geometry.hpp"
 #include "repair_steps.hpp"
@@ -146,6 +147,25 @@ TEST(Repairer, NonFiniteInputThrowsNamingThePoint) {
 
 // A cloud repaired with its missing top towards +z (the hint a fused
 // cloud's claw axis gives).
+// The samples (with their normals) that `keep` keeps: a shape with a part
+// never seen.
+template <typename Keep>
+ObjectCloud Kept(const mesh::SurfaceSamples& s, Keep keep) {
+  ObjectCloud in;
+  for (size_t i = 0; i < s.points.size(); ++i) {
+    if (!keep(s.points[i])) continue;
+    in.points_G.push_back(s.points[i]);
+    in.normals_G.push_back(s.normals[i]);
+  }
+  return in;
+}
+
+float HighestZ(const ObjectCloud& c) {
+  float z = -std::numeric_limits<float>::infinity();
+  for (const Eigen::Vector3f& p : c.points_G) z = std::max(z, p.z());
+  return z;
+}
+
 RepairResult RepairUp(const ObjectCloud& in) {
   RepairConfig config;
   config.up_hint = Eigen::Vector3d::UnitZ();
@@ -159,14 +179,9 @@ RepairResult RepairUp(const ObjectCloud& in) {
 TEST(Repairer, AnOpeningNothingExplainsIsLeftOpenAndReportedUnobserved) {
   const Eigen::Vector3d size(0.07, 0.07, 0.2);
   const mesh::SurfaceSamples s = mesh::SampleSurface(synth::MakeShape(synth::Shape::kBottle, size), 30000, 9);
-  ObjectCloud in;
-  float rim_z = -1.0f;
-  for (size_t i = 0; i < s.points.size(); ++i) {
-    if (s.points[i].z() > 0.19f) continue;  // the top 10 mm of the neck cut off
-    in.points_G.push_back(s.points[i]);
-    in.normals_G.push_back(s.normals[i]);
-    rim_z = std::max(rim_z, s.points[i].z());
-  }
+  // The top 10 mm of the neck cut off.
+  const ObjectCloud in = Kept(s, [](const Eigen::Vector3f& p) { return p.z() <= 0.19f; });
+  const float rim_z = HighestZ(in);
   const RepairResult r = RepairUp(in);
   ASSERT_EQ(r.report.status, RepairStatus::kRepaired);
   EXPECT_EQ(r.report.top_completion, "open") << r.report.symmetry_reason;
@@ -189,12 +204,8 @@ TEST(Repairer, AnOpeningNothingExplainsIsLeftOpenAndReportedUnobserved) {
 TEST(Repairer, ABallsCutTopIsClosedByTheSearch) {
   const mesh::SurfaceSamples s =
       mesh::SampleSurface(synth::MakeShape(synth::Shape::kSphere, {0.06, 0.06, 0.06}), 30000, 4);
-  ObjectCloud in;
-  for (size_t i = 0; i < s.points.size(); ++i) {
-    if (s.points[i].z() >= 0.048f) continue;  // the top 12 mm cut off
-    in.points_G.push_back(s.points[i]);
-    in.normals_G.push_back(s.normals[i]);
-  }
+  // The top 12 mm cut off.
+  const ObjectCloud in = Kept(s, [](const Eigen::Vector3f& p) { return p.z() < 0.048f; });
   const RepairResult r = RepairUp(in);
   ASSERT_EQ(r.report.status, RepairStatus::kRepaired);
   EXPECT_NE(r.report.top_completion, "open") << r.report.symmetry_reason;
@@ -237,14 +248,10 @@ TEST(Repairer, ALidOverStraightWallsIsACoinFlip) {
   const auto in_wall_hole = [](const Eigen::Vector3f& p) {
     return p.z() > 0.03f && p.z() < 0.045f && p.x() > 0.02f && std::abs(p.y()) < 0.01f;
   };
-  ObjectCloud in;
-  float rim_z = -1.0f;
-  for (size_t i = 0; i < s.points.size(); ++i) {
-    if (s.points[i].z() > 0.0995f || in_wall_hole(s.points[i])) continue;  // the lid, never seen
-    in.points_G.push_back(s.points[i]);
-    in.normals_G.push_back(s.normals[i]);
-    rim_z = std::max(rim_z, s.points[i].z());
-  }
+  // The lid, never seen, and the wall's hole.
+  const ObjectCloud in =
+      Kept(s, [&](const Eigen::Vector3f& p) { return p.z() <= 0.0995f && !in_wall_hole(p); });
+  const float rim_z = HighestZ(in);
   const RepairResult r = RepairUp(in);
   ASSERT_EQ(r.report.status, RepairStatus::kRepaired);
   ASSERT_EQ(r.report.top_completion, "mirror") << r.report.symmetry_reason;
