@@ -15,8 +15,7 @@
 //         recorded with lcm-logger or graspfill plays as "file://LOG?speed=0"
 // Prints per cloud:
 //   seq=S utime=U grasp=G final=F points=N observed=A surface=B symmetry=C holes=H unobserved=U trusted=T
-//   (T: the added points the repair stands behind, confidence above 0.5; 0.5,
-//   a coin flip, packs to the byte 128 and reads back as 0.502)
+//   (T: the added points the repair stands behind, confidence above 0.5)
 // and per mesh (--meshes; channel GRASPFILL_COLLISION_MESH unless --channel):
 //   mesh seq=S utime=U grasp=G kind=K watertight=W vertices=V triangles=T deviation_mm=D
 // Exit: 0 once N messages (default 1) are received; 1 on a usage error, an
@@ -25,7 +24,6 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include <array>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -60,8 +58,7 @@ class Printer {
     // (a lid no view saw) are a guess, which the safe bound covers.
     long long trusted = 0;
     for (size_t i = 0; i < cloud_.size(); ++i) {
-      trusted += cloud_.provenance[i] != graspfill::Provenance::kObserved &&
-                 std::lround(255.0f * cloud_.confidence[i]) > 128;
+      trusted += cloud_.provenance[i] != graspfill::Provenance::kObserved && cloud_.confidence[i] > 0.5f;
     }
     std::printf(
         "seq=%lld utime=%lld grasp=%lld final=%d points=%zu observed=%lld "

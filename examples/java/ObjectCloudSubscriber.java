@@ -15,8 +15,7 @@
 //         prints an EOFException on stderr: harmless)
 // Prints per cloud, as the C++ example does:
 //   seq=S utime=U grasp=G final=F points=N observed=A surface=B symmetry=C holes=H unobserved=U trusted=T
-//   (T: the added points the repair stands behind, confidence above 0.5; 0.5,
-//   a coin flip, packs to the byte 128 and reads back as 0.502)
+//   (T: the added points the repair stands behind, confidence above 0.5)
 // Exit: 0 once N clouds (default 1) are received; 1 on a usage error, an
 // undecodable message or S seconds (default 10) without a cloud before that.
 import graspfill.hole_t;
@@ -41,7 +40,7 @@ public class ObjectCloudSubscriber {
     // (a lid no view saw) are a guess, which the safe bound covers.
     long trusted = 0;
     for (int i = 0; i < points.provenance.length; ++i) {
-      if (points.provenance[i] != object_cloud_t.OBSERVED && Math.round(255.0f * points.confidence[i]) > 128) {
+      if (points.provenance[i] != object_cloud_t.OBSERVED && points.confidence[i] > 0.5f) {
         ++trusted;
       }
     }

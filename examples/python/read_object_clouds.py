@@ -5,8 +5,7 @@ of each, as the C++ and Java subscribers do:
 
   seq=S utime=U grasp=G final=F points=N observed=A surface=B symmetry=C holes=H unobserved=U trusted=T
 
-(T: the added points the repair stands behind, confidence above 0.5; 0.5, a
-coin flip, packs to the byte 128 and reads back as 0.502.)
+(T: the added points the repair stands behind, confidence above 0.5.)
 
 Debian ships no Python binding of LCM, and none is needed to read a log: the
 event format is small (below), and the classes `lcm-gen -p` made (the
@@ -124,7 +123,7 @@ def summary(cloud):
     # Added points more likely right than not; the rest of the added ones
     # (a lid no view saw) are a guess, which the safe bound covers.
     trusted = sum(1 for p, c in zip(provenance, confidence)
-                  if p != object_cloud_t.OBSERVED and round(255 * c) > 128)
+                  if p != object_cloud_t.OBSERVED and c > 0.5)
     by_provenance = [0, 0, 0]
     for p in provenance:
         if 0 <= p < 3:

@@ -6,8 +6,7 @@ Python LCM binding needed), as the C++ and Java subscribers do:
 
   seq=S utime=U grasp=G final=F points=N observed=A surface=B symmetry=C holes=H unobserved=U trusted=T
 
-(T: the added points the repair stands behind, confidence above 0.5; 0.5, a
-coin flip, packs to the byte 128 and reads back as 0.502.)
+(T: the added points the repair stands behind, confidence above 0.5.)
 
 usage: subscribe_clouds.py [URL] [--channel NAME] [--count N] [--timeout-s S]
   URL  LCM URL (default: LCM's default; a recorded bus log plays as
@@ -32,7 +31,7 @@ def summary(cloud):
     # Added points more likely right than not; the rest of the added ones
     # (a lid no view saw) are a guess, which the safe bound covers.
     added = np.asarray(cloud["provenance"]) != 0
-    trusted = int(np.count_nonzero(added & (np.rint(255 * np.asarray(cloud["confidence"])) > 128)))
+    trusted = int(np.count_nonzero(added & (np.asarray(cloud["confidence"]) > 0.5)))
     return (f"seq={cloud['seq']} utime={cloud['utime']} grasp={cloud['grasp_id']} "
             f"final={int(cloud['is_final'])} points={len(cloud['points'])} observed={observed} "
             f"surface={surface} symmetry={symmetry} holes={len(cloud['holes'])} unobserved={unobserved} "

@@ -10,7 +10,6 @@
 #include <unistd.h>
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -36,12 +35,10 @@ CliResult RunLine(const std::string& command) { return testing::RunShell(command
 std::string Summary(const ObjectCloud& c) {
   std::array<long long, 3> by{0, 0, 0};
   for (Provenance p : c.provenance) ++by[static_cast<int>(p)];
-  // The added points above a coin flip, as the packed byte says it (0.5
-  // packs to 128).
+  // The added points above a coin flip.
   long long trusted = 0;
-  for (size_t i = 0; i < c.size(); ++i) {
-    trusted += c.provenance[i] != Provenance::kObserved && std::lround(255.0f * c.confidence[i]) > 128;
-  }
+  for (size_t i = 0; i < c.size(); ++i)
+    trusted += c.provenance[i] != Provenance::kObserved && c.confidence[i] > 0.5f;
   char line[256];
   std::snprintf(line, sizeof(line),
                 "seq=%lld utime=%lld grasp=%lld final=%d points=%zu observed=%lld surface=%lld "

@@ -864,6 +864,28 @@ TEST(ObjectCloudMessage, CarriesConfidenceAndTheSafeBound) {
   }
 }
 
+// A planner keeps the points above 0.5 (docs/planner-bindings.md): the
+// byte keeps every confidence on its side of 0.5. A coin flip (0.5, a lid
+// no view saw) reads back below it, and anything above it reads back
+// above, each within half a step.
+TEST(ObjectCloudMessage, ConfidenceKeepsItsSideOfACoinFlip) {
+  ObjectCloud cloud;
+  const std::vector<float> sent = {0.5f, 0.5f + 1e-4f, 0.5f - 1e-4f, 0.502f, 0.498f, 0.0f, 1.0f, 0.6f};
+  for (size_t i = 0; i < sent.size(); ++i) cloud.points_G.emplace_back(0.001f * i, 0.0f, 0.1f);
+  cloud.confidence = sent;
+  const auto bytes = EncodeObjectCloud(cloud);
+  ObjectCloud out;
+  std::string error;
+  ASSERT_TRUE(DecodeObjectCloud(bytes.data(), bytes.size(), &out, &error)) << error;
+  ASSERT_EQ(out.confidence.size(), sent.size());
+  for (size_t i = 0; i < sent.size(); ++i) {
+    EXPECT_EQ(out.confidence[i] > 0.5f, sent[i] > 0.5f) << sent[i] << " read back as " << out.confidence[i];
+    EXPECT_NEAR(out.confidence[i], sent[i], 0.5f / 255.0f + 1e-7f) << sent[i];
+  }
+  EXPECT_EQ(out.confidence[5], 0.0f);
+  EXPECT_EQ(out.confidence[6], 1.0f);
+}
+
 }  // namespace
 }  // namespace graspfill::io
 
