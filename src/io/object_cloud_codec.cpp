@@ -10,8 +10,24 @@
 #include <graspfill/hole_t.hpp>
 #include <graspfill/object_cloud_t.hpp>
 
+#include <cstdint>
+
 namespace graspfill::io {
 using namespace wire;
+
+namespace {
+
+// `bytes` (> 0) hold nx ny nz bits (each > 0), rounded up to a byte:
+// 8 (bytes - 1) < nx ny nz <= 8 bytes. The product of three int32 counts
+// overflows int64 (found by fuzz_object_cloud), that of two does not: the
+// third divides the bounds instead.
+bool BitsFillTheBytes(int32_t nx, int32_t ny, int32_t nz, int32_t bytes) {
+  const int64_t nx_ny = static_cast<int64_t>(nx) * ny;
+  const int64_t most = 8 * static_cast<int64_t>(bytes);
+  return nx_ny <= most / nz && nx_ny > (most - 8) / nz;
+}
+
+}  // namespace
 
 std::vector<uint8_t> EncodeObjectCloud(const ObjectCloud& cloud) {
   PackedPoints packed;
@@ -115,12 +131,10 @@ static bool DecodeObjectCloudImpl(const void* data, size_t size, ObjectCloud* ou
     return false;
   }
   if (msg.bound_num_bytes > 0) {
-    // In 128 bits: three int32 counts overflow int64 (found by fuzz_object_cloud).
-    const __int128 voxels = static_cast<__int128>(msg.bound_nx) * msg.bound_ny * msg.bound_nz;
     if (msg.bound_nx <= 0 || msg.bound_ny <= 0 || msg.bound_nz <= 0 || !(msg.bound_voxel_m > 0.0f) ||
         !std::isfinite(msg.bound_voxel_m) || !std::isfinite(msg.bound_origin[0]) ||
         !std::isfinite(msg.bound_origin[1]) || !std::isfinite(msg.bound_origin[2]) ||
-        (voxels + 7) / 8 != msg.bound_num_bytes) {
+        !BitsFillTheBytes(msg.bound_nx, msg.bound_ny, msg.bound_nz, msg.bound_num_bytes)) {
       SetError(error, "object_cloud_t: inconsistent safe bound (" + std::to_string(msg.bound_nx) + " x " +
                           std::to_string(msg.bound_ny) + " x " + std::to_string(msg.bound_nz) + " voxels, " +
                           std::to_string(msg.bound_num_bytes) + " bytes)");

@@ -541,6 +541,26 @@ TEST(ObjectCloudMessage, RejectsBadContent) {
   bad = msg;
   bad.holes[1].unobserved = 2;
   expect_rejected(bad, "unobserved must be 0 or 1");
+  // A safe bound whose bytes do not hold its voxels, one bit per voxel
+  // rounded up to a byte: 3 x 2 x 3 voxels take exactly 3 bytes. Counts
+  // whose product overflows 64 bits are refused too.
+  bad = msg;
+  bad.bound_voxel_m = 0.005f;
+  bad.bound_nx = 3, bad.bound_ny = 2, bad.bound_nz = 3;
+  for (const int bytes : {2, 4}) {
+    bad.bound_num_bytes = bytes;
+    bad.bound_bits.assign(static_cast<size_t>(bytes), 0xff);
+    expect_rejected(bad, "inconsistent safe bound");
+  }
+  bad.bound_num_bytes = 3;
+  bad.bound_bits = {0xff, 0xff, 0x03};  // every voxel set, no bit past them
+  {
+    const auto bytes = Encode(bad);
+    EXPECT_TRUE(DecodeObjectCloud(bytes.data(), bytes.size(), &out, &error)) << error;
+    EXPECT_EQ(out.safe_bound.count(), 18u);
+  }
+  bad.bound_nx = bad.bound_ny = bad.bound_nz = std::numeric_limits<int32_t>::max();
+  expect_rejected(bad, "inconsistent safe bound");
   bad = msg;
   bad.position[2] = std::nan("");
   expect_rejected(bad, "pose is not finite");
