@@ -153,8 +153,9 @@ struct ObjectCloud {
   std::vector<Provenance> provenance;      ///< one per point
   /// How much to trust each point, in [0, 1], or empty (all observed: 1).
   /// Observed points are 1; added points get the repair's prior for their
-  /// source, raised where the camera's evidence says the spot was hidden
-  /// (repair/repairer.hpp documents the values).
+  /// source, raised where the camera's evidence says the spot was hidden,
+  /// and at most 0.5 where nothing decides (a lid no view saw): above 0.5,
+  /// more likely right than not (repair/repairer.hpp documents the values).
   std::vector<float> confidence;
   std::vector<HoleSummary> holes;
   /// Where the object may still be (empty unless the repair had evidence).

@@ -133,7 +133,8 @@ struct RepairReport {
   bool symmetric{false};  ///< a symmetry plane was found and used
   /// Best mode: how the missing top was completed ("mirror", "revolution",
   /// "dome", "extrusion", or "open": nothing known there, nothing added), and the
-  /// confidence of its points (the search's posterior, top_search.hpp).
+  /// confidence of its points (the search's posterior, top_search.hpp; at
+  /// most 0.5 for a lid over straight walls, which no view saw).
   std::string top_completion;
   float top_confidence{0.0f};
   std::string symmetry_reason;  ///< why not, when !symmetric
@@ -178,9 +179,12 @@ struct RepairResult {
 /// Confidence of the output points: observed 1; claw-hole fills 0.6
 /// (0.8 where the record says the claw hid the spot); the missing top's
 /// points the posterior of the completion that won the search against the
-/// runner-up (report.top_confidence, 0.5-1; paper mode 0.5). Where "open"
-/// won, nothing is added there and the report's missing-surface hole is
-/// `unobserved`: the safe bound covers it.
+/// runner-up (report.top_confidence, 0.5-1; paper mode 0.5). A lid over
+/// walls that run straight up to the rim (the extrusion's, or the mirror's
+/// over a constant cross-section) carries at most 0.5: no view saw it, and
+/// a mouth would end the walls alike. Above 0.5: the repair stands behind
+/// the point. Where "open" won, nothing is added there and the report's
+/// missing-surface hole is `unobserved`: the safe bound covers it.
 RepairResult Repair(const ObjectCloud& input, const RepairConfig& config = {},
                     const evidence::VisibilityRecord* record = nullptr);
 
