@@ -579,7 +579,6 @@ TopCap SearchTop(const PointList& points_V, const ClawFills& fills, SymmetryResu
   const TopChoice choice = ChooseTop(std::move(candidates), rim_V, fills.surface_V, spacing_m);
   const TopCandidate& best = choice.Best();
   report->top_completion = TopFamilyName(best.family);
-  report->top_confidence = choice.confidence;
   std::string scored;
   for (const TopCandidate& c : choice.candidates) {
     char text[128];
@@ -621,15 +620,13 @@ TopCap SearchTop(const PointList& points_V, const ClawFills& fills, SymmetryResu
   top.top_box_V = Eigen::AlignedBox3f(
       symmetry->box_min_V,
       Eigen::Vector3f(symmetry->box_max_V.x(), symmetry->box_max_V.y(), std::numeric_limits<float>::max()));
-  if (top.undecided_lid) {
-    if (top.confidence > kCoinFlipConfidence) {
-      report->top_confidence = kCoinFlipConfidence;
-      char text[160];
-      std::snprintf(text, sizeof(text),
-                    "; its lid over straight walls, never seen, as likely a mouth: confidence %.2f, not %.2f",
-                    kCoinFlipConfidence, top.confidence);
-      symmetry->reason += text;
-    }
+  report->top_confidence = top.Capped();
+  if (top.Capped() < top.confidence) {
+    char text[160];
+    std::snprintf(text, sizeof(text),
+                  "; its lid over straight walls, never seen, as likely a mouth: confidence %.2f, not %.2f",
+                  top.Capped(), top.confidence);
+    symmetry->reason += text;
   }
   report->evidence.top_points_added = static_cast<int>(top.points_V.size());
   return top;
