@@ -114,7 +114,7 @@ struct RowResult {
   /// for a cup alike (docs/repair-method.md).
   std::vector<Miss> misses_on_trusted;
   bool meets() const { return misses.empty(); }
-  bool meets_on_trusted() const { return misses_on_trusted.empty(); }
+  bool meets_on_trusted() const { return not_run.empty() && misses_on_trusted.empty(); }
 };
 
 std::vector<std::string> SplitList(const std::string& option, const std::string& text) {
@@ -238,14 +238,12 @@ RowResult RunRow(const RowSpec& s, const TriangleMesh& mesh, int frames, int rep
   } catch (const std::invalid_argument& e) {  // the claw cannot take it
     r.not_run = std::string("not grasped: ") + e.what();
     r.misses.push_back({"grasped", r.not_run});
-    r.misses_on_trusted = r.misses;
     return r;
   }
   r.opening_mm = 1000.0 * scene->placement().opening_m;
   r.not_run = HoldProblem(*scene);
   if (!r.not_run.empty()) {
     r.misses.push_back({"grasped", r.not_run});
-    r.misses_on_trusted = r.misses;
     return r;
   }
   if (scene->placement().claw.finger_length_m > sc.claw_config.finger_length_m) {
@@ -260,7 +258,6 @@ RowResult RunRow(const RowSpec& s, const TriangleMesh& mesh, int frames, int rep
   if (fused.size() == 0) {
     r.not_run = "nothing fused";
     r.misses.push_back({"fused_points", r.not_run});
-    r.misses_on_trusted = r.misses;
     return r;
   }
   const FusedMeasures measured = MeasureFused(fused, truth.points);

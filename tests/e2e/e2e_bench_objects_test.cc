@@ -382,6 +382,7 @@ TEST(BenchObjectsE2E, AnObjectTooBigForTheClawIsARowNotMet) {
   for (const nlohmann::json& row : out["rows"]) {
     EXPECT_FALSE(row["ran"].get<bool>());
     EXPECT_FALSE(row["meets"].get<bool>());
+    EXPECT_FALSE(row["meets_on_trusted"].get<bool>());  // nor the proposed case: nothing ran
     EXPECT_TRUE(row["coverage_2mm"].is_null());
     EXPECT_GT(Get(row, "opening_mm"), 80.0);
     EXPECT_NE(row["reason"].get<std::string>().find("too big for the claw"), std::string::npos);
